@@ -1,0 +1,467 @@
+/**
+ * @file fusion_altitude.h
+ * @brief Altitude and vertical-velocity estimation: a 3rd-order complementary
+ * observer that fuses barometric altitude with gravity-compensated vertical
+ * acceleration and estimates the accelerometer's vertical bias.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
+ * libm. Copy this one file into a project and include it.
+ *
+ * Units and frame: altitude m, vertical velocity m/s, acceleration m/s^2,
+ * time s, gains 1/s, 1/s^2, 1/s^3. Vertical is +up; NED users negate their
+ * down-acceleration and down-position before calling.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 arithmetic
+ * without fused multiply-add contraction: compile with -ffp-contract=off (gcc
+ * in GNU modes contracts by default; -std=c99/-std=c11 turn it off). Clang is
+ * handled inside the header with a scoped pragma.
+ *
+ * Usage:
+ * @code
+ * FusionAltitude altitude;
+ * FusionAltitudeInitialise(&altitude);            // default (VTOL) gains
+ * for (;;) {
+ *     const float accel = ...;                    // m/s^2, earth frame, +up, gravity removed
+ *     const float baroAltitude = ...;             // m, or FUSION_ALTITUDE_NO_BARO
+ *     if (FusionAltitudeUpdate(&altitude, accel, baroAltitude, 0.01f) != FusionAltitudeStatusOk) {
+ *         // input rejected, state unchanged
+ *     }
+ *     const float h = FusionAltitudeGetAltitude(&altitude);          // m
+ *     const float v = FusionAltitudeGetVerticalVelocity(&altitude);  // m/s
+ * }
+ * @endcode
+ */
+
+#ifndef FUSION_ALTITUDE_H
+#define FUSION_ALTITUDE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Clang contracts a*b + c into an FMA by default; this keeps every operation
+ * rounded on its own so that results are identical on every target. It is
+ * placed at the top of each function body so it does not leak into user code. */
+#if defined(__clang__)
+#define FUSION_ALTITUDE_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_NO_CONTRACT
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/** Standard gravity, m/s^2. Multiply an acceleration in g by this. */
+#define FUSION_ALTITUDE_GRAVITY (9.80665f)
+
+/** Version of this header, major * 10000 + minor * 100 + patch. */
+#define FUSION_ALTITUDE_VERSION (100)
+
+/**
+ * @brief Pass as the baro altitude of FusionAltitudeUpdate when no baro sample
+ * arrived this step (a quiet NaN, built without libm).
+ */
+#define FUSION_ALTITUDE_NO_BARO (FusionAltitudeNaN())
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeStatusOk = 0,
+    FusionAltitudeStatusInvalidAccel,          /**< accel not finite */
+    FusionAltitudeStatusInvalidBaroAltitude,   /**< baro altitude infinite (update) or not finite (reset) */
+    FusionAltitudeStatusInvalidDt,             /**< dt not finite or <= 0 */
+    FusionAltitudeStatusInvalidAccelBias,      /**< warm-start accel bias not finite */
+    FusionAltitudeStatusInvalidGain,           /**< a gain is not finite or is negative */
+    FusionAltitudeStatusUnstableGains,         /**< continuous-time observer not stable (Routh-Hurwitz) */
+    FusionAltitudeStatusUnstableDiscrete,      /**< discrete update not stable at this dt (Jury) */
+    FusionAltitudeStatusInvalidBandwidth,      /**< omega, zeta or omega_b out of range */
+    FusionAltitudeStatusInvalidPreset,         /**< unknown preset */
+} FusionAltitudeStatus;
+
+/** Tuning presets. Each is zeta = 0.7, omega_b = omega / 5 through the formulas of FusionAltitudeSettingsFromBandwidth. */
+typedef enum {
+    FusionAltitudePresetBalloon = 0,   /**< omega = 0.2 rad/s */
+    FusionAltitudePresetFixedWing,     /**< omega = 0.5 rad/s */
+    FusionAltitudePresetVtol,          /**< omega = 1.5 rad/s (the default) */
+    FusionAltitudePresetRacing,        /**< omega = 5.0 rad/s */
+} FusionAltitudePreset;
+
+/**
+ * @brief Observer gains. The error dynamics have the characteristic polynomial
+ * s^3 + positionGain*s^2 + velocityGain*s + biasGain.
+ */
+typedef struct {
+    float positionGain; /**< Kh, 1/s: baro residual into altitude */
+    float velocityGain; /**< Kv, 1/s^2: baro residual into vertical velocity */
+    float biasGain;     /**< Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation */
+} FusionAltitudeSettings;
+
+/** Observer state. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeSettings settings;
+    float altitude;         /**< h, m */
+    float verticalVelocity; /**< v, m/s, +up */
+    float accelBias;        /**< b, m/s^2, +up: subtracted from the accel input */
+    float baroResidual;     /**< r = z - h before the correction, m; NaN on a step without baro */
+    bool referenceSet;      /**< false until the first baro sample or reset */
+} FusionAltitude;
+
+//------------------------------------------------------------------------------
+// Float classification without libm (bit patterns of IEEE 754 binary32)
+
+static inline uint32_t FusionAltitudeFloatBits(const float value) {
+    uint32_t bits;
+    memcpy(&bits, &value, sizeof(bits));
+    return bits;
+}
+
+/** @return true if value is neither infinite nor NaN. */
+static inline bool FusionAltitudeIsFinite(const float value) {
+    return (FusionAltitudeFloatBits(value) & 0x7F800000u) != 0x7F800000u;
+}
+
+/** @return true if value is a NaN. */
+static inline bool FusionAltitudeIsNaN(const float value) {
+    const uint32_t bits = FusionAltitudeFloatBits(value);
+    return ((bits & 0x7F800000u) == 0x7F800000u) && ((bits & 0x007FFFFFu) != 0u);
+}
+
+/** @return a quiet NaN. */
+static inline float FusionAltitudeNaN(void) {
+    const uint32_t bits = 0x7FC00000u;
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    return value;
+}
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus status) {
+    switch (status) {
+        case FusionAltitudeStatusOk:
+            return "ok";
+        case FusionAltitudeStatusInvalidAccel:
+            return "accel must be finite";
+        case FusionAltitudeStatusInvalidBaroAltitude:
+            return "baro altitude must be finite (or NaN for no sample in update)";
+        case FusionAltitudeStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeStatusInvalidAccelBias:
+            return "accel bias must be finite";
+        case FusionAltitudeStatusInvalidGain:
+            return "gains must be finite and >= 0";
+        case FusionAltitudeStatusUnstableGains:
+            return "gains are not stable: need position_gain * velocity_gain > bias_gain (and position_gain > 0 when velocity_gain > 0)";
+        case FusionAltitudeStatusUnstableDiscrete:
+            return "gains are not stable at this dt: the discrete update diverges";
+        case FusionAltitudeStatusInvalidBandwidth:
+            return "omega and zeta must be finite and > 0, omega_b finite and >= 0";
+        case FusionAltitudeStatusInvalidPreset:
+            return "unknown preset";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+/** @return the default (VTOL multirotor) gains: Kh = 2.40 1/s, Kv = 2.88 1/s^2, Kb = 0.675 1/s^3. */
+static inline FusionAltitudeSettings FusionAltitudeSettingsDefault(void) {
+    const FusionAltitudeSettings settings = {2.40f, 2.88f, 0.675f};
+    return settings;
+}
+
+/**
+ * @brief Checks the gains without a sample period: each finite and >= 0, and
+ * the continuous-time observer stable. Routh-Hurwitz on
+ * s^3 + Kh*s^2 + Kv*s + Kb: Kh*Kv > Kb when Kb > 0; with Kb = 0 (no bias
+ * estimation) the remaining s^2 + Kh*s + Kv needs Kh > 0 when Kv > 0.
+ * Kh = Kv = Kb = 0 (pure inertial integration) is accepted.
+ */
+static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltitudeSettings *const settings) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    const float kh = settings->positionGain;
+    const float kv = settings->velocityGain;
+    const float kb = settings->biasGain;
+    if (!FusionAltitudeIsFinite(kh) || !FusionAltitudeIsFinite(kv) || !FusionAltitudeIsFinite(kb) ||
+        (kh < 0.0f) || (kv < 0.0f) || (kb < 0.0f)) {
+        return FusionAltitudeStatusInvalidGain;
+    }
+    if (kb > 0.0f) {
+        if (!(kh * kv > kb)) {
+            return FusionAltitudeStatusUnstableGains;
+        }
+    } else if ((kv > 0.0f) && !(kh > 0.0f)) {
+        return FusionAltitudeStatusUnstableGains;
+    }
+    return FusionAltitudeStatusOk;
+}
+
+/**
+ * @brief Checks the gains (FusionAltitudeSettingsCheck) and that the
+ * semi-implicit update is stable at sample period dt (s).
+ *
+ * With p = Kh*dt, q = Kv*dt^2, s = Kb*dt^3 the homogeneous update of
+ * (h, v*dt, b*dt^2) is the matrix [[1-p-q, 1, -1], [-q, 1, -1], [s, 0, 1]],
+ * whose characteristic polynomial is
+ *   z^3 + (p+q-3) z^2 + (3-2p-q+s) z + (p-1).
+ * Jury's test for it reduces to: s > 0, 8 - 4p - 2q + s > 0, 0 < p < 2 and
+ * p(2-p) > |p(p+q-2) - s|. With Kb = 0 the bias mode is the eigenvalue 1 and
+ * the rest is z^2 + (p+q-2) z + (1-p): Kv > 0 needs 0 < p < 2 and q < 4 - 2p;
+ * Kv = 0 leaves z = 1-p: p < 2.
+ */
+static inline FusionAltitudeStatus FusionAltitudeSettingsValidate(const FusionAltitudeSettings *const settings, const float dt) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(settings);
+    if (status != FusionAltitudeStatusOk) {
+        return status;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeStatusInvalidDt;
+    }
+    const float p = settings->positionGain * dt;
+    const float q = settings->velocityGain * dt * dt;
+    const float s = settings->biasGain * dt * dt * dt;
+    if (!FusionAltitudeIsFinite(p) || !FusionAltitudeIsFinite(q) || !FusionAltitudeIsFinite(s)) {
+        return FusionAltitudeStatusUnstableDiscrete;
+    }
+    bool stable;
+    if (settings->biasGain > 0.0f) {
+        const float lhs = p * (2.0f - p);
+        const float rhs = p * (p + q - 2.0f) - s;
+        stable = (s > 0.0f) && ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && (p > 0.0f) && (p < 2.0f) &&
+                 (lhs > rhs) && (lhs > -rhs);
+    } else if (settings->velocityGain > 0.0f) {
+        stable = (p > 0.0f) && (p < 2.0f) && (q > 0.0f) && (q < 4.0f - 2.0f * p);
+    } else {
+        stable = p < 2.0f;
+    }
+    return stable ? FusionAltitudeStatusOk : FusionAltitudeStatusUnstableDiscrete;
+}
+
+/**
+ * @brief Gains from a position-loop bandwidth omega (rad/s), damping ratio zeta
+ * and bias-loop bandwidth omegaBias (rad/s), in float32 in this order:
+ *   Kh = 2*zeta*omega + omegaBias          (1/s)
+ *   Kv = omega*omega + 2*zeta*omega*omegaBias  (1/s^2)
+ *   Kb = omega*omega*omegaBias             (1/s^3)
+ * Typical: zeta = 0.7, omegaBias = omega / 5. The result is checked with
+ * FusionAltitudeSettingsCheck; *settings is written only on success.
+ */
+static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAltitudeSettings *const settings, const float omega,
+                                                                       const float zeta, const float omegaBias) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (!FusionAltitudeIsFinite(omega) || !FusionAltitudeIsFinite(zeta) || !FusionAltitudeIsFinite(omegaBias) ||
+        !(omega > 0.0f) || !(zeta > 0.0f) || (omegaBias < 0.0f)) {
+        return FusionAltitudeStatusInvalidBandwidth;
+    }
+    const float twoZetaOmega = 2.0f * zeta * omega;
+    const float omegaSquared = omega * omega;
+    FusionAltitudeSettings result;
+    result.positionGain = twoZetaOmega + omegaBias;
+    result.velocityGain = omegaSquared + twoZetaOmega * omegaBias;
+    result.biasGain = omegaSquared * omegaBias;
+    const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&result);
+    if (status != FusionAltitudeStatusOk) {
+        return (status == FusionAltitudeStatusInvalidGain) ? FusionAltitudeStatusInvalidBandwidth : status;
+    }
+    *settings = result;
+    return FusionAltitudeStatusOk;
+}
+
+/**
+ * @brief Preset gains: the bandwidth formulas with zeta = 0.7 and
+ * omega_b = omega / 5, evaluated exactly and rounded to float32 (so the VTOL
+ * preset equals the defaults). Kh 1/s, Kv 1/s^2, Kb 1/s^3:
+ *   balloon    omega 0.2: 0.32, 0.0512, 0.0016
+ *   fixed wing omega 0.5: 0.80, 0.32,   0.025
+ *   VTOL       omega 1.5: 2.40, 2.88,   0.675
+ *   racing     omega 5.0: 8.00, 32.0,   25.0
+ * *settings is written only on success.
+ */
+static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitudeSettings *const settings, const FusionAltitudePreset preset) {
+    FusionAltitudeSettings result;
+    switch (preset) {
+        case FusionAltitudePresetBalloon:
+            result.positionGain = 0.32f;
+            result.velocityGain = 0.0512f;
+            result.biasGain = 0.0016f;
+            break;
+        case FusionAltitudePresetFixedWing:
+            result.positionGain = 0.80f;
+            result.velocityGain = 0.32f;
+            result.biasGain = 0.025f;
+            break;
+        case FusionAltitudePresetVtol:
+            result = FusionAltitudeSettingsDefault();
+            break;
+        case FusionAltitudePresetRacing:
+            result.positionGain = 8.0f;
+            result.velocityGain = 32.0f;
+            result.biasGain = 25.0f;
+            break;
+        default:
+            return FusionAltitudeStatusInvalidPreset;
+    }
+    *settings = result;
+    return FusionAltitudeStatusOk;
+}
+
+//------------------------------------------------------------------------------
+// Estimator
+
+/**
+ * @brief Initialises the estimator with the default settings. The reference is
+ * not set: the first update with a baro sample auto-zeroes on it.
+ */
+static inline void FusionAltitudeInitialise(FusionAltitude *const altitude) {
+    altitude->settings = FusionAltitudeSettingsDefault();
+    altitude->altitude = 0.0f;
+    altitude->verticalVelocity = 0.0f;
+    altitude->accelBias = 0.0f;
+    altitude->baroResidual = 0.0f;
+    altitude->referenceSet = false;
+}
+
+/**
+ * @brief Replaces the gains, keeping the state. Rejected (state unchanged) if
+ * FusionAltitudeSettingsCheck fails.
+ */
+static inline FusionAltitudeStatus FusionAltitudeSetSettings(FusionAltitude *const altitude, const FusionAltitudeSettings *const settings) {
+    const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(settings);
+    if (status == FusionAltitudeStatusOk) {
+        altitude->settings = *settings;
+    }
+    return status;
+}
+
+/**
+ * @brief Sets the reference: altitude = baroAltitude (m), vertical velocity 0,
+ * residual 0. The accel bias estimate is kept. Rejected if baroAltitude is not
+ * finite.
+ */
+static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const altitude, const float baroAltitude) {
+    if (!FusionAltitudeIsFinite(baroAltitude)) {
+        return FusionAltitudeStatusInvalidBaroAltitude;
+    }
+    altitude->altitude = baroAltitude;
+    altitude->verticalVelocity = 0.0f;
+    altitude->baroResidual = 0.0f;
+    altitude->referenceSet = true;
+    return FusionAltitudeStatusOk;
+}
+
+/**
+ * @brief Warm start: FusionAltitudeReset and accel bias = accelBias (m/s^2,
+ * +up), e.g. from a stationary ground calibration. Rejected, state unchanged,
+ * if either argument is not finite.
+ */
+static inline FusionAltitudeStatus FusionAltitudeResetWithBias(FusionAltitude *const altitude, const float baroAltitude, const float accelBias) {
+    if (!FusionAltitudeIsFinite(baroAltitude)) {
+        return FusionAltitudeStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(accelBias)) {
+        return FusionAltitudeStatusInvalidAccelBias;
+    }
+    altitude->accelBias = accelBias;
+    return FusionAltitudeReset(altitude, baroAltitude);
+}
+
+/**
+ * @brief One step of the observer (semi-implicit Euler).
+ *
+ * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity removed.
+ * @param baroAltitude barometric altitude z, m; NaN (FUSION_ALTITUDE_NO_BARO)
+ *        when no baro sample arrived this step.
+ * @param dt time since the previous step, s.
+ *
+ * With a baro sample, r = z - h and
+ *   v += ((a - b) + Kv*r) * dt
+ *   h += (v + Kh*r) * dt        (the new v)
+ *   b -= (Kb*r) * dt
+ * Without one (z NaN) it integrates only: v += (a - b)*dt; h += v*dt; b is
+ * kept and the stored residual is the quiet NaN 0x7FC00000.
+ *
+ * Until the reference is set, a baro sample only sets it (FusionAltitudeReset,
+ * a and dt unused) and a step without baro changes nothing but the residual
+ * (NaN). Every call checks all inputs first: non-finite accel, infinite
+ * baroAltitude, or dt not finite or <= 0 is rejected with the state unchanged.
+ */
+static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const altitude, const float accel, const float baroAltitude,
+                                                        const float dt) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeStatusInvalidAccel;
+    }
+    const bool baroMissing = FusionAltitudeIsNaN(baroAltitude);
+    if (!baroMissing && !FusionAltitudeIsFinite(baroAltitude)) {
+        return FusionAltitudeStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeStatusInvalidDt;
+    }
+    if (baroMissing) {
+        if (altitude->referenceSet) {
+            altitude->verticalVelocity += (accel - altitude->accelBias) * dt;
+            altitude->altitude += altitude->verticalVelocity * dt;
+        }
+        altitude->baroResidual = FusionAltitudeNaN();
+        return FusionAltitudeStatusOk;
+    }
+    if (!altitude->referenceSet) {
+        return FusionAltitudeReset(altitude, baroAltitude);
+    }
+    const float residual = baroAltitude - altitude->altitude;
+    altitude->verticalVelocity += ((accel - altitude->accelBias) + altitude->settings.velocityGain * residual) * dt;
+    altitude->altitude += (altitude->verticalVelocity + altitude->settings.positionGain * residual) * dt;
+    altitude->accelBias -= (altitude->settings.biasGain * residual) * dt;
+    altitude->baroResidual = residual;
+    return FusionAltitudeStatusOk;
+}
+
+/** @return the gains in use. */
+static inline FusionAltitudeSettings FusionAltitudeGetSettings(const FusionAltitude *const altitude) {
+    return altitude->settings;
+}
+
+/** @return altitude estimate h, m (0 until the reference is set). */
+static inline float FusionAltitudeGetAltitude(const FusionAltitude *const altitude) {
+    return altitude->altitude;
+}
+
+/** @return vertical velocity estimate v, m/s, +up. */
+static inline float FusionAltitudeGetVerticalVelocity(const FusionAltitude *const altitude) {
+    return altitude->verticalVelocity;
+}
+
+/** @return accelerometer bias estimate b, m/s^2, +up (already subtracted from the accel input). */
+static inline float FusionAltitudeGetAccelBias(const FusionAltitude *const altitude) {
+    return altitude->accelBias;
+}
+
+/**
+ * @return baro residual r = z - h of the latest update, m, before that update's
+ * correction: 0 after initialise and reset, NaN after a step without baro.
+ * A sustained large residual points at a stuck baro, prop-wash or divergence.
+ */
+static inline float FusionAltitudeGetBaroResidual(const FusionAltitude *const altitude) {
+    return altitude->baroResidual;
+}
+
+/** @return true once the reference is set (first baro sample or reset). */
+static inline bool FusionAltitudeIsReferenceSet(const FusionAltitude *const altitude) {
+    return altitude->referenceSet;
+}
+
+#undef FUSION_ALTITUDE_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,24 @@
+"""fusion-altitude: altitude and vertical-velocity estimation for things that fly.
+
+Fuses barometric altitude (m) with gravity-compensated vertical acceleration
+(m/s², earth frame, +up) into drift-free altitude, vertical velocity and the
+accelerometer's vertical bias. The estimators are C99 (``csrc/``), called
+through Cython; :mod:`fusion_altitude.reference` holds readable pure-Python
+twins that agree with them bit for bit.
+
+Vertical is +up everywhere; NED users negate.
+"""
+
+from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
+from ._observer import AltitudeEstimator, AltitudeSettings
+from ._version import __version__
+
+__all__ = [
+    "GRAVITY",
+    "AltitudeBatch",
+    "AltitudeEstimator",
+    "AltitudeSettings",
+    "DiscretisationWarning",
+    "Status",
+    "__version__",
+]

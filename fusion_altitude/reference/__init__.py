@@ -1,0 +1,12 @@
+"""Pure-Python reference of the fusion-altitude estimators.
+
+Written to be read next to ``csrc/fusion_altitude.h``: the same public API as
+:mod:`fusion_altitude`, float32 arithmetic through numpy scalars in the same
+operation order as the C, so its outputs match the C core bit for bit. It is
+slow (a Python loop); use it to understand, test and port the algorithm.
+"""
+
+from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
+from .observer import AltitudeEstimator, AltitudeSettings
+
+__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "Status"]

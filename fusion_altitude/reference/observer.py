@@ -1,0 +1,399 @@
+"""The 3rd-order complementary altitude observer, in plain Python.
+
+State (all float32): altitude h (m), vertical velocity v (m/s, +up), accel
+bias b (m/s², +up), last baro residual r (m), and whether the reference is
+set. Gains: position Kh (1/s), velocity Kv (1/s²), bias Kb (1/s³).
+
+Each function below mirrors the C function named in its docstring, statement
+for statement, so that the results agree bit for bit.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from .. import _common
+from .._common import AltitudeBatch, Status
+
+f32 = np.float32
+_NAN = f32("nan")
+
+
+# -- float classification (FusionAltitudeIsFinite / FusionAltitudeIsNaN) ------
+
+def _is_finite(x: np.float32) -> bool:
+    return bool(np.isfinite(x))
+
+
+def _is_nan(x: np.float32) -> bool:
+    return bool(np.isnan(x))
+
+
+# -- settings ----------------------------------------------------------------
+
+def _check_gains(kh: np.float32, kv: np.float32, kb: np.float32) -> Status:
+    """FusionAltitudeSettingsCheck: finite, >= 0, Routh-Hurwitz."""
+    if not (_is_finite(kh) and _is_finite(kv) and _is_finite(kb)) or kh < 0 or kv < 0 or kb < 0:
+        return Status.INVALID_GAIN
+    if kb > 0:
+        if not kh * kv > kb:
+            return Status.UNSTABLE_GAINS
+    elif kv > 0 and not kh > 0:
+        return Status.UNSTABLE_GAINS
+    return Status.OK
+
+
+def _validate(kh: np.float32, kv: np.float32, kb: np.float32, dt: np.float32) -> Status:
+    """FusionAltitudeSettingsValidate: Jury's test on the discrete update.
+
+    With p = Kh·dt, q = Kv·dt², s = Kb·dt³ the characteristic polynomial of the
+    update of (h, v·dt, b·dt²) is z³ + (p+q−3)z² + (3−2p−q+s)z + (p−1).
+    """
+    status = _check_gains(kh, kv, kb)
+    if status != Status.OK:
+        return status
+    if not _is_finite(dt) or not dt > 0:
+        return Status.INVALID_DT
+    p = kh * dt
+    q = kv * dt * dt
+    s = kb * dt * dt * dt
+    if not (_is_finite(p) and _is_finite(q) and _is_finite(s)):
+        return Status.UNSTABLE_DISCRETE
+    if kb > 0:
+        lhs = p * (f32(2) - p)
+        rhs = p * (p + q - f32(2)) - s
+        stable = (s > 0 and (f32(8) - f32(4) * p - f32(2) * q + s) > 0 and p > 0 and p < 2
+                  and lhs > rhs and lhs > -rhs)
+    elif kv > 0:
+        stable = p > 0 and p < 2 and q > 0 and q < f32(4) - f32(2) * p
+    else:
+        stable = p < 2
+    return Status.OK if stable else Status.UNSTABLE_DISCRETE
+
+
+def _from_bandwidth(omega: np.float32, zeta: np.float32, omega_b: np.float32) -> Tuple[Status, Tuple[np.float32, ...]]:
+    """FusionAltitudeSettingsFromBandwidth: Kh = 2ζω + ω_b, Kv = ω² + 2ζω·ω_b, Kb = ω²·ω_b."""
+    if not (_is_finite(omega) and _is_finite(zeta) and _is_finite(omega_b)) or not omega > 0 or not zeta > 0 \
+            or omega_b < 0:
+        return Status.INVALID_BANDWIDTH, ()
+    two_zeta_omega = f32(2) * zeta * omega
+    omega_squared = omega * omega
+    gains = (two_zeta_omega + omega_b, omega_squared + two_zeta_omega * omega_b, omega_squared * omega_b)
+    status = _check_gains(*gains)
+    if status == Status.INVALID_GAIN:
+        status = Status.INVALID_BANDWIDTH
+    return status, gains
+
+
+#: FusionAltitudeSettingsFromPreset: the formulas evaluated exactly, rounded to float32.
+_PRESET_GAINS = {
+    "balloon": (f32(0.32), f32(0.0512), f32(0.0016)),
+    "fixed_wing": (f32(0.80), f32(0.32), f32(0.025)),
+    "vtol": (f32(2.40), f32(2.88), f32(0.675)),
+    "racing": (f32(8.0), f32(32.0), f32(25.0)),
+}
+
+
+class AltitudeSettings:
+    """Observer gains (float32).
+
+    Parameters
+    ----------
+    position_gain : float, default 2.40
+        Kh, 1/s: baro residual into altitude.
+    velocity_gain : float, default 2.88
+        Kv, 1/s²: baro residual into vertical velocity.
+    bias_gain : float, default 0.675
+        Kb, 1/s³: baro residual into the accel bias; 0 disables bias estimation.
+
+    Raises
+    ------
+    ValueError
+        A gain is not finite or negative, or the observer is unstable
+        (Routh–Hurwitz: Kh·Kv > Kb when Kb > 0; Kh > 0 when Kv > 0).
+    """
+
+    __slots__ = ("_gains",)
+
+    def __init__(self, position_gain: float = 2.40, velocity_gain: float = 2.88, bias_gain: float = 0.675) -> None:
+        names = ("position_gain", "velocity_gain", "bias_gain")
+        with np.errstate(over="ignore"):
+            gains = tuple(f32(_common.as_float(value, name))
+                          for value, name in zip((position_gain, velocity_gain, bias_gain), names))
+        status = _check_gains(*gains)
+        if status != Status.OK:
+            _common.raise_settings_error(status, tuple(float(g) for g in gains))
+        self._gains = gains
+
+    @classmethod
+    def from_bandwidth(cls, omega: float, zeta: float = 0.7, omega_b: Optional[float] = None) -> "AltitudeSettings":
+        """Gains from position-loop bandwidth ω (rad/s), damping ζ and bias-loop bandwidth ω_b (rad/s).
+
+        ``Kh = 2ζω + ω_b``, ``Kv = ω² + 2ζω·ω_b``, ``Kb = ω²·ω_b`` in float32;
+        ``omega_b`` defaults to ``float32(ω) / 5``.
+        """
+        omega32 = f32(_common.as_float(omega, "omega"))
+        zeta32 = f32(_common.as_float(zeta, "zeta"))
+        omega_b32 = omega32 / f32(5) if omega_b is None else f32(_common.as_float(omega_b, "omega_b"))
+        status, gains = _from_bandwidth(omega32, zeta32, omega_b32)
+        if status != Status.OK:
+            _common.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
+        return cls(*gains)
+
+    @classmethod
+    def preset(cls, name: str) -> "AltitudeSettings":
+        """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0)."""
+        _common.check_preset(name)
+        return cls(*_PRESET_GAINS[name])
+
+    @property
+    def position_gain(self) -> float:
+        """Kh, 1/s."""
+        return float(self._gains[0])
+
+    @property
+    def velocity_gain(self) -> float:
+        """Kv, 1/s²."""
+        return float(self._gains[1])
+
+    @property
+    def bias_gain(self) -> float:
+        """Kb, 1/s³."""
+        return float(self._gains[2])
+
+    def validate(self, dt: float) -> None:
+        """Check that the update is stable at sample period ``dt`` (s) (Jury's test).
+
+        Raises ValueError if not; warns :class:`DiscretisationWarning` when the
+        fastest observer pole ω has ω·dt ≥ 0.1.
+        """
+        dt32 = f32(_common.as_float(dt, "dt"))
+        status = _validate(*self._gains, dt32)
+        if status != Status.OK:
+            _common.raise_settings_error(status, self.as_tuple(), float(dt))
+        _common.warn_if_coarse(self.as_tuple(), float(dt32))
+
+    def as_tuple(self) -> Tuple[float, float, float]:
+        """(position_gain, velocity_gain, bias_gain) as Python floats."""
+        return (self.position_gain, self.velocity_gain, self.bias_gain)
+
+    def __eq__(self, other: object) -> bool:
+        if not hasattr(other, "as_tuple") or not hasattr(other, "velocity_gain"):
+            return NotImplemented
+        return self.as_tuple() == other.as_tuple()  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash(self.as_tuple())
+
+    def __repr__(self) -> str:
+        kh, kv, kb = (str(g) for g in self._gains)
+        return f"AltitudeSettings(position_gain={kh}, velocity_gain={kv}, bias_gain={kb})"
+
+    def __reduce__(self):
+        return (type(self), self.as_tuple())
+
+
+# -- estimator ---------------------------------------------------------------
+
+class AltitudeEstimator:
+    """3rd-order complementary observer: baro altitude + vertical acceleration.
+
+    Parameters
+    ----------
+    settings : AltitudeSettings, optional
+        Gains; the defaults (VTOL multirotor) if omitted.
+
+    Notes
+    -----
+    Inputs: vertical acceleration (m/s², earth frame, +up, gravity removed),
+    baro altitude (m; NaN for "no baro this step") and dt (s). The first baro
+    sample sets the reference (auto-zero). NED users negate.
+    """
+
+    __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_reference_set")
+
+    def __init__(self, settings: Optional[AltitudeSettings] = None) -> None:
+        # FusionAltitudeInitialise
+        self._settings = AltitudeSettings() if settings is None else _as_settings(settings)
+        self._h = f32(0)
+        self._v = f32(0)
+        self._b = f32(0)
+        self._r = f32(0)
+        self._reference_set = False
+
+    # FusionAltitudeUpdate
+    def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> Status:
+        if not _is_finite(a):
+            return Status.INVALID_ACCEL
+        baro_missing = _is_nan(z)
+        if not baro_missing and not _is_finite(z):
+            return Status.INVALID_BARO_ALTITUDE
+        if not _is_finite(dt) or not dt > 0:
+            return Status.INVALID_DT
+        if baro_missing:
+            if self._reference_set:
+                self._v += (a - self._b) * dt
+                self._h += self._v * dt
+            self._r = _NAN
+            return Status.OK
+        if not self._reference_set:
+            return self._reset(z)
+        kh, kv, kb = self._settings._gains
+        r = z - self._h
+        self._v += ((a - self._b) + kv * r) * dt
+        self._h += (self._v + kh * r) * dt
+        self._b -= (kb * r) * dt
+        self._r = r
+        return Status.OK
+
+    # FusionAltitudeReset
+    def _reset(self, z: np.float32) -> Status:
+        if not _is_finite(z):
+            return Status.INVALID_BARO_ALTITUDE
+        self._h = z
+        self._v = f32(0)
+        self._r = f32(0)
+        self._reference_set = True
+        return Status.OK
+
+    def update(self, accel: float, baro_altitude: float, dt: float) -> None:
+        """Process one sample.
+
+        Parameters
+        ----------
+        accel : float
+            Vertical acceleration, m/s², earth frame, +up, gravity removed.
+        baro_altitude : float
+            Barometric altitude, m; NaN when no baro sample arrived this step
+            (the filter then integrates the acceleration only).
+        dt : float
+            Time since the previous sample, s.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        with np.errstate(over="ignore"):
+            a = f32(_common.as_float(accel, "accel"))
+            z = f32(_common.as_float(baro_altitude, "baro_altitude"))
+            t = f32(_common.as_float(dt, "dt"))
+        status = self._update(a, z, t)
+        if status != Status.OK:
+            _common.raise_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
+
+    def reset(self, baro_altitude: float, accel_bias: Optional[float] = None) -> None:
+        """Set the reference: altitude = ``baro_altitude`` (m), velocity 0, residual 0.
+
+        The bias estimate is kept unless ``accel_bias`` (m/s², +up) is given
+        (warm start from a ground calibration).
+        """
+        with np.errstate(over="ignore"):
+            z = f32(_common.as_float(baro_altitude, "baro_altitude"))
+            b = None if accel_bias is None else f32(_common.as_float(accel_bias, "accel_bias"))
+        if not _is_finite(z):
+            _common.raise_reset_error(Status.INVALID_BARO_ALTITUDE, float(z), 0.0)
+        if b is not None:
+            if not _is_finite(b):
+                _common.raise_reset_error(Status.INVALID_ACCEL_BIAS, float(z), float(b))
+            self._b = b
+        self._reset(z)
+
+    def update_batch(self, accel, baro_altitude, dt, out: Optional[Sequence[np.ndarray]] = None) -> AltitudeBatch:
+        """Process arrays of samples, continuing from the current state.
+
+        Equal, bit for bit, to calling :meth:`update` for each sample. On a bad
+        sample nothing is applied (the state is as before the call) and
+        ValueError names the argument and the first bad index.
+        """
+        a, z, t, dt_is_array, result = _common.prepare_batch(accel, baro_altitude, dt, out)
+        trial = copy.copy(self)
+        for i in range(a.shape[0]):
+            ti = t[i] if dt_is_array else t[0]
+            status = trial._update(a[i], z[i], ti)
+            if status != Status.OK:
+                _common.raise_update_error(status, float(a[i]), float(z[i]), float(ti), i, dt_is_array)
+            result.altitude[i] = trial._h
+            result.vertical_velocity[i] = trial._v
+            result.accel_bias[i] = trial._b
+            result.baro_residual[i] = trial._r
+        self._h, self._v, self._b, self._r = trial._h, trial._v, trial._b, trial._r
+        self._reference_set = trial._reference_set
+        return result
+
+    @property
+    def altitude(self) -> float:
+        """Altitude estimate h, m (0 until the reference is set)."""
+        return float(self._h)
+
+    @property
+    def vertical_velocity(self) -> float:
+        """Vertical velocity estimate v, m/s, +up."""
+        return float(self._v)
+
+    @property
+    def accel_bias(self) -> float:
+        """Accelerometer bias estimate b, m/s², +up (subtracted from the input)."""
+        return float(self._b)
+
+    @property
+    def baro_residual(self) -> float:
+        """Baro residual z − h of the last update before its correction, m (0 after reset, NaN without baro)."""
+        return float(self._r)
+
+    @property
+    def reference_set(self) -> bool:
+        """Whether the reference is set (first baro sample or reset)."""
+        return self._reference_set
+
+    @property
+    def settings(self) -> AltitudeSettings:
+        """The gains; assign new :class:`AltitudeSettings` to retune without losing the state."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: AltitudeSettings) -> None:
+        self._settings = _as_settings(settings)
+
+    def _get_state(self) -> tuple:
+        return (self._settings.as_tuple(), float(self._h), float(self._v), float(self._b), float(self._r),
+                self._reference_set)
+
+    def _set_state(self, state: tuple) -> None:
+        gains, h, v, b, r, reference_set = state
+        self._settings = AltitudeSettings(*gains)
+        self._h, self._v, self._b, self._r = f32(h), f32(v), f32(b), f32(r)
+        self._reference_set = bool(reference_set)
+
+    def __copy__(self) -> "AltitudeEstimator":
+        clone = AltitudeEstimator.__new__(AltitudeEstimator)
+        clone._set_state(self._get_state())
+        return clone
+
+    def __deepcopy__(self, memo: dict) -> "AltitudeEstimator":
+        return self.__copy__()
+
+    def __reduce__(self):
+        return (_restore, (self._get_state(),))
+
+    def __repr__(self) -> str:
+        return (f"AltitudeEstimator(altitude={self._h}, vertical_velocity={self._v}, accel_bias={self._b}, "
+                f"baro_residual={self._r}, settings={self._settings!r})")
+
+
+def _as_settings(settings: object) -> AltitudeSettings:
+    if isinstance(settings, AltitudeSettings):
+        return settings
+    if hasattr(settings, "as_tuple"):
+        return AltitudeSettings(*settings.as_tuple())  # type: ignore[attr-defined]
+    raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
+
+
+def _restore(state: tuple) -> AltitudeEstimator:
+    estimator = AltitudeEstimator.__new__(AltitudeEstimator)
+    estimator._set_state(state)
+    return estimator

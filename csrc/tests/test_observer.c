@@ -1,0 +1,293 @@
+/**
+ * @file test_observer.c
+ * @brief Unit tests of fusion_altitude.h, built by tests/test_c_core.py with
+ * gcc and clang (C99 and as C++), strict warnings, and under ASan + UBSan.
+ * Prints "N passed, M failed" and exits non-zero on any failure.
+ */
+
+#include "fusion_altitude.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static int passed = 0;
+static int failed = 0;
+static int currentFailed = 0;
+
+#define CHECK(condition)                                                      \
+    do {                                                                      \
+        if (!(condition)) {                                                   \
+            printf("  %s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            currentFailed = 1;                                                \
+        }                                                                     \
+    } while (0)
+
+#define RUN(test)                                \
+    do {                                         \
+        currentFailed = 0;                       \
+        test();                                  \
+        if (currentFailed) {                     \
+            printf("FAIL %s\n", #test);          \
+            failed++;                            \
+        } else {                                 \
+            printf("ok   %s\n", #test);          \
+            passed++;                            \
+        }                                        \
+    } while (0)
+
+/* Struct sizes a firmware engineer budgets for (checked at compile time). */
+typedef char estimatorFitsIn32Bytes[(sizeof(FusionAltitude) <= 32u) ? 1 : -1];
+typedef char settingsAre12Bytes[(sizeof(FusionAltitudeSettings) == 12u) ? 1 : -1];
+
+static float Infinity(void) {
+    const uint32_t bits = 0x7F800000u;
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    return value;
+}
+
+static bool SameBits(const FusionAltitude *const a, const FusionAltitude *const b) {
+    return memcmp(a, b, sizeof(*a)) == 0;
+}
+
+static float Absolute(const float value) {
+    return value < 0.0f ? -value : value;
+}
+
+/* An estimator in the middle of a run, for the rejection tests. */
+static FusionAltitude RunningEstimator(void) {
+    FusionAltitude altitude;
+    memset(&altitude, 0, sizeof(altitude)); /* padding bytes too, so memcmp compares state only */
+    FusionAltitudeInitialise(&altitude);
+    for (int i = 0; i < 100; i++) {
+        (void) FusionAltitudeUpdate(&altitude, 0.3f, 10.0f + 0.01f * (float) i, 0.01f);
+    }
+    return altitude;
+}
+
+static void InitialiseUsesDefaultGainsAndNoReference(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    const FusionAltitudeSettings settings = FusionAltitudeGetSettings(&altitude);
+    CHECK(settings.positionGain == 2.40f);
+    CHECK(settings.velocityGain == 2.88f);
+    CHECK(settings.biasGain == 0.675f);
+    CHECK(!FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+}
+
+static void FirstBaroSampleOnlySetsTheReference(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    CHECK(FusionAltitudeUpdate(&altitude, 5.0f, 123.5f, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == 123.5f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+}
+
+static void MissingBaroBeforeReferenceChangesOnlyTheResidual(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    CHECK(FusionAltitudeUpdate(&altitude, 5.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(!FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == 0.0f);
+    CHECK(FusionAltitudeIsNaN(FusionAltitudeGetBaroResidual(&altitude)));
+}
+
+static void UpdateFollowsTheDocumentedEquations(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    (void) FusionAltitudeReset(&altitude, 10.0f);
+    altitude.verticalVelocity = 0.5f;
+    altitude.accelBias = 0.1f;
+    const float a = 0.7f, z = 10.25f, dt = 0.02f;
+    const float r = z - 10.0f;
+    const float v = 0.5f + ((a - 0.1f) + 2.88f * r) * dt;
+    const float h = 10.0f + (v + 2.40f * r) * dt;
+    const float b = 0.1f - (0.675f * r) * dt;
+    CHECK(FusionAltitudeUpdate(&altitude, a, z, dt) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == v);
+    CHECK(FusionAltitudeGetAltitude(&altitude) == h);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == b);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == r);
+}
+
+static void MissingBaroIntegratesAndKeepsBias(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const float h0 = altitude.altitude, v0 = altitude.verticalVelocity, b0 = altitude.accelBias;
+    CHECK(FusionAltitudeUpdate(&altitude, 1.5f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    const float v = v0 + (1.5f - b0) * 0.01f;
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == v);
+    CHECK(FusionAltitudeGetAltitude(&altitude) == h0 + v * 0.01f);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == b0);
+    CHECK(FusionAltitudeIsNaN(FusionAltitudeGetBaroResidual(&altitude)));
+}
+
+static void ResetKeepsBiasAndZeroesVelocityAndResidual(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const float bias = altitude.accelBias;
+    CHECK(bias != 0.0f);
+    CHECK(FusionAltitudeReset(&altitude, -3.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetAltitude(&altitude) == -3.0f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == bias);
+}
+
+static void WarmStartSetsBias(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    CHECK(FusionAltitudeResetWithBias(&altitude, 50.0f, 0.12f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == 50.0f);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == 0.12f);
+}
+
+static void RejectedInputsLeaveStateBitIdentical(void) {
+    const float inf = Infinity();
+    const float nan = FusionAltitudeNaN();
+    const FusionAltitude before = RunningEstimator();
+    FusionAltitude altitude = before;
+    CHECK(FusionAltitudeUpdate(&altitude, nan, 1.0f, 0.01f) == FusionAltitudeStatusInvalidAccel);
+    CHECK(FusionAltitudeUpdate(&altitude, inf, 1.0f, 0.01f) == FusionAltitudeStatusInvalidAccel);
+    CHECK(FusionAltitudeUpdate(&altitude, -inf, nan, 0.01f) == FusionAltitudeStatusInvalidAccel);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, inf, 0.01f) == FusionAltitudeStatusInvalidBaroAltitude);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, -inf, 0.01f) == FusionAltitudeStatusInvalidBaroAltitude);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 1.0f, 0.0f) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 1.0f, -0.0f) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 1.0f, -0.01f) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, nan, nan) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 1.0f, inf) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeReset(&altitude, nan) == FusionAltitudeStatusInvalidBaroAltitude);
+    CHECK(FusionAltitudeReset(&altitude, inf) == FusionAltitudeStatusInvalidBaroAltitude);
+    CHECK(FusionAltitudeResetWithBias(&altitude, 1.0f, nan) == FusionAltitudeStatusInvalidAccelBias);
+    CHECK(FusionAltitudeResetWithBias(&altitude, nan, 0.0f) == FusionAltitudeStatusInvalidBaroAltitude);
+    const FusionAltitudeSettings negative = {-1.0f, 2.88f, 0.675f};
+    const FusionAltitudeSettings notFinite = {2.4f, nan, 0.675f};
+    const FusionAltitudeSettings unstable = {1.0f, 1.0f, 2.0f};
+    CHECK(FusionAltitudeSetSettings(&altitude, &negative) == FusionAltitudeStatusInvalidGain);
+    CHECK(FusionAltitudeSetSettings(&altitude, &notFinite) == FusionAltitudeStatusInvalidGain);
+    CHECK(FusionAltitudeSetSettings(&altitude, &unstable) == FusionAltitudeStatusUnstableGains);
+    CHECK(SameBits(&altitude, &before));
+}
+
+static void FirstSampleStillChecksAllInputs(void) {
+    FusionAltitude altitude;
+    memset(&altitude, 0, sizeof(altitude));
+    FusionAltitudeInitialise(&altitude);
+    const FusionAltitude before = altitude;
+    CHECK(FusionAltitudeUpdate(&altitude, Infinity(), 1.0f, 0.01f) == FusionAltitudeStatusInvalidAccel);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 1.0f, 0.0f) == FusionAltitudeStatusInvalidDt);
+    CHECK(SameBits(&altitude, &before));
+}
+
+static void SettingsCheckAppliesRouthHurwitz(void) {
+    const FusionAltitudeSettings stable = {2.0f, 1.0f, 1.9f};
+    const FusionAltitudeSettings boundary = {2.0f, 1.0f, 2.0f};
+    const FusionAltitudeSettings noBias = {2.0f, 1.0f, 0.0f};
+    const FusionAltitudeSettings undamped = {0.0f, 1.0f, 0.0f};
+    const FusionAltitudeSettings inertialOnly = {0.0f, 0.0f, 0.0f};
+    CHECK(FusionAltitudeSettingsCheck(&stable) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsCheck(&boundary) == FusionAltitudeStatusUnstableGains);
+    CHECK(FusionAltitudeSettingsCheck(&noBias) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsCheck(&undamped) == FusionAltitudeStatusUnstableGains);
+    CHECK(FusionAltitudeSettingsCheck(&inertialOnly) == FusionAltitudeStatusOk);
+}
+
+static void DiscreteValidationRejectsLongSteps(void) {
+    const FusionAltitudeSettings defaults = FusionAltitudeSettingsDefault();
+    CHECK(FusionAltitudeSettingsValidate(&defaults, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsValidate(&defaults, 0.5f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsValidate(&defaults, 1.0f) == FusionAltitudeStatusUnstableDiscrete);
+    CHECK(FusionAltitudeSettingsValidate(&defaults, 0.0f) == FusionAltitudeStatusInvalidDt);
+    CHECK(FusionAltitudeSettingsValidate(&defaults, FusionAltitudeNaN()) == FusionAltitudeStatusInvalidDt);
+    FusionAltitudeSettings racing;
+    CHECK(FusionAltitudeSettingsFromPreset(&racing, FusionAltitudePresetRacing) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsValidate(&racing, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsValidate(&racing, 0.25f) == FusionAltitudeStatusUnstableDiscrete);
+}
+
+static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
+    const float omegas[4] = {0.2f, 0.5f, 1.5f, 5.0f};
+    for (int i = 0; i < 4; i++) {
+        FusionAltitudeSettings fromPreset = {0.0f, 0.0f, 0.0f};
+        FusionAltitudeSettings fromBandwidth = {0.0f, 0.0f, 0.0f};
+        CHECK(FusionAltitudeSettingsFromPreset(&fromPreset, (FusionAltitudePreset) i) == FusionAltitudeStatusOk);
+        CHECK(FusionAltitudeSettingsFromBandwidth(&fromBandwidth, omegas[i], 0.7f, omegas[i] / 5.0f) == FusionAltitudeStatusOk);
+        const float pairs[3][2] = {{fromPreset.positionGain, fromBandwidth.positionGain},
+                                   {fromPreset.velocityGain, fromBandwidth.velocityGain},
+                                   {fromPreset.biasGain, fromBandwidth.biasGain}};
+        for (int j = 0; j < 3; j++) {
+            const int32_t ulps = (int32_t) FusionAltitudeFloatBits(pairs[j][0]) - (int32_t) FusionAltitudeFloatBits(pairs[j][1]);
+            CHECK(ulps >= -1 && ulps <= 1);
+        }
+    }
+    FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f};
+    CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, -1.0f, 0.7f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
+    CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, 1.0f, 0.0f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
+    int unknownPreset = (int) FusionAltitudePresetRacing + 1;
+    CHECK(FusionAltitudeSettingsFromPreset(&untouched, (FusionAltitudePreset) unknownPreset) == FusionAltitudeStatusInvalidPreset);
+    CHECK(untouched.positionGain == 1.0f && untouched.velocityGain == 2.0f && untouched.biasGain == 3.0f);
+}
+
+static void StationaryEstimateConvergesToBaro(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    (void) FusionAltitudeReset(&altitude, 0.0f);
+    for (int i = 0; i < 6000; i++) { /* 60 s at 100 Hz after a 2 m baro step */
+        (void) FusionAltitudeUpdate(&altitude, 0.0f, 2.0f, 0.01f);
+    }
+    CHECK(Absolute(FusionAltitudeGetAltitude(&altitude) - 2.0f) < 1e-3f);
+    CHECK(Absolute(FusionAltitudeGetVerticalVelocity(&altitude)) < 1e-3f);
+}
+
+static void ConstantAccelBiasIsEstimatedWithNoAltitudeError(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    const float bias = 0.012f * FUSION_ALTITUDE_GRAVITY;
+    for (int i = 0; i < 6000; i++) { /* 60 s at 100 Hz */
+        (void) FusionAltitudeUpdate(&altitude, bias, 20.0f, 0.01f);
+    }
+    CHECK(Absolute(FusionAltitudeGetAccelBias(&altitude) - bias) < 1e-3f);
+    CHECK(Absolute(FusionAltitudeGetAltitude(&altitude) - 20.0f) < 1e-3f);
+}
+
+static void StatusMessagesExistForEveryStatus(void) {
+    for (int status = 0; status <= (int) FusionAltitudeStatusInvalidPreset; status++) {
+        const char *const message = FusionAltitudeStatusMessage((FusionAltitudeStatus) status);
+        CHECK(message != NULL && message[0] != '\0');
+    }
+    CHECK(strcmp(FusionAltitudeStatusMessage(FusionAltitudeStatusOk), "ok") == 0);
+}
+
+static void FloatClassificationNeedsNoLibm(void) {
+    CHECK(FusionAltitudeIsFinite(0.0f) && FusionAltitudeIsFinite(-3.4e38f) && FusionAltitudeIsFinite(1e-45f));
+    CHECK(!FusionAltitudeIsFinite(Infinity()) && !FusionAltitudeIsFinite(-Infinity()));
+    CHECK(!FusionAltitudeIsFinite(FusionAltitudeNaN()) && FusionAltitudeIsNaN(FusionAltitudeNaN()));
+    CHECK(!FusionAltitudeIsNaN(Infinity()) && !FusionAltitudeIsNaN(1.0f));
+}
+
+int main(void) {
+    RUN(InitialiseUsesDefaultGainsAndNoReference);
+    RUN(FirstBaroSampleOnlySetsTheReference);
+    RUN(MissingBaroBeforeReferenceChangesOnlyTheResidual);
+    RUN(UpdateFollowsTheDocumentedEquations);
+    RUN(MissingBaroIntegratesAndKeepsBias);
+    RUN(ResetKeepsBiasAndZeroesVelocityAndResidual);
+    RUN(WarmStartSetsBias);
+    RUN(RejectedInputsLeaveStateBitIdentical);
+    RUN(FirstSampleStillChecksAllInputs);
+    RUN(SettingsCheckAppliesRouthHurwitz);
+    RUN(DiscreteValidationRejectsLongSteps);
+    RUN(BandwidthFormulasGiveThePresetsWithinOneUlp);
+    RUN(StationaryEstimateConvergesToBaro);
+    RUN(ConstantAccelBiasIsEstimatedWithNoAltitudeError);
+    RUN(StatusMessagesExistForEveryStatus);
+    RUN(FloatClassificationNeedsNoLibm);
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed == 0 ? 0 : 1;
+}

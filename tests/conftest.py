@@ -1,0 +1,31 @@
+"""Shared fixtures: most behaviour tests run against both implementations."""
+
+import numpy as np
+import pytest
+
+import fusion_altitude
+import fusion_altitude.reference
+
+
+@pytest.fixture(params=["c", "reference"])
+def impl(request):
+    """The C binding (``fusion_altitude``) or the pure-Python reference."""
+    return fusion_altitude if request.param == "c" else fusion_altitude.reference
+
+
+def float_bits(value) -> int:
+    """The float32 bit pattern of a number, so NaNs and signed zeros compare exactly."""
+    return int(np.array(value, dtype=np.float32).view(np.uint32))
+
+
+def estimator_state_bits(estimator) -> tuple:
+    """Every state variable of an estimator, floats as float32 bit patterns."""
+    return (float_bits(estimator.altitude), float_bits(estimator.vertical_velocity),
+            float_bits(estimator.accel_bias), float_bits(estimator.baro_residual),
+            estimator.reference_set, estimator.settings.as_tuple())
+
+
+@pytest.fixture
+def state_bits():
+    """``state_bits(estimator)``: the full state as comparable bit patterns."""
+    return estimator_state_bits

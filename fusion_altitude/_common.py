@@ -84,10 +84,10 @@ def as_float(value: object, name: str) -> float:
     """Return ``value`` as a Python float, or raise TypeError naming ``name``."""
     if isinstance(value, float):
         return value
-    try:
+    kind = type(value)
+    if hasattr(kind, "__float__") or hasattr(kind, "__index__"):  # as CPython's PyFloat_AsDouble
         return float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}") from None
+    raise TypeError(f"{name} must be a real number, got {kind.__name__}")
 
 
 def raise_update_error(status: int, accel: float, baro_altitude: float, dt: float, index: Optional[int] = None,

@@ -1,0 +1,244 @@
+"""Named simulation scenarios, including two that reproduce published figures.
+
+``clean`` and ``realistic`` are the two examples published with the Rust crate
+``fusion-altitude`` (the design this package follows): the same motion, sensor
+budget and AHRS, so our error figures must agree with theirs within the spread
+of the noise. :data:`PUBLISHED` holds their numbers.
+
+Run one with :func:`run_scenario`; :func:`scenario_names` lists them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Dict, Optional
+
+import numpy as np
+
+from ._common import GRAVITY, AltitudeBatch
+from ._observer import AltitudeEstimator, AltitudeSettings
+from .metrics import ErrorStatistics, error_statistics
+from . import sim
+
+__all__ = ["PUBLISHED", "ScenarioResult", "scenario_names", "run_scenario", "describe"]
+
+#: Published figures of the Rust crate's examples (errors in m, after 5 s).
+#: ``clean``: ``with_fusion_ahrs``; ``realistic``: ``realistic_noise``.
+PUBLISHED = {
+    "clean": {"max": 0.105},
+    "realistic": {"mean": 0.009, "rms": 0.036, "max": 0.15, "final_bias": 0.012 * GRAVITY},
+}
+
+
+@dataclass
+class ScenarioResult:
+    """Everything a scenario run produced.
+
+    Attributes
+    ----------
+    name : str
+        Scenario name.
+    seed : int
+        Seed of the random generator.
+    trajectory : sim.Trajectory
+        Truth (time s, altitude m, vertical velocity m/s, acceleration m/s²).
+    imu : sim.ImuStream
+        IMU readings (g, °/s).
+    baro : sim.BaroStream
+        Baro readings at their own rate (altitude m, pressure Pa).
+    vertical_acceleration : numpy.ndarray
+        Observer input on the IMU grid, m/s², +up (through the AHRS, or the
+        truth attitude when ``attitude="truth"``).
+    baro_altitude : numpy.ndarray
+        Baro altitude on the IMU grid, m; NaN on steps without a new sample.
+    estimate : AltitudeBatch
+        Observer outputs per IMU step.
+    true_bias : float
+        Vertical accelerometer bias of the scenario, m/s², +up (what the
+        observer's bias estimate should approach on a level platform).
+    transient : float
+        Seconds excluded from the statistics.
+    attitude : str
+        ``"ahrs"`` or ``"truth"``.
+    rangefinder, gps : sim.SensorStream or None
+        Extra streams (not used by this observer; for a later Kalman filter).
+    description : str
+        One line about the scenario.
+    """
+
+    name: str
+    seed: int
+    trajectory: sim.Trajectory
+    imu: sim.ImuStream
+    baro: sim.BaroStream
+    vertical_acceleration: np.ndarray
+    baro_altitude: np.ndarray
+    estimate: AltitudeBatch
+    true_bias: float
+    transient: float
+    attitude: str
+    rangefinder: Optional[sim.SensorStream] = None
+    gps: Optional[sim.SensorStream] = None
+    description: str = ""
+
+    @property
+    def time(self) -> np.ndarray:
+        """IMU-grid times, s."""
+        return self.trajectory.time
+
+    @property
+    def altitude_error(self) -> np.ndarray:
+        """Fused estimate − truth, m, per IMU step."""
+        return self.estimate.altitude.astype(float) - self.trajectory.altitude
+
+    @property
+    def baro_error(self) -> np.ndarray:
+        """Raw baro − truth, m, per IMU step (NaN where there is no baro sample)."""
+        return self.baro_altitude - self.trajectory.altitude
+
+    def statistics(self) -> ErrorStatistics:
+        """Error statistics of the fused estimate after the transient (m)."""
+        return error_statistics(self.time, self.altitude_error, self.transient)
+
+    def baro_statistics(self) -> ErrorStatistics:
+        """Error statistics of the raw baro after the transient (m)."""
+        return error_statistics(self.time, self.baro_error, self.transient)
+
+    @property
+    def final_bias(self) -> float:
+        """Bias estimate at the end of the run, m/s²."""
+        return float(self.estimate.accel_bias[-1])
+
+
+@dataclass
+class _Spec:
+    description: str
+    trajectory: Callable[[], sim.Trajectory]
+    imu: sim.ImuModel
+    baro: sim.BaroModel = field(default_factory=sim.BaroModel)
+    preset: str = "vtol"
+    transient: float = 5.0
+    baro_override: Optional[Callable[[sim.Trajectory], np.ndarray]] = None
+    rangefinder: Optional[sim.RangefinderModel] = None
+    gps: Optional[sim.GpsModel] = None
+
+
+_REALISTIC_IMU = sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.005,
+                              gyro_bias=(0.20, -0.15, 0.10), gyro_noise=0.10,
+                              mag_field=(1.0, 0.0, 0.0), mag_noise=0.05)
+
+
+def _specs() -> Dict[str, _Spec]:
+    return {
+        "realistic": _Spec(
+            "published realistic_noise: 60 s of h = 5 sin(2π·0.1·t) at 100 Hz, MEMS biases and noise, "
+            "8 Hz prop-wash on the baro",
+            lambda: sim.sinusoid(60.0, 100.0), _REALISTIC_IMU,
+            sim.BaroModel(noise=0.10, prop_wash_amplitude=0.30, prop_wash_frequency=8.0)),
+        "clean": _Spec(
+            "published with_fusion_ahrs: 30 s of h = 5 sin(2π·0.1·t) at 100 Hz, ideal IMU, "
+            "baro = truth + 0.05 sin(0.41 i)",
+            lambda: sim.sinusoid(30.0, 100.0), sim.ImuModel(),
+            baro_override=lambda trajectory: trajectory.altitude + 0.05 * np.sin(0.41 * np.arange(len(trajectory)))),
+        "hover": _Spec(
+            "60 s hover at 10 m, MEMS IMU, 50 Hz baro with noise, quantization and slow thermal drift",
+            lambda: sim.hover(60.0, 100.0, 10.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=50.0, noise=0.10, quantization=0.02, drift_rate=0.002, drift_walk=0.01,
+                          prop_wash_amplitude=0.2, prop_wash_frequency=8.0)),
+        "climb-cruise-descend": _Spec(
+            "120 s: climb at 3 m/s to 60 m, cruise, descend; fixed-wing gains, 25 Hz lagged baro",
+            lambda: sim.climb_cruise_descend(120.0, 100.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=25.0, noise=0.2, lag=0.05, drift_rate=0.003), preset="fixed_wing", transient=20.0),
+        "takeoff-landing": _Spec(
+            "40 s VTOL hop to 5 m with rocking attitude, vibration, 50 Hz baro with prop-wash and glitches; "
+            "rangefinder and GPS streams",
+            lambda: sim.takeoff_landing(40.0, 200.0),
+            sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, vibration_amplitude=(0.05, 0.05, 0.1),
+                         vibration_frequency=87.0, accel_range=16.0, gyro_bias=(0.2, -0.15, 0.1), gyro_noise=0.1,
+                         mag_noise=0.05),
+            sim.BaroModel(rate=50.0, noise=0.1, prop_wash_amplitude=0.3, prop_wash_frequency=8.0, quantization=0.01,
+                          spike_probability=0.002, spike_magnitude=3.0, stuck_probability=0.0005,
+                          stuck_duration=0.5, dropout_probability=0.01),
+            rangefinder=sim.RangefinderModel(), gps=sim.GpsModel(satellites=(7, 14))),
+        "balloon": _Spec(
+            "weather balloon to 30 km at 5 m/s, 10 Hz IMU and 1 Hz baro; balloon gains",
+            lambda: sim.balloon_ascent(10.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=1.0, noise=0.5, quantization=0.1, drift_walk=0.05),
+            preset="balloon", transient=120.0, gps=sim.GpsModel(rate=1.0)),
+        "rocket": _Spec(
+            "sounding rocket: 15 g boost for 2.5 s (accel clips at ±16 g), coast to ≈1.1 km, drogue; 100 Hz baro",
+            lambda: sim.rocket(60.0, 100.0),
+            sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, accel_range=16.0,
+                         gyro_noise=0.1, mag_noise=0.05),
+            sim.BaroModel(noise=0.5, lag=0.02), preset="racing", transient=2.0),
+    }
+
+
+def scenario_names() -> list:
+    """Names accepted by :func:`run_scenario`."""
+    return list(_specs())
+
+
+def describe(name: str) -> str:
+    """One-line description of a scenario."""
+    return _spec(name).description
+
+
+def _spec(name: str) -> _Spec:
+    specs = _specs()
+    if name not in specs:
+        raise ValueError(f"unknown scenario {name!r}; choose one of {', '.join(specs)}")
+    return specs[name]
+
+
+def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[AltitudeSettings] = None,
+                 attitude: str = "auto") -> ScenarioResult:
+    """Simulate a scenario and run the observer on it.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`scenario_names`.
+    seed : int
+        Seed of ``numpy.random.default_rng``; same seed, same result.
+    settings : AltitudeSettings, optional
+        Observer gains; default the scenario's preset.
+    attitude : {"auto", "ahrs", "truth"}
+        ``"ahrs"`` runs the IMU through imufusion (the ``[ahrs]`` extra);
+        ``"truth"`` rotates it with the truth attitude; ``"auto"`` uses the
+        AHRS when imufusion is installed.
+
+    Returns
+    -------
+    ScenarioResult
+    """
+    spec = _spec(name)
+    if attitude == "auto":
+        try:
+            import imufusion  # noqa: F401
+            attitude = "ahrs"
+        except ImportError:
+            attitude = "truth"
+    if attitude not in ("ahrs", "truth"):
+        raise ValueError(f"attitude must be 'auto', 'ahrs' or 'truth'; got {attitude!r}")
+    rng = np.random.default_rng(seed)
+    trajectory = spec.trajectory()
+    imu = sim.simulate_imu(trajectory, spec.imu, rng)
+    if spec.baro_override is not None:
+        value = spec.baro_override(trajectory)
+        from .sensors import altitude_to_pressure
+        baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
+    else:
+        baro = sim.simulate_baro(trajectory, spec.baro, rng)
+    rangefinder = sim.simulate_rangefinder(trajectory, spec.rangefinder, rng) if spec.rangefinder else None
+    gps = sim.simulate_gps(trajectory, spec.gps, rng)[0] if spec.gps else None
+    if attitude == "ahrs":
+        accel = sim.ahrs_vertical_acceleration(imu)
+    else:
+        accel = sim.truth_vertical_acceleration(imu, trajectory)
+    baro_altitude = sim.align_to(trajectory.time, baro)
+    estimator = AltitudeEstimator(settings if settings is not None else AltitudeSettings.preset(spec.preset))
+    estimate = estimator.update_batch(accel, baro_altitude, trajectory.dt)
+    return ScenarioResult(name, seed, trajectory, imu, baro, accel, baro_altitude, estimate,
+                          spec.imu.accel_bias[2] * GRAVITY, spec.transient, attitude, rangefinder, gps,
+                          spec.description)

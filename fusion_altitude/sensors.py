@@ -1,0 +1,241 @@
+"""Sensor conversions: pressure ↔ altitude and body-frame accel → vertical accel.
+
+Everything here is vectorised over numpy arrays and uses SI units unless a
+name or argument says otherwise. Vertical is +up in every output.
+
+Frames and signs
+----------------
+An accelerometer measures *specific force*: acceleration minus gravity. At rest
+and level it reads +1 g along the body axis that points **up**:
+
+* ``"NED"`` (body x forward, y right, z **down**): at rest it reads
+  (0, 0, −9.81) m/s²;
+* ``"ENU"`` / ``"NWU"`` (body z **up**): at rest it reads (0, 0, +9.81) m/s².
+
+:func:`vertical_acceleration` rotates the body-frame specific force into the
+earth frame with the attitude, adds gravity back and returns the *upward*
+component, so a vehicle at rest gives 0 and a vehicle accelerating upward
+gives a positive value in every frame.
+"""
+
+from __future__ import annotations
+
+from typing import Union
+
+import numpy as np
+
+from ._common import GRAVITY
+
+__all__ = [
+    "ISA_SEA_LEVEL_PRESSURE",
+    "ISA_SEA_LEVEL_TEMPERATURE",
+    "ISA_LAPSE_RATE",
+    "ISA_TROPOPAUSE_ALTITUDE",
+    "pressure_to_altitude",
+    "altitude_to_pressure",
+    "euler_to_quaternion",
+    "quaternion_to_matrix",
+    "quaternion_multiply",
+    "vertical_acceleration",
+]
+
+#: ISA sea-level pressure, Pa.
+ISA_SEA_LEVEL_PRESSURE = 101325.0
+#: ISA sea-level temperature, K.
+ISA_SEA_LEVEL_TEMPERATURE = 288.15
+#: ISA troposphere temperature lapse rate, K/m (temperature falls with height).
+ISA_LAPSE_RATE = 0.0065
+#: Top of the ISA troposphere, m. The formulas here are exact only below it.
+ISA_TROPOPAUSE_ALTITUDE = 11000.0
+#: Specific gas constant of dry air, J/(kg·K).
+_GAS_CONSTANT_AIR = 287.05287
+#: Exponent g / (R·L) of the troposphere formula (≈ 5.2559).
+_EXPONENT = GRAVITY / (_GAS_CONSTANT_AIR * ISA_LAPSE_RATE)
+
+
+def pressure_to_altitude(pressure_pa, sea_level_pa: float = ISA_SEA_LEVEL_PRESSURE,
+                         sea_level_temperature_k: float = ISA_SEA_LEVEL_TEMPERATURE,
+                         lapse_rate_k_per_m: float = ISA_LAPSE_RATE) -> np.ndarray:
+    """Barometric altitude from static pressure (ISA troposphere).
+
+    ``h = T0/L · (1 − (p/p0)^(R·L/g))``.
+
+    Parameters
+    ----------
+    pressure_pa : array_like
+        Static pressure, Pa. NaN passes through as NaN.
+    sea_level_pa : float, default 101325.0
+        Pressure at altitude 0, Pa. Pass the pressure measured on the ground
+        (e.g. the launch pad) to get height above that point (QFE), or the
+        local QNH to get altitude above mean sea level.
+    sea_level_temperature_k : float, default 288.15
+        Temperature at altitude 0, K.
+    lapse_rate_k_per_m : float, default 0.0065
+        Temperature lapse rate, K/m.
+
+    Returns
+    -------
+    numpy.ndarray
+        Altitude, m, +up (float64, same shape as ``pressure_pa``).
+
+    Notes
+    -----
+    The formula is the ISA troposphere and is exact only up to 11 km
+    (p ≈ 22 632 Pa with ISA sea-level values). Above that the real atmosphere
+    is isothermal (216.65 K) but this function keeps extrapolating the
+    troposphere's lapse rate: it returns a finite altitude that is **too
+    low**, by about 0.2 km at 15 km and 1.8 km at 20 km. It does not raise
+    or clip; callers flying higher (balloons) should use a layered model.
+    Non-positive pressures give NaN.
+    """
+    pressure = np.asarray(pressure_pa, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(pressure > 0, pressure / sea_level_pa, np.nan)
+        return sea_level_temperature_k / lapse_rate_k_per_m * (1.0 - np.power(ratio, 1.0 / _EXPONENT))
+
+
+def altitude_to_pressure(altitude_m, sea_level_pa: float = ISA_SEA_LEVEL_PRESSURE,
+                         sea_level_temperature_k: float = ISA_SEA_LEVEL_TEMPERATURE,
+                         lapse_rate_k_per_m: float = ISA_LAPSE_RATE) -> np.ndarray:
+    """Static pressure at an altitude (ISA troposphere); the inverse of :func:`pressure_to_altitude`.
+
+    ``p = p0 · (1 − L·h/T0)^(g/(R·L))``.
+
+    Parameters
+    ----------
+    altitude_m : array_like
+        Altitude, m, +up.
+    sea_level_pa, sea_level_temperature_k, lapse_rate_k_per_m : float
+        As for :func:`pressure_to_altitude` (Pa, K, K/m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Pressure, Pa.
+
+    Notes
+    -----
+    Exact to 11 km. Above, the troposphere formula is extrapolated (the same
+    model as :func:`pressure_to_altitude`, so the round trip stays exact), and
+    the pressure it gives is lower than the real atmosphere's. Altitudes at or
+    above T0/L ≈ 44.3 km give NaN.
+    """
+    altitude = np.asarray(altitude_m, dtype=float)
+    base = 1.0 - lapse_rate_k_per_m * altitude / sea_level_temperature_k
+    with np.errstate(invalid="ignore"):
+        return np.where(base > 0, sea_level_pa * np.power(np.maximum(base, 0.0), _EXPONENT), np.nan)
+
+
+def euler_to_quaternion(roll, pitch, yaw) -> np.ndarray:
+    """Quaternion (w, x, y, z) of the ZYX (yaw, pitch, roll) rotation, body → earth.
+
+    Parameters
+    ----------
+    roll, pitch, yaw : array_like
+        Angles, rad (broadcast together).
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit quaternions, shape ``(..., 4)``.
+    """
+    roll, pitch, yaw = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (roll, pitch, yaw)))
+    cr, sr = np.cos(roll / 2), np.sin(roll / 2)
+    cp, sp = np.cos(pitch / 2), np.sin(pitch / 2)
+    cy, sy = np.cos(yaw / 2), np.sin(yaw / 2)
+    return np.stack([cr * cp * cy + sr * sp * sy,
+                     sr * cp * cy - cr * sp * sy,
+                     cr * sp * cy + sr * cp * sy,
+                     cr * cp * sy - sr * sp * cy], axis=-1)
+
+
+def quaternion_multiply(q, r) -> np.ndarray:
+    """Hamilton product q ⊗ r of quaternions (w, x, y, z), shape ``(..., 4)``."""
+    q = np.asarray(q, dtype=float)
+    r = np.asarray(r, dtype=float)
+    w1, x1, y1, z1 = np.moveaxis(q, -1, 0)
+    w2, x2, y2, z2 = np.moveaxis(r, -1, 0)
+    return np.stack([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+                     w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+                     w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2], axis=-1)
+
+
+def quaternion_to_matrix(quaternion) -> np.ndarray:
+    """Rotation matrices (body → earth) of quaternions (w, x, y, z).
+
+    Parameters
+    ----------
+    quaternion : array_like
+        Shape ``(..., 4)``; normalised here.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(..., 3, 3)``; ``v_earth = R @ v_body``.
+    """
+    q = np.asarray(quaternion, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+    ], axis=-2)
+
+
+_FRAMES = ("NED", "ENU", "NWU")
+_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
+
+
+def vertical_acceleration(accel_body, attitude, frame: str = "NED", accel_units: str = "m/s^2") -> np.ndarray:
+    """Gravity-removed earth-frame vertical acceleration, +up, from body specific force.
+
+    Parameters
+    ----------
+    accel_body : array_like, shape (..., 3)
+        Accelerometer reading (specific force) in the body frame, in
+        ``accel_units``. A level vehicle at rest reads (0, 0, −1 g) in a NED
+        body frame and (0, 0, +1 g) in an ENU or NWU body frame.
+    attitude : array_like, shape (..., 4) or (..., 3)
+        Body → earth attitude: a quaternion (w, x, y, z) if the last axis has 4
+        entries, otherwise roll, pitch, yaw in rad (ZYX Euler angles about the
+        axes of ``frame``). Broadcast against ``accel_body``.
+    frame : {"NED", "ENU", "NWU"}, default "NED"
+        Convention of the earth frame and of the body frame.
+    accel_units : {"m/s^2", "g"}, default "m/s^2"
+        Units of ``accel_body`` (1 g = 9.80665 m/s²).
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        Vertical acceleration, m/s², earth frame, **+up**, gravity removed:
+        0 at rest, positive when accelerating upward, whatever the frame.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``frame`` or ``accel_units``, or a bad last-axis length.
+    """
+    if frame not in _FRAMES:
+        raise ValueError(f"frame must be one of {', '.join(_FRAMES)}; got {frame!r}")
+    if accel_units not in _UNITS:
+        raise ValueError(f"accel_units must be 'm/s^2' or 'g'; got {accel_units!r}")
+    accel = np.asarray(accel_body, dtype=float) * _UNITS[accel_units]
+    if accel.shape[-1:] != (3,):
+        raise ValueError(f"accel_body must have 3 components on its last axis, got shape {accel.shape}")
+    att = np.asarray(attitude, dtype=float)
+    if att.shape[-1:] == (4,):
+        q = att / np.linalg.norm(att, axis=-1, keepdims=True)
+        w, x, y, z = np.moveaxis(q, -1, 0)
+        third_row = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)
+    elif att.shape[-1:] == (3,):
+        roll, pitch = att[..., 0], att[..., 1]
+        third_row = np.stack([-np.sin(pitch), np.sin(roll) * np.cos(pitch), np.cos(roll) * np.cos(pitch)], axis=-1)
+    else:
+        raise ValueError(f"attitude must be a quaternion (w, x, y, z) or roll, pitch, yaw on its last axis, "
+                         f"got shape {att.shape}")
+    earth_z = np.sum(third_row * accel, axis=-1)  # specific force along the frame's z axis
+    if frame == "NED":
+        return -(earth_z + GRAVITY)  # z down: specific force at rest is −g; flip to +up
+    return earth_z - GRAVITY

@@ -1,6 +1,7 @@
 """Builds the Cython extension around the header-only C core in csrc/."""
 
 import sys
+from pathlib import Path
 
 from Cython.Build import cythonize
 from setuptools import Extension, setup
@@ -12,14 +13,17 @@ if sys.platform == "win32":
 else:
     compile_args = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
 
+# One extension per binding module fusion_altitude/_NAME.pyx; each wraps
+# headers from csrc/ and holds no copy of an algorithm.
 extensions = [
     Extension(
-        "fusion_altitude._observer",
-        ["fusion_altitude/_observer.pyx"],
+        f"fusion_altitude.{path.stem}",
+        [str(path)],
         include_dirs=["csrc"],
-        depends=["csrc/fusion_altitude.h", "fusion_altitude/cfusion_altitude.pxd"],
+        depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude").glob("*.pxd"))],
         extra_compile_args=compile_args,
-    ),
+    )
+    for path in sorted(Path("fusion_altitude").glob("_*.pyx"))
 ]
 
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": "3"}))

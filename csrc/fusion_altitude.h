@@ -373,6 +373,24 @@ static inline FusionAltitudeStatus FusionAltitudeResetWithBias(FusionAltitude *c
 }
 
 /**
+ * @brief The input rules of FusionAltitudeUpdate, on their own: accel (m/s^2)
+ * finite; baroAltitude (m) finite or NaN (no sample); dt (s) finite and > 0.
+ * @return the status FusionAltitudeUpdate would return for these inputs.
+ */
+static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, const float baroAltitude, const float dt) {
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsNaN(baroAltitude) && !FusionAltitudeIsFinite(baroAltitude)) {
+        return FusionAltitudeStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeStatusInvalidDt;
+    }
+    return FusionAltitudeStatusOk;
+}
+
+/**
  * @brief One step of the observer (semi-implicit Euler).
  *
  * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity removed.
@@ -395,17 +413,11 @@ static inline FusionAltitudeStatus FusionAltitudeResetWithBias(FusionAltitude *c
 static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const altitude, const float accel, const float baroAltitude,
                                                         const float dt) {
     FUSION_ALTITUDE_NO_CONTRACT
-    if (!FusionAltitudeIsFinite(accel)) {
-        return FusionAltitudeStatusInvalidAccel;
+    const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel, baroAltitude, dt);
+    if (status != FusionAltitudeStatusOk) {
+        return status;
     }
-    const bool baroMissing = FusionAltitudeIsNaN(baroAltitude);
-    if (!baroMissing && !FusionAltitudeIsFinite(baroAltitude)) {
-        return FusionAltitudeStatusInvalidBaroAltitude;
-    }
-    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
-        return FusionAltitudeStatusInvalidDt;
-    }
-    if (baroMissing) {
+    if (FusionAltitudeIsNaN(baroAltitude)) {
         if (altitude->referenceSet) {
             altitude->verticalVelocity += (accel - altitude->accelBias) * dt;
             altitude->altitude += altitude->verticalVelocity * dt;

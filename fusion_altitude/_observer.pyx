@@ -327,13 +327,9 @@ cdef class AltitudeEstimator:
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &b[0], &r[0])
         if bad >= 0:
-            _common.raise_update_error(
-                self._rejection(a[bad], z[bad], t[bad * dt_step]), a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+            _common.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+                                       a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result
-
-    cdef FusionAltitudeStatus _rejection(self, float accel, float baro, float dt):
-        cdef FusionAltitude trial = self._c
-        return FusionAltitudeUpdate(&trial, accel, baro, dt)
 
     @property
     def altitude(self):

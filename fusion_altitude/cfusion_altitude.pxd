@@ -48,6 +48,7 @@ cdef extern from "fusion_altitude.h" nogil:
     FusionAltitudeStatus FusionAltitudeSetSettings(FusionAltitude *altitude, const FusionAltitudeSettings *settings)
     FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *altitude, float baroAltitude)
     FusionAltitudeStatus FusionAltitudeResetWithBias(FusionAltitude *altitude, float baroAltitude, float accelBias)
+    FusionAltitudeStatus FusionAltitudeCheckInputs(float accel, float baroAltitude, float dt)
     FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *altitude, float accel, float baroAltitude, float dt)
     FusionAltitudeSettings FusionAltitudeGetSettings(const FusionAltitude *altitude)
     float FusionAltitudeGetAltitude(const FusionAltitude *altitude)

@@ -32,6 +32,17 @@ def _is_nan(x: np.float32) -> bool:
     return bool(np.isnan(x))
 
 
+def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> Status:
+    """FusionAltitudeCheckInputs: a finite, z finite or NaN (no sample), dt finite and > 0."""
+    if not _is_finite(a):
+        return Status.INVALID_ACCEL
+    if not _is_nan(z) and not _is_finite(z):
+        return Status.INVALID_BARO_ALTITUDE
+    if not _is_finite(dt) or not dt > 0:
+        return Status.INVALID_DT
+    return Status.OK
+
+
 # -- settings ----------------------------------------------------------------
 
 def _check_gains(kh: np.float32, kv: np.float32, kb: np.float32) -> Status:
@@ -226,14 +237,10 @@ class AltitudeEstimator:
 
     # FusionAltitudeUpdate
     def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> Status:
-        if not _is_finite(a):
-            return Status.INVALID_ACCEL
-        baro_missing = _is_nan(z)
-        if not baro_missing and not _is_finite(z):
-            return Status.INVALID_BARO_ALTITUDE
-        if not _is_finite(dt) or not dt > 0:
-            return Status.INVALID_DT
-        if baro_missing:
+        status = check_inputs(a, z, dt)
+        if status != Status.OK:
+            return status
+        if _is_nan(z):
             if self._reference_set:
                 self._v += (a - self._b) * dt
                 self._h += self._v * dt

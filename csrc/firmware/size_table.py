@@ -1,0 +1,164 @@
+"""Size, stack and cycle tables of docs/embedded.md, from the Makefile's outputs.
+
+    make -C csrc/firmware sizes             # builds, then runs this
+    python3 size_table.py BUILD [--json]    # BUILD as given to the Makefile
+
+Code size: the nm symbol size of Sized<Function> (sized.c: the public function
+with everything it calls inlined into one out-of-line copy; the size includes
+its literal pool). Stack: the -fstack-usage line of the same wrapper. RAM: the
+nm size of the static FusionAltitude in firmware.c. Cycles: the instructions
+QEMU executed inside SizedFusionAltitudeUpdate (cycles.c, -d exec with
+-singlestep), each priced with the Cortex-M4 cycle counts below.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from pathlib import Path
+from typing import Dict, List, Tuple
+
+TARGETS = ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc")
+OPTIMISATIONS = ("Os", "O2")
+FUNCTIONS = (
+    "FusionAltitudeUpdate", "FusionAltitudeCheckInputs", "FusionAltitudeInitialise", "FusionAltitudeReset", "FusionAltitudeResetWithBias",
+    "FusionAltitudeSetSettings", "FusionAltitudeSettingsCheck", "FusionAltitudeSettingsValidate",
+    "FusionAltitudeSettingsFromBandwidth", "FusionAltitudeSettingsFromPreset", "FusionAltitudeSettingsDefault",
+    "FusionAltitudeStatusMessage", "FusionAltitudeGetSettings", "FusionAltitudeGetAltitude",
+    "FusionAltitudeGetVerticalVelocity", "FusionAltitudeGetAccelBias", "FusionAltitudeGetBaroResidual",
+    "FusionAltitudeIsReferenceSet", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
+    "FusionAltitudeFloatBits",
+)
+
+# Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the
+# pipeline refill after a taken branch, is 1 to 3 cycles; 2 is used here.
+PIPELINE_REFILL = 2
+CONDITIONS = {"eq", "ne", "cs", "hs", "cc", "lo", "mi", "pl", "vs", "vc", "hi", "ls", "ge", "lt", "gt", "le", "al"}
+CALLS = ("baro sample, reference set (full correction)", "no baro sample (integration only)",
+         "rejected (accel not finite)")
+
+
+def read_symbols(path: Path) -> Dict[str, Tuple[int, int]]:
+    """{name: (address, size)} from `nm -S` output."""
+    symbols = {}
+    for line in path.read_text().splitlines():
+        fields = line.split()
+        if len(fields) == 4:
+            symbols[fields[3]] = (int(fields[0], 16), int(fields[1], 16))
+    return symbols
+
+
+def read_stack(path: Path) -> Dict[str, Tuple[int, str]]:
+    """{function: (bytes, qualifier)} from a gcc .su file."""
+    stack = {}
+    for line in path.read_text().splitlines():
+        location, size, qualifier = line.split("\t")
+        stack[location.rsplit(":", 1)[1]] = (int(size), qualifier)
+    return stack
+
+
+def measure(build: Path) -> dict:
+    result: dict = {"size": {}, "stack": {}, "ram": {}, "c11_differs": []}
+    for target in TARGETS:
+        for opt in OPTIMISATIONS:
+            variant = build / "cross" / target / f"c99-{opt}"
+            sizes = read_symbols(variant / "sized.nm")
+            stack = read_stack(variant / "sized.su")
+            for function in FUNCTIONS:
+                result["size"][f"{function}/{target}/{opt}"] = sizes[f"Sized{function}"][1]
+                result["stack"][f"{function}/{target}/{opt}"] = stack[f"Sized{function}"]
+            result["ram"][f"{target}/{opt}"] = read_symbols(variant / "firmware.nm")["firmwareEstimator"][1]
+            c11 = read_symbols(build / "cross" / target / f"c11-{opt}" / "sized.nm")
+            if {k: v[1] for k, v in c11.items()} != {k: v[1] for k, v in sizes.items()}:
+                result["c11_differs"].append(f"{target}/{opt}")
+    trace = build / "cycles" / "trace.log"
+    if trace.exists():
+        result["cycles"] = cycles(build / "cycles")
+    return result
+
+
+def instruction_cycles(mnemonic: str, taken: bool) -> int:
+    """Cortex-M4 cycles of one executed instruction."""
+    base = mnemonic.split(".")[0]
+    is_branch = base in ("b", "bl", "bx", "blx", "cbz", "cbnz") or (base[:1] == "b" and base[1:] in CONDITIONS)
+    if is_branch:
+        return 1 + PIPELINE_REFILL if taken else 1
+    if base in ("vmla", "vmls", "vnmla", "vnmls", "vfma", "vfms", "vfnma", "vfnms"):
+        return 3
+    if base in ("vdiv", "vsqrt"):
+        return 14
+    if base in ("vldr", "vstr") or base.startswith(("ldr", "str")):
+        return 2
+    return 1  # ALU, vadd/vsub/vmul/vcmp/vmrs/vmov, it, nop
+
+
+def cycles(directory: Path) -> List[dict]:
+    """Cycle estimate of each SizedFusionAltitudeUpdate call traced in trace.log."""
+    start, size = read_symbols(directory / "cycles.nm")["SizedFusionAltitudeUpdate"]
+    instructions = {}
+    for match in re.finditer(r"^\s*([0-9a-f]+):\s+([0-9a-f]{4})(?: ([0-9a-f]{4}))?\s+([a-z][\w.]*)", 
+                             (directory / "cycles.lst").read_text(), re.MULTILINE):
+        address = int(match.group(1), 16)
+        if start <= address < start + size:
+            instructions[address] = (4 if match.group(3) else 2, match.group(4))
+    pcs = [int(m.group(1), 16) for m in re.finditer(r"^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/",
+                                                     (directory / "trace.log").read_text(), re.MULTILINE)]
+    calls: List[List[Tuple[int, int]]] = []
+    previous_inside = False
+    for index, pc in enumerate(pcs):
+        inside = pc in instructions
+        if inside and not previous_inside:
+            calls.append([])
+        if inside:
+            following = pcs[index + 1] if index + 1 < len(pcs) else None
+            calls[-1].append((pc, following))
+        previous_inside = inside
+    estimates = []
+    for name, call in zip(CALLS, calls):
+        total = 0
+        for pc, following in call:
+            length, mnemonic = instructions[pc]
+            total += instruction_cycles(mnemonic, following is not None and following != pc + length)
+        estimates.append({"path": name, "instructions": len(call), "cycles": total})
+    return estimates
+
+
+def markdown(result: dict) -> str:
+    short = {"cortex-m0plus": "M0+", "cortex-m4f": "M4F", "cortex-m7": "M7", "rv32imac": "rv32imac",
+             "rv32imafc": "rv32imafc"}
+    columns = [(t, o) for t in TARGETS for o in OPTIMISATIONS]
+    lines = ["Code bytes (.text, including literal pools) per public function, C99:", "",
+             "| function | " + " | ".join(f"{short[t]} -{o}" for t, o in columns) + " |",
+             "|---|" + "---:|" * len(columns)]
+    for function in FUNCTIONS:
+        cells = [str(result["size"][f"{function}/{t}/{o}"]) for t, o in columns]
+        lines.append(f"| {function} | " + " | ".join(cells) + " |")
+    lines += ["", "Stack bytes (-fstack-usage, the out-of-line copy) per public function:", "",
+              "| function | " + " | ".join(f"{short[t]} -{o}" for t, o in columns) + " |",
+              "|---|" + "---:|" * len(columns)]
+    for function in FUNCTIONS:
+        cells = []
+        for t, o in columns:
+            size, qualifier = result["stack"][f"{function}/{t}/{o}"]
+            cells.append(str(size) if qualifier == "static" else f"{size} ({qualifier})")
+        lines.append(f"| {function} | " + " | ".join(cells) + " |")
+    lines += ["", "RAM of one estimator (sizeof(FusionAltitude), nm size of a static instance):", "",
+              "| " + " | ".join(short[t] for t in TARGETS) + " |", "|" + "---:|" * len(TARGETS),
+              "| " + " | ".join(f"{result['ram'][f'{t}/Os']} B" for t in TARGETS) + " |"]
+    differs = result["c11_differs"]
+    lines += ["", "C11 builds: " + (f"sizes differ from C99 for {', '.join(differs)}" if differs
+                                     else "every symbol has the same size as in C99.")]
+    if "cycles" in result:
+        lines += ["", "Cycle estimate of FusionAltitudeUpdate on Cortex-M4F, -Os (instructions executed on QEMU, "
+                  f"priced with Cortex-M4 TRM cycle counts, pipeline refill P = {PIPELINE_REFILL}, "
+                  "zero-wait-state memory, call instruction not included):", "",
+                  "| path | instructions | cycles |", "|---|---:|---:|"]
+        for row in result["cycles"]:
+            lines.append(f"| {row['path']} | {row['instructions']} | {row['cycles']} |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    measured = measure(Path(sys.argv[1]))
+    print(json.dumps(measured, indent=1) if "--json" in sys.argv[2:] else markdown(measured))

@@ -93,6 +93,158 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 
 # ----------------------------------------------------------------------------
+# tune
+
+
+def _cmd_tune(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import metrics
+    from ._observer import AltitudeSettings
+
+    dt = 1.0 / args.rate
+    omega_b = args.omega / 5.0 if args.omega_b is None else args.omega_b
+    try:
+        settings = AltitudeSettings.from_bandwidth(args.omega, args.zeta, omega_b)
+    except ValueError as error:
+        raise CliError(str(error)) from None
+    kh, kv, kb = settings.as_tuple()
+    print(f"omega {args.omega:g} rad/s, zeta {args.zeta:g}, omega_b {omega_b:g} rad/s, rate {args.rate:g} Hz "
+          f"(dt {dt:g} s)")
+    print()
+    print(format_table(["gain", "value", "unit"], [["position_gain Kh", kh, "1/s"], ["velocity_gain Kv", kv, "1/s²"],
+                                                   ["bias_gain Kb", kb, "1/s³"]]))
+    print()
+    poles = np.roots([1.0, kh, kv, kb])
+    zpoles = metrics.discrete_poles(kh, kv, kb, dt)
+    rows = []
+    for s_pole, z_pole in zip(sorted(poles, key=lambda p: (abs(p), p.imag)), sorted(zpoles, key=lambda z: -abs(z))):
+        tau = 1.0 / abs(s_pole.real) if s_pole.real != 0 else float("inf")
+        rows.append([f"{s_pole.real:+.4f}{s_pole.imag:+.4f}j", f"{tau:.3f}",
+                     f"{z_pole.real:+.6f}{z_pole.imag:+.6f}j", f"{abs(z_pole):.6f}"])
+    print(format_table(["continuous pole s (rad/s)", "time constant (s)", "discrete pole z", "|z|"], rows))
+    print()
+    step = metrics.step_settling_time(kh, kv, kb, dt)
+    bias = metrics.bias_settling_time(kh, kv, kb, dt)
+    print(f"2% settling, altitude after a baro step: {step:.2f} s")
+    print(f"2% settling, bias estimate after an accel-bias step: {bias:.2f} s")
+    print()
+    fastest = float(np.max(np.abs(poles)))
+    checks = [
+        ("Routh-Hurwitz: Kh·Kv > Kb", kh * kv > kb, f"{kh * kv:.4g} > {kb:.4g}"),
+    ]
+    try:
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            settings.validate(dt)
+        jury = (True, f"max |z| = {np.max(np.abs(zpoles)):.6f} < 1")
+    except ValueError:
+        jury = (False, f"max |z| = {np.max(np.abs(zpoles)):.6f} >= 1: diverges at this rate")
+    checks.append(("Jury: discrete update stable at this dt", jury[0], jury[1]))
+    checks.append(("discretisation: ω·dt < 0.1 (fastest pole)", fastest * dt < 0.1, f"{fastest * dt:.4g}"))
+    checks.append(("loop separation: ω_b ≤ ω/5", omega_b <= args.omega / 5 * (1 + 1e-9),
+                   f"{omega_b:g} vs {args.omega / 5:g}"))
+    print(format_table(["check", "result", "value"], [[name, "ok" if ok else "FAIL", value]
+                                                      for name, ok, value in checks]))
+    print()
+    gain = metrics.noise_gain(kh, kv, kb, dt)
+    print(f"baro noise gain: {gain:.4f} (altitude noise sd per m of white baro noise per sample)")
+    print(f"equivalent noise bandwidth of baro → altitude: {metrics.noise_bandwidth(kh, kv, kb, dt):.4f} Hz")
+    return 0 if all(ok for _, ok, _ in checks[:2]) else 1
+
+
+# ----------------------------------------------------------------------------
+# run
+
+
+class _ProgressBar:
+    """A text progress bar on stderr, drawn only for long logs."""
+
+    def __init__(self, minimum: int = 100_000, width: int = 40):
+        self.minimum = minimum
+        self.width = width
+
+    def __call__(self, done: int, total: int) -> None:
+        if total < self.minimum:
+            return
+        filled = int(self.width * done / total)
+        sys.stderr.write(f"\r[{'#' * filled}{'.' * (self.width - filled)}] {100 * done / total:5.1f}% "
+                         f"{done}/{total} samples")
+        if done >= total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import logs
+    from ._observer import AltitudeSettings
+
+    csv_options = {}
+    suffix = args.file.lower().rsplit(".", 1)[-1] if "." in args.file else ""
+    if suffix not in ("ulg", "bin"):
+        missing = [flag for flag, value in (("--time", args.time), ("--accel", args.accel)) if value is None]
+        if args.baro is None and args.pressure is None:
+            missing.append("--baro or --pressure")
+        if missing:
+            raise CliError(f"a CSV log needs {', '.join(missing)}")
+        if args.baro is not None and args.pressure is not None:
+            raise CliError("give --baro or --pressure, not both")
+        csv_options = dict(time_column=args.time, accel_column=args.accel, baro_column=args.baro,
+                           pressure_column=args.pressure, accel_units=args.accel_units,
+                           sea_level_pa=args.sea_level_pa)
+    try:
+        data = logs.load_log(args.file, **csv_options)
+        settings = AltitudeSettings.preset(args.preset)
+        run = logs.run_log(data, settings, progress=_ProgressBar())
+    except (logs.LogError, ValueError) as error:
+        raise CliError(str(error)) from None
+    n_baro = int(np.sum(np.isfinite(data.baro_altitude)))
+    duration = float(data.time[-1] - data.time[0])
+    print(f"{data.source}: {data.time.size} samples over {duration:.2f} s "
+          f"({data.time.size / max(duration, 1e-9):.1f} Hz), {n_baro} baro samples; preset {args.preset}")
+    for note in data.notes:
+        print(f"  {note}")
+    if data.clipped is not None and data.clipped.any():
+        print(f"  accelerometer clipped on {int(data.clipped.sum())} samples (baro-trusting gains, bias frozen there)")
+    print()
+    h = run.estimate.altitude
+    baro = data.baro_altitude
+    rows = [["final altitude (m)", float(h[-1]), float(baro[np.isfinite(baro)][-1])],
+            ["max altitude (m)", float(np.max(h)), float(np.nanmax(baro))],
+            ["min altitude (m)", float(np.min(h)), float(np.nanmin(baro))]]
+    header = ["", "fused", "baro"]
+    if data.reference_altitude is not None:
+        header.append("reference")
+        ref = data.reference_altitude
+        rows[0].append(float(ref[np.isfinite(ref)][-1]))
+        rows[1].append(float(np.nanmax(ref)))
+        rows[2].append(float(np.nanmin(ref)))
+    print(format_table(header, rows))
+    print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
+    if data.reference_altitude is not None:
+        fused = run.comparison()
+        raw = run.baro_comparison()
+        print()
+        print(f"against {data.reference_name} (shifted to the baro datum):")
+        print(format_table(["", "fused − ref", "baro − ref"],
+                           [["mean (m)", fused.mean, raw.mean], ["RMS (m)", fused.rms, raw.rms],
+                            ["max |·| (m)", fused.max, raw.max]]))
+    if args.output:
+        logs.write_csv(run, args.output)
+        print(f"estimates written to {args.output}")
+    if args.plot:
+        from .plotting import plot_log_run
+
+        plot_log_run(run, args.plot)
+        print(f"plot written to {args.plot}")
+    return 0
+
+
+# ----------------------------------------------------------------------------
 # parser
 
 
@@ -115,6 +267,31 @@ def build_parser() -> argparse.ArgumentParser:
                       help="attitude source: the imufusion AHRS, the truth, or auto (AHRS if installed)")
     demo.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
     demo.set_defaults(handler=_cmd_demo)
+
+    tune = commands.add_parser("tune", help="gains, poles, settling and noise for a bandwidth choice",
+                               description="Gains from ω, ζ, ω_b and what they do at a sample rate.")
+    tune.add_argument("--omega", type=float, default=1.5, help="position-loop bandwidth ω, rad/s (default 1.5)")
+    tune.add_argument("--zeta", type=float, default=0.7, help="damping ratio ζ (default 0.7)")
+    tune.add_argument("--omega-b", type=float, default=None, help="bias-loop bandwidth ω_b, rad/s (default ω/5)")
+    tune.add_argument("--rate", type=float, default=100.0, help="sample rate, Hz (default 100)")
+    tune.set_defaults(handler=_cmd_tune)
+
+    run = commands.add_parser("run", help="run the observer on a recorded log (CSV, .ulg, .bin)",
+                              description="Run the observer on a log. CSV needs --time, --accel and --baro or "
+                                          "--pressure; PX4 .ulg and ArduPilot .bin are read by message name.")
+    run.add_argument("file", help="CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log")
+    run.add_argument("--time", help="CSV: time column, s")
+    run.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up, gravity removed)")
+    run.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
+    run.add_argument("--baro", help="CSV: baro altitude column, m (empty = no sample that row)")
+    run.add_argument("--pressure", help="CSV: static pressure column, Pa (instead of --baro)")
+    run.add_argument("--sea-level-pa", type=float, default=101325.0,
+                     help="CSV: reference pressure for --pressure, Pa (default 101325)")
+    run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing"),
+                     help="observer gains (default vtol)")
+    run.add_argument("-o", "--output", metavar="OUT.csv", help="write the estimates per sample")
+    run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
+    run.set_defaults(handler=_cmd_run)
     return parser
 
 

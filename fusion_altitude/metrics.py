@@ -14,6 +14,9 @@ __all__ = [
     "impulse_response",
     "noise_gain",
     "noise_bandwidth",
+    "discrete_poles",
+    "step_settling_time",
+    "bias_settling_time",
 ]
 
 
@@ -179,3 +182,53 @@ def noise_bandwidth(position_gain: float, velocity_gain: float, bias_gain: float
     ``noise_gain² / (2·dt)``.
     """
     return noise_gain(position_gain, velocity_gain, bias_gain, dt) ** 2 / (2.0 * dt)
+
+
+def discrete_poles(position_gain: float, velocity_gain: float, bias_gain: float, dt: float) -> np.ndarray:
+    """Eigenvalues z of the observer's discrete update at sample period ``dt`` (s); stable iff all |z| < 1.
+
+    The homogeneous update of (h, v·dt, b·dt²) is the matrix
+    [[1−p−q, 1, −1], [−q, 1, −1], [s, 0, 1]] with p = Kh·dt, q = Kv·dt², s = Kb·dt³
+    (see ``FusionAltitudeSettingsValidate`` in ``csrc/fusion_altitude.h``).
+    """
+    p, q, s = position_gain * dt, velocity_gain * dt * dt, bias_gain * dt ** 3
+    return np.linalg.eigvals(np.array([[1 - p - q, 1.0, -1.0], [-q, 1.0, -1.0], [s, 0.0, 1.0]]))
+
+
+def _simulate(position_gain, velocity_gain, bias_gain, dt, duration, accel_bias=0.0, baro_step=0.0):
+    n = int(round(duration / dt))
+    h = v = b = 0.0
+    altitude = np.empty(n)
+    bias = np.empty(n)
+    for i in range(n):
+        r = baro_step - h
+        v += (accel_bias - b + velocity_gain * r) * dt
+        h += (v + position_gain * r) * dt
+        b -= bias_gain * r * dt
+        altitude[i] = h
+        bias[i] = b
+    return np.arange(1, n + 1) * dt, altitude, bias
+
+
+def step_settling_time(position_gain: float, velocity_gain: float, bias_gain: float, dt: float,
+                       tolerance: float = 0.02, duration: float = 600.0) -> float:
+    """Time (s) for the altitude estimate to settle within ``tolerance`` (fraction) of a baro step.
+
+    Simulates the discrete observer (float64) from rest with a 1 m step in
+    the baro altitude and zero acceleration.
+    """
+    time, altitude, _ = _simulate(position_gain, velocity_gain, bias_gain, dt, duration, baro_step=1.0)
+    return settling_time(np.concatenate([[0.0], time]), np.concatenate([[-1.0], altitude - 1.0]), tolerance)
+
+
+def bias_settling_time(position_gain: float, velocity_gain: float, bias_gain: float, dt: float,
+                       tolerance: float = 0.02, duration: float = 600.0) -> float:
+    """Time (s) for the bias estimate to settle within ``tolerance`` (fraction) of a constant accel bias.
+
+    Simulates the discrete observer (float64) from rest with a 1 m/s² accel
+    bias and a constant baro; ``inf`` when bias estimation is off (Kb = 0).
+    """
+    if bias_gain <= 0:
+        return float("inf")
+    time, _, bias = _simulate(position_gain, velocity_gain, bias_gain, dt, duration, accel_bias=1.0)
+    return settling_time(np.concatenate([[0.0], time]), np.concatenate([[-1.0], bias - 1.0]), tolerance)

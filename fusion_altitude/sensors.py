@@ -37,6 +37,7 @@ __all__ = [
     "quaternion_to_matrix",
     "quaternion_multiply",
     "vertical_acceleration",
+    "gyro_attitude",
 ]
 
 #: ISA sea-level pressure, Pa.
@@ -84,7 +85,8 @@ def pressure_to_altitude(pressure_pa, sea_level_pa: float = ISA_SEA_LEVEL_PRESSU
     (p ≈ 22 632 Pa with ISA sea-level values). Above that the real atmosphere
     is isothermal (216.65 K) but this function keeps extrapolating the
     troposphere's lapse rate: it returns a finite altitude that is **too
-    low**, by about 0.2 km at 15 km and 1.8 km at 20 km. It does not raise
+    low**, by about 0.23 km at 15 km, 1.1 km at 20 km and roughly
+    4.5 km at 30 km. It does not raise
     or clip; callers flying higher (balloons) should use a layered model.
     Non-positive pressures give NaN.
     """
@@ -239,3 +241,70 @@ def vertical_acceleration(accel_body, attitude, frame: str = "NED", accel_units:
     if frame == "NED":
         return -(earth_z + GRAVITY)  # z down: specific force at rest is −g; flip to +up
     return earth_z - GRAVITY
+
+
+def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Shortest-arc unit quaternion (w, x, y, z) rotating unit vector a onto unit vector b."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    cross = np.cross(a, b)
+    dot = float(np.dot(a, b))
+    if dot < -1.0 + 1e-12:  # opposite: rotate by π about any axis perpendicular to a
+        axis = np.cross(a, [1.0, 0.0, 0.0])
+        if np.linalg.norm(axis) < 1e-6:
+            axis = np.cross(a, [0.0, 1.0, 0.0])
+        axis /= np.linalg.norm(axis)
+        return np.concatenate([[0.0], axis])
+    q = np.concatenate([[1.0 + dot], cross])
+    return q / np.linalg.norm(q)
+
+
+def gyro_attitude(gyro_dps, dt, accel_at_rest, gyro_bias_dps=None) -> np.ndarray:
+    """Attitude by strapdown gyro integration from an initial attitude levelled on gravity.
+
+    The initial attitude rotates the body-frame specific force measured at
+    rest (which points **up**) onto the earth z axis, with the heading left
+    arbitrary: the result is body → earth for a **z-up** earth frame (use
+    ``frame="ENU"`` with :func:`vertical_acceleration`). Each step multiplies
+    by the exact rotation of the bias-corrected rate over dt.
+
+    Parameters
+    ----------
+    gyro_dps : array_like, shape (n, 3)
+        Body angular rate, °/s.
+    dt : float or array_like, shape (n,)
+        Time from the previous sample, s (the rate of sample i acts over dt[i]).
+    accel_at_rest : array_like, shape (3,)
+        Mean body-frame specific force while at rest (any unit, any sign
+        convention whose vector points up).
+    gyro_bias_dps : array_like, shape (3,), optional
+        Gyro bias, °/s, subtracted before integration (e.g. the pre-launch
+        mean rate).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 4)
+        Quaternions (w, x, y, z), body → earth (z up), one per sample, after
+        applying that sample's rate.
+    """
+    gyro = np.radians(np.asarray(gyro_dps, dtype=float))
+    if gyro_bias_dps is not None:
+        gyro = gyro - np.radians(np.asarray(gyro_bias_dps, dtype=float))
+    n = gyro.shape[0]
+    dt = np.broadcast_to(np.asarray(dt, dtype=float), (n,))
+    angle = np.linalg.norm(gyro, axis=1) * dt
+    with np.errstate(invalid="ignore", divide="ignore"):
+        axis = np.where(angle[:, None] > 0, gyro * dt[:, None] / angle[:, None], 0.0)
+    steps = np.concatenate([np.cos(angle / 2)[:, None], axis * np.sin(angle / 2)[:, None]], axis=1)
+    out = np.empty((n, 4))
+    q = _rotation_between(np.asarray(accel_at_rest, dtype=float), np.array([0.0, 0.0, 1.0]))
+    for i in range(n):
+        w1, x1, y1, z1 = q
+        w2, x2, y2, z2 = steps[i]
+        q = np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+                      w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                      w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+                      w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+        q /= np.sqrt(q @ q)
+        out[i] = q
+    return out

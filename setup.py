@@ -1,5 +1,6 @@
 """Builds the Cython extension around the header-only C core in csrc/."""
 
+import platform
 import sys
 from pathlib import Path
 
@@ -12,6 +13,9 @@ if sys.platform == "win32":
     compile_args = ["/fp:precise"]
 else:
     compile_args = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
+    if sys.platform.startswith("linux") and platform.machine() in ("x86_64", "AMD64"):
+        # the gain sweep also gets an AVX2 clone, chosen at load time (same bits: no FMA)
+        compile_args.append("-DFUSION_ALTITUDE_SWEEP_MULTIVERSION")
 
 # One extension per binding module fusion_altitude/_NAME.pyx; each wraps
 # headers from csrc/ and holds no copy of an algorithm.

@@ -12,6 +12,7 @@ Vertical is +up everywhere; NED users negate.
 from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
 from ._observer import AltitudeEstimator, AltitudeSettings
 from ._version import __version__
+from .tuning import FitResult, SweepResult, fit, sweep
 
 __all__ = [
     "GRAVITY",
@@ -19,6 +20,10 @@ __all__ = [
     "AltitudeEstimator",
     "AltitudeSettings",
     "DiscretisationWarning",
+    "FitResult",
     "Status",
+    "SweepResult",
+    "fit",
+    "sweep",
     "__version__",
 ]

@@ -8,5 +8,6 @@ slow (a Python loop); use it to understand, test and port the algorithm.
 
 from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
 from .observer import AltitudeEstimator, AltitudeSettings
+from .sweep import sweep
 
-__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "Status"]
+__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "Status", "sweep"]

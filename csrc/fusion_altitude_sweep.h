@@ -1,0 +1,348 @@
+/**
+ * @file fusion_altitude_sweep.h
+ * @brief K complementary observers, each with its own gains, over one input
+ * stream: for gain sweeps and tuning on a host. Column k equals, bit for bit,
+ * FusionAltitudeUpdate run alone with the gains of setting k.
+ *
+ * States and gains are arrays over the K settings (structure of arrays) and the
+ * inner loop runs over k, so that a compiler vectorizes it; the optional
+ * outputs are time-major, [sample][stride]. Per-setting error metrics against
+ * a reference series can be accumulated without writing any output.
+ *
+ * Units: altitude m, vertical velocity m/s, acceleration m/s^2 (+up, gravity
+ * removed), time s, gains 1/s, 1/s^2, 1/s^3. Float32, no malloc, no libm.
+ */
+
+#ifndef FUSION_ALTITUDE_SWEEP_H
+#define FUSION_ALTITUDE_SWEEP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fusion_altitude.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__cplusplus)
+#define FUSION_ALTITUDE_RESTRICT __restrict
+#else
+#define FUSION_ALTITUDE_RESTRICT restrict
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_SWEEP_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+#endif
+
+/** Output floats written per time tile when outputs are requested (about 256 KiB). */
+#define FUSION_ALTITUDE_SWEEP_TILE_FLOATS (65536u)
+
+/*
+ * Define FUSION_ALTITUDE_SWEEP_MULTIVERSION (the Python build does, on x86-64
+ * with gcc or clang) to compile the sweep for AVX2 as well as the baseline and
+ * pick one at load time. AVX2 brings no FMA, so the results are the same bits.
+ */
+#if defined(FUSION_ALTITUDE_SWEEP_MULTIVERSION) && defined(__x86_64__) && defined(__GNUC__) && !defined(__cplusplus)
+#define FUSION_ALTITUDE_SWEEP_CLONES __attribute__((target_clones("avx2", "default")))
+#define FUSION_ALTITUDE_SWEEP_INLINE static inline __attribute__((always_inline))
+#else
+#define FUSION_ALTITUDE_SWEEP_CLONES
+#define FUSION_ALTITUDE_SWEEP_INLINE static inline
+#endif
+
+/** Samples summed in float32 before a block sum is added to the running total (bounds rounding growth). */
+#define FUSION_ALTITUDE_SWEEP_BLOCK (1024u)
+
+/**
+ * @brief K observers. All arrays hold count elements and are owned by the
+ * caller; none may overlap another.
+ */
+typedef struct {
+    size_t count;             /**< K, number of settings */
+    const float *positionGain; /**< Kh[k], 1/s */
+    const float *velocityGain; /**< Kv[k], 1/s^2 */
+    const float *biasGain;     /**< Kb[k], 1/s^3 */
+    float *altitude;          /**< h[k], m */
+    float *verticalVelocity;  /**< v[k], m/s */
+    float *accelBias;         /**< b[k], m/s^2 */
+    float *baroResidual;      /**< r[k], m (NaN after a step without baro) */
+    bool referenceSet;        /**< shared: every setting auto-zeroes on the same first baro sample */
+} FusionAltitudeSweep;
+
+/**
+ * @brief Optional per-sample outputs, each NULL or an array of
+ * samples * stride floats; setting k of sample t goes to [t * stride + k].
+ */
+typedef struct {
+    float *altitude;
+    float *verticalVelocity;
+    float *accelBias;
+    float *baroResidual;
+    size_t stride; /**< >= count */
+} FusionAltitudeSweepOutputs;
+
+/**
+ * @brief Optional error metrics of altitude against a reference series:
+ * e = h[k] - reference[t] after sample t, over the samples where mask[t] != 0
+ * (all when mask is NULL) and reference[t] is finite. Sums are kept in float32
+ * per block of FUSION_ALTITUDE_SWEEP_BLOCK metric samples, then added to the
+ * totals. Accumulates into whatever the arrays hold (zero them to start).
+ */
+typedef struct {
+    const float *reference;   /**< [samples], m */
+    const uint8_t *mask;      /**< [samples] or NULL */
+    float *sumError;          /**< [count], m */
+    float *sumSquaredError;   /**< [count], m^2 */
+    float *maxAbsError;       /**< [count], m */
+    float *blockSumError;     /**< [count] scratch, zeroed by the caller */
+    float *blockSumSquaredError; /**< [count] scratch, zeroed by the caller */
+    size_t samplesInBlock;    /**< in/out, 0 to start */
+    size_t metricSamples;     /**< in/out: samples counted so far */
+} FusionAltitudeSweepMetrics;
+
+/**
+ * @brief Initialises a sweep: every state zero, reference not set. The gains
+ * are the caller's arrays; check each setting with FusionAltitudeSettingsCheck.
+ */
+static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const sweep) {
+    for (size_t k = 0; k < sweep->count; k++) {
+        sweep->altitude[k] = 0.0f;
+        sweep->verticalVelocity[k] = 0.0f;
+        sweep->accelBias[k] = 0.0f;
+        sweep->baroResidual[k] = 0.0f;
+    }
+    sweep->referenceSet = false;
+}
+
+/** Adds the open block sums into the totals and clears them. Call once after the last update. */
+static inline void FusionAltitudeSweepFlushMetrics(const FusionAltitudeSweep *const sweep, FusionAltitudeSweepMetrics *const metrics) {
+    for (size_t k = 0; k < sweep->count; k++) {
+        metrics->sumError[k] += metrics->blockSumError[k];
+        metrics->sumSquaredError[k] += metrics->blockSumSquaredError[k];
+        metrics->blockSumError[k] = 0.0f;
+        metrics->blockSumSquaredError[k] = 0.0f;
+    }
+    metrics->samplesInBlock = 0;
+}
+
+/**
+ * Settings processed together: their states live in local arrays of this many
+ * lanes for the whole run, which a compiler keeps in vector registers and L1.
+ */
+#define FUSION_ALTITUDE_SWEEP_LANES (32)
+
+/* Copies width lanes into output row data[offset...] (nothing if data is NULL);
+ * a full chunk copies a constant number of lanes, which compiles to vector stores. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCopyRow(float *const data, const size_t offset, const float *const values,
+                                                             const size_t width, const size_t lanes) {
+    if (data == NULL) {
+        return;
+    }
+    float *const FUSION_ALTITUDE_RESTRICT row = &data[offset];
+    if (width == lanes) {
+        for (size_t j = 0; j < lanes; j++) {
+            row[j] = values[j];
+        }
+    } else {
+        for (size_t j = 0; j < width; j++) {
+            row[j] = values[j];
+        }
+    }
+}
+
+/* Runs settings [first, first + width) (width <= lanes <= LANES) over samples inputs;
+ * outputs rows and metrics inputs start at the same sample as the inputs.
+ * Lanes past width repeat the last setting and are never stored.
+ * Returns the metric samples in the open block afterwards. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep *const sweep, const size_t first, const size_t width,
+                                            const float *const accel, const float *const baroAltitude, const float *const dt,
+                                            const size_t dtStride, const size_t samples,
+                                            const FusionAltitudeSweepOutputs *const outputs,
+                                            FusionAltitudeSweepMetrics *const metrics, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    enum { L = FUSION_ALTITUDE_SWEEP_LANES };
+    float kh[L], kv[L], kb[L], h[L], v[L], b[L], r[L];
+    float sum[L], sumSquared[L], maxAbs[L];
+    for (size_t j = 0; j < lanes; j++) {
+        const size_t k = first + ((j < width) ? j : (width - 1u));
+        kh[j] = sweep->positionGain[k];
+        kv[j] = sweep->velocityGain[k];
+        kb[j] = sweep->biasGain[k];
+        h[j] = sweep->altitude[k];
+        v[j] = sweep->verticalVelocity[k];
+        b[j] = sweep->accelBias[k];
+        r[j] = sweep->baroResidual[k];
+        sum[j] = (metrics != NULL) ? metrics->blockSumError[k] : 0.0f;
+        sumSquared[j] = (metrics != NULL) ? metrics->blockSumSquaredError[k] : 0.0f;
+        maxAbs[j] = (metrics != NULL) ? metrics->maxAbsError[k] : 0.0f;
+    }
+    bool referenceSet = sweep->referenceSet;
+    size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
+    const float nan = FusionAltitudeNaN();
+    for (size_t t = 0; t < samples; t++) {
+        const float a = accel[t];
+        const float z = baroAltitude[t];
+        const float step = dt[t * dtStride];
+        /* FusionAltitudeUpdate, lane by lane, same operations in the same order */
+        if (FusionAltitudeIsNaN(z)) {
+            if (referenceSet) {
+                for (size_t j = 0; j < lanes; j++) {
+                    v[j] += (a - b[j]) * step;
+                    h[j] += v[j] * step;
+                }
+            }
+            for (size_t j = 0; j < lanes; j++) {
+                r[j] = nan;
+            }
+        } else if (!referenceSet) {
+            for (size_t j = 0; j < lanes; j++) {
+                h[j] = z;
+                v[j] = 0.0f;
+                r[j] = 0.0f;
+            }
+            referenceSet = true;
+        } else {
+            for (size_t j = 0; j < lanes; j++) {
+                const float residual = z - h[j];
+                v[j] += ((a - b[j]) + kv[j] * residual) * step;
+                h[j] += (v[j] + kh[j] * residual) * step;
+                b[j] -= (kb[j] * residual) * step;
+                r[j] = residual;
+            }
+        }
+        if (outputs != NULL) {
+            const size_t offset = t * outputs->stride + first;
+            FusionAltitudeSweepCopyRow(outputs->altitude, offset, h, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, v, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->accelBias, offset, b, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, r, width, lanes);
+        }
+        if ((metrics != NULL) && ((metrics->mask == NULL) || (metrics->mask[t] != 0u)) &&
+            FusionAltitudeIsFinite(metrics->reference[t])) {
+            const float reference = metrics->reference[t];
+            for (size_t j = 0; j < lanes; j++) {
+                const float error = h[j] - reference;
+                const float absolute = (error < 0.0f) ? -error : error;
+                sum[j] += error;
+                sumSquared[j] += error * error;
+                maxAbs[j] = (absolute > maxAbs[j]) ? absolute : maxAbs[j];
+            }
+            if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
+                for (size_t j = 0; j < width; j++) {
+                    metrics->sumError[first + j] += sum[j];
+                    metrics->sumSquaredError[first + j] += sumSquared[j];
+                }
+                for (size_t j = 0; j < lanes; j++) {
+                    sum[j] = 0.0f;
+                    sumSquared[j] = 0.0f;
+                }
+                samplesInBlock = 0;
+            }
+        }
+    }
+    for (size_t j = 0; j < width; j++) {
+        const size_t k = first + j;
+        sweep->altitude[k] = h[j];
+        sweep->verticalVelocity[k] = v[j];
+        sweep->accelBias[k] = b[j];
+        sweep->baroResidual[k] = r[j];
+        if (metrics != NULL) {
+            metrics->blockSumError[k] = sum[j];
+            metrics->blockSumSquaredError[k] = sumSquared[j];
+            metrics->maxAbsError[k] = maxAbs[j];
+        }
+    }
+    return samplesInBlock;
+}
+
+/**
+ * @brief Runs every setting over samples inputs (the rules of
+ * FusionAltitudeUpdate: baroAltitude NaN = no baro this step).
+ *
+ * @param dt sample period(s), s: dt[t * dtStride] (dtStride 0 for one value).
+ * @param outputs NULL, or where to write the per-sample states.
+ * @param metrics NULL, or error metrics to accumulate (flush at the end).
+ * @param badIndex set to the first rejected sample on failure.
+ * @return FusionAltitudeStatusOk, or the status of the first sample whose
+ * inputs FusionAltitudeCheckInputs rejects; all inputs are checked before any
+ * is applied, so on failure nothing (state, outputs, metrics) is touched.
+ */
+FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSweepUpdate(FusionAltitudeSweep *const sweep, const float *const accel,
+                                                             const float *const baroAltitude, const float *const dt,
+                                                             const size_t dtStride, const size_t samples,
+                                                             const FusionAltitudeSweepOutputs *const outputs,
+                                                             FusionAltitudeSweepMetrics *const metrics, size_t *const badIndex) {
+    for (size_t t = 0; t < samples; t++) {
+        const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
+        if (status != FusionAltitudeStatusOk) {
+            *badIndex = t;
+            return status;
+        }
+    }
+    if ((samples == 0u) || (sweep->count == 0u)) {
+        return FusionAltitudeStatusOk;
+    }
+    /* With outputs, go through time in tiles of about FUSION_ALTITUDE_SWEEP_TILE_FLOATS
+     * output floats, so every chunk writes its columns of a row while the row is in cache. */
+    size_t tile = samples;
+    if (outputs != NULL) {
+        tile = FUSION_ALTITUDE_SWEEP_TILE_FLOATS / sweep->count;
+        tile = (tile < 16u) ? 16u : tile;
+    }
+    for (size_t start = 0; start < samples; start += tile) {
+        const size_t length = ((samples - start) < tile) ? (samples - start) : tile;
+        FusionAltitudeSweepOutputs rows;
+        if (outputs != NULL) {
+            const size_t offset = start * outputs->stride;
+            rows.altitude = (outputs->altitude != NULL) ? &outputs->altitude[offset] : NULL;
+            rows.verticalVelocity = (outputs->verticalVelocity != NULL) ? &outputs->verticalVelocity[offset] : NULL;
+            rows.accelBias = (outputs->accelBias != NULL) ? &outputs->accelBias[offset] : NULL;
+            rows.baroResidual = (outputs->baroResidual != NULL) ? &outputs->baroResidual[offset] : NULL;
+            rows.stride = outputs->stride;
+        }
+        FusionAltitudeSweepMetrics window;
+        if (metrics != NULL) {
+            window = *metrics;
+            window.reference = &metrics->reference[start];
+            window.mask = (metrics->mask != NULL) ? &metrics->mask[start] : NULL;
+        }
+        size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
+        for (size_t first = 0; first < sweep->count; first += (size_t) FUSION_ALTITUDE_SWEEP_LANES) {
+            const size_t remaining = sweep->count - first;
+            const size_t width = (remaining < (size_t) FUSION_ALTITUDE_SWEEP_LANES) ? remaining : (size_t) FUSION_ALTITUDE_SWEEP_LANES;
+            const FusionAltitudeSweepOutputs *const chunkOutputs = (outputs != NULL) ? &rows : NULL;
+            FusionAltitudeSweepMetrics *const chunkMetrics = (metrics != NULL) ? &window : NULL;
+            /* constant lane counts, so that each call compiles to fixed-width vector code */
+            if (width <= 8u) {
+                samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
+                                                          dtStride, length, chunkOutputs, chunkMetrics, 8u);
+            } else {
+                samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
+                                                          dtStride, length, chunkOutputs, chunkMetrics, (size_t) FUSION_ALTITUDE_SWEEP_LANES);
+            }
+        }
+        for (size_t t = start; (t < start + length) && !sweep->referenceSet; t++) {
+            sweep->referenceSet = !FusionAltitudeIsNaN(baroAltitude[t]);
+        }
+        if (metrics != NULL) {
+            for (size_t t = start; t < start + length; t++) {
+                if (((metrics->mask == NULL) || (metrics->mask[t] != 0u)) && FusionAltitudeIsFinite(metrics->reference[t])) {
+                    metrics->metricSamples++;
+                }
+            }
+            metrics->samplesInBlock = samplesInBlock;
+        }
+    }
+    return FusionAltitudeStatusOk;
+}
+
+#undef FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,54 @@
+"""Gain sweep, in plain Python: K observers over one stream, with error metrics.
+
+Mirrors ``csrc/fusion_altitude_sweep.h``: each setting runs exactly the
+reference observer, and the metric sums are kept in float32 per block of
+``BLOCK`` metric samples before being added to the totals, as the C does, so
+the results agree bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _common
+from .._common import AltitudeBatch, SweepResult
+from .observer import AltitudeEstimator, AltitudeSettings
+
+f32 = np.float32
+#: FUSION_ALTITUDE_SWEEP_BLOCK
+BLOCK = 1024
+
+
+def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
+          threads=None) -> SweepResult:
+    """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`)."""
+    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _common.prepare_sweep(
+        accel, baro_altitude, dt, settings, reference, mask, outputs)
+    for k, row in enumerate(gains):
+        try:
+            AltitudeSettings(*row)
+        except ValueError as error:
+            raise ValueError(f"settings[{k}]: {error}") from None
+    n, count = accel32.shape[0], gains.shape[0]
+    dt_argument = dt32 if dt_is_array else dt32[0]
+    runs = [AltitudeEstimator(AltitudeSettings(*row)).update_batch(accel32, baro32, dt_argument) for row in gains]
+    output_arrays = AltitudeBatch(*(np.stack([getattr(run, field) for run in runs], axis=1)
+                                    for field in AltitudeBatch._fields)) if outputs else None
+    if reference32 is None:
+        return _common.sweep_result(gains, 0, None, output_arrays)
+    counted = np.isfinite(reference32) & (mask8.astype(bool) if mask8 is not None else True)
+    sums = np.zeros((3, count), np.float32)
+    for k, run in enumerate(runs):
+        total, total_squared, largest = f32(0), f32(0), f32(0)
+        block, block_squared, in_block = f32(0), f32(0), 0
+        for altitude, target in zip(run.altitude[counted], reference32[counted]):
+            error = altitude - target
+            block += error
+            block_squared += error * error
+            largest = max(largest, abs(error))
+            in_block += 1
+            if in_block == BLOCK:
+                total, total_squared = total + block, total_squared + block_squared
+                block, block_squared, in_block = f32(0), f32(0), 0
+        sums[:, k] = (total + block, total_squared + block_squared, largest)
+    return _common.sweep_result(gains, int(np.count_nonzero(counted)), tuple(sums), output_arrays)

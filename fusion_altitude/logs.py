@@ -47,6 +47,7 @@ __all__ = [
     "read_dataflash",
     "load_log",
     "run_observer",
+    "settings_for_baro_rate",
     "run_log",
     "write_csv",
 ]
@@ -358,7 +359,8 @@ def load_log(path: str, **csv_options) -> LogData:
 
 def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[AltitudeSettings] = None,
                  clipped=None, clipped_settings: Optional[AltitudeSettings] = None,
-                 progress: Optional[Callable[[int, int], None]] = None, chunk: int = 50_000) -> AltitudeBatch:
+                 progress: Optional[Callable[[int, int], None]] = None, chunk: int = 50_000,
+                 compensate_baro_rate: bool = True) -> AltitudeBatch:
     """Run the observer over a log with irregular timestamps and missing baro samples.
 
     Parameters
@@ -379,6 +381,10 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         4× faster (ω·4, ζ 0.7) and **bias estimation off** (Kb = 0).
     progress : callable(done, total), optional
         Called after each chunk of samples.
+    compensate_baro_rate : bool, default True
+        Scale the gains by (samples / baro samples) when the baro is slower
+        than the grid (:func:`settings_for_baro_rate`), so ``settings`` keeps
+        its designed bandwidth.
 
     Returns
     -------
@@ -402,7 +408,11 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     dt = np.empty(n)
     dt[1:] = np.diff(time)
     dt[0] = dt[1] if n > 1 else 0.01
-    estimator = AltitudeEstimator(settings or AltitudeSettings())
+    settings = settings or AltitudeSettings()
+    n_baro = int(np.sum(np.isfinite(baro)))
+    if compensate_baro_rate and n_baro > 0:
+        settings = settings_for_baro_rate(settings, n / n_baro)
+    estimator = AltitudeEstimator(settings)
     normal = estimator.settings
     if clipped is None:
         clipped = np.zeros(n, dtype=bool)
@@ -421,6 +431,23 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         if progress is not None:
             progress(int(stop), n)
     return out
+
+
+def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) -> AltitudeSettings:
+    """Gains that keep the designed bandwidth when baro samples arrive on only 1 of ``steps_per_baro`` steps.
+
+    The C core applies the baro correction ``K·r·dt`` with the dt of the step
+    that carries the baro sample; steps without baro only integrate. With the
+    baro at 1/N of the IMU rate the corrections are therefore N times too
+    small and every loop runs N times slower than designed (the balloon
+    scenario: 10 Hz IMU, 1 Hz baro). Multiplying all three gains by N makes
+    each correction ``K·r·(N·dt)``, the designed observer sampled at the baro
+    rate. ``steps_per_baro`` ≤ 1 returns ``settings`` unchanged.
+    """
+    if steps_per_baro <= 1.0:
+        return settings
+    kh, kv, kb = settings.as_tuple()
+    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro)
 
 
 def _bandwidth_of(settings: AltitudeSettings) -> float:

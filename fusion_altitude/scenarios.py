@@ -202,7 +202,10 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     seed : int
         Seed of ``numpy.random.default_rng``; same seed, same result.
     settings : AltitudeSettings, optional
-        Observer gains; default the scenario's preset.
+        Observer gains; default the scenario's preset. When the baro is
+        slower than the IMU they are scaled by the rate ratio
+        (:func:`fusion_altitude.logs.settings_for_baro_rate`) so the designed
+        bandwidth holds.
     attitude : {"auto", "ahrs", "truth"}
         ``"ahrs"`` runs the IMU through imufusion (the ``[ahrs]`` extra);
         ``"truth"`` rotates it with the truth attitude; ``"auto"`` uses the
@@ -237,7 +240,11 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     else:
         accel = sim.truth_vertical_acceleration(imu, trajectory)
     baro_altitude = sim.align_to(trajectory.time, baro)
-    estimator = AltitudeEstimator(settings if settings is not None else AltitudeSettings.preset(spec.preset))
+    from .logs import settings_for_baro_rate
+
+    gains = settings if settings is not None else AltitudeSettings.preset(spec.preset)
+    steps_per_baro = len(trajectory) / max(int(np.sum(np.isfinite(baro_altitude))), 1)
+    estimator = AltitudeEstimator(settings_for_baro_rate(gains, steps_per_baro))
     estimate = estimator.update_batch(accel, baro_altitude, trajectory.dt)
     return ScenarioResult(name, seed, trajectory, imu, baro, accel, baro_altitude, estimate,
                           spec.imu.accel_bias[2] * GRAVITY, spec.transient, attitude, rangefinder, gps,

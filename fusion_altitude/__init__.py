@@ -12,6 +12,7 @@ Vertical is +up everywhere; NED users negate.
 from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
 from ._observer import AltitudeEstimator, AltitudeSettings
 from ._version import __version__
+from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 from .tuning import FitResult, SweepResult, fit, sweep
 
 __all__ = [
@@ -26,4 +27,7 @@ __all__ = [
     "fit",
     "sweep",
     "__version__",
+    "altitude_to_pressure",
+    "pressure_to_altitude",
+    "vertical_acceleration",
 ]

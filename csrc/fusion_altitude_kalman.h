@@ -1,0 +1,770 @@
+/**
+ * @file fusion_altitude_kalman.h
+ * @brief Multi-sensor altitude Kalman filter: barometer, rangefinder and GPS
+ * altitude fused with vertical acceleration, with ground-offset states,
+ * innovation gating and fault handling.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
+ * libm. Needs fusion_altitude.h (float classification) next to it.
+ *
+ * Units and frame: heights and altitudes m, vertical velocity m/s,
+ * acceleration m/s^2, time s. Vertical is +up; NED users negate.
+ *
+ * State x (index: quantity, unit):
+ *   0 h   height above ground, m
+ *   1 v   vertical velocity, m/s
+ *   2 ob  baro offset: the baro reads h + ob, m
+ *   3 og  GPS offset: GPS altitude reads h + og, m
+ *   4 b   accelerometer bias, m/s^2 (subtracted from the accel input)
+ *
+ * Prediction over dt with the vertical acceleration a as control input
+ * (u = a - b):
+ *   h += v*dt + u*dt^2/2,   v += u*dt,   ob, og, b constant
+ *   F = I + dt*E01 - (dt^2/2)*E04 - dt*E14,   B = (dt^2/2, dt, 0, 0, 0)^T
+ *   Q = N_a^2/dt * B*B^T  (accel white noise, density N_a, entering through B)
+ *     + dt * diag(0, 0, N_ob^2, N_og^2, N_b^2)   (random walks)
+ * Measurements (sequential scalar updates, in this order each step):
+ *   baro  z = h + ob + noise   H = (1, 0, 1, 0, 0)
+ *   range z = h + noise        H = (1, 0, 0, 0, 0)
+ *   GPS   z = h + og + noise   H = (1, 0, 0, 1, 0)
+ * Each scalar update: c = P*H^T, S = H*c + R, K = c/S, y = z - H*x,
+ *   x += K*y,   P = P - K*c^T - c*K^T + S*K*K^T
+ * The last line is the Joseph form (I-KH)P(I-KH)^T + K*R*K^T expanded; it
+ * equals it for any K, so errors in K only reach P to second order, and it
+ * is evaluated once per (i, j <= j) pair so P stays exactly symmetric.
+ *
+ * Offsets start unknown (infinite variance). The first sample of a sensor
+ * sets its offset exactly as a Kalman update with an infinite prior does:
+ * offset = z - h, var = P_hh + R, cov(offset, x_j) = -P_hj. No start-up
+ * phase; absolute altitudes of thousands of metres are fine in float32.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 without
+ * fused multiply-add contraction: compile with -ffp-contract=off (clang is
+ * handled inside the header with a scoped pragma).
+ *
+ * Usage:
+ * @code
+ * FusionAltitudeKalman kalman;
+ * FusionAltitudeKalmanInitialise(&kalman);            // default settings
+ * for (;;) {
+ *     FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
+ *     if (baroReady) m.baroAltitude = baro;            // m
+ *     if (rangeReady) m.rangeDistance = range;         // m
+ *     if (gpsReady) { m.gpsAltitude = gpsAlt; m.gpsSatellites = satellites; }
+ *     if (FusionAltitudeKalmanUpdate(&kalman, accel, 0.01f, &m) != FusionAltitudeKalmanStatusOk) {
+ *         // input rejected, state unchanged
+ *     }
+ *     const float h = FusionAltitudeKalmanGetHeightAboveGround(&kalman);
+ * }
+ * @endcode
+ */
+
+#ifndef FUSION_ALTITUDE_KALMAN_H
+#define FUSION_ALTITUDE_KALMAN_H
+
+#include "fusion_altitude.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_KALMAN_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/** Number of states. */
+#define FUSION_ALTITUDE_KALMAN_STATES (5)
+
+/** Number of altitude sensors (baro, rangefinder, GPS). */
+#define FUSION_ALTITUDE_KALMAN_SENSORS (3)
+
+/** Satellite counts above this use its 1/sqrt(n) (the table's last entry). */
+#define FUSION_ALTITUDE_KALMAN_MAX_SATELLITES (64)
+
+/** State indices. */
+typedef enum {
+    FusionAltitudeKalmanStateHeight = 0,  /**< h, m, height above ground */
+    FusionAltitudeKalmanStateVelocity,    /**< v, m/s, +up */
+    FusionAltitudeKalmanStateBaroOffset,  /**< ob, m: baro reads h + ob */
+    FusionAltitudeKalmanStateGpsOffset,   /**< og, m: GPS reads h + og */
+    FusionAltitudeKalmanStateAccelBias,   /**< b, m/s^2, +up */
+} FusionAltitudeKalmanState;
+
+/** Sensor indices. */
+typedef enum {
+    FusionAltitudeKalmanSensorBaro = 0,
+    FusionAltitudeKalmanSensorRange,
+    FusionAltitudeKalmanSensorGps,
+} FusionAltitudeKalmanSensorIndex;
+
+/** What the latest update did with a sensor's sample. */
+typedef enum {
+    FusionAltitudeKalmanResultNoSample = 0, /**< no sample this step (NaN) */
+    FusionAltitudeKalmanResultFused,        /**< passed the gate and fused */
+    FusionAltitudeKalmanResultRejected,     /**< failed the gate, not fused */
+    FusionAltitudeKalmanResultReset,        /**< failed the gate for longer than the timeout: offset (range: ground) reset */
+    FusionAltitudeKalmanResultInitialised,  /**< first sample: offset set from it */
+    FusionAltitudeKalmanResultUnusable,     /**< range outside [min, max] or too few GPS satellites */
+} FusionAltitudeKalmanResult;
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeKalmanStatusOk = 0,
+    FusionAltitudeKalmanStatusInvalidAccel,         /**< accel not finite */
+    FusionAltitudeKalmanStatusInvalidDt,            /**< dt not finite or <= 0 */
+    FusionAltitudeKalmanStatusInvalidBaroAltitude,  /**< baro altitude infinite */
+    FusionAltitudeKalmanStatusInvalidGpsAltitude,   /**< GPS altitude infinite */
+    FusionAltitudeKalmanStatusInvalidGpsAccuracy,   /**< GPS vertical accuracy given (not NaN) but not finite and > 0 */
+    FusionAltitudeKalmanStatusInvalidNoise,         /**< a noise, random walk or initial sigma not finite, negative, or 0 where it must be > 0 */
+    FusionAltitudeKalmanStatusInvalidRange,         /**< range limits not finite or not 0 <= min < max */
+    FusionAltitudeKalmanStatusInvalidGps,           /**< GPS model: base or satellite term not finite or < 0, base + satellite term 0, or min satellites < 0 */
+    FusionAltitudeKalmanStatusInvalidGate,          /**< gate not finite or <= 0, or timeout not finite or < 0 */
+    FusionAltitudeKalmanStatusInvalidGroundEffect,  /**< ground-effect noise scale not finite or < 1, dead zone not finite or < 0 */
+} FusionAltitudeKalmanStatus;
+
+/** Settings, all in physical units. */
+typedef struct {
+    float accelNoise;            /**< N_a, m/s^2/sqrt(Hz): accelerometer white-noise density (with vibration) */
+    float accelBiasRandomWalk;   /**< N_b, m/s^3/sqrt(Hz): accel bias random walk */
+    float accelBiasInitialSigma; /**< m/s^2: initial bias uncertainty */
+    bool estimateAccelBias;      /**< false: bias state held at 0, not estimated */
+    float baroNoise;             /**< m, 1 sigma per baro sample (> 0) */
+    float baroOffsetRandomWalk;  /**< N_ob, m/sqrt(s): weather and temperature drift of the baro */
+    float rangeNoise;            /**< m, 1 sigma per rangefinder sample (> 0) */
+    float rangeMinimum;          /**< m: readings below are "no echo" */
+    float rangeMaximum;          /**< m: readings above are "no echo" */
+    float gpsNoiseBase;          /**< m: GPS sigma = base + satellite / sqrt(n) */
+    float gpsNoiseSatellite;     /**< m: see gpsNoiseBase */
+    int32_t gpsMinimumSatellites; /**< fewer satellites: GPS not fused */
+    float gpsOffsetRandomWalk;   /**< N_og, m/sqrt(s): GPS altitude wander */
+    float gate;                  /**< innovation gate, sigmas: rejected if y^2 > gate^2 * S */
+    float rejectionTimeout;      /**< s: a sensor rejected for longer is reset */
+    float groundEffectNoiseScale; /**< baro sigma multiplier while the ground-effect flag is set (>= 1) */
+    float groundEffectDeadZone;  /**< m: negative baro innovations up to this are ignored in ground effect */
+    float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) */
+    float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) */
+} FusionAltitudeKalmanSettings;
+
+/** One update's samples. NaN means "no sample this step". */
+typedef struct {
+    float baroAltitude;        /**< m; NaN: none */
+    float rangeDistance;       /**< m, height above ground; NaN or outside [min, max]: no echo */
+    float gpsAltitude;         /**< m; NaN: none */
+    float gpsVerticalAccuracy; /**< m, 1 sigma reported by the receiver; NaN: not reported (satellite model) */
+    int32_t gpsSatellites;     /**< satellites used; negative: unknown */
+    bool groundEffect;         /**< take-off or landing: widen baro noise, dead zone on negative baro innovations */
+} FusionAltitudeKalmanMeasurements;
+
+/** Per-sensor diagnostics. */
+typedef struct {
+    float innovation;         /**< y = z - H*x of the latest sample before its correction, m (after the ground-effect dead zone); NaN if none tested */
+    float innovationVariance; /**< S = H*P*H^T + R, m^2; NaN if none tested */
+    float nis;                /**< normalized innovation squared y^2/S; NaN if none tested */
+    float rejectingFor;       /**< s since the first sample of the current rejection streak; 0 when not rejecting */
+    uint32_t rejections;      /**< samples rejected by the gate, in total */
+    uint32_t resets;          /**< resets after a rejection streak longer than the timeout, in total */
+    FusionAltitudeKalmanResult result; /**< what the latest update did with this sensor */
+    bool rejecting;           /**< a rejection streak is in progress */
+} FusionAltitudeKalmanSensor;
+
+/** Filter state. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeKalmanSettings settings;
+    float x[FUSION_ALTITUDE_KALMAN_STATES];                               /**< state, see the file comment */
+    float P[FUSION_ALTITUDE_KALMAN_STATES][FUSION_ALTITUDE_KALMAN_STATES]; /**< covariance, exactly symmetric */
+    FusionAltitudeKalmanSensor sensors[FUSION_ALTITUDE_KALMAN_SENSORS];    /**< baro, range, GPS */
+    bool baroInitialised;     /**< baro offset set (first baro sample seen) */
+    bool gpsInitialised;      /**< GPS offset set (first usable GPS sample seen) */
+} FusionAltitudeKalman;
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitudeKalmanStatus status) {
+    switch (status) {
+        case FusionAltitudeKalmanStatusOk:
+            return "ok";
+        case FusionAltitudeKalmanStatusInvalidAccel:
+            return "accel must be finite";
+        case FusionAltitudeKalmanStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeKalmanStatusInvalidBaroAltitude:
+            return "baro altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeKalmanStatusInvalidGpsAltitude:
+            return "GPS altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeKalmanStatusInvalidGpsAccuracy:
+            return "GPS vertical accuracy must be finite and > 0 (or NaN if not reported)";
+        case FusionAltitudeKalmanStatusInvalidNoise:
+            return "noises, random walks and initial sigmas must be finite and >= 0 (baro and range noise > 0)";
+        case FusionAltitudeKalmanStatusInvalidRange:
+            return "range limits must be finite with 0 <= minimum < maximum";
+        case FusionAltitudeKalmanStatusInvalidGps:
+            return "GPS noise terms must be finite and >= 0 with a positive sum, minimum satellites >= 0";
+        case FusionAltitudeKalmanStatusInvalidGate:
+            return "gate must be finite and > 0, rejection timeout finite and >= 0";
+        case FusionAltitudeKalmanStatusInvalidGroundEffect:
+            return "ground-effect noise scale must be finite and >= 1, dead zone finite and >= 0";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+/**
+ * @return the default settings (multirotor):
+ *   accelNoise 0.035 m/s^2/sqrt(Hz) (0.35 m/s^2 per sample at 100 Hz),
+ *   accelBiasRandomWalk 0.003 m/s^3/sqrt(Hz), accelBiasInitialSigma 0.2 m/s^2,
+ *   estimateAccelBias true, baroNoise 0.5 m, baroOffsetRandomWalk 0.05 m/sqrt(s),
+ *   rangeNoise 0.05 m, range 0.1 .. 8 m, GPS sigma 1 + 1/sqrt(n) m with at
+ *   least 4 satellites, gpsOffsetRandomWalk 0.1 m/sqrt(s), gate 5 sigma,
+ *   rejectionTimeout 1 s, ground effect x3 baro sigma and 0.5 m dead zone,
+ *   initial height sigma 0.1 m, initial velocity sigma 0.1 m/s.
+ */
+static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(void) {
+    FusionAltitudeKalmanSettings settings;
+    settings.accelNoise = 0.035f;
+    settings.accelBiasRandomWalk = 0.003f;
+    settings.accelBiasInitialSigma = 0.2f;
+    settings.estimateAccelBias = true;
+    settings.baroNoise = 0.5f;
+    settings.baroOffsetRandomWalk = 0.05f;
+    settings.rangeNoise = 0.05f;
+    settings.rangeMinimum = 0.1f;
+    settings.rangeMaximum = 8.0f;
+    settings.gpsNoiseBase = 1.0f;
+    settings.gpsNoiseSatellite = 1.0f;
+    settings.gpsMinimumSatellites = 4;
+    settings.gpsOffsetRandomWalk = 0.1f;
+    settings.gate = 5.0f;
+    settings.rejectionTimeout = 1.0f;
+    settings.groundEffectNoiseScale = 3.0f;
+    settings.groundEffectDeadZone = 0.5f;
+    settings.initialHeightSigma = 0.1f;
+    settings.initialVelocitySigma = 0.1f;
+    return settings;
+}
+
+static inline bool FusionAltitudeKalmanIsNonNegative(const float value) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f);
+}
+
+static inline bool FusionAltitudeKalmanIsPositive(const float value) {
+    return FusionAltitudeIsFinite(value) && (value > 0.0f);
+}
+
+/** Checks the settings; the statuses name the group of the first bad field. */
+static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const FusionAltitudeKalmanSettings *const s) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    if (!FusionAltitudeKalmanIsNonNegative(s->accelNoise) || !FusionAltitudeKalmanIsNonNegative(s->accelBiasRandomWalk) ||
+        !FusionAltitudeKalmanIsNonNegative(s->accelBiasInitialSigma) || !FusionAltitudeKalmanIsPositive(s->baroNoise) ||
+        !FusionAltitudeKalmanIsNonNegative(s->baroOffsetRandomWalk) || !FusionAltitudeKalmanIsPositive(s->rangeNoise) ||
+        !FusionAltitudeKalmanIsNonNegative(s->gpsOffsetRandomWalk) || !FusionAltitudeKalmanIsNonNegative(s->initialHeightSigma) ||
+        !FusionAltitudeKalmanIsNonNegative(s->initialVelocitySigma)) {
+        return FusionAltitudeKalmanStatusInvalidNoise;
+    }
+    if (!FusionAltitudeKalmanIsNonNegative(s->rangeMinimum) || !FusionAltitudeIsFinite(s->rangeMaximum) ||
+        !(s->rangeMaximum > s->rangeMinimum)) {
+        return FusionAltitudeKalmanStatusInvalidRange;
+    }
+    if (!FusionAltitudeKalmanIsNonNegative(s->gpsNoiseBase) || !FusionAltitudeKalmanIsNonNegative(s->gpsNoiseSatellite) ||
+        !(s->gpsNoiseBase + s->gpsNoiseSatellite > 0.0f) || (s->gpsMinimumSatellites < 0)) {
+        return FusionAltitudeKalmanStatusInvalidGps;
+    }
+    if (!FusionAltitudeKalmanIsPositive(s->gate) || !FusionAltitudeKalmanIsNonNegative(s->rejectionTimeout)) {
+        return FusionAltitudeKalmanStatusInvalidGate;
+    }
+    if (!FusionAltitudeIsFinite(s->groundEffectNoiseScale) || !(s->groundEffectNoiseScale >= 1.0f) ||
+        !FusionAltitudeKalmanIsNonNegative(s->groundEffectDeadZone)) {
+        return FusionAltitudeKalmanStatusInvalidGroundEffect;
+    }
+    return FusionAltitudeKalmanStatusOk;
+}
+
+/** @return measurements with no sample of any sensor (all NaN, satellites unknown, no ground effect). */
+static inline FusionAltitudeKalmanMeasurements FusionAltitudeKalmanMeasurementsNone(void) {
+    FusionAltitudeKalmanMeasurements m;
+    m.baroAltitude = FusionAltitudeNaN();
+    m.rangeDistance = FusionAltitudeNaN();
+    m.gpsAltitude = FusionAltitudeNaN();
+    m.gpsVerticalAccuracy = FusionAltitudeNaN();
+    m.gpsSatellites = -1;
+    m.groundEffect = false;
+    return m;
+}
+
+//------------------------------------------------------------------------------
+// Estimator
+
+/**
+ * @brief Initialises the filter with the given settings (NULL: defaults;
+ * rejected with the filter untouched if they fail the check): on the ground
+ * and at rest, h = v = 0 with the initial sigmas, bias 0 with its initial
+ * sigma (0 if not estimated), offsets unknown until each sensor's first sample.
+ */
+static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanInitialiseWith(FusionAltitudeKalman *const kalman,
+                                                                            const FusionAltitudeKalmanSettings *const settings) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanSettings s = (settings == NULL) ? FusionAltitudeKalmanSettingsDefault() : *settings;
+    const FusionAltitudeKalmanStatus status = FusionAltitudeKalmanSettingsCheck(&s);
+    if (status != FusionAltitudeKalmanStatusOk) {
+        return status;
+    }
+    memset(kalman, 0, sizeof(*kalman));
+    kalman->settings = s;
+    kalman->P[0][0] = s.initialHeightSigma * s.initialHeightSigma;
+    kalman->P[1][1] = s.initialVelocitySigma * s.initialVelocitySigma;
+    kalman->P[4][4] = s.estimateAccelBias ? (s.accelBiasInitialSigma * s.accelBiasInitialSigma) : 0.0f;
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
+        kalman->sensors[i].innovation = FusionAltitudeNaN();
+        kalman->sensors[i].innovationVariance = FusionAltitudeNaN();
+        kalman->sensors[i].nis = FusionAltitudeNaN();
+        kalman->sensors[i].result = FusionAltitudeKalmanResultNoSample;
+    }
+    return FusionAltitudeKalmanStatusOk;
+}
+
+/** @brief Initialises the filter with the default settings. */
+static inline void FusionAltitudeKalmanInitialise(FusionAltitudeKalman *const kalman) {
+    (void) FusionAltitudeKalmanInitialiseWith(kalman, NULL);
+}
+
+/**
+ * @brief Replaces the settings, keeping the state. Turning bias estimation off
+ * sets b = 0 and clears its covariance row; turning it on starts b with its
+ * initial sigma, uncorrelated. Rejected (state unchanged) if the check fails.
+ */
+static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionAltitudeKalman *const kalman,
+                                                                         const FusionAltitudeKalmanSettings *const settings) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanStatus status = FusionAltitudeKalmanSettingsCheck(settings);
+    if (status != FusionAltitudeKalmanStatusOk) {
+        return status;
+    }
+    if (settings->estimateAccelBias != kalman->settings.estimateAccelBias) {
+        kalman->x[4] = 0.0f;
+        for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+            kalman->P[i][4] = 0.0f;
+            kalman->P[4][i] = 0.0f;
+        }
+        if (settings->estimateAccelBias) {
+            kalman->P[4][4] = settings->accelBiasInitialSigma * settings->accelBiasInitialSigma;
+        }
+    }
+    kalman->settings = *settings;
+    return FusionAltitudeKalmanStatusOk;
+}
+
+/**
+ * @brief Prediction over dt (s) with vertical acceleration accel (m/s^2):
+ * x = F*x + B*accel, P = F*P*F^T + Q (see the file comment). Only rows and
+ * columns h and v of P change through F; the 15 distinct entries are formed
+ * once and mirrored. Internal: inputs are already checked.
+ */
+static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, const float accel, const float dt) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
+    const float halfDt2 = 0.5f * dt * dt;
+    // State
+    const float u = accel - k->x[4];
+    k->x[0] = k->x[0] + k->x[1] * dt + u * halfDt2;
+    k->x[1] = k->x[1] + u * dt;
+    // A = row h of F*P, Bv = row v of F*P (the other rows of F*P are those of P)
+    float A[FUSION_ALTITUDE_KALMAN_STATES];
+    float Bv[FUSION_ALTITUDE_KALMAN_STATES];
+    for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+        A[j] = P[0][j] + dt * P[1][j] - halfDt2 * P[4][j];
+        Bv[j] = P[1][j] - dt * P[4][j];
+    }
+    // (F*P)*F^T: columns h and v change the same way
+    const float q = k->settings.accelNoise * k->settings.accelNoise;
+    const float qvv = q * dt;                 // N_a^2 dt
+    const float qhv = qvv * (0.5f * dt);      // N_a^2 dt^2 / 2
+    const float qhh = qhv * (0.5f * dt);      // N_a^2 dt^3 / 4
+    const float phh = A[0] + dt * A[1] - halfDt2 * A[4] + qhh;
+    const float phv = A[1] - dt * A[4] + qhv;
+    const float pvv = Bv[1] - dt * Bv[4] + qvv;
+    P[0][0] = phh;
+    P[0][1] = phv;
+    P[1][0] = phv;
+    P[1][1] = pvv;
+    for (int j = 2; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+        P[0][j] = A[j];
+        P[j][0] = A[j];
+        P[1][j] = Bv[j];
+        P[j][1] = Bv[j];
+    }
+    // Random walks (offsets only once they exist; bias only if estimated)
+    if (k->baroInitialised) {
+        P[2][2] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
+    }
+    if (k->gpsInitialised) {
+        P[3][3] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
+    }
+    if (k->settings.estimateAccelBias) {
+        P[4][4] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
+        if (k->sensors[i].rejecting) {
+            k->sensors[i].rejectingFor += dt;
+        }
+    }
+}
+
+/**
+ * @brief Scalar update with H = e_h + e_offset (offset = 2 or 3) or H = e_h
+ * (offset < 0), innovation y, noise variance R, in Joseph form (see the file
+ * comment). c and S are passed in (already computed for the gate).
+ */
+static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const float c[FUSION_ALTITUDE_KALMAN_STATES],
+                                            const float S, const float y) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    float K[FUSION_ALTITUDE_KALMAN_STATES];
+    float sK[FUSION_ALTITUDE_KALMAN_STATES];
+    const float inverseS = 1.0f / S;
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        K[i] = c[i] * inverseS;
+        sK[i] = S * K[i];
+        k->x[i] += K[i] * y;
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        for (int j = i; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+            const float value = k->P[i][j] - K[i] * c[j] - c[i] * K[j] + sK[i] * K[j];
+            k->P[i][j] = value;
+            k->P[j][i] = value;
+        }
+    }
+}
+
+/**
+ * @brief Sets offset state o (2 or 3) from a sample z with noise variance R as
+ * an update with an infinite prior on the offset: o = z - h,
+ * P_oo = P_hh + R, P_oj = -P_hj (j != o). Used for the first sample and for a
+ * reset after a rejection streak: h, v, b and the other offset are unchanged.
+ */
+static inline void FusionAltitudeKalmanSetOffset(FusionAltitudeKalman *const k, const int o, const float z, const float R) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    k->x[o] = z - k->x[0];
+    for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+        if (j != o) {
+            const float value = -k->P[0][j];
+            k->P[o][j] = value;
+            k->P[j][o] = value;
+        }
+    }
+    k->P[o][o] = k->P[0][0] + R;
+}
+
+/**
+ * @brief Terrain reset from a rangefinder sample z (variance R): the ground
+ * moved under the vehicle, not the vehicle. h = z and every existing offset
+ * takes up the difference d = z - h (o -= d), so h + o (the altitudes) do not
+ * move. Covariance: x' = T*x + g*z with T the identity except row h = 0 and
+ * o' = o + h, g = e_h - sum(e_o): P' = T*P*T^T + R*g*g^T.
+ */
+static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k, const float z, const float R) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
+    const bool m[FUSION_ALTITUDE_KALMAN_STATES] = {false, false, k->baroInitialised, k->gpsInitialised, false};
+    const float d = z - k->x[0];
+    k->x[0] = z;
+    for (int i = 2; i < 4; i++) {
+        if (m[i]) {
+            k->x[i] = k->x[i] - d;
+        }
+    }
+    float ph[FUSION_ALTITUDE_KALMAN_STATES];
+    for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+        ph[j] = P[0][j];
+    }
+    for (int i = 1; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        for (int j = i; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+            float value = P[i][j];
+            if (m[i]) {
+                value = value + ph[j];
+            }
+            if (m[j]) {
+                value = value + ph[i];
+            }
+            if (m[i] && m[j]) {
+                value = value + ph[0] + R;
+            }
+            P[i][j] = value;
+            P[j][i] = value;
+        }
+    }
+    P[0][0] = R;
+    for (int j = 1; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+        const float value = m[j] ? -R : 0.0f;
+        P[0][j] = value;
+        P[j][0] = value;
+    }
+}
+
+/**
+ * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
+ * -1 for the rangefinder), innovation y, noise variance R. Rejected if
+ * y^2/S > gate^2; a rejection streak older than the timeout resets instead.
+ */
+static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
+                                               const float z, const float y, const float R) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    float c[FUSION_ALTITUDE_KALMAN_STATES];
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        c[i] = (o < 0) ? k->P[i][0] : (k->P[i][0] + k->P[i][o]);
+    }
+    const float S = ((o < 0) ? c[0] : (c[0] + c[o])) + R;
+    const float nis = (y * y) / S;
+    sensor->innovation = y;
+    sensor->innovationVariance = S;
+    sensor->nis = nis;
+    const float gate = k->settings.gate;
+    if (!(nis > gate * gate)) {
+        FusionAltitudeKalmanFuse(k, c, S, y);
+        sensor->rejecting = false;
+        sensor->rejectingFor = 0.0f;
+        sensor->result = FusionAltitudeKalmanResultFused;
+        return;
+    }
+    sensor->rejections++;
+    if (!sensor->rejecting) {
+        sensor->rejecting = true;
+        sensor->rejectingFor = 0.0f;
+    }
+    if (sensor->rejectingFor > k->settings.rejectionTimeout) {
+        if (o < 0) {
+            FusionAltitudeKalmanResetGround(k, z, R);
+        } else {
+            FusionAltitudeKalmanSetOffset(k, o, z, R);
+        }
+        sensor->resets++;
+        sensor->rejecting = false;
+        sensor->rejectingFor = 0.0f;
+        sensor->result = FusionAltitudeKalmanResultReset;
+        return;
+    }
+    sensor->result = FusionAltitudeKalmanResultRejected;
+}
+
+/** Marks a sensor as having no tested sample this step. */
+static inline void FusionAltitudeKalmanNoSample(FusionAltitudeKalmanSensor *const sensor, const FusionAltitudeKalmanResult result) {
+    sensor->innovation = FusionAltitudeNaN();
+    sensor->innovationVariance = FusionAltitudeNaN();
+    sensor->nis = FusionAltitudeNaN();
+    sensor->result = result;
+}
+
+/**
+ * @return 1/sqrt(n) as float32 for n = 0..FUSION_ALTITUDE_KALMAN_MAX_SATELLITES
+ * (n < 1 uses 1, larger n the last entry), from a table (no libm).
+ */
+static inline float FusionAltitudeKalmanInverseSqrt(const int32_t n) {
+    static const float table[FUSION_ALTITUDE_KALMAN_MAX_SATELLITES + 1] = {
+        1.0f, 1.0f, 0.70710677f, 0.57735026f, 0.5f, 0.4472136f, 0.4082483f, 0.37796447f,
+        0.35355338f, 0.33333334f, 0.31622776f, 0.30151135f, 0.28867513f, 0.2773501f, 0.26726124f, 0.2581989f,
+        0.25f, 0.24253562f, 0.23570226f, 0.22941573f, 0.2236068f, 0.2182179f, 0.21320072f, 0.2085144f,
+        0.20412415f, 0.2f, 0.19611613f, 0.19245009f, 0.18898223f, 0.18569534f, 0.18257418f, 0.1796053f,
+        0.17677669f, 0.17407766f, 0.17149858f, 0.16903085f, 0.16666667f, 0.16439898f, 0.16222142f, 0.16012815f,
+        0.15811388f, 0.15617377f, 0.15430336f, 0.15249857f, 0.15075567f, 0.1490712f, 0.14744195f, 0.145865f,
+        0.14433756f, 0.14285715f, 0.14142136f, 0.14002801f, 0.13867505f, 0.13736056f, 0.13608277f, 0.13483997f,
+        0.13363062f, 0.13245323f, 0.13130644f, 0.13018891f, 0.12909944f, 0.12803689f, 0.12700012f, 0.12598816f,
+        0.125f,
+    };
+    if (n < 1) {
+        return 1.0f;
+    }
+    return table[(n > FUSION_ALTITUDE_KALMAN_MAX_SATELLITES) ? FUSION_ALTITUDE_KALMAN_MAX_SATELLITES : n];
+}
+
+/**
+ * @brief GPS noise sigma (m) for a sample: the receiver's vertical accuracy
+ * when reported (not NaN), else base + satellite / sqrt(n) with n the
+ * satellite count (unknown, i.e. negative: the minimum usable count).
+ */
+static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSettings *const s, const float verticalAccuracy,
+                                                 const int32_t satellites) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    if (!FusionAltitudeIsNaN(verticalAccuracy)) {
+        return verticalAccuracy;
+    }
+    const int32_t n = (satellites < 0) ? s->gpsMinimumSatellites : satellites;
+    return s->gpsNoiseBase + s->gpsNoiseSatellite * FusionAltitudeKalmanInverseSqrt(n);
+}
+
+/**
+ * @brief One filter step: predict over dt with accel, then the baro,
+ * rangefinder and GPS samples in m (each NaN: none) as sequential scalar
+ * updates.
+ *
+ * @param accel vertical acceleration, m/s^2, earth frame, +up, gravity removed.
+ * @param dt time since the previous step, s.
+ * @param measurements this step's samples (NULL: none).
+ *
+ * Baro: R = baroNoise^2, times groundEffectNoiseScale^2 with the ground-effect
+ * flag, which also replaces a negative innovation y by min(y + deadZone, 0).
+ * Rangefinder: NaN or outside [rangeMinimum, rangeMaximum] is not fused;
+ * R = rangeNoise^2. GPS: fewer than gpsMinimumSatellites (when known) is not
+ * fused; R = sigma^2 (FusionAltitudeKalmanGpsSigma). The first baro and GPS
+ * samples set their offsets; later samples are gated (FusionAltitudeKalmanProcess).
+ *
+ * Every call checks all inputs first: accel not finite, dt not finite or
+ * <= 0, infinite baro or GPS altitude, or a GPS vertical accuracy (with a GPS
+ * sample) that is not NaN and not finite > 0 is rejected with the state
+ * unchanged.
+ */
+static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitudeKalman *const kalman, const float accel, const float dt,
+                                                                    const FusionAltitudeKalmanMeasurements *const measurements) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanMeasurements m = (measurements == NULL) ? FusionAltitudeKalmanMeasurementsNone() : *measurements;
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeKalmanStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeKalmanStatusInvalidDt;
+    }
+    const bool baroPresent = !FusionAltitudeIsNaN(m.baroAltitude);
+    if (baroPresent && !FusionAltitudeIsFinite(m.baroAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidBaroAltitude;
+    }
+    const bool gpsPresent = !FusionAltitudeIsNaN(m.gpsAltitude);
+    if (gpsPresent && !FusionAltitudeIsFinite(m.gpsAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidGpsAltitude;
+    }
+    if (gpsPresent && !FusionAltitudeIsNaN(m.gpsVerticalAccuracy) &&
+        !(FusionAltitudeIsFinite(m.gpsVerticalAccuracy) && (m.gpsVerticalAccuracy > 0.0f))) {
+        return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
+    }
+    const FusionAltitudeKalmanSettings *const s = &kalman->settings;
+    FusionAltitudeKalmanPredict(kalman, accel, dt);
+
+    // Barometer: z = h + ob
+    FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
+    if (!baroPresent) {
+        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultNoSample);
+    } else {
+        const float sigma = m.groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
+        const float R = sigma * sigma;
+        if (!kalman->baroInitialised) {
+            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateBaroOffset, m.baroAltitude, R);
+            kalman->baroInitialised = true;
+            FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
+        } else {
+            float y = m.baroAltitude - (kalman->x[0] + kalman->x[2]);
+            if (m.groundEffect && (y < 0.0f)) {
+                const float shifted = y + s->groundEffectDeadZone;
+                y = (shifted < 0.0f) ? shifted : 0.0f;
+            }
+            FusionAltitudeKalmanProcess(kalman, baro, FusionAltitudeKalmanStateBaroOffset, m.baroAltitude, y, R);
+        }
+    }
+
+    // Rangefinder: z = h
+    FusionAltitudeKalmanSensor *const range = &kalman->sensors[FusionAltitudeKalmanSensorRange];
+    if (FusionAltitudeIsNaN(m.rangeDistance)) {
+        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultNoSample);
+    } else if (!(m.rangeDistance >= s->rangeMinimum) || !(m.rangeDistance <= s->rangeMaximum)) {
+        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
+    } else {
+        const float R = s->rangeNoise * s->rangeNoise;
+        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[0], R);
+    }
+
+    // GPS: z = h + og
+    FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
+    if (!gpsPresent) {
+        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultNoSample);
+    } else if ((m.gpsSatellites >= 0) && (m.gpsSatellites < s->gpsMinimumSatellites)) {
+        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultUnusable);
+    } else {
+        const float sigma = FusionAltitudeKalmanGpsSigma(s, m.gpsVerticalAccuracy, m.gpsSatellites);
+        const float R = sigma * sigma;
+        if (!kalman->gpsInitialised) {
+            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, R);
+            kalman->gpsInitialised = true;
+            FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
+        } else {
+            const float y = m.gpsAltitude - (kalman->x[0] + kalman->x[3]);
+            FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, y, R);
+        }
+    }
+    return FusionAltitudeKalmanStatusOk;
+}
+
+//------------------------------------------------------------------------------
+// Getters
+
+/** @return the settings in use. */
+static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanGetSettings(const FusionAltitudeKalman *const kalman) {
+    return kalman->settings;
+}
+
+/** @return height above ground h, m. */
+static inline float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *const kalman) {
+    return kalman->x[0];
+}
+
+/**
+ * @return baro-referenced altitude h + ob, m: what a noise-free baro would
+ * read, comparable to the observer's altitude. Equals h until the first baro
+ * sample (ob is 0 then).
+ */
+static inline float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *const kalman) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    return kalman->x[0] + kalman->x[2];
+}
+
+/** @return variance of the altitude h + ob, m^2: P_hh + 2*P_h,ob + P_ob,ob. */
+static inline float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *const kalman) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    return kalman->P[0][0] + 2.0f * kalman->P[0][2] + kalman->P[2][2];
+}
+
+/** @return vertical velocity v, m/s, +up. */
+static inline float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *const kalman) {
+    return kalman->x[1];
+}
+
+/** @return accelerometer bias b, m/s^2, +up (already subtracted from the input). */
+static inline float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *const kalman) {
+    return kalman->x[4];
+}
+
+/** @return baro offset ob (baro reads h + ob), m; 0 before the first baro sample. */
+static inline float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *const kalman) {
+    return kalman->x[2];
+}
+
+/** @return GPS offset og (GPS reads h + og), m; 0 before the first usable GPS sample. */
+static inline float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *const kalman) {
+    return kalman->x[3];
+}
+
+/** @return covariance entry P[i][j] (state indices FusionAltitudeKalmanState). */
+static inline float FusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanState i,
+                                                      const FusionAltitudeKalmanState j) {
+    return kalman->P[i][j];
+}
+
+/** @return the diagnostics of one sensor. */
+static inline FusionAltitudeKalmanSensor FusionAltitudeKalmanGetSensor(const FusionAltitudeKalman *const kalman,
+                                                                       const FusionAltitudeKalmanSensorIndex sensor) {
+    return kalman->sensors[sensor];
+}
+
+#undef FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -28,8 +28,9 @@ def main(argv=None) -> int:
     for label, column, scale, unit, key in [("mean error", 0, 100, "cm", "mean"), ("RMS error", 1, 100, "cm", "rms"),
                                             ("max abs error", 2, 100, "cm", "max")]:
         values = stats[:, column] * scale
-        print(f"| {label} | {values.mean():+.2f} ± {values.std(ddof=1):.2f} {unit} | "
-              f"{published[key] * scale:+.1f} {unit} |")
+        sign = "+" if key == "mean" else ""
+        print(f"| {label} | {values.mean():{sign}.2f} ± {values.std(ddof=1):.2f} {unit} | "
+              f"{published[key] * scale:{sign}.1f} {unit} |")
     bias = stats[:, 3]
     print(f"| final bias estimate | {bias.mean():.4f} ± {bias.std(ddof=1):.4f} g | ≈ 0.012 g (true 0.012 g) |")
     clean = run_scenario("clean", attitude="ahrs").statistics()

@@ -136,6 +136,8 @@ def main(argv=None) -> int:
     parser.add_argument("--baro-every", type=int, default=4,
                         help="one baro sample every this many IMU samples, NaN between (default 4: 25 Hz baro, "
                              "100 Hz IMU; 1 puts the full correction on every sample's dependency chain)")
+    parser.add_argument("--no-sweep", dest="sweep", action="store_false", help="skip the gain-sweep table")
+    parser.add_argument("--sweep-samples", type=int, default=100_000, help="samples for the sweep cases (default 1e5)")
     args = parser.parse_args(argv)
     n = args.samples
     repeat = max(1, args.repeat)
@@ -253,6 +255,14 @@ def main(argv=None) -> int:
     ]
     for text, ok in checks:
         print(f"- [{'PASS' if ok else 'FAIL'}] {text}")
+    if args.sweep:
+        import sweep_bench
+        print()
+        print(f"Gain sweep ({args.sweep_samples} samples, baro every sample; K=1024 on an eighth of them):")
+        print()
+        sweep_rows, sweep_checks = sweep_bench.run(args.sweep_samples, max(1, min(repeat, 5)), baro_every=1)
+        sweep_bench.print_table(sweep_rows, sweep_checks)
+        checks += sweep_checks
     return 0 if all(ok for _, ok in checks) else 1
 
 

@@ -25,7 +25,7 @@ MIN_SETTINGS_PER_THREAD = 16
 
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
-          threads: Optional[int] = None) -> SweepResult:
+          threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None) -> SweepResult:
     """Run K observer settings over one input stream.
 
     Parameters
@@ -49,6 +49,9 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     threads : int, optional
         Threads to split the K settings across; default: the CPU count, keeping
         at least 16 settings per thread.
+    out : AltitudeBatch or sequence of 4 arrays, optional
+        Preallocated C-contiguous float32 (T, K) arrays for the outputs (implies
+        ``outputs=True``); reusing them avoids page faults on large sweeps.
 
     Returns
     -------
@@ -63,6 +66,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         ``update_batch``), an unstable setting (naming ``settings[k]``), or
         neither ``reference`` nor ``outputs``.
     """
+    outputs = outputs or out is not None
     accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _common.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
     for k, row in enumerate(gains):
@@ -73,7 +77,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     n, count = accel32.shape[0], gains.shape[0]
     gains_by_row = np.ascontiguousarray(gains.T)
     state = np.empty((4, count), np.float32)
-    output_arrays = AltitudeBatch(*(np.empty((n, count), np.float32) for _ in range(4))) if outputs else None
+    output_arrays = _common.output_arrays((n, count), out) if outputs else None
     metric_arrays = [np.zeros(count, np.float32) for _ in range(5)] if reference32 is not None else None
     if metric_arrays is not None:
         metric_arrays[2][:] = 0.0  # max |error| starts at 0

@@ -20,8 +20,9 @@ BLOCK = 1024
 
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
-          threads=None) -> SweepResult:
+          threads=None, out=None) -> SweepResult:
     """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`)."""
+    outputs = outputs or out is not None
     accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _common.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
     for k, row in enumerate(gains):
@@ -32,8 +33,11 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     n, count = accel32.shape[0], gains.shape[0]
     dt_argument = dt32 if dt_is_array else dt32[0]
     runs = [AltitudeEstimator(AltitudeSettings(*row)).update_batch(accel32, baro32, dt_argument) for row in gains]
-    output_arrays = AltitudeBatch(*(np.stack([getattr(run, field) for run in runs], axis=1)
-                                    for field in AltitudeBatch._fields)) if outputs else None
+    output_arrays = None
+    if outputs:
+        output_arrays = _common.output_arrays((n, count), out)
+        for target, field in zip(output_arrays, AltitudeBatch._fields):
+            target[...] = np.stack([getattr(run, field) for run in runs], axis=1).reshape(n, count)
     if reference32 is None:
         return _common.sweep_result(gains, 0, None, output_arrays)
     counted = np.isfinite(reference32) & (mask8.astype(bool) if mask8 is not None else True)

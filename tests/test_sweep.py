@@ -142,3 +142,15 @@ def test_releases_the_gil():
         threading.Event().wait(0.0005)
     worker.join()
     assert ticks > 100
+
+
+def test_writes_into_preallocated_out_arrays():
+    accel, baro, dt, _ = log(n=400)
+    settings = grid(10)
+    out = fusion_altitude.AltitudeBatch(*(np.empty((400, 10), np.float32) for _ in range(4)))
+    result = fusion_altitude.sweep(accel, baro, dt, settings, out=out)
+    assert all(r is o for r, o in zip(result.outputs, out))
+    fresh = fusion_altitude.sweep(accel, baro, dt, settings, outputs=True)
+    assert np.array_equal(bits(out.accel_bias), bits(fresh.outputs.accel_bias))
+    with pytest.raises(ValueError, match=r"out.altitude must be a writeable contiguous float32 array of shape \(400, 10\)"):
+        fusion_altitude.sweep(accel, baro, dt, settings, out=[np.empty((400, 9), np.float32)] + list(out[1:]))

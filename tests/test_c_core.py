@@ -1,4 +1,4 @@
-"""The C core's own unit tests (csrc/tests/test_observer.c), built the ways
+"""The C core's own unit tests (csrc/tests/test_observer.c, test_sweep.c), built the ways
 firmware engineers build it: gcc and clang, C99 and as C++, strict warnings as
 errors, and once under AddressSanitizer + UndefinedBehaviorSanitizer."""
 
@@ -22,7 +22,10 @@ BUILDS = {
     "clang++-c++17": ["clang++", "-x", "c++", "-std=c++17", "-O2"],
     "clang-asan-ubsan": ["clang", "-std=c99", "-O1", *SANITIZE],
     "gcc-asan-ubsan": ["gcc", "-std=c99", "-O1", *SANITIZE],
+    "gcc-multiversion": ["gcc", "-std=c99", "-O2", "-DFUSION_ALTITUDE_SWEEP_MULTIVERSION"],
 }
+#: test program -> the least number of tests it must report passed
+PROGRAMS = {"test_observer.c": 16, "test_sweep.c": 4}
 
 
 def compiler(name: str) -> str:
@@ -31,12 +34,13 @@ def compiler(name: str) -> str:
     return path
 
 
+@pytest.mark.parametrize("program", sorted(PROGRAMS))
 @pytest.mark.parametrize("build", sorted(BUILDS))
-def test_c_unit_tests_pass_warning_free(build, tmp_path):
+def test_c_unit_tests_pass_warning_free(build, program, tmp_path):
     command = BUILDS[build]
-    binary = tmp_path / "test_observer"
+    binary = tmp_path / "test_program"
     compile_result = subprocess.run(
-        [compiler(command[0]), *command[1:], *STRICT, f"-I{CSRC}", str(CSRC / "tests" / "test_observer.c"),
+        [compiler(command[0]), *command[1:], *STRICT, f"-I{CSRC}", str(CSRC / "tests" / program),
          "-o", str(binary)],
         capture_output=True, text=True)
     assert compile_result.returncode == 0, compile_result.stderr
@@ -45,7 +49,7 @@ def test_c_unit_tests_pass_warning_free(build, tmp_path):
     assert run.returncode == 0, run.stdout + run.stderr
     summary = re.search(r"^(\d+) passed, (\d+) failed$", run.stdout, re.MULTILINE)
     assert summary is not None, run.stdout
-    assert int(summary.group(1)) >= 16 and summary.group(2) == "0"
+    assert int(summary.group(1)) >= PROGRAMS[program] and summary.group(2) == "0"
     assert "runtime error" not in run.stderr and "Sanitizer" not in run.stderr
 
 

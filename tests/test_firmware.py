@@ -28,7 +28,7 @@ VECTORS = CSRC / "tests" / "vectors"
 DOC = ROOT / "docs" / "embedded.md"
 TOOLS = ("make", "gcc", "clang", "cppcheck", "arm-none-eabi-gcc", "arm-none-eabi-objdump", "arm-none-eabi-nm",
          "riscv64-unknown-elf-gcc", "qemu-system-arm", "timeout")
-FUZZ_SECONDS = int(os.environ.get("FUSION_ALTITUDE_FUZZ_SECONDS", "60"))
+FUZZ_SECONDS = max(1, int(os.environ.get("FUSION_ALTITUDE_FUZZ_SECONDS", "60")))  # libFuzzer: 0 = forever
 
 
 def make(build: Path, *targets: str, timeout: float = 600, **variables: str) -> subprocess.CompletedProcess:

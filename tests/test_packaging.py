@@ -8,8 +8,10 @@ import fusion_altitude
 from fusion_altitude import _observer
 
 
-def test_module_prints_its_version():
-    result = subprocess.run([sys.executable, "-m", "fusion_altitude", "--version"], capture_output=True, text=True)
+def test_module_prints_its_version(tmp_path):
+    # run outside the checkout, so that the installed package (with its extension) is imported
+    result = subprocess.run([sys.executable, "-m", "fusion_altitude", "--version"], capture_output=True, text=True,
+                            cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert fusion_altitude.__version__ in result.stdout
 

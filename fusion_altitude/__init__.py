@@ -9,7 +9,8 @@ twins that agree with them bit for bit.
 Vertical is +up everywhere; NED users negate.
 """
 
-from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
+from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
+from ._kalman import KalmanEstimator, KalmanSettings
 from ._observer import AltitudeEstimator, AltitudeSettings
 from ._version import __version__
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
@@ -22,6 +23,12 @@ __all__ = [
     "AltitudeSettings",
     "DiscretisationWarning",
     "FitResult",
+    "KalmanBatch",
+    "KalmanEstimator",
+    "KalmanResult",
+    "KalmanSensors",
+    "KalmanSettings",
+    "KalmanStatus",
     "Status",
     "SweepResult",
     "fit",

@@ -499,7 +499,7 @@ def _kalman_input(value: object, name: str, n: Optional[int], fill: float) -> np
     if np.ndim(value) == 0:
         with np.errstate(over="ignore"):
             return np.array([as_float(value, name)], dtype=np.float32)
-    array = _as_float32_vector(value, name)
+    array = as_float32_vector(value, name)
     if n is not None and array.shape[0] != n:
         raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
     return array
@@ -511,7 +511,7 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
     maps each argument name to a contiguous array (float32; int32 satellites,
     uint8 ground effect) of length n, or of length 1 for a scalar or None
     (then its entry in ``steps`` is 0, else 1)."""
-    accel32 = _as_float32_vector(accel, "accel")
+    accel32 = as_float32_vector(accel, "accel")
     n = accel32.shape[0]
     inputs = {
         "accel": accel32,

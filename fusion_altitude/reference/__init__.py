@@ -6,8 +6,10 @@ operation order as the C, so its outputs match the C core bit for bit. It is
 slow (a Python loop); use it to understand, test and port the algorithm.
 """
 
-from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, Status
+from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
+from .kalman import KalmanEstimator, KalmanSettings
 from .observer import AltitudeEstimator, AltitudeSettings
 from .sweep import sweep
 
-__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "Status", "sweep"]
+__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "KalmanBatch",
+           "KalmanEstimator", "KalmanResult", "KalmanSensors", "KalmanSettings", "KalmanStatus", "Status", "sweep"]

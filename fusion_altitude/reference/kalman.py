@@ -1,0 +1,660 @@
+"""The multi-sensor altitude Kalman filter, in plain Python.
+
+Read it next to ``csrc/fusion_altitude_kalman.h``: every method below mirrors
+the C function named in its docstring, statement for statement, in float32
+scalar arithmetic (numpy scalars) in the same operation order, so its results
+equal the C core's bit for bit.
+
+State x (m, m/s, m, m, m/s²): height above ground h, vertical velocity v,
+baro offset ob (the baro reads h + ob), GPS offset og (GPS reads h + og),
+accelerometer bias b.
+
+Prediction with u = a − b:  h += v·dt + u·dt²/2,  v += u·dt;
+P = F·P·Fᵀ + Q with F = I + dt·E01 − (dt²/2)·E04 − dt·E14,
+Q = N_a²/dt·B·Bᵀ (B = (dt²/2, dt, 0, 0, 0)ᵀ) + dt·diag(0, 0, N_ob², N_og², N_b²).
+
+Measurements, as sequential scalar updates: baro h + ob, rangefinder h,
+GPS h + og. Each: c = P·Hᵀ, S = H·c + R, K = c/S, y = z − H·x,
+x += K·y, P = P − K·cᵀ − c·Kᵀ + S·K·Kᵀ (Joseph form, expanded).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from typing import List, Optional
+
+import numpy as np
+
+from .. import _common
+from .._common import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+
+f32 = np.float32
+_NAN = f32("nan")
+_ZERO = f32(0)
+N_STATES = 5
+MAX_SATELLITES = 64
+
+#: FusionAltitudeKalmanInverseSqrt: 1/sqrt(n) rounded to float32, n = 0..64 (n = 0 → 1).
+_INVERSE_SQRT = [f32(1)] + [f32(1 / math.sqrt(n)) for n in range(1, MAX_SATELLITES + 1)]
+
+
+def _is_finite(x: np.float32) -> bool:
+    return bool(np.isfinite(x))
+
+
+def _is_nan(x: np.float32) -> bool:
+    return bool(np.isnan(x))
+
+
+# -- settings -----------------------------------------------------------------
+
+class KalmanSettings:
+    """Settings of the Kalman filter, in physical units (float32).
+
+    Parameters (keyword only; defaults for a multirotor)
+    ----------------------------------------------------
+    accel_noise : 0.035 m/s²/√Hz
+        Accelerometer white-noise density N_a, vibration included.
+    accel_bias_random_walk : 0.003 m/s³/√Hz
+        Accelerometer bias random walk N_b.
+    accel_bias_initial_sigma : 0.2 m/s²
+        Initial bias uncertainty.
+    estimate_accel_bias : True
+        False holds the bias state at 0.
+    baro_noise : 0.5 m
+        Baro 1σ per sample (> 0).
+    baro_offset_random_walk : 0.05 m/√s
+        Baro offset drift N_ob (weather, temperature).
+    range_noise : 0.05 m
+        Rangefinder 1σ per sample (> 0).
+    range_min, range_max : 0.1 m, 8.0 m
+        Readings outside are "no echo" (not fused).
+    gps_noise_base, gps_noise_satellite : 1.0 m, 1.0 m
+        GPS σ = base + satellite/√n for n satellites.
+    gps_min_satellites : 4
+        Fewer satellites: GPS not fused.
+    gps_offset_random_walk : 0.1 m/√s
+        GPS altitude wander N_og.
+    gate : 5.0 σ
+        A sample is rejected if y²/S > gate².
+    rejection_timeout : 1.0 s
+        A sensor rejected for longer is reset (offset; rangefinder: ground).
+    ground_effect_noise_scale : 3.0
+        Baro σ multiplier with the ground-effect flag (>= 1).
+    ground_effect_dead_zone : 0.5 m
+        Negative baro innovations up to this are ignored in ground effect.
+    initial_height_sigma, initial_velocity_sigma : 0.1 m, 0.1 m/s
+        Initial uncertainty of "on the ground, at rest".
+    """
+
+    __slots__ = ("_values",)
+
+    def __init__(self, **kwargs) -> None:
+        values = _common.convert_kalman_settings(kwargs)
+        status = _check(values)
+        if status != KalmanStatus.OK:
+            _common.raise_kalman_settings_error(status, values)
+        self._values = values
+
+    def __getattr__(self, name: str):
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def as_dict(self) -> dict:
+        """All settings as {name: value}, in the C struct's order."""
+        return dict(self._values)
+
+    def replace(self, **changes) -> "KalmanSettings":
+        """A copy with some settings changed."""
+        return type(self)(**{**self._values, **changes})
+
+    def __eq__(self, other: object) -> bool:
+        if not hasattr(other, "as_dict") or not hasattr(other, "gps_min_satellites"):
+            return NotImplemented
+        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._values.items()))
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{k}={v!r}" for k, v in self._values.items())
+        return f"KalmanSettings({inner})"
+
+    def __reduce__(self):
+        return (_settings_from_dict, (self.as_dict(),))
+
+
+def _settings_from_dict(values: dict) -> KalmanSettings:
+    return KalmanSettings(**values)
+
+
+def _check(values: dict) -> KalmanStatus:
+    """FusionAltitudeKalmanSettingsCheck."""
+    v = {name: (f32(value) if kind == "f" else value) for (name, _, kind, _, _), value in
+         zip(_common.KALMAN_SETTINGS, values.values())}
+
+    def non_negative(x):
+        return _is_finite(x) and x >= 0
+
+    def positive(x):
+        return _is_finite(x) and x > 0
+
+    if not (non_negative(v["accel_noise"]) and non_negative(v["accel_bias_random_walk"])
+            and non_negative(v["accel_bias_initial_sigma"]) and positive(v["baro_noise"])
+            and non_negative(v["baro_offset_random_walk"]) and positive(v["range_noise"])
+            and non_negative(v["gps_offset_random_walk"]) and non_negative(v["initial_height_sigma"])
+            and non_negative(v["initial_velocity_sigma"])):
+        return KalmanStatus.INVALID_NOISE
+    if not (non_negative(v["range_min"]) and _is_finite(v["range_max"]) and v["range_max"] > v["range_min"]):
+        return KalmanStatus.INVALID_RANGE
+    if not (non_negative(v["gps_noise_base"]) and non_negative(v["gps_noise_satellite"])
+            and v["gps_noise_base"] + v["gps_noise_satellite"] > 0) or v["gps_min_satellites"] < 0:
+        return KalmanStatus.INVALID_GPS
+    if not (positive(v["gate"]) and non_negative(v["rejection_timeout"])):
+        return KalmanStatus.INVALID_GATE
+    if not (_is_finite(v["ground_effect_noise_scale"]) and v["ground_effect_noise_scale"] >= 1
+            and non_negative(v["ground_effect_dead_zone"])):
+        return KalmanStatus.INVALID_GROUND_EFFECT
+    return KalmanStatus.OK
+
+
+class _Settings32:
+    """The settings as float32 scalars, for the arithmetic."""
+
+    __slots__ = tuple(_common.KALMAN_SETTINGS_NAMES)
+
+    def __init__(self, settings: KalmanSettings) -> None:
+        for name, _, kind, _, _ in _common.KALMAN_SETTINGS:
+            value = settings._values[name]
+            setattr(self, name, f32(value) if kind == "f" else value)
+
+
+# -- estimator ------------------------------------------------------------------
+
+class _Sensor:
+    """FusionAltitudeKalmanSensor."""
+
+    __slots__ = ("innovation", "innovation_variance", "nis", "rejecting_for", "rejections", "resets", "result",
+                 "rejecting")
+
+    def __init__(self) -> None:
+        self.innovation = _NAN
+        self.innovation_variance = _NAN
+        self.nis = _NAN
+        self.rejecting_for = _ZERO
+        self.rejections = 0
+        self.resets = 0
+        self.result = KalmanResult.NO_SAMPLE
+        self.rejecting = False
+
+    def no_sample(self, result: KalmanResult) -> None:
+        """FusionAltitudeKalmanNoSample."""
+        self.innovation = _NAN
+        self.innovation_variance = _NAN
+        self.nis = _NAN
+        self.result = result
+
+    def as_tuple(self) -> tuple:
+        return (float(self.innovation), float(self.innovation_variance), float(self.nis), float(self.rejecting_for),
+                self.rejections, self.resets, int(self.result), self.rejecting)
+
+    @classmethod
+    def from_tuple(cls, values: tuple) -> "_Sensor":
+        sensor = cls()
+        (i, s, nis, rf, sensor.rejections, sensor.resets, result, rejecting) = values
+        sensor.innovation, sensor.innovation_variance, sensor.nis, sensor.rejecting_for = f32(i), f32(s), f32(nis), f32(rf)
+        sensor.result = KalmanResult(result)
+        sensor.rejecting = bool(rejecting)
+        return sensor
+
+
+class KalmanEstimator:
+    """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with accel.
+
+    Parameters
+    ----------
+    settings : KalmanSettings, optional
+        The defaults if omitted.
+
+    Notes
+    -----
+    Starts on the ground at rest with unknown baro and GPS offsets; each
+    sensor's first sample sets its offset. ``altitude`` is baro-referenced:
+    h + baro_offset, what a noise-free baro would read.
+    """
+
+    __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_baro_initialised", "_gps_initialised")
+
+    def __init__(self, settings: Optional[KalmanSettings] = None) -> None:
+        # FusionAltitudeKalmanInitialiseWith
+        self._settings = KalmanSettings() if settings is None else _as_settings(settings)
+        s = self._s = _Settings32(self._settings)
+        self._x: List[np.float32] = [_ZERO] * N_STATES
+        P = self._P = [[_ZERO] * N_STATES for _ in range(N_STATES)]
+        P[0][0] = s.initial_height_sigma * s.initial_height_sigma
+        P[1][1] = s.initial_velocity_sigma * s.initial_velocity_sigma
+        P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma if s.estimate_accel_bias else _ZERO
+        self._sensors = [_Sensor() for _ in range(3)]
+        self._baro_initialised = False
+        self._gps_initialised = False
+
+    # -- the algorithm ------------------------------------------------------------
+
+    def _predict(self, accel: np.float32, dt: np.float32) -> None:
+        """FusionAltitudeKalmanPredict."""
+        P, x, s = self._P, self._x, self._s
+        half_dt2 = f32(0.5) * dt * dt
+        u = accel - x[4]
+        x[0] = x[0] + x[1] * dt + u * half_dt2
+        x[1] = x[1] + u * dt
+        A = [P[0][j] + dt * P[1][j] - half_dt2 * P[4][j] for j in range(N_STATES)]
+        Bv = [P[1][j] - dt * P[4][j] for j in range(N_STATES)]
+        q = s.accel_noise * s.accel_noise
+        qvv = q * dt
+        qhv = qvv * (f32(0.5) * dt)
+        qhh = qhv * (f32(0.5) * dt)
+        phh = A[0] + dt * A[1] - half_dt2 * A[4] + qhh
+        phv = A[1] - dt * A[4] + qhv
+        pvv = Bv[1] - dt * Bv[4] + qvv
+        P[0][0] = phh
+        P[0][1] = P[1][0] = phv
+        P[1][1] = pvv
+        for j in range(2, N_STATES):
+            P[0][j] = P[j][0] = A[j]
+            P[1][j] = P[j][1] = Bv[j]
+        if self._baro_initialised:
+            P[2][2] += (s.baro_offset_random_walk * s.baro_offset_random_walk) * dt
+        if self._gps_initialised:
+            P[3][3] += (s.gps_offset_random_walk * s.gps_offset_random_walk) * dt
+        if s.estimate_accel_bias:
+            P[4][4] += (s.accel_bias_random_walk * s.accel_bias_random_walk) * dt
+        for sensor in self._sensors:
+            if sensor.rejecting:
+                sensor.rejecting_for += dt
+
+    def _fuse(self, c: List[np.float32], S: np.float32, y: np.float32) -> None:
+        """FusionAltitudeKalmanFuse: x += K·y, P = P − K·cᵀ − c·Kᵀ + S·K·Kᵀ."""
+        P, x = self._P, self._x
+        inverse_s = f32(1) / S
+        K = [ci * inverse_s for ci in c]
+        sK = [S * ki for ki in K]
+        for i in range(N_STATES):
+            x[i] += K[i] * y
+        for i in range(N_STATES):
+            for j in range(i, N_STATES):
+                P[i][j] = P[j][i] = P[i][j] - K[i] * c[j] - c[i] * K[j] + sK[i] * K[j]
+
+    def _set_offset(self, o: int, z: np.float32, R: np.float32) -> None:
+        """FusionAltitudeKalmanSetOffset: o = z − h, P_oo = P_hh + R, P_oj = −P_hj."""
+        P, x = self._P, self._x
+        x[o] = z - x[0]
+        for j in range(N_STATES):
+            if j != o:
+                P[o][j] = P[j][o] = -P[0][j]
+        P[o][o] = P[0][0] + R
+
+    def _reset_ground(self, z: np.float32, R: np.float32) -> None:
+        """FusionAltitudeKalmanResetGround: h = z, offsets absorb the difference."""
+        P, x = self._P, self._x
+        m = [False, False, self._baro_initialised, self._gps_initialised, False]
+        d = z - x[0]
+        x[0] = z
+        for i in (2, 3):
+            if m[i]:
+                x[i] = x[i] - d
+        ph = list(P[0])
+        for i in range(1, N_STATES):
+            for j in range(i, N_STATES):
+                value = P[i][j]
+                if m[i]:
+                    value = value + ph[j]
+                if m[j]:
+                    value = value + ph[i]
+                if m[i] and m[j]:
+                    value = value + ph[0] + R
+                P[i][j] = P[j][i] = value
+        P[0][0] = R
+        for j in range(1, N_STATES):
+            P[0][j] = P[j][0] = -R if m[j] else _ZERO
+
+    def _process(self, sensor: _Sensor, o: int, z: np.float32, y: np.float32, R: np.float32) -> None:
+        """FusionAltitudeKalmanProcess: gate, then fuse, reject or reset."""
+        P = self._P
+        c = [P[i][0] if o < 0 else P[i][0] + P[i][o] for i in range(N_STATES)]
+        S = (c[0] if o < 0 else c[0] + c[o]) + R
+        nis = (y * y) / S
+        sensor.innovation, sensor.innovation_variance, sensor.nis = y, S, nis
+        gate = self._s.gate
+        if not nis > gate * gate:
+            self._fuse(c, S, y)
+            sensor.rejecting = False
+            sensor.rejecting_for = _ZERO
+            sensor.result = KalmanResult.FUSED
+            return
+        sensor.rejections = (sensor.rejections + 1) & 0xFFFFFFFF  # uint32_t
+        if not sensor.rejecting:
+            sensor.rejecting = True
+            sensor.rejecting_for = _ZERO
+        if sensor.rejecting_for > self._s.rejection_timeout:
+            if o < 0:
+                self._reset_ground(z, R)
+            else:
+                self._set_offset(o, z, R)
+            sensor.resets = (sensor.resets + 1) & 0xFFFFFFFF
+            sensor.rejecting = False
+            sensor.rejecting_for = _ZERO
+            sensor.result = KalmanResult.RESET
+            return
+        sensor.result = KalmanResult.REJECTED
+
+    def _gps_sigma(self, accuracy: np.float32, satellites: int) -> np.float32:
+        """FusionAltitudeKalmanGpsSigma."""
+        s = self._s
+        if not _is_nan(accuracy):
+            return accuracy
+        n = s.gps_min_satellites if satellites < 0 else satellites
+        inverse_sqrt = f32(1) if n < 1 else _INVERSE_SQRT[min(n, MAX_SATELLITES)]
+        return s.gps_noise_base + s.gps_noise_satellite * inverse_sqrt
+
+    def _update(self, a, dt, baro, rng, gps, accuracy, satellites: int, ground_effect: bool) -> KalmanStatus:
+        """FusionAltitudeKalmanUpdate (all float arguments np.float32)."""
+        if not _is_finite(a):
+            return KalmanStatus.INVALID_ACCEL
+        if not _is_finite(dt) or not dt > 0:
+            return KalmanStatus.INVALID_DT
+        baro_present = not _is_nan(baro)
+        if baro_present and not _is_finite(baro):
+            return KalmanStatus.INVALID_BARO_ALTITUDE
+        gps_present = not _is_nan(gps)
+        if gps_present and not _is_finite(gps):
+            return KalmanStatus.INVALID_GPS_ALTITUDE
+        if gps_present and not _is_nan(accuracy) and not (_is_finite(accuracy) and accuracy > 0):
+            return KalmanStatus.INVALID_GPS_ACCURACY
+        s, x = self._s, self._x
+        self._predict(a, dt)
+
+        # Barometer: z = h + ob
+        sensor = self._sensors[0]
+        if not baro_present:
+            sensor.no_sample(KalmanResult.NO_SAMPLE)
+        else:
+            sigma = s.baro_noise * s.ground_effect_noise_scale if ground_effect else s.baro_noise
+            R = sigma * sigma
+            if not self._baro_initialised:
+                self._set_offset(2, baro, R)
+                self._baro_initialised = True
+                sensor.no_sample(KalmanResult.INITIALISED)
+            else:
+                y = baro - (x[0] + x[2])
+                if ground_effect and y < 0:
+                    shifted = y + s.ground_effect_dead_zone
+                    y = shifted if shifted < 0 else _ZERO
+                self._process(sensor, 2, baro, y, R)
+
+        # Rangefinder: z = h
+        sensor = self._sensors[1]
+        if _is_nan(rng):
+            sensor.no_sample(KalmanResult.NO_SAMPLE)
+        elif not rng >= s.range_min or not rng <= s.range_max:
+            sensor.no_sample(KalmanResult.UNUSABLE)
+        else:
+            R = s.range_noise * s.range_noise
+            self._process(sensor, -1, rng, rng - x[0], R)
+
+        # GPS: z = h + og
+        sensor = self._sensors[2]
+        if not gps_present:
+            sensor.no_sample(KalmanResult.NO_SAMPLE)
+        elif 0 <= satellites < s.gps_min_satellites:
+            sensor.no_sample(KalmanResult.UNUSABLE)
+        else:
+            sigma = self._gps_sigma(accuracy, satellites)
+            R = sigma * sigma
+            if not self._gps_initialised:
+                self._set_offset(3, gps, R)
+                self._gps_initialised = True
+                sensor.no_sample(KalmanResult.INITIALISED)
+            else:
+                y = gps - (x[0] + x[3])
+                self._process(sensor, 3, gps, y, R)
+        return KalmanStatus.OK
+
+    # -- public API -----------------------------------------------------------------
+
+    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, range_distance: float = math.nan,
+               gps_altitude: float = math.nan, gps_satellites: Optional[int] = None,
+               gps_vertical_accuracy: Optional[float] = None, ground_effect: bool = False) -> None:
+        """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
+
+        Parameters
+        ----------
+        accel : float
+            Vertical acceleration, m/s², earth frame, +up, gravity removed.
+        dt : float
+            Time since the previous step, s.
+        baro_altitude, range_distance, gps_altitude : float, optional
+            Samples, m; NaN (the default) when a sensor has none this step. A
+            range outside [range_min, range_max] (or ±inf) counts as no echo.
+        gps_satellites : int, optional
+            Satellites used; None: unknown (the GPS model then assumes
+            ``gps_min_satellites``). Fewer than ``gps_min_satellites``: not fused.
+        gps_vertical_accuracy : float, optional
+            Receiver-reported 1σ vertical accuracy, m; used instead of the
+            satellite model when given.
+        ground_effect : bool
+            Take-off or landing: widen the baro noise and ignore negative baro
+            innovations up to the dead zone.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, dt not finite or <= 0, baro or GPS altitude
+            infinite, a GPS accuracy (with a GPS sample) not finite and > 0;
+            the state is unchanged.
+        """
+        values = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
+                  "gps_vertical_accuracy": gps_vertical_accuracy}
+        with np.errstate(over="ignore"):
+            a = f32(_common.as_float(accel, "accel"))
+            t = f32(_common.as_float(dt, "dt"))
+            z_baro = f32(_common.as_float(baro_altitude, "baro_altitude"))
+            z_range = f32(_common.as_float(range_distance, "range_distance"))
+            z_gps = f32(_common.as_float(gps_altitude, "gps_altitude"))
+            accuracy = _NAN if gps_vertical_accuracy is None else f32(
+                _common.as_float(gps_vertical_accuracy, "gps_vertical_accuracy"))
+        satellites = _common.kalman_satellites(gps_satellites)
+        status = self._update(a, t, z_baro, z_range, z_gps, accuracy, satellites, bool(ground_effect))
+        if status != KalmanStatus.OK:
+            _common.raise_kalman_update_error(status, values)
+
+    def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
+                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None) -> KalmanBatch:
+        """Process arrays of steps, continuing from the current state.
+
+        Each argument is an array with one entry per step, a scalar for all
+        steps, or None (no samples of that sensor; satellites unknown; no
+        ground effect). NaN means "no sample this step". Equal, bit for bit,
+        to calling :meth:`update` per step; on a bad step nothing is applied
+        and ValueError names the argument and its first bad index.
+        """
+        n, inputs, steps, result = _common.prepare_kalman_batch(
+            accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
+            ground_effect)
+        trial = copy.copy(self)
+        names = ("accel", "dt", "baro_altitude", "range_distance", "gps_altitude", "gps_vertical_accuracy",
+                 "gps_satellites", "ground_effect")
+        for i in range(n):
+            a, t, zb, zr, zg, acc, sats, ge = (inputs[name][i * steps[name]] for name in names)
+            status = trial._update(a, t, zb, zr, zg, acc, int(sats), bool(ge))
+            if status != KalmanStatus.OK:
+                values = {"accel": float(a), "dt": float(t), "baro_altitude": float(zb), "gps_altitude": float(zg),
+                          "gps_vertical_accuracy": float(acc)}
+                _common.raise_kalman_update_error(status, values, i, {k: bool(v) for k, v in steps.items()})
+            trial._record(result, i)
+        self._set_state(trial._get_state())
+        return result
+
+    def _record(self, result: KalmanBatch, i: int) -> None:
+        x, P = self._x, self._P
+        result.height_above_ground[i] = x[0]
+        result.altitude[i] = x[0] + x[2]
+        result.vertical_velocity[i] = x[1]
+        result.accel_bias[i] = x[4]
+        result.baro_offset[i] = x[2]
+        result.gps_offset[i] = x[3]
+        for j in range(N_STATES):
+            result.covariance_diagonal[i, j] = P[j][j]
+        for k, sensor in enumerate(self._sensors):
+            result.innovation[i, k] = sensor.innovation
+            result.nis[i, k] = sensor.nis
+            result.result[i, k] = sensor.result
+
+    @property
+    def height_above_ground(self) -> float:
+        """Height above ground h, m."""
+        return float(self._x[0])
+
+    @property
+    def altitude(self) -> float:
+        """Baro-referenced altitude h + baro_offset, m (equals h before the first baro sample)."""
+        return float(self._x[0] + self._x[2])
+
+    @property
+    def altitude_variance(self) -> float:
+        """Variance of the altitude, m²: P_hh + 2·P_h,ob + P_ob,ob."""
+        P = self._P
+        return float(P[0][0] + f32(2) * P[0][2] + P[2][2])
+
+    @property
+    def vertical_velocity(self) -> float:
+        """Vertical velocity v, m/s, +up."""
+        return float(self._x[1])
+
+    @property
+    def accel_bias(self) -> float:
+        """Accelerometer bias b, m/s², +up (subtracted from the input)."""
+        return float(self._x[4])
+
+    @property
+    def baro_offset(self) -> float:
+        """Baro offset (baro reads h + offset), m; 0 before the first baro sample."""
+        return float(self._x[2])
+
+    @property
+    def gps_offset(self) -> float:
+        """GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample."""
+        return float(self._x[3])
+
+    @property
+    def state(self) -> np.ndarray:
+        """State vector (h, v, baro_offset, gps_offset, accel_bias), float32 copy."""
+        return np.array(self._x, dtype=np.float32)
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """Covariance P (5×5, order of :attr:`state`), float32 copy."""
+        return np.array(self._P, dtype=np.float32)
+
+    @property
+    def innovations(self) -> KalmanSensors:
+        """Latest innovation y = z − H·x per sensor, m (NaN: no tested sample)."""
+        return KalmanSensors(*(float(s.innovation) for s in self._sensors))
+
+    @property
+    def innovation_variances(self) -> KalmanSensors:
+        """Latest innovation variance S per sensor, m² (NaN: no tested sample)."""
+        return KalmanSensors(*(float(s.innovation_variance) for s in self._sensors))
+
+    @property
+    def nis(self) -> KalmanSensors:
+        """Latest normalized innovation squared y²/S per sensor (NaN: no tested sample)."""
+        return KalmanSensors(*(float(s.nis) for s in self._sensors))
+
+    @property
+    def rejections(self) -> KalmanSensors:
+        """Samples rejected by the gate so far, per sensor."""
+        return KalmanSensors(*(s.rejections for s in self._sensors))
+
+    @property
+    def resets(self) -> KalmanSensors:
+        """Resets after rejection streaks longer than the timeout, per sensor."""
+        return KalmanSensors(*(s.resets for s in self._sensors))
+
+    @property
+    def results(self) -> KalmanSensors:
+        """What the latest update did with each sensor (:class:`KalmanResult`)."""
+        return KalmanSensors(*(KalmanResult(s.result) for s in self._sensors))
+
+    @property
+    def baro_initialised(self) -> bool:
+        """Whether the baro offset is set (first baro sample seen)."""
+        return self._baro_initialised
+
+    @property
+    def gps_initialised(self) -> bool:
+        """Whether the GPS offset is set (first usable GPS sample seen)."""
+        return self._gps_initialised
+
+    @property
+    def settings(self) -> KalmanSettings:
+        """The settings; assign new :class:`KalmanSettings` to retune, keeping the state."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: KalmanSettings) -> None:
+        # FusionAltitudeKalmanSetSettings
+        new = _as_settings(settings)
+        s = _Settings32(new)
+        if s.estimate_accel_bias != self._s.estimate_accel_bias:
+            self._x[4] = _ZERO
+            for i in range(N_STATES):
+                self._P[i][4] = self._P[4][i] = _ZERO
+            if s.estimate_accel_bias:
+                self._P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma
+        self._settings, self._s = new, s
+
+    def _get_state(self) -> tuple:
+        return (self._settings.as_dict(), [float(v) for v in self._x], [float(v) for row in self._P for v in row],
+                [s.as_tuple() for s in self._sensors], self._baro_initialised, self._gps_initialised)
+
+    def _set_state(self, state: tuple) -> None:
+        settings, x, P, sensors, baro_initialised, gps_initialised = state
+        self._settings = KalmanSettings(**settings)
+        self._s = _Settings32(self._settings)
+        self._x = [f32(v) for v in x]
+        self._P = [[f32(P[i * N_STATES + j]) for j in range(N_STATES)] for i in range(N_STATES)]
+        self._sensors = [_Sensor.from_tuple(tuple(s)) for s in sensors]
+        self._baro_initialised = bool(baro_initialised)
+        self._gps_initialised = bool(gps_initialised)
+
+    def __copy__(self) -> "KalmanEstimator":
+        clone = KalmanEstimator.__new__(KalmanEstimator)
+        clone._set_state(self._get_state())
+        return clone
+
+    def __deepcopy__(self, memo: dict) -> "KalmanEstimator":
+        return self.__copy__()
+
+    def __reduce__(self):
+        return (_restore, (self._get_state(),))
+
+    def __repr__(self) -> str:
+        return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
+                f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
+
+
+def _as_settings(settings: object) -> KalmanSettings:
+    if isinstance(settings, KalmanSettings):
+        return settings
+    if hasattr(settings, "as_dict") and hasattr(settings, "gps_min_satellites"):
+        return KalmanSettings(**settings.as_dict())  # type: ignore[attr-defined]
+    raise TypeError(f"settings must be KalmanSettings, got {type(settings).__name__}")
+
+
+def _restore(state: tuple) -> KalmanEstimator:
+    estimator = KalmanEstimator.__new__(KalmanEstimator)
+    estimator._set_state(state)
+    return estimator

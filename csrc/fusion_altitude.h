@@ -381,7 +381,7 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
     if (!FusionAltitudeIsFinite(accel)) {
         return FusionAltitudeStatusInvalidAccel;
     }
-    if (!FusionAltitudeIsNaN(baroAltitude) && !FusionAltitudeIsFinite(baroAltitude)) {
+    if ((FusionAltitudeFloatBits(baroAltitude) & 0x7FFFFFFFu) == 0x7F800000u) { /* +-infinity; NaN means no sample */
         return FusionAltitudeStatusInvalidBaroAltitude;
     }
     if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
@@ -417,7 +417,7 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     if (status != FusionAltitudeStatusOk) {
         return status;
     }
-    if (FusionAltitudeIsNaN(baroAltitude)) {
+    if (!FusionAltitudeIsFinite(baroAltitude)) { /* NaN, as the inputs are checked: no baro sample this step */
         if (altitude->referenceSet) {
             altitude->verticalVelocity += (accel - altitude->accelBias) * dt;
             altitude->altitude += altitude->verticalVelocity * dt;

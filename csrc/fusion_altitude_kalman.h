@@ -229,7 +229,7 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
  *   rangeNoise 0.05 m, range 0.1 .. 8 m, GPS sigma 1 + 1/sqrt(n) m with at
  *   least 4 satellites, gpsOffsetRandomWalk 0.1 m/sqrt(s), gate 5 sigma,
  *   rejectionTimeout 1 s, ground effect x3 baro sigma and 0.5 m dead zone,
- *   initial height sigma 0.1 m, initial velocity sigma 0.1 m/s.
+ *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion).
  */
 static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(void) {
     FusionAltitudeKalmanSettings settings;
@@ -251,7 +251,7 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
     settings.groundEffectNoiseScale = 3.0f;
     settings.groundEffectDeadZone = 0.5f;
     settings.initialHeightSigma = 0.1f;
-    settings.initialVelocitySigma = 0.1f;
+    settings.initialVelocitySigma = 1.0f;
     return settings;
 }
 

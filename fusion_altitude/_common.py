@@ -363,7 +363,7 @@ KALMAN_SETTINGS = (
     ("ground_effect_noise_scale", 3.0, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
     ("ground_effect_dead_zone", 0.5, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
     ("initial_height_sigma", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("initial_velocity_sigma", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("initial_velocity_sigma", 1.0, "f", KalmanStatus.INVALID_NOISE, ">=0"),
 )
 KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
 KALMAN_SETTINGS_DEFAULTS = {name: default for name, default, *_ in KALMAN_SETTINGS}

@@ -41,6 +41,12 @@ C_RESULT_VALUES = {
 }
 
 
+def c_default_settings():
+    """FusionAltitudeKalmanSettingsDefault() as a dict, for checking the Python defaults against the header's."""
+    cdef FusionAltitudeKalmanSettings c = FusionAltitudeKalmanSettingsDefault()
+    return _settings_to_dict(&c)
+
+
 def kalman_status_message(int status):
     """The C header's message for a status code (FusionAltitudeKalmanStatusMessage)."""
     return FusionAltitudeKalmanStatusMessage(<FusionAltitudeKalmanStatus>status).decode("ascii")
@@ -139,7 +145,7 @@ cdef class KalmanSettings:
         Baro σ multiplier with the ground-effect flag (>= 1).
     ground_effect_dead_zone : 0.5 m
         Negative baro innovations up to this are ignored in ground effect.
-    initial_height_sigma, initial_velocity_sigma : 0.1 m, 0.1 m/s
+    initial_height_sigma, initial_velocity_sigma : 0.1 m, 1.0 m/s
         Initial uncertainty of "on the ground, at rest".
 
     Raises

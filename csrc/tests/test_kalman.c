@@ -109,7 +109,7 @@ static void InitialiseIsOnTheGroundAtRestWithUnknownOffsets(void) {
         CHECK(kalman.x[i] == 0.0f);
     }
     CHECK(kalman.P[0][0] == 0.1f * 0.1f);
-    CHECK(kalman.P[1][1] == 0.1f * 0.1f);
+    CHECK(kalman.P[1][1] == 1.0f);
     CHECK(kalman.P[4][4] == 0.2f * 0.2f);
     CHECK(kalman.P[2][2] == 0.0f && kalman.P[3][3] == 0.0f);
     CHECK(!kalman.baroInitialised && !kalman.gpsInitialised);
@@ -129,11 +129,11 @@ static void PredictFollowsTheDocumentedEquations(void) {
     CHECK(FusionAltitudeKalmanUpdate(&kalman, a, dt, NULL) == FusionAltitudeKalmanStatusOk);
     CHECK(FusionAltitudeKalmanGetHeightAboveGround(&kalman) == h);
     CHECK(FusionAltitudeKalmanGetVerticalVelocity(&kalman) == v);
-    /* P = F P0 F^T + Q with P0 = diag(0.01, 0.01, 0, 0, 0.04), Q = N_a^2 (dt^3/4, dt^2/2; dt^2/2, dt) */
+    /* P = F P0 F^T + Q with P0 = diag(0.01, 1, 0, 0, 0.04), Q = N_a^2 (dt^3/4, dt^2/2; dt^2/2, dt) */
     const float q = 0.035f * 0.035f;
-    const float phh = 0.01f + dt * dt * 0.01f + halfDt2 * halfDt2 * 0.04f + q * dt * dt * dt / 4.0f;
-    const float pvv = 0.01f + dt * dt * 0.04f + q * dt;
-    CHECK(Absolute(kalman.P[0][1] - (dt * 0.01f + halfDt2 * dt * 0.04f + q * dt * dt / 2.0f)) < 1e-9f);
+    const float phh = 0.01f + dt * dt * 1.0f + halfDt2 * halfDt2 * 0.04f + q * dt * dt * dt / 4.0f;
+    const float pvv = 1.0f + dt * dt * 0.04f + q * dt;
+    CHECK(Absolute(kalman.P[0][1] - (dt * 1.0f + halfDt2 * dt * 0.04f + q * dt * dt / 2.0f)) < 1e-9f);
     CHECK(Absolute(kalman.P[0][0] - phh) < 1e-9f);
     CHECK(Absolute(kalman.P[1][1] - pvv) < 1e-9f);
     CHECK(Absolute(kalman.P[0][4] + halfDt2 * 0.04f) < 1e-10f);

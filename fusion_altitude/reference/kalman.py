@@ -84,7 +84,7 @@ class KalmanSettings:
         Baro σ multiplier with the ground-effect flag (>= 1).
     ground_effect_dead_zone : 0.5 m
         Negative baro innovations up to this are ignored in ground effect.
-    initial_height_sigma, initial_velocity_sigma : 0.1 m, 0.1 m/s
+    initial_height_sigma, initial_velocity_sigma : 0.1 m, 1.0 m/s
         Initial uncertainty of "on the ground, at rest".
     """
 

@@ -177,27 +177,33 @@ class _ProgressBar:
         sys.stderr.flush()
 
 
+def _csv_options(args: argparse.Namespace, reference: bool = False) -> dict:
+    """load_log keyword arguments for a CSV log (none for .ulg/.bin); CliError names missing flags."""
+    suffix = args.file.lower().rsplit(".", 1)[-1] if "." in args.file else ""
+    if suffix in ("ulg", "bin"):
+        return {}
+    missing = [flag for flag, value in (("--time", args.time), ("--accel", args.accel)) if value is None]
+    if args.baro is None and args.pressure is None:
+        missing.append("--baro or --pressure")
+    if missing:
+        raise CliError(f"a CSV log needs {', '.join(missing)}")
+    if args.baro is not None and args.pressure is not None:
+        raise CliError("give --baro or --pressure, not both")
+    options = dict(time_column=args.time, accel_column=args.accel, baro_column=args.baro,
+                   pressure_column=args.pressure, accel_units=args.accel_units, sea_level_pa=args.sea_level_pa)
+    if reference:
+        options["reference_column"] = args.reference
+    return options
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from . import logs
     from ._observer import AltitudeSettings
 
-    csv_options = {}
-    suffix = args.file.lower().rsplit(".", 1)[-1] if "." in args.file else ""
-    if suffix not in ("ulg", "bin"):
-        missing = [flag for flag, value in (("--time", args.time), ("--accel", args.accel)) if value is None]
-        if args.baro is None and args.pressure is None:
-            missing.append("--baro or --pressure")
-        if missing:
-            raise CliError(f"a CSV log needs {', '.join(missing)}")
-        if args.baro is not None and args.pressure is not None:
-            raise CliError("give --baro or --pressure, not both")
-        csv_options = dict(time_column=args.time, accel_column=args.accel, baro_column=args.baro,
-                           pressure_column=args.pressure, accel_units=args.accel_units,
-                           sea_level_pa=args.sea_level_pa)
     try:
-        data = logs.load_log(args.file, **csv_options)
+        data = logs.load_log(args.file, **_csv_options(args))
         settings = AltitudeSettings.preset(args.preset)
         run = logs.run_log(data, settings, progress=_ProgressBar())
     except (logs.LogError, ValueError) as error:
@@ -244,6 +250,76 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fit_inputs(args: argparse.Namespace):
+    """(source, time s, accel m/s², baro m, reference m, default RMS row or None, skip s) for ``fit``."""
+    import numpy as np
+
+    from . import logs
+
+    if args.scenario is not None:
+        from .scenarios import run_scenario
+        if args.file is not None:
+            raise CliError("give a log FILE or --scenario, not both")
+        result = run_scenario(args.scenario, args.seed)
+        skip = result.transient if args.skip is None else args.skip
+        mask = result.time >= result.time[0] + skip
+        preset_rms = float(np.sqrt(np.mean(result.altitude_error[mask] ** 2)))
+        return (f"scenario {args.scenario}, seed {args.seed} (reference: simulator truth)", result.time,
+                result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude,
+                ("scenario preset, as `demo` runs it", preset_rms), skip)
+    if args.file is None:
+        raise CliError("give a log FILE (with a reference) or --scenario NAME")
+    data = logs.load_log(args.file, **_csv_options(args, reference=True))
+    if data.reference_altitude is None:
+        raise CliError(f"{data.source} has no reference altitude: give --reference COLUMN (CSV), or a .ulg/.bin "
+                       "with the autopilot's own height estimate")
+    skip = 5.0 if args.skip is None else args.skip
+    return (f"{data.source} (reference: {data.reference_name})", data.time, data.vertical_acceleration,
+            data.baro_altitude, data.reference_altitude, None, skip)
+
+
+def _cmd_fit(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from . import logs, tuning
+
+    try:
+        source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args)
+        mask = np.asarray(time) >= time[0] + skip
+        if not mask.any():
+            raise CliError(f"--skip {skip} s leaves no sample of a {time[-1] - time[0]:.1f} s log")
+        result = tuning.fit(accel, baro, logs.sample_periods(time), reference, mask=mask,
+                            omega_range=(args.omega_min, args.omega_max))
+    except (logs.LogError, ValueError) as error:
+        raise CliError(str(error)) from None
+    counted = mask & np.isfinite(baro) & np.isfinite(reference)
+    baro_rms = float(np.sqrt(np.mean((baro[counted] - reference[counted]) ** 2))) if counted.any() else float("nan")
+    gains = result.settings
+    print(f"{source}: {len(time)} samples, metrics after {skip:g} s")
+    print(f"best of {len(result.landscape)} stable candidates: omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, "
+          f"omega_b {result.omega_b:.4g} rad/s")
+    print(f"  position_gain {gains.position_gain:.6g} 1/s, velocity_gain {gains.velocity_gain:.6g} 1/s², "
+          f"bias_gain {gains.bias_gain:.6g} 1/s³")
+    print()
+    rows = [["fitted gains", result.rms_error, ""],
+            ["VTOL default gains", result.default_rms_error,
+             f"{100 * (1 - result.rms_error / result.default_rms_error):+.0f}%"]]
+    if preset_row is not None:
+        rows.append([preset_row[0], preset_row[1], f"{100 * (1 - result.rms_error / preset_row[1]):+.0f}%"])
+    rows.append(["raw baro", baro_rms, ""])
+    print(format_table(["altitude − reference", "RMS (m)", "fit improves by"], rows))
+    print()
+    print("runners-up:")
+    print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"],
+                       [[row["omega"], row["zeta"], row["omega_b"], row["rms_error"]] for row in result.landscape[1:6]]))
+    if args.plot:
+        from .plotting import plot_fit_landscape
+
+        plot_fit_landscape(result, args.plot, title=source)
+        print(f"plot written to {args.plot}")
+    return 0
+
+
 # ----------------------------------------------------------------------------
 # parser
 
@@ -280,19 +356,39 @@ def build_parser() -> argparse.ArgumentParser:
                               description="Run the observer on a log. CSV needs --time, --accel and --baro or "
                                           "--pressure; PX4 .ulg and ArduPilot .bin are read by message name.")
     run.add_argument("file", help="CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log")
-    run.add_argument("--time", help="CSV: time column, s")
-    run.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up, gravity removed)")
-    run.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
-    run.add_argument("--baro", help="CSV: baro altitude column, m (empty = no sample that row)")
-    run.add_argument("--pressure", help="CSV: static pressure column, Pa (instead of --baro)")
-    run.add_argument("--sea-level-pa", type=float, default=101325.0,
-                     help="CSV: reference pressure for --pressure, Pa (default 101325)")
+    _add_csv_arguments(run)
     run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing"),
                      help="observer gains (default vtol)")
     run.add_argument("-o", "--output", metavar="OUT.csv", help="write the estimates per sample")
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
     run.set_defaults(handler=_cmd_run)
+
+    fit = commands.add_parser("fit", help="fit the gains to a reference altitude (a log or a scenario)",
+                              description="Search omega, zeta, omega_b for the gains whose altitude best matches a "
+                                          "reference: a log's reference column or autopilot estimate, or a "
+                                          "simulated scenario's truth.")
+    fit.add_argument("file", nargs="?", help="CSV (with --reference), PX4 ULog (.ulg) or ArduPilot DataFlash (.bin)")
+    _add_csv_arguments(fit)
+    fit.add_argument("--reference", help="CSV: reference altitude column, m (empty = unknown that row)")
+    fit.add_argument("--scenario", choices=scenario_names(), help="fit on a simulated scenario instead of a log")
+    fit.add_argument("--seed", type=int, default=0, help="scenario seed (default: 0)")
+    fit.add_argument("--skip", type=float, default=None,
+                     help="seconds at the start left out of the metric (default: the scenario's transient, 5 s for logs)")
+    fit.add_argument("--omega-min", type=float, default=0.05, help="lowest omega searched, rad/s (default 0.05)")
+    fit.add_argument("--omega-max", type=float, default=20.0, help="highest omega searched, rad/s (default 20)")
+    fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
+    fit.set_defaults(handler=_cmd_fit)
     return parser
+
+
+def _add_csv_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--time", help="CSV: time column, s")
+    parser.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up, gravity removed)")
+    parser.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
+    parser.add_argument("--baro", help="CSV: baro altitude column, m (empty = no sample that row)")
+    parser.add_argument("--pressure", help="CSV: static pressure column, Pa (instead of --baro)")
+    parser.add_argument("--sea-level-pa", type=float, default=101325.0,
+                        help="CSV: reference pressure for --pressure, Pa (default 101325)")
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -47,6 +47,7 @@ __all__ = [
     "read_dataflash",
     "load_log",
     "run_observer",
+    "sample_periods",
     "settings_for_baro_rate",
     "run_log",
     "write_csv",
@@ -154,7 +155,7 @@ def _check_grid(time: np.ndarray, source: str) -> None:
 
 def read_csv_log(path: str, time_column: str, accel_column: str, baro_column: Optional[str] = None,
                  pressure_column: Optional[str] = None, accel_units: str = "m/s^2",
-                 sea_level_pa: float = 101325.0) -> LogData:
+                 sea_level_pa: float = 101325.0, reference_column: Optional[str] = None) -> LogData:
     """Read a CSV log with a header row.
 
     Parameters
@@ -176,6 +177,9 @@ def read_csv_log(path: str, time_column: str, accel_column: str, baro_column: Op
         Units of the acceleration column.
     sea_level_pa : float
         Reference pressure for ``pressure_column``, Pa.
+    reference_column : str, optional
+        A better altitude for (part of) the log, m (RTK GPS, motion capture);
+        an empty cell or ``nan`` means unknown. Becomes ``reference_altitude``.
 
     Raises
     ------
@@ -198,6 +202,8 @@ def read_csv_log(path: str, time_column: str, accel_column: str, baro_column: Op
         except StopIteration:
             raise LogError(f"{path} is empty") from None
         wanted = {"time": time_column, "accel": accel_column, "baro": baro_column or pressure_column}
+        if reference_column is not None:
+            wanted["reference"] = reference_column
         index = {}
         for role, name in wanted.items():
             if name not in header:
@@ -209,14 +215,14 @@ def read_csv_log(path: str, time_column: str, accel_column: str, baro_column: Op
                 continue
             for role, name in wanted.items():
                 cell = row[index[role]].strip() if index[role] < len(row) else ""
-                if role == "baro" and cell.lower() in ("", "nan", "na", "null"):
+                if role in ("baro", "reference") and cell.lower() in ("", "nan", "na", "null"):
                     columns[role].append(np.nan)
                     continue
                 try:
                     value = float(cell)
                 except ValueError:
                     raise LogError(f"{path}: line {line_number}, column {name!r}: {cell!r} is not a number") from None
-                if role != "baro" and not np.isfinite(value):
+                if role in ("time", "accel") and not np.isfinite(value):
                     raise LogError(f"{path}: line {line_number}, column {name!r}: {cell!r} must be finite")
                 columns[role].append(value)
     time = np.asarray(columns["time"], dtype=float)
@@ -230,7 +236,9 @@ def read_csv_log(path: str, time_column: str, accel_column: str, baro_column: Op
     baro = np.asarray(columns["baro"], dtype=float)
     if pressure_column is not None:
         baro = pressure_to_altitude(baro, sea_level_pa)
-    return LogData(f"{os.path.basename(path)} (CSV)", time, accel, baro,
+    reference = np.asarray(columns["reference"], dtype=float) if reference_column is not None else None
+    return LogData(f"{os.path.basename(path)} (CSV)", time, accel, baro, reference_altitude=reference,
+                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
                    notes=[f"time {time_column!r}, accel {accel_column!r} ({accel_units}), "
                           + (f"baro {baro_column!r} (m)" if baro_column else f"pressure {pressure_column!r} (Pa)")])
 
@@ -405,9 +413,7 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     accel = np.asarray(vertical_acceleration, dtype=float)
     baro = np.asarray(baro_altitude, dtype=float)
     n = time.size
-    dt = np.empty(n)
-    dt[1:] = np.diff(time)
-    dt[0] = dt[1] if n > 1 else 0.01
+    dt = sample_periods(time)
     settings = settings or AltitudeSettings()
     n_baro = int(np.sum(np.isfinite(baro)))
     if compensate_baro_rate and n_baro > 0:
@@ -431,6 +437,16 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         if progress is not None:
             progress(int(stop), n)
     return out
+
+
+def sample_periods(time) -> np.ndarray:
+    """Per-sample dt, s, from timestamps: dt[i] = time[i] − time[i−1], and dt[0] = dt[1]
+    (the first sample only sets the reference)."""
+    time = np.asarray(time, dtype=float)
+    dt = np.empty(time.size)
+    dt[1:] = np.diff(time)
+    dt[:1] = dt[1] if time.size > 1 else 0.01
+    return dt
 
 
 def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) -> AltitudeSettings:

@@ -10,7 +10,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["plot_scenario", "plot_log_run"]
+__all__ = ["plot_scenario", "plot_log_run", "plot_fit_landscape"]
 
 
 def _pyplot():
@@ -113,3 +113,54 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
     axes[3].set_xlabel("time (s)")
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def plot_fit_landscape(result, path: str, title: Optional[str] = None) -> None:
+    """Write a contour plot of a fit's RMS error (m) over ω (rad/s, log axis) and ω_b.
+
+    The vertical axis is ω_b/ω (the grid the search walks, so the contours
+    interpolate between neighbours only); each point shows the best ζ found
+    there. The fitted gains are
+    marked with a star, the VTOL default (ω 1.5, ω_b 0.3) with a cross.
+
+    Parameters
+    ----------
+    result : fusion_altitude.FitResult
+        What :func:`fusion_altitude.fit` returned.
+    path : str
+        Output file (the extension picks the format).
+    """
+    plt = _pyplot()
+    import matplotlib.tri as mtri
+
+    landscape = result.landscape
+    best = {}
+    for row in landscape[np.isfinite(landscape["rms_error"])]:
+        key = (round(float(row["omega"]), 9), round(float(row["omega_b"]), 9))
+        best[key] = min(best.get(key, np.inf), float(row["rms_error"]))
+    keys = np.array(list(best))
+    rms = np.array(list(best.values()))
+    x, y = np.log10(keys[:, 0]), keys[:, 1] / keys[:, 0]
+    figure, axes = plt.subplots(figsize=(8, 5.5))
+    if len(rms) >= 3:
+        triangles = mtri.Triangulation(x, y)
+        levels = np.geomspace(rms.min(), np.percentile(rms, 95), 15)
+        filled = axes.tricontourf(triangles, np.minimum(rms, levels[-1]), levels=levels, cmap="viridis_r",
+                                  extend="max")
+        figure.colorbar(filled, ax=axes, label="RMS altitude error (m), best ζ")
+    axes.scatter(x, y, s=3, color="k", alpha=0.3, label="candidates")
+    axes.scatter([np.log10(result.omega)], [result.omega_b / result.omega], marker="*", s=220, color="red",
+                 label=f"fit: ω {result.omega:.3g}, ζ {result.zeta:.2g}, ω_b {result.omega_b:.3g} "
+                       f"({result.rms_error:.3g} m)")
+    axes.scatter([np.log10(1.5)], [0.2], marker="x", s=100, color="white", linewidths=2,
+                 label=f"VTOL default ({result.default_rms_error:.3g} m)")
+    ticks = [t for t in (0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20) if x.min() - 0.1 <= np.log10(t) <= x.max() + 0.1]
+    axes.set_xticks(np.log10(ticks))
+    axes.set_xticklabels([f"{t:g}" for t in ticks])
+    axes.set_xlabel("position-loop bandwidth ω (rad/s)")
+    axes.set_ylabel("bias-loop bandwidth / position-loop bandwidth, ω_b / ω")
+    axes.set_title(title or "fit landscape")
+    axes.legend(loc="upper left", fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)

@@ -118,7 +118,8 @@ class FitResult(NamedTuple):
         The same metric for the default (VTOL) gains, m, for comparison.
     landscape : numpy.ndarray
         Every evaluated candidate, a structured array with fields ``omega``,
-        ``zeta``, ``omega_b``, ``rms_error`` (m), best first.
+        ``zeta``, ``omega_b``, ``rms_error`` (m), best first; inf where the
+        estimate overflowed.
     """
 
     settings: AltitudeSettings
@@ -196,7 +197,8 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
         result = sweep(accel, baro_altitude, dt, np.array([c[3] for c in fresh]), reference=reference, mask=mask,
                        threads=threads)
         for candidate, rms in zip(fresh, result.rms_error):
-            evaluated[candidate[:3]] = float(rms)
+            # a candidate that overflowed float32 on this log (stable on paper, not in practice) ranks last
+            evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
 
     omegas = np.geomspace(low, high, 24)
     evaluate([(w, z, r * w) for w in omegas for z in zetas for r in bias_ratios])

@@ -1,0 +1,56 @@
+"""``fusion-altitude fit``: gains fitted to a reference, from a scenario or a log."""
+
+import numpy as np
+
+from fusion_altitude.cli import main
+
+
+def _rms(text, label):
+    for line in text.splitlines():
+        if line.startswith(label):
+            return float(line[len(label):].split()[0])
+    raise AssertionError(f"no row {label!r} in:\n{text}")
+
+
+def test_fit_on_a_scenario_beats_the_default_and_writes_a_contour_plot(capsys, tmp_path):
+    plot = tmp_path / "fit.png"
+    assert main(["fit", "--scenario", "realistic", "--plot", str(plot)]) == 0
+    output = capsys.readouterr().out
+    assert _rms(output, "fitted gains") < _rms(output, "VTOL default gains")
+    assert "stable candidates" in output and "runners-up" in output
+    assert plot.stat().st_size > 10_000
+
+
+def csv_log(path, with_reference=True):
+    rng = np.random.default_rng(3)
+    time = np.arange(3000) * 0.02  # s
+    truth = 10 * np.sin(2 * np.pi * 0.05 * time)
+    accel = -10 * (2 * np.pi * 0.05) ** 2 * np.sin(2 * np.pi * 0.05 * time) + rng.normal(0, 0.05, time.size)
+    baro = truth + rng.normal(0, 0.6, time.size)
+    lines = ["t,az,alt,rtk" if with_reference else "t,az,alt"]
+    for i in range(time.size):
+        cells = [f"{time[i]:.3f}", f"{accel[i]:.5f}", f"{baro[i]:.4f}" if i % 2 == 0 else ""]
+        if with_reference:
+            cells.append(f"{truth[i]:.4f}" if i > 100 else "")  # the reference starts late
+        lines.append(",".join(cells))
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_fit_on_a_csv_log_uses_its_reference_column(capsys, tmp_path):
+    log = csv_log(tmp_path / "log.csv")
+    assert main(["fit", str(log), "--time", "t", "--accel", "az", "--baro", "alt", "--reference", "rtk"]) == 0
+    output = capsys.readouterr().out
+    assert "reference: column 'rtk'" in output
+    assert _rms(output, "fitted gains") < _rms(output, "raw baro")
+
+
+def test_fit_without_a_reference_says_what_is_missing(capsys, tmp_path):
+    log = csv_log(tmp_path / "log.csv", with_reference=False)
+    assert main(["fit", str(log), "--time", "t", "--accel", "az", "--baro", "alt"]) == 2
+    assert "has no reference altitude: give --reference COLUMN" in capsys.readouterr().err
+
+
+def test_fit_needs_a_log_or_a_scenario(capsys):
+    assert main(["fit"]) == 2
+    assert "give a log FILE" in capsys.readouterr().err

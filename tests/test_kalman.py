@@ -299,7 +299,7 @@ def clean_flight(n, seed):
 def test_c_and_reference_match_filterpy_on_the_same_model(impl):
     """float32 (ours) against float64 (FilterPy) over 20 s with all three sensors. Measured: h, v and b
     within 7e-6 (m, m/s, m/s²); the offsets (250-290 m, where one float32 ulp is 3.05e-5 m) within
-    2.2e-4 m, 7.5e-7 relative (about 7 ulp); asserted with 2-3x margin. The float32 rounding of each
+    2.2e-4 m, 7.5e-7 relative (about 7 ulp); variances within 1.7e-5 relative; asserted with 3-6x margin. The float32 rounding of each
     step (relative 6e-8) accumulates through the filter's memory, which is the bound's origin."""
     n = 2000 if impl is fusion_altitude else 600
     accel, baro, rangefinder, gps, satellites = clean_flight(n, 8)
@@ -313,4 +313,4 @@ def test_c_and_reference_match_filterpy_on_the_same_model(impl):
     assert state_error[:, [0, 1, 4]].max() < 2e-5, state_error.max(axis=0)
     assert (state_error[:, 2:4] / np.abs(states[:, 2:4])).max() < 2e-6, state_error.max(axis=0)
     variance_error = np.abs(result.covariance_diagonal.astype(np.float64) - variances) / variances
-    assert variance_error.max() < 2e-3, variance_error.max(axis=0)
+    assert variance_error.max() < 1e-4, variance_error.max(axis=0)  # measured 1.7e-5

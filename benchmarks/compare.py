@@ -25,13 +25,13 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _signals import make_signals  # noqa: E402
+from _timing import best_ns  # noqa: E402
 
 import fusion_altitude  # noqa: E402
 from fusion_altitude import reference  # noqa: E402
@@ -110,17 +110,6 @@ def build_c_loop(workdir: Path):
     version = subprocess.run([cc, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
     return lib, f"{version}, {' '.join(CFLAGS)}"
 
-
-def best_ns(run, repeat: int) -> int:
-    """Minimum wall time of run() over repeat calls, ns (after one warm-up call)."""
-    run()
-    best = None
-    for _ in range(repeat):
-        start = time.perf_counter_ns()
-        run()
-        elapsed = time.perf_counter_ns() - start
-        best = elapsed if best is None else min(best, elapsed)
-    return best
 
 
 def same_bits(a: np.ndarray, b: np.ndarray) -> bool:

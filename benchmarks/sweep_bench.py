@@ -14,30 +14,19 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _signals import make_signals  # noqa: E402
+from _timing import best_ns  # noqa: E402
 
 import fusion_altitude  # noqa: E402
 from fusion_altitude import reference  # noqa: E402
 
 COUNTS = (8, 64, 1024)
 
-
-def best_ns(run, repeat: int) -> int:
-    """Minimum wall time of run() over repeat calls, ns (after one warm-up call)."""
-    run()
-    best = None
-    for _ in range(repeat):
-        start = time.perf_counter_ns()
-        run()
-        elapsed = time.perf_counter_ns() - start
-        best = elapsed if best is None else min(best, elapsed)
-    return best
 
 
 def gains_grid(count: int) -> np.ndarray:

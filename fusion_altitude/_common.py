@@ -11,7 +11,7 @@ from __future__ import annotations
 import enum
 import math
 import warnings
-from typing import NamedTuple, Optional, Sequence, Tuple, Union
+from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -123,7 +123,7 @@ def raise_settings_error(status: int, gains: Tuple[float, float, float], dt: Opt
         raise ValueError(f"dt must be finite and > 0 (s), got {dt!r}")
     if status == Status.INVALID_BANDWIDTH:
         raise ValueError("omega and zeta must be finite and > 0, omega_b finite and >= 0, "
-                         f"and the resulting gains finite")
+                         "and the resulting gains finite")
     raise ValueError(f"invalid settings (status {status})")
 
 

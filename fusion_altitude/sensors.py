@@ -20,7 +20,6 @@ gives a positive value in every frame.
 
 from __future__ import annotations
 
-from typing import Union
 
 import numpy as np
 

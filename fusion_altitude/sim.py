@@ -24,7 +24,7 @@ magnetometers arbitrary units. All altitudes are m, +up.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Optional, Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 

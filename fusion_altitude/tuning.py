@@ -16,7 +16,7 @@ from typing import List, NamedTuple, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _common, _sweep
-from ._common import AltitudeBatch, Status, SweepResult
+from ._common import Status, SweepResult
 from ._observer import AltitudeSettings
 
 #: Settings per thread below which a sweep stays on one thread (thread start-up

@@ -12,35 +12,10 @@
  */
 
 #include "fusion_altitude_kalman.h"
+#include "test_harness.h"
 
 #include <math.h> /* the test only; the header uses no libm */
-#include <stdio.h>
 #include <string.h>
-
-static int passed = 0;
-static int failed = 0;
-static int currentFailed = 0;
-
-#define CHECK(condition)                                                           \
-    do {                                                                           \
-        if (!(condition)) {                                                        \
-            printf("  %s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            currentFailed = 1;                                                     \
-        }                                                                          \
-    } while (0)
-
-#define RUN(test)                       \
-    do {                                \
-        currentFailed = 0;              \
-        test();                         \
-        if (currentFailed) {            \
-            printf("FAIL %s\n", #test); \
-            failed++;                   \
-        } else {                        \
-            printf("ok   %s\n", #test); \
-            passed++;                   \
-        }                               \
-    } while (0)
 
 /* A firmware budget: the whole filter in under 320 bytes. */
 typedef char kalmanFitsIn320Bytes[(sizeof(FusionAltitudeKalman) <= 320u) ? 1 : -1];
@@ -470,6 +445,5 @@ int main(int argc, char **argv) {
     RUN(RangeOutsideLimitsAndTooFewSatellitesAreNotFused);
     RUN(GpsSigmaFollowsSatellitesOrReportedAccuracy);
     RUN(DisabledBiasStaysExactlyZero);
-    printf("%d passed, %d failed\n", passed, failed);
-    return failed == 0 ? 0 : 1;
+    return TestSummary();
 }

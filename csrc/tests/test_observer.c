@@ -6,34 +6,9 @@
  */
 
 #include "fusion_altitude.h"
+#include "test_harness.h"
 
-#include <stdio.h>
 #include <string.h>
-
-static int passed = 0;
-static int failed = 0;
-static int currentFailed = 0;
-
-#define CHECK(condition)                                                      \
-    do {                                                                      \
-        if (!(condition)) {                                                   \
-            printf("  %s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            currentFailed = 1;                                                \
-        }                                                                     \
-    } while (0)
-
-#define RUN(test)                                \
-    do {                                         \
-        currentFailed = 0;                       \
-        test();                                  \
-        if (currentFailed) {                     \
-            printf("FAIL %s\n", #test);          \
-            failed++;                            \
-        } else {                                 \
-            printf("ok   %s\n", #test);          \
-            passed++;                            \
-        }                                        \
-    } while (0)
 
 /* Struct sizes a firmware engineer budgets for (checked at compile time). */
 typedef char estimatorFitsIn32Bytes[(sizeof(FusionAltitude) <= 32u) ? 1 : -1];
@@ -288,6 +263,5 @@ int main(void) {
     RUN(ConstantAccelBiasIsEstimatedWithNoAltitudeError);
     RUN(StatusMessagesExistForEveryStatus);
     RUN(FloatClassificationNeedsNoLibm);
-    printf("%d passed, %d failed\n", passed, failed);
-    return failed == 0 ? 0 : 1;
+    return TestSummary();
 }

@@ -6,36 +6,12 @@
  */
 
 #include "fusion_altitude_sweep.h"
+#include "test_harness.h"
 
-#include <stdio.h>
 #include <string.h>
 
 #define SAMPLES 3000
 #define SETTINGS 41 /* one full 32-lane chunk and a partial one */
-
-static int passed = 0;
-static int failed = 0;
-static int currentFailed = 0;
-
-#define CHECK(condition)                                                           \
-    do {                                                                           \
-        if (!(condition)) {                                                        \
-            printf("  %s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            currentFailed = 1;                                                     \
-        }                                                                          \
-    } while (0)
-
-#define RUN(test)                       \
-    do {                                \
-        currentFailed = 0;              \
-        test();                         \
-        printf("%s %s\n", currentFailed ? "FAIL" : "ok  ", #test); \
-        if (currentFailed) {            \
-            failed++;                   \
-        } else {                        \
-            passed++;                   \
-        }                               \
-    } while (0)
 
 static float accel[SAMPLES], baro[SAMPLES], dt[SAMPLES], reference[SAMPLES];
 static float kh[SETTINGS], kv[SETTINGS], kb[SETTINGS];
@@ -158,6 +134,5 @@ int main(void) {
     RUN(MetricsMatchTheOutputs);
     RUN(RejectedSampleTouchesNothing);
     RUN(ScalarDtUsesStrideZero);
-    printf("%d passed, %d failed\n", passed, failed);
-    return failed == 0 ? 0 : 1;
+    return TestSummary();
 }

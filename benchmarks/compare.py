@@ -126,6 +126,7 @@ def main(argv=None) -> int:
                         help="one baro sample every this many IMU samples, NaN between (default 4: 25 Hz baro, "
                              "100 Hz IMU; 1 puts the full correction on every sample's dependency chain)")
     parser.add_argument("--no-sweep", dest="sweep", action="store_false", help="skip the gain-sweep table")
+    parser.add_argument("--no-kalman", dest="kalman", action="store_false", help="skip the Kalman filter table")
     parser.add_argument("--sweep-samples", type=int, default=100_000, help="samples for the sweep cases (default 1e5)")
     args = parser.parse_args(argv)
     n = args.samples
@@ -252,6 +253,14 @@ def main(argv=None) -> int:
         sweep_rows, sweep_checks = sweep_bench.run(args.sweep_samples, max(1, min(repeat, 5)), baro_every=1)
         sweep_bench.print_table(sweep_rows, sweep_checks)
         checks += sweep_checks
+    if args.kalman:
+        import kalman_bench
+        print()
+        print(f"Multi-sensor Kalman filter ({args.samples} steps, baro, rangefinder and GPS on every step):")
+        print()
+        kalman_rows = kalman_bench.run(args.samples, max(1, min(repeat, 5)))
+        kalman_bench.print_table(kalman_rows)
+        checks += kalman_bench.checks(kalman_rows)
     return 0 if all(ok for _, ok in checks) else 1
 
 

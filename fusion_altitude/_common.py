@@ -485,11 +485,29 @@ class KalmanBatch(NamedTuple):
     result: np.ndarray
 
 
+def _kalman_output_layout(n: int):
+    """(shape, dtype) of each KalmanBatch field for n samples."""
+    vector, per_sensor = ((n,), np.float32), ((n, 3), np.float32)
+    return [vector] * 6 + [((n, 5), np.float32), per_sensor, per_sensor, ((n, 3), np.uint8)]
+
+
 def new_kalman_batch(n: int) -> KalmanBatch:
     """Uninitialised output arrays for n samples."""
-    vectors = [np.empty(n, dtype=np.float32) for _ in range(6)]
-    return KalmanBatch(*vectors, np.empty((n, 5), dtype=np.float32), np.empty((n, 3), dtype=np.float32),
-                       np.empty((n, 3), dtype=np.float32), np.empty((n, 3), dtype=np.uint8))
+    return KalmanBatch(*(np.empty(shape, dtype=dtype) for shape, dtype in _kalman_output_layout(n)))
+
+
+def kalman_output_arrays(n: int, out: Optional[Sequence[np.ndarray]]) -> KalmanBatch:
+    """New output arrays for n samples, or the caller's ``out`` (a KalmanBatch of preallocated arrays) after checking it."""
+    if out is None:
+        return new_kalman_batch(n)
+    layout = _kalman_output_layout(n)
+    if len(out) != len(layout):
+        raise ValueError(f"out must hold {len(layout)} arrays ({', '.join(KalmanBatch._fields)}), got {len(out)}")
+    for field, array, (shape, dtype) in zip(KalmanBatch._fields, out, layout):
+        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != shape \
+                or not array.flags.c_contiguous or not array.flags.writeable:
+            raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape {shape}")
+    return KalmanBatch(*out)
 
 
 def _kalman_input(value: object, name: str, n: Optional[int], fill: float) -> np.ndarray:
@@ -506,7 +524,7 @@ def _kalman_input(value: object, name: str, n: Optional[int], fill: float) -> np
 
 
 def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites,
-                         gps_vertical_accuracy, ground_effect):
+                         gps_vertical_accuracy, ground_effect, out=None):
     """Convert ``update_batch`` inputs. Returns (n, inputs, steps, output): ``inputs``
     maps each argument name to a contiguous array (float32; int32 satellites,
     uint8 ground effect) of length n, or of length 1 for a scalar or None
@@ -550,4 +568,4 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
                  "gps_altitude": gps_altitude, "gps_satellites": gps_satellites,
                  "gps_vertical_accuracy": gps_vertical_accuracy, "ground_effect": ground_effect}
     steps = {name: 0 if arguments[name] is None or np.ndim(arguments[name]) == 0 else 1 for name in inputs}
-    return n, inputs, steps, new_kalman_batch(n)
+    return n, inputs, steps, kalman_output_arrays(n, out)

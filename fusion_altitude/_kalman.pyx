@@ -330,7 +330,7 @@ cdef class KalmanEstimator:
                 "gps_vertical_accuracy": gps_vertical_accuracy})
 
     def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
-                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None):
+                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None):
         """Process arrays of steps, continuing from the current state.
 
         Parameters
@@ -346,6 +346,9 @@ cdef class KalmanEstimator:
             Per step; negative or NaN: unknown. None: unknown throughout.
         ground_effect : array_like of bool, bool or None
             Per step ground-effect flag.
+        out : KalmanBatch, optional
+            Preallocated contiguous output arrays of the right shapes and
+            dtypes (reusing them avoids page faults on long logs).
 
         Returns
         -------
@@ -366,7 +369,7 @@ cdef class KalmanEstimator:
         """
         n, inputs, steps, result = _common.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
-            ground_effect)
+            ground_effect, out)
         cdef const float[::1] a = inputs["accel"]
         cdef const float[::1] t = inputs["dt"]
         cdef const float[::1] zb = inputs["baro_altitude"]

@@ -314,3 +314,18 @@ def test_c_and_reference_match_filterpy_on_the_same_model(impl):
     assert (state_error[:, 2:4] / np.abs(states[:, 2:4])).max() < 2e-6, state_error.max(axis=0)
     variance_error = np.abs(result.covariance_diagonal.astype(np.float64) - variances) / variances
     assert variance_error.max() < 1e-4, variance_error.max(axis=0)  # measured 1.7e-5
+
+
+def test_batch_writes_into_preallocated_out_arrays(impl):
+    rng = np.random.default_rng(8)
+    n = 300
+    accel, baro = rng.normal(0, 0.5, n), 100 + rng.normal(0, 0.3, n)
+    out = fusion_altitude._common.new_kalman_batch(n)
+    result = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro, out=out)
+    assert all(r is o for r, o in zip(result, out))
+    fresh = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro)
+    for field in fresh._fields:
+        assert np.array_equal(getattr(fresh, field).view(np.uint8), getattr(out, field).view(np.uint8)), field
+    with pytest.raises(ValueError, match=r"out.covariance_diagonal must be a writeable contiguous float32 array"):
+        impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro,
+                                            out=out._replace(covariance_diagonal=np.empty((n, 4), np.float32)))

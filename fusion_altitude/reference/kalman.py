@@ -471,7 +471,7 @@ class KalmanEstimator:
             _common.raise_kalman_update_error(status, values)
 
     def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
-                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None) -> KalmanBatch:
+                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None) -> KalmanBatch:
         """Process arrays of steps, continuing from the current state.
 
         Each argument is an array with one entry per step, a scalar for all
@@ -482,7 +482,7 @@ class KalmanEstimator:
         """
         n, inputs, steps, result = _common.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
-            ground_effect)
+            ground_effect, out)
         trial = copy.copy(self)
         names = ("accel", "dt", "baro_altitude", "range_distance", "gps_altitude", "gps_vertical_accuracy",
                  "gps_satellites", "ground_effect")

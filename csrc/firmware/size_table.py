@@ -1,4 +1,4 @@
-"""Size, stack and cycle tables of docs/embedded.md, from the Makefile's outputs.
+"""Size, stack, RAM and cycle tables of docs/embedded.md, from the Makefile's outputs.
 
     make -C csrc/firmware sizes             # builds, then runs this
     python3 size_table.py BUILD [--json]    # BUILD as given to the Makefile
@@ -9,6 +9,10 @@ its literal pool). Stack: the -fstack-usage line of the same wrapper. RAM: the
 nm size of the static FusionAltitude in firmware.c. Cycles: the instructions
 QEMU executed inside SizedFusionAltitudeUpdate (cycles.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
+
+The Kalman filter (fusion_altitude_kalman.h) is measured the same way:
+sized_kalman.c, the static FusionAltitudeKalman of firmware_kalman.c, and
+SizedFusionAltitudeKalmanUpdate traced by cycles_kalman.c.
 """
 
 from __future__ import annotations
@@ -31,12 +35,23 @@ FUNCTIONS = (
     "FusionAltitudeFloatBits",
 )
 
+KALMAN_FUNCTIONS = (
+    "FusionAltitudeKalmanUpdate", "FusionAltitudeKalmanInitialise", "FusionAltitudeKalmanInitialiseWith",
+    "FusionAltitudeKalmanSetSettings", "FusionAltitudeKalmanSettingsCheck", "FusionAltitudeKalmanSettingsDefault",
+    "FusionAltitudeKalmanMeasurementsNone", "FusionAltitudeKalmanStatusMessage", "FusionAltitudeKalmanGetSettings",
+    "FusionAltitudeKalmanGetSensor", "FusionAltitudeKalmanGetCovariance", "FusionAltitudeKalmanGetHeightAboveGround",
+    "FusionAltitudeKalmanGetAltitude", "FusionAltitudeKalmanGetAltitudeVariance", "FusionAltitudeKalmanGetVerticalVelocity",
+    "FusionAltitudeKalmanGetAccelBias", "FusionAltitudeKalmanGetBaroOffset", "FusionAltitudeKalmanGetGpsOffset",
+)
+
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the
 # pipeline refill after a taken branch, is 1 to 3 cycles; 2 is used here.
 PIPELINE_REFILL = 2
 CONDITIONS = {"eq", "ne", "cs", "hs", "cc", "lo", "mi", "pl", "vs", "vc", "hi", "ls", "ge", "lt", "gt", "le", "al"}
 CALLS = ("baro sample, reference set (full correction)", "no baro sample (integration only)",
          "rejected (accel not finite)")
+KALMAN_CALLS = ("baro, rangefinder and GPS fused", "baro only, fused", "no sample (prediction only)",
+                "terrain reset (range) with baro and GPS fused", "rejected (accel not finite)")
 
 
 def read_symbols(path: Path) -> Dict[str, Tuple[int, int]]:
@@ -58,29 +73,56 @@ def read_stack(path: Path) -> Dict[str, Tuple[int, str]]:
     return stack
 
 
-def measure(build: Path) -> dict:
+def measure_sized(build: Path, stem: str, functions, firmware: str, instance: str) -> dict:
+    """Sizes and stack of the Sized<Function> wrappers in <stem>.o, RAM of <instance> in <firmware>.o."""
     result: dict = {"size": {}, "stack": {}, "ram": {}, "c11_differs": []}
     for target in TARGETS:
         for opt in OPTIMISATIONS:
             variant = build / "cross" / target / f"c99-{opt}"
-            sizes = read_symbols(variant / "sized.nm")
-            stack = read_stack(variant / "sized.su")
-            for function in FUNCTIONS:
+            sizes = read_symbols(variant / f"{stem}.nm")
+            stack = read_stack(variant / f"{stem}.su")
+            for function in functions:
                 result["size"][f"{function}/{target}/{opt}"] = sizes[f"Sized{function}"][1]
                 result["stack"][f"{function}/{target}/{opt}"] = stack[f"Sized{function}"]
-            result["ram"][f"{target}/{opt}"] = read_symbols(variant / "firmware.nm")["firmwareEstimator"][1]
-            c11 = read_symbols(build / "cross" / target / f"c11-{opt}" / "sized.nm")
+            result["ram"][f"{target}/{opt}"] = read_symbols(variant / f"{firmware}.nm")[instance][1]
+            c11 = read_symbols(build / "cross" / target / f"c11-{opt}" / f"{stem}.nm")
             if {k: v[1] for k, v in c11.items()} != {k: v[1] for k, v in sizes.items()}:
                 result["c11_differs"].append(f"{target}/{opt}")
-    trace = build / "cycles" / "trace.log"
-    if trace.exists():
-        result["cycles"] = cycles(build / "cycles")
     return result
 
 
-def instruction_cycles(mnemonic: str, taken: bool) -> int:
+def measure(build: Path) -> dict:
+    """The observer's figures at the top level (size, stack, ram, c11_differs, cycles), the Kalman filter's under "kalman"."""
+    result = measure_sized(build, "sized", FUNCTIONS, "firmware", "firmwareEstimator")
+    if (build / "cycles" / "trace.log").exists():
+        result["cycles"] = cycles(build / "cycles", "cycles", "SizedFusionAltitudeUpdate", CALLS)
+    kalman = measure_sized(build, "sized_kalman", KALMAN_FUNCTIONS, "firmware_kalman", "firmwareKalman")
+    if (build / "cycles" / "kalman-trace.log").exists():
+        kalman["cycles"] = cycles(build / "cycles", "kalman", "SizedFusionAltitudeKalmanUpdate", KALMAN_CALLS)
+    result["kalman"] = kalman
+    return result
+
+
+def transfer_words(operands: str) -> int:
+    """Words moved by a multiple load/store: {r4, r5, lr} is 3, {s16-s19} 4, {d8-d9} 4."""
+    words = 0
+    for item in operands[operands.find("{") + 1:operands.find("}")].split(","):
+        item = item.strip()
+        size = 2 if item.startswith("d") else 1
+        if "-" in item:
+            first, last = (int(part.strip()[1:]) for part in item.split("-"))
+            words += size * (last - first + 1)
+        elif item:
+            words += size
+    return words
+
+
+def instruction_cycles(mnemonic: str, taken: bool, operands: str = "") -> int:
     """Cortex-M4 cycles of one executed instruction."""
     base = mnemonic.split(".")[0]
+    if base in ("push", "pop", "vpush", "vpop") or base.startswith(("ldm", "stm", "vldm", "vstm")):
+        pc_loaded = base in ("pop", "ldmia", "ldm") and "pc" in operands
+        return 1 + transfer_words(operands) + (PIPELINE_REFILL if pc_loaded else 0)
     is_branch = base in ("b", "bl", "bx", "blx", "cbz", "cbnz") or (base[:1] == "b" and base[1:] in CONDITIONS)
     if is_branch:
         return 1 + PIPELINE_REFILL if taken else 1
@@ -93,17 +135,18 @@ def instruction_cycles(mnemonic: str, taken: bool) -> int:
     return 1  # ALU, vadd/vsub/vmul/vcmp/vmrs/vmov, it, nop
 
 
-def cycles(directory: Path) -> List[dict]:
-    """Cycle estimate of each SizedFusionAltitudeUpdate call traced in trace.log."""
-    start, size = read_symbols(directory / "cycles.nm")["SizedFusionAltitudeUpdate"]
+def cycles(directory: Path, stem: str, symbol: str, names) -> List[dict]:
+    """Cycle estimate of each call of symbol traced by QEMU (stem.nm, stem.lst; trace.log or stem-trace.log)."""
+    start, size = read_symbols(directory / f"{stem}.nm")[symbol]
     instructions = {}
-    for match in re.finditer(r"^\s*([0-9a-f]+):\s+([0-9a-f]{4})(?: ([0-9a-f]{4}))?\s+([a-z][\w.]*)", 
-                             (directory / "cycles.lst").read_text(), re.MULTILINE):
+    for match in re.finditer(r"^\s*([0-9a-f]+):\s+([0-9a-f]{4})(?: ([0-9a-f]{4}))?\s+([a-z][\w.]*)[ \t]*([^\n]*)",
+                             (directory / f"{stem}.lst").read_text(), re.MULTILINE):
         address = int(match.group(1), 16)
         if start <= address < start + size:
-            instructions[address] = (4 if match.group(3) else 2, match.group(4))
+            instructions[address] = (4 if match.group(3) else 2, match.group(4), match.group(5))
+    trace = directory / ("trace.log" if stem == "cycles" else f"{stem}-trace.log")
     pcs = [int(m.group(1), 16) for m in re.finditer(r"^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/",
-                                                     (directory / "trace.log").read_text(), re.MULTILINE)]
+                                                     trace.read_text(), re.MULTILINE)]
     calls: List[List[Tuple[int, int]]] = []
     previous_inside = False
     for index, pc in enumerate(pcs):
@@ -115,48 +158,61 @@ def cycles(directory: Path) -> List[dict]:
             calls[-1].append((pc, following))
         previous_inside = inside
     estimates = []
-    for name, call in zip(CALLS, calls):
+    assert len(calls) == len(names), f"{len(calls)} calls of {symbol} traced, expected {len(names)}"
+    for name, call in zip(names, calls):
         total = 0
         for pc, following in call:
-            length, mnemonic = instructions[pc]
-            total += instruction_cycles(mnemonic, following is not None and following != pc + length)
+            length, mnemonic, operands = instructions[pc]
+            total += instruction_cycles(mnemonic, following is not None and following != pc + length, operands)
         estimates.append({"path": name, "instructions": len(call), "cycles": total})
     return estimates
 
 
-def markdown(result: dict) -> str:
+def tables(result: dict, functions, struct: str, update: str) -> List[str]:
     short = {"cortex-m0plus": "M0+", "cortex-m4f": "M4F", "cortex-m7": "M7", "rv32imac": "rv32imac",
              "rv32imafc": "rv32imafc"}
     columns = [(t, o) for t in TARGETS for o in OPTIMISATIONS]
     lines = ["Code bytes (.text, including literal pools) per public function, C99:", "",
              "| function | " + " | ".join(f"{short[t]} -{o}" for t, o in columns) + " |",
              "|---|" + "---:|" * len(columns)]
-    for function in FUNCTIONS:
+    for function in functions:
         cells = [str(result["size"][f"{function}/{t}/{o}"]) for t, o in columns]
         lines.append(f"| {function} | " + " | ".join(cells) + " |")
     lines += ["", "Stack bytes (-fstack-usage, the out-of-line copy) per public function:", "",
               "| function | " + " | ".join(f"{short[t]} -{o}" for t, o in columns) + " |",
               "|---|" + "---:|" * len(columns)]
-    for function in FUNCTIONS:
+    for function in functions:
         cells = []
         for t, o in columns:
             size, qualifier = result["stack"][f"{function}/{t}/{o}"]
             cells.append(str(size) if qualifier == "static" else f"{size} ({qualifier})")
         lines.append(f"| {function} | " + " | ".join(cells) + " |")
-    lines += ["", "RAM of one estimator (sizeof(FusionAltitude), nm size of a static instance):", "",
+    lines += ["", f"RAM of one estimator (sizeof({struct}), nm size of a static instance):", "",
               "| " + " | ".join(short[t] for t in TARGETS) + " |", "|" + "---:|" * len(TARGETS),
               "| " + " | ".join(f"{result['ram'][f'{t}/Os']} B" for t in TARGETS) + " |"]
     differs = result["c11_differs"]
     lines += ["", "C11 builds: " + (f"sizes differ from C99 for {', '.join(differs)}" if differs
                                      else "every symbol has the same size as in C99.")]
     if "cycles" in result:
-        lines += ["", "Cycle estimate of FusionAltitudeUpdate on Cortex-M4F, -Os (instructions executed on QEMU, "
+        lines += ["", f"Cycle estimate of {update} on Cortex-M4F, -Os (instructions executed on QEMU, "
                   f"priced with Cortex-M4 TRM cycle counts, pipeline refill P = {PIPELINE_REFILL}, "
                   "zero-wait-state memory, call instruction not included):", "",
                   "| path | instructions | cycles |", "|---|---:|---:|"]
         for row in result["cycles"]:
             lines.append(f"| {row['path']} | {row['instructions']} | {row['cycles']} |")
-    return "\n".join(lines)
+    return lines
+
+
+def markdown_parts(result: dict) -> List[str]:
+    """The observer's tables and the Kalman filter's (the two blocks of docs/embedded.md)."""
+    observer = tables(result, FUNCTIONS, "FusionAltitude", "FusionAltitudeUpdate")
+    kalman = tables(result["kalman"], KALMAN_FUNCTIONS, "FusionAltitudeKalman", "FusionAltitudeKalmanUpdate")
+    return ["\n".join(observer), "\n".join(kalman)]
+
+
+def markdown(result: dict) -> str:
+    observer, kalman = markdown_parts(result)
+    return f"{observer}\n\n<!-- Kalman filter (fusion_altitude_kalman.h): -->\n\n{kalman}"
 
 
 if __name__ == "__main__":

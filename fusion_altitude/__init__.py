@@ -10,6 +10,9 @@ Vertical is +up everywhere; NED users negate.
 """
 
 from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
+from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from ._common import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus, ComplementaryBatch, ComplementaryStatus
+from ._complementary import ComplementaryFilter, ComplementarySettings
 from ._kalman import KalmanEstimator, KalmanSettings
 from ._observer import AltitudeEstimator, AltitudeSettings
 from ._version import __version__
@@ -21,6 +24,16 @@ __all__ = [
     "AltitudeBatch",
     "AltitudeEstimator",
     "AltitudeSettings",
+    "AlphaBetaBatch",
+    "AlphaBetaFusion",
+    "AlphaBetaSensorSettings",
+    "AlphaBetaSensors",
+    "AlphaBetaSettings",
+    "AlphaBetaStatus",
+    "ComplementaryBatch",
+    "ComplementaryFilter",
+    "ComplementarySettings",
+    "ComplementaryStatus",
     "DiscretisationWarning",
     "FitResult",
     "KalmanBatch",

@@ -27,7 +27,8 @@ BUILDS = {
     "gcc-multiversion": ["gcc", "-std=c99", "-O2", "-DFUSION_ALTITUDE_SWEEP_MULTIVERSION"],
 }
 #: test program -> the least number of tests it must report passed
-PROGRAMS = {"test_observer.c": 16, "test_sweep.c": 4, "test_kalman.c": 12}
+PROGRAMS = {"test_observer.c": 16, "test_sweep.c": 4, "test_kalman.c": 12, "test_complementary.c": 9,
+            "test_alphabeta.c": 9}
 #: public headers: copied into firmware, so no libm, no double, no malloc
 HEADERS = ["fusion_altitude.h", "fusion_altitude_sweep.h", "fusion_altitude_kalman.h"]
 

@@ -7,9 +7,14 @@ slow (a Python loop); use it to understand, test and port the algorithm.
 """
 
 from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
+from .._common import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus, ComplementaryBatch, ComplementaryStatus
+from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from .complementary import ComplementaryFilter, ComplementarySettings
 from .kalman import KalmanEstimator, KalmanSettings
 from .observer import AltitudeEstimator, AltitudeSettings
 from .sweep import sweep
 
-__all__ = ["GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "KalmanBatch",
+__all__ = ["AlphaBetaBatch", "AlphaBetaFusion", "AlphaBetaSensorSettings", "AlphaBetaSensors", "AlphaBetaSettings",
+           "AlphaBetaStatus", "ComplementaryBatch", "ComplementaryFilter", "ComplementarySettings", "ComplementaryStatus",
+           "GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "KalmanBatch",
            "KalmanEstimator", "KalmanResult", "KalmanSensors", "KalmanSettings", "KalmanStatus", "Status", "sweep"]

@@ -1,0 +1,566 @@
+/**
+ * @file fusion_altitude_alphabeta.h
+ * @brief Quality-weighted alpha-beta multi-sensor altitude fusion, as
+ * published for MatrixPilot multirotors: IMU-integrated altitude, barometer,
+ * lidar, sonar and GPS each run their own alpha-beta filter whose depth Q
+ * adapts to how well the sensor agrees with the fused output; the output is
+ * the mean of the filters weighted by quality x confidence.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
+ * libm. Needs fusion_altitude.h (float classification) next to it.
+ *
+ * Units and frame: altitudes and thresholds m, vertical velocity m/s,
+ * acceleration m/s^2, time s; quality Q (filter depth, samples) and
+ * confidence are dimensionless. Vertical is +up. NaN means "no sample this
+ * step" for every sensor, the accelerometer (the IMU channel) included.
+ *
+ * One step, from the previous fused altitude h and velocity v:
+ *   1. IMU prediction        hPred = h + v*dt + 0.5*a*dt^2   (hPred = h + v*dt without accel)
+ *      The IMU channel's sample is zImu = hPred (NaN when accel is NaN).
+ *   2. For each sensor i (IMU, baro, lidar, sonar, GPS, in this order), with
+ *      its filter (x_i m, v_i m/s), depth Q_i and T_i = s since its last sample:
+ *      - a first sample, or one after a silence longer than the sensor's
+ *        timeout, (re)starts the filter: x_i = z, v_i = v, Q_i = Qmin_i;
+ *      - otherwise the filter predicts every step, x_i += v_i*dt, T_i += dt,
+ *        and on a sample z:
+ *          Q_i += 1 (at most Qmax_i) if |z - hPred| <= threshold_i, else Q_i -= 1 (at least Qmin_i)
+ *          alpha = 2(2Q-1)/(Q(Q+1)),  beta = 6/(Q(Q+1))
+ *          r = z - x_i;  x_i += alpha*r;  v_i += beta*r/T_i;  T_i = 0
+ *      - weight w_i = Q_i * confidence_i, zeroed when the sensor is silent
+ *        for longer than its timeout, when hPred is outside its altitude band
+ *        [altitudeMin_i, altitudeMax_i], or when its gap |x_i - hPred|
+ *        exceeds gapMax_i.
+ *   3. Fused output h = sum(w_i x_i)/sum(w_i), v = sum(w_i v_i)/sum(w_i);
+ *      with every weight zero: h = hPred, v += a*dt (dead reckoning).
+ * Before the first step with a baro, lidar, sonar or GPS sample the filter
+ * waits (accel unused); that step starts every sampled filter and sets h to
+ * their Qmin*confidence-weighted mean, v = 0.
+ *
+ * Why alpha = 2(2Q-1)/(Q(Q+1)): with beta = 6/(Q(Q+1)) these are the gains
+ * of the least-squares straight-line fit to the latest Q samples (the
+ * growing-memory polynomial filter; Brookner, "Tracking and Kalman Filtering
+ * Made Easy", 1998), which is what "Q is the depth of the filter, the number
+ * of samples taken into account" describes. The write-up prints
+ * 2(Q-1)/(Q(Q+1)): at Q = 2 a line through two points must pass through the
+ * newest (alpha = 1), the printed form gives 1/3; for large Q it is half the
+ * least-squares gain with the same beta, so beta > alpha^2/(2 - alpha) and
+ * the filter rings (complex poles). The write-up's update also has the sign
+ * of the residual reversed (Z - Zi); this uses r = measurement - prediction.
+ * The write-up's "Harmo coefficient" column is not used: it never says what
+ * it does.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 without
+ * fused multiply-add contraction: compile with -ffp-contract=off (clang is
+ * handled inside the header with a scoped pragma).
+ *
+ * Usage:
+ * @code
+ * FusionAltitudeAlphaBeta fusion;
+ * FusionAltitudeAlphaBetaInitialise(&fusion);              // the write-up's tables
+ * for (;;) {
+ *     FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
+ *     if (baroReady) m.baroAltitude = baro;                  // m
+ *     if (lidarReady) m.lidarAltitude = lidar;               // m
+ *     if (FusionAltitudeAlphaBetaUpdate(&fusion, accel, 0.01f, &m) != FusionAltitudeAlphaBetaStatusOk) {
+ *         // input rejected, state unchanged
+ *     }
+ *     const float h = FusionAltitudeAlphaBetaGetAltitude(&fusion);
+ * }
+ * @endcode
+ */
+
+#ifndef FUSION_ALTITUDE_ALPHABETA_H
+#define FUSION_ALTITUDE_ALPHABETA_H
+
+#include "fusion_altitude.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/** Number of sensor channels. */
+#define FUSION_ALTITUDE_ALPHABETA_SENSORS (5)
+
+/** Largest accepted quality (filter depth), samples. */
+#define FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY (10000)
+
+/** Sensor channel indices, also the order of the update. */
+typedef enum {
+    FusionAltitudeAlphaBetaSensorImu = 0,
+    FusionAltitudeAlphaBetaSensorBaro,
+    FusionAltitudeAlphaBetaSensorLidar,
+    FusionAltitudeAlphaBetaSensorSonar,
+    FusionAltitudeAlphaBetaSensorGps,
+} FusionAltitudeAlphaBetaSensorIndex;
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeAlphaBetaStatusOk = 0,
+    FusionAltitudeAlphaBetaStatusInvalidAccel,         /**< accel infinite */
+    FusionAltitudeAlphaBetaStatusInvalidDt,            /**< dt not finite or <= 0 */
+    FusionAltitudeAlphaBetaStatusInvalidBaroAltitude,  /**< baro altitude infinite */
+    FusionAltitudeAlphaBetaStatusInvalidLidarAltitude, /**< lidar altitude infinite */
+    FusionAltitudeAlphaBetaStatusInvalidSonarAltitude, /**< sonar altitude infinite */
+    FusionAltitudeAlphaBetaStatusInvalidGpsAltitude,   /**< GPS altitude infinite */
+    FusionAltitudeAlphaBetaStatusInvalidThreshold,     /**< a threshold not finite or <= 0 */
+    FusionAltitudeAlphaBetaStatusInvalidQuality,       /**< not 2 <= qualityMin <= qualityMax <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY */
+    FusionAltitudeAlphaBetaStatusInvalidConfidence,    /**< a confidence not finite or < 0 */
+    FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,  /**< a band limit NaN or not altitudeMin < altitudeMax */
+    FusionAltitudeAlphaBetaStatusInvalidGapMax,        /**< a gap maximum NaN or <= 0 (+infinity: no limit) */
+    FusionAltitudeAlphaBetaStatusInvalidTimeout,       /**< a timeout not finite or <= 0 */
+} FusionAltitudeAlphaBetaStatus;
+
+/** One sensor's settings. */
+typedef struct {
+    float threshold;     /**< m, > 0: |z - hPred| up to this counts as agreement */
+    int32_t qualityMin;  /**< Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable) */
+    int32_t qualityMax;  /**< Qmax, samples, >= Qmin */
+    float confidence;    /**< >= 0: weight = Q * confidence */
+    float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) */
+    float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) */
+    float gapMax;        /**< m, > 0: weight 0 when |x - hPred| > this (may be +infinity) */
+    float timeout;       /**< s, > 0: weight 0 after this long without a sample; the next sample restarts the filter */
+} FusionAltitudeAlphaBetaSensorSettings;
+
+/** Settings: one entry per sensor channel, in FusionAltitudeAlphaBetaSensorIndex order. */
+typedef struct {
+    FusionAltitudeAlphaBetaSensorSettings sensors[FUSION_ALTITUDE_ALPHABETA_SENSORS];
+} FusionAltitudeAlphaBetaSettings;
+
+/** One step's samples (m). NaN means "no sample this step". */
+typedef struct {
+    float baroAltitude;
+    float lidarAltitude;
+    float sonarAltitude;
+    float gpsAltitude;
+} FusionAltitudeAlphaBetaMeasurements;
+
+/** One sensor's alpha-beta filter. */
+typedef struct {
+    float altitude;       /**< x, m */
+    float velocity;       /**< v, m/s */
+    float sinceSample;    /**< T, s since the latest sample */
+    float weight;         /**< w of the latest step (0: not used) */
+    int32_t quality;      /**< Q, samples */
+    bool started;         /**< the filter has had a sample */
+} FusionAltitudeAlphaBetaFilter;
+
+/** Fusion state. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeAlphaBetaSettings settings;
+    FusionAltitudeAlphaBetaFilter filters[FUSION_ALTITUDE_ALPHABETA_SENSORS];
+    float altitude;         /**< fused h, m */
+    float verticalVelocity; /**< fused v, m/s */
+    float totalWeight;      /**< sum of the weights of the latest step (0: dead reckoning) */
+    bool started;           /**< false until the first non-IMU sample */
+} FusionAltitudeAlphaBeta;
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltitudeAlphaBetaStatus status) {
+    switch (status) {
+        case FusionAltitudeAlphaBetaStatusOk:
+            return "ok";
+        case FusionAltitudeAlphaBetaStatusInvalidAccel:
+            return "accel must be finite (or NaN for no sample)";
+        case FusionAltitudeAlphaBetaStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeAlphaBetaStatusInvalidBaroAltitude:
+            return "baro altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeAlphaBetaStatusInvalidLidarAltitude:
+            return "lidar altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeAlphaBetaStatusInvalidSonarAltitude:
+            return "sonar altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeAlphaBetaStatusInvalidGpsAltitude:
+            return "GPS altitude must be finite (or NaN for no sample)";
+        case FusionAltitudeAlphaBetaStatusInvalidThreshold:
+            return "thresholds must be finite and > 0";
+        case FusionAltitudeAlphaBetaStatusInvalidQuality:
+            return "qualities must satisfy 2 <= minimum <= maximum <= 10000";
+        case FusionAltitudeAlphaBetaStatusInvalidConfidence:
+            return "confidences must be finite and >= 0";
+        case FusionAltitudeAlphaBetaStatusInvalidAltitudeBand:
+            return "altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)";
+        case FusionAltitudeAlphaBetaStatusInvalidGapMax:
+            return "gap maxima must be > 0 (+infinity: no limit)";
+        case FusionAltitudeAlphaBetaStatusInvalidTimeout:
+            return "timeouts must be finite and > 0";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSensor(const float threshold, const int32_t qualityMin,
+                                                                                   const int32_t qualityMax, const float confidence,
+                                                                                   const float altitudeMin, const float altitudeMax,
+                                                                                   const float gapMax, const float timeout) {
+    FusionAltitudeAlphaBetaSensorSettings sensor;
+    sensor.threshold = threshold;
+    sensor.qualityMin = qualityMin;
+    sensor.qualityMax = qualityMax;
+    sensor.confidence = confidence;
+    sensor.altitudeMin = altitudeMin;
+    sensor.altitudeMax = altitudeMax;
+    sensor.gapMax = gapMax;
+    sensor.timeout = timeout;
+    return sensor;
+}
+
+/** @return +infinity, built without libm. */
+static inline float FusionAltitudeAlphaBetaInfinity(void) {
+    const uint32_t bits = 0x7F800000u;
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    return value;
+}
+
+/**
+ * @return the write-up's tables (threshold m, Qmin, Qmax, confidence,
+ * altitude min m, gap max m):
+ *   IMU    1.0   2    4   5   -1   4
+ *   baro   1.0  10   60   2   -4  10
+ *   lidar  0.5   2    8  10    0   6
+ *   GPS   10.0  10  120   1  -10  20
+ * Added where the write-up gives no number: sonar as the lidar (its table
+ * row is "lidar or sonar"); altitude max 40 m for the lidar and 5 m for the
+ * sonar (their typical ranges; the write-up only says "low" and "very low
+ * range"), +infinity for the others; timeout 1.5 s for every sensor (longer
+ * than the 1 Hz baro of a balloon).
+ */
+static inline FusionAltitudeAlphaBetaSettings FusionAltitudeAlphaBetaSettingsDefault(void) {
+    const float infinity = FusionAltitudeAlphaBetaInfinity();
+    FusionAltitudeAlphaBetaSettings settings;
+    settings.sensors[FusionAltitudeAlphaBetaSensorImu] = FusionAltitudeAlphaBetaSensor(1.0f, 2, 4, 5.0f, -1.0f, infinity, 4.0f, 1.5f);
+    settings.sensors[FusionAltitudeAlphaBetaSensorBaro] = FusionAltitudeAlphaBetaSensor(1.0f, 10, 60, 2.0f, -4.0f, infinity, 10.0f, 1.5f);
+    settings.sensors[FusionAltitudeAlphaBetaSensorLidar] = FusionAltitudeAlphaBetaSensor(0.5f, 2, 8, 10.0f, 0.0f, 40.0f, 6.0f, 1.5f);
+    settings.sensors[FusionAltitudeAlphaBetaSensorSonar] = FusionAltitudeAlphaBetaSensor(0.5f, 2, 8, 10.0f, 0.0f, 5.0f, 6.0f, 1.5f);
+    settings.sensors[FusionAltitudeAlphaBetaSensorGps] = FusionAltitudeAlphaBetaSensor(10.0f, 10, 120, 1.0f, -10.0f, infinity, 20.0f, 1.5f);
+    return settings;
+}
+
+/** @return the status a sensor's settings get, Ok if valid (see the status enum for the rules). */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSensorSettingsCheck(const FusionAltitudeAlphaBetaSensorSettings *const sensor) {
+    if (!FusionAltitudeIsFinite(sensor->threshold) || !(sensor->threshold > 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidThreshold;
+    }
+    if ((sensor->qualityMin < 2) || (sensor->qualityMax < sensor->qualityMin) ||
+        (sensor->qualityMax > FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY)) {
+        return FusionAltitudeAlphaBetaStatusInvalidQuality;
+    }
+    if (!FusionAltitudeIsFinite(sensor->confidence) || !(sensor->confidence >= 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidConfidence;
+    }
+    if (!(sensor->altitudeMin < sensor->altitudeMax)) { /* false for NaN */
+        return FusionAltitudeAlphaBetaStatusInvalidAltitudeBand;
+    }
+    if (!(sensor->gapMax > 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidGapMax;
+    }
+    if (!FusionAltitudeIsFinite(sensor->timeout) || !(sensor->timeout > 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidTimeout;
+    }
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+/** @brief Checks every sensor's settings, in sensor order; the first failure's status. */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSettingsCheck(const FusionAltitudeAlphaBetaSettings *const settings) {
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        const FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSensorSettingsCheck(&settings->sensors[i]);
+        if (status != FusionAltitudeAlphaBetaStatusOk) {
+            return status;
+        }
+    }
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+/**
+ * @brief Gains of the least-squares alpha-beta filter of depth quality (>= 1):
+ * alpha = 2(2Q-1)/(Q(Q+1)), beta = 6/(Q(Q+1)) (see the file comment).
+ */
+static inline void FusionAltitudeAlphaBetaGains(const int32_t quality, float *const alpha, float *const beta) {
+    FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+    const float q = (float) quality;
+    const float denominator = q * (q + 1.0f);
+    *alpha = (2.0f * (2.0f * q - 1.0f)) / denominator;
+    *beta = 6.0f / denominator;
+}
+
+//------------------------------------------------------------------------------
+// Fusion
+
+/** @return measurements with no sample from any sensor (all NaN). */
+static inline FusionAltitudeAlphaBetaMeasurements FusionAltitudeAlphaBetaMeasurementsNone(void) {
+    FusionAltitudeAlphaBetaMeasurements m;
+    m.baroAltitude = FusionAltitudeNaN();
+    m.lidarAltitude = FusionAltitudeNaN();
+    m.sonarAltitude = FusionAltitudeNaN();
+    m.gpsAltitude = FusionAltitudeNaN();
+    return m;
+}
+
+static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const fusion) {
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        f->altitude = 0.0f;
+        f->velocity = 0.0f;
+        f->sinceSample = 0.0f;
+        f->weight = 0.0f;
+        f->quality = fusion->settings.sensors[i].qualityMin;
+        f->started = false;
+    }
+    fusion->altitude = 0.0f;
+    fusion->verticalVelocity = 0.0f;
+    fusion->totalWeight = 0.0f;
+    fusion->started = false;
+}
+
+/** @brief Initialises with the default settings; nothing started. */
+static inline void FusionAltitudeAlphaBetaInitialise(FusionAltitudeAlphaBeta *const fusion) {
+    fusion->settings = FusionAltitudeAlphaBetaSettingsDefault();
+    FusionAltitudeAlphaBetaClear(fusion);
+}
+
+/** @brief Initialises with the given settings. Rejected (fusion untouched) if they fail the check. */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaInitialiseWith(FusionAltitudeAlphaBeta *const fusion,
+                                                                                  const FusionAltitudeAlphaBetaSettings *const settings) {
+    const FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSettingsCheck(settings);
+    if (status == FusionAltitudeAlphaBetaStatusOk) {
+        fusion->settings = *settings;
+        FusionAltitudeAlphaBetaClear(fusion);
+    }
+    return status;
+}
+
+/**
+ * @brief Replaces the settings, keeping the state; each quality is clamped
+ * into its new [Qmin, Qmax]. Rejected (state unchanged) if the check fails.
+ */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSetSettings(FusionAltitudeAlphaBeta *const fusion,
+                                                                               const FusionAltitudeAlphaBetaSettings *const settings) {
+    const FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSettingsCheck(settings);
+    if (status != FusionAltitudeAlphaBetaStatusOk) {
+        return status;
+    }
+    fusion->settings = *settings;
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        const FusionAltitudeAlphaBetaSensorSettings *const s = &settings->sensors[i];
+        f->quality = (f->quality < s->qualityMin) ? s->qualityMin : ((f->quality > s->qualityMax) ? s->qualityMax : f->quality);
+    }
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+static inline bool FusionAltitudeAlphaBetaIsInfinite(const float value) {
+    return (FusionAltitudeFloatBits(value) & 0x7FFFFFFFu) == 0x7F800000u;
+}
+
+/** @return the status FusionAltitudeAlphaBetaUpdate gives these inputs: each sample finite or NaN, dt finite and > 0. */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaCheckInputs(const float accel, const float dt,
+                                                                               const FusionAltitudeAlphaBetaMeasurements *const m) {
+    if (FusionAltitudeAlphaBetaIsInfinite(accel)) {
+        return FusionAltitudeAlphaBetaStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidDt;
+    }
+    if (FusionAltitudeAlphaBetaIsInfinite(m->baroAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidBaroAltitude;
+    }
+    if (FusionAltitudeAlphaBetaIsInfinite(m->lidarAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidLidarAltitude;
+    }
+    if (FusionAltitudeAlphaBetaIsInfinite(m->sonarAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidSonarAltitude;
+    }
+    if (FusionAltitudeAlphaBetaIsInfinite(m->gpsAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidGpsAltitude;
+    }
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+/**
+ * @brief One step (see the file comment for the equations).
+ *
+ * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity
+ *        removed; NaN: no IMU sample this step.
+ * @param dt time since the previous step, s.
+ * @param m this step's samples, NaN where none.
+ *
+ * Inputs are checked first; a rejected call leaves the state unchanged.
+ */
+static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(FusionAltitudeAlphaBeta *const fusion, const float accel,
+                                                                          const float dt,
+                                                                          const FusionAltitudeAlphaBetaMeasurements *const m) {
+    FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+    const FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaCheckInputs(accel, dt, m);
+    if (status != FusionAltitudeAlphaBetaStatusOk) {
+        return status;
+    }
+    const bool imuSample = FusionAltitudeIsFinite(accel);
+    float z[FUSION_ALTITUDE_ALPHABETA_SENSORS];
+    z[FusionAltitudeAlphaBetaSensorBaro] = m->baroAltitude;
+    z[FusionAltitudeAlphaBetaSensorLidar] = m->lidarAltitude;
+    z[FusionAltitudeAlphaBetaSensorSonar] = m->sonarAltitude;
+    z[FusionAltitudeAlphaBetaSensorGps] = m->gpsAltitude;
+
+    if (!fusion->started) {
+        /* Start on the first step with a non-IMU sample: their Qmin*confidence-weighted mean. */
+        float sumWeight = 0.0f;
+        float sumAltitude = 0.0f;
+        for (int i = 1; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+            if (FusionAltitudeIsFinite(z[i])) {
+                const float w = (float) fusion->settings.sensors[i].qualityMin * fusion->settings.sensors[i].confidence;
+                sumWeight += w;
+                sumAltitude += w * z[i];
+            }
+        }
+        if (!(sumWeight > 0.0f)) {
+            return FusionAltitudeAlphaBetaStatusOk; /* nothing to start from yet */
+        }
+        fusion->altitude = sumAltitude / sumWeight;
+        fusion->verticalVelocity = 0.0f;
+        fusion->totalWeight = sumWeight;
+        for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+            FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+            const FusionAltitudeAlphaBetaSensorSettings *const s = &fusion->settings.sensors[i];
+            const bool sampled = (i == FusionAltitudeAlphaBetaSensorImu) ? imuSample : FusionAltitudeIsFinite(z[i]);
+            f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
+            f->velocity = 0.0f;
+            f->sinceSample = 0.0f;
+            f->quality = s->qualityMin;
+            f->started = sampled;
+            f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
+            if (!sampled) {
+                f->altitude = 0.0f;
+            }
+        }
+        fusion->started = true;
+        return FusionAltitudeAlphaBetaStatusOk;
+    }
+
+    /* 1. IMU prediction of the fused altitude; it is also the IMU channel's sample. */
+    float altitudePredicted = fusion->altitude + fusion->verticalVelocity * dt;
+    float velocityPredicted = fusion->verticalVelocity;
+    if (imuSample) {
+        altitudePredicted += 0.5f * accel * dt * dt;
+        velocityPredicted += accel * dt;
+    }
+    z[FusionAltitudeAlphaBetaSensorImu] = imuSample ? altitudePredicted : FusionAltitudeNaN();
+
+    /* 2. Each sensor's alpha-beta filter, quality and weight. */
+    float sumWeight = 0.0f;
+    float sumAltitude = 0.0f;
+    float sumVelocity = 0.0f;
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        const FusionAltitudeAlphaBetaSensorSettings *const s = &fusion->settings.sensors[i];
+        const bool sampled = FusionAltitudeIsFinite(z[i]);
+        if (f->started) {
+            f->altitude += f->velocity * dt;
+            f->sinceSample += dt;
+        }
+        if (sampled) {
+            if (!f->started || (f->sinceSample > s->timeout)) {
+                f->altitude = z[i];
+                f->velocity = fusion->verticalVelocity;
+                f->quality = s->qualityMin;
+                f->started = true;
+            } else {
+                const float agreement = z[i] - altitudePredicted;
+                if ((agreement <= s->threshold) && (agreement >= -s->threshold)) {
+                    f->quality = (f->quality < s->qualityMax) ? (f->quality + 1) : s->qualityMax;
+                } else {
+                    f->quality = (f->quality > s->qualityMin) ? (f->quality - 1) : s->qualityMin;
+                }
+                float alpha;
+                float beta;
+                FusionAltitudeAlphaBetaGains(f->quality, &alpha, &beta);
+                const float residual = z[i] - f->altitude;
+                f->altitude += alpha * residual;
+                f->velocity += (beta * residual) / f->sinceSample;
+            }
+            f->sinceSample = 0.0f;
+        }
+        float weight = 0.0f;
+        if (f->started && !(f->sinceSample > s->timeout)) {
+            const float gap = f->altitude - altitudePredicted;
+            const bool inBand = (altitudePredicted >= s->altitudeMin) && (altitudePredicted <= s->altitudeMax);
+            const bool close = (gap <= s->gapMax) && (gap >= -s->gapMax);
+            if (inBand && close) {
+                weight = (float) f->quality * s->confidence;
+            }
+        }
+        f->weight = weight;
+        if (weight > 0.0f) {
+            sumWeight += weight;
+            sumAltitude += weight * f->altitude;
+            sumVelocity += weight * f->velocity;
+        }
+    }
+
+    /* 3. Weighted mean, or dead reckoning when every weight is zero. */
+    if (sumWeight > 0.0f) {
+        fusion->altitude = sumAltitude / sumWeight;
+        fusion->verticalVelocity = sumVelocity / sumWeight;
+    } else {
+        fusion->altitude = altitudePredicted;
+        fusion->verticalVelocity = velocityPredicted;
+    }
+    fusion->totalWeight = sumWeight;
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+/** @return the settings in use. */
+static inline FusionAltitudeAlphaBetaSettings FusionAltitudeAlphaBetaGetSettings(const FusionAltitudeAlphaBeta *const fusion) {
+    return fusion->settings;
+}
+
+/** @return fused altitude h, m (0 until started). */
+static inline float FusionAltitudeAlphaBetaGetAltitude(const FusionAltitudeAlphaBeta *const fusion) {
+    return fusion->altitude;
+}
+
+/** @return fused vertical velocity v, m/s, +up. */
+static inline float FusionAltitudeAlphaBetaGetVerticalVelocity(const FusionAltitudeAlphaBeta *const fusion) {
+    return fusion->verticalVelocity;
+}
+
+/** @return a sensor's weight in the latest step (0: not used). */
+static inline float FusionAltitudeAlphaBetaGetWeight(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].weight;
+}
+
+/** @return a sensor's quality Q (filter depth, samples). */
+static inline int32_t FusionAltitudeAlphaBetaGetQuality(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].quality;
+}
+
+/** @return true once the fusion has started (first non-IMU sample). */
+static inline bool FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const fusion) {
+    return fusion->started;
+}
+
+#undef FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

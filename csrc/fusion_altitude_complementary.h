@@ -1,0 +1,340 @@
+/**
+ * @file fusion_altitude_complementary.h
+ * @brief The classic hobbyist two-stage complementary filter (baro +
+ * accelerometer), as published for quadcopter altitude hold: low-pass both
+ * signals, blend the integrated acceleration with a finite-difference baro
+ * velocity, then blend the predicted altitude with the baro altitude.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
+ * libm. Needs fusion_altitude.h (float classification) next to it.
+ *
+ * Units and frame: altitude m, vertical velocity m/s, acceleration m/s^2,
+ * time and time constants s, coefficients dimensionless. Vertical is +up.
+ *
+ * One step with acceleration a, sample period dt and (maybe) a baro sample z:
+ *   first-order low-pass     y += dt/(tau + dt) * (x - y)        (both signals)
+ *   accel low-pass           aLp += dt/(tauA + dt) * (a - aLp)
+ *   predicted velocity       vPred = v + aLp*dt
+ *   predicted altitude       hPred = h + vPred*dt + 0.5*aLp*dt*dt
+ * With a baro sample, D = time since the previous baro sample (dt when the
+ * baro comes every step):
+ *   baro low-pass            zLp' = zLp + D/(tauB + D) * (z - zLp)
+ *   baro velocity            vBaro = (zLp' - zLp) / D
+ *   velocity blend           v = cV*vPred + (1 - cV)*vBaro
+ *   altitude blend           h = cH*hPred + (1 - cH)*zLp'
+ * Without one: v = vPred, h = hPred. (hPred uses vPred, which already holds
+ * aLp*dt, plus 0.5*aLp*dt^2 as the write-up does; the O(dt^2) surplus is
+ * absorbed by the blend.)
+ *
+ * The blend coefficients cV, cH are either the write-up's fixed per-sample
+ * numbers (0.999, 0.998: behaviour changes with the sample rate) or come from
+ * time constants TV, TH in seconds, cV = TV/(TV + D), cH = TH/(TH + D), so the
+ * filter behaves the same at any rate. The default is the time constants
+ * TV = 9.99 s, TH = 4.99 s: exactly 0.999 and 0.998 at 100 Hz.
+ *
+ * Continuous-time picture (small D): dv/dt = a + (vBaro - v)/TV and
+ * dh/dt = v + (zLp - h)/TH. A baro step of size S (a = 0) gives
+ *   h(t) = S * (1 - (p e^{-pt} - q e^{-qt}) / (p - q)),  p = 1/TH, q = 1/TV,
+ * (defaults: 50 % at 2.6 s, zero crossing of the error at 6.9 s, 12.5 %
+ * overshoot at 13.9 s) and a constant accelerometer bias b, which this filter
+ * has no state for, a steady altitude error of b*TV*TH (12 mg: 5.9 m).
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 without
+ * fused multiply-add contraction: compile with -ffp-contract=off (clang is
+ * handled inside the header with a scoped pragma).
+ *
+ * Usage:
+ * @code
+ * FusionAltitudeComplementary filter;
+ * FusionAltitudeComplementaryInitialise(&filter);         // default time constants
+ * for (;;) {
+ *     if (FusionAltitudeComplementaryUpdate(&filter, accel, baroOrNaN, 0.01f) != FusionAltitudeComplementaryStatusOk) {
+ *         // input rejected, state unchanged
+ *     }
+ *     const float h = FusionAltitudeComplementaryGetAltitude(&filter);
+ * }
+ * @endcode
+ */
+
+#ifndef FUSION_ALTITUDE_COMPLEMENTARY_H
+#define FUSION_ALTITUDE_COMPLEMENTARY_H
+
+#include "fusion_altitude.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeComplementaryStatusOk = 0,
+    FusionAltitudeComplementaryStatusInvalidAccel,        /**< accel not finite */
+    FusionAltitudeComplementaryStatusInvalidBaroAltitude, /**< baro altitude infinite (update) or not finite (reset) */
+    FusionAltitudeComplementaryStatusInvalidDt,           /**< dt not finite or <= 0 */
+    FusionAltitudeComplementaryStatusInvalidTimeConstant, /**< a time constant not finite or < 0 */
+    FusionAltitudeComplementaryStatusInvalidCoefficient,  /**< a per-sample coefficient not finite or outside [0, 1] */
+} FusionAltitudeComplementaryStatus;
+
+/** Settings. */
+typedef struct {
+    float accelTimeConstant;    /**< tauA, s, >= 0: accel low-pass (0: none) */
+    float baroTimeConstant;     /**< tauB, s, >= 0: baro low-pass (0: none) */
+    bool perSampleCoefficients; /**< true: cV, cH are the fixed coefficients below; false: from TV, TH */
+    float velocityCoefficient;  /**< cV in [0, 1], per baro sample (used when perSampleCoefficients) */
+    float altitudeCoefficient;  /**< cH in [0, 1], per baro sample (used when perSampleCoefficients) */
+    float velocityTimeConstant; /**< TV, s, >= 0: cV = TV/(TV + D) (used otherwise) */
+    float altitudeTimeConstant; /**< TH, s, >= 0: cH = TH/(TH + D) (used otherwise) */
+} FusionAltitudeComplementarySettings;
+
+/** Filter state. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeComplementarySettings settings;
+    float altitude;          /**< h, m */
+    float verticalVelocity;  /**< v, m/s */
+    float accelFiltered;     /**< aLp, m/s^2 */
+    float baroFiltered;      /**< zLp, m */
+    float baroVelocity;      /**< vBaro of the latest baro sample, m/s; NaN on a step without baro */
+    float sinceBaro;         /**< s since the latest baro sample, before this step */
+    bool referenceSet;       /**< false until the first baro sample or reset */
+} FusionAltitudeComplementary;
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeComplementaryStatusMessage(const FusionAltitudeComplementaryStatus status) {
+    switch (status) {
+        case FusionAltitudeComplementaryStatusOk:
+            return "ok";
+        case FusionAltitudeComplementaryStatusInvalidAccel:
+            return "accel must be finite";
+        case FusionAltitudeComplementaryStatusInvalidBaroAltitude:
+            return "baro altitude must be finite (or NaN for no sample in update)";
+        case FusionAltitudeComplementaryStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeComplementaryStatusInvalidTimeConstant:
+            return "time constants must be finite and >= 0";
+        case FusionAltitudeComplementaryStatusInvalidCoefficient:
+            return "per-sample coefficients must be finite and in [0, 1]";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+/**
+ * @return the default settings: accel low-pass 0.02 s, baro low-pass 0.05 s,
+ * time constants TV = 9.99 s and TH = 4.99 s (the write-up's 0.999 and 0.998
+ * at 100 Hz, the same behaviour at any other rate).
+ */
+static inline FusionAltitudeComplementarySettings FusionAltitudeComplementarySettingsDefault(void) {
+    FusionAltitudeComplementarySettings settings;
+    settings.accelTimeConstant = 0.02f;
+    settings.baroTimeConstant = 0.05f;
+    settings.perSampleCoefficients = false;
+    settings.velocityCoefficient = 0.999f;
+    settings.altitudeCoefficient = 0.998f;
+    settings.velocityTimeConstant = 9.99f;
+    settings.altitudeTimeConstant = 4.99f;
+    return settings;
+}
+
+static inline bool FusionAltitudeComplementaryIsTimeConstant(const float value) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f);
+}
+
+static inline bool FusionAltitudeComplementaryIsCoefficient(const float value) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= 1.0f);
+}
+
+/**
+ * @brief Checks settings: all four time constants finite and >= 0, both
+ * coefficients finite and in [0, 1] (checked in both modes, so a settings
+ * value is valid whichever mode it is switched to).
+ */
+static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementarySettingsCheck(
+    const FusionAltitudeComplementarySettings *const settings) {
+    if (!FusionAltitudeComplementaryIsTimeConstant(settings->accelTimeConstant) ||
+        !FusionAltitudeComplementaryIsTimeConstant(settings->baroTimeConstant) ||
+        !FusionAltitudeComplementaryIsTimeConstant(settings->velocityTimeConstant) ||
+        !FusionAltitudeComplementaryIsTimeConstant(settings->altitudeTimeConstant)) {
+        return FusionAltitudeComplementaryStatusInvalidTimeConstant;
+    }
+    if (!FusionAltitudeComplementaryIsCoefficient(settings->velocityCoefficient) ||
+        !FusionAltitudeComplementaryIsCoefficient(settings->altitudeCoefficient)) {
+        return FusionAltitudeComplementaryStatusInvalidCoefficient;
+    }
+    return FusionAltitudeComplementaryStatusOk;
+}
+
+//------------------------------------------------------------------------------
+// Filter
+
+/** @brief Initialises with the default settings; the first baro sample sets the reference. */
+static inline void FusionAltitudeComplementaryInitialise(FusionAltitudeComplementary *const filter) {
+    filter->settings = FusionAltitudeComplementarySettingsDefault();
+    filter->altitude = 0.0f;
+    filter->verticalVelocity = 0.0f;
+    filter->accelFiltered = 0.0f;
+    filter->baroFiltered = 0.0f;
+    filter->baroVelocity = 0.0f;
+    filter->sinceBaro = 0.0f;
+    filter->referenceSet = false;
+}
+
+/** @brief Replaces the settings, keeping the state. Rejected (state unchanged) if the check fails. */
+static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementarySetSettings(
+    FusionAltitudeComplementary *const filter, const FusionAltitudeComplementarySettings *const settings) {
+    const FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySettingsCheck(settings);
+    if (status == FusionAltitudeComplementaryStatusOk) {
+        filter->settings = *settings;
+    }
+    return status;
+}
+
+/**
+ * @brief Sets the reference: altitude = filtered baro = baroAltitude (m),
+ * velocity 0, baro velocity 0. The accel low-pass state is kept. Rejected if
+ * baroAltitude is not finite.
+ */
+static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset(FusionAltitudeComplementary *const filter,
+                                                                                  const float baroAltitude) {
+    if (!FusionAltitudeIsFinite(baroAltitude)) {
+        return FusionAltitudeComplementaryStatusInvalidBaroAltitude;
+    }
+    filter->altitude = baroAltitude;
+    filter->baroFiltered = baroAltitude;
+    filter->verticalVelocity = 0.0f;
+    filter->baroVelocity = 0.0f;
+    filter->sinceBaro = 0.0f;
+    filter->referenceSet = true;
+    return FusionAltitudeComplementaryStatusOk;
+}
+
+/**
+ * @brief The input rules of FusionAltitudeComplementaryUpdate: accel finite,
+ * baroAltitude finite or NaN (no sample), dt finite and > 0.
+ */
+static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryCheckInputs(const float accel, const float baroAltitude,
+                                                                                       const float dt) {
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeComplementaryStatusInvalidAccel;
+    }
+    if ((FusionAltitudeFloatBits(baroAltitude) & 0x7FFFFFFFu) == 0x7F800000u) { /* +-infinity; NaN means no sample */
+        return FusionAltitudeComplementaryStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeComplementaryStatusInvalidDt;
+    }
+    return FusionAltitudeComplementaryStatusOk;
+}
+
+/**
+ * @brief One step (see the file comment for the equations).
+ *
+ * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity removed.
+ * @param baroAltitude baro altitude z, m; NaN when no baro sample this step.
+ * @param dt time since the previous step, s.
+ *
+ * Until the reference is set a baro sample only sets it (Reset; a and dt
+ * unused) and a step without baro changes nothing but the baro velocity (NaN).
+ * Inputs are checked first; a rejected call leaves the state unchanged.
+ */
+static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdate(FusionAltitudeComplementary *const filter,
+                                                                                   const float accel, const float baroAltitude,
+                                                                                   const float dt) {
+    FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+    const FusionAltitudeComplementaryStatus status = FusionAltitudeComplementaryCheckInputs(accel, baroAltitude, dt);
+    if (status != FusionAltitudeComplementaryStatusOk) {
+        return status;
+    }
+    const bool baroSample = FusionAltitudeIsFinite(baroAltitude);
+    if (!filter->referenceSet) {
+        if (baroSample) {
+            return FusionAltitudeComplementaryReset(filter, baroAltitude);
+        }
+        filter->baroVelocity = FusionAltitudeNaN();
+        return FusionAltitudeComplementaryStatusOk;
+    }
+    const FusionAltitudeComplementarySettings *const s = &filter->settings;
+    filter->accelFiltered += (dt / (s->accelTimeConstant + dt)) * (accel - filter->accelFiltered);
+    const float aLp = filter->accelFiltered;
+    const float velocityPredicted = filter->verticalVelocity + aLp * dt;
+    const float altitudePredicted = filter->altitude + velocityPredicted * dt + 0.5f * aLp * dt * dt;
+    if (!baroSample) {
+        filter->verticalVelocity = velocityPredicted;
+        filter->altitude = altitudePredicted;
+        filter->baroVelocity = FusionAltitudeNaN();
+        filter->sinceBaro += dt;
+        return FusionAltitudeComplementaryStatusOk;
+    }
+    const float interval = filter->sinceBaro + dt; /* D */
+    const float baroPrevious = filter->baroFiltered;
+    filter->baroFiltered = baroPrevious + (interval / (s->baroTimeConstant + interval)) * (baroAltitude - baroPrevious);
+    const float baroVelocity = (filter->baroFiltered - baroPrevious) / interval;
+    float cV;
+    float cH;
+    if (s->perSampleCoefficients) {
+        cV = s->velocityCoefficient;
+        cH = s->altitudeCoefficient;
+    } else {
+        cV = s->velocityTimeConstant / (s->velocityTimeConstant + interval);
+        cH = s->altitudeTimeConstant / (s->altitudeTimeConstant + interval);
+    }
+    filter->verticalVelocity = cV * velocityPredicted + (1.0f - cV) * baroVelocity;
+    filter->altitude = cH * altitudePredicted + (1.0f - cH) * filter->baroFiltered;
+    filter->baroVelocity = baroVelocity;
+    filter->sinceBaro = 0.0f;
+    return FusionAltitudeComplementaryStatusOk;
+}
+
+/** @return the settings in use. */
+static inline FusionAltitudeComplementarySettings FusionAltitudeComplementaryGetSettings(const FusionAltitudeComplementary *const filter) {
+    return filter->settings;
+}
+
+/** @return altitude estimate h, m (0 until the reference is set). */
+static inline float FusionAltitudeComplementaryGetAltitude(const FusionAltitudeComplementary *const filter) {
+    return filter->altitude;
+}
+
+/** @return vertical velocity estimate v, m/s, +up. */
+static inline float FusionAltitudeComplementaryGetVerticalVelocity(const FusionAltitudeComplementary *const filter) {
+    return filter->verticalVelocity;
+}
+
+/** @return low-passed baro altitude zLp, m. */
+static inline float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary *const filter) {
+    return filter->baroFiltered;
+}
+
+/** @return finite-difference baro velocity of the latest step, m/s; NaN on a step without baro. */
+static inline float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary *const filter) {
+    return filter->baroVelocity;
+}
+
+/** @return true once the reference is set. */
+static inline bool FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *const filter) {
+    return filter->referenceSet;
+}
+
+#undef FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,182 @@
+/**
+ * @file test_complementary.c
+ * @brief Unit tests of fusion_altitude_complementary.h, built by
+ * tests/test_c_core.py with gcc and clang (C99 and as C++), strict warnings,
+ * and under ASan + UBSan. Prints "N passed, M failed".
+ */
+
+#include "fusion_altitude_complementary.h"
+#include "test_harness.h"
+
+#include <math.h>
+#include <string.h>
+
+static float Infinity(void) {
+    const uint32_t bits = 0x7F800000u;
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    return value;
+}
+
+static FusionAltitudeComplementary Running(void) {
+    FusionAltitudeComplementary filter;
+    memset(&filter, 0, sizeof(filter));
+    FusionAltitudeComplementaryInitialise(&filter);
+    for (int i = 0; i < 100; i++) {
+        (void) FusionAltitudeComplementaryUpdate(&filter, 0.3f, 10.0f + 0.01f * (float) i, 0.01f);
+    }
+    return filter;
+}
+
+static void DefaultsAreTheWriteUpsCoefficientsAt100Hz(void) {
+    const FusionAltitudeComplementarySettings s = FusionAltitudeComplementarySettingsDefault();
+    CHECK(!s.perSampleCoefficients);
+    CHECK(s.velocityCoefficient == 0.999f);
+    CHECK(s.altitudeCoefficient == 0.998f);
+    CHECK(fabsf(s.velocityTimeConstant / (s.velocityTimeConstant + 0.01f) - 0.999f) < 1e-6f);
+    CHECK(fabsf(s.altitudeTimeConstant / (s.altitudeTimeConstant + 0.01f) - 0.998f) < 1e-6f);
+    CHECK(FusionAltitudeComplementarySettingsCheck(&s) == FusionAltitudeComplementaryStatusOk);
+}
+
+static void FirstBaroSampleSetsTheReference(void) {
+    FusionAltitudeComplementary filter;
+    FusionAltitudeComplementaryInitialise(&filter);
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 1.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(!FusionAltitudeComplementaryIsReferenceSet(&filter));
+    CHECK(FusionAltitudeIsNaN(FusionAltitudeComplementaryGetBaroVelocity(&filter)));
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 1.0f, 42.0f, 0.01f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(FusionAltitudeComplementaryIsReferenceSet(&filter));
+    CHECK(FusionAltitudeComplementaryGetAltitude(&filter) == 42.0f);
+    CHECK(FusionAltitudeComplementaryGetBaroFiltered(&filter) == 42.0f);
+    CHECK(FusionAltitudeComplementaryGetVerticalVelocity(&filter) == 0.0f);
+}
+
+static void PerSampleStepFollowsTheWriteUp(void) {
+    FusionAltitudeComplementary filter;
+    FusionAltitudeComplementaryInitialise(&filter);
+    FusionAltitudeComplementarySettings s = FusionAltitudeComplementarySettingsDefault();
+    s.perSampleCoefficients = true;
+    s.accelTimeConstant = 0.0f;
+    s.baroTimeConstant = 0.0f;
+    CHECK(FusionAltitudeComplementarySetSettings(&filter, &s) == FusionAltitudeComplementaryStatusOk);
+    (void) FusionAltitudeComplementaryReset(&filter, 10.0f);
+    filter.verticalVelocity = 0.5f;
+    const float dt = 0.01f, a = 2.0f, z = 10.2f;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, a, z, dt) == FusionAltitudeComplementaryStatusOk);
+    const float vTemp = 0.5f + a * dt;
+    const float vBaro = (z - 10.0f) / dt;
+    const float v = 0.999f * vTemp + (1.0f - 0.999f) * vBaro;
+    const float hTemp = 10.0f + vTemp * dt + 0.5f * a * dt * dt;
+    const float h = 0.998f * hTemp + (1.0f - 0.998f) * z;
+    CHECK(fabsf(FusionAltitudeComplementaryGetVerticalVelocity(&filter) - v) < 1e-6f);
+    CHECK(fabsf(FusionAltitudeComplementaryGetAltitude(&filter) - h) < 1e-5f);
+    CHECK(fabsf(FusionAltitudeComplementaryGetBaroVelocity(&filter) - vBaro) < 1e-3f);
+}
+
+static void StepWithoutBaroIntegratesOnly(void) {
+    FusionAltitudeComplementary filter = Running();
+    const float h = filter.altitude, v = filter.verticalVelocity;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 0.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeComplementaryStatusOk);
+    const float aLp = filter.accelFiltered;
+    CHECK(filter.verticalVelocity == v + aLp * 0.01f);
+    CHECK(FusionAltitudeIsNaN(filter.baroVelocity));
+    CHECK(h != filter.altitude);
+    CHECK(filter.sinceBaro == 0.01f);
+}
+
+static void BaroStepSettlesWithTheDocumentedResponse(void) {
+    /* h(t) = 1 - (p e^-pt - q e^-qt)/(p - q): 50 % near 2.1 s, overshoot ~12.5 % near 13.9 s */
+    FusionAltitudeComplementary filter;
+    FusionAltitudeComplementaryInitialise(&filter);
+    (void) FusionAltitudeComplementaryUpdate(&filter, 0.0f, 0.0f, 0.01f);
+    float peak = 0.0f;
+    float half = -1.0f;
+    for (int i = 1; i <= 6000; i++) {
+        (void) FusionAltitudeComplementaryUpdate(&filter, 0.0f, 1.0f, 0.01f);
+        const float h = FusionAltitudeComplementaryGetAltitude(&filter);
+        if ((half < 0.0f) && (h >= 0.5f)) {
+            half = 0.01f * (float) i;
+        }
+        peak = h > peak ? h : peak;
+    }
+    CHECK(half > 1.9f && half < 2.4f);
+    CHECK(peak > 1.10f && peak < 1.15f);
+    CHECK(fabsf(FusionAltitudeComplementaryGetAltitude(&filter) - 1.0f) < 0.02f);
+}
+
+static void BiasGivesTheDocumentedOffset(void) {
+    FusionAltitudeComplementary filter;
+    FusionAltitudeComplementaryInitialise(&filter);
+    const float bias = 0.012f * FUSION_ALTITUDE_GRAVITY;
+    for (int i = 0; i < 30000; i++) {
+        (void) FusionAltitudeComplementaryUpdate(&filter, bias, 0.0f, 0.01f);
+    }
+    const float expected = bias * 9.99f * 4.99f;
+    CHECK(fabsf(FusionAltitudeComplementaryGetAltitude(&filter) - expected) < 0.05f * expected);
+}
+
+static void SlowBaroUsesTheIntervalSinceTheLastSample(void) {
+    FusionAltitudeComplementary a, b;
+    FusionAltitudeComplementaryInitialise(&a);
+    FusionAltitudeComplementaryInitialise(&b);
+    (void) FusionAltitudeComplementaryUpdate(&a, 0.0f, 0.0f, 0.01f);
+    (void) FusionAltitudeComplementaryUpdate(&b, 0.0f, 0.0f, 0.04f);
+    for (int i = 0; i < 3; i++) {
+        (void) FusionAltitudeComplementaryUpdate(&a, 0.0f, FUSION_ALTITUDE_NO_BARO, 0.01f);
+    }
+    (void) FusionAltitudeComplementaryUpdate(&a, 0.0f, 1.0f, 0.01f);
+    (void) FusionAltitudeComplementaryUpdate(&b, 0.0f, 1.0f, 0.04f);
+    CHECK(fabsf(a.baroFiltered - b.baroFiltered) < 1e-6f);
+    CHECK(fabsf(a.baroVelocity - b.baroVelocity) < 1e-4f);
+    CHECK(fabsf(a.altitude - b.altitude) < 1e-5f);
+}
+
+static void BadInputsLeaveTheStateUnchanged(void) {
+    const float bad[][3] = {{FusionAltitudeNaN(), 1.0f, 0.01f}, {Infinity(), 1.0f, 0.01f}, {0.0f, Infinity(), 0.01f},
+                            {0.0f, -Infinity(), 0.01f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, -0.01f},
+                            {0.0f, 1.0f, FusionAltitudeNaN()}, {0.0f, 1.0f, Infinity()}};
+    const FusionAltitudeComplementaryStatus expected[] = {
+        FusionAltitudeComplementaryStatusInvalidAccel, FusionAltitudeComplementaryStatusInvalidAccel,
+        FusionAltitudeComplementaryStatusInvalidBaroAltitude, FusionAltitudeComplementaryStatusInvalidBaroAltitude,
+        FusionAltitudeComplementaryStatusInvalidDt, FusionAltitudeComplementaryStatusInvalidDt,
+        FusionAltitudeComplementaryStatusInvalidDt, FusionAltitudeComplementaryStatusInvalidDt};
+    for (unsigned i = 0; i < sizeof(expected) / sizeof(expected[0]); i++) {
+        FusionAltitudeComplementary filter = Running();
+        const FusionAltitudeComplementary before = filter;
+        CHECK(FusionAltitudeComplementaryUpdate(&filter, bad[i][0], bad[i][1], bad[i][2]) == expected[i]);
+        CHECK(memcmp(&filter, &before, sizeof(filter)) == 0);
+    }
+    FusionAltitudeComplementary filter = Running();
+    CHECK(FusionAltitudeComplementaryReset(&filter, FusionAltitudeNaN()) == FusionAltitudeComplementaryStatusInvalidBaroAltitude);
+}
+
+static void BadSettingsAreRejected(void) {
+    FusionAltitudeComplementary filter = Running();
+    const FusionAltitudeComplementary before = filter;
+    FusionAltitudeComplementarySettings s = FusionAltitudeComplementarySettingsDefault();
+    s.baroTimeConstant = -1.0f;
+    CHECK(FusionAltitudeComplementarySetSettings(&filter, &s) == FusionAltitudeComplementaryStatusInvalidTimeConstant);
+    s = FusionAltitudeComplementarySettingsDefault();
+    s.velocityTimeConstant = Infinity();
+    CHECK(FusionAltitudeComplementarySetSettings(&filter, &s) == FusionAltitudeComplementaryStatusInvalidTimeConstant);
+    s = FusionAltitudeComplementarySettingsDefault();
+    s.altitudeCoefficient = 1.5f;
+    CHECK(FusionAltitudeComplementarySetSettings(&filter, &s) == FusionAltitudeComplementaryStatusInvalidCoefficient);
+    s.altitudeCoefficient = FusionAltitudeNaN();
+    CHECK(FusionAltitudeComplementarySetSettings(&filter, &s) == FusionAltitudeComplementaryStatusInvalidCoefficient);
+    CHECK(memcmp(&filter, &before, sizeof(filter)) == 0);
+    CHECK(strcmp(FusionAltitudeComplementaryStatusMessage(FusionAltitudeComplementaryStatusInvalidDt), "dt must be finite and > 0") == 0);
+}
+
+int main(void) {
+    RUN(DefaultsAreTheWriteUpsCoefficientsAt100Hz);
+    RUN(FirstBaroSampleSetsTheReference);
+    RUN(PerSampleStepFollowsTheWriteUp);
+    RUN(StepWithoutBaroIntegratesOnly);
+    RUN(BaroStepSettlesWithTheDocumentedResponse);
+    RUN(BiasGivesTheDocumentedOffset);
+    RUN(SlowBaroUsesTheIntervalSinceTheLastSample);
+    RUN(BadInputsLeaveTheStateUnchanged);
+    RUN(BadSettingsAreRejected);
+    return TestSummary();
+}

@@ -1,0 +1,393 @@
+"""Quality-weighted alpha-beta multi-sensor fusion (seed write-up 003), in plain Python.
+
+Written to be read next to ``csrc/fusion_altitude_alphabeta.h`` (whose file
+comment has the equations and why alpha = 2(2Q−1)/(Q(Q+1)) rather than the
+write-up's printed formula): float32 arithmetic through numpy scalars in the
+same order as the C, so results agree bit for bit.
+
+Each sensor channel (IMU, baro, lidar, sonar, GPS) has an alpha-beta filter
+(altitude x m, velocity v m/s, time since its latest sample T s, quality Q);
+the fused output is their mean weighted by Q · confidence.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from typing import Optional
+
+import numpy as np
+
+from .. import _common
+from .._common import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
+                       AlphaBetaSensorSettings, AlphaBetaStatus)
+
+f32 = np.float32
+_NAN = f32("nan")
+_HALF = f32(0.5)
+_ONE = f32(1)
+_TWO = f32(2)
+_SIX = f32(6)
+_IMU = 0
+
+
+def gains(quality: int):
+    """FusionAltitudeAlphaBetaGains: alpha = 2(2Q−1)/(Q(Q+1)), beta = 6/(Q(Q+1)), float32."""
+    q = f32(quality)
+    denominator = q * (q + _ONE)
+    return (_TWO * (_TWO * q - _ONE)) / denominator, _SIX / denominator
+
+
+def _sensor_status(s: AlphaBetaSensorSettings) -> AlphaBetaStatus:
+    """FusionAltitudeAlphaBetaSensorSettingsCheck."""
+    if not (math.isfinite(s.threshold) and s.threshold > 0):
+        return AlphaBetaStatus.INVALID_THRESHOLD
+    if s.quality_min < 2 or s.quality_max < s.quality_min or s.quality_max > ALPHABETA_MAX_QUALITY:
+        return AlphaBetaStatus.INVALID_QUALITY
+    if not (math.isfinite(s.confidence) and s.confidence >= 0):
+        return AlphaBetaStatus.INVALID_CONFIDENCE
+    if not s.altitude_min < s.altitude_max:
+        return AlphaBetaStatus.INVALID_ALTITUDE_BAND
+    if not s.gap_max > 0:
+        return AlphaBetaStatus.INVALID_GAP_MAX
+    if not (math.isfinite(s.timeout) and s.timeout > 0):
+        return AlphaBetaStatus.INVALID_TIMEOUT
+    return AlphaBetaStatus.OK
+
+
+class AlphaBetaSettings:
+    """One :class:`AlphaBetaSensorSettings` per sensor; see :class:`fusion_altitude.AlphaBetaSettings`."""
+
+    __slots__ = ("_values",)
+
+    def __init__(self, **sensors) -> None:
+        values = _common.convert_alphabeta_settings(sensors)
+        for sensor in ALPHABETA_SENSORS:  # FusionAltitudeAlphaBetaSettingsCheck: first failure in sensor order
+            status = _sensor_status(values[sensor])
+            if status != AlphaBetaStatus.OK:
+                _common.raise_alphabeta_settings_error(status, values)
+        self._values = values
+
+    def __getattr__(self, name: str):
+        values = object.__getattribute__(self, "_values")
+        if name in values:
+            return values[name]
+        raise AttributeError(f"'AlphaBetaSettings' object has no attribute {name!r}")
+
+    def as_dict(self) -> dict:
+        """{sensor: AlphaBetaSensorSettings} in the C sensor order."""
+        return dict(self._values)
+
+    def replace(self, **sensors) -> "AlphaBetaSettings":
+        """A copy with some sensors' fields changed."""
+        unknown = set(sensors) - set(ALPHABETA_SENSORS)
+        if unknown:
+            raise TypeError(f"unknown alpha-beta sensor(s): {', '.join(sorted(unknown))}")
+        merged = {}
+        for name, value in self._values.items():
+            change = sensors.get(name)
+            if change is None:
+                merged[name] = value
+            elif isinstance(change, AlphaBetaSensorSettings):
+                merged[name] = change
+            else:
+                merged[name] = value._replace(**change)
+        return AlphaBetaSettings(**merged)
+
+    def __eq__(self, other: object) -> bool:
+        if not hasattr(other, "as_dict") or not hasattr(other, "sonar"):
+            return NotImplemented
+        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._values.items()))
+
+    def __repr__(self) -> str:
+        return "AlphaBetaSettings(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
+
+    def __reduce__(self):
+        return (_settings_from_dict, (self.as_dict(),))
+
+
+def _settings_from_dict(values: dict) -> AlphaBetaSettings:
+    return AlphaBetaSettings(**values)
+
+
+def _as_settings(settings: object) -> AlphaBetaSettings:
+    if isinstance(settings, AlphaBetaSettings):
+        return settings
+    if hasattr(settings, "as_dict") and hasattr(settings, "sonar"):
+        return AlphaBetaSettings(**settings.as_dict())  # type: ignore[attr-defined]
+    raise TypeError(f"settings must be AlphaBetaSettings, got {type(settings).__name__}")
+
+
+def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus:
+    """FusionAltitudeAlphaBetaCheckInputs: no infinities; dt finite and > 0. z = (baro, lidar, sonar, gps)."""
+    if np.isinf(accel):
+        return AlphaBetaStatus.INVALID_ACCEL
+    if not np.isfinite(dt) or not dt > 0:
+        return AlphaBetaStatus.INVALID_DT
+    for status, value in zip((AlphaBetaStatus.INVALID_BARO_ALTITUDE, AlphaBetaStatus.INVALID_LIDAR_ALTITUDE,
+                              AlphaBetaStatus.INVALID_SONAR_ALTITUDE, AlphaBetaStatus.INVALID_GPS_ALTITUDE), z):
+        if np.isinf(value):
+            return status
+    return AlphaBetaStatus.OK
+
+
+class _Filter:
+    """FusionAltitudeAlphaBetaFilter: one sensor's alpha-beta filter."""
+
+    __slots__ = ("x", "v", "since", "weight", "quality", "started")
+
+    def __init__(self, quality: int) -> None:
+        self.x = f32(0)
+        self.v = f32(0)
+        self.since = f32(0)
+        self.weight = f32(0)
+        self.quality = quality
+        self.started = False
+
+    def state(self) -> tuple:
+        return (float(self.x), float(self.v), float(self.since), float(self.weight), self.quality, self.started)
+
+
+class AlphaBetaFusion:
+    """Quality-weighted alpha-beta fusion; see :class:`fusion_altitude.AlphaBetaFusion`."""
+
+    __slots__ = ("_settings", "_filters", "_h", "_v", "_total", "_started")
+
+    def __init__(self, settings: Optional[AlphaBetaSettings] = None) -> None:
+        # FusionAltitudeAlphaBetaInitialise / InitialiseWith
+        self._settings = AlphaBetaSettings() if settings is None else _as_settings(settings)
+        self._clear()
+
+    def _clear(self) -> None:
+        self._filters = [_Filter(self._settings._values[name].quality_min) for name in ALPHABETA_SENSORS]
+        self._h = f32(0)
+        self._v = f32(0)
+        self._total = f32(0)
+        self._started = False
+
+    def _sensor(self, i: int) -> AlphaBetaSensorSettings:
+        return self._settings._values[ALPHABETA_SENSORS[i]]
+
+    def _start(self, accel: np.float32, z: list) -> AlphaBetaStatus:
+        """The first step with a non-IMU sample: their Qmin·confidence-weighted mean."""
+        sum_weight = f32(0)
+        sum_altitude = f32(0)
+        for i in range(1, 5):
+            if np.isfinite(z[i]):
+                s = self._sensor(i)
+                w = f32(s.quality_min) * f32(s.confidence)
+                sum_weight += w
+                sum_altitude += w * z[i]
+        if not sum_weight > 0:
+            return AlphaBetaStatus.OK  # nothing to start from yet
+        self._h = sum_altitude / sum_weight
+        self._v = f32(0)
+        self._total = sum_weight
+        imu_sample = bool(np.isfinite(accel))
+        for i, f in enumerate(self._filters):
+            s = self._sensor(i)
+            sampled = imu_sample if i == _IMU else bool(np.isfinite(z[i]))
+            f.x = self._h if i == _IMU else z[i]
+            f.v = f32(0)
+            f.since = f32(0)
+            f.quality = s.quality_min
+            f.started = sampled
+            f.weight = f32(s.quality_min) * f32(s.confidence) if (sampled and i != _IMU) else f32(0)
+            if not sampled:
+                f.x = f32(0)
+        self._started = True
+        return AlphaBetaStatus.OK
+
+    # FusionAltitudeAlphaBetaUpdate
+    def _update(self, accel: np.float32, dt: np.float32, measurements: tuple) -> AlphaBetaStatus:
+        status = check_inputs(accel, dt, measurements)
+        if status != AlphaBetaStatus.OK:
+            return status
+        imu_sample = bool(np.isfinite(accel))
+        z = [_NAN, *measurements]
+        if not self._started:
+            return self._start(accel, z)
+
+        # 1. IMU prediction of the fused altitude; also the IMU channel's sample.
+        altitude_predicted = self._h + self._v * dt
+        velocity_predicted = self._v
+        if imu_sample:
+            altitude_predicted += _HALF * accel * dt * dt
+            velocity_predicted += accel * dt
+        z[_IMU] = altitude_predicted if imu_sample else _NAN
+
+        # 2. Each sensor's alpha-beta filter, quality and weight.
+        sum_weight = f32(0)
+        sum_altitude = f32(0)
+        sum_velocity = f32(0)
+        for i, f in enumerate(self._filters):
+            s = self._sensor(i)
+            sampled = bool(np.isfinite(z[i]))
+            timeout = f32(s.timeout)
+            if f.started:
+                f.x += f.v * dt
+                f.since += dt
+            if sampled:
+                if not f.started or f.since > timeout:  # first sample, or back after a silence: restart
+                    f.x = z[i]
+                    f.v = self._v
+                    f.quality = s.quality_min
+                    f.started = True
+                else:
+                    agreement = z[i] - altitude_predicted
+                    threshold = f32(s.threshold)
+                    if -threshold <= agreement <= threshold:
+                        f.quality = min(f.quality + 1, s.quality_max)
+                    else:
+                        f.quality = max(f.quality - 1, s.quality_min)
+                    alpha, beta = gains(f.quality)
+                    residual = z[i] - f.x
+                    f.x += alpha * residual
+                    f.v += (beta * residual) / f.since
+                f.since = f32(0)
+            weight = f32(0)
+            if f.started and not f.since > timeout:
+                gap = f.x - altitude_predicted
+                in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
+                gap_max = f32(s.gap_max)
+                if in_band and -gap_max <= gap <= gap_max:
+                    weight = f32(f.quality) * f32(s.confidence)
+            f.weight = weight
+            if weight > 0:
+                sum_weight += weight
+                sum_altitude += weight * f.x
+                sum_velocity += weight * f.v
+
+        # 3. Weighted mean, or dead reckoning when every weight is zero.
+        if sum_weight > 0:
+            self._h = sum_altitude / sum_weight
+            self._v = sum_velocity / sum_weight
+        else:
+            self._h = altitude_predicted
+            self._v = velocity_predicted
+        self._total = sum_weight
+        return AlphaBetaStatus.OK
+
+    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, lidar_altitude: float = math.nan,
+               sonar_altitude: float = math.nan, gps_altitude: float = math.nan) -> None:
+        """Process one step (accel m/s² or NaN, dt s, each sensor's altitude m or NaN)."""
+        names = ("baro_altitude", "lidar_altitude", "sonar_altitude", "gps_altitude")
+        raw = (baro_altitude, lidar_altitude, sonar_altitude, gps_altitude)
+        with np.errstate(over="ignore"):
+            a = f32(_common.as_float(accel, "accel"))
+            t = f32(_common.as_float(dt, "dt"))
+            z = tuple(f32(_common.as_float(value, name)) for value, name in zip(raw, names))
+        with np.errstate(all="ignore"):
+            status = self._update(a, t, z)
+        if status != AlphaBetaStatus.OK:
+            _common.raise_alphabeta_update_error(status, {"accel": float(a), "dt": float(t),
+                                                          **{n: float(v) for n, v in zip(names, raw)}})  # type: ignore[arg-type]
+
+    def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
+                     gps_altitude=None) -> AlphaBetaBatch:
+        """Process arrays of steps; equal, bit for bit, to calling :meth:`update` for each."""
+        n, inputs, steps, result = _common.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
+                                                                    sonar_altitude, gps_altitude)
+        trial = copy.copy(self)
+        names = _common.ALPHABETA_INPUTS
+        with np.errstate(all="ignore"):
+            for i in range(n):
+                values = [inputs[name][i * steps[name]] for name in names]
+                status = trial._update(values[0], values[1], tuple(values[2:]))
+                if status != AlphaBetaStatus.OK:
+                    _common.raise_alphabeta_update_error(status, {name: float(v) for name, v in zip(names, values)},
+                                                         i, {k: bool(s) for k, s in steps.items()})
+                result.altitude[i] = trial._h
+                result.vertical_velocity[i] = trial._v
+                for j, f in enumerate(trial._filters):
+                    result.weight[i, j] = f.weight
+                    result.quality[i, j] = f.quality
+        self._set_state(trial._get_state())
+        return result
+
+    @property
+    def altitude(self) -> float:
+        """Fused altitude h, m (0 until started)."""
+        return float(self._h)
+
+    @property
+    def vertical_velocity(self) -> float:
+        """Fused vertical velocity v, m/s."""
+        return float(self._v)
+
+    @property
+    def started(self) -> bool:
+        """Whether the fusion has started."""
+        return self._started
+
+    @property
+    def total_weight(self) -> float:
+        """Sum of the weights of the latest step (0: dead reckoning)."""
+        return float(self._total)
+
+    @property
+    def weights(self) -> AlphaBetaSensors:
+        """Each sensor's weight in the latest step."""
+        return AlphaBetaSensors(*[float(f.weight) for f in self._filters])
+
+    @property
+    def qualities(self) -> AlphaBetaSensors:
+        """Each sensor's quality Q."""
+        return AlphaBetaSensors(*[f.quality for f in self._filters])
+
+    @property
+    def filter_altitudes(self) -> AlphaBetaSensors:
+        """Each sensor's filtered altitude x, m."""
+        return AlphaBetaSensors(*[float(f.x) for f in self._filters])
+
+    @property
+    def settings(self) -> AlphaBetaSettings:
+        """The settings; assign new ones to retune (qualities clamped to the new ranges)."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: AlphaBetaSettings) -> None:
+        # FusionAltitudeAlphaBetaSetSettings
+        self._settings = _as_settings(settings)
+        for i, f in enumerate(self._filters):
+            s = self._sensor(i)
+            f.quality = min(max(f.quality, s.quality_min), s.quality_max)
+
+    def _get_state(self) -> tuple:
+        return (self._settings.as_dict(), tuple(f.state() for f in self._filters), float(self._h), float(self._v),
+                float(self._total), self._started)
+
+    def _set_state(self, state: tuple) -> None:
+        values, filters, h, v, total, started = state
+        self._settings = AlphaBetaSettings(**values)
+        self._filters = []
+        for x, vi, since, weight, quality, filter_started in filters:
+            f = _Filter(int(quality))
+            f.x, f.v, f.since, f.weight = f32(x), f32(vi), f32(since), f32(weight)
+            f.started = bool(filter_started)
+            self._filters.append(f)
+        self._h, self._v, self._total = f32(h), f32(v), f32(total)
+        self._started = bool(started)
+
+    def __copy__(self) -> "AlphaBetaFusion":
+        clone = AlphaBetaFusion.__new__(AlphaBetaFusion)
+        clone._set_state(self._get_state())
+        return clone
+
+    def __deepcopy__(self, memo: dict) -> "AlphaBetaFusion":
+        return self.__copy__()
+
+    def __reduce__(self):
+        return (_restore, (self._get_state(),))
+
+    def __repr__(self) -> str:
+        return f"AlphaBetaFusion(altitude={self._h}, vertical_velocity={self._v}, weights={tuple(self.weights)!r})"
+
+
+def _restore(state: tuple) -> AlphaBetaFusion:
+    fusion = AlphaBetaFusion.__new__(AlphaBetaFusion)
+    fusion._set_state(state)
+    return fusion

@@ -1,0 +1,293 @@
+"""The two-stage complementary filter (seed write-up 001), in plain Python.
+
+Written to be read next to ``csrc/fusion_altitude_complementary.h``: float32
+arithmetic through numpy scalars in the same order as the C, so results agree
+bit for bit.
+
+State (float32): altitude h (m), vertical velocity v (m/s), low-passed accel
+aLp (m/s²), low-passed baro zLp (m), the latest finite-difference baro
+velocity (m/s), the time since the latest baro sample (s), and whether the
+reference is set.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Optional, Sequence
+
+import numpy as np
+
+from .. import _common
+from .._common import ComplementaryBatch, ComplementaryStatus
+
+f32 = np.float32
+_NAN = f32("nan")
+_HALF = f32(0.5)
+_ONE = f32(1)
+
+
+def _is_time_constant(value: np.float32) -> bool:
+    return bool(np.isfinite(value)) and value >= 0
+
+
+def _is_coefficient(value: np.float32) -> bool:
+    return bool(np.isfinite(value)) and 0 <= value <= 1
+
+
+def _check(values: dict) -> ComplementaryStatus:
+    """FusionAltitudeComplementarySettingsCheck."""
+    if not all(_is_time_constant(f32(values[name])) for name in
+               ("accel_time_constant", "baro_time_constant", "velocity_time_constant", "altitude_time_constant")):
+        return ComplementaryStatus.INVALID_TIME_CONSTANT
+    if not (_is_coefficient(f32(values["velocity_coefficient"])) and _is_coefficient(f32(values["altitude_coefficient"]))):
+        return ComplementaryStatus.INVALID_COEFFICIENT
+    return ComplementaryStatus.OK
+
+
+def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryStatus:
+    """FusionAltitudeComplementaryCheckInputs: a finite, z finite or NaN, dt finite and > 0."""
+    if not np.isfinite(a):
+        return ComplementaryStatus.INVALID_ACCEL
+    if np.isinf(z):
+        return ComplementaryStatus.INVALID_BARO_ALTITUDE
+    if not np.isfinite(dt) or not dt > 0:
+        return ComplementaryStatus.INVALID_DT
+    return ComplementaryStatus.OK
+
+
+class ComplementarySettings:
+    """Settings of the two-stage complementary filter (float32); see :class:`fusion_altitude.ComplementarySettings`."""
+
+    __slots__ = ("_values",)
+
+    def __init__(self, **kwargs) -> None:
+        values = _common.convert_complementary_settings(kwargs)
+        status = _check(values)
+        if status != ComplementaryStatus.OK:
+            _common.raise_complementary_settings_error(status, values)
+        self._values = values
+
+    @classmethod
+    def from_coefficients(cls, velocity_coefficient=0.999, altitude_coefficient=0.998, **kwargs):
+        """The write-up's fixed blend coefficients per baro sample."""
+        return cls(per_sample_coefficients=True, velocity_coefficient=velocity_coefficient,
+                   altitude_coefficient=altitude_coefficient, **kwargs)
+
+    @classmethod
+    def from_time_constants(cls, velocity_time_constant=9.99, altitude_time_constant=4.99, **kwargs):
+        """Blend from time constants in s (the default form)."""
+        return cls(velocity_time_constant=velocity_time_constant, altitude_time_constant=altitude_time_constant,
+                   **kwargs)
+
+    def __getattr__(self, name: str):
+        values = object.__getattribute__(self, "_values")
+        if name in values:
+            return values[name]
+        raise AttributeError(f"'ComplementarySettings' object has no attribute {name!r}")
+
+    def as_dict(self) -> dict:
+        """Every setting as a Python value, in the order of the C struct."""
+        return dict(self._values)
+
+    def replace(self, **changes) -> "ComplementarySettings":
+        """A copy with some settings changed."""
+        return ComplementarySettings(**{**self._values, **changes})
+
+    def __eq__(self, other: object) -> bool:
+        if not hasattr(other, "as_dict") or not hasattr(other, "per_sample_coefficients"):
+            return NotImplemented
+        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._values.items()))
+
+    def __repr__(self) -> str:
+        return "ComplementarySettings(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
+
+    def __reduce__(self):
+        return (_settings_from_dict, (self.as_dict(),))
+
+
+def _settings_from_dict(values: dict) -> ComplementarySettings:
+    return ComplementarySettings(**values)
+
+
+def _as_settings(settings: object) -> ComplementarySettings:
+    if isinstance(settings, ComplementarySettings):
+        return settings
+    if hasattr(settings, "as_dict") and hasattr(settings, "per_sample_coefficients"):
+        return ComplementarySettings(**settings.as_dict())  # type: ignore[attr-defined]
+    raise TypeError(f"settings must be ComplementarySettings, got {type(settings).__name__}")
+
+
+class ComplementaryFilter:
+    """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
+
+    __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_reference_set")
+
+    def __init__(self, settings: Optional[ComplementarySettings] = None) -> None:
+        # FusionAltitudeComplementaryInitialise
+        self._settings = ComplementarySettings() if settings is None else _as_settings(settings)
+        self._h = f32(0)
+        self._v = f32(0)
+        self._a = f32(0)
+        self._zf = f32(0)
+        self._vb = f32(0)
+        self._since = f32(0)
+        self._reference_set = False
+
+    # FusionAltitudeComplementaryReset
+    def _reset(self, z: np.float32) -> ComplementaryStatus:
+        if not np.isfinite(z):
+            return ComplementaryStatus.INVALID_BARO_ALTITUDE
+        self._h = z
+        self._zf = z
+        self._v = f32(0)
+        self._vb = f32(0)
+        self._since = f32(0)
+        self._reference_set = True
+        return ComplementaryStatus.OK
+
+    # FusionAltitudeComplementaryUpdate
+    def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryStatus:
+        status = check_inputs(a, z, dt)
+        if status != ComplementaryStatus.OK:
+            return status
+        baro_sample = bool(np.isfinite(z))
+        if not self._reference_set:
+            if baro_sample:
+                return self._reset(z)
+            self._vb = _NAN
+            return ComplementaryStatus.OK
+        s = self._settings._values
+        tau_a = f32(s["accel_time_constant"])
+        # first-order low-pass of the acceleration: aLp += dt/(tauA + dt) * (a - aLp)
+        self._a += (dt / (tau_a + dt)) * (a - self._a)
+        a_lp = self._a
+        velocity_predicted = self._v + a_lp * dt
+        altitude_predicted = self._h + velocity_predicted * dt + _HALF * a_lp * dt * dt
+        if not baro_sample:
+            self._v = velocity_predicted
+            self._h = altitude_predicted
+            self._vb = _NAN
+            self._since += dt
+            return ComplementaryStatus.OK
+        interval = self._since + dt  # D: time since the previous baro sample
+        baro_previous = self._zf
+        tau_b = f32(s["baro_time_constant"])
+        self._zf = baro_previous + (interval / (tau_b + interval)) * (z - baro_previous)
+        baro_velocity = (self._zf - baro_previous) / interval
+        if s["per_sample_coefficients"]:
+            c_v = f32(s["velocity_coefficient"])
+            c_h = f32(s["altitude_coefficient"])
+        else:
+            t_v = f32(s["velocity_time_constant"])
+            t_h = f32(s["altitude_time_constant"])
+            c_v = t_v / (t_v + interval)
+            c_h = t_h / (t_h + interval)
+        self._v = c_v * velocity_predicted + (_ONE - c_v) * baro_velocity
+        self._h = c_h * altitude_predicted + (_ONE - c_h) * self._zf
+        self._vb = baro_velocity
+        self._since = f32(0)
+        return ComplementaryStatus.OK
+
+    def update(self, accel: float, baro_altitude: float, dt: float) -> None:
+        """Process one sample: accel m/s², baro_altitude m (NaN: none), dt s."""
+        with np.errstate(over="ignore"):
+            a = f32(_common.as_float(accel, "accel"))
+            z = f32(_common.as_float(baro_altitude, "baro_altitude"))
+            t = f32(_common.as_float(dt, "dt"))
+        with np.errstate(all="ignore"):
+            status = self._update(a, z, t)
+        if status != ComplementaryStatus.OK:
+            _common.raise_complementary_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
+
+    def reset(self, baro_altitude: float) -> None:
+        """Set the reference: altitude = filtered baro = ``baro_altitude`` (m), velocities 0."""
+        with np.errstate(over="ignore"):
+            z = f32(_common.as_float(baro_altitude, "baro_altitude"))
+        if self._reset(z) != ComplementaryStatus.OK:
+            raise ValueError(f"baro_altitude must be finite (m), got {float(baro_altitude)!r}")  # type: ignore[arg-type]
+
+    def update_batch(self, accel, baro_altitude, dt, out: Optional[Sequence[np.ndarray]] = None) -> ComplementaryBatch:
+        """Process arrays of samples; equal, bit for bit, to calling :meth:`update` for each."""
+        a, z, t, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
+        result = _common.complementary_outputs(a.shape[0], out)
+        trial = copy.copy(self)
+        with np.errstate(all="ignore"):
+            for i in range(a.shape[0]):
+                ti = t[i] if dt_is_array else t[0]
+                status = trial._update(a[i], z[i], ti)
+                if status != ComplementaryStatus.OK:
+                    _common.raise_complementary_update_error(status, float(a[i]), float(z[i]), float(ti), i,
+                                                             dt_is_array)
+                result.altitude[i] = trial._h
+                result.vertical_velocity[i] = trial._v
+                result.baro_filtered[i] = trial._zf
+                result.baro_velocity[i] = trial._vb
+        self._set_state(trial._get_state())
+        return result
+
+    @property
+    def altitude(self) -> float:
+        """Altitude estimate h, m."""
+        return float(self._h)
+
+    @property
+    def vertical_velocity(self) -> float:
+        """Vertical velocity estimate v, m/s."""
+        return float(self._v)
+
+    @property
+    def baro_filtered(self) -> float:
+        """Low-passed baro altitude, m."""
+        return float(self._zf)
+
+    @property
+    def baro_velocity(self) -> float:
+        """Finite-difference baro velocity of the latest step, m/s (NaN without baro)."""
+        return float(self._vb)
+
+    @property
+    def reference_set(self) -> bool:
+        """Whether the reference is set."""
+        return self._reference_set
+
+    @property
+    def settings(self) -> ComplementarySettings:
+        """The settings; assign new ones to retune, keeping the state."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: ComplementarySettings) -> None:
+        self._settings = _as_settings(settings)
+
+    def _get_state(self) -> tuple:
+        return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),
+                float(self._vb), float(self._since), self._reference_set)
+
+    def _set_state(self, state: tuple) -> None:
+        values, h, v, a, zf, vb, since, reference_set = state
+        self._settings = ComplementarySettings(**values)
+        self._h, self._v, self._a, self._zf, self._vb, self._since = (f32(x) for x in (h, v, a, zf, vb, since))
+        self._reference_set = bool(reference_set)
+
+    def __copy__(self) -> "ComplementaryFilter":
+        clone = ComplementaryFilter.__new__(ComplementaryFilter)
+        clone._set_state(self._get_state())
+        return clone
+
+    def __deepcopy__(self, memo: dict) -> "ComplementaryFilter":
+        return self.__copy__()
+
+    def __reduce__(self):
+        return (_restore, (self._get_state(),))
+
+    def __repr__(self) -> str:
+        return f"ComplementaryFilter(altitude={self._h}, vertical_velocity={self._v}, settings={self._settings!r})"
+
+
+def _restore(state: tuple) -> ComplementaryFilter:
+    estimator = ComplementaryFilter.__new__(ComplementaryFilter)
+    estimator._set_state(state)
+    return estimator

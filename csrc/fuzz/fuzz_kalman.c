@@ -1,0 +1,322 @@
+/**
+ * @file fuzz_kalman.c
+ * @brief libFuzzer target for fusion_altitude_kalman.h, built with clang
+ * under AddressSanitizer + UndefinedBehaviorSanitizer (csrc/firmware/Makefile,
+ * target fuzz-run).
+ *
+ * The input is a loop period followed by a sequence of calls; floats are raw
+ * bytes (any bit pattern: NaNs, infinities, subnormals, huge values):
+ *   bytes 0-3   loop dt (float, s)
+ *   then, per call, one opcode byte and its arguments:
+ *   opcode & 7:
+ *   0 initialise (defaults)
+ *   1 initialise with the working settings
+ *   2 set settings (the working settings)
+ *   3 edit the working settings: field index byte (mod 19), 4 raw bytes
+ *     (float bits; int32 for the minimum satellites; != 0 for the bool)
+ *   4 update with every argument from the input: accel, dt, baro, range, GPS
+ *     altitude, GPS accuracy (floats), satellites (int32), flags byte (bit 0:
+ *     ground effect)
+ *   5 update at the loop dt: accel, a presence byte (bit 0 baro, 1 range,
+ *     2 GPS, 3 ground effect, 4 GPS accuracy, 5 satellites), then only the
+ *     floats present (and the int32 satellites if flagged)
+ *   6 update at the loop dt with NULL measurements: accel
+ *   7 initialise with NULL settings, and reset the working settings to the defaults
+ *
+ * Asserted after every call (abort, so libFuzzer reports a crash):
+ *   - a rejected call leaves the filter bit-identical (memcmp, padding
+ *     included);
+ *   - InitialiseWith and SetSettings return what SettingsCheck returns on
+ *     the same settings; an update returns the status that an independent
+ *     classification of its inputs predicts (ExpectedStatus);
+ *   - P is exactly symmetric (bitwise), always;
+ *   - while the run is "sane" (IsSane below): x, P, the innovations,
+ *     variances and NIS are finite (or the no-sample NaN) and the diagonal of
+ *     P is >= 0.
+ *
+ * A run is sane while every accepted input and the settings in use are
+ * physically plausible:
+ *   - every update at the loop dt, with 1e-3 s <= dt <= 0.1 s, at most
+ *     MAX_STEPS (20000) updates since the filter was initialised;
+ *   - |accel| <= 1e3 m/s^2, |baro|, |GPS altitude| <= 1e5 m, GPS accuracy
+ *     (when given) in [0.01, 100] m; range any (it is used only within the
+ *     limits);
+ *   - settings: accel noise in [1e-3, 10] m/s^2/sqrt(Hz), bias random walk
+ *     <= 1 m/s^3/sqrt(Hz), initial bias sigma <= 10 m/s^2, baro and range
+ *     noise in [0.01, 100] m, offset random walks <= 10 m/sqrt(s), range
+ *     maximum <= 1e3 m, GPS base and satellite terms <= 100 m with a sum
+ *     >= 0.1 m, gate <= 1e3, ground-effect scale <= 100 and dead zone
+ *     <= 1e3 m, initial height and velocity sigmas <= 1e3 (m, m/s).
+ * Finite inputs alone are not enough: accel = 3e38 overflows h in one step,
+ * and a noise of 1e-30 m next to a variance of 1e30 m^2 leaves nothing of
+ * float32's 24 bits for the update.
+ */
+
+#include "fusion_altitude_kalman.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MIN_DT (1e-3f)       /* s */
+#define MAX_DT (0.1f)        /* s */
+#define MAX_STEPS (20000)    /* updates since initialisation */
+#define MAX_ACCEL (1e3f)     /* m/s^2 */
+#define MAX_ALTITUDE (1e5f)  /* m */
+#define SETTINGS_FIELDS (19)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#define CHECK(condition)                                                                \
+    do {                                                                                \
+        if (!(condition)) {                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            abort();                                                                    \
+        }                                                                               \
+    } while (0)
+
+typedef struct {
+    const uint8_t *data;
+    size_t size;
+} Reader;
+
+static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
+    if (reader->size < size) {
+        return false;
+    }
+    memcpy(value, reader->data, size);
+    reader->data += size;
+    reader->size -= size;
+    return true;
+}
+
+static bool ReadFloat(Reader *const reader, float *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static bool ReadByte(Reader *const reader, uint8_t *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static bool Within(const float value, const float minimum, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
+}
+
+static bool IsInfinite(const float value) {
+    return !FusionAltitudeIsFinite(value) && !FusionAltitudeIsNaN(value);
+}
+
+/* The settings a physically plausible system would have (see the file comment). */
+static bool SaneSettings(const FusionAltitudeKalmanSettings *const s) {
+    return Within(s->accelNoise, 1e-3f, 10.0f) && Within(s->accelBiasRandomWalk, 0.0f, 1.0f) &&
+           Within(s->accelBiasInitialSigma, 0.0f, 10.0f) && Within(s->baroNoise, 0.01f, 100.0f) &&
+           Within(s->baroOffsetRandomWalk, 0.0f, 10.0f) && Within(s->rangeNoise, 0.01f, 100.0f) &&
+           Within(s->rangeMaximum, 0.0f, 1e3f) && Within(s->gpsNoiseBase, 0.0f, 100.0f) &&
+           Within(s->gpsNoiseSatellite, 0.0f, 100.0f) && (s->gpsNoiseBase + s->gpsNoiseSatellite >= 0.1f) &&
+           Within(s->gpsOffsetRandomWalk, 0.0f, 10.0f) && Within(s->gate, 0.0f, 1e3f) &&
+           Within(s->groundEffectNoiseScale, 1.0f, 100.0f) && Within(s->groundEffectDeadZone, 0.0f, 1e3f) &&
+           Within(s->initialHeightSigma, 0.0f, 1e3f) && Within(s->initialVelocitySigma, 0.0f, 1e3f);
+}
+
+/* The status FusionAltitudeKalmanUpdate must return, classified independently of the header's code. */
+static FusionAltitudeKalmanStatus ExpectedStatus(const float accel, const float dt, const FusionAltitudeKalmanMeasurements *const m) {
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeKalmanStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsFinite(dt) || (dt <= 0.0f)) {
+        return FusionAltitudeKalmanStatusInvalidDt;
+    }
+    if ((m != NULL) && IsInfinite(m->baroAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidBaroAltitude;
+    }
+    if ((m != NULL) && IsInfinite(m->gpsAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidGpsAltitude;
+    }
+    if ((m != NULL) && !FusionAltitudeIsNaN(m->gpsAltitude) && !FusionAltitudeIsNaN(m->gpsVerticalAccuracy) &&
+        !(FusionAltitudeIsFinite(m->gpsVerticalAccuracy) && (m->gpsVerticalAccuracy > 0.0f))) {
+        return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
+    }
+    return FusionAltitudeKalmanStatusOk;
+}
+
+/* Finite, or the no-sample NaN (0x7FC00000). */
+static bool FiniteOrNoSample(const float value) {
+    return FusionAltitudeIsFinite(value) || (FusionAltitudeFloatBits(value) == 0x7FC00000u);
+}
+
+static void CheckSymmetric(const FusionAltitudeKalman *const kalman) {
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        for (int j = 0; j < i; j++) {
+            CHECK(FusionAltitudeFloatBits(kalman->P[i][j]) == FusionAltitudeFloatBits(kalman->P[j][i]));
+        }
+    }
+}
+
+static void CheckFinite(const FusionAltitudeKalman *const kalman) {
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        CHECK(FusionAltitudeIsFinite(kalman->x[i]));
+        CHECK(kalman->P[i][i] >= 0.0f);
+        for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
+            CHECK(FusionAltitudeIsFinite(kalman->P[i][j]));
+        }
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
+        const FusionAltitudeKalmanSensor sensor = FusionAltitudeKalmanGetSensor(kalman, (FusionAltitudeKalmanSensorIndex) i);
+        CHECK(FiniteOrNoSample(sensor.innovation) && FiniteOrNoSample(sensor.innovationVariance) && FiniteOrNoSample(sensor.nis));
+        CHECK(FusionAltitudeIsFinite(sensor.rejectingFor));
+    }
+    CHECK(FusionAltitudeIsFinite(FusionAltitudeKalmanGetAltitude(kalman)));
+    CHECK(FusionAltitudeIsFinite(FusionAltitudeKalmanGetAltitudeVariance(kalman)));
+}
+
+typedef struct {
+    bool sane;    /* all accepted inputs and settings physically plausible so far */
+    int steps;    /* updates since initialisation */
+    float loopDt; /* s */
+    bool loopDtSane;
+} Run;
+
+static void Initialised(Run *const run, const FusionAltitudeKalman *const kalman) {
+    const FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(kalman);
+    run->sane = run->loopDtSane && SaneSettings(&settings);
+    run->steps = 0;
+}
+
+static FusionAltitudeKalmanStatus Update(FusionAltitudeKalman *const kalman, Run *const run, const float accel, const float dt,
+                                         const FusionAltitudeKalmanMeasurements *const m) {
+    const FusionAltitudeKalmanStatus status = FusionAltitudeKalmanUpdate(kalman, accel, dt, m);
+    CHECK(status == ExpectedStatus(accel, dt, m));
+    if (status != FusionAltitudeKalmanStatusOk) {
+        return status;
+    }
+    run->steps++;
+    bool plausible = Within(accel, -MAX_ACCEL, MAX_ACCEL) && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt)) &&
+                     (run->steps <= MAX_STEPS);
+    if (m != NULL) {
+        plausible = plausible && (FusionAltitudeIsNaN(m->baroAltitude) || Within(m->baroAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
+        plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || Within(m->gpsAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
+        plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || FusionAltitudeIsNaN(m->gpsVerticalAccuracy) ||
+                                  Within(m->gpsVerticalAccuracy, 0.01f, 100.0f));
+    }
+    run->sane = run->sane && plausible;
+    return status;
+}
+
+static void EditSettings(FusionAltitudeKalmanSettings *const s, const uint8_t field, const uint32_t bits) {
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    float *const floats[SETTINGS_FIELDS] = {&s->accelNoise, &s->accelBiasRandomWalk, &s->accelBiasInitialSigma, NULL, &s->baroNoise,
+                                            &s->baroOffsetRandomWalk, &s->rangeNoise, &s->rangeMinimum, &s->rangeMaximum,
+                                            &s->gpsNoiseBase, &s->gpsNoiseSatellite, NULL, &s->gpsOffsetRandomWalk, &s->gate,
+                                            &s->rejectionTimeout, &s->groundEffectNoiseScale, &s->groundEffectDeadZone,
+                                            &s->initialHeightSigma, &s->initialVelocitySigma};
+    const int index = field % SETTINGS_FIELDS;
+    if (index == 3) {
+        s->estimateAccelBias = bits != 0u;
+    } else if (index == 11) {
+        s->gpsMinimumSatellites = (int32_t) bits;
+    } else {
+        *floats[index] = value;
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    Run run = {true, 0, 0.0f, false};
+    if (!ReadFloat(&reader, &run.loopDt)) {
+        return 0;
+    }
+    run.loopDtSane = Within(run.loopDt, MIN_DT, MAX_DT);
+    static FusionAltitudeKalman kalman;
+    memset(&kalman, 0, sizeof(kalman)); /* defined padding bytes for memcmp */
+    FusionAltitudeKalmanInitialise(&kalman);
+    Initialised(&run, &kalman);
+    FusionAltitudeKalmanSettings working;
+    memset(&working, 0, sizeof(working));
+    working = FusionAltitudeKalmanSettingsDefault();
+    uint8_t opcode;
+    while (ReadByte(&reader, &opcode)) {
+        static FusionAltitudeKalman before;
+        memcpy(&before, &kalman, sizeof(before));
+        FusionAltitudeKalmanStatus status = FusionAltitudeKalmanStatusOk;
+        float accel = 0.0f;
+        float dt = 0.0f;
+        FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
+        uint8_t byte = 0;
+        switch (opcode & 7u) {
+            case 0:
+                FusionAltitudeKalmanInitialise(&kalman);
+                Initialised(&run, &kalman);
+                break;
+            case 1:
+                status = FusionAltitudeKalmanInitialiseWith(&kalman, &working);
+                CHECK(status == FusionAltitudeKalmanSettingsCheck(&working));
+                if (status == FusionAltitudeKalmanStatusOk) {
+                    Initialised(&run, &kalman);
+                }
+                break;
+            case 2:
+                status = FusionAltitudeKalmanSetSettings(&kalman, &working);
+                CHECK(status == FusionAltitudeKalmanSettingsCheck(&working));
+                if (status == FusionAltitudeKalmanStatusOk) {
+                    run.sane = run.sane && SaneSettings(&working);
+                }
+                break;
+            case 3: {
+                uint32_t bits;
+                if (!ReadByte(&reader, &byte) || !ReadBytes(&reader, &bits, sizeof(bits))) {
+                    return 0;
+                }
+                EditSettings(&working, byte, bits);
+                break;
+            }
+            case 4:
+                if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &dt) || !ReadFloat(&reader, &m.baroAltitude) ||
+                    !ReadFloat(&reader, &m.rangeDistance) || !ReadFloat(&reader, &m.gpsAltitude) ||
+                    !ReadFloat(&reader, &m.gpsVerticalAccuracy) || !ReadBytes(&reader, &m.gpsSatellites, sizeof(m.gpsSatellites)) ||
+                    !ReadByte(&reader, &byte)) {
+                    return 0;
+                }
+                m.groundEffect = (byte & 1u) != 0u;
+                status = Update(&kalman, &run, accel, dt, &m);
+                break;
+            case 5:
+                if (!ReadFloat(&reader, &accel) || !ReadByte(&reader, &byte)) {
+                    return 0;
+                }
+                if ((((byte & 1u) != 0u) && !ReadFloat(&reader, &m.baroAltitude)) ||
+                    (((byte & 2u) != 0u) && !ReadFloat(&reader, &m.rangeDistance)) ||
+                    (((byte & 4u) != 0u) && !ReadFloat(&reader, &m.gpsAltitude)) ||
+                    (((byte & 16u) != 0u) && !ReadFloat(&reader, &m.gpsVerticalAccuracy)) ||
+                    (((byte & 32u) != 0u) && !ReadBytes(&reader, &m.gpsSatellites, sizeof(m.gpsSatellites)))) {
+                    return 0;
+                }
+                m.groundEffect = (byte & 8u) != 0u;
+                status = Update(&kalman, &run, accel, run.loopDt, &m);
+                break;
+            case 6:
+                if (!ReadFloat(&reader, &accel)) {
+                    return 0;
+                }
+                status = Update(&kalman, &run, accel, run.loopDt, NULL);
+                break;
+            default:
+                status = FusionAltitudeKalmanInitialiseWith(&kalman, NULL);
+                CHECK(status == FusionAltitudeKalmanStatusOk);
+                working = FusionAltitudeKalmanSettingsDefault();
+                Initialised(&run, &kalman);
+                break;
+        }
+        if (status != FusionAltitudeKalmanStatusOk) {
+            CHECK(memcmp(&before, &kalman, sizeof(before)) == 0);
+        }
+        (void) FusionAltitudeKalmanStatusMessage(status);
+        CheckSymmetric(&kalman);
+        if (run.sane) {
+            CheckFinite(&kalman);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,87 @@
+"""Writes the seed corpus of fuzz_kalman.c into corpus_kalman/ (committed).
+
+    python3 csrc/fuzz/make_seeds_kalman.py
+
+Each seed is a loop dt and a call sequence in the format documented at the
+top of fuzz_kalman.c: 100 Hz flights with baro, rangefinder and GPS (first
+samples, NaN gaps), gating rejections and resets after the timeout, a terrain
+step, ground effect, bias estimation off, settings edits (accepted and
+rejected) and rejected updates.
+"""
+
+import math
+import struct
+from pathlib import Path
+
+CORPUS = Path(__file__).resolve().with_name("corpus_kalman")
+INITIALISE, INITIALISE_WITH, SET_SETTINGS, EDIT, UPDATE, UPDATE_LOOP, UPDATE_NULL, DEFAULTS = range(8)
+BARO, RANGE, GPS, GROUND_EFFECT, ACCURACY, SATELLITES = 1, 2, 4, 8, 16, 32
+FIELDS = ("accelNoise", "accelBiasRandomWalk", "accelBiasInitialSigma", "estimateAccelBias", "baroNoise",
+          "baroOffsetRandomWalk", "rangeNoise", "rangeMinimum", "rangeMaximum", "gpsNoiseBase", "gpsNoiseSatellite",
+          "gpsMinimumSatellites", "gpsOffsetRandomWalk", "gate", "rejectionTimeout", "groundEffectNoiseScale",
+          "groundEffectDeadZone", "initialHeightSigma", "initialVelocitySigma")
+
+
+def f(*values: float) -> bytes:
+    return struct.pack(f"<{len(values)}f", *values)
+
+
+def edit(field: str, value) -> bytes:
+    index = FIELDS.index(field)
+    word = struct.pack("<i", value) if isinstance(value, (bool, int)) else f(value)
+    return bytes([EDIT, index]) + word
+
+
+def flight(steps: int, baro_every=4, range_every=5, gps_every=20, baro_shift=0.0, gps_shift=0.0, terrain=0.0,
+           ground_effect=False) -> bytes:
+    out = b""
+    for k in range(steps):
+        h = 0.5 + 0.02 * k
+        accel = 0.3 * math.sin(0.05 * k) + 0.1
+        flags = GROUND_EFFECT if ground_effect else 0
+        floats = []
+        if baro_every and k % baro_every == 0:
+            flags |= BARO
+            floats.append(120.0 + h + baro_shift)
+        if range_every and k % range_every == 0:
+            flags |= RANGE
+            floats.append(h - terrain)
+        if gps_every and k % gps_every == 0:
+            flags |= GPS | SATELLITES
+            floats.append(160.0 + h + gps_shift)
+        out += bytes([UPDATE_LOOP]) + f(accel) + bytes([flags]) + f(*floats)
+        if flags & SATELLITES:
+            out += struct.pack("<i", 9)
+    return out
+
+
+def seeds() -> dict:
+    nan, inf = float("nan"), float("inf")
+    return {
+        "three_sensors_100hz": f(0.01) + flight(400),
+        "gaps_and_null": f(0.01) + flight(40) + bytes([UPDATE_NULL]) + f(0.1) * 1 + bytes([UPDATE_NULL]) + f(0.1)
+        + flight(40, baro_every=0, gps_every=0) + flight(40, range_every=0),
+        "rejections_and_resets": f(0.01) + edit("rejectionTimeout", 0.1) + bytes([SET_SETTINGS]) + flight(60)
+        + flight(30, baro_shift=25.0) + flight(60, gps_every=4, gps_shift=-12.0) + flight(40, terrain=1.5),
+        "ground_effect_landing": f(0.01) + flight(60) + flight(80, ground_effect=True, baro_shift=-0.8),
+        "bias_off_and_on": f(0.02) + flight(40) + edit("estimateAccelBias", 0) + bytes([SET_SETTINGS]) + flight(40)
+        + edit("estimateAccelBias", 1) + bytes([SET_SETTINGS]) + flight(40),
+        "settings_edits": f(0.005) + edit("baroNoise", 0.0) + bytes([SET_SETTINGS, INITIALISE_WITH])
+        + edit("baroNoise", 0.3) + edit("rangeMaximum", 30.0) + edit("gpsMinimumSatellites", 6)
+        + bytes([INITIALISE_WITH]) + flight(60) + edit("gate", nan) + bytes([SET_SETTINGS]) + bytes([DEFAULTS])
+        + flight(20) + bytes([INITIALISE]) + flight(20),
+        "rejected_updates": f(0.01) + flight(20)
+        + bytes([UPDATE]) + f(inf, 0.01, 120.0, 1.0, 160.0, nan) + struct.pack("<i", 9) + bytes([0])
+        + bytes([UPDATE]) + f(0.0, 0.0, 120.0, 1.0, 160.0, nan) + struct.pack("<i", 9) + bytes([0])
+        + bytes([UPDATE]) + f(0.0, 0.01, -inf, 1.0, 160.0, nan) + struct.pack("<i", 9) + bytes([0])
+        + bytes([UPDATE]) + f(0.0, 0.01, 120.0, 1.0, inf, nan) + struct.pack("<i", 9) + bytes([0])
+        + bytes([UPDATE]) + f(0.0, 0.01, 120.0, 1.0, 160.0, -1.0) + struct.pack("<i", -1) + bytes([1])
+        + bytes([UPDATE]) + f(0.0, 0.01, 120.5, 1.2, 160.5, 0.7) + struct.pack("<i", 3) + bytes([1]) + flight(20),
+    }
+
+
+if __name__ == "__main__":
+    CORPUS.mkdir(exist_ok=True)
+    for name, data in seeds().items():
+        (CORPUS / name).write_bytes(data)
+        print(f"{name}: {len(data)} bytes")

@@ -19,17 +19,20 @@
  *      The IMU channel's sample is zImu = hPred (NaN when accel is NaN).
  *   2. For each sensor i (IMU, baro, lidar, sonar, GPS, in this order), with
  *      its filter (x_i m, v_i m/s), depth Q_i and T_i = s since its last sample:
- *      - a first sample, or one after a silence longer than the sensor's
- *        timeout, (re)starts the filter: x_i = z, v_i = v, Q_i = Qmin_i;
+ *      - a first sample, one after a silence longer than the sensor's
+ *        timeout, or one after a sample beyond its gap maximum, (re)starts
+ *        the filter: x_i = z, v_i = v, Q_i = Qmin_i (a dropped sensor comes
+ *        back from its own fresh samples, not from a filter that followed
+ *        the fault);
  *      - otherwise the filter predicts every step, x_i += v_i*dt, T_i += dt,
  *        and on a sample z:
  *          Q_i += 1 (at most Qmax_i) if |z - hPred| <= threshold_i, else Q_i -= 1 (at least Qmin_i)
  *          alpha = 2(2Q-1)/(Q(Q+1)),  beta = 6/(Q(Q+1))
  *          r = z - x_i;  x_i += alpha*r;  v_i += beta*r/T_i;  T_i = 0
+ *      - each sample sets the sensor's gap g_i = z - hPred (held until its next sample)
  *      - weight w_i = Q_i * confidence_i, zeroed when the sensor is silent
  *        for longer than its timeout, when hPred is outside its altitude band
- *        [altitudeMin_i, altitudeMax_i], or when its gap |x_i - hPred|
- *        exceeds gapMax_i.
+ *        [altitudeMin_i, altitudeMax_i], or when its gap |g_i| exceeds gapMax_i.
  *   3. Fused output h = sum(w_i x_i)/sum(w_i), v = sum(w_i v_i)/sum(w_i);
  *      with every weight zero: h = hPred, v += a*dt (dead reckoning).
  * Before the first step with a baro, lidar, sonar or GPS sample the filter
@@ -131,7 +134,7 @@ typedef struct {
     float confidence;    /**< >= 0: weight = Q * confidence */
     float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) */
     float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) */
-    float gapMax;        /**< m, > 0: weight 0 when |x - hPred| > this (may be +infinity) */
+    float gapMax;        /**< m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity) */
     float timeout;       /**< s, > 0: weight 0 after this long without a sample; the next sample restarts the filter */
 } FusionAltitudeAlphaBetaSensorSettings;
 
@@ -153,6 +156,7 @@ typedef struct {
     float altitude;       /**< x, m */
     float velocity;       /**< v, m/s */
     float sinceSample;    /**< T, s since the latest sample */
+    float gap;            /**< g = z - hPred of the latest sample, m */
     float weight;         /**< w of the latest step (0: not used) */
     int32_t quality;      /**< Q, samples */
     bool started;         /**< the filter has had a sample */
@@ -321,6 +325,7 @@ static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const f
         f->altitude = 0.0f;
         f->velocity = 0.0f;
         f->sinceSample = 0.0f;
+        f->gap = 0.0f;
         f->weight = 0.0f;
         f->quality = fusion->settings.sensors[i].qualityMin;
         f->started = false;
@@ -444,6 +449,7 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(Fusion
             f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
             f->velocity = 0.0f;
             f->sinceSample = 0.0f;
+            f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
             f->quality = s->qualityMin;
             f->started = sampled;
             f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
@@ -477,14 +483,15 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(Fusion
             f->sinceSample += dt;
         }
         if (sampled) {
-            if (!f->started || (f->sinceSample > s->timeout)) {
+            const bool wasBeyondGap = !((f->gap <= s->gapMax) && (f->gap >= -s->gapMax));
+            f->gap = z[i] - altitudePredicted;
+            if (!f->started || (f->sinceSample > s->timeout) || wasBeyondGap) {
                 f->altitude = z[i];
                 f->velocity = fusion->verticalVelocity;
                 f->quality = s->qualityMin;
                 f->started = true;
             } else {
-                const float agreement = z[i] - altitudePredicted;
-                if ((agreement <= s->threshold) && (agreement >= -s->threshold)) {
+                if ((f->gap <= s->threshold) && (f->gap >= -s->threshold)) {
                     f->quality = (f->quality < s->qualityMax) ? (f->quality + 1) : s->qualityMax;
                 } else {
                     f->quality = (f->quality > s->qualityMin) ? (f->quality - 1) : s->qualityMin;
@@ -500,9 +507,8 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(Fusion
         }
         float weight = 0.0f;
         if (f->started && !(f->sinceSample > s->timeout)) {
-            const float gap = f->altitude - altitudePredicted;
             const bool inBand = (altitudePredicted >= s->altitudeMin) && (altitudePredicted <= s->altitudeMax);
-            const bool close = (gap <= s->gapMax) && (gap >= -s->gapMax);
+            const bool close = (f->gap <= s->gapMax) && (f->gap >= -s->gapMax);
             if (inBand && close) {
                 weight = (float) f->quality * s->confidence;
             }

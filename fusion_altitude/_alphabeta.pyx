@@ -210,8 +210,9 @@ cdef class AlphaBetaFusion:
     rises by one while the sensor agrees with the fused prediction within its
     threshold and falls by one otherwise; alpha = 2(2Q−1)/(Q(Q+1)), beta =
     6/(Q(Q+1)). The output is the mean of the filters weighted by
-    Q · confidence, a sensor's weight zeroed outside its altitude band, beyond
-    its gap maximum or after its timeout.
+    Q · confidence, a sensor's weight zeroed outside its altitude band, while
+    its latest sample is further than its gap maximum from the prediction, or
+    after its timeout.
 
     Parameters
     ----------
@@ -365,6 +366,11 @@ cdef class AlphaBetaFusion:
         return AlphaBetaSensors(*[self._c.filters[i].altitude for i in range(5)])
 
     @property
+    def gaps(self):
+        """Each sensor's gap z − predicted fused altitude at its latest sample, m."""
+        return AlphaBetaSensors(*[self._c.filters[i].gap for i in range(5)])
+
+    @property
     def settings(self):
         """The settings; assign new :class:`AlphaBetaSettings` to retune (qualities clamped to the new ranges)."""
         return AlphaBetaSettings._wrap(self._c.settings)
@@ -379,7 +385,7 @@ cdef class AlphaBetaFusion:
         filters = []
         for i in range(5):
             filters.append((self._c.filters[i].altitude, self._c.filters[i].velocity, self._c.filters[i].sinceSample,
-                            self._c.filters[i].weight, int(self._c.filters[i].quality),
+                            self._c.filters[i].gap, self._c.filters[i].weight, int(self._c.filters[i].quality),
                             bool(self._c.filters[i].started)))
         filters = tuple(filters)
         return (self.settings.as_dict(), filters, self._c.altitude, self._c.verticalVelocity, self._c.totalWeight,
@@ -391,10 +397,11 @@ cdef class AlphaBetaFusion:
         self._c.settings = settings._c
         cdef int i
         for i in range(5):
-            x, vi, since, weight, quality, filter_started = filters[i]
+            x, vi, since, gap, weight, quality, filter_started = filters[i]
             self._c.filters[i].altitude = x
             self._c.filters[i].velocity = vi
             self._c.filters[i].sinceSample = since
+            self._c.filters[i].gap = gap
             self._c.filters[i].weight = weight
             self._c.filters[i].quality = quality
             self._c.filters[i].started = filter_started

@@ -53,6 +53,7 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         float altitude
         float velocity
         float sinceSample
+        float gap
         float weight
         int32_t quality
         bint started

@@ -137,18 +137,20 @@ def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus
 class _Filter:
     """FusionAltitudeAlphaBetaFilter: one sensor's alpha-beta filter."""
 
-    __slots__ = ("x", "v", "since", "weight", "quality", "started")
+    __slots__ = ("x", "v", "since", "gap", "weight", "quality", "started")
 
     def __init__(self, quality: int) -> None:
         self.x = f32(0)
         self.v = f32(0)
         self.since = f32(0)
+        self.gap = f32(0)
         self.weight = f32(0)
         self.quality = quality
         self.started = False
 
     def state(self) -> tuple:
-        return (float(self.x), float(self.v), float(self.since), float(self.weight), self.quality, self.started)
+        return (float(self.x), float(self.v), float(self.since), float(self.gap), float(self.weight), self.quality,
+                self.started)
 
 
 class AlphaBetaFusion:
@@ -193,6 +195,7 @@ class AlphaBetaFusion:
             f.x = self._h if i == _IMU else z[i]
             f.v = f32(0)
             f.since = f32(0)
+            f.gap = f.x - self._h if sampled else f32(0)
             f.quality = s.quality_min
             f.started = sampled
             f.weight = f32(s.quality_min) * f32(s.confidence) if (sampled and i != _IMU) else f32(0)
@@ -231,15 +234,17 @@ class AlphaBetaFusion:
                 f.x += f.v * dt
                 f.since += dt
             if sampled:
-                if not f.started or f.since > timeout:  # first sample, or back after a silence: restart
+                gap_max = f32(s.gap_max)
+                was_beyond_gap = not (-gap_max <= f.gap <= gap_max)
+                f.gap = z[i] - altitude_predicted  # the sensor's gap, held until its next sample
+                if not f.started or f.since > timeout or was_beyond_gap:  # first, back after silence or gap: restart
                     f.x = z[i]
                     f.v = self._v
                     f.quality = s.quality_min
                     f.started = True
                 else:
-                    agreement = z[i] - altitude_predicted
                     threshold = f32(s.threshold)
-                    if -threshold <= agreement <= threshold:
+                    if -threshold <= f.gap <= threshold:
                         f.quality = min(f.quality + 1, s.quality_max)
                     else:
                         f.quality = max(f.quality - 1, s.quality_min)
@@ -250,10 +255,9 @@ class AlphaBetaFusion:
                 f.since = f32(0)
             weight = f32(0)
             if f.started and not f.since > timeout:
-                gap = f.x - altitude_predicted
                 in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
                 gap_max = f32(s.gap_max)
-                if in_band and -gap_max <= gap <= gap_max:
+                if in_band and -gap_max <= f.gap <= gap_max:
                     weight = f32(f.quality) * f32(s.confidence)
             f.weight = weight
             if weight > 0:
@@ -344,6 +348,11 @@ class AlphaBetaFusion:
         return AlphaBetaSensors(*[float(f.x) for f in self._filters])
 
     @property
+    def gaps(self) -> AlphaBetaSensors:
+        """Each sensor's gap z − predicted fused altitude at its latest sample, m."""
+        return AlphaBetaSensors(*[float(f.gap) for f in self._filters])
+
+    @property
     def settings(self) -> AlphaBetaSettings:
         """The settings; assign new ones to retune (qualities clamped to the new ranges)."""
         return self._settings
@@ -364,9 +373,9 @@ class AlphaBetaFusion:
         values, filters, h, v, total, started = state
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
-        for x, vi, since, weight, quality, filter_started in filters:
+        for x, vi, since, gap, weight, quality, filter_started in filters:
             f = _Filter(int(quality))
-            f.x, f.v, f.since, f.weight = f32(x), f32(vi), f32(since), f32(weight)
+            f.x, f.v, f.since, f.gap, f.weight = f32(x), f32(vi), f32(since), f32(gap), f32(weight)
             f.started = bool(filter_started)
             self._filters.append(f)
         self._h, self._v, self._total = f32(h), f32(v), f32(total)

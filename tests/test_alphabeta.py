@@ -1,0 +1,277 @@
+"""Quality-weighted alpha-beta fusion (seed 003): C binding vs reference bit for bit, the write-up's
+behaviours (a sensor beyond its gap maximum is dropped and recovered; quality rises and falls; band;
+least-squares gains), batch, state and bad input."""
+
+import copy
+import math
+import pickle
+import re
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import fusion_altitude as c
+import fusion_altitude.reference as ref
+from fusion_altitude import _alphabeta
+from fusion_altitude._common import ALPHABETA_DEFAULTS, AlphaBetaSensorSettings
+
+NAN = math.nan
+
+
+def floats32(low, high):
+    return st.floats(float(np.float32(low)), float(np.float32(high)), width=32)
+
+
+def state_bits(fusion):
+    values, filters, h, v, total, started = fusion._get_state()
+    bits = lambda x: int(np.float32(x).view(np.uint32))  # noqa: E731
+    return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, st_) for x, vi, s, g, w, q, st_ in filters),
+            bits(h), bits(v), bits(total), started)
+
+
+sample = st.one_of(floats32(-20, 60), st.just(NAN))
+step = st.one_of(
+    st.tuples(st.just("update"), st.one_of(floats32(-20, 20), st.just(NAN)), floats32(1e-3, 0.3),
+              sample, sample, sample, sample),
+    st.tuples(st.just("update"), st.one_of(floats32(-20, 20), st.just(NAN)), floats32(1e-3, 0.3),
+              sample, sample, sample, sample),
+    st.tuples(st.just("settings"), st.sampled_from(["imu", "baro", "lidar", "sonar", "gps"]), floats32(0.1, 5),
+              st.integers(2, 6), st.integers(0, 40), floats32(0, 10), floats32(0.5, 30), floats32(0.05, 2)),
+    st.tuples(st.just("bad"), st.sampled_from([
+        {"accel": math.inf, "dt": 0.01}, {"accel": 0.0, "dt": 0.0}, {"accel": 0.0, "dt": NAN},
+        {"accel": 0.0, "dt": 0.01, "baro_altitude": math.inf}, {"accel": 0.0, "dt": 0.01, "gps_altitude": -math.inf},
+        {"accel": 0.0, "dt": 0.01, "lidar_altitude": math.inf}, {"accel": 0.0, "dt": 0.01, "sonar_altitude": math.inf}])),
+)
+
+
+def apply(module, fusion, operation):
+    kind = operation[0]
+    try:
+        if kind == "update":
+            fusion.update(*operation[1:])
+        elif kind == "settings":
+            sensor, threshold, qmin, extra, confidence, gap, timeout = operation[1:]
+            fusion.settings = module.AlphaBetaSettings(**{sensor: {
+                "threshold": threshold, "quality_min": qmin, "quality_max": qmin + extra, "confidence": confidence,
+                "gap_max": gap, "timeout": timeout}})
+        else:
+            fusion.update(**operation[1])
+    except ValueError as error:
+        return str(error).split(" ")[0]
+    return None
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(operations=st.lists(step, min_size=1, max_size=120))
+def test_c_and_reference_agree_bit_for_bit(operations):
+    fast, slow = c.AlphaBetaFusion(), ref.AlphaBetaFusion()
+    for operation in operations:
+        assert apply(c, fast, operation) == apply(ref, slow, operation)
+        assert state_bits(fast) == state_bits(slow)
+
+
+def flight(n=3000, seed=2):
+    """100 Hz hop to 6 m: IMU every step, baro 50 Hz, lidar 20 Hz (to 40 m), sonar 10 Hz, GPS 5 Hz with a 30 m jump."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * 0.01
+    h = 3 - 3 * np.cos(0.2 * t)
+    accel = 0.6 * np.cos(0.2 * t) + rng.normal(0, 0.2, n)
+    every = lambda k: np.arange(n) % k == 0  # noqa: E731
+    baro = np.where(every(2), h + rng.normal(0, 0.3, n), NAN)
+    lidar = np.where(every(5), h + rng.normal(0, 0.05, n), NAN)
+    sonar = np.where(every(10) & (h < 5), h + rng.normal(0, 0.05, n), NAN)
+    gps = np.where(every(20), h + rng.normal(0, 1.5, n), NAN)
+    gps[(t > 12) & (t < 16)] += 30.0
+    accel[rng.random(n) < 0.02] = NAN
+    return accel, baro, lidar, sonar, gps, h, t
+
+
+def test_batch_on_a_flight_agrees_bit_for_bit_and_equals_per_sample_updates():
+    accel, baro, lidar, sonar, gps, *_ = flight(1500)
+    fast, slow, single = c.AlphaBetaFusion(), ref.AlphaBetaFusion(), c.AlphaBetaFusion()
+    a = fast.update_batch(accel, 0.01, baro, lidar, sonar, gps)
+    b = slow.update_batch(accel, np.full(accel.size, 0.01), baro, lidar, sonar, gps)
+    for field in a._fields:
+        assert np.array_equal(getattr(a, field).view(np.uint32), getattr(b, field).view(np.uint32)), field
+    for i in range(accel.size):
+        single.update(accel[i], 0.01, baro[i], lidar[i], sonar[i], gps[i])
+    assert state_bits(single) == state_bits(fast) == state_bits(slow)
+
+
+def test_batch_splits_anywhere(impl):
+    accel, baro, lidar, sonar, gps, *_ = flight(600)
+    whole, parts = impl.AlphaBetaFusion(), impl.AlphaBetaFusion()
+    expected = whole.update_batch(accel, 0.01, baro, lidar, sonar, gps)
+    first = parts.update_batch(accel[:250], 0.01, baro[:250], lidar[:250], sonar[:250], gps[:250])
+    second = parts.update_batch(accel[250:], 0.01, baro[250:], lidar[250:], sonar[250:], gps[250:])
+    assert np.array_equal(np.concatenate([first.altitude, second.altitude]), expected.altitude)
+
+
+def test_defaults_enums_and_gains_match_the_header():
+    assert _alphabeta.c_default_settings() == ALPHABETA_DEFAULTS == c.AlphaBetaSettings().as_dict() \
+        == ref.AlphaBetaSettings().as_dict()
+    assert {s.name: s.value for s in c.AlphaBetaStatus} == _alphabeta.C_STATUS_VALUES
+    for q in (2, 3, 10, 60, 120):
+        assert _alphabeta.gains(q) == tuple(float(x) for x in ref.alphabeta.gains(q))
+        alpha, beta = _alphabeta.gains(q)
+        assert alpha == pytest.approx(2 * (2 * q - 1) / (q * (q + 1)), rel=1e-6)
+        assert beta == pytest.approx(6 / (q * (q + 1)), rel=1e-6)
+
+
+@pytest.mark.parametrize("q", [2, 3, 5, 10, 60])
+def test_gains_are_the_least_squares_line_through_the_last_q_samples(q):
+    """Started on Q samples of a noisy line, one more sample moves the filter to the least-squares fit."""
+    rng = np.random.default_rng(q)
+    y = 1.0 + 0.3 * np.arange(q + 40) + rng.normal(0, 0.5, q + 40)
+    # Growing-memory filter: gains of depth n = 1, 2, ... equal the least-squares line fit of the first n samples.
+    x, v = y[0], 0.0
+    for n in range(2, q + 1):
+        alpha, beta = ref.alphabeta.gains(n)
+        x_pred = x + v
+        r = y[n - 1] - x_pred
+        x, v = x_pred + float(alpha) * r, v + float(beta) * r
+    slope, intercept = np.polyfit(np.arange(q), y[:q], 1)
+    assert x == pytest.approx(intercept + slope * (q - 1), abs=1e-4)
+    assert v == pytest.approx(slope, abs=1e-4)
+
+
+def test_a_sensor_beyond_its_gap_maximum_is_dropped_and_recovered(impl):
+    """The write-up's claim: a lidar glitching by 10 m (> its 6 m maximum) loses its weight, and gets it back."""
+    n = 300
+    lidar = np.full(3 * n, 5.0)
+    lidar[n:2 * n] = 15.0
+    fusion = impl.AlphaBetaFusion()
+    out = fusion.update_batch(np.zeros(3 * n), 0.01, baro_altitude=5.0, lidar_altitude=lidar)
+    lidar_weight = out.weight[:, 2]
+    assert lidar_weight[n - 1] == 80.0  # Q 8 · confidence 10
+    dropped = np.flatnonzero(lidar_weight[n:2 * n] == 0.0)
+    assert dropped.size and dropped[0] < 10  # within 0.1 s of the glitch
+    assert np.all(lidar_weight[n + dropped[0]:2 * n] == 0.0)
+    assert np.max(np.abs(out.altitude[n + dropped[0]:2 * n] - 5.0)) < 3.0
+    assert abs(out.altitude[2 * n - 1] - 5.0) < 0.05
+    assert np.all(lidar_weight[2 * n + 20:] > 0)  # recovered
+    assert lidar_weight[-1] == 80.0 and abs(out.altitude[-1] - 5.0) < 1e-3
+
+
+def test_quality_rises_while_agreeing_and_falls_otherwise(impl):
+    fusion = impl.AlphaBetaFusion()
+    out = fusion.update_batch(np.zeros(100), 0.01, baro_altitude=np.r_[np.zeros(80), np.full(20, 3.0)])
+    baro_quality = out.quality[:, 1]
+    assert baro_quality[0] == 10 and baro_quality[50] == 60  # +1 per agreeing sample, capped at Q max
+    assert baro_quality[80] == 59 and baro_quality[81] == 58  # -1 per disagreeing one
+    assert out.quality[-1, 0] == 4  # the IMU channel agrees with its own prediction
+
+
+def test_sensors_outside_their_altitude_band_get_no_weight(impl):
+    fusion = impl.AlphaBetaFusion()
+    out = fusion.update_batch(np.zeros(50), 0.01, baro_altitude=8.0, sonar_altitude=8.0, lidar_altitude=8.0)
+    assert out.weight[-1, 3] == 0.0 and out.weight[-1, 2] > 0  # sonar band 0..5 m, lidar 0..40 m
+    fusion = impl.AlphaBetaFusion(impl.AlphaBetaSettings(sonar={"altitude_max": 10.0}))
+    out = fusion.update_batch(np.zeros(50), 0.01, baro_altitude=8.0, sonar_altitude=8.0)
+    assert out.weight[-1, 3] > 0
+
+
+def test_tracks_a_multi_sensor_flight_and_rides_out_a_gps_jump():
+    accel, baro, lidar, sonar, gps, h, t = flight()
+    out = c.AlphaBetaFusion().update_batch(accel, 0.01, baro, lidar, sonar, gps)
+    error = out.altitude - h
+    assert np.sqrt(np.mean(error[t > 2] ** 2)) < 0.3
+    jump = (t > 12.5) & (t < 16)
+    assert np.all(out.weight[jump & ~np.isnan(gps), 4] == 0.0)  # GPS 30 m off: beyond its 20 m gap maximum
+
+
+def test_nan_is_no_sample_for_every_sensor_including_the_imu(impl):
+    fusion = impl.AlphaBetaFusion()
+    fusion.update(NAN, 0.01)
+    assert not fusion.started
+    fusion.update(NAN, 0.01, gps_altitude=12.0)
+    assert fusion.started and fusion.altitude == 12.0
+    fusion.update(NAN, 0.01)
+    assert fusion.weights.imu == 0.0 and fusion.weights.gps > 0
+
+
+def test_copy_and_pickle_round_trip(impl):
+    accel, baro, lidar, sonar, gps, *_ = flight(600)
+    fusion = impl.AlphaBetaFusion(impl.AlphaBetaSettings(gps={"gap_max": 30.0}))
+    fusion.update_batch(accel[:300], 0.01, baro[:300], lidar[:300], sonar[:300], gps[:300])
+    for clone in (copy.copy(fusion), copy.deepcopy(fusion), pickle.loads(pickle.dumps(fusion))):
+        assert state_bits(clone) == state_bits(fusion)
+        a = clone.update_batch(accel[300:], 0.01, baro[300:], lidar[300:], sonar[300:], gps[300:])
+    b = fusion.update_batch(accel[300:], 0.01, baro[300:], lidar[300:], sonar[300:], gps[300:])
+    assert np.array_equal(a.altitude, b.altitude)
+    assert pickle.loads(pickle.dumps(fusion.settings)) == fusion.settings
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"accel": math.inf, "dt": 0.01}, "accel must be finite, or NaN"),
+    ({"accel": 0.0, "dt": 0.0}, "dt must be finite and > 0"),
+    ({"accel": 0.0, "dt": math.nan}, "dt must be finite and > 0"),
+    ({"accel": 0.0, "dt": 0.01, "baro_altitude": math.inf}, "baro_altitude must be finite, or NaN"),
+    ({"accel": 0.0, "dt": 0.01, "lidar_altitude": -math.inf}, "lidar_altitude must be finite, or NaN"),
+    ({"accel": 0.0, "dt": 0.01, "sonar_altitude": math.inf}, "sonar_altitude must be finite, or NaN"),
+    ({"accel": 0.0, "dt": 0.01, "gps_altitude": math.inf}, "gps_altitude must be finite, or NaN"),
+])
+def test_bad_update_raises_naming_the_argument_and_leaves_the_state(impl, kwargs, message):
+    fusion = impl.AlphaBetaFusion()
+    fusion.update_batch(*flight(200)[:1], 0.01, *flight(200)[1:5])
+    before = state_bits(fusion)
+    with pytest.raises(ValueError, match="^" + re.escape(message)):
+        fusion.update(**kwargs)
+    assert state_bits(fusion) == before
+
+
+def test_bad_batch_names_the_first_bad_index_and_applies_nothing(impl):
+    accel, baro, lidar, sonar, gps, *_ = flight(300)
+    fusion = impl.AlphaBetaFusion()
+    fusion.update_batch(accel[:100], 0.01, baro[:100], lidar[:100], sonar[:100], gps[:100])
+    before = state_bits(fusion)
+    bad = gps.copy()
+    bad[[77, 99]] = np.inf
+    with pytest.raises(ValueError, match=r"^gps_altitude\[77\] must be finite"):
+        fusion.update_batch(accel, 0.01, baro, lidar, sonar, bad)
+    bad = accel.copy()
+    bad[5] = -np.inf
+    with pytest.raises(ValueError, match=r"^accel\[5\] must be finite"):
+        fusion.update_batch(bad, 0.01, baro, lidar, sonar, gps)
+    with pytest.raises(ValueError, match=r"^baro_altitude must be finite"):
+        fusion.update_batch(accel, 0.01, np.inf)
+    with pytest.raises(ValueError, match=r"^dt must be finite and > 0"):
+        fusion.update_batch(accel, 0.0, baro)
+    with pytest.raises(ValueError, match="lidar_altitude has 299 samples but accel has 300"):
+        fusion.update_batch(accel, 0.01, baro, lidar[:-1])
+    with pytest.raises(TypeError, match="dt must be a real number or an array"):
+        fusion.update_batch(accel, None, baro)
+    with pytest.raises(TypeError, match="gps_altitude must be a real number"):
+        fusion.update(0.0, 0.01, gps_altitude="high")
+    assert state_bits(fusion) == before
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"gps": {"threshold": 0.0}}, r"^gps\.threshold must be finite and > 0"),
+    ({"baro": {"quality_min": 1}}, r"^baro\.quality_min must be >= 2"),
+    ({"baro": {"quality_max": 9}}, r"^baro\.quality_max must be in \[quality_min, 10000\]"),
+    ({"imu": {"confidence": -1.0}}, r"^imu\.confidence must be finite and >= 0"),
+    ({"sonar": {"altitude_max": -1.0}}, r"^sonar\.altitude_min must be < altitude_max"),
+    ({"lidar": {"gap_max": 0.0}}, r"^lidar\.gap_max must be > 0"),
+    ({"lidar": {"timeout": math.inf}}, r"^lidar\.timeout must be finite and > 0"),
+])
+def test_bad_settings_raise_naming_sensor_and_field(impl, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        impl.AlphaBetaSettings(**kwargs)
+
+
+def test_settings_types(impl):
+    with pytest.raises(TypeError, match="unknown alpha-beta sensor"):
+        impl.AlphaBetaSettings(radar={})
+    with pytest.raises(TypeError, match="unknown gps setting"):
+        impl.AlphaBetaSettings(gps={"depth": 3})
+    with pytest.raises(TypeError, match=r"baro\.quality_min must be an int"):
+        impl.AlphaBetaSettings(baro={"quality_min": 2.5})
+    s = impl.AlphaBetaSettings(gps=AlphaBetaSensorSettings(5.0, 3, 9, 2.0, -math.inf, math.inf, math.inf, 2.0))
+    assert s.gps.gap_max == math.inf and s.replace(gps={"threshold": 7.0}).gps.threshold == 7.0
+    fusion = impl.AlphaBetaFusion()
+    fusion.update_batch(np.zeros(100), 0.01, baro_altitude=0.0)
+    fusion.settings = impl.AlphaBetaSettings(baro={"quality_max": 20})
+    assert fusion.qualities.baro == 20

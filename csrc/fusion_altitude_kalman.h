@@ -124,7 +124,7 @@ typedef enum {
     FusionAltitudeKalmanStatusInvalidBaroAltitude,  /**< baro altitude infinite */
     FusionAltitudeKalmanStatusInvalidGpsAltitude,   /**< GPS altitude infinite */
     FusionAltitudeKalmanStatusInvalidGpsAccuracy,   /**< GPS vertical accuracy given (not NaN) but not finite and > 0 */
-    FusionAltitudeKalmanStatusInvalidNoise,         /**< a noise, random walk or initial sigma not finite, negative, or 0 where it must be > 0 */
+    FusionAltitudeKalmanStatusInvalidNoise,         /**< a noise, random walk or initial sigma not in [0, 1e6], or 0 where it must be > 0 */
     FusionAltitudeKalmanStatusInvalidRange,         /**< range limits not finite or not 0 <= min < max */
     FusionAltitudeKalmanStatusInvalidGps,           /**< GPS model: base or satellite term not finite or < 0, base + satellite term 0, or min satellites < 0 */
     FusionAltitudeKalmanStatusInvalidGate,          /**< gate not finite or <= 0, or timeout not finite or < 0 */
@@ -205,15 +205,15 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
         case FusionAltitudeKalmanStatusInvalidGpsAccuracy:
             return "GPS vertical accuracy must be finite and > 0 (or NaN if not reported)";
         case FusionAltitudeKalmanStatusInvalidNoise:
-            return "noises, random walks and initial sigmas must be finite and >= 0 (baro and range noise > 0)";
+            return "noises, random walks and initial sigmas must be in [0, 1e6] (baro and range noise > 0)";
         case FusionAltitudeKalmanStatusInvalidRange:
-            return "range limits must be finite with 0 <= minimum < maximum";
+            return "range limits must satisfy 0 <= minimum < maximum <= 1e6";
         case FusionAltitudeKalmanStatusInvalidGps:
-            return "GPS noise terms must be finite and >= 0 with a positive sum, minimum satellites >= 0";
+            return "GPS noise terms must be in [0, 1e6] with a positive sum, minimum satellites >= 0";
         case FusionAltitudeKalmanStatusInvalidGate:
-            return "gate must be finite and > 0, rejection timeout finite and >= 0";
+            return "gate must be in (0, 1e6], rejection timeout in [0, 1e6]";
         case FusionAltitudeKalmanStatusInvalidGroundEffect:
-            return "ground-effect noise scale must be finite and >= 1, dead zone finite and >= 0";
+            return "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]";
     }
     return "unknown status";
 }
@@ -255,12 +255,21 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
     return settings;
 }
 
+/**
+ * Largest accepted setting (noise, random walk, sigma, gate, range, time):
+ * squared it stays below 1e12, far inside float32, so a finite setting can
+ * never overflow the covariance to infinity on its first use.
+ */
+#define FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING (1e6f)
+
+/* value in [0, FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING] */
 static inline bool FusionAltitudeKalmanIsNonNegative(const float value) {
-    return FusionAltitudeIsFinite(value) && (value >= 0.0f);
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING);
 }
 
+/* value in (0, FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING] */
 static inline bool FusionAltitudeKalmanIsPositive(const float value) {
-    return FusionAltitudeIsFinite(value) && (value > 0.0f);
+    return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING);
 }
 
 /** Checks the settings; the statuses name the group of the first bad field. */
@@ -273,7 +282,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const
         !FusionAltitudeKalmanIsNonNegative(s->initialVelocitySigma)) {
         return FusionAltitudeKalmanStatusInvalidNoise;
     }
-    if (!FusionAltitudeKalmanIsNonNegative(s->rangeMinimum) || !FusionAltitudeIsFinite(s->rangeMaximum) ||
+    if (!FusionAltitudeKalmanIsNonNegative(s->rangeMinimum) || !FusionAltitudeKalmanIsPositive(s->rangeMaximum) ||
         !(s->rangeMaximum > s->rangeMinimum)) {
         return FusionAltitudeKalmanStatusInvalidRange;
     }
@@ -284,8 +293,9 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const
     if (!FusionAltitudeKalmanIsPositive(s->gate) || !FusionAltitudeKalmanIsNonNegative(s->rejectionTimeout)) {
         return FusionAltitudeKalmanStatusInvalidGate;
     }
-    if (!FusionAltitudeIsFinite(s->groundEffectNoiseScale) || !(s->groundEffectNoiseScale >= 1.0f) ||
-        !FusionAltitudeKalmanIsNonNegative(s->groundEffectDeadZone)) {
+    if (!FusionAltitudeKalmanIsPositive(s->groundEffectNoiseScale) || !(s->groundEffectNoiseScale >= 1.0f) ||
+        !FusionAltitudeKalmanIsNonNegative(s->groundEffectDeadZone) ||
+        !(s->baroNoise * s->groundEffectNoiseScale <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING)) {
         return FusionAltitudeKalmanStatusInvalidGroundEffect;
     }
     return FusionAltitudeKalmanStatusOk;

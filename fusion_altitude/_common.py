@@ -366,6 +366,8 @@ KALMAN_SETTINGS = (
     ("initial_velocity_sigma", 1.0, "f", KalmanStatus.INVALID_NOISE, ">=0"),
 )
 KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
+#: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
+KALMAN_MAXIMUM_SETTING = 1e6
 KALMAN_SETTINGS_DEFAULTS = {name: default for name, default, *_ in KALMAN_SETTINGS}
 
 #: Names of the state vector entries, in the C index order.
@@ -403,7 +405,9 @@ def raise_kalman_settings_error(status: int, values: dict) -> None:
         if group != status:
             continue
         value = values[name]
-        if rule == ">range_min":
+        if kind == "f" and math.isfinite(value) and value > KALMAN_MAXIMUM_SETTING:
+            ok, text = False, f"must be finite and <= {KALMAN_MAXIMUM_SETTING:g}"
+        elif rule == ">range_min":
             ok = math.isfinite(value) and value > values["range_min"]
             text = f"must be finite and > range_min ({values['range_min']!r})"
         elif rule == ">0":
@@ -419,6 +423,9 @@ def raise_kalman_settings_error(status: int, values: dict) -> None:
             raise ValueError(f"{name} {text}, got {value!r}")
     if status == KalmanStatus.INVALID_GPS:
         raise ValueError("gps_noise_base + gps_noise_satellite must be > 0")
+    if status == KalmanStatus.INVALID_GROUND_EFFECT:
+        raise ValueError(f"baro_noise * ground_effect_noise_scale must be <= {KALMAN_MAXIMUM_SETTING:g}, got "
+                         f"{values['baro_noise']!r} * {values['ground_effect_noise_scale']!r}")
     raise ValueError(f"invalid Kalman settings (status {status})")
 
 

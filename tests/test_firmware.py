@@ -233,7 +233,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     table = load(FIRMWARE / "size_table.py", "size_table")
     doc = DOC.read_text()
     for part in table.markdown_parts(measured):
-        assert part in doc, "docs/embedded.md is stale: paste the output of make -C csrc/firmware sizes"
+        assert part in doc, "docs/embedded.md is stale: run make -C csrc/firmware doc-sizes"
 
 
 def test_example_runs_on_qemu_and_detects_the_baro_fault(build):

@@ -228,6 +228,9 @@ def test_bad_batch_names_the_first_bad_index_and_applies_nothing(impl):
     (dict(gps_min_satellites=-1), r"^gps_min_satellites must be finite and >= 0"),
     (dict(gate=math.nan), r"^gate must be finite and > 0"),
     (dict(ground_effect_noise_scale=0.5), r"^ground_effect_noise_scale must be finite and >= 1"),
+    # finite but so large that its square would overflow float32 (found by fuzzing)
+    (dict(baro_noise=2.7e36), r"^baro_noise must be finite and <= 1e\+06"),
+    (dict(baro_noise=1e5, ground_effect_noise_scale=100.0), r"^baro_noise \* ground_effect_noise_scale must be <="),
 ])
 def test_bad_settings_raise_naming_the_field(impl, kwargs, message):
     with pytest.raises(ValueError, match=message):

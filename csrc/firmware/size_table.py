@@ -215,6 +215,19 @@ def markdown(result: dict) -> str:
     return f"{observer}\n\n<!-- Kalman filter (fusion_altitude_kalman.h): -->\n\n{kalman}"
 
 
+def update_doc(doc: Path, result: dict) -> None:
+    """Replace the observer and Kalman blocks of docs/embedded.md (between their markers) with fresh tables."""
+    text = doc.read_text()
+    for marker, part in zip(("sizes", "kalman-sizes"), markdown_parts(result)):
+        begin, end = f"<!-- {marker}:begin -->\n", f"<!-- {marker}:end -->"
+        start, stop = text.index(begin) + len(begin), text.index(end)
+        text = text[:start] + part + "\n" + text[stop:]
+    doc.write_text(text)
+
+
 if __name__ == "__main__":
     measured = measure(Path(sys.argv[1]))
-    print(json.dumps(measured, indent=1) if "--json" in sys.argv[2:] else markdown(measured))
+    if "--update-doc" in sys.argv[2:]:
+        update_doc(Path(sys.argv[sys.argv.index("--update-doc") + 1]), measured)
+    else:
+        print(json.dumps(measured, indent=1) if "--json" in sys.argv[2:] else markdown(measured))

@@ -131,16 +131,20 @@ def _settings_from_dict(values: dict) -> KalmanSettings:
     return KalmanSettings(**values)
 
 
+#: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: squared it stays far inside float32.
+MAXIMUM_SETTING = f32(1e6)
+
+
 def _check(values: dict) -> KalmanStatus:
     """FusionAltitudeKalmanSettingsCheck."""
     v = {name: (f32(value) if kind == "f" else value) for (name, _, kind, _, _), value in
          zip(_common.KALMAN_SETTINGS, values.values())}
 
-    def non_negative(x):
-        return _is_finite(x) and x >= 0
+    def non_negative(x):  # in [0, MAXIMUM_SETTING]
+        return _is_finite(x) and x >= 0 and x <= MAXIMUM_SETTING
 
-    def positive(x):
-        return _is_finite(x) and x > 0
+    def positive(x):  # in (0, MAXIMUM_SETTING]
+        return _is_finite(x) and x > 0 and x <= MAXIMUM_SETTING
 
     if not (non_negative(v["accel_noise"]) and non_negative(v["accel_bias_random_walk"])
             and non_negative(v["accel_bias_initial_sigma"]) and positive(v["baro_noise"])
@@ -148,15 +152,16 @@ def _check(values: dict) -> KalmanStatus:
             and non_negative(v["gps_offset_random_walk"]) and non_negative(v["initial_height_sigma"])
             and non_negative(v["initial_velocity_sigma"])):
         return KalmanStatus.INVALID_NOISE
-    if not (non_negative(v["range_min"]) and _is_finite(v["range_max"]) and v["range_max"] > v["range_min"]):
+    if not (non_negative(v["range_min"]) and positive(v["range_max"]) and v["range_max"] > v["range_min"]):
         return KalmanStatus.INVALID_RANGE
     if not (non_negative(v["gps_noise_base"]) and non_negative(v["gps_noise_satellite"])
             and v["gps_noise_base"] + v["gps_noise_satellite"] > 0) or v["gps_min_satellites"] < 0:
         return KalmanStatus.INVALID_GPS
     if not (positive(v["gate"]) and non_negative(v["rejection_timeout"])):
         return KalmanStatus.INVALID_GATE
-    if not (_is_finite(v["ground_effect_noise_scale"]) and v["ground_effect_noise_scale"] >= 1
-            and non_negative(v["ground_effect_dead_zone"])):
+    if not (positive(v["ground_effect_noise_scale"]) and v["ground_effect_noise_scale"] >= 1
+            and non_negative(v["ground_effect_dead_zone"])
+            and v["baro_noise"] * v["ground_effect_noise_scale"] <= MAXIMUM_SETTING):
         return KalmanStatus.INVALID_GROUND_EFFECT
     return KalmanStatus.OK
 

@@ -12,6 +12,10 @@ tune
 run
     Run the observer on a recorded log: CSV, PX4 ULog or ArduPilot DataFlash
     (:mod:`fusion_altitude.logs`).
+compare
+    Every estimator (observer, fitted observer, Kalman filter, two-stage
+    complementary filter, α-β fusion, raw baro) on the simulator's scenarios:
+    one table (:mod:`fusion_altitude.compare`).
 
 Errors in user input are printed as one line on stderr with exit status 2,
 never as a traceback.
@@ -321,6 +325,30 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 
 # ----------------------------------------------------------------------------
+# compare
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from . import compare
+
+    scenarios = args.scenario or list(compare.SCENARIOS)
+    rows = compare.compare(scenarios, seed=args.seed, fit_seed=args.fit_seed, attitude=args.attitude,
+                           repeat=args.repeat)
+    print(f"seed {args.seed} (observer (fit): gains fitted on seed {args.fit_seed}), attitude {args.attitude}; "
+          "errors after each scenario's transient; recovery: s after the fault ends until |error| <= 0.5 m")
+    print()
+    if args.markdown:
+        print(compare.format_markdown(rows))
+    else:
+        print(format_table(compare.HEADER, compare.table_cells(rows)))
+    if args.plot:
+        compare.plot_comparison(args.plot_scenario or scenarios[0], args.plot, seed=args.seed,
+                                fit_seed=args.fit_seed, attitude=args.attitude)
+        print(f"plot written to {args.plot}")
+    return 0
+
+
+# ----------------------------------------------------------------------------
 # parser
 
 
@@ -378,6 +406,26 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--omega-max", type=float, default=20.0, help="highest omega searched, rad/s (default 20)")
     fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
     fit.set_defaults(handler=_cmd_fit)
+
+    from .compare import SCENARIOS
+    comparison = commands.add_parser(
+        "compare", help="every estimator on the simulator's scenarios: one table",
+        description="Observer (preset and fitted gains), Kalman filter, two-stage complementary filter, "
+                    "quality-weighted alpha-beta fusion and raw baro on the same simulated data: altitude RMS and "
+                    "max error, velocity RMS, recovery time after a sensor fault, C batch ns/sample.")
+    comparison.add_argument("--scenario", action="append", choices=scenario_names(), metavar="NAME",
+                            help=f"scenario (repeatable; default: {', '.join(SCENARIOS)})")
+    comparison.add_argument("--seed", type=int, default=0, help="simulation seed (default: 0)")
+    comparison.add_argument("--fit-seed", type=int, default=1,
+                            help="seed the fitted observer's gains are fitted on (default: 1, held out)")
+    comparison.add_argument("--attitude", default="truth", choices=("truth", "ahrs"),
+                            help="attitude source (default truth: the same numbers with or without imufusion)")
+    comparison.add_argument("--repeat", type=int, default=5, help="timing repeats, best taken (default 5)")
+    comparison.add_argument("--markdown", action="store_true", help="print a Markdown table")
+    comparison.add_argument("--plot", metavar="OUT.png", help="overlay the estimators for one scenario ([plot] extra)")
+    comparison.add_argument("--plot-scenario", choices=scenario_names(), metavar="NAME",
+                            help="scenario of the plot (default: the first one compared)")
+    comparison.set_defaults(handler=_cmd_compare)
     return parser
 
 

@@ -11,7 +11,7 @@ Run one with :func:`run_scenario`; :func:`scenario_names` lists them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Optional
+from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -64,6 +64,9 @@ class ScenarioResult:
         Extra streams (not used by this observer; for a later Kalman filter).
     description : str
         One line about the scenario.
+    fault_end : float or None
+        Time (s) at which the scenario's sensor fault ends (baro glitch, GPS
+        outage, terrain step, leaving ground effect), for recovery times.
     """
 
     name: str
@@ -80,6 +83,7 @@ class ScenarioResult:
     rangefinder: Optional[sim.SensorStream] = None
     gps: Optional[sim.SensorStream] = None
     description: str = ""
+    fault_end: Optional[float] = None
 
     @property
     def time(self) -> np.ndarray:
@@ -121,6 +125,8 @@ class _Spec:
     baro_override: Optional[Callable[[sim.Trajectory], np.ndarray]] = None
     rangefinder: Optional[sim.RangefinderModel] = None
     gps: Optional[sim.GpsModel] = None
+    baro_fault: Optional[Tuple[float, float, float]] = None
+    fault_end: Optional[float] = None
 
 
 _REALISTIC_IMU = sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.005,
@@ -171,6 +177,38 @@ def _specs() -> Dict[str, _Spec]:
             sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, accel_range=16.0,
                          gyro_noise=0.1, mag_noise=0.05),
             sim.BaroModel(noise=0.5, lag=0.02), preset="racing", transient=2.0),
+        # -- issue 7: the estimator comparison's scenarios ------------------------------------------
+        "fixed-wing": _Spec(
+            "180 s fixed wing: climb at 4 m/s to 100 m, cruise, descend; 25 Hz lagged drifting baro, 5 Hz GPS; "
+            "fixed-wing gains",
+            lambda: sim.climb_cruise_descend(180.0, 100.0, climb_rate=4.0, cruise_altitude=100.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=25.0, noise=0.25, lag=0.05, drift_rate=0.005, drift_walk=0.02),
+            preset="fixed_wing", transient=20.0, gps=sim.GpsModel(jump_probability=0.0)),
+        "ground-effect": _Spec(
+            "40 s VTOL hop to 5 m: rotor ground effect makes the 50 Hz baro read up to 1.5 m low near the ground; "
+            "rangefinder and GPS streams",
+            lambda: sim.takeoff_landing(40.0, 100.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=50.0, noise=0.1, prop_wash_amplitude=0.2, prop_wash_frequency=8.0,
+                          ground_effect_amplitude=1.5, ground_effect_height=0.7),
+            rangefinder=sim.RangefinderModel(), gps=sim.GpsModel(jump_probability=0.0), fault_end=7.0),
+        "baro-glitches": _Spec(
+            "60 s hover at 10 m with a climb to 15 m: 50 Hz baro with spikes (1 %, 4 m), freezes, and an 8 m "
+            "pressure glitch from 30 to 32 s; rangefinder",
+            lambda: sim.climb_cruise_descend(60.0, 100.0, climb_rate=1.0, cruise_altitude=5.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=50.0, noise=0.1, spike_probability=0.01, spike_magnitude=4.0,
+                          stuck_probability=0.002, stuck_duration=0.5),
+            rangefinder=sim.RangefinderModel(), baro_fault=(30.0, 32.0, 8.0), fault_end=32.0),
+        "terrain-step": _Spec(
+            "60 s at 3 m over ground that rises 1 m at 20 s (a roof) and drops back at 40 s; 50 Hz baro, 20 Hz lidar",
+            lambda: sim.climb_cruise_descend(60.0, 100.0, climb_rate=1.0, cruise_altitude=3.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=50.0, noise=0.15, prop_wash_amplitude=0.2, prop_wash_frequency=8.0),
+            rangefinder=sim.RangefinderModel(terrain_steps=((20.0, 1.0), (40.0, -1.0)), dropout_probability=0.0),
+            fault_end=40.0),
+        "gps-outage": _Spec(
+            "120 s at 30-50 m: 25 Hz baro drifting 3 cm/s, 5 Hz GPS with a 20 s outage from 50 to 70 s",
+            lambda: sim.climb_cruise_descend(120.0, 100.0, climb_rate=2.0, cruise_altitude=40.0), _REALISTIC_IMU,
+            sim.BaroModel(rate=25.0, noise=0.2, drift_rate=0.03, drift_walk=0.02),
+            transient=10.0, gps=sim.GpsModel(jump_probability=0.0, outages=((50.0, 70.0),)), fault_end=70.0),
     }
 
 
@@ -233,6 +271,9 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
         baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
     else:
         baro = sim.simulate_baro(trajectory, spec.baro, rng)
+    if spec.baro_fault is not None:
+        start, end, offset = spec.baro_fault
+        baro.value = baro.value + np.where((baro.time >= start) & (baro.time < end), offset, 0.0)
     rangefinder = sim.simulate_rangefinder(trajectory, spec.rangefinder, rng) if spec.rangefinder else None
     gps = sim.simulate_gps(trajectory, spec.gps, rng)[0] if spec.gps else None
     if attitude == "ahrs":
@@ -248,4 +289,4 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     estimate = estimator.update_batch(accel, baro_altitude, trajectory.dt)
     return ScenarioResult(name, seed, trajectory, imu, baro, accel, baro_altitude, estimate,
                           spec.imu.accel_bias[2] * GRAVITY, spec.transient, attitude, rangefinder, gps,
-                          spec.description)
+                          spec.description, spec.fault_end)

@@ -452,6 +452,10 @@ class BaroModel:
         Per-sample probability of a missing sample (NaN).
     sea_level_pa : float
         Reference pressure for the ``pressure`` output, Pa.
+    ground_effect_amplitude, ground_effect_height : float
+        Rotor ground effect while the vehicle moves or flies: the baro reads
+        ``amplitude · exp(−h / height)`` m low at height h above the start
+        (m, m; amplitude 0 = off). No random draws.
     """
 
     rate: Optional[float] = None
@@ -468,6 +472,8 @@ class BaroModel:
     stuck_duration: float = 0.0
     dropout_probability: float = 0.0
     sea_level_pa: float = 101325.0
+    ground_effect_amplitude: float = 0.0
+    ground_effect_height: float = 1.0
 
 
 def _sample_times(trajectory: Trajectory, rate: Optional[float]) -> np.ndarray:
@@ -527,10 +533,23 @@ def simulate_baro(trajectory: Trajectory, model: BaroModel, rng: np.random.Gener
                 i = max(end, i + 1)
             else:
                 i += 1
+    if model.ground_effect_amplitude:
+        value -= _ground_effect(trajectory, time, model.ground_effect_amplitude, model.ground_effect_height)
     if model.quantization > 0:
         value = np.round(value / model.quantization) * model.quantization
     value[rng.random(n) < model.dropout_probability] = np.nan
     return BaroStream(time, value, altitude_to_pressure(value, model.sea_level_pa))
+
+
+def _ground_effect(trajectory: Trajectory, time: np.ndarray, amplitude: float, height: float) -> np.ndarray:
+    """Baro under-read (m) from rotor ground effect: amplitude·exp(−h/height) from 1 s before the
+    first motion to 1 s after the last (rotors on), 0 otherwise; h = height above the start, m."""
+    moving = np.flatnonzero(np.abs(trajectory.vertical_velocity) > 1e-3)
+    if moving.size == 0:
+        return np.zeros_like(time)
+    on = (time >= trajectory.time[moving[0]] - 1.0) & (time <= trajectory.time[moving[-1]] + 1.0)
+    h = np.interp(time, trajectory.time, trajectory.altitude) - trajectory.altitude[0]
+    return np.where(on, amplitude * np.exp(-np.maximum(h, 0.0) / height), 0.0)
 
 
 @dataclass
@@ -549,6 +568,9 @@ class RangefinderModel:
         Per-sample probability of no echo (NaN).
     ground_altitude : float
         Altitude of the ground, m.
+    terrain_steps : tuple of (float, float)
+        (time s, change m): the ground under the vehicle rises by ``change``
+        from ``time`` on (a roof, a table, a ditch when negative).
     """
 
     rate: float = 20.0
@@ -557,6 +579,7 @@ class RangefinderModel:
     noise: float = 0.02
     dropout_probability: float = 0.02
     ground_altitude: float = 0.0
+    terrain_steps: Tuple[Tuple[float, float], ...] = ()
 
 
 def simulate_rangefinder(trajectory: Trajectory, model: RangefinderModel, rng: np.random.Generator) -> SensorStream:
@@ -567,6 +590,8 @@ def simulate_rangefinder(trajectory: Trajectory, model: RangefinderModel, rng: n
     """
     time = _sample_times(trajectory, model.rate)
     height = np.interp(time, trajectory.time, trajectory.altitude) - model.ground_altitude
+    for step_time, change in model.terrain_steps:
+        height = height - np.where(time >= step_time, change, 0.0)
     rotation = quaternion_to_matrix(trajectory.attitude)
     cos_tilt = np.interp(time, trajectory.time, rotation[:, 2, 2])
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -598,6 +623,8 @@ class GpsModel:
     offset : float
         Constant offset of GPS altitude from the baro reference (geoid vs
         ISA), m.
+    outages : tuple of (float, float)
+        (start s, end s) windows without a fix (NaN).
     """
 
     rate: float = 5.0
@@ -607,6 +634,7 @@ class GpsModel:
     jump_probability: float = 0.002
     jump_magnitude: float = 3.0
     offset: float = 0.0
+    outages: Tuple[Tuple[float, float], ...] = ()
 
 
 def simulate_gps(trajectory: Trajectory, model: GpsModel, rng: np.random.Generator) -> Tuple[SensorStream, np.ndarray]:
@@ -622,6 +650,8 @@ def simulate_gps(trajectory: Trajectory, model: GpsModel, rng: np.random.Generat
     jumps = rng.random(n) < model.jump_probability
     value += np.cumsum(np.where(jumps, model.jump_magnitude * rng.standard_normal(n), 0.0))
     value[satellites < model.min_satellites] = np.nan
+    for start, end in model.outages:
+        value[(time >= start) & (time < end)] = np.nan
     return SensorStream(time, value), satellites
 
 

@@ -16,7 +16,7 @@ Estimators, each fed what it can use from one :func:`~fusion_altitude.scenarios.
 
 Metrics after the scenario's transient: altitude RMS and max |error| (m), velocity RMS (m/s), time to
 recover from the scenario's sensor fault (s after it ends until |altitude error| stays within
-``recovery_tolerance``, 0.5 m, for the rest of a 30 s window; ">30" if never) and the C batch speed
+``recovery_tolerance``, 0.5 m, for the rest of a 15 s window; ">15" if never) and the C batch speed
 (ns/sample, best of ``repeat``).
 """
 
@@ -45,7 +45,7 @@ SCENARIOS = ("realistic", "clean", "balloon", "fixed-wing", "ground-effect", "ba
              "gps-outage")
 #: Scenarios whose truth goes below the start altitude (the α-β tables' altitude minimum is lifted there).
 _BELOW_START = ("realistic", "clean")
-RECOVERY_WINDOW = 30.0
+RECOVERY_WINDOW = 15.0
 
 
 @dataclass

@@ -83,7 +83,7 @@ def run(samples: int = 1_000_000, repeat: int = 5) -> List[Tuple[str, float]]:
     small = max(200, samples // 100)
     rows = []
 
-    out = fusion_altitude._common.new_kalman_batch(samples)
+    out = fusion_altitude._kalman_glue.new_kalman_batch(samples)
 
     def c_batch():
         fusion_altitude.KalmanEstimator().update_batch(accel, DT, baro, rangefinder, gps, satellites, out=out)

@@ -9,12 +9,15 @@ twins that agree with them bit for bit.
 Vertical is +up everywhere; NED users negate.
 """
 
-from ._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
-from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
-from ._common import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus, ComplementaryBatch, ComplementaryStatus
-from ._complementary import ComplementaryFilter, ComplementarySettings
-from ._kalman import KalmanEstimator, KalmanSettings
+from ._common import GRAVITY
 from ._observer import AltitudeEstimator, AltitudeSettings
+from ._observer_glue import AltitudeBatch, DiscretisationWarning, Status
+from ._kalman import KalmanEstimator, KalmanSettings
+from ._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from ._complementary import ComplementaryFilter, ComplementarySettings
+from ._complementary_glue import ComplementaryBatch, ComplementaryStatus
+from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
 from ._version import __version__
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 from .tuning import FitResult, SweepResult, fit, sweep

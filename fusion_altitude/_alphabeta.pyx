@@ -12,8 +12,8 @@ from libc.stdint cimport int32_t
 
 from fusion_altitude.calphabeta cimport *
 
-from fusion_altitude import _common
-from fusion_altitude._common import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from fusion_altitude import _alphabeta_glue
+from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 
 #: The C enum values, for checking that :class:`AlphaBetaStatus` matches.
 C_STATUS_VALUES = {
@@ -98,7 +98,7 @@ cdef class AlphaBetaSettings:
     cdef FusionAltitudeAlphaBetaSettings _c
 
     def __init__(self, **sensors):
-        values = _common.convert_alphabeta_settings(sensors)
+        values = _alphabeta_glue.convert_alphabeta_settings(sensors)
         cdef int i
         for i in range(5):
             s = values[ALPHABETA_SENSORS[i]]
@@ -112,7 +112,7 @@ cdef class AlphaBetaSettings:
             self._c.sensors[i].timeout = s.timeout
         cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSettingsCheck(&self._c)
         if status != FusionAltitudeAlphaBetaStatusOk:
-            _common.raise_alphabeta_settings_error(status, values)
+            _alphabeta_glue.raise_alphabeta_settings_error(status, values)
 
     @staticmethod
     cdef AlphaBetaSettings _wrap(FusionAltitudeAlphaBetaSettings c):
@@ -262,7 +262,7 @@ cdef class AlphaBetaFusion:
         m.gpsAltitude = <float>_as_double(gps_altitude, "gps_altitude")
         cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaUpdate(&self._c, <float>a, <float>t, &m)
         if status != FusionAltitudeAlphaBetaStatusOk:
-            _common.raise_alphabeta_update_error(status, {
+            _alphabeta_glue.raise_alphabeta_update_error(status, {
                 "accel": float(a), "dt": float(t), "baro_altitude": float(baro_altitude),
                 "lidar_altitude": float(lidar_altitude), "sonar_altitude": float(sonar_altitude),
                 "gps_altitude": float(gps_altitude)})
@@ -296,7 +296,7 @@ cdef class AlphaBetaFusion:
         Equal, bit for bit, to calling :meth:`update` for each step. The loop
         runs with the GIL released.
         """
-        n, inputs, steps, result = _common.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
+        n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
                                                                     sonar_altitude, gps_altitude)
         cdef const float[::1] a = inputs["accel"]
         cdef const float[::1] t = inputs["dt"]
@@ -327,7 +327,7 @@ cdef class AlphaBetaFusion:
             values = {"accel": float(a[bad * sa]), "dt": float(t[bad * sd]), "baro_altitude": float(zb[bad * sb]),
                       "lidar_altitude": float(zl[bad * sl]), "sonar_altitude": float(zs[bad * ss]),
                       "gps_altitude": float(zg[bad * sg])}
-            _common.raise_alphabeta_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
+            _alphabeta_glue.raise_alphabeta_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
         return result
 
     @property

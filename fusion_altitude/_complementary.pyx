@@ -9,8 +9,8 @@ from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExa
 
 from fusion_altitude.ccomplementary cimport *
 
-from fusion_altitude import _common
-from fusion_altitude._common import ComplementaryBatch
+from fusion_altitude import _complementary_glue, _observer_glue
+from fusion_altitude._complementary_glue import ComplementaryBatch
 
 #: The C enum values, for checking that :class:`ComplementaryStatus` matches.
 C_STATUS_VALUES = {
@@ -92,7 +92,7 @@ cdef class ComplementarySettings:
     cdef FusionAltitudeComplementarySettings _c
 
     def __init__(self, **kwargs):
-        v = _common.convert_complementary_settings(kwargs)
+        v = _complementary_glue.convert_complementary_settings(kwargs)
         self._c.accelTimeConstant = v["accel_time_constant"]
         self._c.baroTimeConstant = v["baro_time_constant"]
         self._c.perSampleCoefficients = v["per_sample_coefficients"]
@@ -102,7 +102,7 @@ cdef class ComplementarySettings:
         self._c.altitudeTimeConstant = v["altitude_time_constant"]
         cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySettingsCheck(&self._c)
         if status != FusionAltitudeComplementaryStatusOk:
-            _common.raise_complementary_settings_error(status, self.as_dict())
+            _complementary_glue.raise_complementary_settings_error(status, self.as_dict())
 
     @classmethod
     def from_coefficients(cls, velocity_coefficient=0.999, altitude_coefficient=0.998, **kwargs):
@@ -230,7 +230,7 @@ cdef class ComplementaryFilter:
         cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementaryUpdate(&self._c, <float>a, <float>z,
                                                                                           <float>t)
         if status != FusionAltitudeComplementaryStatusOk:
-            _common.raise_complementary_update_error(status, a, z, t)
+            _complementary_glue.raise_complementary_update_error(status, a, z, t)
 
     def reset(self, baro_altitude):
         """Set the reference: altitude = filtered baro = ``baro_altitude`` (m), velocities 0.
@@ -271,8 +271,8 @@ cdef class ComplementaryFilter:
         Equal, bit for bit, to calling :meth:`update` for each sample. The loop
         runs with the GIL released.
         """
-        accel32, baro32, dt32, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
-        result = _common.complementary_outputs(accel32.shape[0], out)
+        accel32, baro32, dt32, dt_is_array = _observer_glue.prepare_inputs(accel, baro_altitude, dt)
+        result = _complementary_glue.complementary_outputs(accel32.shape[0], out)
         cdef const float[::1] a = accel32
         cdef const float[::1] z = baro32
         cdef const float[::1] t = dt32
@@ -288,7 +288,7 @@ cdef class ComplementaryFilter:
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &zf[0], &vb[0])
         if bad >= 0:
-            _common.raise_complementary_update_error(
+            _complementary_glue.raise_complementary_update_error(
                 FusionAltitudeComplementaryCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                 a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result
@@ -328,7 +328,7 @@ cdef class ComplementaryFilter:
         cdef ComplementarySettings checked = _as_settings(settings)
         cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySetSettings(&self._c, &checked._c)
         if status != FusionAltitudeComplementaryStatusOk:
-            _common.raise_complementary_settings_error(status, checked.as_dict())
+            _complementary_glue.raise_complementary_settings_error(status, checked.as_dict())
 
     def _get_state(self):
         return (self.settings.as_dict(), self._c.altitude, self._c.verticalVelocity, self._c.accelFiltered,

@@ -5,7 +5,7 @@ from typing import Any, Dict, Optional, Union
 import numpy as np
 import numpy.typing as npt
 
-from ._common import KalmanBatch, KalmanSensors
+from ._kalman_glue import KalmanBatch, KalmanSensors
 
 C_STATUS_VALUES: Dict[str, int]
 C_RESULT_VALUES: Dict[str, int]

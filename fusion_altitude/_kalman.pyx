@@ -14,8 +14,8 @@ from fusion_altitude.ckalman cimport *
 
 import numpy as np
 
-from fusion_altitude import _common
-from fusion_altitude._common import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from fusion_altitude import _kalman_glue
+from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 #: The C enum values, for checking that :class:`fusion_altitude.KalmanStatus` matches.
 C_STATUS_VALUES = {
@@ -157,11 +157,11 @@ cdef class KalmanSettings:
     cdef FusionAltitudeKalmanSettings _c
 
     def __init__(self, **kwargs):
-        values = _common.convert_kalman_settings(kwargs)
+        values = _kalman_glue.convert_kalman_settings(kwargs)
         self._c = _settings_from_dict(values)
         cdef FusionAltitudeKalmanStatus status = FusionAltitudeKalmanSettingsCheck(&self._c)
         if status != FusionAltitudeKalmanStatusOk:
-            _common.raise_kalman_settings_error(status, values)
+            _kalman_glue.raise_kalman_settings_error(status, values)
 
     @staticmethod
     cdef KalmanSettings _wrap(FusionAltitudeKalmanSettings c):
@@ -321,11 +321,11 @@ cdef class KalmanEstimator:
         m.gpsAltitude = <float>_as_double(gps_altitude, "gps_altitude")
         m.gpsVerticalAccuracy = math.nan if gps_vertical_accuracy is None else \
             <float>_as_double(gps_vertical_accuracy, "gps_vertical_accuracy")
-        m.gpsSatellites = _common.kalman_satellites(gps_satellites)
+        m.gpsSatellites = _kalman_glue.kalman_satellites(gps_satellites)
         m.groundEffect = bool(ground_effect)
         cdef FusionAltitudeKalmanStatus status = FusionAltitudeKalmanUpdate(&self._c, <float>a, <float>t, &m)
         if status != FusionAltitudeKalmanStatusOk:
-            _common.raise_kalman_update_error(status, {
+            _kalman_glue.raise_kalman_update_error(status, {
                 "accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
                 "gps_vertical_accuracy": gps_vertical_accuracy})
 
@@ -367,7 +367,7 @@ cdef class KalmanEstimator:
         Equal, bit for bit, to calling :meth:`update` for each step. The loop
         runs with the GIL released.
         """
-        n, inputs, steps, result = _common.prepare_kalman_batch(
+        n, inputs, steps, result = _kalman_glue.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
             ground_effect, out)
         cdef const float[::1] a = inputs["accel"]
@@ -405,7 +405,7 @@ cdef class KalmanEstimator:
                                      acc[bad * sacc], sats[bad * ss], ground[bad * se])
             values = {"accel": float(a[bad * sa]), "dt": float(t[bad * sd]), "baro_altitude": float(zb[bad * sb]),
                       "gps_altitude": float(zg[bad * sg]), "gps_vertical_accuracy": float(acc[bad * sacc])}
-            _common.raise_kalman_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
+            _kalman_glue.raise_kalman_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
         return result
 
     cdef FusionAltitudeKalmanStatus _rejection(self, float accel, float dt, float baro, float rng, float gps,

@@ -5,7 +5,7 @@ from typing import Dict, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
-from ._common import AltitudeBatch
+from ._observer_glue import AltitudeBatch
 
 GRAVITY: float
 C_STATUS_VALUES: Dict[str, int]

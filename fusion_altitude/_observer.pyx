@@ -10,8 +10,8 @@ from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExa
 from fusion_altitude.cfusion_altitude cimport *
 
 
-from fusion_altitude import _common
-from fusion_altitude._common import AltitudeBatch
+from fusion_altitude import _common, _observer_glue
+from fusion_altitude._observer_glue import AltitudeBatch
 
 GRAVITY = _common.GRAVITY
 
@@ -79,7 +79,7 @@ cdef class AltitudeSettings:
         self._c.biasGain = <float>_as_double(bias_gain, "bias_gain")
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&self._c)
         if status != FusionAltitudeStatusOk:
-            _common.raise_settings_error(status, self.as_tuple())
+            _observer_glue.raise_settings_error(status, self.as_tuple())
 
     @staticmethod
     cdef AltitudeSettings _wrap(FusionAltitudeSettings c):
@@ -105,7 +105,7 @@ cdef class AltitudeSettings:
         cdef FusionAltitudeSettings c
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsFromBandwidth(&c, w, z, wb)
         if status != FusionAltitudeStatusOk:
-            _common.raise_settings_error(status, (w, z, wb))
+            _observer_glue.raise_settings_error(status, (w, z, wb))
         return AltitudeSettings._wrap(c)
 
     @classmethod
@@ -116,7 +116,7 @@ cdef class AltitudeSettings:
         default), ``racing`` (5.0).
         """
         cdef FusionAltitudeSettings c
-        cdef int index = _common.check_preset(name)
+        cdef int index = _observer_glue.check_preset(name)
         FusionAltitudeSettingsFromPreset(&c, <FusionAltitudePreset>index)
         return AltitudeSettings._wrap(c)
 
@@ -151,8 +151,8 @@ cdef class AltitudeSettings:
         cdef float t = <float>_as_double(dt, "dt")
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsValidate(&self._c, t)
         if status != FusionAltitudeStatusOk:
-            _common.raise_settings_error(status, self.as_tuple(), dt)
-        _common.warn_if_coarse(self.as_tuple(), t)
+            _observer_glue.raise_settings_error(status, self.as_tuple(), dt)
+        _observer_glue.warn_if_coarse(self.as_tuple(), t)
 
     def as_tuple(self):
         """(position_gain, velocity_gain, bias_gain) as Python floats."""
@@ -253,7 +253,7 @@ cdef class AltitudeEstimator:
         cdef double t = _as_double(dt, "dt")
         cdef FusionAltitudeStatus status = FusionAltitudeUpdate(&self._c, <float>a, <float>z, <float>t)
         if status != FusionAltitudeStatusOk:
-            _common.raise_update_error(status, a, z, t)
+            _observer_glue.raise_update_error(status, a, z, t)
 
     def reset(self, baro_altitude, accel_bias=None):
         """Set the reference: altitude = ``baro_altitude`` (m), velocity 0, residual 0.
@@ -276,7 +276,7 @@ cdef class AltitudeEstimator:
             b = _as_double(accel_bias, "accel_bias")
             status = FusionAltitudeResetWithBias(&self._c, <float>z, <float>b)
         if status != FusionAltitudeStatusOk:
-            _common.raise_reset_error(status, z, b)
+            _observer_glue.raise_reset_error(status, z, b)
 
     def update_batch(self, accel, baro_altitude, dt, out=None):
         """Process arrays of samples, continuing from the current state.
@@ -311,7 +311,7 @@ cdef class AltitudeEstimator:
         Equal, bit for bit, to calling :meth:`update` for each sample. The loop
         runs with the GIL released.
         """
-        accel32, baro32, dt32, dt_is_array, result = _common.prepare_batch(accel, baro_altitude, dt, out)
+        accel32, baro32, dt32, dt_is_array, result = _observer_glue.prepare_batch(accel, baro_altitude, dt, out)
         cdef const float[::1] a = accel32
         cdef const float[::1] z = baro32
         cdef const float[::1] t = dt32
@@ -327,7 +327,7 @@ cdef class AltitudeEstimator:
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &b[0], &r[0])
         if bad >= 0:
-            _common.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+            _observer_glue.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                                        a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result
 
@@ -366,7 +366,7 @@ cdef class AltitudeEstimator:
         cdef AltitudeSettings checked = _as_settings(settings)
         cdef FusionAltitudeStatus status = FusionAltitudeSetSettings(&self._c, &checked._c)
         if status != FusionAltitudeStatusOk:
-            _common.raise_settings_error(status, checked.as_tuple())
+            _observer_glue.raise_settings_error(status, checked.as_tuple())
 
     def _get_state(self):
         return (self.settings.as_tuple(), self._c.altitude, self._c.verticalVelocity, self._c.accelBias,

@@ -33,7 +33,8 @@ from typing import Callable, List, Optional
 
 import numpy as np
 
-from ._common import GRAVITY, AltitudeBatch
+from ._common import GRAVITY
+from ._observer_glue import AltitudeBatch
 from ._observer import AltitudeEstimator, AltitudeSettings
 from .metrics import ErrorStatistics, error_statistics
 from .sensors import pressure_to_altitude, vertical_acceleration

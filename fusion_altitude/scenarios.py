@@ -15,7 +15,8 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from ._common import GRAVITY, AltitudeBatch
+from ._common import GRAVITY
+from ._observer_glue import AltitudeBatch
 from ._observer import AltitudeEstimator, AltitudeSettings
 from .metrics import ErrorStatistics, error_statistics
 from . import sim

@@ -15,8 +15,9 @@ from typing import List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _common, _sweep
-from ._common import Status, SweepResult
+from . import _sweep, _observer_glue, _sweep_glue
+from ._observer_glue import Status
+from ._sweep_glue import SweepResult
 from ._observer import AltitudeSettings
 
 #: Settings per thread below which a sweep stays on one thread (thread start-up
@@ -67,7 +68,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         neither ``reference`` nor ``outputs``.
     """
     outputs = outputs or out is not None
-    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _common.prepare_sweep(
+    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
     for k, row in enumerate(gains):
         try:
@@ -77,7 +78,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     n, count = accel32.shape[0], gains.shape[0]
     gains_by_row = np.ascontiguousarray(gains.T)
     state = np.empty((4, count), np.float32)
-    output_arrays = _common.output_arrays((n, count), out) if outputs else None
+    output_arrays = _observer_glue.output_arrays((n, count), out) if outputs else None
     metric_arrays = [np.zeros(count, np.float32) for _ in range(5)] if reference32 is not None else None
     if metric_arrays is not None:
         metric_arrays[2][:] = 0.0  # max |error| starts at 0
@@ -98,9 +99,9 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     status, bad, metric_samples = results[0]
     if status != Status.OK:
         t = dt32[bad if dt_is_array else 0]
-        _common.raise_update_error(status, float(accel32[bad]), float(baro32[bad]), float(t), bad, dt_is_array)
+        _observer_glue.raise_update_error(status, float(accel32[bad]), float(baro32[bad]), float(t), bad, dt_is_array)
     sums = tuple(metric_arrays[:3]) if metric_arrays is not None else None
-    return _common.sweep_result(gains, metric_samples, sums, output_arrays)
+    return _sweep_glue.sweep_result(gains, metric_samples, sums, output_arrays)
 
 
 class FitResult(NamedTuple):

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 import fusion_altitude as c
 import fusion_altitude.reference as ref
 from fusion_altitude import _alphabeta
-from fusion_altitude._common import ALPHABETA_DEFAULTS, AlphaBetaSensorSettings
+from fusion_altitude._alphabeta_glue import ALPHABETA_DEFAULTS, AlphaBetaSensorSettings
 
 NAN = math.nan
 

@@ -323,7 +323,7 @@ def test_batch_writes_into_preallocated_out_arrays(impl):
     rng = np.random.default_rng(8)
     n = 300
     accel, baro = rng.normal(0, 0.5, n), 100 + rng.normal(0, 0.3, n)
-    out = fusion_altitude._common.new_kalman_batch(n)
+    out = fusion_altitude._kalman_glue.new_kalman_batch(n)
     result = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro, out=out)
     assert all(r is o for r, o in zip(result, out))
     fresh = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro)

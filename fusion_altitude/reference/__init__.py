@@ -6,8 +6,11 @@ operation order as the C, so its outputs match the C core bit for bit. It is
 slow (a Python loop); use it to understand, test and port the algorithm.
 """
 
-from .._common import GRAVITY, AltitudeBatch, DiscretisationWarning, KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus, Status
-from .._common import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus, ComplementaryBatch, ComplementaryStatus
+from .._common import GRAVITY
+from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from .._observer_glue import AltitudeBatch, DiscretisationWarning, Status
+from .._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
+from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from .complementary import ComplementaryFilter, ComplementarySettings
 from .kalman import KalmanEstimator, KalmanSettings

@@ -18,9 +18,8 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _common
-from .._common import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
-                       AlphaBetaSensorSettings, AlphaBetaStatus)
+from .. import _common, _alphabeta_glue
+from .._alphabeta_glue import ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -61,11 +60,11 @@ class AlphaBetaSettings:
     __slots__ = ("_values",)
 
     def __init__(self, **sensors) -> None:
-        values = _common.convert_alphabeta_settings(sensors)
+        values = _alphabeta_glue.convert_alphabeta_settings(sensors)
         for sensor in ALPHABETA_SENSORS:  # FusionAltitudeAlphaBetaSettingsCheck: first failure in sensor order
             status = _sensor_status(values[sensor])
             if status != AlphaBetaStatus.OK:
-                _common.raise_alphabeta_settings_error(status, values)
+                _alphabeta_glue.raise_alphabeta_settings_error(status, values)
         self._values = values
 
     def __getattr__(self, name: str):
@@ -287,22 +286,22 @@ class AlphaBetaFusion:
         with np.errstate(all="ignore"):
             status = self._update(a, t, z)
         if status != AlphaBetaStatus.OK:
-            _common.raise_alphabeta_update_error(status, {"accel": float(a), "dt": float(t),
+            _alphabeta_glue.raise_alphabeta_update_error(status, {"accel": float(a), "dt": float(t),
                                                           **{n: float(v) for n, v in zip(names, raw)}})  # type: ignore[arg-type]
 
     def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
                      gps_altitude=None) -> AlphaBetaBatch:
         """Process arrays of steps; equal, bit for bit, to calling :meth:`update` for each."""
-        n, inputs, steps, result = _common.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
+        n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
                                                                     sonar_altitude, gps_altitude)
         trial = copy.copy(self)
-        names = _common.ALPHABETA_INPUTS
+        names = _alphabeta_glue.ALPHABETA_INPUTS
         with np.errstate(all="ignore"):
             for i in range(n):
                 values = [inputs[name][i * steps[name]] for name in names]
                 status = trial._update(values[0], values[1], tuple(values[2:]))
                 if status != AlphaBetaStatus.OK:
-                    _common.raise_alphabeta_update_error(status, {name: float(v) for name, v in zip(names, values)},
+                    _alphabeta_glue.raise_alphabeta_update_error(status, {name: float(v) for name, v in zip(names, values)},
                                                          i, {k: bool(s) for k, s in steps.items()})
                 result.altitude[i] = trial._h
                 result.vertical_velocity[i] = trial._v

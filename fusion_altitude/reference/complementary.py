@@ -17,8 +17,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .. import _common
-from .._common import ComplementaryBatch, ComplementaryStatus
+from .. import _common, _complementary_glue, _observer_glue
+from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -61,10 +61,10 @@ class ComplementarySettings:
     __slots__ = ("_values",)
 
     def __init__(self, **kwargs) -> None:
-        values = _common.convert_complementary_settings(kwargs)
+        values = _complementary_glue.convert_complementary_settings(kwargs)
         status = _check(values)
         if status != ComplementaryStatus.OK:
-            _common.raise_complementary_settings_error(status, values)
+            _complementary_glue.raise_complementary_settings_error(status, values)
         self._values = values
 
     @classmethod
@@ -200,7 +200,7 @@ class ComplementaryFilter:
         with np.errstate(all="ignore"):
             status = self._update(a, z, t)
         if status != ComplementaryStatus.OK:
-            _common.raise_complementary_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
+            _complementary_glue.raise_complementary_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
 
     def reset(self, baro_altitude: float) -> None:
         """Set the reference: altitude = filtered baro = ``baro_altitude`` (m), velocities 0."""
@@ -211,15 +211,15 @@ class ComplementaryFilter:
 
     def update_batch(self, accel, baro_altitude, dt, out: Optional[Sequence[np.ndarray]] = None) -> ComplementaryBatch:
         """Process arrays of samples; equal, bit for bit, to calling :meth:`update` for each."""
-        a, z, t, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
-        result = _common.complementary_outputs(a.shape[0], out)
+        a, z, t, dt_is_array = _observer_glue.prepare_inputs(accel, baro_altitude, dt)
+        result = _complementary_glue.complementary_outputs(a.shape[0], out)
         trial = copy.copy(self)
         with np.errstate(all="ignore"):
             for i in range(a.shape[0]):
                 ti = t[i] if dt_is_array else t[0]
                 status = trial._update(a[i], z[i], ti)
                 if status != ComplementaryStatus.OK:
-                    _common.raise_complementary_update_error(status, float(a[i]), float(z[i]), float(ti), i,
+                    _complementary_glue.raise_complementary_update_error(status, float(a[i]), float(z[i]), float(ti), i,
                                                              dt_is_array)
                 result.altitude[i] = trial._h
                 result.vertical_velocity[i] = trial._v

@@ -26,8 +26,8 @@ from typing import List, Optional
 
 import numpy as np
 
-from .. import _common
-from .._common import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from .. import _common, _kalman_glue
+from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -91,10 +91,10 @@ class KalmanSettings:
     __slots__ = ("_values",)
 
     def __init__(self, **kwargs) -> None:
-        values = _common.convert_kalman_settings(kwargs)
+        values = _kalman_glue.convert_kalman_settings(kwargs)
         status = _check(values)
         if status != KalmanStatus.OK:
-            _common.raise_kalman_settings_error(status, values)
+            _kalman_glue.raise_kalman_settings_error(status, values)
         self._values = values
 
     def __getattr__(self, name: str):
@@ -138,7 +138,7 @@ MAXIMUM_SETTING = f32(1e6)
 def _check(values: dict) -> KalmanStatus:
     """FusionAltitudeKalmanSettingsCheck."""
     v = {name: (f32(value) if kind == "f" else value) for (name, _, kind, _, _), value in
-         zip(_common.KALMAN_SETTINGS, values.values())}
+         zip(_kalman_glue.KALMAN_SETTINGS, values.values())}
 
     def non_negative(x):  # in [0, MAXIMUM_SETTING]
         return _is_finite(x) and x >= 0 and x <= MAXIMUM_SETTING
@@ -169,10 +169,10 @@ def _check(values: dict) -> KalmanStatus:
 class _Settings32:
     """The settings as float32 scalars, for the arithmetic."""
 
-    __slots__ = tuple(_common.KALMAN_SETTINGS_NAMES)
+    __slots__ = tuple(_kalman_glue.KALMAN_SETTINGS_NAMES)
 
     def __init__(self, settings: KalmanSettings) -> None:
-        for name, _, kind, _, _ in _common.KALMAN_SETTINGS:
+        for name, _, kind, _, _ in _kalman_glue.KALMAN_SETTINGS:
             value = settings._values[name]
             setattr(self, name, f32(value) if kind == "f" else value)
 
@@ -470,10 +470,10 @@ class KalmanEstimator:
             z_gps = f32(_common.as_float(gps_altitude, "gps_altitude"))
             accuracy = _NAN if gps_vertical_accuracy is None else f32(
                 _common.as_float(gps_vertical_accuracy, "gps_vertical_accuracy"))
-        satellites = _common.kalman_satellites(gps_satellites)
+        satellites = _kalman_glue.kalman_satellites(gps_satellites)
         status = self._update(a, t, z_baro, z_range, z_gps, accuracy, satellites, bool(ground_effect))
         if status != KalmanStatus.OK:
-            _common.raise_kalman_update_error(status, values)
+            _kalman_glue.raise_kalman_update_error(status, values)
 
     def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
                      gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None) -> KalmanBatch:
@@ -485,7 +485,7 @@ class KalmanEstimator:
         to calling :meth:`update` per step; on a bad step nothing is applied
         and ValueError names the argument and its first bad index.
         """
-        n, inputs, steps, result = _common.prepare_kalman_batch(
+        n, inputs, steps, result = _kalman_glue.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
             ground_effect, out)
         trial = copy.copy(self)
@@ -497,7 +497,7 @@ class KalmanEstimator:
             if status != KalmanStatus.OK:
                 values = {"accel": float(a), "dt": float(t), "baro_altitude": float(zb), "gps_altitude": float(zg),
                           "gps_vertical_accuracy": float(acc)}
-                _common.raise_kalman_update_error(status, values, i, {k: bool(v) for k, v in steps.items()})
+                _kalman_glue.raise_kalman_update_error(status, values, i, {k: bool(v) for k, v in steps.items()})
             trial._record(result, i)
         self._set_state(trial._get_state())
         return result

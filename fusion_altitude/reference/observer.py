@@ -15,8 +15,8 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .. import _common
-from .._common import AltitudeBatch, Status
+from .. import _common, _observer_glue
+from .._observer_glue import AltitudeBatch, Status
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -136,7 +136,7 @@ class AltitudeSettings:
                           for value, name in zip((position_gain, velocity_gain, bias_gain), names))
         status = _check_gains(*gains)
         if status != Status.OK:
-            _common.raise_settings_error(status, tuple(float(g) for g in gains))
+            _observer_glue.raise_settings_error(status, tuple(float(g) for g in gains))
         self._gains = gains
 
     @classmethod
@@ -151,13 +151,13 @@ class AltitudeSettings:
         omega_b32 = omega32 / f32(5) if omega_b is None else f32(_common.as_float(omega_b, "omega_b"))
         status, gains = _from_bandwidth(omega32, zeta32, omega_b32)
         if status != Status.OK:
-            _common.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
+            _observer_glue.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
         return cls(*gains)
 
     @classmethod
     def preset(cls, name: str) -> "AltitudeSettings":
         """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0)."""
-        _common.check_preset(name)
+        _observer_glue.check_preset(name)
         return cls(*_PRESET_GAINS[name])
 
     @property
@@ -184,8 +184,8 @@ class AltitudeSettings:
         dt32 = f32(_common.as_float(dt, "dt"))
         status = _validate(*self._gains, dt32)
         if status != Status.OK:
-            _common.raise_settings_error(status, self.as_tuple(), float(dt))
-        _common.warn_if_coarse(self.as_tuple(), float(dt32))
+            _observer_glue.raise_settings_error(status, self.as_tuple(), float(dt))
+        _observer_glue.warn_if_coarse(self.as_tuple(), float(dt32))
 
     def as_tuple(self) -> Tuple[float, float, float]:
         """(position_gain, velocity_gain, bias_gain) as Python floats."""
@@ -291,7 +291,7 @@ class AltitudeEstimator:
             t = f32(_common.as_float(dt, "dt"))
         status = self._update(a, z, t)
         if status != Status.OK:
-            _common.raise_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
+            _observer_glue.raise_update_error(status, float(accel), float(baro_altitude), float(dt))  # type: ignore[arg-type]
 
     def reset(self, baro_altitude: float, accel_bias: Optional[float] = None) -> None:
         """Set the reference: altitude = ``baro_altitude`` (m), velocity 0, residual 0.
@@ -303,10 +303,10 @@ class AltitudeEstimator:
             z = f32(_common.as_float(baro_altitude, "baro_altitude"))
             b = None if accel_bias is None else f32(_common.as_float(accel_bias, "accel_bias"))
         if not _is_finite(z):
-            _common.raise_reset_error(Status.INVALID_BARO_ALTITUDE, float(z), 0.0)
+            _observer_glue.raise_reset_error(Status.INVALID_BARO_ALTITUDE, float(z), 0.0)
         if b is not None:
             if not _is_finite(b):
-                _common.raise_reset_error(Status.INVALID_ACCEL_BIAS, float(z), float(b))
+                _observer_glue.raise_reset_error(Status.INVALID_ACCEL_BIAS, float(z), float(b))
             self._b = b
         self._reset(z)
 
@@ -317,13 +317,13 @@ class AltitudeEstimator:
         sample nothing is applied (the state is as before the call) and
         ValueError names the argument and the first bad index.
         """
-        a, z, t, dt_is_array, result = _common.prepare_batch(accel, baro_altitude, dt, out)
+        a, z, t, dt_is_array, result = _observer_glue.prepare_batch(accel, baro_altitude, dt, out)
         trial = copy.copy(self)
         for i in range(a.shape[0]):
             ti = t[i] if dt_is_array else t[0]
             status = trial._update(a[i], z[i], ti)
             if status != Status.OK:
-                _common.raise_update_error(status, float(a[i]), float(z[i]), float(ti), i, dt_is_array)
+                _observer_glue.raise_update_error(status, float(a[i]), float(z[i]), float(ti), i, dt_is_array)
             result.altitude[i] = trial._h
             result.vertical_velocity[i] = trial._v
             result.accel_bias[i] = trial._b

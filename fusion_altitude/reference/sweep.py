@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _common
-from .._common import AltitudeBatch, SweepResult
+from .. import _observer_glue, _sweep_glue
+from .._observer_glue import AltitudeBatch
+from .._sweep_glue import SweepResult
 from .observer import AltitudeEstimator, AltitudeSettings
 
 f32 = np.float32
@@ -23,7 +24,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
           threads=None, out=None) -> SweepResult:
     """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`)."""
     outputs = outputs or out is not None
-    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _common.prepare_sweep(
+    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
     for k, row in enumerate(gains):
         try:
@@ -35,11 +36,11 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     runs = [AltitudeEstimator(AltitudeSettings(*row)).update_batch(accel32, baro32, dt_argument) for row in gains]
     output_arrays = None
     if outputs:
-        output_arrays = _common.output_arrays((n, count), out)
+        output_arrays = _observer_glue.output_arrays((n, count), out)
         for target, field in zip(output_arrays, AltitudeBatch._fields):
             target[...] = np.stack([getattr(run, field) for run in runs], axis=1).reshape(n, count)
     if reference32 is None:
-        return _common.sweep_result(gains, 0, None, output_arrays)
+        return _sweep_glue.sweep_result(gains, 0, None, output_arrays)
     counted = np.isfinite(reference32) & (mask8.astype(bool) if mask8 is not None else True)
     sums = np.zeros((3, count), np.float32)
     for k, run in enumerate(runs):
@@ -55,4 +56,4 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
                 total, total_squared = total + block, total_squared + block_squared
                 block, block_squared, in_block = f32(0), f32(0), 0
         sums[:, k] = (total + block, total_squared + block_squared, largest)
-    return _common.sweep_result(gains, int(np.count_nonzero(counted)), tuple(sums), output_arrays)
+    return _sweep_glue.sweep_result(gains, int(np.count_nonzero(counted)), tuple(sums), output_arrays)

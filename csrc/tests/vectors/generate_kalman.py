@@ -34,7 +34,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from fusion_altitude._common import KALMAN_SETTINGS, KALMAN_SETTINGS_DEFAULTS, KalmanStatus
+from fusion_altitude._kalman_glue import KALMAN_SETTINGS, KALMAN_SETTINGS_DEFAULTS, KalmanStatus
 from fusion_altitude.reference import kalman as _kalman
 
 HEADER_PATH = Path(__file__).resolve().with_name("kalman_vectors.h")

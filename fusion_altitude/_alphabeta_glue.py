@@ -1,0 +1,230 @@
+"""Glue of the quality-weighted alpha-beta fusion shared by its binding
+(``_alphabeta.pyx``) and its reference (``reference/alphabeta.py``).
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from typing import NamedTuple, Optional
+
+import numpy as np
+
+from ._common import as_float, as_float32_vector
+
+
+class AlphaBetaStatus(enum.IntEnum):
+    """Status codes, equal to the C enum ``FusionAltitudeAlphaBetaStatus``."""
+
+    OK = 0
+    INVALID_ACCEL = 1
+    INVALID_DT = 2
+    INVALID_BARO_ALTITUDE = 3
+    INVALID_LIDAR_ALTITUDE = 4
+    INVALID_SONAR_ALTITUDE = 5
+    INVALID_GPS_ALTITUDE = 6
+    INVALID_THRESHOLD = 7
+    INVALID_QUALITY = 8
+    INVALID_CONFIDENCE = 9
+    INVALID_ALTITUDE_BAND = 10
+    INVALID_GAP_MAX = 11
+    INVALID_TIMEOUT = 12
+
+
+#: Sensor channels of the alpha-beta fusion, in the C index order.
+ALPHABETA_SENSORS = ("imu", "baro", "lidar", "sonar", "gps")
+
+
+#: Largest accepted quality (FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY).
+ALPHABETA_MAX_QUALITY = 10000
+
+
+class AlphaBetaSensorSettings(NamedTuple):
+    """One sensor's settings in the alpha-beta fusion (C ``FusionAltitudeAlphaBetaSensorSettings``).
+
+    Attributes
+    ----------
+    threshold : float
+        m, > 0: a sample within this of the predicted fused altitude raises the quality by one; else it falls by one.
+    quality_min, quality_max : int
+        Range of the quality Q (the α-β filter depth, samples), 2 <= min <= max <= 10000.
+    confidence : float
+        >= 0: the sensor's weight is Q · confidence.
+    altitude_min, altitude_max : float
+        m: the band of predicted fused altitude in which the sensor is used (infinite allowed).
+    gap_max : float
+        m, > 0: the sensor is not used while its filtered altitude is further than this from the prediction.
+    timeout : float
+        s, > 0: not used after this long without a sample; the next sample restarts its filter.
+    """
+
+    threshold: float
+    quality_min: int
+    quality_max: int
+    confidence: float
+    altitude_min: float
+    altitude_max: float
+    gap_max: float
+    timeout: float
+
+
+_INF = math.inf
+
+
+#: The write-up's tables, plus the values it does not give (see csrc/fusion_altitude_alphabeta.h).
+ALPHABETA_DEFAULTS = {
+    "imu": AlphaBetaSensorSettings(1.0, 2, 4, 5.0, -1.0, _INF, 4.0, 1.5),
+    "baro": AlphaBetaSensorSettings(1.0, 10, 60, 2.0, -4.0, _INF, 10.0, 1.5),
+    "lidar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 40.0, 6.0, 1.5),
+    "sonar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 5.0, 6.0, 1.5),
+    "gps": AlphaBetaSensorSettings(10.0, 10, 120, 1.0, -10.0, _INF, 20.0, 1.5),
+}
+
+
+class AlphaBetaSensors(NamedTuple):
+    """One value per alpha-beta sensor channel."""
+
+    imu: object
+    baro: object
+    lidar: object
+    sonar: object
+    gps: object
+
+
+def _as_int32(value: object, name: str) -> int:
+    if isinstance(value, (bool, np.bool_)) or not hasattr(type(value), "__index__"):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    index = int(value)  # type: ignore[call-overload]
+    if not -2**31 <= index < 2**31:
+        raise ValueError(f"{name} must fit in int32, got {index}")
+    return index
+
+
+def convert_alphabeta_settings(kwargs: dict) -> dict:
+    """``AlphaBetaSettings(**kwargs)`` arguments → {sensor: AlphaBetaSensorSettings of C-typed values}.
+
+    Each sensor's argument is None (defaults), an AlphaBetaSensorSettings, or
+    a mapping of the fields to change from the defaults.
+    """
+    unknown = set(kwargs) - set(ALPHABETA_SENSORS)
+    if unknown:
+        raise TypeError(f"unknown alpha-beta sensor(s): {', '.join(sorted(unknown))}; "
+                        f"choose from {', '.join(ALPHABETA_SENSORS)}")
+    result = {}
+    for sensor in ALPHABETA_SENSORS:
+        value = kwargs.get(sensor)
+        base = ALPHABETA_DEFAULTS[sensor]._asdict()
+        if value is None:
+            fields = base
+        elif isinstance(value, AlphaBetaSensorSettings):
+            fields = value._asdict()
+        elif hasattr(value, "keys"):
+            extra = set(value) - set(AlphaBetaSensorSettings._fields)  # type: ignore[arg-type]
+            if extra:
+                raise TypeError(f"unknown {sensor} setting(s): {', '.join(sorted(extra))}")
+            fields = {**base, **value}  # type: ignore[dict-item]
+        else:
+            raise TypeError(f"{sensor} must be None, a mapping or AlphaBetaSensorSettings, got {type(value).__name__}")
+        converted = {}
+        for name in AlphaBetaSensorSettings._fields:
+            if name.startswith("quality"):
+                converted[name] = _as_int32(fields[name], f"{sensor}.{name}")
+            else:
+                with np.errstate(over="ignore"):
+                    converted[name] = float(np.float32(as_float(fields[name], f"{sensor}.{name}")))
+        result[sensor] = AlphaBetaSensorSettings(**converted)
+    return result
+
+
+def raise_alphabeta_settings_error(status: int, values: dict) -> None:
+    """Raise the ValueError for rejected alpha-beta settings, naming the sensor and field (the C check's order)."""
+    for sensor in ALPHABETA_SENSORS:
+        s = values[sensor]
+        where = sensor
+        if not (math.isfinite(s.threshold) and s.threshold > 0):
+            raise ValueError(f"{where}.threshold must be finite and > 0 (m), got {s.threshold!r}")
+        if s.quality_min < 2:
+            raise ValueError(f"{where}.quality_min must be >= 2 (Q = 1 is unstable), got {s.quality_min!r}")
+        if s.quality_max < s.quality_min or s.quality_max > ALPHABETA_MAX_QUALITY:
+            raise ValueError(f"{where}.quality_max must be in [quality_min, {ALPHABETA_MAX_QUALITY}], "
+                             f"got {s.quality_max!r} (quality_min {s.quality_min!r})")
+        if not (math.isfinite(s.confidence) and s.confidence >= 0):
+            raise ValueError(f"{where}.confidence must be finite and >= 0, got {s.confidence!r}")
+        if not s.altitude_min < s.altitude_max:
+            raise ValueError(f"{where}.altitude_min must be < altitude_max (m, infinite allowed), "
+                             f"got {s.altitude_min!r} and {s.altitude_max!r}")
+        if not s.gap_max > 0:
+            raise ValueError(f"{where}.gap_max must be > 0 (m, inf: no limit), got {s.gap_max!r}")
+        if not (math.isfinite(s.timeout) and s.timeout > 0):
+            raise ValueError(f"{where}.timeout must be finite and > 0 (s), got {s.timeout!r}")
+    raise ValueError(f"invalid alpha-beta settings (status {status})")
+
+
+_ALPHABETA_UPDATE_RULES = {
+    AlphaBetaStatus.INVALID_ACCEL: ("accel", "must be finite, or NaN for no IMU sample (m/s²)"),
+    AlphaBetaStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
+    AlphaBetaStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no sample (m)"),
+    AlphaBetaStatus.INVALID_LIDAR_ALTITUDE: ("lidar_altitude", "must be finite, or NaN for no sample (m)"),
+    AlphaBetaStatus.INVALID_SONAR_ALTITUDE: ("sonar_altitude", "must be finite, or NaN for no sample (m)"),
+    AlphaBetaStatus.INVALID_GPS_ALTITUDE: ("gps_altitude", "must be finite, or NaN for no sample (m)"),
+}
+
+
+#: update_batch's per-step inputs, in the order of the C call.
+ALPHABETA_INPUTS = ("accel", "dt", "baro_altitude", "lidar_altitude", "sonar_altitude", "gps_altitude")
+
+
+def raise_alphabeta_update_error(status: int, values: dict, index: Optional[int] = None,
+                                 is_array: Optional[dict] = None) -> None:
+    """Raise the ValueError for a rejected alpha-beta update, naming the argument (and index in a batch)."""
+    name, rule = _ALPHABETA_UPDATE_RULES[AlphaBetaStatus(status)]
+    where = name if index is None or not (is_array or {}).get(name, True) else f"{name}[{index}]"
+    raise ValueError(f"{where} {rule}, got {values[name]!r}")
+
+
+class AlphaBetaBatch(NamedTuple):
+    """Per-step outputs of ``AlphaBetaFusion.update_batch``.
+
+    Attributes
+    ----------
+    altitude, vertical_velocity : numpy.ndarray
+        float32, shape (n,): fused altitude (m) and vertical velocity (m/s).
+    weight : numpy.ndarray
+        float32, shape (n, 5): each sensor's weight (imu, baro, lidar, sonar, gps); 0 = not used.
+    quality : numpy.ndarray
+        int32, shape (n, 5): each sensor's quality Q.
+    """
+
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    weight: np.ndarray
+    quality: np.ndarray
+
+
+def prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude, sonar_altitude, gps_altitude):
+    """Convert ``update_batch`` inputs. Returns (n, inputs, steps, output): ``inputs`` maps each
+    name of :data:`ALPHABETA_INPUTS` to a contiguous float32 array of length n, or of length 1 for a
+    scalar or None (then its entry in ``steps`` is 0, else 1)."""
+    if dt is None:
+        raise TypeError("dt must be a real number or an array, got None")
+    accel32 = as_float32_vector(accel, "accel")
+    n = accel32.shape[0]
+    arguments = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "lidar_altitude": lidar_altitude,
+                 "sonar_altitude": sonar_altitude, "gps_altitude": gps_altitude}
+    inputs = {"accel": accel32}
+    for name in ALPHABETA_INPUTS[1:]:
+        value = arguments[name]
+        if value is None:
+            inputs[name] = np.array([math.nan], dtype=np.float32)
+        elif np.ndim(value) == 0:
+            with np.errstate(over="ignore"):
+                inputs[name] = np.array([as_float(value, name)], dtype=np.float32)
+        else:
+            array = as_float32_vector(value, name)
+            if array.shape[0] != n:
+                raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
+            inputs[name] = array
+    steps = {name: 0 if arguments[name] is None or np.ndim(arguments[name]) == 0 else 1 for name in ALPHABETA_INPUTS}
+    output = AlphaBetaBatch(np.empty(n, dtype=np.float32), np.empty(n, dtype=np.float32),
+                            np.empty((n, 5), dtype=np.float32), np.empty((n, 5), dtype=np.int32))
+    return n, inputs, steps, output

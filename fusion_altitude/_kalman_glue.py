@@ -1,0 +1,293 @@
+"""Glue of the multi-sensor Kalman filter shared by its binding (``_kalman.pyx``)
+and its reference (``reference/kalman.py``): statuses, the settings table,
+error messages that name the argument, batch conversion and result types.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from typing import NamedTuple, Optional, Sequence
+
+import numpy as np
+
+from ._common import as_float, as_float32_vector
+
+
+class KalmanStatus(enum.IntEnum):
+    """Status codes, equal to the C enum ``FusionAltitudeKalmanStatus``."""
+
+    OK = 0
+    INVALID_ACCEL = 1
+    INVALID_DT = 2
+    INVALID_BARO_ALTITUDE = 3
+    INVALID_GPS_ALTITUDE = 4
+    INVALID_GPS_ACCURACY = 5
+    INVALID_NOISE = 6
+    INVALID_RANGE = 7
+    INVALID_GPS = 8
+    INVALID_GATE = 9
+    INVALID_GROUND_EFFECT = 10
+
+
+class KalmanResult(enum.IntEnum):
+    """What an update did with a sensor's sample (C ``FusionAltitudeKalmanResult``)."""
+
+    NO_SAMPLE = 0
+    FUSED = 1
+    REJECTED = 2
+    RESET = 3
+    INITIALISED = 4
+    UNUSABLE = 5
+
+
+class KalmanSensors(NamedTuple):
+    """One value per altitude sensor."""
+
+    baro: object
+    range: object
+    gps: object
+
+
+#: Kalman settings: (Python name, default, kind, status group, rule), in the
+#: order of the C struct FusionAltitudeKalmanSettings. kind: "f" float32,
+#: "b" bool, "i" int32. Rules: ">=0", ">0", ">=1".
+KALMAN_SETTINGS = (
+    ("accel_noise", 0.035, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("accel_bias_random_walk", 0.003, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("accel_bias_initial_sigma", 0.2, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("estimate_accel_bias", True, "b", None, None),
+    ("baro_noise", 0.5, "f", KalmanStatus.INVALID_NOISE, ">0"),
+    ("baro_offset_random_walk", 0.05, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("range_noise", 0.05, "f", KalmanStatus.INVALID_NOISE, ">0"),
+    ("range_min", 0.1, "f", KalmanStatus.INVALID_RANGE, ">=0"),
+    ("range_max", 8.0, "f", KalmanStatus.INVALID_RANGE, ">range_min"),
+    ("gps_noise_base", 1.0, "f", KalmanStatus.INVALID_GPS, ">=0"),
+    ("gps_noise_satellite", 1.0, "f", KalmanStatus.INVALID_GPS, ">=0"),
+    ("gps_min_satellites", 4, "i", KalmanStatus.INVALID_GPS, ">=0"),
+    ("gps_offset_random_walk", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("gate", 5.0, "f", KalmanStatus.INVALID_GATE, ">0"),
+    ("rejection_timeout", 1.0, "f", KalmanStatus.INVALID_GATE, ">=0"),
+    ("ground_effect_noise_scale", 3.0, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
+    ("ground_effect_dead_zone", 0.5, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
+    ("initial_height_sigma", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("initial_velocity_sigma", 1.0, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+)
+
+
+KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
+
+
+#: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
+KALMAN_MAXIMUM_SETTING = 1e6
+
+
+KALMAN_SETTINGS_DEFAULTS = {name: default for name, default, *_ in KALMAN_SETTINGS}
+
+
+#: Names of the state vector entries, in the C index order.
+KALMAN_STATE_NAMES = ("height_above_ground", "vertical_velocity", "baro_offset", "gps_offset", "accel_bias")
+
+
+def convert_kalman_settings(kwargs: dict) -> dict:
+    """Settings keyword arguments → dict of Python values of the C types (float32-rounded floats, bool, int)."""
+    unknown = set(kwargs) - set(KALMAN_SETTINGS_NAMES)
+    if unknown:
+        raise TypeError(f"unknown Kalman setting(s): {', '.join(sorted(unknown))}")
+    values = {}
+    for name, default, kind, _, _ in KALMAN_SETTINGS:
+        value = kwargs.get(name, default)
+        if kind == "f":
+            with np.errstate(over="ignore"):
+                values[name] = float(np.float32(as_float(value, name)))
+        elif kind == "b":
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{name} must be a bool, got {type(value).__name__}")
+            values[name] = bool(value)
+        else:
+            if isinstance(value, (bool, np.bool_)) or not hasattr(type(value), "__index__"):
+                raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+            index = int(value)
+            if not -2**31 <= index < 2**31:
+                raise ValueError(f"{name} must fit in int32, got {index}")
+            values[name] = index
+    return values
+
+
+def raise_kalman_settings_error(status: int, values: dict) -> None:
+    """Raise the ValueError for rejected Kalman settings, naming the first bad field of the status's group."""
+    for name, _, kind, group, rule in KALMAN_SETTINGS:
+        if group != status:
+            continue
+        value = values[name]
+        if kind == "f" and math.isfinite(value) and value > KALMAN_MAXIMUM_SETTING:
+            ok, text = False, f"must be finite and <= {KALMAN_MAXIMUM_SETTING:g}"
+        elif rule == ">range_min":
+            ok = math.isfinite(value) and value > values["range_min"]
+            text = f"must be finite and > range_min ({values['range_min']!r})"
+        elif rule == ">0":
+            ok = math.isfinite(value) and value > 0
+            text = "must be finite and > 0"
+        elif rule == ">=1":
+            ok = math.isfinite(value) and value >= 1
+            text = "must be finite and >= 1"
+        else:
+            ok = math.isfinite(value) and value >= 0
+            text = "must be finite and >= 0"
+        if not ok:
+            raise ValueError(f"{name} {text}, got {value!r}")
+    if status == KalmanStatus.INVALID_GPS:
+        raise ValueError("gps_noise_base + gps_noise_satellite must be > 0")
+    if status == KalmanStatus.INVALID_GROUND_EFFECT:
+        raise ValueError(f"baro_noise * ground_effect_noise_scale must be <= {KALMAN_MAXIMUM_SETTING:g}, got "
+                         f"{values['baro_noise']!r} * {values['ground_effect_noise_scale']!r}")
+    raise ValueError(f"invalid Kalman settings (status {status})")
+
+
+_KALMAN_UPDATE_RULES = {
+    KalmanStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
+    KalmanStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
+    KalmanStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no sample (m)"),
+    KalmanStatus.INVALID_GPS_ALTITUDE: ("gps_altitude", "must be finite, or NaN for no sample (m)"),
+    KalmanStatus.INVALID_GPS_ACCURACY: ("gps_vertical_accuracy", "must be finite and > 0 (m), or None/NaN if not reported"),
+}
+
+
+def raise_kalman_update_error(status: int, values: dict, index: Optional[int] = None,
+                              is_array: Optional[dict] = None) -> None:
+    """Raise the ValueError for a rejected Kalman update, naming the argument (and index in a batch)."""
+    name, rule = _KALMAN_UPDATE_RULES[KalmanStatus(status)]
+    where = name if index is None or not (is_array or {}).get(name, True) else f"{name}[{index}]"
+    raise ValueError(f"{where} {rule}, got {values[name]!r}")
+
+
+def kalman_satellites(value: object) -> int:
+    """gps_satellites of a per-sample update as a C int32: None (unknown) → -1."""
+    if value is None:
+        return -1
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError("gps_satellites must be an int or None, got bool")
+    if isinstance(value, (float, np.floating)):
+        if math.isnan(value):
+            return -1
+        if not float(value).is_integer():
+            raise ValueError(f"gps_satellites must be a whole number, got {value!r}")
+        value = int(value)
+    if not hasattr(type(value), "__index__"):
+        raise TypeError(f"gps_satellites must be an int or None, got {type(value).__name__}")
+    n = int(value)  # type: ignore[call-overload]
+    return max(-1, min(n, 2**31 - 1))
+
+
+class KalmanBatch(NamedTuple):
+    """Per-sample outputs of ``KalmanEstimator.update_batch``.
+
+    Attributes
+    ----------
+    height_above_ground, altitude, vertical_velocity, accel_bias, baro_offset, gps_offset : numpy.ndarray
+        float32, shape (n,): the state after each sample (m, m, m/s, m/s², m, m).
+    covariance_diagonal : numpy.ndarray
+        float32, shape (n, 5): variances of (h, v, baro_offset, gps_offset, accel_bias).
+    innovation, nis : numpy.ndarray
+        float32, shape (n, 3): innovation (m) and NIS per sensor (baro, range, gps);
+        NaN where a sensor had no tested sample.
+    result : numpy.ndarray
+        uint8, shape (n, 3): :class:`KalmanResult` per sensor.
+    """
+
+    height_above_ground: np.ndarray
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    accel_bias: np.ndarray
+    baro_offset: np.ndarray
+    gps_offset: np.ndarray
+    covariance_diagonal: np.ndarray
+    innovation: np.ndarray
+    nis: np.ndarray
+    result: np.ndarray
+
+
+def _kalman_output_layout(n: int):
+    """(shape, dtype) of each KalmanBatch field for n samples."""
+    vector, per_sensor = ((n,), np.float32), ((n, 3), np.float32)
+    return [vector] * 6 + [((n, 5), np.float32), per_sensor, per_sensor, ((n, 3), np.uint8)]
+
+
+def new_kalman_batch(n: int) -> KalmanBatch:
+    """Uninitialised output arrays for n samples."""
+    return KalmanBatch(*(np.empty(shape, dtype=dtype) for shape, dtype in _kalman_output_layout(n)))
+
+
+def kalman_output_arrays(n: int, out: Optional[Sequence[np.ndarray]]) -> KalmanBatch:
+    """New output arrays for n samples, or the caller's ``out`` (a KalmanBatch of preallocated arrays) after checking it."""
+    if out is None:
+        return new_kalman_batch(n)
+    layout = _kalman_output_layout(n)
+    if len(out) != len(layout):
+        raise ValueError(f"out must hold {len(layout)} arrays ({', '.join(KalmanBatch._fields)}), got {len(out)}")
+    for field, array, (shape, dtype) in zip(KalmanBatch._fields, out, layout):
+        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != shape \
+                or not array.flags.c_contiguous or not array.flags.writeable:
+            raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape {shape}")
+    return KalmanBatch(*out)
+
+
+def _kalman_input(value: object, name: str, n: Optional[int], fill: float) -> np.ndarray:
+    """A float32 input: None → [fill] (broadcast), scalar → [value], else a contiguous vector of length n."""
+    if value is None:
+        return np.array([fill], dtype=np.float32)
+    if np.ndim(value) == 0:
+        with np.errstate(over="ignore"):
+            return np.array([as_float(value, name)], dtype=np.float32)
+    array = as_float32_vector(value, name)
+    if n is not None and array.shape[0] != n:
+        raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
+    return array
+
+
+def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites,
+                         gps_vertical_accuracy, ground_effect, out=None):
+    """Convert ``update_batch`` inputs. Returns (n, inputs, steps, output): ``inputs``
+    maps each argument name to a contiguous array (float32; int32 satellites,
+    uint8 ground effect) of length n, or of length 1 for a scalar or None
+    (then its entry in ``steps`` is 0, else 1)."""
+    accel32 = as_float32_vector(accel, "accel")
+    n = accel32.shape[0]
+    inputs = {
+        "accel": accel32,
+        "dt": _kalman_input(dt, "dt", n, math.nan),
+        "baro_altitude": _kalman_input(baro_altitude, "baro_altitude", n, math.nan),
+        "range_distance": _kalman_input(range_distance, "range_distance", n, math.nan),
+        "gps_altitude": _kalman_input(gps_altitude, "gps_altitude", n, math.nan),
+        "gps_vertical_accuracy": _kalman_input(gps_vertical_accuracy, "gps_vertical_accuracy", n, math.nan),
+    }
+    if dt is None:
+        raise TypeError("dt must be a real number or an array, got None")
+    if gps_satellites is None or np.ndim(gps_satellites) == 0:
+        satellites = np.array([kalman_satellites(gps_satellites)], dtype=np.int32)
+    else:
+        raw = np.asarray(gps_satellites)
+        if raw.ndim != 1 or raw.shape[0] != n:
+            raise ValueError(f"gps_satellites must be 1-D with {n} samples, got shape {raw.shape}")
+        if raw.dtype.kind == "f":
+            bad = ~np.isnan(raw) & (raw != np.floor(raw))
+            if bad.any():
+                index = int(np.argmax(bad))
+                raise ValueError(f"gps_satellites[{index}] must be a whole number, got {raw[index]!r}")
+            raw = np.where(np.isnan(raw), -1, raw)
+        elif raw.dtype.kind not in "iu":
+            raise TypeError(f"gps_satellites must be an array of integers, got dtype {raw.dtype}")
+        satellites = np.ascontiguousarray(np.clip(raw, -1, 2**31 - 1), dtype=np.int32)
+    inputs["gps_satellites"] = satellites
+    if ground_effect is None or np.ndim(ground_effect) == 0:
+        flags = np.array([bool(ground_effect)], dtype=np.uint8)
+    else:
+        flags = np.ascontiguousarray(np.asarray(ground_effect, dtype=bool), dtype=np.uint8)
+        if flags.ndim != 1 or flags.shape[0] != n:
+            raise ValueError(f"ground_effect must be 1-D with {n} samples, got shape {flags.shape}")
+    inputs["ground_effect"] = flags
+    arguments = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "range_distance": range_distance,
+                 "gps_altitude": gps_altitude, "gps_satellites": gps_satellites,
+                 "gps_vertical_accuracy": gps_vertical_accuracy, "ground_effect": ground_effect}
+    steps = {name: 0 if arguments[name] is None or np.ndim(arguments[name]) == 0 else 1 for name in inputs}
+    return n, inputs, steps, kalman_output_arrays(n, out)

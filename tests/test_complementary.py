@@ -218,10 +218,3 @@ def test_bad_settings_raise_naming_the_field(impl, kwargs, message):
         impl.ComplementarySettings(per_sample_coefficients=1)
     with pytest.raises(TypeError, match="settings must be ComplementarySettings"):
         impl.ComplementaryFilter().settings = 3
-
-
-@pytest.mark.parametrize("header", ["fusion_altitude_complementary.h", "fusion_altitude_alphabeta.h"])
-def test_header_uses_no_libm_no_double_no_malloc(header):
-    code = re.sub(r"/\*.*?\*/|//[^\n]*", "", (ROOT / "csrc" / header).read_text(), flags=re.DOTALL)
-    for word in ("#include <math.h>", "double", "malloc", "sqrt", "static float ", "static int "):
-        assert word not in code.replace("static inline", "")

@@ -29,10 +29,32 @@ def test_gravity_is_standard_gravity_in_both_layers():
     assert _observer.C_GRAVITY == float.__new__(float, __import__("numpy").float32(9.80665))
 
 
+BINDINGS = ["_observer", "_kalman", "_complementary", "_alphabeta", "_sweep"]
+
+
 def test_type_stubs_and_marker_are_installed():
     package = importlib.resources.files("fusion_altitude")
     assert (package / "py.typed").is_file()
-    assert (package / "_observer.pyi").is_file()
+    for binding in BINDINGS:
+        assert (package / f"{binding}.pyi").is_file(), binding
+
+
+def test_type_stubs_declare_every_public_name_and_method():
+    import importlib
+    import re
+    package = importlib.resources.files("fusion_altitude")
+    for binding in BINDINGS:
+        module = importlib.import_module(f"fusion_altitude.{binding}")
+        stub = (package / f"{binding}.pyi").read_text()
+        for name in (n for n in dir(module) if not n.startswith("_")):
+            value = getattr(module, name)
+            defined_here = callable(value) and getattr(value, "__module__", None) == module.__name__
+            if not (defined_here or name.startswith("C_") or name == "BLOCK"):
+                continue  # imported from elsewhere
+            assert re.search(rf"\b{name}\b", stub), f"{binding}.pyi lacks {name}"
+            if isinstance(value, type):
+                for member in (m for m in vars(value) if not m.startswith("_")):
+                    assert re.search(rf"def {member}\b", stub), f"{binding}.pyi lacks {name}.{member}"
 
 
 def test_version_matches_the_c_header():

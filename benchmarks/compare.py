@@ -127,6 +127,8 @@ def main(argv=None) -> int:
                              "100 Hz IMU; 1 puts the full correction on every sample's dependency chain)")
     parser.add_argument("--no-sweep", dest="sweep", action="store_false", help="skip the gain-sweep table")
     parser.add_argument("--no-kalman", dest="kalman", action="store_false", help="skip the Kalman filter table")
+    parser.add_argument("--no-hobby", dest="hobby", action="store_false",
+                        help="skip the complementary filter and alpha-beta fusion table")
     parser.add_argument("--sweep-samples", type=int, default=100_000, help="samples for the sweep cases (default 1e5)")
     args = parser.parse_args(argv)
     n = args.samples
@@ -261,6 +263,12 @@ def main(argv=None) -> int:
         kalman_rows = kalman_bench.run(args.samples, max(1, min(repeat, 5)))
         kalman_bench.print_table(kalman_rows)
         checks += kalman_bench.checks(kalman_rows)
+    if args.hobby:
+        import hobby_bench
+        print()
+        print(f"Two-stage complementary filter and alpha-beta fusion ({args.samples} steps):")
+        print()
+        hobby_bench.print_table(hobby_bench.run(args.samples, max(1, min(repeat, 5))))
     return 0 if all(ok for _, ok in checks) else 1
 
 

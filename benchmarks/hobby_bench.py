@@ -20,10 +20,11 @@ import numpy as np
 import fusion_altitude
 from fusion_altitude import reference
 
-try:
-    from _timing import best_ns
-except ImportError:  # imported as benchmarks.hobby_bench
-    from benchmarks._timing import best_ns
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _timing import best_ns  # noqa: E402
 
 DT = 0.01
 
@@ -72,10 +73,15 @@ def main(argv=None) -> int:
     parser.add_argument("--samples", type=int, default=1_000_000)
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args(argv)
-    print(f"{'estimator':15s} {'case':22s} {'ns/step':>10s}")
-    for estimator, case, ns in run(args.samples, args.repeat):
-        print(f"{estimator:15s} {case:22s} {ns:10.1f}")
+    print_table(run(args.samples, args.repeat))
     return 0
+
+
+def print_table(rows) -> None:
+    print("| estimator | case | ns/step |")
+    print("|---|---|---:|")
+    for estimator, case, ns in rows:
+        print(f"| {estimator} | {case} | {ns:.1f} |")
 
 
 if __name__ == "__main__":

@@ -32,7 +32,7 @@ import numpy as np
 from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from ._complementary import ComplementaryFilter
 from ._kalman import KalmanEstimator
-from ._observer import AltitudeEstimator
+from ._observer import AltitudeEstimator, AltitudeSettings
 from .metrics import settling_time
 from .scenarios import ScenarioResult, run_scenario
 
@@ -101,8 +101,7 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
     n = accel.size
     steps_per_baro = n / max(int(np.sum(np.isfinite(baro))), 1)
     runners: Dict[str, object] = {}
-    observer_settings = AltitudeEstimator(settings_for_baro_rate(
-        __import__("fusion_altitude").AltitudeSettings.preset(_preset(name)), steps_per_baro)).settings
+    observer_settings = settings_for_baro_rate(AltitudeSettings.preset(_preset(name)), steps_per_baro)
     runners["observer"] = lambda: AltitudeEstimator(observer_settings).update_batch(accel, baro, dt)
     if "observer (fit)" in estimators:
         fitted = _fit_settings(name, fit_seed, attitude)

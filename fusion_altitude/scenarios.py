@@ -193,7 +193,7 @@ def _specs() -> Dict[str, _Spec]:
                           ground_effect_amplitude=1.5, ground_effect_height=0.7),
             rangefinder=sim.RangefinderModel(), gps=sim.GpsModel(jump_probability=0.0), fault_end=7.0),
         "baro-glitches": _Spec(
-            "60 s hover at 10 m with a climb to 15 m: 50 Hz baro with spikes (1 %, 4 m), freezes, and an 8 m "
+            "60 s: climb at 1 m/s to a 5 m hover and back down; 50 Hz baro with spikes (1 %, 4 m), freezes, and an 8 m "
             "pressure glitch from 30 to 32 s; rangefinder",
             lambda: sim.climb_cruise_descend(60.0, 100.0, climb_rate=1.0, cruise_altitude=5.0), _REALISTIC_IMU,
             sim.BaroModel(rate=50.0, noise=0.1, spike_probability=0.01, spike_magnitude=4.0,

@@ -7,7 +7,7 @@ raises for the statuses they return. It holds no copy of the algorithm.
 
 import math
 
-from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExact
+from fusion_altitude._convert cimport as_double as _as_double
 from libc.stdint cimport int32_t
 
 from fusion_altitude.calphabeta cimport *
@@ -51,15 +51,6 @@ def gains(int quality):
     cdef float alpha, beta
     FusionAltitudeAlphaBetaGains(<int32_t>quality, &alpha, &beta)
     return alpha, beta
-
-
-cdef inline double _as_double(object value, str name) except? -1.0:
-    if PyFloat_CheckExact(value):
-        return PyFloat_AS_DOUBLE(value)
-    try:
-        return PyFloat_AsDouble(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}") from None
 
 
 cdef dict _settings_to_dict(const FusionAltitudeAlphaBetaSettings *c):

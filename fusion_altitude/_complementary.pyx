@@ -5,7 +5,7 @@ This module converts and checks Python arguments, calls the C functions and
 raises for the statuses they return. It holds no copy of the algorithm.
 """
 
-from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExact
+from fusion_altitude._convert cimport as_double as _as_double
 
 from fusion_altitude.ccomplementary cimport *
 
@@ -32,15 +32,6 @@ def c_default_settings():
 def status_message(int status):
     """The C header's message for a status code."""
     return FusionAltitudeComplementaryStatusMessage(<FusionAltitudeComplementaryStatus>status).decode("ascii")
-
-
-cdef inline double _as_double(object value, str name) except? -1.0:
-    if PyFloat_CheckExact(value):
-        return PyFloat_AS_DOUBLE(value)
-    try:
-        return PyFloat_AsDouble(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}") from None
 
 
 cdef dict _settings_to_dict(const FusionAltitudeComplementarySettings *c):

@@ -7,7 +7,7 @@ raises for the statuses they return. It holds no copy of the algorithm.
 
 import math
 
-from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExact
+from fusion_altitude._convert cimport as_double as _as_double
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 from fusion_altitude.ckalman cimport *
@@ -50,16 +50,6 @@ def c_default_settings():
 def kalman_status_message(int status):
     """The C header's message for a status code (FusionAltitudeKalmanStatusMessage)."""
     return FusionAltitudeKalmanStatusMessage(<FusionAltitudeKalmanStatus>status).decode("ascii")
-
-
-cdef inline double _as_double(object value, str name) except? -1.0:
-    """A Python real number as a C double, or TypeError naming the argument."""
-    if PyFloat_CheckExact(value):
-        return PyFloat_AS_DOUBLE(value)
-    try:
-        return PyFloat_AsDouble(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}") from None
 
 
 cdef FusionAltitudeKalmanSettings _settings_from_dict(dict v):

@@ -1,0 +1,18 @@
+# cython: language_level=3
+"""Argument conversion shared by every binding (inline, so no module of its own).
+
+Not a header declaration: the ``c*.pxd`` files declare the C headers; this one
+holds the single Python-to-C conversion every ``update`` call makes.
+"""
+
+from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExact
+
+
+cdef inline double as_double(object value, str name) except? -1.0:
+    """A Python real number as a C double, or TypeError naming the argument (fast path for float)."""
+    if PyFloat_CheckExact(value):
+        return PyFloat_AS_DOUBLE(value)
+    try:
+        return PyFloat_AsDouble(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}") from None

@@ -1,5 +1,7 @@
-"""Firmware fitness of csrc/fusion_altitude.h (issue 3) and of
-csrc/fusion_altitude_kalman.h, through csrc/firmware/Makefile:
+"""Firmware fitness of csrc/fusion_altitude.h (issue 3), of
+csrc/fusion_altitude_kalman.h and of the hobby estimators
+csrc/fusion_altitude_complementary.h and csrc/fusion_altitude_alphabeta.h
+(all but fuzzing), through csrc/firmware/Makefile:
 
 - cross builds (Cortex-M0+/M4F/M7, rv32imac/rv32imafc; C99/C11; -Os/-O2) with
   warnings as errors, and no double instruction or libm call in the objects;
@@ -70,6 +72,51 @@ def kalman_vector_count() -> int:
     return int(re.search(r"#define FUSION_ALTITUDE_KALMAN_VECTOR_COUNT \((\d+)\)", text).group(1))
 
 
+def hashed_vector_count(name: str) -> int:
+    """Records of csrc/tests/vectors/<name>_vectors.h (complementary, alphabeta)."""
+    text = (VECTORS / f"{name}_vectors.h").read_text()
+    return int(re.search(rf"#define FUSION_ALTITUDE_{name.upper()}_VECTOR_COUNT \((\d+)\)", text).group(1))
+
+
+def test_complementary_vectors_are_up_to_date_and_cover_every_path():
+    generator = load(VECTORS / "generate_complementary.py", "generate_complementary_vectors")
+    text = generator.render()
+    assert text == (VECTORS / "complementary_vectors.h").read_text(), \
+        "csrc/tests/vectors/complementary_vectors.h is stale: run python csrc/tests/vectors/generate_complementary.py"
+    assert hashed_vector_count("complementary") > 3000 and len(text) < 300_000
+    recorder = generator.build()
+    counts = recorder.counts
+    for status in range(0, 4):  # every update status
+        assert counts.get(f"update status {status}", 0) > 0, status
+    for key in ("update before reference, baro", "update before reference, no baro", "update reference set, baro",
+                "update reference set, no baro", "reset status 0", "reset status 2", "set_settings status 0",
+                "set_settings status 4", "set_settings status 5", "initialise status 0"):
+        assert counts.get(key, 0) > 0, key
+    per_sample = generator.STATE_FIELDS.index("settings.per_sample_coefficients")
+    assert any(r[3][per_sample] == 1 for r in recorder.records)
+    assert set(r[0] for r in recorder.records) == set(range(len(generator.OPS)))
+
+
+def test_alphabeta_vectors_are_up_to_date_and_cover_every_path():
+    generator = load(VECTORS / "generate_alphabeta.py", "generate_alphabeta_vectors")
+    text = generator.render()
+    assert text == (VECTORS / "alphabeta_vectors.h").read_text(), \
+        "csrc/tests/vectors/alphabeta_vectors.h is stale: run python csrc/tests/vectors/generate_alphabeta.py"
+    assert hashed_vector_count("alphabeta") > 3000 and len(text) < 300_000
+    recorder = generator.build()
+    counts = recorder.counts
+    for status in range(0, 7):  # every update status
+        assert counts.get(f"update status {status}", 0) > 0, status
+    for status in range(7, 13):  # every settings status, through both entry points
+        assert counts.get(f"set_settings status {status}", 0) > 0 and counts.get(f"initialise_with status {status}", 0) > 0
+    for sensor in ("imu", "baro", "lidar", "sonar", "gps"):  # sensor drop and recovery, qualities at both ends
+        for what in ("weighted", "dropped", "recovered", "at quality min", "at quality max"):
+            assert counts.get(f"{sensor} {what}", 0) > 0, (sensor, what)
+    for key in ("update waiting", "update start", "update dead reckoning", "initialise status 0"):
+        assert counts.get(key, 0) > 0, key
+    assert set(r[0] for r in recorder.records) == set(range(len(generator.OPS)))
+
+
 def test_vectors_are_up_to_date():
     generator = load(VECTORS / "generate.py", "generate_vectors")
     assert generator.render() == (VECTORS / "vectors.h").read_text(), \
@@ -130,6 +177,35 @@ def test_every_public_kalman_function_is_built_and_sized():
     assert public - set(table.KALMAN_FUNCTIONS) == set(), "add these to KALMAN_FUNCTIONS in csrc/firmware/size_table.py"
 
 
+# Internal helpers of the hobby estimators' headers (not in their .pxd,
+# inlined into the public functions). A new function must be listed or public.
+HOBBY_ESTIMATORS = {
+    "complementary": ("FusionAltitudeComplementary", "COMPLEMENTARY_FUNCTIONS", {
+        "FusionAltitudeComplementaryIsTimeConstant", "FusionAltitudeComplementaryIsCoefficient"}),
+    "alphabeta": ("FusionAltitudeAlphaBeta", "ALPHABETA_FUNCTIONS", {
+        "FusionAltitudeAlphaBetaSensor", "FusionAltitudeAlphaBetaInfinity", "FusionAltitudeAlphaBetaClear",
+        "FusionAltitudeAlphaBetaIsInfinite"}),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HOBBY_ESTIMATORS))
+def test_every_public_hobby_function_is_built_and_sized(name):
+    prefix, table_name, internal = HOBBY_ESTIMATORS[name]
+    header = (CSRC / f"fusion_altitude_{name}.h").read_text()
+    functions = set(re.findall(rf"^static inline [^(]*?\b({prefix}\w+)\(", header, re.MULTILINE))
+    assert internal <= functions, internal - functions
+    public = functions - internal
+    assert f"{prefix}Update" in public
+    declared = set(re.findall(rf"\b({prefix}\w+)\(", (ROOT / "fusion_altitude" / f"c{name}.pxd").read_text()))
+    assert declared <= public, "a function of the .pxd is listed as internal"
+    sized = set(re.findall(rf"\bSized({prefix}\w+)\(", (FIRMWARE / f"sized_{name}.c").read_text()))
+    called = set(re.findall(rf"\b({prefix}\w+)\(", (FIRMWARE / f"firmware_{name}.c").read_text()))
+    table = load(FIRMWARE / "size_table.py", "size_table")
+    assert public - sized == set(), f"add these to csrc/firmware/sized_{name}.c"
+    assert public - called == set(), f"call these from csrc/firmware/firmware_{name}.c"
+    assert public - set(getattr(table, table_name)) == set(), f"add these to {table_name} in csrc/firmware/size_table.py"
+
+
 def test_every_public_function_is_built_and_sized():
     header = (CSRC / "fusion_altitude.h").read_text()
     public = set(re.findall(r"^static inline [^(]*?\b(FusionAltitude\w+)\(", header, re.MULTILINE))
@@ -146,10 +222,11 @@ def test_every_public_function_is_built_and_sized():
 
 def test_cross_builds_are_warning_free_without_double_or_libm(build):
     output = assert_ok(make(build, "check-objects"))
-    assert re.search(r"^80 objects checked, 0 with double or libm$", output, re.MULTILINE), output
+    assert re.search(r"^160 objects checked, 0 with double or libm$", output, re.MULTILINE), output
     for target in ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc"):
         for variant in ("c99-Os", "c99-O2", "c11-Os", "c11-O2"):
-            for name in ("firmware", "sized", "firmware_kalman", "sized_kalman"):
+            for name in ("firmware", "sized", "firmware_kalman", "sized_kalman", "firmware_complementary",
+                         "sized_complementary", "firmware_alphabeta", "sized_alphabeta"):
                 assert re.search(rf"^{target}/{variant}/{name}: ok ", output, re.MULTILINE), (target, variant, name)
 
 
@@ -184,8 +261,9 @@ def replay_lines(output: str) -> list:
 
 
 def expected_replays(mismatches: str) -> list:
-    """Two runs (gcc and clang, or -Os and -O2) of each replay: observer and Kalman filter."""
-    return sorted([(str(vector_count()), mismatches)] * 2 + [(str(kalman_vector_count()), mismatches)] * 2)
+    """Two runs (gcc and clang, or -Os and -O2) of each replay: observer, Kalman, complementary, alpha-beta."""
+    counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"))
+    return sorted([(str(count), mismatches) for count in counts] * 2)
 
 
 def test_replay_on_host_is_bit_exact(build):
@@ -205,7 +283,7 @@ def test_replay_reports_a_mismatch(tmp_path):
         result = make(tmp_path / target, "-k", target, REPLAY_DEFINES=defines)
         assert result.returncode != 0, result.stdout
         assert replay_lines(result.stdout) == expected_replays("1"), result.stdout + result.stderr
-        assert result.stdout.count("record 1000 ") == 4, result.stdout
+        assert result.stdout.count("record 1000 ") == 8, result.stdout
 
 
 def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
@@ -230,6 +308,20 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     three, baro, predict, reset, rejected = kalman["cycles"]
     assert predict["instructions"] < baro["instructions"] < three["instructions"] < 2000
     assert reset["cycles"] < 4000 and rejected["instructions"] < 40
+    # Complementary filter and alpha-beta fusion: regression bounds (no goals were set for them).
+    complementary, alphabeta = measured["complementary"], measured["alphabeta"]
+    assert set(complementary["ram"].values()) == {56} and set(alphabeta["ram"].values()) == {316}
+    assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 512
+    assert alphabeta["size"]["FusionAltitudeAlphaBetaUpdate/cortex-m4f/Os"] <= 1536
+    for figures in (complementary, alphabeta):
+        assert all(size <= 160 and qualifier == "static" for size, qualifier in figures["stack"].values()), \
+            figures["stack"]
+    time_constants, coefficients, no_baro, rejected = complementary["cycles"]
+    assert no_baro["instructions"] < coefficients["instructions"] <= time_constants["instructions"] < 200
+    assert rejected["instructions"] < 12
+    every, baro, imu, rejected = alphabeta["cycles"]
+    assert imu["instructions"] < baro["instructions"] < every["instructions"] < 1500
+    assert rejected["instructions"] < 20
     table = load(FIRMWARE / "size_table.py", "size_table")
     doc = DOC.read_text()
     for part in table.markdown_parts(measured):
@@ -248,11 +340,15 @@ def test_example_runs_on_qemu_and_detects_the_baro_fault(build):
 
 
 def test_cppcheck_is_clean(build):
-    """Both headers, through every firmware, replay, cycle and fuzz source (and the example)."""
+    """Every header, through every firmware, replay, cycle and fuzz source (and the example)."""
     assert_ok(make(build, "cppcheck"))
     sources = re.search(r"^CPPCHECK_SOURCES := (.*?)\n\n", (FIRMWARE / "Makefile").read_text(), re.MULTILINE | re.DOTALL)
-    for name in ("firmware_kalman.c", "sized_kalman.c", "replay_kalman.c", "cycles_kalman.c", "fuzz_kalman.c"):
-        assert name in sources.group(1), name
+    assert "fuzz_kalman.c" in sources.group(1)
+    for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
+        assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
+    assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
+    estimators = re.search(r"^ESTIMATORS := (.*)$", (FIRMWARE / "Makefile").read_text(), re.MULTILINE).group(1).split()
+    assert {"kalman", "complementary", "alphabeta"} <= set(estimators), estimators
 
 
 def test_fuzzers_find_nothing(build):

@@ -5,66 +5,56 @@
  * status and, through an FNV-1a hash of the 67 state words, every state bit
  * after every call; at each checkpoint record it also compares the state
  * words one by one (and continues from the expected state after a mismatch).
- * The same source runs on the host (gcc, clang) and bare metal on an emulated
- * Cortex-M4F (QEMU mps2-an386, semihosting for printf and exit).
+ * The loop (and the host/QEMU reporting) is replay_common.h, shared with the
+ * complementary and alpha-beta replays.
  *
  * The state words are read through the public getters: settings
  * (FusionAltitudeKalmanGetSettings), x, the upper triangle of P
  * (FusionAltitudeKalmanGetCovariance, which must also be exactly symmetric),
  * altitude and its variance, the three sensors' diagnostics
  * (FusionAltitudeKalmanGetSensor), and the baro/GPS initialised flags.
- *
- * Prints "replay: N records, M mismatches" and returns non-zero on any
- * mismatch. Uses no double: printf only formats integers.
  */
 
 #include "fusion_altitude_kalman.h"
 #include "vectors/kalman_vectors.h"
 
-#include <inttypes.h>
-#include <stdio.h>
-#include <string.h>
+typedef FusionAltitudeKalman ReplayFilter;
+typedef FusionAltitudeKalmanVector ReplayVector;
+#define REPLAY_STATE_WORDS (FUSION_ALTITUDE_KALMAN_VECTOR_STATE_WORDS)
+#define REPLAY_VECTORS (fusionAltitudeKalmanVectors)
+#define REPLAY_VECTOR_COUNT (FUSION_ALTITUDE_KALMAN_VECTOR_COUNT)
+#define REPLAY_CHECKPOINTS (fusionAltitudeKalmanVectorCheckpoints)
+#define REPLAY_CHECKPOINT_COUNT (FUSION_ALTITUDE_KALMAN_VECTOR_CHECKPOINT_COUNT)
 
-#define MAX_REPORTED (10)
-#define STATE_WORDS (FUSION_ALTITUDE_KALMAN_VECTOR_STATE_WORDS)
+#include "replay_common.h"
+
+#define STATE_WORDS (REPLAY_STATE_WORDS)
 #define SETTINGS_WORDS (19)
 
-/* Build with -DREPLAY_CORRUPT_RECORD=n to flip one bit of record n's expected
- * hash: the tests use it to check that a mismatch is caught and fails the run. */
-#ifndef REPLAY_CORRUPT_RECORD
-#define REPLAY_CORRUPT_RECORD (0xFFFFFFFFu)
-#endif
-
 typedef char stateWordsMatch[(STATE_WORDS == SETTINGS_WORDS + 5 + 15 + 2 + 3 * 8 + 2) ? 1 : -1];
-
-static float FloatFromBits(const uint32_t bits) {
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    return value;
-}
 
 static FusionAltitudeKalmanSettings SettingsFromWords(const uint32_t words[SETTINGS_WORDS]) {
     FusionAltitudeKalmanSettings s;
     memset(&s, 0, sizeof(s));
-    s.accelNoise = FloatFromBits(words[0]);
-    s.accelBiasRandomWalk = FloatFromBits(words[1]);
-    s.accelBiasInitialSigma = FloatFromBits(words[2]);
+    s.accelNoise = ReplayFloat(words[0]);
+    s.accelBiasRandomWalk = ReplayFloat(words[1]);
+    s.accelBiasInitialSigma = ReplayFloat(words[2]);
     s.estimateAccelBias = words[3] != 0u;
-    s.baroNoise = FloatFromBits(words[4]);
-    s.baroOffsetRandomWalk = FloatFromBits(words[5]);
-    s.rangeNoise = FloatFromBits(words[6]);
-    s.rangeMinimum = FloatFromBits(words[7]);
-    s.rangeMaximum = FloatFromBits(words[8]);
-    s.gpsNoiseBase = FloatFromBits(words[9]);
-    s.gpsNoiseSatellite = FloatFromBits(words[10]);
+    s.baroNoise = ReplayFloat(words[4]);
+    s.baroOffsetRandomWalk = ReplayFloat(words[5]);
+    s.rangeNoise = ReplayFloat(words[6]);
+    s.rangeMinimum = ReplayFloat(words[7]);
+    s.rangeMaximum = ReplayFloat(words[8]);
+    s.gpsNoiseBase = ReplayFloat(words[9]);
+    s.gpsNoiseSatellite = ReplayFloat(words[10]);
     s.gpsMinimumSatellites = (int32_t) words[11];
-    s.gpsOffsetRandomWalk = FloatFromBits(words[12]);
-    s.gate = FloatFromBits(words[13]);
-    s.rejectionTimeout = FloatFromBits(words[14]);
-    s.groundEffectNoiseScale = FloatFromBits(words[15]);
-    s.groundEffectDeadZone = FloatFromBits(words[16]);
-    s.initialHeightSigma = FloatFromBits(words[17]);
-    s.initialVelocitySigma = FloatFromBits(words[18]);
+    s.gpsOffsetRandomWalk = ReplayFloat(words[12]);
+    s.gate = ReplayFloat(words[13]);
+    s.rejectionTimeout = ReplayFloat(words[14]);
+    s.groundEffectNoiseScale = ReplayFloat(words[15]);
+    s.groundEffectDeadZone = ReplayFloat(words[16]);
+    s.initialHeightSigma = ReplayFloat(words[17]);
+    s.initialVelocitySigma = ReplayFloat(words[18]);
     return s;
 }
 
@@ -82,7 +72,10 @@ static void SettingsToWords(const FusionAltitudeKalmanSettings *const s, uint32_
 }
 
 /* The state words (order of STATE_FIELDS in generate_kalman.py); false if P is not exactly symmetric. */
-static bool StateWords(const FusionAltitudeKalman *const kalman, uint32_t words[STATE_WORDS]) {
+static bool ReplayStateWords(const FusionAltitudeKalman *const kalman, const ReplayVector *const vector, const uint32_t status,
+                             uint32_t words[STATE_WORDS]) {
+    (void) vector;
+    (void) status;
     const FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(kalman);
     SettingsToWords(&settings, words);
     int n = SETTINGS_WORDS;
@@ -122,27 +115,27 @@ static bool StateWords(const FusionAltitudeKalman *const kalman, uint32_t words[
 }
 
 /* Sets the filter to the given state words (after a mismatch at a checkpoint). */
-static void SetStateWords(FusionAltitudeKalman *const kalman, const uint32_t words[STATE_WORDS]) {
+static void ReplaySetStateWords(FusionAltitudeKalman *const kalman, const uint32_t words[STATE_WORDS]) {
     memset(kalman, 0, sizeof(*kalman));
     kalman->settings = SettingsFromWords(words);
     int n = SETTINGS_WORDS;
     for (int i = 0; i < 5; i++) {
-        kalman->x[i] = FloatFromBits(words[n++]);
+        kalman->x[i] = ReplayFloat(words[n++]);
     }
     for (int i = 0; i < 5; i++) {
         for (int j = i; j < 5; j++) {
-            kalman->P[i][j] = FloatFromBits(words[n]);
-            kalman->P[j][i] = FloatFromBits(words[n]);
+            kalman->P[i][j] = ReplayFloat(words[n]);
+            kalman->P[j][i] = ReplayFloat(words[n]);
             n++;
         }
     }
     n += 2; /* altitude and its variance are derived */
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         FusionAltitudeKalmanSensor *const sensor = &kalman->sensors[i];
-        sensor->innovation = FloatFromBits(words[n++]);
-        sensor->innovationVariance = FloatFromBits(words[n++]);
-        sensor->nis = FloatFromBits(words[n++]);
-        sensor->rejectingFor = FloatFromBits(words[n++]);
+        sensor->innovation = ReplayFloat(words[n++]);
+        sensor->innovationVariance = ReplayFloat(words[n++]);
+        sensor->nis = ReplayFloat(words[n++]);
+        sensor->rejectingFor = ReplayFloat(words[n++]);
         sensor->rejections = words[n++];
         sensor->resets = words[n++];
         sensor->result = (FusionAltitudeKalmanResult) words[n++];
@@ -152,85 +145,39 @@ static void SetStateWords(FusionAltitudeKalman *const kalman, const uint32_t wor
     kalman->gpsInitialised = words[n++] != 0u;
 }
 
-static uint32_t Hash(const uint32_t words[STATE_WORDS]) {
-    uint32_t hash = 2166136261u;
-    for (int i = 0; i < STATE_WORDS; i++) {
-        hash = (hash ^ words[i]) * 16777619u;
-    }
-    return hash;
+static void ReplayInitialise(FusionAltitudeKalman *const kalman) {
+    FusionAltitudeKalmanInitialise(kalman);
 }
 
 /* Applies one record's call to the filter and returns its status. */
-static FusionAltitudeKalmanStatus Apply(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanVector *const vector) {
+static uint32_t ReplayApply(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanVector *const vector) {
     const uint32_t *const in = vector->input;
     FusionAltitudeKalmanSettings settings;
     FusionAltitudeKalmanMeasurements m;
     switch ((FusionAltitudeKalmanVectorOp) vector->op) {
         case FusionAltitudeKalmanVectorOpInitialise:
             FusionAltitudeKalmanInitialise(kalman);
-            return FusionAltitudeKalmanStatusOk;
+            return (uint32_t) FusionAltitudeKalmanStatusOk;
         case FusionAltitudeKalmanVectorOpInitialiseWith:
             if (in[0] == 0xFFFFFFFFu) {
-                return FusionAltitudeKalmanInitialiseWith(kalman, NULL);
+                return (uint32_t) FusionAltitudeKalmanInitialiseWith(kalman, NULL);
             }
             settings = SettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
-            return FusionAltitudeKalmanInitialiseWith(kalman, &settings);
+            return (uint32_t) FusionAltitudeKalmanInitialiseWith(kalman, &settings);
         case FusionAltitudeKalmanVectorOpSetSettings:
             settings = SettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
-            return FusionAltitudeKalmanSetSettings(kalman, &settings);
+            return (uint32_t) FusionAltitudeKalmanSetSettings(kalman, &settings);
         case FusionAltitudeKalmanVectorOpUpdate:
             m = FusionAltitudeKalmanMeasurementsNone();
-            m.baroAltitude = FloatFromBits(in[2]);
-            m.rangeDistance = FloatFromBits(in[3]);
-            m.gpsAltitude = FloatFromBits(in[4]);
-            m.gpsVerticalAccuracy = FloatFromBits(in[5]);
+            m.baroAltitude = ReplayFloat(in[2]);
+            m.rangeDistance = ReplayFloat(in[3]);
+            m.gpsAltitude = ReplayFloat(in[4]);
+            m.gpsVerticalAccuracy = ReplayFloat(in[5]);
             m.gpsSatellites = (int32_t) in[6];
             m.groundEffect = in[7] != 0u;
-            return FusionAltitudeKalmanUpdate(kalman, FloatFromBits(in[0]), FloatFromBits(in[1]), &m);
+            return (uint32_t) FusionAltitudeKalmanUpdate(kalman, ReplayFloat(in[0]), ReplayFloat(in[1]), &m);
         case FusionAltitudeKalmanVectorOpUpdateNoMeasurements:
-            return FusionAltitudeKalmanUpdate(kalman, FloatFromBits(in[0]), FloatFromBits(in[1]), NULL);
+            return (uint32_t) FusionAltitudeKalmanUpdate(kalman, ReplayFloat(in[0]), ReplayFloat(in[1]), NULL);
     }
-    return (FusionAltitudeKalmanStatus) 255;
-}
-
-int main(void) {
-    static FusionAltitudeKalman kalman;
-    FusionAltitudeKalmanInitialise(&kalman);
-    uint32_t mismatches = 0;
-    uint32_t checkpoint = 0;
-    for (uint32_t index = 0; index < FUSION_ALTITUDE_KALMAN_VECTOR_COUNT; index++) {
-        const FusionAltitudeKalmanVector *const vector = &fusionAltitudeKalmanVectors[index];
-        const FusionAltitudeKalmanStatus status = Apply(&kalman, vector);
-        uint32_t words[STATE_WORDS];
-        const bool symmetric = StateWords(&kalman, words);
-        const uint32_t hash = Hash(words);
-        const uint32_t expected = vector->hash ^ ((index == (uint32_t) REPLAY_CORRUPT_RECORD) ? 1u : 0u);
-        bool same = ((uint32_t) status == vector->status) && symmetric && (hash == expected);
-        const bool atCheckpoint = (checkpoint < FUSION_ALTITUDE_KALMAN_VECTOR_CHECKPOINT_COUNT) &&
-                                  (fusionAltitudeKalmanVectorCheckpoints[checkpoint].record == index);
-        const uint32_t *const state = atCheckpoint ? fusionAltitudeKalmanVectorCheckpoints[checkpoint].state : NULL;
-        if (atCheckpoint) {
-            checkpoint++;
-            same = same && (memcmp(words, state, sizeof(words)) == 0);
-        }
-        if (same) {
-            continue;
-        }
-        if (mismatches < MAX_REPORTED) {
-            printf("record %" PRIu32 " op %u: status %u expected %u, P symmetric %u, hash 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n",
-                   index, (unsigned) vector->op, (unsigned) status, (unsigned) vector->status, (unsigned) symmetric, hash,
-                   expected);
-            for (int word = 0; (state != NULL) && (word < STATE_WORDS); word++) {
-                if (words[word] != state[word]) {
-                    printf("  word %d 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n", word, words[word], state[word]);
-                }
-            }
-        }
-        mismatches++;
-        if (state != NULL) {
-            SetStateWords(&kalman, state); /* continue from the expected state */
-        }
-    }
-    printf("replay: %" PRIu32 " records, %" PRIu32 " mismatches\n", (uint32_t) FUSION_ALTITUDE_KALMAN_VECTOR_COUNT, mismatches);
-    return (mismatches == 0u) ? 0 : 1;
+    return 255u;
 }

@@ -10,9 +10,11 @@ nm size of the static FusionAltitude in firmware.c. Cycles: the instructions
 QEMU executed inside SizedFusionAltitudeUpdate (cycles.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
-The Kalman filter (fusion_altitude_kalman.h) is measured the same way:
-sized_kalman.c, the static FusionAltitudeKalman of firmware_kalman.c, and
-SizedFusionAltitudeKalmanUpdate traced by cycles_kalman.c.
+The other estimators (ESTIMATORS: the Kalman filter, the complementary
+filter, the alpha-beta fusion) are measured the same way: sized_<name>.c, the
+static instance in firmware_<name>.c, and Sized...Update traced by
+cycles_<name>.c; their figures are under result[<name>] and each has its own
+block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers).
 """
 
 from __future__ import annotations
@@ -44,6 +46,24 @@ KALMAN_FUNCTIONS = (
     "FusionAltitudeKalmanGetAccelBias", "FusionAltitudeKalmanGetBaroOffset", "FusionAltitudeKalmanGetGpsOffset",
 )
 
+COMPLEMENTARY_FUNCTIONS = (
+    "FusionAltitudeComplementaryUpdate", "FusionAltitudeComplementaryCheckInputs", "FusionAltitudeComplementaryInitialise",
+    "FusionAltitudeComplementaryReset", "FusionAltitudeComplementarySetSettings", "FusionAltitudeComplementarySettingsCheck",
+    "FusionAltitudeComplementarySettingsDefault", "FusionAltitudeComplementaryStatusMessage",
+    "FusionAltitudeComplementaryGetSettings", "FusionAltitudeComplementaryGetAltitude",
+    "FusionAltitudeComplementaryGetVerticalVelocity", "FusionAltitudeComplementaryGetBaroFiltered",
+    "FusionAltitudeComplementaryGetBaroVelocity", "FusionAltitudeComplementaryIsReferenceSet",
+)
+
+ALPHABETA_FUNCTIONS = (
+    "FusionAltitudeAlphaBetaUpdate", "FusionAltitudeAlphaBetaCheckInputs", "FusionAltitudeAlphaBetaInitialise",
+    "FusionAltitudeAlphaBetaInitialiseWith", "FusionAltitudeAlphaBetaSetSettings", "FusionAltitudeAlphaBetaSettingsCheck",
+    "FusionAltitudeAlphaBetaSensorSettingsCheck", "FusionAltitudeAlphaBetaSettingsDefault",
+    "FusionAltitudeAlphaBetaMeasurementsNone", "FusionAltitudeAlphaBetaGains", "FusionAltitudeAlphaBetaStatusMessage",
+    "FusionAltitudeAlphaBetaGetSettings", "FusionAltitudeAlphaBetaGetAltitude", "FusionAltitudeAlphaBetaGetVerticalVelocity",
+    "FusionAltitudeAlphaBetaGetWeight", "FusionAltitudeAlphaBetaGetQuality", "FusionAltitudeAlphaBetaIsStarted",
+)
+
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the
 # pipeline refill after a taken branch, is 1 to 3 cycles; 2 is used here.
 PIPELINE_REFILL = 2
@@ -52,6 +72,21 @@ CALLS = ("baro sample, reference set (full correction)", "no baro sample (integr
          "rejected (accel not finite)")
 KALMAN_CALLS = ("baro, rangefinder and GPS fused", "baro only, fused", "no sample (prediction only)",
                 "terrain reset (range) with baro and GPS fused", "rejected (accel not finite)")
+COMPLEMENTARY_CALLS = ("baro sample, time-constant blend (default)", "baro sample, per-sample coefficients",
+                       "no baro sample (prediction only)", "rejected (accel not finite)")
+ALPHABETA_CALLS = ("IMU and all four sensors", "IMU and baro", "IMU only (the other filters predict)",
+                   "rejected (accel infinite)")
+
+# The estimators after the observer: name (sized_<name>.c, firmware_<name>.c,
+# cycles_<name>.c, marker <name>-sizes), public functions, static instance in
+# firmware_<name>.c, struct, update function, traced paths.
+ESTIMATORS = (
+    ("kalman", KALMAN_FUNCTIONS, "firmwareKalman", "FusionAltitudeKalman", "FusionAltitudeKalmanUpdate", KALMAN_CALLS),
+    ("complementary", COMPLEMENTARY_FUNCTIONS, "firmwareComplementary", "FusionAltitudeComplementary",
+     "FusionAltitudeComplementaryUpdate", COMPLEMENTARY_CALLS),
+    ("alphabeta", ALPHABETA_FUNCTIONS, "firmwareAlphaBeta", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaUpdate",
+     ALPHABETA_CALLS),
+)
 
 
 def read_symbols(path: Path) -> Dict[str, Tuple[int, int]]:
@@ -92,14 +127,15 @@ def measure_sized(build: Path, stem: str, functions, firmware: str, instance: st
 
 
 def measure(build: Path) -> dict:
-    """The observer's figures at the top level (size, stack, ram, c11_differs, cycles), the Kalman filter's under "kalman"."""
+    """The observer's figures at the top level (size, stack, ram, c11_differs, cycles), each other estimator's under its name."""
     result = measure_sized(build, "sized", FUNCTIONS, "firmware", "firmwareEstimator")
     if (build / "cycles" / "trace.log").exists():
         result["cycles"] = cycles(build / "cycles", "cycles", "SizedFusionAltitudeUpdate", CALLS)
-    kalman = measure_sized(build, "sized_kalman", KALMAN_FUNCTIONS, "firmware_kalman", "firmwareKalman")
-    if (build / "cycles" / "kalman-trace.log").exists():
-        kalman["cycles"] = cycles(build / "cycles", "kalman", "SizedFusionAltitudeKalmanUpdate", KALMAN_CALLS)
-    result["kalman"] = kalman
+    for name, functions, instance, _, update, calls in ESTIMATORS:
+        figures = measure_sized(build, f"sized_{name}", functions, f"firmware_{name}", instance)
+        if (build / "cycles" / f"{name}-trace.log").exists():
+            figures["cycles"] = cycles(build / "cycles", name, f"Sized{update}", calls)
+        result[name] = figures
     return result
 
 
@@ -203,22 +239,27 @@ def tables(result: dict, functions, struct: str, update: str) -> List[str]:
     return lines
 
 
+MARKERS = ("sizes",) + tuple(f"{name}-sizes" for name, *_ in ESTIMATORS)
+
+
 def markdown_parts(result: dict) -> List[str]:
-    """The observer's tables and the Kalman filter's (the two blocks of docs/embedded.md)."""
-    observer = tables(result, FUNCTIONS, "FusionAltitude", "FusionAltitudeUpdate")
-    kalman = tables(result["kalman"], KALMAN_FUNCTIONS, "FusionAltitudeKalman", "FusionAltitudeKalmanUpdate")
-    return ["\n".join(observer), "\n".join(kalman)]
+    """The observer's tables and each other estimator's (the blocks of docs/embedded.md, in MARKERS order)."""
+    parts = ["\n".join(tables(result, FUNCTIONS, "FusionAltitude", "FusionAltitudeUpdate"))]
+    for name, functions, _, struct, update, _ in ESTIMATORS:
+        parts.append("\n".join(tables(result[name], functions, struct, update)))
+    return parts
 
 
 def markdown(result: dict) -> str:
-    observer, kalman = markdown_parts(result)
-    return f"{observer}\n\n<!-- Kalman filter (fusion_altitude_kalman.h): -->\n\n{kalman}"
+    observer, *others = markdown_parts(result)
+    return observer + "".join(f"\n\n<!-- {name} (fusion_altitude_{name}.h): -->\n\n{part}"
+                              for (name, *_), part in zip(ESTIMATORS, others))
 
 
 def update_doc(doc: Path, result: dict) -> None:
-    """Replace the observer and Kalman blocks of docs/embedded.md (between their markers) with fresh tables."""
+    """Replace each estimator's block of docs/embedded.md (between its markers) with fresh tables."""
     text = doc.read_text()
-    for marker, part in zip(("sizes", "kalman-sizes"), markdown_parts(result)):
+    for marker, part in zip(MARKERS, markdown_parts(result)):
         begin, end = f"<!-- {marker}:begin -->\n", f"<!-- {marker}:end -->"
         start, stop = text.index(begin) + len(begin), text.index(end)
         text = text[:start] + part + "\n" + text[stop:]

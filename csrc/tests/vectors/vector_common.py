@@ -1,0 +1,188 @@
+"""Shared machinery of the hashed test-vector generators (complementary_vectors.h, alphabeta_vectors.h).
+
+A generator drives a pure-Python reference (fusion_altitude.reference, never
+the C binding) through a sequence of calls with a Recorder; render() writes a
+C header in the format csrc/firmware/replay_common.h replays:
+
+- a table of settings, as words (ops that take settings carry an index);
+- one record per call: op code, expected status, the inputs as words and an
+  FNV-1a hash of the full state words after the call;
+- every checkpoint_every-th record (and the last) with the state words
+  themselves, so a mismatch is reported word by word and the replay continues
+  from the expected state.
+
+Words are binary32 bit patterns for floats, 0/1 for bools, two's complement
+for int32. The hash is word-wise FNV-1a: h = 2166136261; for each word,
+h = (h ^ word) * 16777619 (mod 2^32): one changed word always changes it.
+(generate_kalman.py uses the same format, with its own copy of this code.)
+"""
+
+from __future__ import annotations
+
+from typing import Dict, List, Sequence, Tuple
+
+import numpy as np
+
+QUIET_NAN_BITS = 0x7FC00000
+
+
+def bits(value) -> int:
+    """The binary32 bit pattern of a float32 (or a Python float rounded to one)."""
+    with np.errstate(over="ignore"):
+        return int(np.array(value, dtype=np.float32).view(np.uint32))
+
+
+def from_bits(pattern: int) -> np.float32:
+    """The float32 with bit pattern ``pattern`` (keeps NaN payloads and signed zeros)."""
+    return np.array(pattern, dtype=np.uint32).view(np.float32)[()]
+
+
+def as_f32(value) -> np.float32:
+    if isinstance(value, np.float32):
+        return value
+    with np.errstate(over="ignore"):
+        return np.float32(value)
+
+
+def fnv1a(words: Sequence[int]) -> int:
+    h = 2166136261
+    for word in words:
+        h = ((h ^ word) * 16777619) & 0xFFFFFFFF
+    return h
+
+
+def word(pattern: int) -> str:
+    """A word as C: small numbers in decimal, the quiet NaN as the header's QNAN macro, the rest in hex."""
+    if pattern == QUIET_NAN_BITS:
+        return "QNAN"
+    return str(pattern) if pattern < 10 else f"0x{pattern:08x}"
+
+
+class Recorder:
+    """Records calls: (op, status, input words, state words). Subclasses apply the calls to a reference."""
+
+    OPS: Tuple[str, ...] = ()
+    INPUTS = 1
+
+    def __init__(self) -> None:
+        self.records: List[Tuple[int, int, Tuple[int, ...], Tuple[int, ...]]] = []
+        self.settings_table: List[Tuple[int, ...]] = []
+        self.comments: List[str] = []
+        self.counts: Dict[str, int] = {}
+
+    def state(self) -> Tuple[int, ...]:
+        raise NotImplementedError
+
+    def record(self, op: str, inputs: Sequence[int], status: int) -> None:
+        assert len(inputs) <= self.INPUTS, (op, inputs)
+        patterns = tuple(int(p) & 0xFFFFFFFF for p in inputs) + (0,) * (self.INPUTS - len(inputs))
+        self.records.append((self.OPS.index(op), int(status), patterns, self.state()))
+        self.count(f"{op.lower()} status {int(status)}")
+
+    def count(self, key: str) -> None:
+        self.counts[key] = self.counts.get(key, 0) + 1
+
+    def section(self, text: str) -> None:
+        """Labels the next record in the generated header."""
+        self.comments.append(f"{len(self.records)}: {text}")
+
+    def settings_index(self, words: Tuple[int, ...]) -> int:
+        if words not in self.settings_table:
+            self.settings_table.append(words)
+        return self.settings_table.index(words)
+
+
+def check_finite(records, fields: Sequence[str], float_fields: Sequence[str], nan_allowed=()) -> None:
+    """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling: every float
+    state word finite, except the fields in nan_allowed, which may also be the quiet NaN."""
+    indices = [fields.index(name) for name in float_fields]
+    for index, (_, _, _, state) in enumerate(records):
+        for field in indices:
+            name, pattern = fields[field], state[field]
+            if (pattern & 0x7F800000) == 0x7F800000 and not (name in nan_allowed and pattern == QUIET_NAN_BITS):
+                raise AssertionError(f"record {index}: {name} = {pattern:#010x} is not finite")
+
+
+def render(recorder: Recorder, *, file: str, header: str, generator: str, reference: str, type_prefix: str,
+           macro_prefix: str, description: Sequence[str], state_fields: Sequence[str], settings_words: int,
+           checkpoint_every: int = 64) -> str:
+    """The text of a vector header. type_prefix e.g. FusionAltitudeComplementary (types, and the
+    arrays with a lower-case f), macro_prefix e.g. FUSION_ALTITUDE_COMPLEMENTARY."""
+    records = recorder.records
+    variable = type_prefix[0].lower() + type_prefix[1:]
+    checkpoints = [i for i in range(len(records)) if i % checkpoint_every == 0 or i == len(records) - 1]
+    lines = ["/**", f" * @file {file}", f" * @brief Test vectors of {header} generated by",
+             f" * csrc/tests/vectors/{generator} from the pure-Python reference",
+             f" * ({reference}). Do not edit: regenerate.", " *"]
+    lines += [f" * {line}".rstrip() for line in description]
+    lines += ["QNAN is the quiet NaN 0x7fc00000, also \"no sample\" in the inputs.",
+              f" * hash: FNV-1a over the {len(state_fields)} state words after the call (see",
+              " * vector_common.py); checkpoints: the state words themselves, in the order",
+              " * " + ", ".join(state_fields[:3]) + ", ... (see the generator's STATE_FIELDS).", " *",
+              " * Sections (record index: description):"]
+    lines += [f" *   {comment}" for comment in recorder.comments]
+    lines += [" *", " * Coverage (record counts):"]
+    text = ""
+    for item in (f"{key} {value}" for key, value in sorted(recorder.counts.items())):
+        if len(text) + len(item) > 72:
+            lines.append(f" *   {text.rstrip(', ')}")
+            text = ""
+        text += item + ", "
+    lines.append(f" *   {text.rstrip(', ')}")
+    guard = f"{macro_prefix}_VECTORS_H"
+    lines += [" */", "", f"#ifndef {guard}", f"#define {guard}", "", "#include <stdint.h>", "",
+              "#define QNAN (0x7fc00000u) /* the quiet NaN, 0x7fc00000 (#undef at the end) */", "", "typedef enum {"]
+    lines += [f"    {type_prefix}VectorOp{''.join(w.title() for w in name.split('_'))} = {index},"
+              for index, name in enumerate(recorder.OPS)]
+    lines += [f"}} {type_prefix}VectorOp;", "",
+              f"#define {macro_prefix}_VECTOR_INPUTS ({recorder.INPUTS})",
+              f"#define {macro_prefix}_VECTOR_STATE_WORDS ({len(state_fields)})",
+              f"#define {macro_prefix}_VECTOR_SETTINGS_WORDS ({settings_words})", "",
+              "typedef struct {",
+              f"    uint8_t op;     /**< {type_prefix}VectorOp */",
+              f"    uint8_t status; /**< expected {type_prefix}Status */",
+              f"    uint32_t input[{macro_prefix}_VECTOR_INPUTS]; /**< arguments (unused ones 0) */",
+              "    uint32_t hash;  /**< FNV-1a of the state words after the call */",
+              f"}} {type_prefix}Vector;", "",
+              "typedef struct {",
+              "    uint32_t record; /**< index of the record */",
+              f"    uint32_t state[{macro_prefix}_VECTOR_STATE_WORDS]; /**< state words after it */",
+              f"}} {type_prefix}VectorCheckpoint;", "",
+              f"#define {macro_prefix}_VECTOR_SETTINGS_COUNT ({len(recorder.settings_table)})", "",
+              f"static const uint32_t {variable}VectorSettings[{macro_prefix}_VECTOR_SETTINGS_COUNT]"
+              f"[{macro_prefix}_VECTOR_SETTINGS_WORDS] = {{"]
+    for words in recorder.settings_table:
+        assert len(words) == settings_words
+        lines.append("    {" + ",".join(word(p) for p in words) + "},")
+    lines += ["};", "", f"#define {macro_prefix}_VECTOR_COUNT ({len(records)})", "",
+              f"static const {type_prefix}Vector {variable}Vectors[{macro_prefix}_VECTOR_COUNT] = {{"]
+    for op, status, inputs, state in records:
+        assert len(state) == len(state_fields)
+        lines.append(f"    {{{op},{status},{{{','.join(word(p) for p in inputs)}}},0x{fnv1a(state):08x}}},")
+    lines += ["};", "", f"#define {macro_prefix}_VECTOR_CHECKPOINT_COUNT ({len(checkpoints)})", "",
+              f"static const {type_prefix}VectorCheckpoint {variable}VectorCheckpoints"
+              f"[{macro_prefix}_VECTOR_CHECKPOINT_COUNT] = {{"]
+    for index in checkpoints:
+        lines.append(f"    {{{index},{{{','.join(word(p) for p in records[index][3])}}}}},")
+    lines += ["};", "", "#undef QNAN", "", "#endif", ""]
+    return "\n".join(lines)
+
+
+def main(path, render_text, argv: Sequence[str], doc: str) -> int:
+    """Command line of a generator: rewrite the header, or --check that it is up to date."""
+    import argparse
+    import sys
+
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--check", action="store_true", help="exit 1 if the header differs from a fresh generation")
+    args = parser.parse_args(argv)
+    text = render_text()
+    if args.check:
+        current = path.read_text() if path.exists() else ""
+        if current != text:
+            print(f"{path} is out of date: run python {sys.argv[0]}", file=sys.stderr)
+            return 1
+        return 0
+    path.write_text(text)
+    print(f"wrote {path} ({text.count(chr(10))} lines, {len(text)} bytes)")
+    return 0

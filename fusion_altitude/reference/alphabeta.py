@@ -19,7 +19,10 @@ from typing import Optional
 import numpy as np
 
 from .. import _common, _alphabeta_glue
-from .._alphabeta_glue import ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
+from .._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
+                               AlphaBetaSensorSettings, AlphaBetaStatus)
+
+from ._checkpoint import Checkpointable
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -152,7 +155,7 @@ class _Filter:
                 self.started)
 
 
-class AlphaBetaFusion:
+class AlphaBetaFusion(Checkpointable):
     """Quality-weighted alpha-beta fusion; see :class:`fusion_altitude.AlphaBetaFusion`."""
 
     __slots__ = ("_settings", "_filters", "_h", "_v", "_total", "_started")
@@ -380,22 +383,5 @@ class AlphaBetaFusion:
         self._h, self._v, self._total = f32(h), f32(v), f32(total)
         self._started = bool(started)
 
-    def __copy__(self) -> "AlphaBetaFusion":
-        clone = AlphaBetaFusion.__new__(AlphaBetaFusion)
-        clone._set_state(self._get_state())
-        return clone
-
-    def __deepcopy__(self, memo: dict) -> "AlphaBetaFusion":
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
-
     def __repr__(self) -> str:
         return f"AlphaBetaFusion(altitude={self._h}, vertical_velocity={self._v}, weights={tuple(self.weights)!r})"
-
-
-def _restore(state: tuple) -> AlphaBetaFusion:
-    fusion = AlphaBetaFusion.__new__(AlphaBetaFusion)
-    fusion._set_state(state)
-    return fusion

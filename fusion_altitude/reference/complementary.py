@@ -20,6 +20,8 @@ import numpy as np
 from .. import _common, _complementary_glue, _observer_glue
 from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
+from ._checkpoint import Checkpointable
+
 f32 = np.float32
 _NAN = f32("nan")
 _HALF = f32(0.5)
@@ -120,7 +122,7 @@ def _as_settings(settings: object) -> ComplementarySettings:
     raise TypeError(f"settings must be ComplementarySettings, got {type(settings).__name__}")
 
 
-class ComplementaryFilter:
+class ComplementaryFilter(Checkpointable):
     """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
 
     __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_reference_set")
@@ -272,22 +274,5 @@ class ComplementaryFilter:
         self._h, self._v, self._a, self._zf, self._vb, self._since = (f32(x) for x in (h, v, a, zf, vb, since))
         self._reference_set = bool(reference_set)
 
-    def __copy__(self) -> "ComplementaryFilter":
-        clone = ComplementaryFilter.__new__(ComplementaryFilter)
-        clone._set_state(self._get_state())
-        return clone
-
-    def __deepcopy__(self, memo: dict) -> "ComplementaryFilter":
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
-
     def __repr__(self) -> str:
         return f"ComplementaryFilter(altitude={self._h}, vertical_velocity={self._v}, settings={self._settings!r})"
-
-
-def _restore(state: tuple) -> ComplementaryFilter:
-    estimator = ComplementaryFilter.__new__(ComplementaryFilter)
-    estimator._set_state(state)
-    return estimator

@@ -29,6 +29,8 @@ import numpy as np
 from .. import _common, _kalman_glue
 from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
+from ._checkpoint import Checkpointable
+
 f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
@@ -216,7 +218,7 @@ class _Sensor:
         return sensor
 
 
-class KalmanEstimator:
+class KalmanEstimator(Checkpointable):
     """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with accel.
 
     Parameters
@@ -635,17 +637,6 @@ class KalmanEstimator:
         self._baro_initialised = bool(baro_initialised)
         self._gps_initialised = bool(gps_initialised)
 
-    def __copy__(self) -> "KalmanEstimator":
-        clone = KalmanEstimator.__new__(KalmanEstimator)
-        clone._set_state(self._get_state())
-        return clone
-
-    def __deepcopy__(self, memo: dict) -> "KalmanEstimator":
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
-
     def __repr__(self) -> str:
         return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
@@ -657,9 +648,3 @@ def _as_settings(settings: object) -> KalmanSettings:
     if hasattr(settings, "as_dict") and hasattr(settings, "gps_min_satellites"):
         return KalmanSettings(**settings.as_dict())  # type: ignore[attr-defined]
     raise TypeError(f"settings must be KalmanSettings, got {type(settings).__name__}")
-
-
-def _restore(state: tuple) -> KalmanEstimator:
-    estimator = KalmanEstimator.__new__(KalmanEstimator)
-    estimator._set_state(state)
-    return estimator

@@ -18,6 +18,8 @@ import numpy as np
 from .. import _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
+from ._checkpoint import Checkpointable
+
 f32 = np.float32
 _NAN = f32("nan")
 
@@ -209,7 +211,7 @@ class AltitudeSettings:
 
 # -- estimator ---------------------------------------------------------------
 
-class AltitudeEstimator:
+class AltitudeEstimator(Checkpointable):
     """3rd-order complementary observer: baro altitude + vertical acceleration.
 
     Parameters
@@ -376,17 +378,6 @@ class AltitudeEstimator:
         self._h, self._v, self._b, self._r = f32(h), f32(v), f32(b), f32(r)
         self._reference_set = bool(reference_set)
 
-    def __copy__(self) -> "AltitudeEstimator":
-        clone = AltitudeEstimator.__new__(AltitudeEstimator)
-        clone._set_state(self._get_state())
-        return clone
-
-    def __deepcopy__(self, memo: dict) -> "AltitudeEstimator":
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
-
     def __repr__(self) -> str:
         return (f"AltitudeEstimator(altitude={self._h}, vertical_velocity={self._v}, accel_bias={self._b}, "
                 f"baro_residual={self._r}, settings={self._settings!r})")
@@ -398,9 +389,3 @@ def _as_settings(settings: object) -> AltitudeSettings:
     if hasattr(settings, "as_tuple"):
         return AltitudeSettings(*settings.as_tuple())  # type: ignore[attr-defined]
     raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
-
-
-def _restore(state: tuple) -> AltitudeEstimator:
-    estimator = AltitudeEstimator.__new__(AltitudeEstimator)
-    estimator._set_state(state)
-    return estimator

@@ -20,9 +20,12 @@ from ._observer_glue import Status
 from ._sweep_glue import SweepResult
 from ._observer import AltitudeSettings
 
-#: Settings per thread below which a sweep stays on one thread (thread start-up
-#: and the duplicated input check then cost more than the split saves).
-MIN_SETTINGS_PER_THREAD = 16
+#: Settings per thread below which a sweep stays on one thread. Measured on the
+#: 2-core dev machine (``python benchmarks/compare.py``, 10^5 samples, metrics
+#: only): K = 1024 goes from 0.38 to 0.25 ns per sample·setting on two threads,
+#: K = 64 gains nothing (0.37 vs 0.39: two 32-lane chunks are too little work
+#: per thread to pay for the threads and the duplicated input check).
+MIN_SETTINGS_PER_THREAD = 64
 
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
@@ -49,7 +52,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         Also return the (T, K) per-sample states.
     threads : int, optional
         Threads to split the K settings across; default: the CPU count, keeping
-        at least 16 settings per thread.
+        at least 64 settings per thread (below that a split does not pay).
     out : AltitudeBatch or sequence of 4 arrays, optional
         Preallocated C-contiguous float32 (T, K) arrays for the outputs (implies
         ``outputs=True``); reusing them avoids page faults on large sweeps.

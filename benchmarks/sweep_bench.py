@@ -115,7 +115,7 @@ def run(samples: int = 100_000, repeat: int = 5, baro_every: int = 1):
                                  for f in filters], repeat) / (samples * count)
     out = fusion_altitude.AltitudeBatch(*(np.empty((samples, count), np.float32) for _ in range(4)))
     t_sweep_full = best_ns(lambda: fusion_altitude.sweep(accel, full_baro, dt, gains, out=out), repeat) / (samples * count)
-    rows.append((f"K={count}: scipy.signal.lfilter, equivalent LTI filter, float64 (max |diff| {agreement:.1e} m)", t_lfilter))
+    rows.append((f"K={count}: scipy.signal.lfilter, equivalent LTI filter, float64 (max abs diff {agreement:.1e} m)", t_lfilter))
     rows.append((f"K={count}: sweep with out= on the same baro-every-sample log", t_sweep_full))
     return rows, checks
 

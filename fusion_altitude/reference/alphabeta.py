@@ -23,6 +23,7 @@ from .._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBe
                                AlphaBetaSensorSettings, AlphaBetaStatus)
 
 from ._checkpoint import Checkpointable
+from ._settings import KeywordSettings
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -57,10 +58,11 @@ def _sensor_status(s: AlphaBetaSensorSettings) -> AlphaBetaStatus:
     return AlphaBetaStatus.OK
 
 
-class AlphaBetaSettings:
+class AlphaBetaSettings(KeywordSettings):
     """One :class:`AlphaBetaSensorSettings` per sensor; see :class:`fusion_altitude.AlphaBetaSettings`."""
 
-    __slots__ = ("_values",)
+    __slots__ = ()
+    _DISTINCT = "sonar"
 
     def __init__(self, **sensors) -> None:
         values = _alphabeta_glue.convert_alphabeta_settings(sensors)
@@ -69,16 +71,6 @@ class AlphaBetaSettings:
             if status != AlphaBetaStatus.OK:
                 _alphabeta_glue.raise_alphabeta_settings_error(status, values)
         self._values = values
-
-    def __getattr__(self, name: str):
-        values = object.__getattribute__(self, "_values")
-        if name in values:
-            return values[name]
-        raise AttributeError(f"'AlphaBetaSettings' object has no attribute {name!r}")
-
-    def as_dict(self) -> dict:
-        """{sensor: AlphaBetaSensorSettings} in the C sensor order."""
-        return dict(self._values)
 
     def replace(self, **sensors) -> "AlphaBetaSettings":
         """A copy with some sensors' fields changed."""
@@ -95,32 +87,6 @@ class AlphaBetaSettings:
             else:
                 merged[name] = value._replace(**change)
         return AlphaBetaSettings(**merged)
-
-    def __eq__(self, other: object) -> bool:
-        if not hasattr(other, "as_dict") or not hasattr(other, "sonar"):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
-
-    def __hash__(self) -> int:
-        return hash(tuple(self._values.items()))
-
-    def __repr__(self) -> str:
-        return "AlphaBetaSettings(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
-
-
-def _settings_from_dict(values: dict) -> AlphaBetaSettings:
-    return AlphaBetaSettings(**values)
-
-
-def _as_settings(settings: object) -> AlphaBetaSettings:
-    if isinstance(settings, AlphaBetaSettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "sonar"):
-        return AlphaBetaSettings(**settings.as_dict())  # type: ignore[attr-defined]
-    raise TypeError(f"settings must be AlphaBetaSettings, got {type(settings).__name__}")
 
 
 def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus:
@@ -162,7 +128,7 @@ class AlphaBetaFusion(Checkpointable):
 
     def __init__(self, settings: Optional[AlphaBetaSettings] = None) -> None:
         # FusionAltitudeAlphaBetaInitialise / InitialiseWith
-        self._settings = AlphaBetaSettings() if settings is None else _as_settings(settings)
+        self._settings = AlphaBetaSettings() if settings is None else AlphaBetaSettings.coerce(settings)
         self._clear()
 
     def _clear(self) -> None:
@@ -362,7 +328,7 @@ class AlphaBetaFusion(Checkpointable):
     @settings.setter
     def settings(self, settings: AlphaBetaSettings) -> None:
         # FusionAltitudeAlphaBetaSetSettings
-        self._settings = _as_settings(settings)
+        self._settings = AlphaBetaSettings.coerce(settings)
         for i, f in enumerate(self._filters):
             s = self._sensor(i)
             f.quality = min(max(f.quality, s.quality_min), s.quality_max)

@@ -21,6 +21,7 @@ from .. import _common, _complementary_glue, _observer_glue
 from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 from ._checkpoint import Checkpointable
+from ._settings import KeywordSettings
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -57,10 +58,11 @@ def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryS
     return ComplementaryStatus.OK
 
 
-class ComplementarySettings:
+class ComplementarySettings(KeywordSettings):
     """Settings of the two-stage complementary filter (float32); see :class:`fusion_altitude.ComplementarySettings`."""
 
-    __slots__ = ("_values",)
+    __slots__ = ()
+    _DISTINCT = "per_sample_coefficients"
 
     def __init__(self, **kwargs) -> None:
         values = _complementary_glue.convert_complementary_settings(kwargs)
@@ -81,45 +83,9 @@ class ComplementarySettings:
         return cls(velocity_time_constant=velocity_time_constant, altitude_time_constant=altitude_time_constant,
                    **kwargs)
 
-    def __getattr__(self, name: str):
-        values = object.__getattribute__(self, "_values")
-        if name in values:
-            return values[name]
-        raise AttributeError(f"'ComplementarySettings' object has no attribute {name!r}")
-
-    def as_dict(self) -> dict:
-        """Every setting as a Python value, in the order of the C struct."""
-        return dict(self._values)
-
     def replace(self, **changes) -> "ComplementarySettings":
         """A copy with some settings changed."""
         return ComplementarySettings(**{**self._values, **changes})
-
-    def __eq__(self, other: object) -> bool:
-        if not hasattr(other, "as_dict") or not hasattr(other, "per_sample_coefficients"):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
-
-    def __hash__(self) -> int:
-        return hash(tuple(self._values.items()))
-
-    def __repr__(self) -> str:
-        return "ComplementarySettings(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
-
-
-def _settings_from_dict(values: dict) -> ComplementarySettings:
-    return ComplementarySettings(**values)
-
-
-def _as_settings(settings: object) -> ComplementarySettings:
-    if isinstance(settings, ComplementarySettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "per_sample_coefficients"):
-        return ComplementarySettings(**settings.as_dict())  # type: ignore[attr-defined]
-    raise TypeError(f"settings must be ComplementarySettings, got {type(settings).__name__}")
 
 
 class ComplementaryFilter(Checkpointable):
@@ -129,7 +95,7 @@ class ComplementaryFilter(Checkpointable):
 
     def __init__(self, settings: Optional[ComplementarySettings] = None) -> None:
         # FusionAltitudeComplementaryInitialise
-        self._settings = ComplementarySettings() if settings is None else _as_settings(settings)
+        self._settings = ComplementarySettings() if settings is None else ComplementarySettings.coerce(settings)
         self._h = f32(0)
         self._v = f32(0)
         self._a = f32(0)
@@ -262,7 +228,7 @@ class ComplementaryFilter(Checkpointable):
 
     @settings.setter
     def settings(self, settings: ComplementarySettings) -> None:
-        self._settings = _as_settings(settings)
+        self._settings = ComplementarySettings.coerce(settings)
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),

@@ -30,6 +30,7 @@ from .. import _common, _kalman_glue
 from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 from ._checkpoint import Checkpointable
+from ._settings import KeywordSettings
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -51,7 +52,7 @@ def _is_nan(x: np.float32) -> bool:
 
 # -- settings -----------------------------------------------------------------
 
-class KalmanSettings:
+class KalmanSettings(KeywordSettings):
     """Settings of the Kalman filter, in physical units (float32).
 
     Parameters (keyword only; defaults for a multirotor)
@@ -90,7 +91,8 @@ class KalmanSettings:
         Initial uncertainty of "on the ground, at rest".
     """
 
-    __slots__ = ("_values",)
+    __slots__ = ()
+    _DISTINCT = "gps_min_satellites"
 
     def __init__(self, **kwargs) -> None:
         values = _kalman_glue.convert_kalman_settings(kwargs)
@@ -99,38 +101,9 @@ class KalmanSettings:
             _kalman_glue.raise_kalman_settings_error(status, values)
         self._values = values
 
-    def __getattr__(self, name: str):
-        try:
-            return object.__getattribute__(self, "_values")[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def as_dict(self) -> dict:
-        """All settings as {name: value}, in the C struct's order."""
-        return dict(self._values)
-
     def replace(self, **changes) -> "KalmanSettings":
         """A copy with some settings changed."""
         return type(self)(**{**self._values, **changes})
-
-    def __eq__(self, other: object) -> bool:
-        if not hasattr(other, "as_dict") or not hasattr(other, "gps_min_satellites"):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
-
-    def __hash__(self) -> int:
-        return hash(tuple(self._values.items()))
-
-    def __repr__(self) -> str:
-        inner = ", ".join(f"{k}={v!r}" for k, v in self._values.items())
-        return f"KalmanSettings({inner})"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
-
-
-def _settings_from_dict(values: dict) -> KalmanSettings:
-    return KalmanSettings(**values)
 
 
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: squared it stays far inside float32.
@@ -237,7 +210,7 @@ class KalmanEstimator(Checkpointable):
 
     def __init__(self, settings: Optional[KalmanSettings] = None) -> None:
         # FusionAltitudeKalmanInitialiseWith
-        self._settings = KalmanSettings() if settings is None else _as_settings(settings)
+        self._settings = KalmanSettings() if settings is None else KalmanSettings.coerce(settings)
         s = self._s = _Settings32(self._settings)
         self._x: List[np.float32] = [_ZERO] * N_STATES
         P = self._P = [[_ZERO] * N_STATES for _ in range(N_STATES)]
@@ -613,7 +586,7 @@ class KalmanEstimator(Checkpointable):
     @settings.setter
     def settings(self, settings: KalmanSettings) -> None:
         # FusionAltitudeKalmanSetSettings
-        new = _as_settings(settings)
+        new = KalmanSettings.coerce(settings)
         s = _Settings32(new)
         if s.estimate_accel_bias != self._s.estimate_accel_bias:
             self._x[4] = _ZERO
@@ -640,11 +613,3 @@ class KalmanEstimator(Checkpointable):
     def __repr__(self) -> str:
         return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
-
-
-def _as_settings(settings: object) -> KalmanSettings:
-    if isinstance(settings, KalmanSettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "gps_min_satellites"):
-        return KalmanSettings(**settings.as_dict())  # type: ignore[attr-defined]
-    raise TypeError(f"settings must be KalmanSettings, got {type(settings).__name__}")

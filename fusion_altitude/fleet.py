@@ -1,0 +1,859 @@
+"""Fleets of logs on Dask: run, summarise and fit over thousands of flights.
+
+Reading a log (pyulog, pymavlink, the CSV parser) costs far more than running
+an estimator on it, so fleet work scales with cores and machines. This module
+puts one task per log on a :mod:`dask.distributed` cluster — a
+``LocalCluster`` sized to the machine when no client is given, or any
+existing cluster (``Client("tcp://HOST:8786")``) unchanged. Needs the
+``[fleet]`` extra (``dask[distributed]``, ``pyarrow``).
+
+Functions
+---------
+:func:`run_many`
+    Run an estimator over every log; per-log estimates as Parquet, one summary
+    table (Parquet and CSV), failed logs as rows with their one-line error,
+    resume by settings hash.
+:func:`fit_many`
+    One set of observer gains for many logs: per-log sweeps on the workers,
+    their sums reduced on the client, refined; scored on held-out logs.
+:func:`summary`
+    The summary table of an output directory.
+
+Output directory
+----------------
+``OUT/logs/<log_id>.parquet``
+    Per grid step, the columns ``fusion-altitude run -o`` writes (time s,
+    baro_altitude m, vertical_acceleration m/s², altitude m, vertical_velocity
+    m/s, accel_bias m/s², baro_residual m, reference_altitude m when the log
+    has one), in their native dtypes (the estimates float32, as computed),
+    plus ``log_id``. The file's key-value metadata ``fusion_altitude.fleet``
+    holds the settings hash, the source fingerprint and the log's summary row.
+``OUT/csv/<log_id>.csv`` (``write_csv=True``)
+    The very file ``fusion-altitude run -o`` writes.
+``OUT/failed/<log_id>.json``
+    A log that cannot be used (a reader or estimator error): its summary row.
+``OUT/summary.parquet``, ``OUT/summary.csv``
+    One row per log of the run (:data:`SUMMARY_FIELDS`).
+
+Every file is written to a temporary name and renamed into place (local
+disks), or uploaded as one object (object stores), so a worker that dies
+mid-write leaves either the complete old file or none; Dask reruns its task.
+
+Paths may be local files, directories (searched recursively for
+:data:`LOG_EXTENSIONS`), globs, or any fsspec URL (``s3://bucket/logs/*.ulg``)
+that the workers can read; remote logs are copied to a local temporary file
+for the readers. ``OUT`` may be an fsspec URL too; on a multi-machine cluster
+it must be storage every worker and the client see.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import math
+import os
+import tempfile
+import time as _time
+import uuid
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _fleet_adapter as adapter
+from ._version import __version__
+
+__all__ = ["FORMAT_VERSION", "LOG_EXTENSIONS", "SUMMARY_FIELDS", "FleetRun", "FleetFit", "expand_paths", "log_id",
+           "settings_hash", "run_many", "fit_many", "summary", "worst_logs", "open_client"]
+
+#: Version of the output layout; part of the settings hash.
+FORMAT_VERSION = 1
+
+#: File name endings searched for in a directory (case-insensitive).
+LOG_EXTENSIONS = (".ulg", ".bin", ".csv")
+
+_METADATA_KEY = b"fusion_altitude.fleet"
+
+#: Columns of the summary table, in order: (name, pyarrow type name, meaning).
+SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
+    ("log_id", "string", "basename of the log and 8 hex digits of the SHA-1 of its full path or URL"),
+    ("path", "string", "path or URL of the log"),
+    ("status", "string", "'ok', or 'failed' with the error in `error`"),
+    ("error", "string", "one-line error of a failed log ('' when ok)"),
+    ("source", "string", "file name and format, as the reader names it"),
+    ("estimator", "string", "estimator run"),
+    ("settings_hash", "string", "hash of estimator, settings, CSV options, package and format version"),
+    ("bytes", "int64", "size of the log file, bytes"),
+    ("samples", "int64", "grid steps (IMU samples)"),
+    ("duration_s", "float64", "last − first grid time, s"),
+    ("imu_rate_hz", "float64", "(samples − 1) / duration, Hz"),
+    ("baro_samples", "int64", "grid steps carrying a baro sample"),
+    ("baro_rate_hz", "float64", "(baro samples − 1) / (last − first baro time), Hz"),
+    ("imu_gaps", "int64", "grid steps longer than twice the median step"),
+    ("max_dt_s", "float64", "longest grid step, s"),
+    ("baro_gaps", "int64", "intervals between baro samples longer than twice the median interval"),
+    ("max_baro_interval_s", "float64", "longest interval between baro samples, s"),
+    ("clipped_samples", "int64", "samples with the accelerometer at its range limit"),
+    ("reference", "string", "the log's own estimate the metrics compare with ('' if none)"),
+    ("mean_error_m", "float64", "mean of altitude − reference, m (whole log)"),
+    ("rms_error_m", "float64", "RMS of altitude − reference, m"),
+    ("max_abs_error_m", "float64", "max |altitude − reference|, m"),
+    ("p95_abs_error_m", "float64", "95th percentile of |altitude − reference|, m"),
+    ("baro_rms_error_m", "float64", "RMS of baro − reference, m"),
+    ("final_altitude_m", "float64", "last altitude estimate, m"),
+    ("final_accel_bias_m_s2", "float64", "last accelerometer-bias estimate, m/s²"),
+)
+
+
+def _fleet_imports():
+    try:
+        import distributed  # noqa: F401  (pyflakes)
+        import pyarrow  # noqa: F401
+    except ImportError as error:
+        raise ImportError("fleet processing needs dask.distributed and pyarrow: "
+                          "pip install 'fusion-altitude[fleet]'") from error
+
+
+# ----------------------------------------------------------------------------
+# Paths, ids, hashes
+
+
+def _is_url(path: str) -> bool:
+    return "://" in path and not path.startswith("file://")
+
+
+def expand_paths(paths_or_globs: Union[str, Sequence[str]]) -> List[str]:
+    """Log paths from files, directories (recursive, :data:`LOG_EXTENSIONS`), globs and fsspec URLs.
+
+    Local paths come back absolute, URLs with their protocol; sorted, without
+    duplicates. A plain path that does not exist is kept (it becomes a failed
+    row); a glob or directory that matches nothing raises ``ValueError``.
+    """
+    import fsspec
+
+    if isinstance(paths_or_globs, (str, os.PathLike)):
+        paths_or_globs = [paths_or_globs]
+    found = set()
+    for item in paths_or_globs:
+        item = os.fspath(item)
+        fs, path = fsspec.core.url_to_fs(item)
+        local = not _is_url(item)
+
+        def name(p: str) -> str:
+            return os.path.abspath(p) if local else fs.unstrip_protocol(p)
+
+        if any(ch in path for ch in "*?["):
+            matches = [p for p in fs.glob(path) if fs.isfile(p)]
+            if not matches:
+                raise ValueError(f"paths_or_globs: {item!r} matches no file")
+            found.update(name(p) for p in matches)
+        elif fs.isdir(path):
+            matches = [p for p in fs.find(path) if p.lower().endswith(LOG_EXTENSIONS)]
+            if not matches:
+                raise ValueError(f"paths_or_globs: directory {item!r} holds no {', '.join(LOG_EXTENSIONS)} file")
+            found.update(name(p) for p in matches)
+        else:
+            found.add(name(path))
+    return sorted(found)
+
+
+def log_id(path: str) -> str:
+    """The id of a log in the outputs: its basename and 8 hex digits of the SHA-1 of its full path or URL."""
+    base = os.path.basename(path.rstrip("/")) or "log"
+    safe = "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in base)
+    return f"{safe}-{hashlib.sha1(path.encode()).hexdigest()[:8]}"
+
+
+def settings_hash(estimator: str, settings: Any, csv_options: Optional[Dict[str, Any]] = None) -> str:
+    """16 hex digits identifying what a run computes: estimator, exact settings, CSV options,
+    package version and output format version. Equal hashes ⇒ equal outputs for the same log."""
+    key = {"format": FORMAT_VERSION, "version": __version__, "settings": adapter.settings_key(estimator, settings),
+           "csv_options": adapter._jsonable(dict(csv_options or {}))}
+    return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _fingerprint(fs, path: str) -> Tuple[str, int]:
+    """(unique key of the file's current version, size in bytes)."""
+    info = fs.info(path)
+    return fs.ukey(path), int(info.get("size") or 0)
+
+
+# ----------------------------------------------------------------------------
+# Atomic writes
+
+
+def _atomic_write(fs, path: str, payload: bytes) -> None:
+    """Write ``payload`` so that ``path`` is either absent, its old content, or all of ``payload``."""
+    if "file" in (fs.protocol if isinstance(fs.protocol, tuple) else (fs.protocol,)):
+        directory = os.path.dirname(path)
+        os.makedirs(directory, exist_ok=True)
+        temporary = os.path.join(directory, f".{os.path.basename(path)}.tmp-{uuid.uuid4().hex}")
+        try:
+            with open(temporary, "wb") as handle:
+                handle.write(payload)
+                handle.flush()
+                os.fsync(handle.fileno())
+            os.replace(temporary, path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.remove(temporary)
+            raise
+    else:
+        fs.pipe_file(path, payload)  # an object store publishes an object only once it is complete
+
+
+def _write_if_changed(fs, path: str, payload: bytes) -> bool:
+    """Atomically write ``payload`` unless ``path`` already holds exactly it; True if written."""
+    if fs.exists(path) and fs.cat_file(path) == payload:
+        return False
+    _atomic_write(fs, path, payload)
+    return True
+
+
+def _remove_leftovers(fs, root: str) -> int:
+    """Remove temporary files of interrupted writes under ``root``; returns how many."""
+    removed = 0
+    for sub in ("logs", "csv", "failed"):
+        directory = f"{root}/{sub}"
+        if not fs.exists(directory):
+            continue
+        for path in fs.ls(directory, detail=False):
+            if ".tmp-" in os.path.basename(path):
+                fs.rm_file(path)
+                removed += 1
+    return removed
+
+
+# ----------------------------------------------------------------------------
+# One log (runs on a worker)
+
+
+def _one_line(error: BaseException) -> str:
+    text = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {text[0] if text else ''}".rstrip(": ")
+
+
+def _gaps(times: np.ndarray) -> Tuple[int, float]:
+    """(intervals longer than twice the median interval, longest interval s)."""
+    if times.size < 2:
+        return 0, math.nan
+    steps = np.diff(times)
+    return int(np.sum(steps > 2.0 * np.median(steps))), float(np.max(steps))
+
+
+def _describe(data, run) -> Dict[str, Any]:
+    """Summary-row fields of a good log (see :data:`SUMMARY_FIELDS`)."""
+    time = np.asarray(data.time, dtype=float)
+    baro = np.asarray(data.baro_altitude, dtype=float)
+    duration = float(time[-1] - time[0]) if time.size else math.nan
+    baro_time = time[np.isfinite(baro)]
+    baro_span = float(baro_time[-1] - baro_time[0]) if baro_time.size > 1 else math.nan
+    imu_gaps, max_dt = _gaps(time)
+    baro_gaps, max_baro_interval = _gaps(baro_time)
+    fused, raw = adapter.compare(run)
+    columns = dict(adapter.run_columns(run))
+    row = {
+        "source": data.source,
+        "samples": int(time.size),
+        "duration_s": duration,
+        "imu_rate_hz": (time.size - 1) / duration if duration > 0 else math.nan,
+        "baro_samples": int(baro_time.size),
+        "baro_rate_hz": (baro_time.size - 1) / baro_span if baro_span > 0 else math.nan,
+        "imu_gaps": imu_gaps, "max_dt_s": max_dt, "baro_gaps": baro_gaps, "max_baro_interval_s": max_baro_interval,
+        "clipped_samples": int(np.sum(data.clipped)) if data.clipped is not None else 0,
+        "reference": data.reference_name if data.reference_altitude is not None else "",
+        "mean_error_m": fused.mean if fused is not None and fused.count else math.nan,
+        "rms_error_m": fused.rms if fused is not None and fused.count else math.nan,
+        "max_abs_error_m": fused.max if fused is not None and fused.count else math.nan,
+        "p95_abs_error_m": fused.p95 if fused is not None and fused.count else math.nan,
+        "baro_rms_error_m": raw.rms if raw is not None and raw.count else math.nan,
+        "final_altitude_m": float(columns["altitude"][-1]) if time.size else math.nan,
+    }
+    for name, values in columns.items():  # every bias the estimator reports
+        if "bias" in name and values.size:
+            row["final_accel_bias_m_s2" if name == "accel_bias" else f"final_{name}"] = float(values[-1])
+    return {key: float(value) if isinstance(value, np.floating) else value for key, value in row.items()}
+
+
+def _estimates_table(identifier: str, columns: List[Tuple[str, np.ndarray]], metadata: Dict[str, Any]):
+    import pyarrow as pa
+
+    n = columns[0][1].size if columns else 0
+    ids = pa.DictionaryArray.from_arrays(pa.array(np.zeros(n, np.int32)), pa.array([identifier]))
+    table = pa.table({"log_id": ids, **{name: pa.array(values) for name, values in columns}})
+    return table.replace_schema_metadata({_METADATA_KEY: json.dumps(metadata).encode()})
+
+
+def _parquet_bytes(table) -> bytes:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    sink = pa.BufferOutputStream()
+    pq.write_table(table, sink)
+    return sink.getvalue().to_pybytes()
+
+
+def _stored_metadata(fs, path: str) -> Optional[Dict[str, Any]]:
+    """The fleet metadata of an output file, or None if it is missing or unreadable."""
+    try:
+        if path.endswith(".json"):
+            return json.loads(fs.cat_file(path))
+        import pyarrow.parquet as pq
+        with fs.open(path, "rb") as handle:
+            metadata = pq.read_schema(handle).metadata or {}
+        return json.loads(metadata[_METADATA_KEY])
+    except Exception:  # missing, truncated by a crash of another tool, not ours: recompute
+        return None
+
+
+@contextlib.contextmanager
+def _local_copy(fs, path: str) -> Iterator[str]:
+    """A local file path for ``path``: itself when local, else a temporary copy (same suffix)."""
+    if "file" in (fs.protocol if isinstance(fs.protocol, tuple) else (fs.protocol,)):
+        yield path
+        return
+    suffix = os.path.splitext(path)[1]
+    with tempfile.TemporaryDirectory(prefix="fusion-altitude-fleet-") as directory:
+        local = os.path.join(directory, f"log{suffix}")
+        fs.get_file(path, local)
+        yield local
+
+
+class _Job(NamedTuple):
+    url: str
+    log_id: str
+    output_dir: str
+    estimator: str
+    settings: Any
+    csv_options: Dict[str, Any]
+    settings_hash: str
+    write_csv: bool
+    retry_failed: bool
+
+
+def _process_log(job: _Job) -> Dict[str, Any]:
+    """Run one log (a Dask task). Returns {"row": summary row, "action": computed/reused/failed, costs}.
+
+    Never raises for a bad log: its error becomes the row's ``error``.
+    """
+    import fsspec
+
+    out_fs, root = fsspec.core.url_to_fs(job.output_dir)
+    parquet_path = f"{root}/logs/{job.log_id}.parquet"
+    failed_path = f"{root}/failed/{job.log_id}.json"
+    csv_path = f"{root}/csv/{job.log_id}.csv"
+    row: Dict[str, Any] = {"log_id": job.log_id, "path": job.url, "status": "failed", "error": "", "source": "",
+                           "estimator": job.estimator, "settings_hash": job.settings_hash, "bytes": 0}
+    costs = {"read_s": 0.0, "estimate_s": 0.0, "write_s": 0.0}
+    try:
+        log_fs, log_path = fsspec.core.url_to_fs(job.url)
+        fingerprint, size = _fingerprint(log_fs, log_path)
+    except Exception as error:  # missing file, no access: retried next time
+        row["error"] = _one_line(error)
+        return {"row": row, "action": "failed", **costs}
+    row["bytes"] = size
+
+    # Resume: outputs of the same settings for this version of the file.
+    for path, wanted in ((parquet_path, True), (failed_path, not job.retry_failed)):
+        stored = _stored_metadata(out_fs, path) if wanted else None
+        if stored and stored.get("settings_hash") == job.settings_hash and stored.get("fingerprint") == fingerprint:
+            if path == parquet_path and job.write_csv and not out_fs.exists(csv_path):
+                break  # the CSV was asked for this time: recompute
+            return {"row": stored["row"], "action": "reused", **costs}
+
+    try:
+        tick = _time.perf_counter()
+        with _local_copy(log_fs, log_path) as local:
+            data = adapter.read_log(local, job.csv_options)
+        costs["read_s"] = _time.perf_counter() - tick
+        tick = _time.perf_counter()
+        run = adapter.run_log(data, job.estimator, job.settings)
+        row.update(_describe(data, run))
+        columns = adapter.run_columns(run)
+        costs["estimate_s"] = _time.perf_counter() - tick
+    except adapter.LOG_ERRORS as error:  # the log itself is bad: record it, do not retry
+        row["error"] = _one_line(error)
+        record = {"settings_hash": job.settings_hash, "fingerprint": fingerprint, "row": row}
+        _atomic_write(out_fs, failed_path, json.dumps(record, indent=1).encode())
+        return {"row": row, "action": "failed", **costs}
+    except Exception as error:  # a problem of this machine (missing package...): report, retry next run
+        row["error"] = _one_line(error)
+        return {"row": row, "action": "failed", **costs}
+
+    tick = _time.perf_counter()
+    row["status"] = "ok"
+    record = {"settings_hash": job.settings_hash, "fingerprint": fingerprint, "row": row}
+    if job.write_csv:
+        if "file" in (out_fs.protocol if isinstance(out_fs.protocol, tuple) else (out_fs.protocol,)):
+            os.makedirs(os.path.dirname(csv_path), exist_ok=True)
+            temporary = os.path.join(os.path.dirname(csv_path), f".{job.log_id}.csv.tmp-{uuid.uuid4().hex}")
+            try:
+                adapter.write_csv(run, temporary)
+                os.replace(temporary, csv_path)
+            finally:
+                with contextlib.suppress(OSError):
+                    os.remove(temporary)
+        else:
+            with tempfile.TemporaryDirectory() as directory:
+                adapter.write_csv(run, os.path.join(directory, "run.csv"))
+                with open(os.path.join(directory, "run.csv"), "rb") as handle:
+                    _atomic_write(out_fs, csv_path, handle.read())
+    _atomic_write(out_fs, parquet_path, _parquet_bytes(_estimates_table(job.log_id, columns, record)))
+    if out_fs.exists(failed_path):  # it failed with other settings or an older file
+        out_fs.rm_file(failed_path)
+    costs["write_s"] = _time.perf_counter() - tick
+    return {"row": row, "action": "computed", **costs}
+
+
+# ----------------------------------------------------------------------------
+# Clients
+
+
+@contextlib.contextmanager
+def open_client(client: Any = None, workers: Optional[int] = None, threads_per_worker: int = 1,
+                processes: bool = True, **cluster_options) -> Iterator[Any]:
+    """A Dask client: ``client`` itself (a ``Client``), one connected to a scheduler address
+    (``"tcp://HOST:8786"``), or, with None, a ``LocalCluster`` of ``workers`` processes (default: one
+    per core) closed on exit. ``cluster_options`` go to ``LocalCluster``."""
+    _fleet_imports()
+    from distributed import Client, LocalCluster
+
+    if client is not None and not isinstance(client, str):
+        yield client
+        return
+    if isinstance(client, str):
+        with Client(client) as connected:
+            yield connected
+        return
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    options = {"dashboard_address": ":8787" if _has_dashboard() else None, "silence_logs": 40}
+    options.update(cluster_options)
+    with LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=threads_per_worker,
+                      processes=processes, **options) as cluster, Client(cluster) as local:
+        yield local
+
+
+def _has_dashboard() -> bool:
+    try:
+        import bokeh  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def dashboard_link(client: Any) -> Optional[str]:
+    """The dashboard URL of a client's cluster, or None when no dashboard is up."""
+    try:
+        info = client.scheduler_info()
+        return client.dashboard_link if info.get("services", {}).get("dashboard") else None
+    except Exception:
+        return None
+
+
+# ----------------------------------------------------------------------------
+# run_many
+
+
+@dataclass
+class FleetRun:
+    """What :func:`run_many` returns.
+
+    Attributes
+    ----------
+    summary : pyarrow.Table
+        One row per log (:data:`SUMMARY_FIELDS`, then any further final biases), in path order.
+    output_dir : str
+        Where the outputs are.
+    settings_hash : str
+        Hash of what was computed (:func:`settings_hash`).
+    computed, reused, failed : list of str
+        Log ids computed now, skipped because their outputs matched, and failed
+        (now or before).
+    costs : pyarrow.Table
+        Per log of this run: log_id, action, bytes, read_s, estimate_s, write_s
+        (wall-clock s on its worker; 0 for reused logs).
+    """
+
+    summary: Any
+    output_dir: str
+    settings_hash: str
+    computed: List[str] = field(default_factory=list)
+    reused: List[str] = field(default_factory=list)
+    failed: List[str] = field(default_factory=list)
+    costs: Any = None
+
+
+def _summary_table(rows: List[Dict[str, Any]]):
+    import pyarrow as pa
+
+    extra = sorted({key for row in rows for key in row} - {name for name, _, _ in SUMMARY_FIELDS})
+    fields = [pa.field(name, getattr(pa, kind)()) for name, kind, _ in SUMMARY_FIELDS]
+    fields += [pa.field(name, pa.float64()) for name in extra]
+    schema = pa.schema(fields)
+    return pa.Table.from_pylist([{name: row.get(name) for name in schema.names} for row in rows], schema=schema)
+
+
+def _csv_bytes(table) -> bytes:
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+
+    sink = pa.BufferOutputStream()
+    pcsv.write_csv(table, sink)
+    return sink.getvalue().to_pybytes()
+
+
+def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observer", settings: Any = None,
+             client: Any = None, output_dir: str = "fleet-out", csv_options: Optional[Dict[str, Any]] = None,
+             workers: Optional[int] = None, write_csv: bool = False, retry_failed: bool = False,
+             progress: bool = False, on_result: Optional[Callable[[Dict[str, Any]], None]] = None) -> FleetRun:
+    """Run an estimator over many logs, one Dask task per log.
+
+    Parameters
+    ----------
+    paths_or_globs : str or sequence of str
+        Log files, directories, globs or fsspec URLs (:func:`expand_paths`).
+    estimator : str
+        Estimator to run (``"observer"``; more where ``fusion_altitude.runner`` offers them).
+    settings : settings object or str, optional
+        The estimator's settings, or an observer preset name; default its default.
+    client : distributed.Client or str, optional
+        An existing client, or a scheduler address (``"tcp://HOST:8786"``). Default:
+        a ``LocalCluster`` with ``workers`` processes (one per core), closed afterwards.
+    output_dir : str
+        Output directory or fsspec URL (see the module documentation).
+    csv_options : dict, optional
+        ``load_log`` keyword arguments for CSV logs (``time_column``, ``accel_column``,
+        ``baro_column`` or ``pressure_column``, ...); ignored by .ulg/.bin.
+    workers : int, optional
+        Size of the local cluster when ``client`` is None.
+    write_csv : bool
+        Also write each log's ``fusion-altitude run -o`` CSV to ``OUT/csv/``.
+    retry_failed : bool
+        Recompute logs recorded as failed with the same settings.
+    progress : bool
+        Draw Dask's progress bar on stderr.
+    on_result : callable(dict), optional
+        Called on the client as each log finishes, with its summary row and ``action``.
+
+    Returns
+    -------
+    FleetRun
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad estimator, settings or workers, or a glob matching nothing (before any work).
+    """
+    _fleet_imports()
+    import fsspec
+    from distributed import as_completed
+
+    urls = expand_paths(paths_or_globs)
+    resolved = adapter.resolve_settings(estimator, settings)
+    csv_options = dict(csv_options or {})
+    digest = settings_hash(estimator, resolved, csv_options)
+    ids = [log_id(url) for url in urls]
+    out_fs, root = fsspec.core.url_to_fs(output_dir)
+    for sub in ("logs", "failed"):
+        out_fs.makedirs(f"{root}/{sub}", exist_ok=True)
+    jobs = [_Job(url, identifier, output_dir, estimator, resolved, csv_options, digest, write_csv, retry_failed)
+            for url, identifier in zip(urls, ids)]
+    results: Dict[str, Dict[str, Any]] = {}
+    with open_client(client, workers) as dask_client:
+        futures = dask_client.map(_process_log, jobs, key=[f"fleet-run-{digest}-{i}" for i in ids], pure=False)
+        if progress:
+            from distributed import progress as dask_progress
+            dask_progress(futures)
+        for future in as_completed(futures):
+            result = future.result()
+            results[result["row"]["log_id"]] = result
+            if on_result is not None:
+                on_result({**result["row"], "action": result["action"]})
+        del futures
+    _remove_leftovers(out_fs, root)
+    rows = [results[i]["row"] for i in ids]
+    table = _summary_table(rows)
+    _write_if_changed(out_fs, f"{root}/summary.parquet", _parquet_bytes(table))
+    _write_if_changed(out_fs, f"{root}/summary.csv", _csv_bytes(table))
+    import pyarrow as pa
+    costs = pa.Table.from_pylist([{"log_id": i, "action": results[i]["action"], "bytes": results[i]["row"]["bytes"],
+                                   "read_s": results[i]["read_s"], "estimate_s": results[i]["estimate_s"],
+                                   "write_s": results[i]["write_s"]} for i in ids])
+    return FleetRun(table, output_dir, digest,
+                    computed=[i for i in ids if results[i]["action"] == "computed"],
+                    reused=[i for i in ids if results[i]["action"] == "reused" and results[i]["row"]["status"] == "ok"],
+                    failed=[i for i in ids if results[i]["row"]["status"] != "ok"], costs=costs)
+
+
+# ----------------------------------------------------------------------------
+# summary
+
+
+def summary(output_dir: str):
+    """The summary table (``pyarrow.Table``) of a :func:`run_many` output directory."""
+    _fleet_imports()
+    import fsspec
+    import pyarrow.parquet as pq
+
+    out_fs, root = fsspec.core.url_to_fs(output_dir)
+    path = f"{root}/summary.parquet"
+    if not out_fs.exists(path):
+        raise ValueError(f"output_dir: {output_dir!r} holds no summary.parquet (run `fleet run` first)")
+    with out_fs.open(path, "rb") as handle:
+        return pq.read_table(handle)
+
+
+def worst_logs(table, count: int = 10) -> List[Dict[str, Any]]:
+    """Rows of a summary table, worst first: failed logs, then by RMS error against the reference (m)."""
+    rows = table.to_pylist()
+
+    def badness(row):
+        rms = row.get("rms_error_m")
+        return (row["status"] == "ok", -(rms if rms is not None and math.isfinite(rms) else -math.inf))
+
+    return sorted(rows, key=badness)[:count]
+
+
+# ----------------------------------------------------------------------------
+# fit_many
+
+
+class _FitInputs(NamedTuple):
+    log_id: str
+    path: str
+    accel: np.ndarray
+    baro_altitude: np.ndarray
+    dt: np.ndarray
+    reference: np.ndarray
+    mask: np.ndarray
+
+
+class _FitMeta(NamedTuple):
+    log_id: str
+    path: str
+    error: str
+    samples: int
+    max_dt: float
+
+
+def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_FitInputs, _FitMeta]:
+    """Read one log for fitting (a Dask task, kept in worker memory); a _FitMeta with the error if unusable."""
+    import fsspec
+
+    identifier = log_id(url)
+    try:
+        fs, path = fsspec.core.url_to_fs(url)
+        with _local_copy(fs, path) as local:
+            data = adapter.read_log(local, csv_options)
+        if data.reference_altitude is None:
+            raise ValueError(f"{data.source} has no reference altitude")
+        time = np.asarray(data.time, dtype=float)
+        mask = time >= time[0] + skip
+        inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude,
+                            adapter.sample_periods(time), data.reference_altitude, mask)
+        adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [adapter.default_settings()],
+                      inputs.reference, inputs.mask)  # checks the inputs once, naming the problem
+        return inputs
+    except Exception as error:
+        return _FitMeta(identifier, url, _one_line(error), 0, math.nan)
+
+
+def _fit_meta(inputs: Union[_FitInputs, _FitMeta]) -> _FitMeta:
+    if isinstance(inputs, _FitMeta):
+        return inputs
+    dt = np.asarray(inputs.dt, dtype=np.float64)
+    return _FitMeta(inputs.log_id, inputs.path, "", int(dt.size), float(np.max(dt)) if dt.size else 0.0)
+
+
+def _sweep_sums(inputs: _FitInputs, gains: np.ndarray) -> Tuple[int, np.ndarray]:
+    """(metric samples, float32 sums of squared altitude − reference per setting, m²) of one log."""
+    result = adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, gains, inputs.reference, inputs.mask)
+    return result.metric_samples, result.sum_squared_error
+
+
+def _pooled_rms(parts: Sequence[Tuple[int, np.ndarray]]) -> np.ndarray:
+    """RMS over all logs' samples from per-log sums, summed in log order in float64.
+
+    With one log this is exactly ``SweepResult.rms_error``: sqrt(float64(sum) / count)."""
+    count = sum(samples for samples, _ in parts)
+    total = np.zeros_like(parts[0][1], dtype=np.float64)
+    for _, sums in parts:
+        total = total + sums.astype(np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.sqrt(total / float(count))
+
+
+class FleetFit(NamedTuple):
+    """What :func:`fit_many` returns.
+
+    Attributes
+    ----------
+    settings : AltitudeSettings
+        The gains that minimise the RMS altitude error over all training logs pooled.
+    omega, zeta, omega_b : float
+        Their bandwidth parameters (rad/s, 1, rad/s).
+    rms_error, default_rms_error : float
+        Pooled RMS of altitude − reference on the training logs, m, for the fit
+        and the default (VTOL) gains.
+    landscape : numpy.ndarray
+        Every evaluated candidate, best first, as :attr:`fusion_altitude.tuning.FitResult.landscape`.
+    logs : list of str
+        Ids of the training logs used.
+    excluded : list of (str, str)
+        (path, one-line reason) of logs left out (unreadable, no reference).
+    metric_samples : int
+        Samples in the training metric.
+    holdout : list of dict
+        Per held-out log: log_id, path, samples, rms_error_m (fit), default_rms_error_m, error.
+    holdout_rms_error, holdout_default_rms_error : float
+        Pooled RMS over the held-out logs, m, for the fit and the default gains (NaN without any).
+    """
+
+    settings: Any
+    omega: float
+    zeta: float
+    omega_b: float
+    rms_error: float
+    default_rms_error: float
+    landscape: np.ndarray
+    logs: List[str]
+    excluded: List[Tuple[str, str]]
+    metric_samples: int
+    holdout: List[Dict[str, Any]]
+    holdout_rms_error: float
+    holdout_default_rms_error: float
+
+
+def _search(evaluate_rms: Callable[[np.ndarray], np.ndarray], dt_check: float, omega_range: Tuple[float, float],
+            zetas: Sequence[float], bias_ratios: Sequence[float], refinements: int):
+    """The candidate search of :func:`fusion_altitude.tuning.fit`, with the metric supplied by the caller.
+
+    Kept step for step equal to ``tuning.fit`` (tests/test_fleet.py checks that a
+    one-log fleet fit returns tuning.fit's result exactly). Returns (best key, best
+    RMS, ranked list of ((ω, ζ, ω_b), RMS)).
+    """
+    if not math.isfinite(dt_check) or dt_check <= 0:
+        raise ValueError(f"dt must be finite and > 0 (s), got {dt_check!r}")
+    low, high = omega_range
+    if not (0 < low < high and math.isfinite(high)):
+        raise ValueError(f"omega_range must be 0 < low < high, got {omega_range!r}")
+    evaluated: Dict[Tuple[float, float, float], float] = {}
+
+    def evaluate(candidates):
+        fresh = [c for c in adapter.stable_candidates(candidates, dt_check) if c[:3] not in evaluated]
+        if not fresh:
+            return
+        rms_values = evaluate_rms(np.array([c[3] for c in fresh]))
+        for candidate, rms in zip(fresh, rms_values):
+            evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
+
+    omegas = np.geomspace(low, high, 24)
+    evaluate([(w, z, r * w) for w in omegas for z in zetas for r in bias_ratios])
+    if not evaluated:
+        raise ValueError("no stable candidate at this dt: lower omega_range or sample faster")
+    step = (high / low) ** (1 / 23)
+    for _ in range(refinements):
+        omega, zeta, omega_b = min(evaluated, key=evaluated.get)
+        ratio = omega_b / omega
+        step = math.sqrt(step)
+        ratios = sorted({max(0.0, ratio * f) for f in (0.6, 0.8, 1.0, 1.25, 1.6)} | ({0.0} if ratio == 0 else set()))
+        evaluate([(omega * step**i, z, r * omega * step**i) for i in range(-3, 4)
+                  for z in (zeta * 0.8, zeta * 0.9, zeta, zeta * 1.1, zeta * 1.25) for r in ratios])
+    ranked = sorted(evaluated.items(), key=lambda item: item[1])
+    return ranked
+
+
+def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str, Sequence[str]] = None,
+             client: Any = None, workers: Optional[int] = None, csv_options: Optional[Dict[str, Any]] = None,
+             skip: float = 5.0, omega_range: Tuple[float, float] = (0.05, 20.0),
+             zetas: Sequence[float] = (0.5, 0.7, 1.0, 1.4),
+             bias_ratios: Sequence[float] = (0.0, 0.05, 0.1, 0.2, 0.35), refinements: int = 3) -> FleetFit:
+    """One set of observer gains for many logs (a vehicle type), scored on held-out logs.
+
+    Each log is read once by a worker and kept there. For every round of the
+    search of :func:`fusion_altitude.tuning.fit` (a coarse grid over ω, ζ,
+    ω_b = ratio·ω, then ``refinements`` finer grids around the best point) each
+    worker sweeps all candidate gains over its logs and returns only the
+    per-candidate sum of squared altitude − reference (float32, as the sweep
+    kernel accumulates it) and the sample count; the client adds them in log
+    order in float64 and ranks by pooled RMS. The result does not depend on the
+    cluster; with one log it is exactly ``tuning.fit``'s.
+
+    Parameters
+    ----------
+    paths_or_globs : str or sequence of str
+        Training logs (with a reference altitude: the autopilot's estimate of a
+        .ulg/.bin, or ``csv_options["reference_column"]``).
+    holdout : str or sequence of str, optional
+        Held-out logs to score the fit on (not used to fit).
+    client, workers
+        As for :func:`run_many`.
+    csv_options : dict, optional
+        ``load_log`` keyword arguments for CSV logs.
+    skip : float
+        Seconds at the start of each log left out of the metric (start-up transient), s.
+    omega_range, zetas, bias_ratios, refinements
+        The search grid, as :func:`fusion_altitude.tuning.fit`.
+
+    Returns
+    -------
+    FleetFit
+
+    Raises
+    ------
+    ValueError
+        No usable training log, a glob matching nothing, a bad search range.
+    """
+    _fleet_imports()
+    train_urls = expand_paths(paths_or_globs)
+    holdout_urls = expand_paths(holdout) if holdout else []
+    overlap = sorted(set(train_urls) & set(holdout_urls))
+    if overlap:
+        raise ValueError(f"holdout: {overlap[0]!r} is also a training log")
+    csv_options = dict(csv_options or {})
+    if not math.isfinite(skip) or skip < 0:
+        raise ValueError(f"skip must be finite and >= 0 (s), got {skip!r}")
+    with open_client(client, workers) as dask_client:
+        train = dask_client.map(_fit_inputs, train_urls, csv_options=csv_options, skip=skip, pure=False)
+        metas = dask_client.gather(dask_client.map(_fit_meta, train, pure=False))
+        usable = [(future, meta) for future, meta in zip(train, metas) if not meta.error]
+        excluded = [(meta.path, meta.error) for meta in metas if meta.error]
+        train_ids = [meta.log_id for meta in metas if not meta.error]
+        if not usable:
+            raise ValueError("paths_or_globs: no usable training log"
+                             + (f"; first: {excluded[0][0]}: {excluded[0][1]}" if excluded else ""))
+        dt_check = max(meta.max_dt for _, meta in usable)
+        samples_seen = {}
+
+        def evaluate_rms(gains: np.ndarray) -> np.ndarray:
+            parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
+                                        for future, _ in usable])
+            samples_seen["count"] = sum(samples for samples, _ in parts)
+            return _pooled_rms(parts)
+
+        ranked = _search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
+        (omega, zeta, omega_b), best_rms = ranked[0]
+        fitted = adapter.settings_from_bandwidth(omega, zeta, omega_b)
+        default_rms = float(evaluate_rms(np.array([adapter.default_settings().as_tuple()], dtype=np.float64))[0])
+        metric_samples = samples_seen["count"]
+
+        held: List[Dict[str, Any]] = []
+        pooled = [math.nan, math.nan]
+        if holdout_urls:
+            gains = np.array([fitted.as_tuple(), adapter.default_settings().as_tuple()], dtype=np.float64)
+            inputs = dask_client.map(_fit_inputs, holdout_urls, csv_options=csv_options, skip=skip, pure=False)
+            metas = dask_client.gather(dask_client.map(_fit_meta, inputs, pure=False))
+            parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
+                                        if not meta.error else None for future, meta in zip(inputs, metas)])
+            good = [part for part in parts if part is not None]
+            for meta, part in zip(metas, parts):
+                rms = _pooled_rms([part]) if part is not None else (math.nan, math.nan)
+                held.append({"log_id": meta.log_id, "path": meta.path, "samples": part[0] if part else 0,
+                             "rms_error_m": float(rms[0]), "default_rms_error_m": float(rms[1]), "error": meta.error})
+            if good:
+                pooled = [float(value) for value in _pooled_rms(good)]
+    landscape = np.array([(*key, value) for key, value in ranked], dtype=adapter.fit_landscape_dtype())
+    return FleetFit(fitted, omega, zeta, omega_b, best_rms, default_rms, landscape, train_ids, excluded,
+                    metric_samples, held, pooled[0], pooled[1])

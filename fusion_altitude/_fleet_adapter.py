@@ -39,10 +39,6 @@ def _runner():
     return runner
 
 
-def _log_error():
-    return _logs().LogError
-
-
 #: Exceptions that mean "this log cannot be used", as opposed to a problem of
 #: the machine (a missing package, a full disk): the first kind is recorded and
 #: not retried with the same settings, the second is reported and retried.
@@ -103,8 +99,15 @@ def settings_key(estimator: str, settings: Any) -> Dict[str, Any]:
 
 
 def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
-    """Read one local log file as ``fusion-altitude run`` does (``LogData``)."""
-    return _logs().load_log(path, **(csv_options or {}))
+    """Read one local log file as ``fusion-altitude run`` does (``LogData``).
+
+    A CSV log without the column options its reader needs raises ``ValueError``
+    (a property of the log and the options, like any reader error).
+    """
+    try:
+        return _logs().load_log(path, **(csv_options or {}))
+    except TypeError as error:
+        raise ValueError(f"{path}: this log needs csv_options ({error})") from None
 
 
 def run_log(data, estimator: str, settings: Any):

@@ -426,6 +426,9 @@ def build_parser() -> argparse.ArgumentParser:
     comparison.add_argument("--plot-scenario", choices=scenario_names(), metavar="NAME",
                             help="scenario of the plot (default: the first one compared)")
     comparison.set_defaults(handler=_cmd_compare)
+
+    from .fleet_cli import add_fleet_parser
+    add_fleet_parser(commands)
     return parser
 
 

@@ -428,7 +428,8 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
         return
     if workers is not None and (not isinstance(workers, int) or workers < 1):
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
-    options = {"dashboard_address": ":8787" if _has_dashboard() else None, "silence_logs": 40}
+    # the dashboard needs bokeh; without it, a random port keeps parallel clusters from clashing on 8787
+    options = {"dashboard_address": ":8787" if _has_dashboard() else ":0", "silence_logs": 40}
     options.update(cluster_options)
     with LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=threads_per_worker,
                       processes=processes, **options) as cluster, Client(cluster) as local:
@@ -444,10 +445,11 @@ def _has_dashboard() -> bool:
 
 
 def dashboard_link(client: Any) -> Optional[str]:
-    """The dashboard URL of a client's cluster, or None when no dashboard is up."""
+    """The dashboard URL of a client's cluster, or None when no dashboard is up (the dashboard
+    needs bokeh; its presence is judged on this machine)."""
     try:
         info = client.scheduler_info()
-        return client.dashboard_link if info.get("services", {}).get("dashboard") else None
+        return client.dashboard_link if info.get("services", {}).get("dashboard") and _has_dashboard() else None
     except Exception:
         return None
 

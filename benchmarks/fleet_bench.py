@@ -1,0 +1,163 @@
+"""Fleet throughput (issue 15): logs/s and MB/s of ``fleet.run_many`` with 1 and 2 workers
+against a plain sequential loop over the same logs, in one run, and the per-log cost
+split into read, estimate and write.
+
+    python benchmarks/fleet_bench.py [--copies N] [--workers 1 2] [--data DIR]
+
+The fleet is ``--copies`` copies of each of four kinds of log, built in a temporary
+directory from the shared real logs (FUSION_ALTITUDE_SHARED_DATA, else ../shared/data)
+and the simulator: the PX4 ULog (0.9 MB, 6.5 s), the ArduPilot DataFlash log (64 KB,
+1 s), the Hedy rocket flight as one CSV (245 s at 100 Hz) and a simulated 60 s
+multirotor CSV (100 Hz). The sequential loop reads, runs and writes each log's Parquet
+file in this process (what a user writes without the fleet); the fleet runs on a
+``LocalCluster`` of worker processes started (and warmed up: imports done) before the
+clock starts, into a fresh output directory each time. One run each: the machine is
+shared, so figures move by ±20 % between runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+CSV_OPTIONS = dict(time_column="t", accel_column="accel", baro_column="baro", reference_column="ref")
+GRAVITY = 9.80665
+
+
+def _write_csv(path, time_s, accel, baro, reference):
+    np.savetxt(path, np.column_stack([time_s, accel, baro, reference]), delimiter=",", header="t,accel,baro,ref",
+               comments="", fmt="%.9g")
+
+
+def build_fleet(directory: Path, data: Path, copies: int) -> dict:
+    """Write the benchmark fleet; returns {kind: [paths]}."""
+    from fusion_altitude.scenarios import run_scenario
+
+    kinds = {"PX4 ULog": [], "ArduPilot .bin": [], "Hedy CSV (245 s)": [], "simulated CSV (60 s)": []}
+    baro = np.genfromtxt(data / "hedy_baro.csv", delimiter=",", names=True)
+    imu = np.genfromtxt(data / "hedy_imu.csv", delimiter=",", names=True)
+    info = np.genfromtxt(data / "hedy_flight_info.csv", delimiter=",", names=True)
+    altitude = 44330.0 * (1.0 - (np.interp(imu["ts"], baro["ts"], baro["P"]) / 101325.0) ** 0.190263)
+    hedy = (imu["ts"], -imu["Ay"] - GRAVITY, altitude, np.interp(imu["ts"], info["ts"], info["height"]) + altitude[0])
+    for k in range(copies):
+        for kind, name in (("PX4 ULog", f"px4_{k}.ulg"), ("ArduPilot .bin", f"ardupilot_{k}.bin")):
+            shutil.copyfile(data / ("px4_sample_log_small.ulg" if name.endswith("ulg") else "ardupilot_test.BIN"),
+                            directory / name)
+            kinds[kind].append(str(directory / name))
+        _write_csv(directory / f"hedy_{k}.csv", *hedy)
+        kinds["Hedy CSV (245 s)"].append(str(directory / f"hedy_{k}.csv"))
+        sim = run_scenario("realistic", seed=k)
+        _write_csv(directory / f"sim_{k}.csv", sim.time, sim.vertical_acceleration, sim.baro_altitude,
+                   sim.trajectory.altitude)
+        kinds["simulated CSV (60 s)"].append(str(directory / f"sim_{k}.csv"))
+    return kinds
+
+
+def sequential(paths, output: Path) -> dict:
+    """A plain loop: read, run, write Parquet; per-log seconds of each phase."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from fusion_altitude import _fleet_adapter as adapter
+
+    output.mkdir()
+    settings = adapter.resolve_settings("observer", None)
+    costs = {}
+    for path in paths:
+        start = time.perf_counter()
+        data = adapter.read_log(path, CSV_OPTIONS if path.endswith(".csv") else {})
+        read = time.perf_counter()
+        columns = adapter.run_columns(adapter.run_log(data, "observer", settings))
+        estimate = time.perf_counter()
+        pq.write_table(pa.table({name: values for name, values in columns}), output / (Path(path).name + ".parquet"))
+        costs[path] = (read - start, estimate - read, time.perf_counter() - estimate)
+    return costs
+
+
+def warm_up():
+    """Import what a task imports, so worker start-up is not timed."""
+    import fusion_altitude.fleet  # noqa: F401
+    import fusion_altitude.logs  # noqa: F401
+    import pymavlink.mavutil  # noqa: F401
+    import pyulog  # noqa: F401
+    return os.getpid()
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--copies", type=int, default=10, help="copies of each kind of log (default 10)")
+    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2], help="cluster sizes (default 1 2)")
+    parser.add_argument("--data", default=os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                                         str(ROOT / ".." / "shared" / "data")))
+    args = parser.parse_args(argv)
+    data = Path(args.data)
+    if not data.is_dir():
+        print(f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA or --data", file=sys.stderr)
+        return 2
+
+    import distributed
+
+    from fusion_altitude import fleet
+
+    with tempfile.TemporaryDirectory(prefix="fleet-bench-") as tmp:
+        tmp = Path(tmp)
+        (tmp / "logs").mkdir()
+        kinds = build_fleet(tmp / "logs", data, args.copies)
+        paths = sorted(p for group in kinds.values() for p in group)
+        megabytes = sum(os.path.getsize(p) for p in paths) / 1e6
+        print(f"{len(paths)} logs, {megabytes:.1f} MB; {os.cpu_count()} CPUs")
+        print()
+        rows = []
+        load = os.getloadavg()[0]
+        start = time.perf_counter()
+        costs = sequential(paths, tmp / "sequential")
+        elapsed = time.perf_counter() - start
+        rows.append(("sequential loop (this process)", elapsed, sum(sum(c) for c in costs.values())))
+        for workers in args.workers:
+            with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                          dashboard_address=":0", silence_logs=40) as cluster, \
+                    distributed.Client(cluster) as client:
+                client.run(warm_up)
+                start = time.perf_counter()
+                result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / f"fleet{workers}"),
+                                        csv_options=CSV_OPTIONS)
+                elapsed = time.perf_counter() - start
+            assert len(result.computed) == len(paths), result.failed
+            busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in result.costs.to_pylist())
+            rows.append((f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}", elapsed, busy))
+        print(f"load average (1 min) at the start: {load:.1f} on {os.cpu_count()} CPUs")
+        print()
+        print("| run | wall time (s) | logs/s | MB/s | read+estimate+write, summed over logs (s) |")
+        print("|---|---:|---:|---:|---:|")
+        for name, seconds, busy in rows:
+            print(f"| {name} | {seconds:.2f} | {len(paths) / seconds:.1f} | {megabytes / seconds:.2f} | {busy:.2f} |")
+        print()
+        print("Per log, sequential loop (mean ms):")
+        print()
+        print("| log | size (MB) | samples | read (ms) | estimate (ms) | write (ms) | read MB/s |")
+        print("|---|---:|---:|---:|---:|---:|---:|")
+        from fusion_altitude import _fleet_adapter as adapter
+        for kind, group in kinds.items():
+            split = np.mean([costs[p] for p in group], axis=0)
+            size = os.path.getsize(group[0]) / 1e6
+            samples = adapter.read_log(group[0], CSV_OPTIONS if group[0].endswith(".csv") else {}).time.size
+            print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} | {split[1] * 1e3:.2f} | "
+                  f"{split[2] * 1e3:.1f} | {size / split[0]:.1f} |")
+        total = np.sum([costs[p] for p in paths], axis=0)
+        print()
+        print(f"all {len(paths)} logs: read {total[0]:.2f} s, estimate {total[1]:.3f} s, write {total[2]:.2f} s "
+              f"({100 * total[0] / total.sum():.0f} / {100 * total[1] / total.sum():.1f} / "
+              f"{100 * total[2] / total.sum():.0f} %)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

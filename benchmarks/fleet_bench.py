@@ -84,10 +84,10 @@ def sequential(paths, output: Path) -> dict:
 
 def warm_up():
     """Import what a task imports, so worker start-up is not timed."""
-    import fusion_altitude.fleet  # noqa: F401
-    import fusion_altitude.logs  # noqa: F401
-    import pymavlink.mavutil  # noqa: F401
-    import pyulog  # noqa: F401
+    import importlib
+
+    for module in ("fusion_altitude.fleet", "fusion_altitude.logs", "pymavlink.mavutil", "pyulog"):
+        importlib.import_module(module)
     return os.getpid()
 
 
@@ -151,6 +151,11 @@ def main(argv=None) -> int:
             samples = adapter.read_log(group[0], CSV_OPTIONS if group[0].endswith(".csv") else {}).time.size
             print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} | {split[1] * 1e3:.2f} | "
                   f"{split[2] * 1e3:.1f} | {size / split[0]:.1f} |")
+        written = sum(p.stat().st_size for p in (tmp / f"fleet{args.workers[-1]}" / "logs").iterdir()) / 1e6
+        samples_total = sum(adapter.read_log(p, CSV_OPTIONS if p.endswith(".csv") else {}).time.size for p in paths)
+        print()
+        print(f"outputs: {written:.1f} MB of Parquet for {samples_total} samples "
+              f"({written * 1e6 / samples_total:.1f} bytes per sample)")
         total = np.sum([costs[p] for p in paths], axis=0)
         print()
         print(f"all {len(paths)} logs: read {total[0]:.2f} s, estimate {total[1]:.3f} s, write {total[2]:.2f} s "

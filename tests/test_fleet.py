@@ -13,7 +13,6 @@ import json
 import os
 import shutil
 import signal
-import sys
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
@@ -370,8 +369,8 @@ def test_fleet_fit_minimises_the_pooled_rms_over_all_logs(fleet_dir, client):
     result = fleet.fit_many(paths, client=client, csv_options=CSV_OPTIONS)
     sums, count = 0.0, 0
     for path in paths:  # the pooled RMS of the winner, recomputed log by log with the sweep kernel
-        one = tuning.sweep(*_fit_arrays(path)[:3], [result.settings], reference=_fit_arrays(path)[3],
-                           mask=_fit_arrays(path)[4])
+        accel, baro, dt, reference, mask = _fit_arrays(path)
+        one = tuning.sweep(accel, baro, dt, [result.settings], reference=reference, mask=mask)
         sums += float(one.sum_squared_error[0])
         count += one.metric_samples
     assert result.rms_error == np.sqrt(sums / count)

@@ -564,7 +564,10 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
             for url, identifier in zip(urls, ids)]
     results: Dict[str, Dict[str, Any]] = {}
     with open_client(client, workers) as dask_client:
-        futures = dask_client.map(_process_log, jobs, key=[f"fleet-run-{digest}-{i}" for i in ids], pure=False)
+        # keys unique per call: a finished run's keys may linger on the scheduler, and a reused key returns
+        # the old result instead of running the task
+        token = uuid.uuid4().hex[:8]
+        futures = dask_client.map(_process_log, jobs, key=[f"fleet-run-{token}-{i}" for i in ids], pure=False)
         if progress:
             from distributed import progress as dask_progress
             dask_progress(futures)

@@ -29,14 +29,20 @@ def _logs():
 
 
 def _runner():
-    """``fusion_altitude.runner`` if it exists and takes ``estimator=``, else None."""
+    """``fusion_altitude.runner`` (where ``run_log``/``write_csv`` are moving) if it exists, else None."""
     try:
         from . import runner
     except ImportError:
         return None
-    if "estimator" not in inspect.signature(runner.run_log).parameters:
-        return None
     return runner
+
+
+def _from_runner_or_logs(name: str):
+    """``runner.<name>`` if the runner module has it, else ``logs.<name>``."""
+    runner = _runner()
+    if runner is not None and hasattr(runner, name):
+        return getattr(runner, name)
+    return getattr(_logs(), name)
 
 
 #: Exceptions that mean "this log cannot be used", as opposed to a problem of
@@ -50,6 +56,8 @@ def estimator_names() -> Tuple[str, ...]:
     runner = _runner()
     if runner is not None and hasattr(runner, "ESTIMATORS"):
         return tuple(runner.ESTIMATORS)
+    if runner is not None and "estimator" in inspect.signature(runner.run_log).parameters:
+        return ("observer", "kalman", "complementary", "alphabeta")  # the runner's announced set
     return ("observer",)
 
 
@@ -99,25 +107,32 @@ def settings_key(estimator: str, settings: Any) -> Dict[str, Any]:
 
 
 def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
-    """Read one local log file as ``fusion-altitude run`` does (``LogData``).
+    """Read one local log file as ``fusion-altitude run`` does (``LogData``); ``csv_options``
+    go to the logs that need column names (generic CSV) only.
 
     A CSV log without the column options its reader needs raises ``ValueError``
     (a property of the log and the options, like any reader error).
     """
+    logs = _logs()
+    options = dict(csv_options or {})
+    if options and hasattr(logs, "sniff_format") and hasattr(logs, "FORMATS"):
+        # the readers package rejects column options for formats that know their columns
+        if not getattr(logs.FORMATS[logs.sniff_format(path)], "needs_columns", False):
+            options = {}
     try:
-        return _logs().load_log(path, **(csv_options or {}))
+        return logs.load_log(path, **options)
     except TypeError as error:
         raise ValueError(f"{path}: this log needs csv_options ({error})") from None
 
 
 def run_log(data, estimator: str, settings: Any):
     """Run ``estimator`` on a ``LogData`` with the function ``fusion-altitude run`` calls."""
-    runner = _runner()
-    if runner is not None:
-        return runner.run_log(data, estimator=estimator, settings=settings)
+    function = _from_runner_or_logs("run_log")
+    if "estimator" in inspect.signature(function).parameters:
+        return function(data, estimator=estimator, settings=settings)
     if estimator != "observer":
-        raise ValueError(f"estimator {estimator!r} needs fusion_altitude.runner, which this build lacks")
-    return _logs().run_log(data, settings)
+        raise ValueError(f"estimator {estimator!r}: this build's run_log runs the observer only")
+    return function(data, settings)
 
 
 def run_columns(run) -> List[Tuple[str, np.ndarray]]:
@@ -138,10 +153,7 @@ def run_columns(run) -> List[Tuple[str, np.ndarray]]:
 
 def write_csv(run, path: str) -> None:
     """The CSV ``fusion-altitude run -o`` writes."""
-    runner = _runner()
-    if runner is not None:
-        return runner.write_csv(run, path)
-    return _logs().write_csv(run, path)
+    return _from_runner_or_logs("write_csv")(run, path)
 
 
 def compare(run) -> Tuple[Optional[Any], Optional[Any]]:
@@ -151,10 +163,7 @@ def compare(run) -> Tuple[Optional[Any], Optional[Any]]:
 
 def sample_periods(time) -> np.ndarray:
     """Per-sample dt (s) as ``fusion-altitude run`` and ``fit`` compute it."""
-    runner = _runner()
-    if runner is not None and hasattr(runner, "sample_periods"):
-        return runner.sample_periods(time)
-    return _logs().sample_periods(time)
+    return _from_runner_or_logs("sample_periods")(time)
 
 
 def sweep(accel, baro_altitude, dt, gains, reference, mask):

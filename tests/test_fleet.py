@@ -46,7 +46,8 @@ def _write_csv(path, time, accel, baro, reference):
 
 @pytest.fixture(scope="module")
 def fleet_dir(tmp_path_factory, data_dir):
-    """42 logs in nested directories: 6 ULog, 6 DataFlash, 12 Hedy CSV windows, 16 simulated CSV, 2 corrupt."""
+    """42 logs in nested directories: 6 ULog, 6 DataFlash, 12 Hedy CSV (the first 10 to 120 s of the flight),
+    16 simulated CSV, 2 corrupt."""
     root = tmp_path_factory.mktemp("fleet")
     for k in range(6):
         (root / "px4" / f"day{k % 2}").mkdir(parents=True, exist_ok=True)
@@ -61,10 +62,9 @@ def fleet_dir(tmp_path_factory, data_dir):
     altitude = 44330.0 * (1.0 - (np.interp(time, baro["ts"], baro["P"]) / 101325.0) ** 0.190263)
     reference = np.interp(time, info["ts"], info["height"]) + altitude[0]
     (root / "hedy").mkdir()
-    edges = np.linspace(0, time.size, 13).astype(int)
-    for k, (start, stop) in enumerate(zip(edges[:-1], edges[1:])):
-        _write_csv(root / "hedy" / f"hedy_part{k:02d}.csv", time[start:stop], accel[start:stop],
-                   altitude[start:stop], reference[start:stop])
+    for k, seconds in enumerate(np.linspace(10.0, 120.0, 12)):  # the first 10 ... 120 s, all from the pad
+        keep = time <= time[0] + seconds
+        _write_csv(root / "hedy" / f"hedy_part{k:02d}.csv", time[keep], accel[keep], altitude[keep], reference[keep])
     (root / "sim").mkdir()
     for seed in range(16):
         result = run_scenario("realistic" if seed % 2 else "climb-cruise-descend", seed=seed)

@@ -138,10 +138,13 @@ def run_log(data, estimator: str, settings: Any):
 def run_columns(run) -> List[Tuple[str, np.ndarray]]:
     """The per-step columns ``run -o`` writes, in its order, each in its native dtype.
 
-    Mirrors ``write_csv``: time s, baro_altitude m, vertical_acceleration m/s²,
-    altitude m, vertical_velocity m/s, accel_bias m/s², baro_residual m and, if
-    present, reference_altitude m.
+    ``runner.csv_columns`` where it exists; else mirrors ``logs.write_csv``: time
+    s, baro_altitude m, vertical_acceleration m/s², altitude m, vertical_velocity
+    m/s, accel_bias m/s², baro_residual m and, if present, reference_altitude m.
     """
+    runner = _runner()
+    if runner is not None and hasattr(runner, "csv_columns"):
+        return [(name, np.asarray(values)) for name, values in runner.csv_columns(run)]
     columns = [("time", run.time), ("baro_altitude", run.baro_altitude),
                ("vertical_acceleration", run.vertical_acceleration), ("altitude", run.estimate.altitude),
                ("vertical_velocity", run.estimate.vertical_velocity), ("accel_bias", run.estimate.accel_bias),

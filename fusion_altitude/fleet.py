@@ -104,6 +104,8 @@ SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
     ("final_altitude_m", "float64", "last altitude estimate, m"),
     ("final_accel_bias_m_s2", "float64", "last accelerometer-bias estimate, m/s²"),
 )
+# then, for estimators that report them, final_<name> of their other bias/offset outputs (e.g. the Kalman
+# filter's final_baro_offset, m)
 
 
 def _fleet_imports():
@@ -270,8 +272,8 @@ def _describe(data, run) -> Dict[str, Any]:
         "baro_rms_error_m": raw.rms if raw is not None and raw.count else math.nan,
         "final_altitude_m": float(columns["altitude"][-1]) if time.size else math.nan,
     }
-    for name, values in columns.items():  # every bias the estimator reports
-        if "bias" in name and values.size:
+    for name, values in columns.items():  # every bias or offset the estimator reports
+        if ("bias" in name or "offset" in name) and values.size:
             row["final_accel_bias_m_s2" if name == "accel_bias" else f"final_{name}"] = float(values[-1])
     return {key: float(value) if isinstance(value, np.floating) else value for key, value in row.items()}
 

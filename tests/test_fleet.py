@@ -144,6 +144,20 @@ def test_every_good_log_equals_its_single_log_run_bit_for_bit(first_run):
         assert set(table.column("log_id").to_pylist()) == {fleet.log_id(path)}
 
 
+@pytest.mark.parametrize("estimator", adapter.estimator_names())
+def test_every_estimator_of_this_build_equals_its_single_log_run(estimator, fleet_dir, client, tmp_path):
+    logs = [fleet_dir / "px4" / "day1" / "flight3.ulg", fleet_dir / "ardupilot" / "plane2.BIN",
+            fleet_dir / "sim" / "sim10.csv"]
+    result = fleet.run_many([str(path) for path in logs], estimator=estimator, client=client,
+                            output_dir=str(tmp_path), csv_options=CSV_OPTIONS)
+    assert result.failed == [] and set(result.summary.column("estimator").to_pylist()) == {estimator}
+    for path in map(str, logs):
+        table = pq.read_table(tmp_path / "logs" / f"{fleet.log_id(path)}.parquet")
+        run = adapter.run_log(adapter.read_log(path, CSV_OPTIONS), estimator, adapter.resolve_settings(estimator, None))
+        for name, values in adapter.run_columns(run):
+            np.testing.assert_array_equal(_bits(table.column(name).to_numpy()), _bits(values), err_msg=name)
+
+
 def test_per_log_csv_is_byte_identical_to_the_run_command_output(first_run, fleet_dir, client, tmp_path):
     # `run` takes no reference column: its CSV logs are compared with a fleet run given the same options
     csv_logs = [str(fleet_dir / "hedy" / "hedy_part04.csv"), str(fleet_dir / "sim" / "sim07.csv")]

@@ -537,7 +537,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     retry_failed : bool
         Recompute logs recorded as failed with the same settings.
     progress : bool
-        Draw Dask's progress bar on stderr.
+        Draw Dask's text progress bar (on stdout, erased when done).
     on_result : callable(dict), optional
         Called on the client as each log finishes, with its summary row and ``action``.
 

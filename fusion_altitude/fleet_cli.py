@@ -172,7 +172,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                   + (f", dashboard {link}" if link else ""), file=sys.stderr)
             result = fleet.run_many(args.paths, estimator=args.estimator, settings=args.preset, client=client,
                                     output_dir=args.output, csv_options=csv_options, write_csv=args.csv,
-                                    retry_failed=args.retry_failed, progress=sys.stderr.isatty())
+                                    retry_failed=args.retry_failed, progress=sys.stdout.isatty())
     except (ValueError, TypeError) as error:
         raise _cli_error(str(error)) from None
     costs = result.costs.to_pylist()

@@ -72,13 +72,18 @@ def sequential(paths, output: Path) -> dict:
     settings = adapter.resolve_settings("observer", None)
     costs = {}
     for path in paths:
-        start = time.perf_counter()
+        cpu = [time.thread_time()]
+        wall = [time.perf_counter()]
         data = adapter.read_log(path, CSV_OPTIONS if path.endswith(".csv") else {})
-        read = time.perf_counter()
+        cpu.append(time.thread_time())
+        wall.append(time.perf_counter())
         columns = adapter.run_columns(adapter.run_log(data, "observer", settings))
-        estimate = time.perf_counter()
+        cpu.append(time.thread_time())
+        wall.append(time.perf_counter())
         pq.write_table(pa.table({name: values for name, values in columns}), output / (Path(path).name + ".parquet"))
-        costs[path] = (read - start, estimate - read, time.perf_counter() - estimate)
+        cpu.append(time.thread_time())
+        wall.append(time.perf_counter())
+        costs[path] = tuple(np.diff(wall)) + tuple(np.diff(cpu))
     return costs
 
 
@@ -120,7 +125,8 @@ def main(argv=None) -> int:
         start = time.perf_counter()
         costs = sequential(paths, tmp / "sequential")
         elapsed = time.perf_counter() - start
-        rows.append(("sequential loop (this process)", elapsed, sum(sum(c) for c in costs.values())))
+        rows.append(("sequential loop (this process)", elapsed, sum(sum(c[:3]) for c in costs.values()),
+                     sum(sum(c[3:]) for c in costs.values())))
         for workers in args.workers:
             with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                           dashboard_address=":0", silence_logs=40) as cluster, \
@@ -132,15 +138,17 @@ def main(argv=None) -> int:
                 elapsed = time.perf_counter() - start
             assert len(result.computed) == len(paths), result.failed
             busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in result.costs.to_pylist())
-            rows.append((f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}", elapsed, busy))
+            cpu = sum(row["cpu_s"] for row in result.costs.to_pylist())
+            rows.append((f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}", elapsed, busy, cpu))
         print(f"load average (1 min) at the start: {load:.1f} on {os.cpu_count()} CPUs")
         print()
-        print("| run | wall time (s) | logs/s | MB/s | read+estimate+write, summed over logs (s) |")
-        print("|---|---:|---:|---:|---:|")
-        for name, seconds, busy in rows:
-            print(f"| {name} | {seconds:.2f} | {len(paths) / seconds:.1f} | {megabytes / seconds:.2f} | {busy:.2f} |")
+        print("| run | wall time (s) | logs/s | MB/s | per-log wall time, summed (s) | per-log CPU time, summed (s) |")
+        print("|---|---:|---:|---:|---:|---:|")
+        for name, seconds, busy, cpu in rows:
+            print(f"| {name} | {seconds:.2f} | {len(paths) / seconds:.1f} | {megabytes / seconds:.2f} | {busy:.2f} "
+                  f"| {cpu:.2f} |")
         print()
-        print("Per log, sequential loop (mean ms):")
+        print("Per log, sequential loop (mean; wall ms, CPU ms in brackets; read MB/s from CPU time):")
         print()
         print("| log | size (MB) | samples | read (ms) | estimate (ms) | write (ms) | read MB/s |")
         print("|---|---:|---:|---:|---:|---:|---:|")
@@ -149,8 +157,9 @@ def main(argv=None) -> int:
             split = np.mean([costs[p] for p in group], axis=0)
             size = os.path.getsize(group[0]) / 1e6
             samples = adapter.read_log(group[0], CSV_OPTIONS if group[0].endswith(".csv") else {}).time.size
-            print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} | {split[1] * 1e3:.2f} | "
-                  f"{split[2] * 1e3:.1f} | {size / split[0]:.1f} |")
+            print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} ({split[3] * 1e3:.1f}) | "
+                  f"{split[1] * 1e3:.2f} ({split[4] * 1e3:.2f}) | {split[2] * 1e3:.1f} ({split[5] * 1e3:.1f}) | "
+                  f"{size / split[3]:.1f} |")
         written = sum(p.stat().st_size for p in (tmp / f"fleet{args.workers[-1]}" / "logs").iterdir()) / 1e6
         samples_total = sum(adapter.read_log(p, CSV_OPTIONS if p.endswith(".csv") else {}).time.size for p in paths)
         print()
@@ -158,9 +167,10 @@ def main(argv=None) -> int:
               f"({written * 1e6 / samples_total:.1f} bytes per sample)")
         total = np.sum([costs[p] for p in paths], axis=0)
         print()
-        print(f"all {len(paths)} logs: read {total[0]:.2f} s, estimate {total[1]:.3f} s, write {total[2]:.2f} s "
-              f"({100 * total[0] / total.sum():.0f} / {100 * total[1] / total.sum():.1f} / "
-              f"{100 * total[2] / total.sum():.0f} %)")
+        for label, part in (("wall", total[:3]), ("CPU", total[3:])):
+            print(f"all {len(paths)} logs, {label}: read {part[0]:.2f} s, estimate {part[1]:.3f} s, write {part[2]:.2f} s "
+                  f"({100 * part[0] / part.sum():.0f} / {100 * part[1] / part.sum():.1f} / "
+                  f"{100 * part[2] / part.sum():.0f} %)")
     return 0
 
 

@@ -347,7 +347,8 @@ def _process_log(job: _Job) -> Dict[str, Any]:
     csv_path = f"{root}/csv/{job.log_id}.csv"
     row: Dict[str, Any] = {"log_id": job.log_id, "path": job.url, "status": "failed", "error": "", "source": "",
                            "estimator": job.estimator, "settings_hash": job.settings_hash, "bytes": 0}
-    costs = {"read_s": 0.0, "estimate_s": 0.0, "write_s": 0.0}
+    costs = {"read_s": 0.0, "estimate_s": 0.0, "write_s": 0.0, "cpu_s": 0.0}
+    cpu_start = _time.thread_time()
     try:
         log_fs, log_path = fsspec.core.url_to_fs(job.url)
         fingerprint, size = _fingerprint(log_fs, log_path)
@@ -405,6 +406,7 @@ def _process_log(job: _Job) -> Dict[str, Any]:
     if out_fs.exists(failed_path):  # it failed with other settings or an older file
         out_fs.rm_file(failed_path)
     costs["write_s"] = _time.perf_counter() - tick
+    costs["cpu_s"] = _time.thread_time() - cpu_start
     return {"row": row, "action": "computed", **costs}
 
 
@@ -477,7 +479,8 @@ class FleetRun:
         (now or before).
     costs : pyarrow.Table
         Per log of this run: log_id, action, bytes, read_s, estimate_s, write_s
-        (wall-clock s on its worker; 0 for reused logs).
+        (wall-clock s on its worker) and cpu_s (CPU time of the task's thread, s,
+        computed logs only); 0 for reused logs.
     """
 
     summary: Any
@@ -587,7 +590,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     import pyarrow as pa
     costs = pa.Table.from_pylist([{"log_id": i, "action": results[i]["action"], "bytes": results[i]["row"]["bytes"],
                                    "read_s": results[i]["read_s"], "estimate_s": results[i]["estimate_s"],
-                                   "write_s": results[i]["write_s"]} for i in ids])
+                                   "write_s": results[i]["write_s"], "cpu_s": results[i]["cpu_s"]} for i in ids])
     return FleetRun(table, output_dir, digest,
                     computed=[i for i in ids if results[i]["action"] == "computed"],
                     reused=[i for i in ids if results[i]["action"] == "reused" and results[i]["row"]["status"] == "ok"],

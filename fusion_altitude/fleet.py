@@ -430,14 +430,18 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
         with Client(client) as connected:
             yield connected
         return
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    _check_workers(workers)
     # the dashboard needs bokeh; without it, a random port keeps parallel clusters from clashing on 8787
     options = {"dashboard_address": ":8787" if _has_dashboard() else ":0", "silence_logs": 40}
     options.update(cluster_options)
     with LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=threads_per_worker,
                       processes=processes, **options) as cluster, Client(cluster) as local:
         yield local
+
+
+def _check_workers(workers: Optional[int]) -> None:
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be a positive integer, got {workers!r}")
 
 
 def _has_dashboard() -> bool:
@@ -557,7 +561,10 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     import fsspec
     from distributed import as_completed
 
+    _check_workers(workers)
     urls = expand_paths(paths_or_globs)
+    if not urls:
+        raise ValueError("paths_or_globs is empty")
     resolved = adapter.resolve_settings(estimator, settings)
     csv_options = dict(csv_options or {})
     digest = settings_hash(estimator, resolved, csv_options)
@@ -817,7 +824,10 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
         No usable training log, a glob matching nothing, a bad search range.
     """
     _fleet_imports()
+    _check_workers(workers)
     train_urls = expand_paths(paths_or_globs)
+    if not train_urls:
+        raise ValueError("paths_or_globs is empty")
     holdout_urls = expand_paths(holdout) if holdout else []
     overlap = sorted(set(train_urls) & set(holdout_urls))
     if overlap:

@@ -350,6 +350,14 @@ def test_run_many_rejects_an_unknown_estimator_before_any_work(fleet_dir, client
     assert not (tmp_path / "o").exists()
 
 
+def test_run_many_rejects_bad_workers_and_no_paths_before_any_work(tmp_path):
+    with pytest.raises(ValueError, match="workers must be a positive integer, got 0"):
+        fleet.run_many(str(tmp_path), workers=0, output_dir=str(tmp_path / "o"))
+    with pytest.raises(ValueError, match="paths_or_globs is empty"):
+        fleet.run_many([], output_dir=str(tmp_path / "o"))
+    assert not (tmp_path / "o").exists()
+
+
 def test_worst_logs_puts_failed_first_then_largest_rms(first_run):
     worst = fleet.worst_logs(first_run.summary, 4)
     assert [row["status"] for row in worst] == ["failed", "failed", "ok", "ok"]

@@ -297,7 +297,11 @@ def test_a_killed_worker_loses_nothing(fleet_dir, tmp_path):
         result = fleet.run_many(str(fleet_dir), client=process_client, output_dir=str(out), csv_options=CSV_OPTIONS,
                                 on_result=kill_after_three)
         survivors = set(process_client.scheduler_info()["workers"])
+        lost = [entry for entry in local.scheduler.transition_log  # (key, start, finish, recommendations, stimulus)
+                if str(entry[0]).startswith("fleet-run") and entry[1:3] == ("processing", "released")
+                and str(entry[4]).startswith("handle-worker-cleanup")]
     assert victim not in survivors  # the worker really died (its nanny started a new one)
+    assert lost  # ... with logs in flight, which Dask gave to the other worker
     assert len(result.computed) + len(result.reused) == 40 and len(result.failed) == 2
     for path, state in killed["existing"].items():  # nothing written before the kill was lost or rewritten
         assert path.exists() and path.read_bytes() == state[1]

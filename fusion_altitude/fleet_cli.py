@@ -168,7 +168,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     try:
         with fleet.open_client(_client_argument(args), args.workers) as client:
             link = fleet.dashboard_link(client)
-            print(f"Dask: {len(client.scheduler_info().get('workers', {}))} workers"
+            count = len(client.scheduler_info().get("workers", {}))
+            print(f"Dask cluster: {count} worker{'s' if count != 1 else ''}"
                   + (f", dashboard {link}" if link else ""), file=sys.stderr)
             result = fleet.run_many(args.paths, estimator=args.estimator, settings=args.preset, client=client,
                                     output_dir=args.output, csv_options=csv_options, write_csv=args.csv,

@@ -488,3 +488,19 @@ def test_cli_fleet_summary_of_an_empty_directory_is_a_one_line_error(tmp_path):
 def test_cli_fleet_rejects_zero_workers(fleet_dir, tmp_path):
     status, _, err = _cli(["fleet", "run", str(fleet_dir / "sim"), "-o", str(tmp_path), "--workers", "0"])
     assert status == 2 and "--workers must be >= 1" in err
+
+
+def test_without_a_client_a_local_cluster_of_one_single_thread_worker_per_cpu_is_started():
+    with fleet.open_client() as local:
+        workers = local.scheduler_info()["workers"].values()
+        assert len(workers) == os.cpu_count()
+        assert all(worker["nthreads"] == 1 for worker in workers)
+        pids = set(local.run(os.getpid).values())
+        assert len(pids) == os.cpu_count() and os.getpid() not in pids  # one process each
+
+
+def test_cli_fleet_run_with_workers_starts_and_stops_its_own_cluster(fleet_dir, tmp_path):
+    status, out, err = _cli(["fleet", "run", str(fleet_dir / "ardupilot" / "plane1.BIN"),
+                             str(fleet_dir / "sim" / "sim12.csv"), "-o", str(tmp_path), "--workers", "1", *CSV_FLAGS])
+    assert status == 0, err
+    assert "Dask cluster: 1 worker" in err and "2 computed, 0 reused" in out

@@ -274,9 +274,10 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsValidate(const FusionAl
  *   Kh = 2*zeta*omega + omegaBias          (1/s)
  *   Kv = omega*omega + 2*zeta*omega*omegaBias  (1/s^2)
  *   Kb = omega*omega*omegaBias             (1/s^3)
- * Typical: zeta = 0.7, omegaBias = omega / 5. The gap period of *settings is
- * kept. The result is checked with FusionAltitudeSettingsCheck; *settings is
- * written only on success.
+ * Typical: zeta = 0.7, omegaBias = omega / 5. The gap period is set to
+ * FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (assign it afterwards to change it;
+ * *settings is not read). The result is checked with
+ * FusionAltitudeSettingsCheck; *settings is written only on success.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAltitudeSettings *const settings, const float omega,
                                                                        const float zeta, const float omegaBias) {
@@ -291,7 +292,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
     result.positionGain = twoZetaOmega + omegaBias;
     result.velocityGain = omegaSquared + twoZetaOmega * omegaBias;
     result.biasGain = omegaSquared * omegaBias;
-    result.gapPeriod = settings->gapPeriod;
+    result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
     const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&result);
     if (status != FusionAltitudeStatusOk) {
         return (status == FusionAltitudeStatusInvalidGain) ? FusionAltitudeStatusInvalidBandwidth : status;

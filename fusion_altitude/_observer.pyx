@@ -97,9 +97,13 @@ cdef class AltitudeSettings:
         cdef float w = <float>_as_double(omega, "omega")
         cdef float z = <float>_as_double(zeta, "zeta")
         cdef float wb = w / 5.0 if omega_b is None else <float>_as_double(omega_b, "omega_b")
+        cdef float period = <float>_as_double(gap_period, "gap_period")
         cdef FusionAltitudeSettings c
-        c.gapPeriod = <float>_as_double(gap_period, "gap_period")
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsFromBandwidth(&c, w, z, wb)
+        if status != FusionAltitudeStatusOk:
+            _observer_glue.raise_settings_error(status, (w, z, wb))
+        c.gapPeriod = period
+        status = FusionAltitudeSettingsCheck(&c)
         if status != FusionAltitudeStatusOk:
             _observer_glue.raise_settings_error(status, (w, z, wb))
         return AltitudeSettings._wrap(c)

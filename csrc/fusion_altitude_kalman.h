@@ -38,6 +38,24 @@
  * offset = z - h, var = P_hh + R, cov(offset, x_j) = -P_hj. No start-up
  * phase; absolute altitudes of thousands of metres are fine in float32.
  *
+ * Gaps and recovery. A step with dt > gapPeriod (default 0.5 s) is a gap and
+ * is not predicted with its accel sample (one sample says nothing about the
+ * motion over the gap): x is kept, the gap count goes up, rejection streaks
+ * end, and the covariance is inflated as if the velocity had taken a random
+ * change of sigma V = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA over the
+ * gap T = dt: P_hh += (V*T)^2, P_vv += V^2, plus the offset and bias random
+ * walks over T. The samples of that step and the next ones then pass the
+ * gate and pull h back within a few samples, and v within a few seconds,
+ * while the offsets and the bias, whose variances barely grow, stay.
+ * A sensor rejected for longer than rejectionTimeout is reset (offset, or
+ * ground for the rangefinder) as before, and h and v are first inflated the
+ * same way with T = the length of the rejection streak, and the bias
+ * variance (when estimated) by accelBiasInitialSigma^2: a streak that long
+ * means the state, not only the sensor, is wrong (a velocity error after a
+ * gap, a glitch burst the bias partly absorbed, a start in motion), and
+ * resetting the offset alone would keep re-basing it around the wrong
+ * velocity.
+ *
  * Bit-exact results across compilers and targets need IEEE float32 without
  * fused multiply-add contraction: compile with -ffp-contract=off (clang is
  * handled inside the header with a scoped pragma).
@@ -87,6 +105,13 @@ extern "C" {
 /** Number of altitude sensors (baro, rangefinder, GPS). */
 #define FUSION_ALTITUDE_KALMAN_SENSORS (3)
 
+/**
+ * Velocity sigma, m/s, of the random velocity change assumed over a gap or a
+ * rejection streak longer than the timeout (see the file comment): faster
+ * than a multirotor climbs or descends, so the next samples are accepted.
+ */
+#define FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA (10.0f)
+
 /** Satellite counts above this use its 1/sqrt(n) (the table's last entry). */
 #define FUSION_ALTITUDE_KALMAN_MAX_SATELLITES (64)
 
@@ -129,6 +154,7 @@ typedef enum {
     FusionAltitudeKalmanStatusInvalidGps,           /**< GPS model: base or satellite term not finite or < 0, base + satellite term 0, or min satellites < 0 */
     FusionAltitudeKalmanStatusInvalidGate,          /**< gate not finite or <= 0, or timeout not finite or < 0 */
     FusionAltitudeKalmanStatusInvalidGroundEffect,  /**< ground-effect noise scale not finite or < 1, dead zone not finite or < 0 */
+    FusionAltitudeKalmanStatusInvalidGapPeriod,     /**< gap period NaN or <= 0 (+infinity: never a gap) */
 } FusionAltitudeKalmanStatus;
 
 /** Settings, all in physical units. */
@@ -152,6 +178,7 @@ typedef struct {
     float groundEffectDeadZone;  /**< m: negative baro innovations up to this are ignored in ground effect */
     float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) */
     float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) */
+    float gapPeriod;             /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
 } FusionAltitudeKalmanSettings;
 
 /** One update's samples. NaN means "no sample this step". */
@@ -182,6 +209,7 @@ typedef struct {
     float x[FUSION_ALTITUDE_KALMAN_STATES];                               /**< state, see the file comment */
     float P[FUSION_ALTITUDE_KALMAN_STATES][FUSION_ALTITUDE_KALMAN_STATES]; /**< covariance, exactly symmetric */
     FusionAltitudeKalmanSensor sensors[FUSION_ALTITUDE_KALMAN_SENSORS];    /**< baro, range, GPS */
+    uint32_t gapCount;        /**< updates with dt > gapPeriod so far */
     bool baroInitialised;     /**< baro offset set (first baro sample seen) */
     bool gpsInitialised;      /**< GPS offset set (first usable GPS sample seen) */
 } FusionAltitudeKalman;
@@ -214,6 +242,8 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
             return "gate must be in (0, 1e6], rejection timeout in [0, 1e6]";
         case FusionAltitudeKalmanStatusInvalidGroundEffect:
             return "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]";
+        case FusionAltitudeKalmanStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
     }
     return "unknown status";
 }
@@ -229,7 +259,8 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
  *   rangeNoise 0.05 m, range 0.1 .. 8 m, GPS sigma 1 + 1/sqrt(n) m with at
  *   least 4 satellites, gpsOffsetRandomWalk 0.1 m/sqrt(s), gate 5 sigma,
  *   rejectionTimeout 1 s, ground effect x3 baro sigma and 0.5 m dead zone,
- *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion).
+ *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion),
+ *   gap period 0.5 s (50 samples at 100 Hz, 5 at 10 Hz; a 1 Hz log needs a longer one).
  */
 static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(void) {
     FusionAltitudeKalmanSettings settings;
@@ -252,6 +283,7 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
     settings.groundEffectDeadZone = 0.5f;
     settings.initialHeightSigma = 0.1f;
     settings.initialVelocitySigma = 1.0f;
+    settings.gapPeriod = 0.5f;
     return settings;
 }
 
@@ -297,6 +329,9 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const
         !FusionAltitudeKalmanIsNonNegative(s->groundEffectDeadZone) ||
         !(s->baroNoise * s->groundEffectNoiseScale <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING)) {
         return FusionAltitudeKalmanStatusInvalidGroundEffect;
+    }
+    if (!(s->gapPeriod > 0.0f)) { /* false for NaN */
+        return FusionAltitudeKalmanStatusInvalidGapPeriod;
     }
     return FusionAltitudeKalmanStatusOk;
 }
@@ -375,6 +410,20 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionA
     return FusionAltitudeKalmanStatusOk;
 }
 
+/** @brief Adds the random walks over dt (s): offsets only once they exist, the bias only if estimated. */
+static inline void FusionAltitudeKalmanRandomWalks(FusionAltitudeKalman *const k, const float dt) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    if (k->baroInitialised) {
+        k->P[2][2] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
+    }
+    if (k->gpsInitialised) {
+        k->P[3][3] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
+    }
+    if (k->settings.estimateAccelBias) {
+        k->P[4][4] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
+    }
+}
+
 /**
  * @brief Prediction over dt (s) with vertical acceleration accel (m/s^2):
  * x = F*x + B*accel, P = F*P*F^T + Q (see the file comment). Only rows and
@@ -414,21 +463,39 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
         P[1][j] = Bv[j];
         P[j][1] = Bv[j];
     }
-    // Random walks (offsets only once they exist; bias only if estimated)
-    if (k->baroInitialised) {
-        P[2][2] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
-    }
-    if (k->gpsInitialised) {
-        P[3][3] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
-    }
-    if (k->settings.estimateAccelBias) {
-        P[4][4] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
-    }
+    FusionAltitudeKalmanRandomWalks(k, dt);
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         if (k->sensors[i].rejecting) {
             k->sensors[i].rejectingFor += dt;
         }
     }
+}
+
+/**
+ * @brief Inflates the height and velocity variances for a random velocity
+ * change of sigma V = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA over T s:
+ * P_hh += (V*T)^2, P_vv += V^2 (adding to the diagonal keeps P symmetric
+ * and positive definite). Used after a gap and before a reset.
+ */
+static inline void FusionAltitudeKalmanInflate(FusionAltitudeKalman *const k, const float T) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const float heightSigma = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * T;
+    k->P[0][0] += heightSigma * heightSigma;
+    k->P[1][1] += FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA;
+}
+
+/**
+ * @brief A gap of dt s (see the file comment): x kept, P inflated, the random
+ * walks over dt added, rejection streaks ended, the gap counted.
+ */
+static inline void FusionAltitudeKalmanGap(FusionAltitudeKalman *const k, const float dt) {
+    FusionAltitudeKalmanInflate(k, dt);
+    FusionAltitudeKalmanRandomWalks(k, dt);
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
+        k->sensors[i].rejecting = false;
+        k->sensors[i].rejectingFor = 0.0f;
+    }
+    k->gapCount++;
 }
 
 /**
@@ -524,7 +591,9 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
 /**
  * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
  * -1 for the rangefinder), innovation y, noise variance R. Rejected if
- * y^2/S > gate^2; a rejection streak older than the timeout resets instead.
+ * y^2/S > gate^2; a rejection streak older than the timeout inflates h and v
+ * (FusionAltitudeKalmanInflate over the streak) and b (its initial variance)
+ * and resets instead.
  */
 static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
                                                const float z, const float y, const float R) {
@@ -552,6 +621,10 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
         sensor->rejectingFor = 0.0f;
     }
     if (sensor->rejectingFor > k->settings.rejectionTimeout) {
+        FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
+        if (k->settings.estimateAccelBias) {
+            k->P[4][4] += k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+        }
         if (o < 0) {
             FusionAltitudeKalmanResetGround(k, z, R);
         } else {
@@ -627,6 +700,9 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
  * fused; R = sigma^2 (FusionAltitudeKalmanGpsSigma). The first baro and GPS
  * samples set their offsets; later samples are gated (FusionAltitudeKalmanProcess).
  *
+ * A dt above gapPeriod is a gap: no prediction, the covariance is inflated
+ * instead (see the file comment), then the samples are processed as usual.
+ *
  * Every call checks all inputs first: accel not finite, dt not finite or
  * <= 0, infinite baro or GPS altitude, or a GPS vertical accuracy (with a GPS
  * sample) that is not NaN and not finite > 0 is rejected with the state
@@ -655,7 +731,11 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
         return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
     }
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
-    FusionAltitudeKalmanPredict(kalman, accel, dt);
+    if (dt > s->gapPeriod) {
+        FusionAltitudeKalmanGap(kalman, dt);
+    } else {
+        FusionAltitudeKalmanPredict(kalman, accel, dt);
+    }
 
     // Barometer: z = h + ob
     FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
@@ -763,6 +843,11 @@ static inline float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman 
 static inline float FusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanState i,
                                                       const FusionAltitudeKalmanState j) {
     return kalman->P[i][j];
+}
+
+/** @return the number of gaps so far: updates with dt > gapPeriod. */
+static inline uint32_t FusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman) {
+    return kalman->gapCount;
 }
 
 /** @return the diagnostics of one sensor. */

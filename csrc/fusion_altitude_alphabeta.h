@@ -66,9 +66,12 @@
  * The write-up's "Harmo coefficient" column is not used: it never says what
  * it does.
  *
- * Bit-exact results across compilers and targets need IEEE float32 without
- * fused multiply-add contraction: compile with -ffp-contract=off (clang is
- * handled inside the header with a scoped pragma).
+ * Bit-exact results across compilers and targets need IEEE float32 arithmetic
+ * without fused multiply-add contraction. The header turns contraction off for
+ * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
+ * and C++ (which contract by default) #pragma GCC optimize; ISO C modes
+ * (-std=c99, -std=c11) have it off already. Under gcc's GNU modes, compile
+ * with -ffp-contract=off as well, so that the functions still inline.
  *
  * Usage:
  * @code
@@ -97,6 +100,18 @@
 
 #ifdef __cplusplus
 extern "C" {
+#endif
+
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
 #endif
 
 #if defined(__clang__)
@@ -647,6 +662,11 @@ static inline bool FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBet
 }
 
 #undef FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

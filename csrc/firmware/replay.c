@@ -48,6 +48,7 @@ static FusionAltitudeStatus Apply(FusionAltitude *const altitude, const FusionAl
         case FusionAltitudeVectorOpResetWithBias:
             return FusionAltitudeResetWithBias(altitude, x, y);
         case FusionAltitudeVectorOpSetSettings:
+            settings = FusionAltitudeGetSettings(altitude); /* the gap period is kept */
             settings.positionGain = x;
             settings.velocityGain = y;
             settings.biasGain = z;
@@ -61,12 +62,16 @@ static FusionAltitudeStatus Apply(FusionAltitude *const altitude, const FusionAl
         case FusionAltitudeVectorOpValidate:
             settings = FusionAltitudeGetSettings(altitude);
             return FusionAltitudeSettingsValidate(&settings, x);
+        case FusionAltitudeVectorOpSetGapPeriod:
+            settings = FusionAltitudeGetSettings(altitude);
+            settings.gapPeriod = x;
+            return FusionAltitudeSetSettings(altitude, &settings);
     }
     return (FusionAltitudeStatus) 255;
 }
 
 int main(void) {
-    static const char *const names[7] = {"Kh", "Kv", "Kb", "h", "v", "b", "r"};
+    static const char *const names[10] = {"Kh", "Kv", "Kb", "gapPeriod", "h", "v", "b", "r", "gapTime", "gapCount"};
     FusionAltitude altitude;
     memset(&altitude, 0, sizeof(altitude));
     FusionAltitudeInitialise(&altitude);
@@ -75,22 +80,25 @@ int main(void) {
         const FusionAltitudeVector *const vector = &fusionAltitudeVectors[index];
         const FusionAltitudeStatus status = Apply(&altitude, vector);
         const FusionAltitudeSettings settings = FusionAltitudeGetSettings(&altitude);
-        const float values[7] = {settings.positionGain,
-                                 settings.velocityGain,
-                                 settings.biasGain,
-                                 FusionAltitudeGetAltitude(&altitude),
-                                 FusionAltitudeGetVerticalVelocity(&altitude),
-                                 FusionAltitudeGetAccelBias(&altitude),
-                                 FusionAltitudeGetBaroResidual(&altitude)};
-        uint32_t expected[7];
+        const uint32_t values[10] = {FusionAltitudeFloatBits(settings.positionGain),
+                                     FusionAltitudeFloatBits(settings.velocityGain),
+                                     FusionAltitudeFloatBits(settings.biasGain),
+                                     FusionAltitudeFloatBits(settings.gapPeriod),
+                                     FusionAltitudeFloatBits(FusionAltitudeGetAltitude(&altitude)),
+                                     FusionAltitudeFloatBits(FusionAltitudeGetVerticalVelocity(&altitude)),
+                                     FusionAltitudeFloatBits(FusionAltitudeGetAccelBias(&altitude)),
+                                     FusionAltitudeFloatBits(FusionAltitudeGetBaroResidual(&altitude)),
+                                     FusionAltitudeFloatBits(altitude.gapTime),
+                                     FusionAltitudeGetGapCount(&altitude)};
+        uint32_t expected[10];
         memcpy(expected, vector->state, sizeof(expected));
         if (index == (uint32_t) REPLAY_CORRUPT_RECORD) {
-            expected[3] ^= 1u;
+            expected[4] ^= 1u;
         }
         bool same = ((uint32_t) status == vector->status) &&
                     (FusionAltitudeIsReferenceSet(&altitude) == (vector->referenceSet != 0u));
-        for (int field = 0; field < 7; field++) {
-            same = same && (FusionAltitudeFloatBits(values[field]) == expected[field]);
+        for (int field = 0; field < 10; field++) {
+            same = same && (values[field] == expected[field]);
         }
         if (same) {
             continue;
@@ -99,9 +107,8 @@ int main(void) {
             printf("record %" PRIu32 " op %u: status %u expected %u, referenceSet %u expected %u\n", index,
                    (unsigned) vector->op, (unsigned) status, (unsigned) vector->status,
                    (unsigned) FusionAltitudeIsReferenceSet(&altitude), (unsigned) vector->referenceSet);
-            for (int field = 0; field < 7; field++) {
-                printf("  %s 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n", names[field], FusionAltitudeFloatBits(values[field]),
-                       expected[field]);
+            for (int field = 0; field < 10; field++) {
+                printf("  %s 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n", names[field], values[field], expected[field]);
             }
         }
         mismatches++;
@@ -109,10 +116,13 @@ int main(void) {
         altitude.settings.positionGain = FloatFromBits(vector->state[0]);
         altitude.settings.velocityGain = FloatFromBits(vector->state[1]);
         altitude.settings.biasGain = FloatFromBits(vector->state[2]);
-        altitude.altitude = FloatFromBits(vector->state[3]);
-        altitude.verticalVelocity = FloatFromBits(vector->state[4]);
-        altitude.accelBias = FloatFromBits(vector->state[5]);
-        altitude.baroResidual = FloatFromBits(vector->state[6]);
+        altitude.settings.gapPeriod = FloatFromBits(vector->state[3]);
+        altitude.altitude = FloatFromBits(vector->state[4]);
+        altitude.verticalVelocity = FloatFromBits(vector->state[5]);
+        altitude.accelBias = FloatFromBits(vector->state[6]);
+        altitude.baroResidual = FloatFromBits(vector->state[7]);
+        altitude.gapTime = FloatFromBits(vector->state[8]);
+        altitude.gapCount = vector->state[9];
         altitude.referenceSet = vector->referenceSet != 0u;
     }
     printf("replay: %" PRIu32 " records, %" PRIu32 " mismatches\n", (uint32_t) FUSION_ALTITUDE_VECTOR_COUNT, mismatches);

@@ -33,7 +33,7 @@ f32 = np.float32
 
 # Operation codes, equal to FusionAltitudeVectorOp in vectors.h.
 OPS = ("INITIALISE", "UPDATE", "RESET", "RESET_WITH_BIAS", "SET_SETTINGS", "SET_PRESET", "SET_BANDWIDTH",
-       "VALIDATE")
+       "VALIDATE", "SET_GAP_PERIOD")
 OP = {name: index for index, name in enumerate(OPS)}
 QUIET_NAN_BITS = 0x7FC00000
 
@@ -59,7 +59,8 @@ class Recorder:
     def _record(self, op: str, inputs: Sequence[np.float32], status: Status) -> None:
         e = self.estimator
         patterns = [bits(value) for value in inputs] + [0] * (3 - len(inputs))
-        state = tuple(bits(value) for value in (*e._settings._gains, e._h, e._v, e._b, e._r))
+        state = tuple(bits(value) for value in (*e._settings._gains, e._settings._gap_period, e._h, e._v, e._b, e._r,
+                                                e._gap_time)) + (e._gap_count,)
         self.records.append((OP[op], int(status), tuple(patterns), state, int(e._reference_set)))
 
     def section(self, text: str) -> None:
@@ -98,19 +99,32 @@ class Recorder:
         self._record("RESET_WITH_BIAS", (z, b), status)
         return status
 
-    def _set_gains(self, gains: Tuple[np.float32, ...]) -> Status:
+    def _set_gains(self, gains: Tuple[np.float32, ...], gap_period: np.float32) -> Status:
         status = _observer._check_gains(*gains)
+        if status == Status.OK and not gap_period > 0:
+            status = Status.INVALID_GAP_PERIOD
         if status == Status.OK:
             settings = AltitudeSettings.__new__(AltitudeSettings)
             settings._gains = tuple(gains)
+            settings._gap_period = gap_period
             self.estimator._settings = settings
         return status
 
-    # FusionAltitudeSetSettings
+    def _gap_period(self) -> np.float32:
+        return self.estimator._settings._gap_period
+
+    # FusionAltitudeSetSettings with the gains changed (the gap period kept)
     def set_settings(self, kh, kv, kb) -> Status:
         gains = tuple(value if isinstance(value, np.float32) else f32(value) for value in (kh, kv, kb))
-        status = self._set_gains(gains)
+        status = self._set_gains(gains, self._gap_period())
         self._record("SET_SETTINGS", gains, status)
+        return status
+
+    # FusionAltitudeSetSettings with the gap period changed (the gains kept)
+    def set_gap_period(self, gap_period) -> Status:
+        period = gap_period if isinstance(gap_period, np.float32) else f32(gap_period)
+        status = self._set_gains(self.estimator._settings._gains, period)
+        self._record("SET_GAP_PERIOD", (period,), status)
         return status
 
     # FusionAltitudeSettingsFromPreset, then FusionAltitudeSetSettings on success
@@ -118,7 +132,8 @@ class Recorder:
         names = list(_observer._PRESET_GAINS)
         status = Status.INVALID_PRESET
         if 0 <= index < len(names):
-            status = self._set_gains(_observer._PRESET_GAINS[names[index]])
+            status = self._set_gains(_observer._PRESET_GAINS[names[index]],
+                                     f32(_observer._PRESET_GAP_PERIODS[names[index]]))
         self._record("SET_PRESET", (from_bits(index),), status)
         return status
 
@@ -127,7 +142,7 @@ class Recorder:
         inputs = tuple(value if isinstance(value, np.float32) else f32(value) for value in (omega, zeta, omega_bias))
         status, gains = _observer._from_bandwidth(*inputs)
         if status == Status.OK:
-            status = self._set_gains(gains)
+            status = self._set_gains(gains, f32(_observer.DEFAULT_GAP_PERIOD))
         self._record("SET_BANDWIDTH", inputs, status)
         return status
 
@@ -241,6 +256,34 @@ def build() -> Recorder:
     r.set_bandwidth(0.8, 1.0, 0.0)
     flight(r, rng, 100, 0.01, 4, 0.25, 0.05, "sine")
 
+    r.section("gap period: rejected (0, -0, negative, NaN), +infinity accepted (no gap ever), back to 0.5 s")
+    for period in (0.0, -0.0, -1.0, nan, from_bits(0xFFC00000)):
+        r.set_gap_period(period)
+    r.set_gap_period(inf)
+    r.update(0.1, nan, 100.0)
+    r.update(0.1, 120.0, 3.0)
+    r.set_gap_period(0.5)
+    r.section("gaps: dt at the gap period (integrated), above it without baro (held, then the next baro restarts "
+              "with the mean velocity), with baro (restarts on it), gap right after a restart, reset while pending")
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "sine")
+    r.update(1.0, nan, 0.5)
+    r.update(25.0, nan, 2.0)
+    for _ in range(3):
+        r.update(0.3, nan, 0.01)
+    r.update(0.3, 131.5, 0.01)
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "climb")
+    r.update(-3.0, 118.25, 1.25)
+    r.update(0.0, nan, 0.75)
+    r.update(0.0, 117.0, 0.01)
+    r.update(0.0, nan, 4.0)
+    r.reset(90.0)
+    r.update(0.0, 90.5, 0.01)
+    r.set_preset(0)
+    r.update(0.0, 91.0, 1.0)
+    r.update(0.0, 95.0, 5.5)
+    r.set_preset(2)
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "hover")
+
     r.section("initialise again mid-run (state and gains back to the defaults)")
     r.initialise()
     r.update(0.0, nan, 0.01)
@@ -253,6 +296,8 @@ def build() -> Recorder:
         accel = f32(20.0 * (2.0 * rng.random() - 1.0))
         baro = f32(rng.uniform(-500.0, 5000.0)) if rng.random() < 0.3 else f32(nan)
         dt = f32(0.01 * (0.5 + rng.random()))
+        if choice > 0.995:
+            dt = f32(rng.uniform(0.3, 3.0))  # sometimes a gap
         if choice < 0.02:
             r.update(rng.choice(bad_floats), baro, dt)
         elif choice < 0.03:
@@ -275,9 +320,10 @@ def build() -> Recorder:
 def check_representable(records) -> None:
     """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling."""
     for index, (_, _, _, state, _) in enumerate(records):
-        for field, pattern in zip(("kh", "kv", "kb", "h", "v", "b", "r"), state):
+        for field, pattern in zip(("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time"), state):
             exponent_all_ones = (pattern & 0x7F800000) == 0x7F800000
-            if exponent_all_ones and not (field == "r" and pattern == QUIET_NAN_BITS):
+            if exponent_all_ones and not (field == "r" and pattern == QUIET_NAN_BITS) \
+                    and not (field == "gap period" and pattern == 0x7F800000):
                 raise AssertionError(f"record {index}: {field} = {pattern:#010x} is not finite")
 
 
@@ -296,8 +342,9 @@ def render() -> str:
         " * input: update (accel m/s^2, baro altitude m, dt s); reset (baro m);",
         " * reset with bias (baro m, accel bias m/s^2); set settings (Kh 1/s, Kv 1/s^2,",
         " * Kb 1/s^3); set preset (index as an integer); set bandwidth (omega rad/s,",
-        " * zeta, omega_b rad/s); validate (dt s). state after the call: Kh, Kv, Kb,",
-        " * altitude m, vertical velocity m/s, accel bias m/s^2, baro residual m.",
+        " * zeta, omega_b rad/s); validate (dt s); set gap period (s). state after the",
+        " * call: Kh, Kv, Kb, gap period s, altitude m, vertical velocity m/s, accel",
+        " * bias m/s^2, baro residual m, gap time s, and the gap count (an integer).",
         " *",
         " * Sections (record index: description):",
     ]
@@ -322,7 +369,7 @@ def render() -> str:
         "    uint8_t status;       /**< expected FusionAltitudeStatus */",
         "    uint8_t referenceSet; /**< expected FusionAltitudeIsReferenceSet after the call */",
         "    uint32_t input[3];    /**< arguments, binary32 bits (unused ones 0) */",
-        "    uint32_t state[7];    /**< expected Kh, Kv, Kb, h, v, b, r after the call, binary32 bits */",
+        "    uint32_t state[10];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time (binary32 bits), gap count */",
         "} FusionAltitudeVector;",
         "",
         f"#define FUSION_ALTITUDE_VECTOR_COUNT ({len(recorder.records)})",

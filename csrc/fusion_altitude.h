@@ -116,6 +116,15 @@ typedef enum {
 #define FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5f)
 
 /**
+ * After a restart following a gap the bias is held (not corrected) while
+ * sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD, i.e. for 8/Kh s: about the
+ * 2 % settling time 4/(zeta*omega) of the height and velocity loop
+ * (Kh = 2*zeta*omega + omega_b), so the error of the restarted velocity is
+ * corrected through v and h before it can reach b.
+ */
+#define FUSION_ALTITUDE_BIAS_HOLD (8.0f)
+
+/**
  * @brief Observer settings. The error dynamics have the characteristic
  * polynomial s^3 + positionGain*s^2 + velocityGain*s + biasGain.
  */
@@ -134,6 +143,7 @@ typedef struct {
     float accelBias;        /**< b, m/s^2, +up: subtracted from the accel input */
     float baroResidual;     /**< r = z - h before the correction, m; NaN on a step without baro */
     float gapTime;          /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
+    float sinceRestart;     /**< s since the last restart after a gap (the bias is held while sinceRestart*Kh < 8); -1 before any */
     uint32_t gapCount;      /**< updates with dt > gapPeriod so far */
     bool referenceSet;      /**< false until the first baro sample or reset, and again from a gap to the next baro sample */
 } FusionAltitude;
@@ -372,6 +382,7 @@ static inline void FusionAltitudeInitialise(FusionAltitude *const altitude) {
     altitude->accelBias = 0.0f;
     altitude->baroResidual = 0.0f;
     altitude->gapTime = 0.0f;
+    altitude->sinceRestart = -1.0f;
     altitude->gapCount = 0u;
     altitude->referenceSet = false;
 }
@@ -390,8 +401,9 @@ static inline FusionAltitudeStatus FusionAltitudeSetSettings(FusionAltitude *con
 
 /**
  * @brief Sets the reference: altitude = baroAltitude (m), vertical velocity 0,
- * residual 0; a pending restart after a gap is cancelled. The accel bias
- * estimate and the gap count are kept. Rejected if baroAltitude is not finite.
+ * residual 0; a pending restart after a gap and a bias hold are cancelled.
+ * The accel bias estimate and the gap count are kept. Rejected if
+ * baroAltitude is not finite.
  */
 static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const altitude, const float baroAltitude) {
     if (!FusionAltitudeIsFinite(baroAltitude)) {
@@ -401,6 +413,7 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
     altitude->verticalVelocity = 0.0f;
     altitude->baroResidual = 0.0f;
     altitude->gapTime = 0.0f;
+    altitude->sinceRestart = -1.0f;
     altitude->referenceSet = true;
     return FusionAltitudeStatusOk;
 }
@@ -410,10 +423,13 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
  * gap sets the reference: h = z, residual 0. After initialisation v = 0 (as
  * FusionAltitudeReset); after a gap v = (z - h)/gapTime, the mean vertical
  * velocity over the gap (h is the last altitude before it, gapTime the time
- * since, s). The bias is kept.
+ * since, s), and the bias hold starts (sinceRestart = 0). The bias is kept.
  */
 static inline void FusionAltitudeRestart(FusionAltitude *const altitude, const float baroAltitude) {
     FUSION_ALTITUDE_NO_CONTRACT
+    if (altitude->gapTime > 0.0f) {
+        altitude->sinceRestart = 0.0f;
+    }
     altitude->verticalVelocity = (altitude->gapTime > 0.0f) ? ((baroAltitude - altitude->altitude) / altitude->gapTime) : 0.0f;
     altitude->altitude = baroAltitude;
     altitude->baroResidual = 0.0f;
@@ -485,7 +501,10 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
  * baro after it), with residual 0. The mean velocity is used rather than the
  * held or a zero velocity because it is the only one the data support after
  * a gap in motion, and the velocity loop removes its error (at most the
- * velocity change over half the gap) within a few 1/omega.
+ * velocity change over half the gap) within a few 1/omega. Meanwhile the
+ * bias is held: after the restart every update adds its dt to sinceRestart,
+ * and the bias correction is skipped while sinceRestart*Kh < 8 (see
+ * FUSION_ALTITUDE_BIAS_HOLD), so that error does not leak into b.
  *
  * Every call checks all inputs first: non-finite accel, infinite
  * baroAltitude, or dt not finite or <= 0 is rejected with the state unchanged.
@@ -503,6 +522,8 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
         altitude->gapTime = dt;
     } else if (!altitude->referenceSet && (altitude->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
         altitude->gapTime += dt;
+    } else if (altitude->referenceSet && (altitude->sinceRestart >= 0.0f)) { /* time since the restart */
+        altitude->sinceRestart += dt;
     }
     if (!FusionAltitudeIsFinite(baroAltitude)) { /* NaN, as the inputs are checked: no baro sample this step */
         if (altitude->referenceSet) {
@@ -519,7 +540,9 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     const float residual = baroAltitude - altitude->altitude;
     altitude->verticalVelocity += ((accel - altitude->accelBias) + altitude->settings.velocityGain * residual) * dt;
     altitude->altitude += (altitude->verticalVelocity + altitude->settings.positionGain * residual) * dt;
-    altitude->accelBias -= (altitude->settings.biasGain * residual) * dt;
+    if (!((altitude->sinceRestart >= 0.0f) && (altitude->sinceRestart * altitude->settings.positionGain < FUSION_ALTITUDE_BIAS_HOLD))) {
+        altitude->accelBias -= (altitude->settings.biasGain * residual) * dt;
+    }
     altitude->baroResidual = residual;
     return FusionAltitudeStatusOk;
 }

@@ -83,6 +83,7 @@ typedef struct {
     float *baroResidual;      /**< r[k], m (NaN after a step without baro) */
     float gapPeriod;          /**< shared, s: a dt above this is a gap (FusionAltitudeUpdate); set it after FusionAltitudeSweepInitialise */
     float gapTime;            /**< shared, s: time since h was updated while a restart after a gap is pending; 0 otherwise */
+    float sinceRestart;       /**< shared, s since the last restart after a gap; -1 before any (column k holds its bias while sinceRestart*Kh[k] < 8) */
     uint32_t gapCount;        /**< shared: gaps so far */
     bool referenceSet;        /**< shared: every setting auto-zeroes on the same first baro sample, and restarts on the same one after a gap */
 } FusionAltitudeSweep;
@@ -133,6 +134,7 @@ static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const swee
     }
     sweep->gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
     sweep->gapTime = 0.0f;
+    sweep->sinceRestart = -1.0f;
     sweep->gapCount = 0u;
     sweep->referenceSet = false;
 }
@@ -185,6 +187,7 @@ typedef struct {
  * pending restart after a gap and the gap count (the fields of FusionAltitude). */
 typedef struct {
     float gapTime;
+    float sinceRestart;
     uint32_t gapCount;
     bool referenceSet;
 } FusionAltitudeSweepShared;
@@ -238,6 +241,8 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         shared->gapTime = step;
     } else if (!shared->referenceSet && (shared->gapTime > 0.0f)) {
         shared->gapTime += step;
+    } else if (shared->referenceSet && (shared->sinceRestart >= 0.0f)) {
+        shared->sinceRestart += step;
     }
     if (FusionAltitudeIsNaN(z)) {
         if (shared->referenceSet) {
@@ -252,6 +257,9 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         }
     } else if (!shared->referenceSet) {
         const float gapTime = shared->gapTime;
+        if (gapTime > 0.0f) {
+            shared->sinceRestart = 0.0f;
+        }
         for (size_t j = 0; j < lanes; j++) {
             x->v[j] = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
             x->h[j] = z;
@@ -259,12 +267,21 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         }
         shared->gapTime = 0.0f;
         shared->referenceSet = true;
-    } else {
+    } else if (shared->sinceRestart < 0.0f) {
         for (size_t j = 0; j < lanes; j++) {
             const float residual = z - x->h[j];
             x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
             x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
             x->b[j] -= (x->kb[j] * residual) * step;
+            x->r[j] = residual;
+        }
+    } else { /* after a restart: each column holds its bias while sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD */
+        const float sinceRestart = shared->sinceRestart;
+        for (size_t j = 0; j < lanes; j++) {
+            const float residual = z - x->h[j];
+            x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
+            x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
+            x->b[j] = (sinceRestart * x->kh[j] < FUSION_ALTITUDE_BIAS_HOLD) ? x->b[j] : (x->b[j] - (x->kb[j] * residual) * step);
             x->r[j] = residual;
         }
     }
@@ -382,7 +399,7 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             window.mask = (metrics->mask != NULL) ? &metrics->mask[start] : NULL;
         }
         size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
-        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->gapCount, sweep->referenceSet};
+        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->gapCount, sweep->referenceSet};
         for (size_t first = 0; first < sweep->count; first += (size_t) FUSION_ALTITUDE_SWEEP_LANES) {
             const size_t remaining = sweep->count - first;
             const size_t width = (remaining < (size_t) FUSION_ALTITUDE_SWEEP_LANES) ? remaining : (size_t) FUSION_ALTITUDE_SWEEP_LANES;
@@ -390,6 +407,7 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             FusionAltitudeSweepMetrics *const chunkMetrics = (metrics != NULL) ? &window : NULL;
             /* every chunk starts from the same shared state and ends with the same one */
             shared.gapTime = sweep->gapTime;
+            shared.sinceRestart = sweep->sinceRestart;
             shared.gapCount = sweep->gapCount;
             shared.referenceSet = sweep->referenceSet;
             /* constant lane counts, so that each call compiles to fixed-width vector code */
@@ -403,6 +421,7 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             }
         }
         sweep->gapTime = shared.gapTime;
+        sweep->sinceRestart = shared.sinceRestart;
         sweep->gapCount = shared.gapCount;
         sweep->referenceSet = shared.referenceSet;
         if (metrics != NULL) {

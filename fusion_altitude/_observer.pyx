@@ -382,11 +382,11 @@ cdef class AltitudeEstimator:
     def _get_state(self):
         return ((*self.settings.as_tuple(), self._c.settings.gapPeriod), self._c.altitude, self._c.verticalVelocity,
                 self._c.accelBias, self._c.baroResidual, bool(self._c.referenceSet), self._c.gapTime,
-                self._c.gapCount)
+                self._c.gapCount, self._c.sinceRestart)
 
     def _set_state(self, state):
         gains, h, v, b, r, reference_set = state[:6]
-        gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0)
+        gap_time, gap_count, since_restart = state[6:] if len(state) > 6 else (0.0, 0, -1.0)
         cdef AltitudeSettings settings = AltitudeSettings(*gains)
         self._c.settings = settings._c
         self._c.altitude = h
@@ -396,6 +396,7 @@ cdef class AltitudeEstimator:
         self._c.referenceSet = bool(reference_set)
         self._c.gapTime = gap_time
         self._c.gapCount = gap_count
+        self._c.sinceRestart = since_restart
 
     def __copy__(self):
         cdef AltitudeEstimator clone = AltitudeEstimator.__new__(AltitudeEstimator)

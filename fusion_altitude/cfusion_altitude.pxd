@@ -39,6 +39,7 @@ cdef extern from "fusion_altitude.h" nogil:
         float accelBias
         float baroResidual
         float gapTime
+        float sinceRestart
         unsigned int gapCount
         bint referenceSet
 

@@ -20,6 +20,7 @@ cdef extern from "fusion_altitude_sweep.h" nogil:
         float *baroResidual
         float gapPeriod
         float gapTime
+        float sinceRestart
         unsigned int gapCount
         bint referenceSet
 

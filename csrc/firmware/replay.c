@@ -71,7 +71,7 @@ static FusionAltitudeStatus Apply(FusionAltitude *const altitude, const FusionAl
 }
 
 int main(void) {
-    static const char *const names[10] = {"Kh", "Kv", "Kb", "gapPeriod", "h", "v", "b", "r", "gapTime", "gapCount"};
+    static const char *const names[11] = {"Kh", "Kv", "Kb", "gapPeriod", "h", "v", "b", "r", "gapTime", "sinceRestart", "gapCount"};
     FusionAltitude altitude;
     memset(&altitude, 0, sizeof(altitude));
     FusionAltitudeInitialise(&altitude);
@@ -80,7 +80,7 @@ int main(void) {
         const FusionAltitudeVector *const vector = &fusionAltitudeVectors[index];
         const FusionAltitudeStatus status = Apply(&altitude, vector);
         const FusionAltitudeSettings settings = FusionAltitudeGetSettings(&altitude);
-        const uint32_t values[10] = {FusionAltitudeFloatBits(settings.positionGain),
+        const uint32_t values[11] = {FusionAltitudeFloatBits(settings.positionGain),
                                      FusionAltitudeFloatBits(settings.velocityGain),
                                      FusionAltitudeFloatBits(settings.biasGain),
                                      FusionAltitudeFloatBits(settings.gapPeriod),
@@ -89,15 +89,16 @@ int main(void) {
                                      FusionAltitudeFloatBits(FusionAltitudeGetAccelBias(&altitude)),
                                      FusionAltitudeFloatBits(FusionAltitudeGetBaroResidual(&altitude)),
                                      FusionAltitudeFloatBits(altitude.gapTime),
+                                     FusionAltitudeFloatBits(altitude.sinceRestart),
                                      FusionAltitudeGetGapCount(&altitude)};
-        uint32_t expected[10];
+        uint32_t expected[11];
         memcpy(expected, vector->state, sizeof(expected));
         if (index == (uint32_t) REPLAY_CORRUPT_RECORD) {
             expected[4] ^= 1u;
         }
         bool same = ((uint32_t) status == vector->status) &&
                     (FusionAltitudeIsReferenceSet(&altitude) == (vector->referenceSet != 0u));
-        for (int field = 0; field < 10; field++) {
+        for (int field = 0; field < 11; field++) {
             same = same && (values[field] == expected[field]);
         }
         if (same) {
@@ -107,7 +108,7 @@ int main(void) {
             printf("record %" PRIu32 " op %u: status %u expected %u, referenceSet %u expected %u\n", index,
                    (unsigned) vector->op, (unsigned) status, (unsigned) vector->status,
                    (unsigned) FusionAltitudeIsReferenceSet(&altitude), (unsigned) vector->referenceSet);
-            for (int field = 0; field < 10; field++) {
+            for (int field = 0; field < 11; field++) {
                 printf("  %s 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n", names[field], values[field], expected[field]);
             }
         }
@@ -122,7 +123,8 @@ int main(void) {
         altitude.accelBias = FloatFromBits(vector->state[6]);
         altitude.baroResidual = FloatFromBits(vector->state[7]);
         altitude.gapTime = FloatFromBits(vector->state[8]);
-        altitude.gapCount = vector->state[9];
+        altitude.sinceRestart = FloatFromBits(vector->state[9]);
+        altitude.gapCount = vector->state[10];
         altitude.referenceSet = vector->referenceSet != 0u;
     }
     printf("replay: %" PRIu32 " records, %" PRIu32 " mismatches\n", (uint32_t) FUSION_ALTITUDE_VECTOR_COUNT, mismatches);

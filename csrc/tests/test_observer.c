@@ -335,6 +335,20 @@ static void GapPeriodMustBePositiveAndMayBeInfinite(void) {
     CHECK(balloon.gapPeriod == 5.0f);
 }
 
+static void BiasIsHeldForEightOverKhAfterARestart(void) {
+    FusionAltitude altitude = RunningEstimator();
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 20.0f, 2.0f) == FusionAltitudeStatusOk); /* gap, restart on this sample */
+    const float b = FusionAltitudeGetAccelBias(&altitude);
+    int heldSteps = 0;
+    for (int i = 0; i < 500; i++) {
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 21.0f, 0.01f) == FusionAltitudeStatusOk);
+        heldSteps += (FusionAltitudeGetAccelBias(&altitude) == b) ? 1 : 0;
+    }
+    /* 8 / 2.4 = 3.33 s: the 333 steps with sinceRestart * Kh < 8 hold it (float32 sums of 0.01 give 333 or 334) */
+    CHECK(heldSteps >= 332 && heldSteps <= 334);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) != b);
+}
+
 int main(void) {
     RUN(InitialiseUsesDefaultGainsAndNoReference);
     RUN(FirstBaroSampleOnlySetsTheReference);
@@ -359,5 +373,6 @@ int main(void) {
     RUN(GapBeforeTheReferenceIsNotCounted);
     RUN(ResetCancelsAPendingRestart);
     RUN(GapPeriodMustBePositiveAndMayBeInfinite);
+    RUN(BiasIsHeldForEightOverKhAfterARestart);
     return TestSummary();
 }

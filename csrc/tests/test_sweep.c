@@ -44,7 +44,7 @@ static void MakeInputs(void) {
 }
 
 static FusionAltitudeSweep NewSweep(void) {
-    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], 0.0f, 0.0f, 0u, false};
+    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], 0.0f, 0.0f, 0.0f, 0u, false};
     FusionAltitudeSweepInitialise(&sweep);
     return sweep;
 }

@@ -2,8 +2,9 @@
 
 State (all float32): altitude h (m), vertical velocity v (m/s, +up), accel
 bias b (m/s², +up), last baro residual r (m), the time since h was last
-updated while a restart after a gap is pending (s), the gap count, and
-whether the reference is set. Gains: position Kh (1/s), velocity Kv (1/s²),
+updated while a restart after a gap is pending (s), the time since the last
+restart after a gap (s, −1 before any; the bias is held while it times Kh is
+below 8), the gap count, and whether the reference is set. Gains: position Kh (1/s), velocity Kv (1/s²),
 bias Kb (1/s³); gap period (s).
 
 Each function below mirrors the C function named in its docstring, statement
@@ -27,6 +28,8 @@ _NAN = f32("nan")
 
 #: FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, s.
 DEFAULT_GAP_PERIOD = 0.5
+#: FUSION_ALTITUDE_BIAS_HOLD: after a restart the bias is held while (time since it)·Kh < this.
+BIAS_HOLD = f32(8)
 
 
 # -- float classification (FusionAltitudeIsFinite / FusionAltitudeIsNaN) ------
@@ -255,7 +258,7 @@ class AltitudeEstimator(Checkpointable):
     sample sets the reference (auto-zero). NED users negate.
     """
 
-    __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_gap_time", "_gap_count", "_reference_set")
+    __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_gap_time", "_since_restart", "_gap_count", "_reference_set")
 
     def __init__(self, settings: Optional[AltitudeSettings] = None) -> None:
         # FusionAltitudeInitialise
@@ -265,6 +268,7 @@ class AltitudeEstimator(Checkpointable):
         self._b = f32(0)
         self._r = f32(0)
         self._gap_time = f32(0)
+        self._since_restart = f32(-1)
         self._gap_count = 0
         self._reference_set = False
 
@@ -279,6 +283,8 @@ class AltitudeEstimator(Checkpointable):
             self._gap_time = dt
         elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
             self._gap_time += dt
+        elif self._reference_set and self._since_restart >= 0:  # time since the restart (bias hold)
+            self._since_restart += dt
         if _is_nan(z):
             if self._reference_set:
                 self._v += (a - self._b) * dt
@@ -292,7 +298,8 @@ class AltitudeEstimator(Checkpointable):
         r = z - self._h
         self._v += ((a - self._b) + kv * r) * dt
         self._h += (self._v + kh * r) * dt
-        self._b -= (kb * r) * dt
+        if not (self._since_restart >= 0 and self._since_restart * kh < BIAS_HOLD):  # no bias hold after a restart
+            self._b -= (kb * r) * dt
         self._r = r
         return Status.OK
 
@@ -304,11 +311,14 @@ class AltitudeEstimator(Checkpointable):
         self._v = f32(0)
         self._r = f32(0)
         self._gap_time = f32(0)
+        self._since_restart = f32(-1)
         self._reference_set = True
         return Status.OK
 
     # FusionAltitudeRestart: v = mean velocity over the gap (0 on the first sample ever)
     def _restart(self, z: np.float32) -> None:
+        if self._gap_time > 0:
+            self._since_restart = f32(0)  # the bias hold starts
         self._v = (z - self._h) / self._gap_time if self._gap_time > 0 else f32(0)
         self._h = z
         self._r = f32(0)
@@ -335,7 +345,8 @@ class AltitudeEstimator(Checkpointable):
         and the next baro sample (this one's if present) restarts the altitude
         at the baro and the velocity at the mean velocity over the gap
         ((z − h_before) / time since h_before); :attr:`reference_set` is
-        False until then.
+        False until then. After the restart the bias is held for 8/Kh s
+        (while the velocity error is corrected).
 
         Raises
         ------
@@ -388,6 +399,7 @@ class AltitudeEstimator(Checkpointable):
             result.baro_residual[i] = trial._r
         self._h, self._v, self._b, self._r = trial._h, trial._v, trial._b, trial._r
         self._gap_time, self._gap_count = trial._gap_time, trial._gap_count
+        self._since_restart = trial._since_restart
         self._reference_set = trial._reference_set
         return result
 
@@ -432,15 +444,17 @@ class AltitudeEstimator(Checkpointable):
 
     def _get_state(self) -> tuple:
         return ((*self._settings.as_tuple(), self._settings.gap_period), float(self._h), float(self._v),
-                float(self._b), float(self._r), self._reference_set, float(self._gap_time), self._gap_count)
+                float(self._b), float(self._r), self._reference_set, float(self._gap_time), self._gap_count,
+                float(self._since_restart))
 
     def _set_state(self, state: tuple) -> None:
         gains, h, v, b, r, reference_set = state[:6]
-        gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0)
+        gap_time, gap_count, since_restart = state[6:] if len(state) > 6 else (0.0, 0, -1.0)
         self._settings = AltitudeSettings(*gains)
         self._h, self._v, self._b, self._r = f32(h), f32(v), f32(b), f32(r)
         self._reference_set = bool(reference_set)
         self._gap_time, self._gap_count = f32(gap_time), int(gap_count)
+        self._since_restart = f32(since_restart)
 
     def __repr__(self) -> str:
         return (f"AltitudeEstimator(altitude={self._h}, vertical_velocity={self._v}, accel_bias={self._b}, "

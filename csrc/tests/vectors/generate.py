@@ -60,7 +60,7 @@ class Recorder:
         e = self.estimator
         patterns = [bits(value) for value in inputs] + [0] * (3 - len(inputs))
         state = tuple(bits(value) for value in (*e._settings._gains, e._settings._gap_period, e._h, e._v, e._b, e._r,
-                                                e._gap_time)) + (e._gap_count,)
+                                                e._gap_time, e._since_restart)) + (e._gap_count,)
         self.records.append((OP[op], int(status), tuple(patterns), state, int(e._reference_set)))
 
     def section(self, text: str) -> None:
@@ -320,7 +320,8 @@ def build() -> Recorder:
 def check_representable(records) -> None:
     """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling."""
     for index, (_, _, _, state, _) in enumerate(records):
-        for field, pattern in zip(("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time"), state):
+        for field, pattern in zip(("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time", "since restart"),
+                                  state):
             exponent_all_ones = (pattern & 0x7F800000) == 0x7F800000
             if exponent_all_ones and not (field == "r" and pattern == QUIET_NAN_BITS) \
                     and not (field == "gap period" and pattern == 0x7F800000):
@@ -344,7 +345,8 @@ def render() -> str:
         " * Kb 1/s^3); set preset (index as an integer); set bandwidth (omega rad/s,",
         " * zeta, omega_b rad/s); validate (dt s); set gap period (s). state after the",
         " * call: Kh, Kv, Kb, gap period s, altitude m, vertical velocity m/s, accel",
-        " * bias m/s^2, baro residual m, gap time s, and the gap count (an integer).",
+        " * bias m/s^2, baro residual m, gap time s, time since the last restart s,",
+        " * and the gap count (an integer).",
         " *",
         " * Sections (record index: description):",
     ]
@@ -369,7 +371,7 @@ def render() -> str:
         "    uint8_t status;       /**< expected FusionAltitudeStatus */",
         "    uint8_t referenceSet; /**< expected FusionAltitudeIsReferenceSet after the call */",
         "    uint32_t input[3];    /**< arguments, binary32 bits (unused ones 0) */",
-        "    uint32_t state[10];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time (binary32 bits), gap count */",
+        "    uint32_t state[11];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time, since restart (binary32 bits), gap count */",
         "} FusionAltitudeVector;",
         "",
         f"#define FUSION_ALTITUDE_VECTOR_COUNT ({len(recorder.records)})",

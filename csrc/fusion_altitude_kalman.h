@@ -382,9 +382,9 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanInitialiseWith(Fusi
     }
     memset(kalman, 0, sizeof(*kalman));
     kalman->settings = s;
-    kalman->P[0][0] = s.initialHeightSigma * s.initialHeightSigma;
-    kalman->P[1][1] = s.initialVelocitySigma * s.initialVelocitySigma;
-    kalman->P[4][4] = s.estimateAccelBias ? (s.accelBiasInitialSigma * s.accelBiasInitialSigma) : 0.0f;
+    kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = s.initialHeightSigma * s.initialHeightSigma;
+    kalman->P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] = s.initialVelocitySigma * s.initialVelocitySigma;
+    kalman->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] = s.estimateAccelBias ? (s.accelBiasInitialSigma * s.accelBiasInitialSigma) : 0.0f;
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         kalman->sensors[i].innovation = FusionAltitudeNaN();
         kalman->sensors[i].innovationVariance = FusionAltitudeNaN();
@@ -412,13 +412,13 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionA
         return status;
     }
     if (settings->estimateAccelBias != kalman->settings.estimateAccelBias) {
-        kalman->x[4] = 0.0f;
+        kalman->x[FusionAltitudeKalmanStateAccelBias] = 0.0f;
         for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-            kalman->P[i][4] = 0.0f;
-            kalman->P[4][i] = 0.0f;
+            kalman->P[i][FusionAltitudeKalmanStateAccelBias] = 0.0f;
+            kalman->P[FusionAltitudeKalmanStateAccelBias][i] = 0.0f;
         }
         if (settings->estimateAccelBias) {
-            kalman->P[4][4] = settings->accelBiasInitialSigma * settings->accelBiasInitialSigma;
+            kalman->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] = settings->accelBiasInitialSigma * settings->accelBiasInitialSigma;
         }
     }
     kalman->settings = *settings;
@@ -429,13 +429,13 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionA
 static inline void FusionAltitudeKalmanRandomWalks(FusionAltitudeKalman *const k, const float dt) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     if (k->baroInitialised) {
-        k->P[2][2] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
+        k->P[FusionAltitudeKalmanStateBaroOffset][FusionAltitudeKalmanStateBaroOffset] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
     }
     if (k->gpsInitialised) {
-        k->P[3][3] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
+        k->P[FusionAltitudeKalmanStateGpsOffset][FusionAltitudeKalmanStateGpsOffset] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
     }
     if (k->settings.estimateAccelBias) {
-        k->P[4][4] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
+        k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
     }
 }
 
@@ -450,33 +450,33 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
     float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
     const float halfDt2 = 0.5f * dt * dt;
     // State
-    const float u = accel - k->x[4];
-    k->x[0] = k->x[0] + k->x[1] * dt + u * halfDt2;
-    k->x[1] = k->x[1] + u * dt;
+    const float u = accel - k->x[FusionAltitudeKalmanStateAccelBias];
+    k->x[FusionAltitudeKalmanStateHeight] = k->x[FusionAltitudeKalmanStateHeight] + k->x[FusionAltitudeKalmanStateVelocity] * dt + u * halfDt2;
+    k->x[FusionAltitudeKalmanStateVelocity] = k->x[FusionAltitudeKalmanStateVelocity] + u * dt;
     // A = row h of F*P, Bv = row v of F*P (the other rows of F*P are those of P)
     float A[FUSION_ALTITUDE_KALMAN_STATES];
     float Bv[FUSION_ALTITUDE_KALMAN_STATES];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        A[j] = P[0][j] + dt * P[1][j] - halfDt2 * P[4][j];
-        Bv[j] = P[1][j] - dt * P[4][j];
+        A[j] = P[FusionAltitudeKalmanStateHeight][j] + dt * P[FusionAltitudeKalmanStateVelocity][j] - halfDt2 * P[FusionAltitudeKalmanStateAccelBias][j];
+        Bv[j] = P[FusionAltitudeKalmanStateVelocity][j] - dt * P[FusionAltitudeKalmanStateAccelBias][j];
     }
     // (F*P)*F^T: columns h and v change the same way
     const float q = k->settings.accelNoise * k->settings.accelNoise;
     const float qvv = q * dt;                 // N_a^2 dt
     const float qhv = qvv * (0.5f * dt);      // N_a^2 dt^2 / 2
     const float qhh = qhv * (0.5f * dt);      // N_a^2 dt^3 / 4
-    const float phh = A[0] + dt * A[1] - halfDt2 * A[4] + qhh;
-    const float phv = A[1] - dt * A[4] + qhv;
-    const float pvv = Bv[1] - dt * Bv[4] + qvv;
-    P[0][0] = phh;
-    P[0][1] = phv;
-    P[1][0] = phv;
-    P[1][1] = pvv;
+    const float phh = A[FusionAltitudeKalmanStateHeight] + dt * A[FusionAltitudeKalmanStateVelocity] - halfDt2 * A[FusionAltitudeKalmanStateAccelBias] + qhh;
+    const float phv = A[FusionAltitudeKalmanStateVelocity] - dt * A[FusionAltitudeKalmanStateAccelBias] + qhv;
+    const float pvv = Bv[FusionAltitudeKalmanStateVelocity] - dt * Bv[FusionAltitudeKalmanStateAccelBias] + qvv;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = phh;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateVelocity] = phv;
+    P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateHeight] = phv;
+    P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] = pvv;
     for (int j = 2; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        P[0][j] = A[j];
-        P[j][0] = A[j];
-        P[1][j] = Bv[j];
-        P[j][1] = Bv[j];
+        P[FusionAltitudeKalmanStateHeight][j] = A[j];
+        P[j][FusionAltitudeKalmanStateHeight] = A[j];
+        P[FusionAltitudeKalmanStateVelocity][j] = Bv[j];
+        P[j][FusionAltitudeKalmanStateVelocity] = Bv[j];
     }
     FusionAltitudeKalmanRandomWalks(k, dt);
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
@@ -495,8 +495,8 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
 static inline void FusionAltitudeKalmanInflate(FusionAltitudeKalman *const k, const float T) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const float heightSigma = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * T;
-    k->P[0][0] += heightSigma * heightSigma;
-    k->P[1][1] += FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA;
+    k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] += heightSigma * heightSigma;
+    k->P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] += FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA;
 }
 
 /**
@@ -546,15 +546,15 @@ static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const
  */
 static inline void FusionAltitudeKalmanSetOffset(FusionAltitudeKalman *const k, const int o, const float z, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    k->x[o] = z - k->x[0];
+    k->x[o] = z - k->x[FusionAltitudeKalmanStateHeight];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
         if (j != o) {
-            const float value = -k->P[0][j];
+            const float value = -k->P[FusionAltitudeKalmanStateHeight][j];
             k->P[o][j] = value;
             k->P[j][o] = value;
         }
     }
-    k->P[o][o] = k->P[0][0] + R;
+    k->P[o][o] = k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] + R;
 }
 
 /**
@@ -568,16 +568,16 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
     const bool m[FUSION_ALTITUDE_KALMAN_STATES] = {false, false, k->baroInitialised, k->gpsInitialised, false};
-    const float d = z - k->x[0];
-    k->x[0] = z;
-    for (int i = 2; i < 4; i++) {
+    const float d = z - k->x[FusionAltitudeKalmanStateHeight];
+    k->x[FusionAltitudeKalmanStateHeight] = z;
+    for (int i = FusionAltitudeKalmanStateBaroOffset; i <= FusionAltitudeKalmanStateGpsOffset; i++) {
         if (m[i]) {
             k->x[i] = k->x[i] - d;
         }
     }
     float ph[FUSION_ALTITUDE_KALMAN_STATES];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        ph[j] = P[0][j];
+        ph[j] = P[FusionAltitudeKalmanStateHeight][j];
     }
     for (int i = 1; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
         for (int j = i; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
@@ -589,17 +589,17 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
                 value = value + ph[i];
             }
             if (m[i] && m[j]) {
-                value = value + ph[0] + R;
+                value = value + ph[FusionAltitudeKalmanStateHeight] + R;
             }
             P[i][j] = value;
             P[j][i] = value;
         }
     }
-    P[0][0] = R;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = R;
     for (int j = 1; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
         const float value = m[j] ? -R : 0.0f;
-        P[0][j] = value;
-        P[j][0] = value;
+        P[FusionAltitudeKalmanStateHeight][j] = value;
+        P[j][FusionAltitudeKalmanStateHeight] = value;
     }
 }
 
@@ -615,9 +615,9 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float c[FUSION_ALTITUDE_KALMAN_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-        c[i] = (o < 0) ? k->P[i][0] : (k->P[i][0] + k->P[i][o]);
+        c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
     }
-    const float S = ((o < 0) ? c[0] : (c[0] + c[o])) + R;
+    const float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
     const float nis = (y * y) / S;
     sensor->innovation = y;
     sensor->innovationVariance = S;
@@ -638,7 +638,7 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
     if (sensor->rejectingFor > k->settings.rejectionTimeout) {
         FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
         if (k->settings.estimateAccelBias) {
-            k->P[4][4] += k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+            k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] += k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
         }
         if (o < 0) {
             FusionAltitudeKalmanResetGround(k, z, R);
@@ -764,7 +764,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
             kalman->baroInitialised = true;
             FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
         } else {
-            float y = m.baroAltitude - (kalman->x[0] + kalman->x[2]);
+            float y = m.baroAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset]);
             if (m.groundEffect && (y < 0.0f)) {
                 const float shifted = y + s->groundEffectDeadZone;
                 y = (shifted < 0.0f) ? shifted : 0.0f;
@@ -781,7 +781,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
         FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
     } else {
         const float R = s->rangeNoise * s->rangeNoise;
-        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[0], R);
+        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
     }
 
     // GPS: z = h + og
@@ -798,7 +798,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
             kalman->gpsInitialised = true;
             FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
         } else {
-            const float y = m.gpsAltitude - (kalman->x[0] + kalman->x[3]);
+            const float y = m.gpsAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateGpsOffset]);
             FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, y, R);
         }
     }
@@ -815,7 +815,7 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanGetSettings(const
 
 /** @return height above ground h, m. */
 static inline float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[0];
+    return kalman->x[FusionAltitudeKalmanStateHeight];
 }
 
 /**
@@ -825,33 +825,33 @@ static inline float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitud
  */
 static inline float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *const kalman) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    return kalman->x[0] + kalman->x[2];
+    return kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return variance of the altitude h + ob, m^2: P_hh + 2*P_h,ob + P_ob,ob. */
 static inline float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *const kalman) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    return kalman->P[0][0] + 2.0f * kalman->P[0][2] + kalman->P[2][2];
+    return kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] + 2.0f * kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateBaroOffset] + kalman->P[FusionAltitudeKalmanStateBaroOffset][FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return vertical velocity v, m/s, +up. */
 static inline float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[1];
+    return kalman->x[FusionAltitudeKalmanStateVelocity];
 }
 
 /** @return accelerometer bias b, m/s^2, +up (already subtracted from the input). */
 static inline float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[4];
+    return kalman->x[FusionAltitudeKalmanStateAccelBias];
 }
 
 /** @return baro offset ob (baro reads h + ob), m; 0 before the first baro sample. */
 static inline float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[2];
+    return kalman->x[FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return GPS offset og (GPS reads h + og), m; 0 before the first usable GPS sample. */
 static inline float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[3];
+    return kalman->x[FusionAltitudeKalmanStateGpsOffset];
 }
 
 /** @return covariance entry P[i][j] (state indices FusionAltitudeKalmanState). */

@@ -124,6 +124,20 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
         return;
     }
     const bool baroMissing = FusionAltitudeIsNaN(baro);
+    const bool gap = before.referenceSet && (dt > before.settings.gapPeriod);
+    CHECK(FusionAltitudeGetGapCount(altitude) == before.gapCount + (gap ? 1u : 0u));
+    if (gap) { /* not integrated: frozen until the next baro sample, which restarts h at it */
+        CHECK(SameBits(altitude->accelBias, before.accelBias));
+        if (baroMissing) {
+            CHECK(!altitude->referenceSet && SameBits(altitude->altitude, before.altitude) &&
+                  SameBits(altitude->verticalVelocity, before.verticalVelocity));
+        } else {
+            CHECK(altitude->referenceSet && SameBits(altitude->altitude, baro) && SameBits(altitude->baroResidual, 0.0f));
+            CHECK(SameBits(altitude->verticalVelocity, (baro - before.altitude) / dt));
+        }
+        run->sane = false; /* a gap is outside the accuracy envelope */
+        return;
+    }
     if (baroMissing) {
         CHECK(FusionAltitudeFloatBits(FusionAltitudeGetBaroResidual(altitude)) == 0x7FC00000u);
         CHECK(SameBits(altitude->accelBias, before.accelBias));
@@ -131,8 +145,9 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
         if (!before.referenceSet) {
             CHECK(SameBits(altitude->altitude, before.altitude) && SameBits(altitude->verticalVelocity, before.verticalVelocity));
         }
-    } else if (!before.referenceSet) {
-        CHECK(SameBits(altitude->altitude, baro) && SameBits(altitude->verticalVelocity, 0.0f));
+    } else if (!before.referenceSet) { /* auto-zero (v = 0) or the restart after a gap (v = mean velocity over it) */
+        const float velocity = (before.gapTime > 0.0f) ? ((baro - before.altitude) / (before.gapTime + dt)) : 0.0f;
+        CHECK(SameBits(altitude->altitude, baro) && SameBits(altitude->verticalVelocity, velocity));
         CHECK(SameBits(altitude->baroResidual, 0.0f) && SameBits(altitude->accelBias, before.accelBias));
     } else {
         CHECK(SameBits(altitude->baroResidual, baro - before.altitude));
@@ -180,6 +195,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 settings.positionGain = x;
                 settings.velocityGain = y;
                 settings.biasGain = z;
+                settings.gapPeriod = FusionAltitudeGetSettings(&altitude).gapPeriod;
                 status = FusionAltitudeSetSettings(&altitude, &settings);
                 CHECK(status == FusionAltitudeSettingsCheck(&settings));
                 if (status == FusionAltitudeStatusOk) {

@@ -48,13 +48,15 @@
  * gate and pull h back within a few samples, and v within a few seconds,
  * while the offsets and the bias, whose variances barely grow, stay.
  * A sensor rejected for longer than rejectionTimeout is reset (offset, or
- * ground for the rangefinder) as before, and h and v are first inflated the
- * same way with T = the length of the rejection streak, and the bias
- * variance (when estimated) by accelBiasInitialSigma^2: a streak that long
- * means the state, not only the sensor, is wrong (a velocity error after a
- * gap, a glitch burst the bias partly absorbed, a start in motion), and
- * resetting the offset alone would keep re-basing it around the wrong
- * velocity.
+ * ground for the rangefinder) as before. If no sensor at all was fused
+ * during the streak, h and v are first inflated the same way with T = the
+ * length of the streak, and the bias variance (when estimated) by
+ * accelBiasInitialSigma^2: a streak that nothing else contradicts means the
+ * state, not only the sensor, is likely wrong (a velocity error after a gap,
+ * a glitch burst the bias partly absorbed, a start in motion), and resetting
+ * the offset alone would keep re-basing it around the wrong velocity. While
+ * another sensor is being fused the state is vouched for, and the streak is
+ * the sensor's own (a GPS jump, a terrain step): only it is reset.
  *
  * Bit-exact results across compilers and targets need IEEE float32 arithmetic
  * without fused multiply-add contraction. The header turns contraction off for
@@ -224,6 +226,7 @@ typedef struct {
     float x[FUSION_ALTITUDE_KALMAN_STATES];                               /**< state, see the file comment */
     float P[FUSION_ALTITUDE_KALMAN_STATES][FUSION_ALTITUDE_KALMAN_STATES]; /**< covariance, exactly symmetric */
     FusionAltitudeKalmanSensor sensors[FUSION_ALTITUDE_KALMAN_SENSORS];    /**< baro, range, GPS */
+    float sinceFused;         /**< s since any sensor's sample was last fused */
     uint32_t gapCount;        /**< updates with dt > gapPeriod so far */
     bool baroInitialised;     /**< baro offset set (first baro sample seen) */
     bool gpsInitialised;      /**< GPS offset set (first usable GPS sample seen) */
@@ -484,6 +487,7 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
             k->sensors[i].rejectingFor += dt;
         }
     }
+    k->sinceFused += dt;
 }
 
 /**
@@ -510,6 +514,7 @@ static inline void FusionAltitudeKalmanGap(FusionAltitudeKalman *const k, const 
         k->sensors[i].rejecting = false;
         k->sensors[i].rejectingFor = 0.0f;
     }
+    k->sinceFused += dt;
     k->gapCount++;
 }
 
@@ -606,9 +611,9 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
 /**
  * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
  * -1 for the rangefinder), innovation y, noise variance R. Rejected if
- * y^2/S > gate^2; a rejection streak older than the timeout inflates h and v
- * (FusionAltitudeKalmanInflate over the streak) and b (its initial variance)
- * and resets instead.
+ * y^2/S > gate^2; a rejection streak older than the timeout resets instead,
+ * after inflating h and v (FusionAltitudeKalmanInflate over the streak) and b
+ * (its initial variance) if no sensor was fused during the streak.
  */
 static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
                                                const float z, const float y, const float R) {
@@ -625,6 +630,7 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
     const float gate = k->settings.gate;
     if (!(nis > gate * gate)) {
         FusionAltitudeKalmanFuse(k, c, S, y);
+        k->sinceFused = 0.0f;
         sensor->rejecting = false;
         sensor->rejectingFor = 0.0f;
         sensor->result = FusionAltitudeKalmanResultFused;
@@ -636,9 +642,12 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
         sensor->rejectingFor = 0.0f;
     }
     if (sensor->rejectingFor > k->settings.rejectionTimeout) {
-        FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
-        if (k->settings.estimateAccelBias) {
-            k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] += k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+        if (k->sinceFused >= sensor->rejectingFor) { /* nothing fused during the streak: the state is suspect */
+            FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
+            if (k->settings.estimateAccelBias) {
+                k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] +=
+                    k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+            }
         }
         if (o < 0) {
             FusionAltitudeKalmanResetGround(k, z, R);

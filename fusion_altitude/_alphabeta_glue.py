@@ -79,6 +79,7 @@ ALPHABETA_DEFAULTS = {
     "lidar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 40.0, 6.0, 1.5),
     "sonar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 5.0, 6.0, 1.5),
     "gps": AlphaBetaSensorSettings(10.0, 10, 120, 1.0, -10.0, _INF, 20.0, 1.5),
+    "gap_period": 1.5,  # s: not a sensor; see AlphaBetaSettings
 }
 
 
@@ -102,7 +103,7 @@ def _as_int32(value: object, name: str) -> int:
 
 
 #: Default gap period of the alpha-beta fusion, s (the sensor timeouts).
-ALPHABETA_GAP_PERIOD = 1.5
+ALPHABETA_GAP_PERIOD = ALPHABETA_DEFAULTS["gap_period"]
 
 
 def convert_alphabeta_settings(kwargs: dict) -> dict:

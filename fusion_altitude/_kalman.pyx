@@ -532,11 +532,12 @@ cdef class KalmanEstimator:
                             int(s.resets), int(<int>s.result), bool(s.rejecting)))
         return (_settings_to_dict(&self._c.settings), [self._c.x[i] for i in range(5)],
                 [self._c.P[i][j] for i in range(5) for j in range(5)], sensors,
-                bool(self._c.baroInitialised), bool(self._c.gpsInitialised), self._c.gapCount)
+                bool(self._c.baroInitialised), bool(self._c.gpsInitialised), self._c.gapCount, self._c.sinceFused)
 
     def _set_state(self, state):
         settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
         gap_count = state[6] if len(state) > 6 else 0
+        since_fused = state[7] if len(state) > 7 else 0.0
         cdef KalmanSettings checked = KalmanSettings(**settings)
         cdef int i, j
         self._c.settings = checked._c
@@ -557,6 +558,7 @@ cdef class KalmanEstimator:
         self._c.baroInitialised = bool(baro_initialised)
         self._c.gpsInitialised = bool(gps_initialised)
         self._c.gapCount = gap_count
+        self._c.sinceFused = since_fused
 
     def __copy__(self):
         cdef KalmanEstimator clone = KalmanEstimator.__new__(KalmanEstimator)

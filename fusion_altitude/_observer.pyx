@@ -27,6 +27,7 @@ C_STATUS_VALUES = {
     "UNSTABLE_DISCRETE": FusionAltitudeStatusUnstableDiscrete,
     "INVALID_BANDWIDTH": FusionAltitudeStatusInvalidBandwidth,
     "INVALID_PRESET": FusionAltitudeStatusInvalidPreset,
+    "INVALID_GAP_PERIOD": FusionAltitudeStatusInvalidGapPeriod,
 }
 C_GRAVITY = FUSION_ALTITUDE_GRAVITY
 C_VERSION = FUSION_ALTITUDE_VERSION

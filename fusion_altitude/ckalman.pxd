@@ -87,6 +87,7 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         float x[5]
         float P[5][5]
         FusionAltitudeKalmanSensor sensors[3]
+        float sinceFused
         unsigned int gapCount
         bint baroInitialised
         bint gpsInitialised

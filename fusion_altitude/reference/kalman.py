@@ -210,7 +210,8 @@ class KalmanEstimator(Checkpointable):
     h + baro_offset, what a noise-free baro would read.
     """
 
-    __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_gap_count", "_baro_initialised", "_gps_initialised")
+    __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_since_fused", "_gap_count", "_baro_initialised",
+                 "_gps_initialised")
 
     def __init__(self, settings: Optional[KalmanSettings] = None) -> None:
         # FusionAltitudeKalmanInitialiseWith
@@ -222,6 +223,7 @@ class KalmanEstimator(Checkpointable):
         P[1][1] = s.initial_velocity_sigma * s.initial_velocity_sigma
         P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma if s.estimate_accel_bias else _ZERO
         self._sensors = [_Sensor() for _ in range(3)]
+        self._since_fused = _ZERO
         self._gap_count = 0
         self._baro_initialised = False
         self._gps_initialised = False
@@ -254,6 +256,7 @@ class KalmanEstimator(Checkpointable):
         for sensor in self._sensors:
             if sensor.rejecting:
                 sensor.rejecting_for += dt
+        self._since_fused += dt
 
     def _random_walks(self, dt: np.float32) -> None:
         """FusionAltitudeKalmanRandomWalks: offsets once they exist, the bias if estimated."""
@@ -278,6 +281,7 @@ class KalmanEstimator(Checkpointable):
         for sensor in self._sensors:
             sensor.rejecting = False
             sensor.rejecting_for = _ZERO
+        self._since_fused += dt
         self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
 
     def _fuse(self, c: List[np.float32], S: np.float32, y: np.float32) -> None:
@@ -335,6 +339,7 @@ class KalmanEstimator(Checkpointable):
         gate = self._s.gate
         if not nis > gate * gate:
             self._fuse(c, S, y)
+            self._since_fused = _ZERO
             sensor.rejecting = False
             sensor.rejecting_for = _ZERO
             sensor.result = KalmanResult.FUSED
@@ -344,9 +349,10 @@ class KalmanEstimator(Checkpointable):
             sensor.rejecting = True
             sensor.rejecting_for = _ZERO
         if sensor.rejecting_for > self._s.rejection_timeout:
-            self._inflate(sensor.rejecting_for)
-            if self._s.estimate_accel_bias:
-                self._P[4][4] += self._s.accel_bias_initial_sigma * self._s.accel_bias_initial_sigma
+            if self._since_fused >= sensor.rejecting_for:  # nothing fused during the streak: the state is suspect
+                self._inflate(sensor.rejecting_for)
+                if self._s.estimate_accel_bias:
+                    self._P[4][4] += self._s.accel_bias_initial_sigma * self._s.accel_bias_initial_sigma
             if o < 0:
                 self._reset_ground(z, R)
             else:
@@ -635,11 +641,12 @@ class KalmanEstimator(Checkpointable):
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), [float(v) for v in self._x], [float(v) for row in self._P for v in row],
                 [s.as_tuple() for s in self._sensors], self._baro_initialised, self._gps_initialised,
-                self._gap_count)
+                self._gap_count, float(self._since_fused))
 
     def _set_state(self, state: tuple) -> None:
         settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
         self._gap_count = int(state[6]) if len(state) > 6 else 0
+        self._since_fused = f32(state[7]) if len(state) > 7 else _ZERO
         self._settings = KalmanSettings(**settings)
         self._s = _Settings32(self._settings)
         self._x = [f32(v) for v in x]

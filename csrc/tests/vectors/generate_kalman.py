@@ -9,11 +9,12 @@ full state, word for word. csrc/firmware/replay_kalman.c replays them on the
 host (gcc, clang) and on an emulated Cortex-M4F (QEMU), which must reproduce
 every bit.
 
-The state, as 69 binary32/integer words (STATE_FIELDS, the same order in
+The state, as 70 binary32/integer words (STATE_FIELDS, the same order in
 replay_kalman.c): the 20 settings, x (5), the upper triangle of P (15), the
 altitude h + ob and its variance (the getters), per sensor (baro, range, GPS)
 innovation, innovation variance, NIS, rejecting-for, rejections, resets,
-result, rejecting (8 each), the baro/GPS initialised flags and the gap count. The hash is
+result, rejecting (8 each), the baro/GPS initialised flags, the gap count and
+the time since any sample was fused. The hash is
 word-wise FNV-1a: h = 2166136261; for each word, h = (h ^ word) * 16777619
 (mod 2^32). One changed word always changes it (the multiplier is odd).
 
@@ -54,7 +55,7 @@ SENSOR_FIELDS = ("innovation", "innovationVariance", "nis", "rejectingFor", "rej
 STATE_FIELDS = ([f"settings.{name}" for name, *_ in KALMAN_SETTINGS] + [f"x[{i}]" for i in range(5)]
                 + [f"P[{i}][{j}]" for i in range(5) for j in range(i, 5)] + ["altitude", "altitudeVariance"]
                 + [f"{sensor}.{field}" for sensor in ("baro", "range", "gps") for field in SENSOR_FIELDS]
-                + ["baroInitialised", "gpsInitialised", "gapCount"])
+                + ["baroInitialised", "gpsInitialised", "gapCount", "sinceFused"])
 NAN_ALLOWED = {f"{sensor}.{field}" for sensor in ("baro", "range", "gps")
                for field in ("innovation", "innovationVariance", "nis")}
 
@@ -96,7 +97,7 @@ def state_words(e: _kalman.KalmanEstimator) -> Tuple[int, ...]:
     for s in e._sensors:
         words += [bits(s.innovation), bits(s.innovation_variance), bits(s.nis), bits(s.rejecting_for),
                   s.rejections & 0xFFFFFFFF, s.resets & 0xFFFFFFFF, int(s.result), int(bool(s.rejecting))]
-    words += [int(e._baro_initialised), int(e._gps_initialised), e._gap_count & 0xFFFFFFFF]
+    words += [int(e._baro_initialised), int(e._gps_initialised), e._gap_count & 0xFFFFFFFF, bits(e._since_fused)]
     assert len(words) == len(STATE_FIELDS)
     return tuple(words)
 

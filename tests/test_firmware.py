@@ -292,10 +292,12 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert_ok(make(build, "cross", "cycle-traces"))
     measured = json.loads(subprocess.run([sys.executable, str(FIRMWARE / "size_table.py"), str(build), "--json"],
                                          check=True, capture_output=True, text=True).stdout)
-    assert set(measured["ram"].values()) == {32}, measured["ram"]
+    # 32 bytes before the gap handling (gap period, gap time, time since the restart, gap count: 48)
+    assert set(measured["ram"].values()) == {48}, measured["ram"]
     assert measured["stack"]["FusionAltitudeUpdate/cortex-m4f/Os"] == [0, "static"]
-    # Goal 200 bytes (see docs/embedded.md); this bound only catches regressions.
-    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 256
+    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it); this bound only catches
+    # regressions.
+    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 448
     full, missing, rejected = measured["cycles"]
     assert 20 < full["instructions"] < 80 and missing["instructions"] < full["instructions"]
     assert rejected["instructions"] < 12
@@ -312,7 +314,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert reset["cycles"] < 4000 and rejected["instructions"] < 40
     # Complementary filter and alpha-beta fusion: regression bounds (no goals were set for them).
     complementary, alphabeta = measured["complementary"], measured["alphabeta"]
-    assert set(complementary["ram"].values()) == {56} and set(alphabeta["ram"].values()) == {316}
+    assert set(complementary["ram"].values()) == {68} and set(alphabeta["ram"].values()) == {332}
     assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 512
     assert alphabeta["size"]["FusionAltitudeAlphaBetaUpdate/cortex-m4f/Os"] <= 1536
     for figures in (complementary, alphabeta):

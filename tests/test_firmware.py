@@ -64,7 +64,7 @@ def load(path: Path, name: str):
 
 
 def vector_count() -> int:
-    return int(re.search(r"#define FUSION_ALTITUDE_VECTOR_COUNT \((\d+)\)", (VECTORS / "vectors.h").read_text()).group(1))
+    return int(re.search(r"#define FUSION_ALTITUDE_VECTOR_COUNT \((\d+)\)", (VECTORS / "observer_vectors.h").read_text()).group(1))
 
 
 def kalman_vector_count() -> int:
@@ -118,9 +118,9 @@ def test_alphabeta_vectors_are_up_to_date_and_cover_every_path():
 
 
 def test_vectors_are_up_to_date():
-    generator = load(VECTORS / "generate.py", "generate_vectors")
-    assert generator.render() == (VECTORS / "vectors.h").read_text(), \
-        "csrc/tests/vectors/vectors.h is stale: run python csrc/tests/vectors/generate.py"
+    generator = load(VECTORS / "generate_observer.py", "generate_vectors")
+    assert generator.render() == (VECTORS / "observer_vectors.h").read_text(), \
+        "csrc/tests/vectors/observer_vectors.h is stale: run python csrc/tests/vectors/generate_observer.py"
     assert vector_count() > 3000
 
 
@@ -210,13 +210,13 @@ def test_every_public_function_is_built_and_sized():
     header = (CSRC / "fusion_altitude.h").read_text()
     public = set(re.findall(r"^static inline [^(]*?\b(FusionAltitude\w+)\(", header, re.MULTILINE))
     assert "FusionAltitudeUpdate" in public
-    sized = set(re.findall(r"\bSized(FusionAltitude\w+)\(", (FIRMWARE / "sized.c").read_text()))
-    called = set(re.findall(r"\b(FusionAltitude\w+)\(", (FIRMWARE / "firmware.c").read_text()))
+    sized = set(re.findall(r"\bSized(FusionAltitude\w+)\(", (FIRMWARE / "sized_observer.c").read_text()))
+    called = set(re.findall(r"\b(FusionAltitude\w+)\(", (FIRMWARE / "firmware_observer.c").read_text()))
     spec = importlib.util.spec_from_file_location("size_table", FIRMWARE / "size_table.py")
     table = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(table)
-    assert public - sized == set(), "add these to csrc/firmware/sized.c"
-    assert public - called - {"FusionAltitudeNaN"} == set(), "call these from csrc/firmware/firmware.c"
+    assert public - sized == set(), "add these to csrc/firmware/sized_observer.c"
+    assert public - called - {"FusionAltitudeNaN"} == set(), "call these from csrc/firmware/firmware_observer.c"
     assert public - set(table.FUNCTIONS) == set(), "add these to FUNCTIONS in csrc/firmware/size_table.py"
 
 
@@ -225,7 +225,7 @@ def test_cross_builds_are_warning_free_without_double_or_libm(build):
     assert re.search(r"^160 objects checked, 0 with double or libm$", output, re.MULTILINE), output
     for target in ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc"):
         for variant in ("c99-Os", "c99-O2", "c11-Os", "c11-O2"):
-            for name in ("firmware", "sized", "firmware_kalman", "sized_kalman", "firmware_complementary",
+            for name in ("firmware_observer", "sized_observer", "firmware_kalman", "sized_kalman", "firmware_complementary",
                          "sized_complementary", "firmware_alphabeta", "sized_alphabeta"):
                 assert re.search(rf"^{target}/{variant}/{name}: ok ", output, re.MULTILINE), (target, variant, name)
 
@@ -347,12 +347,14 @@ def test_cppcheck_is_clean(build):
     """Every header, through every firmware, replay, cycle and fuzz source (and the example)."""
     assert_ok(make(build, "cppcheck"))
     sources = re.search(r"^CPPCHECK_SOURCES := (.*?)\n\n", (FIRMWARE / "Makefile").read_text(), re.MULTILINE | re.DOTALL)
-    assert "fuzz_kalman.c" in sources.group(1)
+    assert "$(FUZZERS:%=$(CSRC)/fuzz/%.c)" in sources.group(1)
+    fuzzers = re.search(r"^FUZZERS := (.*)$", (FIRMWARE / "Makefile").read_text(), re.MULTILINE).group(1).split()
+    assert fuzzers == ["fuzz_observer", "fuzz_kalman"], fuzzers
     for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
         assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
     assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
     estimators = re.search(r"^ESTIMATORS := (.*)$", (FIRMWARE / "Makefile").read_text(), re.MULTILINE).group(1).split()
-    assert {"kalman", "complementary", "alphabeta"} <= set(estimators), estimators
+    assert {"observer", "kalman", "complementary", "alphabeta"} <= set(estimators), estimators
 
 
 def test_fuzzers_find_nothing(build):
@@ -360,7 +362,7 @@ def test_fuzzers_find_nothing(build):
     result = make(build, "fuzz-run", timeout=FUZZ_SECONDS + 300, FUZZ_SECONDS=str(FUZZ_SECONDS))
     log = result.stdout + result.stderr
     assert result.returncode == 0, log[-6000:]
-    for fuzzer in ("fuzz_altitude", "fuzz_kalman"):
+    for fuzzer in ("fuzz_observer", "fuzz_kalman"):
         runs = re.search(rf"^{fuzzer}: Done (\d+) runs in (\d+) second", log, re.MULTILINE)
         assert runs and int(runs.group(1)) > 0, log[-6000:]
         assert int(runs.group(2)) <= max(1, (FUZZ_SECONDS + 1) // 2) + 2, log[-6000:]

@@ -26,7 +26,6 @@ The random-looking parts come from random.Random with a fixed seed.
 
 from __future__ import annotations
 
-import argparse
 import math
 import random
 import sys
@@ -34,6 +33,9 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import vector_common as vc  # noqa: E402
 
 from fusion_altitude._kalman_glue import KALMAN_SETTINGS, KALMAN_SETTINGS_DEFAULTS, KalmanStatus
 from fusion_altitude.reference import kalman as _kalman
@@ -540,21 +542,6 @@ def render() -> str:
     return "\n".join(lines)
 
 
-def main(argv: Sequence[str] = ()) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--check", action="store_true", help="exit 1 if kalman_vectors.h differs from a fresh generation")
-    args = parser.parse_args(argv)
-    text = render()
-    if args.check:
-        current = HEADER_PATH.read_text() if HEADER_PATH.exists() else ""
-        if current != text:
-            print(f"{HEADER_PATH} is out of date: run python {Path(__file__).name}", file=sys.stderr)
-            return 1
-        return 0
-    HEADER_PATH.write_text(text)
-    print(f"wrote {HEADER_PATH} ({text.count(chr(10))} lines, {len(text)} bytes)")
-    return 0
-
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(vc.main(HEADER_PATH, render, sys.argv[1:], __doc__))

@@ -1,10 +1,10 @@
 /**
- * @file firmware.c
+ * @file firmware_observer.c
  * @brief A firmware-style translation unit that calls every public function
  * of fusion_altitude.h: set-up with tuning and a warm start, and a 100 Hz task.
  * It is cross-compiled for each target with warnings as errors and its object
  * code is checked for double instructions and libm calls (together with
- * sized.c, which holds one out-of-line copy of each public function).
+ * sized_observer.c, which holds one out-of-line copy of each public function).
  */
 
 #include "fusion_altitude.h"

@@ -1,9 +1,9 @@
-"""Writes the seed corpus of fuzz_altitude.c into corpus/ (committed).
+"""Writes the seed corpus of fuzz_observer.c into corpus_observer/ (committed).
 
-    python3 csrc/fuzz/make_seeds.py
+    python3 csrc/fuzz/make_seeds_observer.py
 
 Each seed is a loop dt and a call sequence in the format documented at the
-top of fuzz_altitude.c: a 100 Hz flight with a 25 Hz baro and a warm start,
+top of fuzz_observer.c: a 100 Hz flight with a 25 Hz baro and a warm start,
 baro gaps, rejected inputs, gain changes, presets, bandwidths and resets.
 """
 
@@ -11,7 +11,7 @@ import math
 import struct
 from pathlib import Path
 
-CORPUS = Path(__file__).resolve().with_name("corpus")
+CORPUS = Path(__file__).resolve().with_name("corpus_observer")
 INITIALISE, SETTINGS, PRESET, BANDWIDTH, RESET, RESET_WITH_BIAS, UPDATE, UPDATE_LOOP = range(8)
 NO_BARO = 8
 

@@ -1,5 +1,5 @@
 /**
- * @file fuzz_altitude.c
+ * @file fuzz_observer.c
  * @brief libFuzzer target for fusion_altitude.h, built with clang under
  * AddressSanitizer + UndefinedBehaviorSanitizer (csrc/firmware/Makefile,
  * target fuzz-run).

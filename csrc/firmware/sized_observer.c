@@ -1,5 +1,5 @@
 /**
- * @file sized.c
+ * @file sized_observer.c
  * @brief Out-of-line copies of every public function of fusion_altitude.h,
  * for measuring code size and stack (docs/embedded.md).
  *

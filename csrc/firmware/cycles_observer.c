@@ -1,6 +1,6 @@
 /**
- * @file cycles.c
- * @brief Calls SizedFusionAltitudeUpdate (sized.c) once on each path, on
+ * @file cycles_observer.c
+ * @brief Calls SizedFusionAltitudeUpdate (sized_observer.c) once on each path, on
  * bare-metal Cortex-M4F under QEMU with every executed instruction logged
  * (-singlestep -d exec,nochain). size_table.py walks the log and prices each
  * executed instruction with the Cortex-M4 cycle counts to estimate the cycles

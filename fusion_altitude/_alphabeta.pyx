@@ -30,6 +30,7 @@ C_STATUS_VALUES = {
     "INVALID_ALTITUDE_BAND": FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,
     "INVALID_GAP_MAX": FusionAltitudeAlphaBetaStatusInvalidGapMax,
     "INVALID_TIMEOUT": FusionAltitudeAlphaBetaStatusInvalidTimeout,
+    "INVALID_GAP_PERIOD": FusionAltitudeAlphaBetaStatusInvalidGapPeriod,
 }
 C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
 C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY

@@ -228,12 +228,9 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStore(FusionAltitudeSweep *
     }
 }
 
-/* FusionAltitudeUpdate, lane by lane, the same operations in the same order
- * (inputs already checked): gap detection, integration without baro, the
- * restart on the first baro sample, or the correction. */
-FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
-                                                          const float a, const float z, const float step, const float gapPeriod,
-                                                          const size_t lanes) {
+/* The shared part of FusionAltitudeUpdate before the lanes: gap detection,
+ * and the time of a pending restart or since the last one. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepShared *const shared, const float step, const float gapPeriod) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     if (shared->referenceSet && (step > gapPeriod)) {
         shared->gapCount++;
@@ -244,6 +241,57 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
     } else if (shared->referenceSet && (shared->sinceRestart >= 0.0f)) {
         shared->sinceRestart += step;
     }
+}
+
+/* FusionAltitudeRestart on every lane: h = z, v = 0 or the mean velocity over the gap, r = 0. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
+                                                             const float z, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    const float gapTime = shared->gapTime;
+    if (gapTime > 0.0f) {
+        shared->sinceRestart = 0.0f;
+    }
+    for (size_t j = 0; j < lanes; j++) {
+        x->v[j] = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
+        x->h[j] = z;
+        x->r[j] = 0.0f;
+    }
+    shared->gapTime = 0.0f;
+    shared->referenceSet = true;
+}
+
+/* The correction on every lane; after a restart each lane holds its bias
+ * while sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCorrect(FusionAltitudeSweepLanes *const x, const float sinceRestart, const float a,
+                                                             const float z, const float step, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    if (sinceRestart < 0.0f) {
+        for (size_t j = 0; j < lanes; j++) {
+            const float residual = z - x->h[j];
+            x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
+            x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
+            x->b[j] -= (x->kb[j] * residual) * step;
+            x->r[j] = residual;
+        }
+        return;
+    }
+    for (size_t j = 0; j < lanes; j++) {
+        const float residual = z - x->h[j];
+        x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
+        x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
+        x->b[j] = (sinceRestart * x->kh[j] < FUSION_ALTITUDE_BIAS_HOLD) ? x->b[j] : (x->b[j] - (x->kb[j] * residual) * step);
+        x->r[j] = residual;
+    }
+}
+
+/* FusionAltitudeUpdate, lane by lane, the same operations in the same order
+ * (inputs already checked): gap detection, integration without baro, the
+ * restart on the first baro sample, or the correction. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
+                                                          const float a, const float z, const float step, const float gapPeriod,
+                                                          const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    FusionAltitudeSweepTiming(shared, step, gapPeriod);
     if (FusionAltitudeIsNaN(z)) {
         if (shared->referenceSet) {
             for (size_t j = 0; j < lanes; j++) {
@@ -256,34 +304,9 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
             x->r[j] = nan;
         }
     } else if (!shared->referenceSet) {
-        const float gapTime = shared->gapTime;
-        if (gapTime > 0.0f) {
-            shared->sinceRestart = 0.0f;
-        }
-        for (size_t j = 0; j < lanes; j++) {
-            x->v[j] = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
-            x->h[j] = z;
-            x->r[j] = 0.0f;
-        }
-        shared->gapTime = 0.0f;
-        shared->referenceSet = true;
-    } else if (shared->sinceRestart < 0.0f) {
-        for (size_t j = 0; j < lanes; j++) {
-            const float residual = z - x->h[j];
-            x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
-            x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
-            x->b[j] -= (x->kb[j] * residual) * step;
-            x->r[j] = residual;
-        }
-    } else { /* after a restart: each column holds its bias while sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD */
-        const float sinceRestart = shared->sinceRestart;
-        for (size_t j = 0; j < lanes; j++) {
-            const float residual = z - x->h[j];
-            x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
-            x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
-            x->b[j] = (sinceRestart * x->kh[j] < FUSION_ALTITUDE_BIAS_HOLD) ? x->b[j] : (x->b[j] - (x->kb[j] * residual) * step);
-            x->r[j] = residual;
-        }
+        FusionAltitudeSweepRestart(x, shared, z, lanes);
+    } else {
+        FusionAltitudeSweepCorrect(x, shared->sinceRestart, a, z, step, lanes);
     }
 }
 

@@ -19,6 +19,7 @@ volatile bool firmwareBaroReady;
 volatile float firmwareAltitude;         /* m */
 volatile float firmwareVerticalVelocity; /* m/s */
 volatile float firmwareAccelBias;        /* m/s^2 */
+volatile uint32_t firmwareGapCount;
 volatile float firmwareBaroResidual;     /* m */
 const char *volatile firmwareError;
 
@@ -65,6 +66,7 @@ void FirmwareTask(void) {
     firmwareAltitude = FusionAltitudeGetAltitude(&firmwareEstimator);
     firmwareVerticalVelocity = FusionAltitudeGetVerticalVelocity(&firmwareEstimator);
     firmwareAccelBias = FusionAltitudeGetAccelBias(&firmwareEstimator);
+    firmwareGapCount = FusionAltitudeGetGapCount(&firmwareEstimator); /* logging gaps and scheduler stalls seen */
     const float residual = FusionAltitudeGetBaroResidual(&firmwareEstimator);
     if (!FusionAltitudeIsNaN(residual)) { /* NaN (0x7FC00000): no baro this step */
         firmwareBaroResidual = residual;

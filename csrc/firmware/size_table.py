@@ -33,7 +33,7 @@ FUNCTIONS = (
     "FusionAltitudeSettingsFromBandwidth", "FusionAltitudeSettingsFromPreset", "FusionAltitudeSettingsDefault",
     "FusionAltitudeStatusMessage", "FusionAltitudeGetSettings", "FusionAltitudeGetAltitude",
     "FusionAltitudeGetVerticalVelocity", "FusionAltitudeGetAccelBias", "FusionAltitudeGetBaroResidual",
-    "FusionAltitudeIsReferenceSet", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
+    "FusionAltitudeIsReferenceSet", "FusionAltitudeGetGapCount", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
     "FusionAltitudeFloatBits",
 )
 
@@ -44,6 +44,7 @@ KALMAN_FUNCTIONS = (
     "FusionAltitudeKalmanGetSensor", "FusionAltitudeKalmanGetCovariance", "FusionAltitudeKalmanGetHeightAboveGround",
     "FusionAltitudeKalmanGetAltitude", "FusionAltitudeKalmanGetAltitudeVariance", "FusionAltitudeKalmanGetVerticalVelocity",
     "FusionAltitudeKalmanGetAccelBias", "FusionAltitudeKalmanGetBaroOffset", "FusionAltitudeKalmanGetGpsOffset",
+    "FusionAltitudeKalmanGetGapCount",
 )
 
 COMPLEMENTARY_FUNCTIONS = (
@@ -53,6 +54,7 @@ COMPLEMENTARY_FUNCTIONS = (
     "FusionAltitudeComplementaryGetSettings", "FusionAltitudeComplementaryGetAltitude",
     "FusionAltitudeComplementaryGetVerticalVelocity", "FusionAltitudeComplementaryGetBaroFiltered",
     "FusionAltitudeComplementaryGetBaroVelocity", "FusionAltitudeComplementaryIsReferenceSet",
+    "FusionAltitudeComplementaryGetGapCount",
 )
 
 ALPHABETA_FUNCTIONS = (
@@ -62,6 +64,7 @@ ALPHABETA_FUNCTIONS = (
     "FusionAltitudeAlphaBetaMeasurementsNone", "FusionAltitudeAlphaBetaGains", "FusionAltitudeAlphaBetaStatusMessage",
     "FusionAltitudeAlphaBetaGetSettings", "FusionAltitudeAlphaBetaGetAltitude", "FusionAltitudeAlphaBetaGetVerticalVelocity",
     "FusionAltitudeAlphaBetaGetWeight", "FusionAltitudeAlphaBetaGetQuality", "FusionAltitudeAlphaBetaIsStarted",
+    "FusionAltitudeAlphaBetaGetGapCount",
 )
 
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the

@@ -119,3 +119,9 @@ bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const 
 SIZED bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const fusion) {
     return FusionAltitudeAlphaBetaIsStarted(fusion);
 }
+
+uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion);
+
+SIZED uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion) {
+    return FusionAltitudeAlphaBetaGetGapCount(fusion);
+}

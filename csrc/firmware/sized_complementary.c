@@ -101,3 +101,9 @@ bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeCompleme
 SIZED bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *const filter) {
     return FusionAltitudeComplementaryIsReferenceSet(filter);
 }
+
+uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter);
+
+SIZED uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter) {
+    return FusionAltitudeComplementaryGetGapCount(filter);
+}

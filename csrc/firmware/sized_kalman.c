@@ -105,6 +105,12 @@ SIZED float SizedFusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *co
     return FusionAltitudeKalmanGetGpsOffset(kalman);
 }
 
+uint32_t SizedFusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman);
+
+SIZED uint32_t SizedFusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman) {
+    return FusionAltitudeKalmanGetGapCount(kalman);
+}
+
 SIZED float SizedFusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanState i,
         const FusionAltitudeKalmanState j) {
     return FusionAltitudeKalmanGetCovariance(kalman, i, j);

@@ -45,6 +45,7 @@ float SizedFusionAltitudeGetVerticalVelocity(const FusionAltitude *const altitud
 float SizedFusionAltitudeGetAccelBias(const FusionAltitude *const altitude);
 float SizedFusionAltitudeGetBaroResidual(const FusionAltitude *const altitude);
 bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitude);
+uint32_t SizedFusionAltitudeGetGapCount(const FusionAltitude *const altitude);
 
 SIZED uint32_t SizedFusionAltitudeFloatBits(const float value) {
     return FusionAltitudeFloatBits(value);
@@ -133,4 +134,8 @@ SIZED float SizedFusionAltitudeGetBaroResidual(const FusionAltitude *const altit
 
 SIZED bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitude) {
     return FusionAltitudeIsReferenceSet(altitude);
+}
+
+SIZED uint32_t SizedFusionAltitudeGetGapCount(const FusionAltitude *const altitude) {
+    return FusionAltitudeGetGapCount(altitude);
 }

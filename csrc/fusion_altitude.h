@@ -12,9 +12,11 @@
  * down-acceleration and down-position before calling.
  *
  * Bit-exact results across compilers and targets need IEEE float32 arithmetic
- * without fused multiply-add contraction: compile with -ffp-contract=off (gcc
- * in GNU modes contracts by default; -std=c99/-std=c11 turn it off). Clang is
- * handled inside the header with a scoped pragma.
+ * without fused multiply-add contraction. The header turns contraction off for
+ * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
+ * and C++ (which contract by default) #pragma GCC optimize; ISO C modes
+ * (-std=c99, -std=c11) have it off already. Under gcc's GNU modes, compile
+ * with -ffp-contract=off as well, so that the functions still inline.
  *
  * Usage:
  * @code
@@ -41,6 +43,18 @@
 
 #ifdef __cplusplus
 extern "C" {
+#endif
+
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
 #endif
 
 /* Clang contracts a*b + c into an FMA by default; this keeps every operation
@@ -79,6 +93,7 @@ typedef enum {
     FusionAltitudeStatusUnstableDiscrete,      /**< discrete update not stable at this dt (Jury) */
     FusionAltitudeStatusInvalidBandwidth,      /**< omega, zeta or omega_b out of range */
     FusionAltitudeStatusInvalidPreset,         /**< unknown preset */
+    FusionAltitudeStatusInvalidGapPeriod,      /**< gap period NaN or <= 0 (+infinity: never a gap) */
 } FusionAltitudeStatus;
 
 /** Tuning presets. Each is zeta = 0.7, omega_b = omega / 5 through the formulas of FusionAltitudeSettingsFromBandwidth. */
@@ -90,13 +105,34 @@ typedef enum {
 } FusionAltitudePreset;
 
 /**
- * @brief Observer gains. The error dynamics have the characteristic polynomial
- * s^3 + positionGain*s^2 + velocityGain*s + biasGain.
+ * Default gap period, s: 0.5 s. An update whose dt exceeds it is a gap (see
+ * FusionAltitudeUpdate). 0.5 s is 50 periods at 100 Hz and 5 at 10 Hz, so no
+ * scheduler jitter trips it, and it stays below 0.83 s, where the default
+ * gains fail Jury's test (Kh*dt < 2): a longer step cannot be integrated
+ * stably anyway. Logs slower than 2 Hz (a 1 Hz balloon) need a longer one:
+ * the balloon preset uses 5 s (its gains are stable up to 6 s), or set it to
+ * about 5x the log's median dt.
+ */
+#define FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5f)
+
+/**
+ * After a restart following a gap the bias is held (not corrected) while
+ * sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD, i.e. for 8/Kh s: about the
+ * 2 % settling time 4/(zeta*omega) of the height and velocity loop
+ * (Kh = 2*zeta*omega + omega_b), so the error of the restarted velocity is
+ * corrected through v and h before it can reach b.
+ */
+#define FUSION_ALTITUDE_BIAS_HOLD (8.0f)
+
+/**
+ * @brief Observer settings. The error dynamics have the characteristic
+ * polynomial s^3 + positionGain*s^2 + velocityGain*s + biasGain.
  */
 typedef struct {
     float positionGain; /**< Kh, 1/s: baro residual into altitude */
     float velocityGain; /**< Kv, 1/s^2: baro residual into vertical velocity */
     float biasGain;     /**< Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation */
+    float gapPeriod;    /**< s: an update whose dt exceeds this is a gap, not integrated (default FUSION_ALTITUDE_DEFAULT_GAP_PERIOD) */
 } FusionAltitudeSettings;
 
 /** Observer state. Read it through the Get functions. */
@@ -106,7 +142,10 @@ typedef struct {
     float verticalVelocity; /**< v, m/s, +up */
     float accelBias;        /**< b, m/s^2, +up: subtracted from the accel input */
     float baroResidual;     /**< r = z - h before the correction, m; NaN on a step without baro */
-    bool referenceSet;      /**< false until the first baro sample or reset */
+    float gapTime;          /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
+    float sinceRestart;     /**< s since the last restart after a gap (the bias is held while sinceRestart*Kh < 8); -1 before any */
+    uint32_t gapCount;      /**< updates with dt > gapPeriod so far */
+    bool referenceSet;      /**< false until the first baro sample or reset, and again from a gap to the next baro sample */
 } FusionAltitude;
 
 //------------------------------------------------------------------------------
@@ -163,6 +202,8 @@ static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus
             return "omega and zeta must be finite and > 0, omega_b finite and >= 0";
         case FusionAltitudeStatusInvalidPreset:
             return "unknown preset";
+        case FusionAltitudeStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
     }
     return "unknown status";
 }
@@ -170,18 +211,22 @@ static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus
 //------------------------------------------------------------------------------
 // Settings
 
-/** @return the default (VTOL multirotor) gains: Kh = 2.40 1/s, Kv = 2.88 1/s^2, Kb = 0.675 1/s^3. */
+/**
+ * @return the default (VTOL multirotor) settings: Kh = 2.40 1/s, Kv = 2.88 1/s^2,
+ * Kb = 0.675 1/s^3, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5 s).
+ */
 static inline FusionAltitudeSettings FusionAltitudeSettingsDefault(void) {
-    const FusionAltitudeSettings settings = {2.40f, 2.88f, 0.675f};
+    const FusionAltitudeSettings settings = {2.40f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     return settings;
 }
 
 /**
- * @brief Checks the gains without a sample period: each finite and >= 0, and
- * the continuous-time observer stable. Routh-Hurwitz on
+ * @brief Checks the settings without a sample period: each gain finite and
+ * >= 0, and the continuous-time observer stable. Routh-Hurwitz on
  * s^3 + Kh*s^2 + Kv*s + Kb: Kh*Kv > Kb when Kb > 0; with Kb = 0 (no bias
  * estimation) the remaining s^2 + Kh*s + Kv needs Kh > 0 when Kv > 0.
- * Kh = Kv = Kb = 0 (pure inertial integration) is accepted.
+ * Kh = Kv = Kb = 0 (pure inertial integration) is accepted. The gap period
+ * must be > 0 (+infinity turns gap detection off); it is checked after the gains.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltitudeSettings *const settings) {
     FUSION_ALTITUDE_NO_CONTRACT
@@ -198,6 +243,9 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltit
         }
     } else if ((kv > 0.0f) && !(kh > 0.0f)) {
         return FusionAltitudeStatusUnstableGains;
+    }
+    if (!(settings->gapPeriod > 0.0f)) { /* false for NaN */
+        return FusionAltitudeStatusInvalidGapPeriod;
     }
     return FusionAltitudeStatusOk;
 }
@@ -250,7 +298,9 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsValidate(const FusionAl
  *   Kh = 2*zeta*omega + omegaBias          (1/s)
  *   Kv = omega*omega + 2*zeta*omega*omegaBias  (1/s^2)
  *   Kb = omega*omega*omegaBias             (1/s^3)
- * Typical: zeta = 0.7, omegaBias = omega / 5. The result is checked with
+ * Typical: zeta = 0.7, omegaBias = omega / 5. The gap period is set to
+ * FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (assign it afterwards to change it;
+ * *settings is not read). The result is checked with
  * FusionAltitudeSettingsCheck; *settings is written only on success.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAltitudeSettings *const settings, const float omega,
@@ -266,6 +316,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
     result.positionGain = twoZetaOmega + omegaBias;
     result.velocityGain = omegaSquared + twoZetaOmega * omegaBias;
     result.biasGain = omegaSquared * omegaBias;
+    result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
     const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&result);
     if (status != FusionAltitudeStatusOk) {
         return (status == FusionAltitudeStatusInvalidGain) ? FusionAltitudeStatusInvalidBandwidth : status;
@@ -282,6 +333,8 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
  *   fixed wing omega 0.5: 0.80, 0.32,   0.025
  *   VTOL       omega 1.5: 2.40, 2.88,   0.675
  *   racing     omega 5.0: 8.00, 32.0,   25.0
+ * Gap period: 5 s for the balloon (1 Hz baro logs; its gains pass Jury's
+ * test up to 6 s), FUSION_ALTITUDE_DEFAULT_GAP_PERIOD for the others.
  * *settings is written only on success.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitudeSettings *const settings, const FusionAltitudePreset preset) {
@@ -291,11 +344,13 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
             result.positionGain = 0.32f;
             result.velocityGain = 0.0512f;
             result.biasGain = 0.0016f;
+            result.gapPeriod = 5.0f;
             break;
         case FusionAltitudePresetFixedWing:
             result.positionGain = 0.80f;
             result.velocityGain = 0.32f;
             result.biasGain = 0.025f;
+            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
             break;
         case FusionAltitudePresetVtol:
             result = FusionAltitudeSettingsDefault();
@@ -304,6 +359,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
             result.positionGain = 8.0f;
             result.velocityGain = 32.0f;
             result.biasGain = 25.0f;
+            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
             break;
         default:
             return FusionAltitudeStatusInvalidPreset;
@@ -325,6 +381,9 @@ static inline void FusionAltitudeInitialise(FusionAltitude *const altitude) {
     altitude->verticalVelocity = 0.0f;
     altitude->accelBias = 0.0f;
     altitude->baroResidual = 0.0f;
+    altitude->gapTime = 0.0f;
+    altitude->sinceRestart = -1.0f;
+    altitude->gapCount = 0u;
     altitude->referenceSet = false;
 }
 
@@ -342,8 +401,9 @@ static inline FusionAltitudeStatus FusionAltitudeSetSettings(FusionAltitude *con
 
 /**
  * @brief Sets the reference: altitude = baroAltitude (m), vertical velocity 0,
- * residual 0. The accel bias estimate is kept. Rejected if baroAltitude is not
- * finite.
+ * residual 0; a pending restart after a gap and a bias hold are cancelled.
+ * The accel bias estimate and the gap count are kept. Rejected if
+ * baroAltitude is not finite.
  */
 static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const altitude, const float baroAltitude) {
     if (!FusionAltitudeIsFinite(baroAltitude)) {
@@ -352,8 +412,29 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
     altitude->altitude = baroAltitude;
     altitude->verticalVelocity = 0.0f;
     altitude->baroResidual = 0.0f;
+    altitude->gapTime = 0.0f;
+    altitude->sinceRestart = -1.0f;
     altitude->referenceSet = true;
     return FusionAltitudeStatusOk;
+}
+
+/**
+ * @brief Internal: the first baro sample z (m) after initialisation or after a
+ * gap sets the reference: h = z, residual 0. After initialisation v = 0 (as
+ * FusionAltitudeReset); after a gap v = (z - h)/gapTime, the mean vertical
+ * velocity over the gap (h is the last altitude before it, gapTime the time
+ * since, s), and the bias hold starts (sinceRestart = 0). The bias is kept.
+ */
+static inline void FusionAltitudeRestart(FusionAltitude *const altitude, const float baroAltitude) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (altitude->gapTime > 0.0f) {
+        altitude->sinceRestart = 0.0f;
+    }
+    altitude->verticalVelocity = (altitude->gapTime > 0.0f) ? ((baroAltitude - altitude->altitude) / altitude->gapTime) : 0.0f;
+    altitude->altitude = baroAltitude;
+    altitude->baroResidual = 0.0f;
+    altitude->gapTime = 0.0f;
+    altitude->referenceSet = true;
 }
 
 /**
@@ -405,9 +486,27 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
  * Without one (z NaN) it integrates only: v += (a - b)*dt; h += v*dt; b is
  * kept and the stored residual is the quiet NaN 0x7FC00000.
  *
- * Until the reference is set, a baro sample only sets it (FusionAltitudeReset,
- * a and dt unused) and a step without baro changes nothing but the residual
- * (NaN). Every call checks all inputs first: non-finite accel, infinite
+ * Until the reference is set, a baro sample only sets it (h = z, v = 0,
+ * residual 0, as FusionAltitudeReset; a and dt unused) and a step without baro
+ * changes nothing but the residual (NaN).
+ *
+ * Gaps: once the reference is set, an update with dt > gapPeriod is a gap (a
+ * logging gap, a brown-out, a scheduler stall) and is not integrated: one
+ * accel sample says nothing about the motion over the gap, and the
+ * correction step is unstable for Kh*dt >= 2. The gap count goes up and the
+ * reference is released (FusionAltitudeIsReferenceSet is false): the bias b
+ * is held, h and v are frozen, and the next baro sample, this step's if it
+ * has one, restarts h = z and v = (z - h_before)/T, the mean velocity over
+ * the T s since h_before was last updated (the gap and any steps without
+ * baro after it), with residual 0. The mean velocity is used rather than the
+ * held or a zero velocity because it is the only one the data support after
+ * a gap in motion, and the velocity loop removes its error (at most the
+ * velocity change over half the gap) within a few 1/omega. Meanwhile the
+ * bias is held: after the restart every update adds its dt to sinceRestart,
+ * and the bias correction is skipped while sinceRestart*Kh < 8 (see
+ * FUSION_ALTITUDE_BIAS_HOLD), so that error does not leak into b.
+ *
+ * Every call checks all inputs first: non-finite accel, infinite
  * baroAltitude, or dt not finite or <= 0 is rejected with the state unchanged.
  */
 static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const altitude, const float accel, const float baroAltitude,
@@ -416,6 +515,15 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel, baroAltitude, dt);
     if (status != FusionAltitudeStatusOk) {
         return status;
+    }
+    if (altitude->referenceSet && (dt > altitude->settings.gapPeriod)) { /* a gap: restart from the next baro sample */
+        altitude->gapCount++;
+        altitude->referenceSet = false;
+        altitude->gapTime = dt;
+    } else if (!altitude->referenceSet && (altitude->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
+        altitude->gapTime += dt;
+    } else if (altitude->referenceSet && (altitude->sinceRestart >= 0.0f)) { /* time since the restart */
+        altitude->sinceRestart += dt;
     }
     if (!FusionAltitudeIsFinite(baroAltitude)) { /* NaN, as the inputs are checked: no baro sample this step */
         if (altitude->referenceSet) {
@@ -426,12 +534,15 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
         return FusionAltitudeStatusOk;
     }
     if (!altitude->referenceSet) {
-        return FusionAltitudeReset(altitude, baroAltitude);
+        FusionAltitudeRestart(altitude, baroAltitude);
+        return FusionAltitudeStatusOk;
     }
     const float residual = baroAltitude - altitude->altitude;
     altitude->verticalVelocity += ((accel - altitude->accelBias) + altitude->settings.velocityGain * residual) * dt;
     altitude->altitude += (altitude->verticalVelocity + altitude->settings.positionGain * residual) * dt;
-    altitude->accelBias -= (altitude->settings.biasGain * residual) * dt;
+    if (!((altitude->sinceRestart >= 0.0f) && (altitude->sinceRestart * altitude->settings.positionGain < FUSION_ALTITUDE_BIAS_HOLD))) {
+        altitude->accelBias -= (altitude->settings.biasGain * residual) * dt;
+    }
     altitude->baroResidual = residual;
     return FusionAltitudeStatusOk;
 }
@@ -465,12 +576,22 @@ static inline float FusionAltitudeGetBaroResidual(const FusionAltitude *const al
     return altitude->baroResidual;
 }
 
-/** @return true once the reference is set (first baro sample or reset). */
+/** @return the number of gaps so far: updates with dt > gapPeriod once the reference was set. */
+static inline uint32_t FusionAltitudeGetGapCount(const FusionAltitude *const altitude) {
+    return altitude->gapCount;
+}
+
+/** @return true once the reference is set (first baro sample or reset); false again from a gap to the next baro sample. */
 static inline bool FusionAltitudeIsReferenceSet(const FusionAltitude *const altitude) {
     return altitude->referenceSet;
 }
 
 #undef FUSION_ALTITUDE_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

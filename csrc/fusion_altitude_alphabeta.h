@@ -39,6 +39,20 @@
  * waits (accel unused); that step starts every sampled filter and sets h to
  * their Qmin*confidence-weighted mean, v = 0.
  *
+ * Gaps and dropouts (gapPeriod, default 1.5 s: the sensor timeouts, longer
+ * than the 1 Hz baro of a balloon). Once started, a step with dt > gapPeriod
+ * is a gap: nothing is predicted over it, the gap count goes up and the
+ * fusion restarts as at the first start, from this step's samples or, if it
+ * has none, the next step's that has some (h and v are held meanwhile);
+ * after a gap the restart takes v = (h_start - h_before)/T, the mean
+ * velocity over the T s since h was last updated, for the fused and every
+ * filter's velocity. Dead reckoning is bounded: once no baro, lidar, sonar
+ * or GPS channel has weight (the IMU channel alone, or no weight at all) for
+ * more than gapPeriod s, the fusion restarts the same way from the next
+ * samples (with v = 0; h and v are held until then), so a sensor dropout or
+ * a fused altitude that drifted beyond every gap maximum cannot run away;
+ * the sensors re-acquire it.
+ *
  * Why alpha = 2(2Q-1)/(Q(Q+1)): with beta = 6/(Q(Q+1)) these are the gains
  * of the least-squares straight-line fit to the latest Q samples (the
  * growing-memory polynomial filter; Brookner, "Tracking and Kalman Filtering
@@ -52,9 +66,12 @@
  * The write-up's "Harmo coefficient" column is not used: it never says what
  * it does.
  *
- * Bit-exact results across compilers and targets need IEEE float32 without
- * fused multiply-add contraction: compile with -ffp-contract=off (clang is
- * handled inside the header with a scoped pragma).
+ * Bit-exact results across compilers and targets need IEEE float32 arithmetic
+ * without fused multiply-add contraction. The header turns contraction off for
+ * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
+ * and C++ (which contract by default) #pragma GCC optimize; ISO C modes
+ * (-std=c99, -std=c11) have it off already. Under gcc's GNU modes, compile
+ * with -ffp-contract=off as well, so that the functions still inline.
  *
  * Usage:
  * @code
@@ -83,6 +100,18 @@
 
 #ifdef __cplusplus
 extern "C" {
+#endif
+
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
 #endif
 
 #if defined(__clang__)
@@ -124,6 +153,7 @@ typedef enum {
     FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,  /**< a band limit NaN or not altitudeMin < altitudeMax */
     FusionAltitudeAlphaBetaStatusInvalidGapMax,        /**< a gap maximum NaN or <= 0 (+infinity: no limit) */
     FusionAltitudeAlphaBetaStatusInvalidTimeout,       /**< a timeout not finite or <= 0 */
+    FusionAltitudeAlphaBetaStatusInvalidGapPeriod,     /**< gap period NaN or <= 0 (+infinity: never a gap) */
 } FusionAltitudeAlphaBetaStatus;
 
 /** One sensor's settings. */
@@ -138,9 +168,10 @@ typedef struct {
     float timeout;       /**< s, > 0: weight 0 after this long without a sample; the next sample restarts the filter */
 } FusionAltitudeAlphaBetaSensorSettings;
 
-/** Settings: one entry per sensor channel, in FusionAltitudeAlphaBetaSensorIndex order. */
+/** Settings: one entry per sensor channel, in FusionAltitudeAlphaBetaSensorIndex order, and the gap period. */
 typedef struct {
     FusionAltitudeAlphaBetaSensorSettings sensors[FUSION_ALTITUDE_ALPHABETA_SENSORS];
+    float gapPeriod; /**< s: an update whose dt exceeds this is a gap, not integrated; also the longest dead reckoning (default 1.5 s) */
 } FusionAltitudeAlphaBetaSettings;
 
 /** One step's samples (m). NaN means "no sample this step". */
@@ -169,7 +200,10 @@ typedef struct {
     float altitude;         /**< fused h, m */
     float verticalVelocity; /**< fused v, m/s */
     float totalWeight;      /**< sum of the weights of the latest step (0: dead reckoning) */
-    bool started;           /**< false until the first non-IMU sample */
+    float coastingFor;      /**< s of dead reckoning so far: steps with no weight on a baro, lidar, sonar or GPS channel */
+    float gapTime;          /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
+    uint32_t gapCount;      /**< updates with dt > gapPeriod so far */
+    bool started;           /**< false until the first non-IMU sample, and from a gap or a dead-reckoning timeout to the next one */
 } FusionAltitudeAlphaBeta;
 
 //------------------------------------------------------------------------------
@@ -204,6 +238,8 @@ static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltit
             return "gap maxima must be > 0 (+infinity: no limit)";
         case FusionAltitudeAlphaBetaStatusInvalidTimeout:
             return "timeouts must be finite and > 0";
+        case FusionAltitudeAlphaBetaStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
     }
     return "unknown status";
 }
@@ -246,7 +282,7 @@ static inline float FusionAltitudeAlphaBetaInfinity(void) {
  * row is "lidar or sonar"); altitude max 40 m for the lidar and 5 m for the
  * sonar (their typical ranges; the write-up only says "low" and "very low
  * range"), +infinity for the others; timeout 1.5 s for every sensor (longer
- * than the 1 Hz baro of a balloon).
+ * than the 1 Hz baro of a balloon), and gap period 1.5 s to match.
  */
 static inline FusionAltitudeAlphaBetaSettings FusionAltitudeAlphaBetaSettingsDefault(void) {
     const float infinity = FusionAltitudeAlphaBetaInfinity();
@@ -256,6 +292,7 @@ static inline FusionAltitudeAlphaBetaSettings FusionAltitudeAlphaBetaSettingsDef
     settings.sensors[FusionAltitudeAlphaBetaSensorLidar] = FusionAltitudeAlphaBetaSensor(0.5f, 2, 8, 10.0f, 0.0f, 40.0f, 6.0f, 1.5f);
     settings.sensors[FusionAltitudeAlphaBetaSensorSonar] = FusionAltitudeAlphaBetaSensor(0.5f, 2, 8, 10.0f, 0.0f, 5.0f, 6.0f, 1.5f);
     settings.sensors[FusionAltitudeAlphaBetaSensorGps] = FusionAltitudeAlphaBetaSensor(10.0f, 10, 120, 1.0f, -10.0f, infinity, 20.0f, 1.5f);
+    settings.gapPeriod = 1.5f;
     return settings;
 }
 
@@ -283,13 +320,16 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSensorSetting
     return FusionAltitudeAlphaBetaStatusOk;
 }
 
-/** @brief Checks every sensor's settings, in sensor order; the first failure's status. */
+/** @brief Checks every sensor's settings, in sensor order (the first failure's status), then the gap period. */
 static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSettingsCheck(const FusionAltitudeAlphaBetaSettings *const settings) {
     for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
         const FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSensorSettingsCheck(&settings->sensors[i]);
         if (status != FusionAltitudeAlphaBetaStatusOk) {
             return status;
         }
+    }
+    if (!(settings->gapPeriod > 0.0f)) { /* false for NaN */
+        return FusionAltitudeAlphaBetaStatusInvalidGapPeriod;
     }
     return FusionAltitudeAlphaBetaStatusOk;
 }
@@ -333,6 +373,9 @@ static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const f
     fusion->altitude = 0.0f;
     fusion->verticalVelocity = 0.0f;
     fusion->totalWeight = 0.0f;
+    fusion->coastingFor = 0.0f;
+    fusion->gapTime = 0.0f;
+    fusion->gapCount = 0u;
     fusion->started = false;
 }
 
@@ -401,6 +444,147 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaCheckInputs(c
 }
 
 /**
+ * @brief Internal: the start (or restart) on a step with a non-IMU sample:
+ * h = the Qmin*confidence-weighted mean of the samples z, v = 0 or, after a
+ * gap, the mean velocity over it; every sampled filter starts there.
+ * @return false (nothing changed) if no non-IMU sample has weight.
+ */
+static inline bool FusionAltitudeAlphaBetaStart(FusionAltitudeAlphaBeta *const fusion, const float z[FUSION_ALTITUDE_ALPHABETA_SENSORS],
+                                                const bool imuSample) {
+    FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+    float sumWeight = 0.0f;
+    float sumAltitude = 0.0f;
+    for (int i = 1; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        if (FusionAltitudeIsFinite(z[i])) {
+            const float w = (float) fusion->settings.sensors[i].qualityMin * fusion->settings.sensors[i].confidence;
+            sumWeight += w;
+            sumAltitude += w * z[i];
+        }
+    }
+    if (!(sumWeight > 0.0f)) {
+        return false; /* nothing to start from yet */
+    }
+    const float altitude = sumAltitude / sumWeight;
+    const float velocity = (fusion->gapTime > 0.0f) ? ((altitude - fusion->altitude) / fusion->gapTime) : 0.0f;
+    fusion->altitude = altitude;
+    fusion->verticalVelocity = velocity;
+    fusion->totalWeight = sumWeight;
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        const FusionAltitudeAlphaBetaSensorSettings *const s = &fusion->settings.sensors[i];
+        const bool sampled = (i == FusionAltitudeAlphaBetaSensorImu) ? imuSample : FusionAltitudeIsFinite(z[i]);
+        f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
+        f->velocity = velocity;
+        f->sinceSample = 0.0f;
+        f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
+        f->quality = s->qualityMin;
+        f->started = sampled;
+        f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
+        if (!sampled) {
+            f->altitude = 0.0f;
+        }
+    }
+    fusion->coastingFor = 0.0f;
+    fusion->gapTime = 0.0f;
+    fusion->started = true;
+    return true;
+}
+
+/**
+ * @brief Internal: one sensor's alpha-beta filter over dt with its sample z
+ * (NaN: none), the predicted fused altitude and the fused velocity before
+ * this step (see the file comment, step 2).
+ * @return the sensor's weight this step (0: not used).
+ */
+static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFilter *const f, const FusionAltitudeAlphaBetaSensorSettings *const s,
+                                                      const float z, const float dt, const float altitudePredicted,
+                                                      const float verticalVelocity) {
+    FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+    if (f->started) {
+        f->altitude += f->velocity * dt;
+        f->sinceSample += dt;
+    }
+    if (FusionAltitudeIsFinite(z)) {
+        const bool wasBeyondGap = !((f->gap <= s->gapMax) && (f->gap >= -s->gapMax));
+        f->gap = z - altitudePredicted;
+        if (!f->started || (f->sinceSample > s->timeout) || wasBeyondGap) {
+            f->altitude = z;
+            f->velocity = verticalVelocity;
+            f->quality = s->qualityMin;
+            f->started = true;
+        } else {
+            if ((f->gap <= s->threshold) && (f->gap >= -s->threshold)) {
+                f->quality = (f->quality < s->qualityMax) ? (f->quality + 1) : s->qualityMax;
+            } else {
+                f->quality = (f->quality > s->qualityMin) ? (f->quality - 1) : s->qualityMin;
+            }
+            float alpha;
+            float beta;
+            FusionAltitudeAlphaBetaGains(f->quality, &alpha, &beta);
+            const float residual = z - f->altitude;
+            f->altitude += alpha * residual;
+            f->velocity += (beta * residual) / f->sinceSample;
+        }
+        f->sinceSample = 0.0f;
+    }
+    float weight = 0.0f;
+    if (f->started && !(f->sinceSample > s->timeout)) {
+        const bool inBand = (altitudePredicted >= s->altitudeMin) && (altitudePredicted <= s->altitudeMax);
+        const bool close = (f->gap <= s->gapMax) && (f->gap >= -s->gapMax);
+        if (inBand && close) {
+            weight = (float) f->quality * s->confidence;
+        }
+    }
+    f->weight = weight;
+    return weight;
+}
+
+/**
+ * @brief Internal: steps 1 to 3 of the file comment, for a started fusion:
+ * the IMU prediction, every filter, then the weighted mean or, with every
+ * weight zero, dead reckoning; after gapPeriod s with no weight on a
+ * non-IMU channel the fusion stops, to restart from the next samples.
+ */
+static inline void FusionAltitudeAlphaBetaStep(FusionAltitudeAlphaBeta *const fusion, const float accel, const float dt,
+                                               float z[FUSION_ALTITUDE_ALPHABETA_SENSORS], const bool imuSample) {
+    FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+    float altitudePredicted = fusion->altitude + fusion->verticalVelocity * dt;
+    float velocityPredicted = fusion->verticalVelocity;
+    if (imuSample) {
+        altitudePredicted += 0.5f * accel * dt * dt;
+        velocityPredicted += accel * dt;
+    }
+    z[FusionAltitudeAlphaBetaSensorImu] = imuSample ? altitudePredicted : FusionAltitudeNaN();
+    float sumWeight = 0.0f;
+    float sumAltitude = 0.0f;
+    float sumVelocity = 0.0f;
+    bool referenced = false; /* a baro, lidar, sonar or GPS channel has weight */
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        const float weight = FusionAltitudeAlphaBetaFilterStep(f, &fusion->settings.sensors[i], z[i], dt, altitudePredicted,
+                                                               fusion->verticalVelocity);
+        if (weight > 0.0f) {
+            sumWeight += weight;
+            sumAltitude += weight * f->altitude;
+            sumVelocity += weight * f->velocity;
+            referenced = referenced || (i != FusionAltitudeAlphaBetaSensorImu);
+        }
+    }
+    if (sumWeight > 0.0f) {
+        fusion->altitude = sumAltitude / sumWeight;
+        fusion->verticalVelocity = sumVelocity / sumWeight;
+    } else {
+        fusion->altitude = altitudePredicted;
+        fusion->verticalVelocity = velocityPredicted;
+    }
+    fusion->totalWeight = sumWeight;
+    fusion->coastingFor = referenced ? 0.0f : (fusion->coastingFor + dt);
+    if (fusion->coastingFor > fusion->settings.gapPeriod) {
+        fusion->started = false; /* bounded coasting: re-acquire from the next samples */
+    }
+}
+
+/**
  * @brief One step (see the file comment for the equations).
  *
  * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity
@@ -408,7 +592,9 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaCheckInputs(c
  * @param dt time since the previous step, s.
  * @param m this step's samples, NaN where none.
  *
- * Inputs are checked first; a rejected call leaves the state unchanged.
+ * A dt above gapPeriod is a gap, and dead reckoning is bounded (see the file
+ * comment). Inputs are checked first; a rejected call leaves the state
+ * unchanged.
  */
 static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(FusionAltitudeAlphaBeta *const fusion, const float accel,
                                                                           const float dt,
@@ -420,116 +606,23 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(Fusion
     }
     const bool imuSample = FusionAltitudeIsFinite(accel);
     float z[FUSION_ALTITUDE_ALPHABETA_SENSORS];
+    z[FusionAltitudeAlphaBetaSensorImu] = FusionAltitudeNaN();
     z[FusionAltitudeAlphaBetaSensorBaro] = m->baroAltitude;
     z[FusionAltitudeAlphaBetaSensorLidar] = m->lidarAltitude;
     z[FusionAltitudeAlphaBetaSensorSonar] = m->sonarAltitude;
     z[FusionAltitudeAlphaBetaSensorGps] = m->gpsAltitude;
-
+    if (fusion->started && (dt > fusion->settings.gapPeriod)) { /* a gap: restart from this or the next samples */
+        fusion->gapCount++;
+        fusion->started = false;
+        fusion->gapTime = dt;
+    } else if (!fusion->started && (fusion->gapTime > 0.0f)) { /* still waiting for samples after a gap */
+        fusion->gapTime += dt;
+    }
     if (!fusion->started) {
-        /* Start on the first step with a non-IMU sample: their Qmin*confidence-weighted mean. */
-        float sumWeight = 0.0f;
-        float sumAltitude = 0.0f;
-        for (int i = 1; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
-            if (FusionAltitudeIsFinite(z[i])) {
-                const float w = (float) fusion->settings.sensors[i].qualityMin * fusion->settings.sensors[i].confidence;
-                sumWeight += w;
-                sumAltitude += w * z[i];
-            }
-        }
-        if (!(sumWeight > 0.0f)) {
-            return FusionAltitudeAlphaBetaStatusOk; /* nothing to start from yet */
-        }
-        fusion->altitude = sumAltitude / sumWeight;
-        fusion->verticalVelocity = 0.0f;
-        fusion->totalWeight = sumWeight;
-        for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
-            FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
-            const FusionAltitudeAlphaBetaSensorSettings *const s = &fusion->settings.sensors[i];
-            const bool sampled = (i == FusionAltitudeAlphaBetaSensorImu) ? imuSample : FusionAltitudeIsFinite(z[i]);
-            f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
-            f->velocity = 0.0f;
-            f->sinceSample = 0.0f;
-            f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
-            f->quality = s->qualityMin;
-            f->started = sampled;
-            f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
-            if (!sampled) {
-                f->altitude = 0.0f;
-            }
-        }
-        fusion->started = true;
+        (void) FusionAltitudeAlphaBetaStart(fusion, z, imuSample);
         return FusionAltitudeAlphaBetaStatusOk;
     }
-
-    /* 1. IMU prediction of the fused altitude; it is also the IMU channel's sample. */
-    float altitudePredicted = fusion->altitude + fusion->verticalVelocity * dt;
-    float velocityPredicted = fusion->verticalVelocity;
-    if (imuSample) {
-        altitudePredicted += 0.5f * accel * dt * dt;
-        velocityPredicted += accel * dt;
-    }
-    z[FusionAltitudeAlphaBetaSensorImu] = imuSample ? altitudePredicted : FusionAltitudeNaN();
-
-    /* 2. Each sensor's alpha-beta filter, quality and weight. */
-    float sumWeight = 0.0f;
-    float sumAltitude = 0.0f;
-    float sumVelocity = 0.0f;
-    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
-        FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
-        const FusionAltitudeAlphaBetaSensorSettings *const s = &fusion->settings.sensors[i];
-        const bool sampled = FusionAltitudeIsFinite(z[i]);
-        if (f->started) {
-            f->altitude += f->velocity * dt;
-            f->sinceSample += dt;
-        }
-        if (sampled) {
-            const bool wasBeyondGap = !((f->gap <= s->gapMax) && (f->gap >= -s->gapMax));
-            f->gap = z[i] - altitudePredicted;
-            if (!f->started || (f->sinceSample > s->timeout) || wasBeyondGap) {
-                f->altitude = z[i];
-                f->velocity = fusion->verticalVelocity;
-                f->quality = s->qualityMin;
-                f->started = true;
-            } else {
-                if ((f->gap <= s->threshold) && (f->gap >= -s->threshold)) {
-                    f->quality = (f->quality < s->qualityMax) ? (f->quality + 1) : s->qualityMax;
-                } else {
-                    f->quality = (f->quality > s->qualityMin) ? (f->quality - 1) : s->qualityMin;
-                }
-                float alpha;
-                float beta;
-                FusionAltitudeAlphaBetaGains(f->quality, &alpha, &beta);
-                const float residual = z[i] - f->altitude;
-                f->altitude += alpha * residual;
-                f->velocity += (beta * residual) / f->sinceSample;
-            }
-            f->sinceSample = 0.0f;
-        }
-        float weight = 0.0f;
-        if (f->started && !(f->sinceSample > s->timeout)) {
-            const bool inBand = (altitudePredicted >= s->altitudeMin) && (altitudePredicted <= s->altitudeMax);
-            const bool close = (f->gap <= s->gapMax) && (f->gap >= -s->gapMax);
-            if (inBand && close) {
-                weight = (float) f->quality * s->confidence;
-            }
-        }
-        f->weight = weight;
-        if (weight > 0.0f) {
-            sumWeight += weight;
-            sumAltitude += weight * f->altitude;
-            sumVelocity += weight * f->velocity;
-        }
-    }
-
-    /* 3. Weighted mean, or dead reckoning when every weight is zero. */
-    if (sumWeight > 0.0f) {
-        fusion->altitude = sumAltitude / sumWeight;
-        fusion->verticalVelocity = sumVelocity / sumWeight;
-    } else {
-        fusion->altitude = altitudePredicted;
-        fusion->verticalVelocity = velocityPredicted;
-    }
-    fusion->totalWeight = sumWeight;
+    FusionAltitudeAlphaBetaStep(fusion, accel, dt, z, imuSample);
     return FusionAltitudeAlphaBetaStatusOk;
 }
 
@@ -558,12 +651,22 @@ static inline int32_t FusionAltitudeAlphaBetaGetQuality(const FusionAltitudeAlph
     return fusion->filters[sensor].quality;
 }
 
-/** @return true once the fusion has started (first non-IMU sample). */
+/** @return the number of gaps so far: updates with dt > gapPeriod once started. */
+static inline uint32_t FusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion) {
+    return fusion->gapCount;
+}
+
+/** @return true once the fusion has started (first non-IMU sample); false from a gap or a dead-reckoning timeout to the next sample. */
 static inline bool FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const fusion) {
     return fusion->started;
 }
 
 #undef FUSION_ALTITUDE_ALPHABETA_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_ALPHABETA_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

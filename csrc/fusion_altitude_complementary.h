@@ -39,9 +39,21 @@
  * overshoot at 13.9 s) and a constant accelerometer bias b, which this filter
  * has no state for, a steady altitude error of b*TV*TH (12 mg: 5.9 m).
  *
- * Bit-exact results across compilers and targets need IEEE float32 without
- * fused multiply-add contraction: compile with -ffp-contract=off (clang is
- * handled inside the header with a scoped pragma).
+ * Gaps: once the reference is set, a step with dt > gapPeriod (default 0.5 s,
+ * as the observer's: no jitter trips it at 10 Hz or faster) is a gap and is
+ * not integrated: the gap count goes up, the reference is released, h, v and
+ * aLp are frozen, and the next baro sample z (this step's if it has one)
+ * restarts the filter: h = zLp = z, v = vBaro = (z - h_before)/T, the mean
+ * velocity over the T s since h was last updated, and the baro interval
+ * starts again. The mean velocity, not 0, because with TV = 10 s a wrong
+ * velocity takes tens of seconds to leave this filter.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 arithmetic
+ * without fused multiply-add contraction. The header turns contraction off for
+ * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
+ * and C++ (which contract by default) #pragma GCC optimize; ISO C modes
+ * (-std=c99, -std=c11) have it off already. Under gcc's GNU modes, compile
+ * with -ffp-contract=off as well, so that the functions still inline.
  *
  * Usage:
  * @code
@@ -68,6 +80,18 @@
 extern "C" {
 #endif
 
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_COMPLEMENTARY_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #if defined(__clang__)
 #define FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT _Pragma("clang fp contract(off)")
 #else
@@ -85,6 +109,7 @@ typedef enum {
     FusionAltitudeComplementaryStatusInvalidDt,           /**< dt not finite or <= 0 */
     FusionAltitudeComplementaryStatusInvalidTimeConstant, /**< a time constant not finite or < 0 */
     FusionAltitudeComplementaryStatusInvalidCoefficient,  /**< a per-sample coefficient not finite or outside [0, 1] */
+    FusionAltitudeComplementaryStatusInvalidGapPeriod,    /**< gap period NaN or <= 0 (+infinity: never a gap) */
 } FusionAltitudeComplementaryStatus;
 
 /** Settings. */
@@ -96,6 +121,7 @@ typedef struct {
     float altitudeCoefficient;  /**< cH in [0, 1], per baro sample (used when perSampleCoefficients) */
     float velocityTimeConstant; /**< TV, s, >= 0: cV = TV/(TV + D) (used otherwise) */
     float altitudeTimeConstant; /**< TH, s, >= 0: cH = TH/(TH + D) (used otherwise) */
+    float gapPeriod;            /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
 } FusionAltitudeComplementarySettings;
 
 /** Filter state. Read it through the Get functions. */
@@ -107,7 +133,9 @@ typedef struct {
     float baroFiltered;      /**< zLp, m */
     float baroVelocity;      /**< vBaro of the latest baro sample, m/s; NaN on a step without baro */
     float sinceBaro;         /**< s since the latest baro sample, before this step */
-    bool referenceSet;       /**< false until the first baro sample or reset */
+    float gapTime;           /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
+    uint32_t gapCount;       /**< updates with dt > gapPeriod so far */
+    bool referenceSet;       /**< false until the first baro sample or reset, and from a gap to the next baro sample */
 } FusionAltitudeComplementary;
 
 //------------------------------------------------------------------------------
@@ -128,6 +156,8 @@ static inline const char *FusionAltitudeComplementaryStatusMessage(const FusionA
             return "time constants must be finite and >= 0";
         case FusionAltitudeComplementaryStatusInvalidCoefficient:
             return "per-sample coefficients must be finite and in [0, 1]";
+        case FusionAltitudeComplementaryStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
     }
     return "unknown status";
 }
@@ -149,6 +179,7 @@ static inline FusionAltitudeComplementarySettings FusionAltitudeComplementarySet
     settings.altitudeCoefficient = 0.998f;
     settings.velocityTimeConstant = 9.99f;
     settings.altitudeTimeConstant = 4.99f;
+    settings.gapPeriod = 0.5f;
     return settings;
 }
 
@@ -177,6 +208,9 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementarySetti
         !FusionAltitudeComplementaryIsCoefficient(settings->altitudeCoefficient)) {
         return FusionAltitudeComplementaryStatusInvalidCoefficient;
     }
+    if (!(settings->gapPeriod > 0.0f)) { /* false for NaN */
+        return FusionAltitudeComplementaryStatusInvalidGapPeriod;
+    }
     return FusionAltitudeComplementaryStatusOk;
 }
 
@@ -192,6 +226,8 @@ static inline void FusionAltitudeComplementaryInitialise(FusionAltitudeComplemen
     filter->baroFiltered = 0.0f;
     filter->baroVelocity = 0.0f;
     filter->sinceBaro = 0.0f;
+    filter->gapTime = 0.0f;
+    filter->gapCount = 0u;
     filter->referenceSet = false;
 }
 
@@ -220,8 +256,26 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset
     filter->verticalVelocity = 0.0f;
     filter->baroVelocity = 0.0f;
     filter->sinceBaro = 0.0f;
+    filter->gapTime = 0.0f;
     filter->referenceSet = true;
     return FusionAltitudeComplementaryStatusOk;
+}
+
+/**
+ * @brief Internal: the first baro sample z (m) after a gap restarts the
+ * filter: v = vBaro = (z - h)/gapTime (the mean velocity over the gap),
+ * h = zLp = z, the baro interval restarts; aLp is kept.
+ */
+static inline void FusionAltitudeComplementaryRestart(FusionAltitudeComplementary *const filter, const float baroAltitude) {
+    FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+    const float velocity = (baroAltitude - filter->altitude) / filter->gapTime;
+    filter->altitude = baroAltitude;
+    filter->baroFiltered = baroAltitude;
+    filter->verticalVelocity = velocity;
+    filter->baroVelocity = velocity;
+    filter->sinceBaro = 0.0f;
+    filter->gapTime = 0.0f;
+    filter->referenceSet = true;
 }
 
 /**
@@ -251,6 +305,7 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryCheck
  *
  * Until the reference is set a baro sample only sets it (Reset; a and dt
  * unused) and a step without baro changes nothing but the baro velocity (NaN).
+ * A dt above gapPeriod is a gap: see the file comment.
  * Inputs are checked first; a rejected call leaves the state unchanged.
  */
 static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdate(FusionAltitudeComplementary *const filter,
@@ -262,7 +317,18 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdat
         return status;
     }
     const bool baroSample = FusionAltitudeIsFinite(baroAltitude);
+    if (filter->referenceSet && (dt > filter->settings.gapPeriod)) { /* a gap: restart from the next baro sample */
+        filter->gapCount++;
+        filter->referenceSet = false;
+        filter->gapTime = dt;
+    } else if (!filter->referenceSet && (filter->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
+        filter->gapTime += dt;
+    }
     if (!filter->referenceSet) {
+        if (baroSample && (filter->gapTime > 0.0f)) {
+            FusionAltitudeComplementaryRestart(filter, baroAltitude);
+            return FusionAltitudeComplementaryStatusOk;
+        }
         if (baroSample) {
             return FusionAltitudeComplementaryReset(filter, baroAltitude);
         }
@@ -326,12 +392,22 @@ static inline float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltit
     return filter->baroVelocity;
 }
 
-/** @return true once the reference is set. */
+/** @return the number of gaps so far: updates with dt > gapPeriod once the reference was set. */
+static inline uint32_t FusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter) {
+    return filter->gapCount;
+}
+
+/** @return true once the reference is set; false from a gap to the next baro sample. */
 static inline bool FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *const filter) {
     return filter->referenceSet;
 }
 
 #undef FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_COMPLEMENTARY_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_COMPLEMENTARY_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

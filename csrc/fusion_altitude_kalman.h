@@ -38,9 +38,32 @@
  * offset = z - h, var = P_hh + R, cov(offset, x_j) = -P_hj. No start-up
  * phase; absolute altitudes of thousands of metres are fine in float32.
  *
- * Bit-exact results across compilers and targets need IEEE float32 without
- * fused multiply-add contraction: compile with -ffp-contract=off (clang is
- * handled inside the header with a scoped pragma).
+ * Gaps and recovery. A step with dt > gapPeriod (default 0.5 s) is a gap and
+ * is not predicted with its accel sample (one sample says nothing about the
+ * motion over the gap): x is kept, the gap count goes up, rejection streaks
+ * end, and the covariance is inflated as if the velocity had taken a random
+ * change of sigma V = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA over the
+ * gap T = dt: P_hh += (V*T)^2, P_vv += V^2, plus the offset and bias random
+ * walks over T. The samples of that step and the next ones then pass the
+ * gate and pull h back within a few samples, and v within a few seconds,
+ * while the offsets and the bias, whose variances barely grow, stay.
+ * A sensor rejected for longer than rejectionTimeout is reset (offset, or
+ * ground for the rangefinder) as before. If no sensor at all was fused
+ * during the streak, h and v are first inflated the same way with T = the
+ * length of the streak, and the bias variance (when estimated) by
+ * accelBiasInitialSigma^2: a streak that nothing else contradicts means the
+ * state, not only the sensor, is likely wrong (a velocity error after a gap,
+ * a glitch burst the bias partly absorbed, a start in motion), and resetting
+ * the offset alone would keep re-basing it around the wrong velocity. While
+ * another sensor is being fused the state is vouched for, and the streak is
+ * the sensor's own (a GPS jump, a terrain step): only it is reset.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 arithmetic
+ * without fused multiply-add contraction. The header turns contraction off for
+ * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
+ * and C++ (which contract by default) #pragma GCC optimize; ISO C modes
+ * (-std=c99, -std=c11) have it off already. Under gcc's GNU modes, compile
+ * with -ffp-contract=off as well, so that the functions still inline.
  *
  * Usage:
  * @code
@@ -72,6 +95,18 @@
 extern "C" {
 #endif
 
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_KALMAN_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #if defined(__clang__)
 #define FUSION_ALTITUDE_KALMAN_NO_CONTRACT _Pragma("clang fp contract(off)")
 #else
@@ -86,6 +121,13 @@ extern "C" {
 
 /** Number of altitude sensors (baro, rangefinder, GPS). */
 #define FUSION_ALTITUDE_KALMAN_SENSORS (3)
+
+/**
+ * Velocity sigma, m/s, of the random velocity change assumed over a gap or a
+ * rejection streak longer than the timeout (see the file comment): faster
+ * than a multirotor climbs or descends, so the next samples are accepted.
+ */
+#define FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA (10.0f)
 
 /** Satellite counts above this use its 1/sqrt(n) (the table's last entry). */
 #define FUSION_ALTITUDE_KALMAN_MAX_SATELLITES (64)
@@ -129,6 +171,7 @@ typedef enum {
     FusionAltitudeKalmanStatusInvalidGps,           /**< GPS model: base or satellite term not finite or < 0, base + satellite term 0, or min satellites < 0 */
     FusionAltitudeKalmanStatusInvalidGate,          /**< gate not finite or <= 0, or timeout not finite or < 0 */
     FusionAltitudeKalmanStatusInvalidGroundEffect,  /**< ground-effect noise scale not finite or < 1, dead zone not finite or < 0 */
+    FusionAltitudeKalmanStatusInvalidGapPeriod,     /**< gap period NaN or <= 0 (+infinity: never a gap) */
 } FusionAltitudeKalmanStatus;
 
 /** Settings, all in physical units. */
@@ -152,6 +195,7 @@ typedef struct {
     float groundEffectDeadZone;  /**< m: negative baro innovations up to this are ignored in ground effect */
     float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) */
     float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) */
+    float gapPeriod;             /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
 } FusionAltitudeKalmanSettings;
 
 /** One update's samples. NaN means "no sample this step". */
@@ -182,6 +226,8 @@ typedef struct {
     float x[FUSION_ALTITUDE_KALMAN_STATES];                               /**< state, see the file comment */
     float P[FUSION_ALTITUDE_KALMAN_STATES][FUSION_ALTITUDE_KALMAN_STATES]; /**< covariance, exactly symmetric */
     FusionAltitudeKalmanSensor sensors[FUSION_ALTITUDE_KALMAN_SENSORS];    /**< baro, range, GPS */
+    float sinceFused;         /**< s since any sensor's sample was last fused */
+    uint32_t gapCount;        /**< updates with dt > gapPeriod so far */
     bool baroInitialised;     /**< baro offset set (first baro sample seen) */
     bool gpsInitialised;      /**< GPS offset set (first usable GPS sample seen) */
 } FusionAltitudeKalman;
@@ -214,6 +260,8 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
             return "gate must be in (0, 1e6], rejection timeout in [0, 1e6]";
         case FusionAltitudeKalmanStatusInvalidGroundEffect:
             return "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]";
+        case FusionAltitudeKalmanStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
     }
     return "unknown status";
 }
@@ -229,7 +277,8 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
  *   rangeNoise 0.05 m, range 0.1 .. 8 m, GPS sigma 1 + 1/sqrt(n) m with at
  *   least 4 satellites, gpsOffsetRandomWalk 0.1 m/sqrt(s), gate 5 sigma,
  *   rejectionTimeout 1 s, ground effect x3 baro sigma and 0.5 m dead zone,
- *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion).
+ *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion),
+ *   gap period 0.5 s (50 samples at 100 Hz, 5 at 10 Hz; a 1 Hz log needs a longer one).
  */
 static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(void) {
     FusionAltitudeKalmanSettings settings;
@@ -252,6 +301,7 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
     settings.groundEffectDeadZone = 0.5f;
     settings.initialHeightSigma = 0.1f;
     settings.initialVelocitySigma = 1.0f;
+    settings.gapPeriod = 0.5f;
     return settings;
 }
 
@@ -298,6 +348,9 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const
         !(s->baroNoise * s->groundEffectNoiseScale <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING)) {
         return FusionAltitudeKalmanStatusInvalidGroundEffect;
     }
+    if (!(s->gapPeriod > 0.0f)) { /* false for NaN */
+        return FusionAltitudeKalmanStatusInvalidGapPeriod;
+    }
     return FusionAltitudeKalmanStatusOk;
 }
 
@@ -332,9 +385,9 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanInitialiseWith(Fusi
     }
     memset(kalman, 0, sizeof(*kalman));
     kalman->settings = s;
-    kalman->P[0][0] = s.initialHeightSigma * s.initialHeightSigma;
-    kalman->P[1][1] = s.initialVelocitySigma * s.initialVelocitySigma;
-    kalman->P[4][4] = s.estimateAccelBias ? (s.accelBiasInitialSigma * s.accelBiasInitialSigma) : 0.0f;
+    kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = s.initialHeightSigma * s.initialHeightSigma;
+    kalman->P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] = s.initialVelocitySigma * s.initialVelocitySigma;
+    kalman->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] = s.estimateAccelBias ? (s.accelBiasInitialSigma * s.accelBiasInitialSigma) : 0.0f;
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         kalman->sensors[i].innovation = FusionAltitudeNaN();
         kalman->sensors[i].innovationVariance = FusionAltitudeNaN();
@@ -362,17 +415,31 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionA
         return status;
     }
     if (settings->estimateAccelBias != kalman->settings.estimateAccelBias) {
-        kalman->x[4] = 0.0f;
+        kalman->x[FusionAltitudeKalmanStateAccelBias] = 0.0f;
         for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-            kalman->P[i][4] = 0.0f;
-            kalman->P[4][i] = 0.0f;
+            kalman->P[i][FusionAltitudeKalmanStateAccelBias] = 0.0f;
+            kalman->P[FusionAltitudeKalmanStateAccelBias][i] = 0.0f;
         }
         if (settings->estimateAccelBias) {
-            kalman->P[4][4] = settings->accelBiasInitialSigma * settings->accelBiasInitialSigma;
+            kalman->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] = settings->accelBiasInitialSigma * settings->accelBiasInitialSigma;
         }
     }
     kalman->settings = *settings;
     return FusionAltitudeKalmanStatusOk;
+}
+
+/** @brief Adds the random walks over dt (s): offsets only once they exist, the bias only if estimated. */
+static inline void FusionAltitudeKalmanRandomWalks(FusionAltitudeKalman *const k, const float dt) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    if (k->baroInitialised) {
+        k->P[FusionAltitudeKalmanStateBaroOffset][FusionAltitudeKalmanStateBaroOffset] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
+    }
+    if (k->gpsInitialised) {
+        k->P[FusionAltitudeKalmanStateGpsOffset][FusionAltitudeKalmanStateGpsOffset] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
+    }
+    if (k->settings.estimateAccelBias) {
+        k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
+    }
 }
 
 /**
@@ -386,49 +453,69 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
     float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
     const float halfDt2 = 0.5f * dt * dt;
     // State
-    const float u = accel - k->x[4];
-    k->x[0] = k->x[0] + k->x[1] * dt + u * halfDt2;
-    k->x[1] = k->x[1] + u * dt;
+    const float u = accel - k->x[FusionAltitudeKalmanStateAccelBias];
+    k->x[FusionAltitudeKalmanStateHeight] = k->x[FusionAltitudeKalmanStateHeight] + k->x[FusionAltitudeKalmanStateVelocity] * dt + u * halfDt2;
+    k->x[FusionAltitudeKalmanStateVelocity] = k->x[FusionAltitudeKalmanStateVelocity] + u * dt;
     // A = row h of F*P, Bv = row v of F*P (the other rows of F*P are those of P)
     float A[FUSION_ALTITUDE_KALMAN_STATES];
     float Bv[FUSION_ALTITUDE_KALMAN_STATES];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        A[j] = P[0][j] + dt * P[1][j] - halfDt2 * P[4][j];
-        Bv[j] = P[1][j] - dt * P[4][j];
+        A[j] = P[FusionAltitudeKalmanStateHeight][j] + dt * P[FusionAltitudeKalmanStateVelocity][j] - halfDt2 * P[FusionAltitudeKalmanStateAccelBias][j];
+        Bv[j] = P[FusionAltitudeKalmanStateVelocity][j] - dt * P[FusionAltitudeKalmanStateAccelBias][j];
     }
     // (F*P)*F^T: columns h and v change the same way
     const float q = k->settings.accelNoise * k->settings.accelNoise;
     const float qvv = q * dt;                 // N_a^2 dt
     const float qhv = qvv * (0.5f * dt);      // N_a^2 dt^2 / 2
     const float qhh = qhv * (0.5f * dt);      // N_a^2 dt^3 / 4
-    const float phh = A[0] + dt * A[1] - halfDt2 * A[4] + qhh;
-    const float phv = A[1] - dt * A[4] + qhv;
-    const float pvv = Bv[1] - dt * Bv[4] + qvv;
-    P[0][0] = phh;
-    P[0][1] = phv;
-    P[1][0] = phv;
-    P[1][1] = pvv;
+    const float phh = A[FusionAltitudeKalmanStateHeight] + dt * A[FusionAltitudeKalmanStateVelocity] - halfDt2 * A[FusionAltitudeKalmanStateAccelBias] + qhh;
+    const float phv = A[FusionAltitudeKalmanStateVelocity] - dt * A[FusionAltitudeKalmanStateAccelBias] + qhv;
+    const float pvv = Bv[FusionAltitudeKalmanStateVelocity] - dt * Bv[FusionAltitudeKalmanStateAccelBias] + qvv;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = phh;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateVelocity] = phv;
+    P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateHeight] = phv;
+    P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] = pvv;
     for (int j = 2; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        P[0][j] = A[j];
-        P[j][0] = A[j];
-        P[1][j] = Bv[j];
-        P[j][1] = Bv[j];
+        P[FusionAltitudeKalmanStateHeight][j] = A[j];
+        P[j][FusionAltitudeKalmanStateHeight] = A[j];
+        P[FusionAltitudeKalmanStateVelocity][j] = Bv[j];
+        P[j][FusionAltitudeKalmanStateVelocity] = Bv[j];
     }
-    // Random walks (offsets only once they exist; bias only if estimated)
-    if (k->baroInitialised) {
-        P[2][2] += (k->settings.baroOffsetRandomWalk * k->settings.baroOffsetRandomWalk) * dt;
-    }
-    if (k->gpsInitialised) {
-        P[3][3] += (k->settings.gpsOffsetRandomWalk * k->settings.gpsOffsetRandomWalk) * dt;
-    }
-    if (k->settings.estimateAccelBias) {
-        P[4][4] += (k->settings.accelBiasRandomWalk * k->settings.accelBiasRandomWalk) * dt;
-    }
+    FusionAltitudeKalmanRandomWalks(k, dt);
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         if (k->sensors[i].rejecting) {
             k->sensors[i].rejectingFor += dt;
         }
     }
+    k->sinceFused += dt;
+}
+
+/**
+ * @brief Inflates the height and velocity variances for a random velocity
+ * change of sigma V = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA over T s:
+ * P_hh += (V*T)^2, P_vv += V^2 (adding to the diagonal keeps P symmetric
+ * and positive definite). Used after a gap and before a reset.
+ */
+static inline void FusionAltitudeKalmanInflate(FusionAltitudeKalman *const k, const float T) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const float heightSigma = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * T;
+    k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] += heightSigma * heightSigma;
+    k->P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] += FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA;
+}
+
+/**
+ * @brief A gap of dt s (see the file comment): x kept, P inflated, the random
+ * walks over dt added, rejection streaks ended, the gap counted.
+ */
+static inline void FusionAltitudeKalmanGap(FusionAltitudeKalman *const k, const float dt) {
+    FusionAltitudeKalmanInflate(k, dt);
+    FusionAltitudeKalmanRandomWalks(k, dt);
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
+        k->sensors[i].rejecting = false;
+        k->sensors[i].rejectingFor = 0.0f;
+    }
+    k->sinceFused += dt;
+    k->gapCount++;
 }
 
 /**
@@ -464,15 +551,15 @@ static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const
  */
 static inline void FusionAltitudeKalmanSetOffset(FusionAltitudeKalman *const k, const int o, const float z, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    k->x[o] = z - k->x[0];
+    k->x[o] = z - k->x[FusionAltitudeKalmanStateHeight];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
         if (j != o) {
-            const float value = -k->P[0][j];
+            const float value = -k->P[FusionAltitudeKalmanStateHeight][j];
             k->P[o][j] = value;
             k->P[j][o] = value;
         }
     }
-    k->P[o][o] = k->P[0][0] + R;
+    k->P[o][o] = k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] + R;
 }
 
 /**
@@ -486,16 +573,16 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float(*const P)[FUSION_ALTITUDE_KALMAN_STATES] = k->P;
     const bool m[FUSION_ALTITUDE_KALMAN_STATES] = {false, false, k->baroInitialised, k->gpsInitialised, false};
-    const float d = z - k->x[0];
-    k->x[0] = z;
-    for (int i = 2; i < 4; i++) {
+    const float d = z - k->x[FusionAltitudeKalmanStateHeight];
+    k->x[FusionAltitudeKalmanStateHeight] = z;
+    for (int i = FusionAltitudeKalmanStateBaroOffset; i <= FusionAltitudeKalmanStateGpsOffset; i++) {
         if (m[i]) {
             k->x[i] = k->x[i] - d;
         }
     }
     float ph[FUSION_ALTITUDE_KALMAN_STATES];
     for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-        ph[j] = P[0][j];
+        ph[j] = P[FusionAltitudeKalmanStateHeight][j];
     }
     for (int i = 1; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
         for (int j = i; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
@@ -507,33 +594,35 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
                 value = value + ph[i];
             }
             if (m[i] && m[j]) {
-                value = value + ph[0] + R;
+                value = value + ph[FusionAltitudeKalmanStateHeight] + R;
             }
             P[i][j] = value;
             P[j][i] = value;
         }
     }
-    P[0][0] = R;
+    P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] = R;
     for (int j = 1; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
         const float value = m[j] ? -R : 0.0f;
-        P[0][j] = value;
-        P[j][0] = value;
+        P[FusionAltitudeKalmanStateHeight][j] = value;
+        P[j][FusionAltitudeKalmanStateHeight] = value;
     }
 }
 
 /**
  * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
  * -1 for the rangefinder), innovation y, noise variance R. Rejected if
- * y^2/S > gate^2; a rejection streak older than the timeout resets instead.
+ * y^2/S > gate^2; a rejection streak older than the timeout resets instead,
+ * after inflating h and v (FusionAltitudeKalmanInflate over the streak) and b
+ * (its initial variance) if no sensor was fused during the streak.
  */
 static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
                                                const float z, const float y, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float c[FUSION_ALTITUDE_KALMAN_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-        c[i] = (o < 0) ? k->P[i][0] : (k->P[i][0] + k->P[i][o]);
+        c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
     }
-    const float S = ((o < 0) ? c[0] : (c[0] + c[o])) + R;
+    const float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
     const float nis = (y * y) / S;
     sensor->innovation = y;
     sensor->innovationVariance = S;
@@ -541,6 +630,7 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
     const float gate = k->settings.gate;
     if (!(nis > gate * gate)) {
         FusionAltitudeKalmanFuse(k, c, S, y);
+        k->sinceFused = 0.0f;
         sensor->rejecting = false;
         sensor->rejectingFor = 0.0f;
         sensor->result = FusionAltitudeKalmanResultFused;
@@ -552,6 +642,13 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
         sensor->rejectingFor = 0.0f;
     }
     if (sensor->rejectingFor > k->settings.rejectionTimeout) {
+        if (k->sinceFused >= sensor->rejectingFor) { /* nothing fused during the streak: the state is suspect */
+            FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
+            if (k->settings.estimateAccelBias) {
+                k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] +=
+                    k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+            }
+        }
         if (o < 0) {
             FusionAltitudeKalmanResetGround(k, z, R);
         } else {
@@ -627,6 +724,9 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
  * fused; R = sigma^2 (FusionAltitudeKalmanGpsSigma). The first baro and GPS
  * samples set their offsets; later samples are gated (FusionAltitudeKalmanProcess).
  *
+ * A dt above gapPeriod is a gap: no prediction, the covariance is inflated
+ * instead (see the file comment), then the samples are processed as usual.
+ *
  * Every call checks all inputs first: accel not finite, dt not finite or
  * <= 0, infinite baro or GPS altitude, or a GPS vertical accuracy (with a GPS
  * sample) that is not NaN and not finite > 0 is rejected with the state
@@ -655,7 +755,11 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
         return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
     }
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
-    FusionAltitudeKalmanPredict(kalman, accel, dt);
+    if (dt > s->gapPeriod) {
+        FusionAltitudeKalmanGap(kalman, dt);
+    } else {
+        FusionAltitudeKalmanPredict(kalman, accel, dt);
+    }
 
     // Barometer: z = h + ob
     FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
@@ -669,7 +773,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
             kalman->baroInitialised = true;
             FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
         } else {
-            float y = m.baroAltitude - (kalman->x[0] + kalman->x[2]);
+            float y = m.baroAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset]);
             if (m.groundEffect && (y < 0.0f)) {
                 const float shifted = y + s->groundEffectDeadZone;
                 y = (shifted < 0.0f) ? shifted : 0.0f;
@@ -686,7 +790,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
         FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
     } else {
         const float R = s->rangeNoise * s->rangeNoise;
-        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[0], R);
+        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
     }
 
     // GPS: z = h + og
@@ -703,7 +807,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
             kalman->gpsInitialised = true;
             FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
         } else {
-            const float y = m.gpsAltitude - (kalman->x[0] + kalman->x[3]);
+            const float y = m.gpsAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateGpsOffset]);
             FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, y, R);
         }
     }
@@ -720,7 +824,7 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanGetSettings(const
 
 /** @return height above ground h, m. */
 static inline float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[0];
+    return kalman->x[FusionAltitudeKalmanStateHeight];
 }
 
 /**
@@ -730,39 +834,44 @@ static inline float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitud
  */
 static inline float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *const kalman) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    return kalman->x[0] + kalman->x[2];
+    return kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return variance of the altitude h + ob, m^2: P_hh + 2*P_h,ob + P_ob,ob. */
 static inline float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *const kalman) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    return kalman->P[0][0] + 2.0f * kalman->P[0][2] + kalman->P[2][2];
+    return kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] + 2.0f * kalman->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateBaroOffset] + kalman->P[FusionAltitudeKalmanStateBaroOffset][FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return vertical velocity v, m/s, +up. */
 static inline float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[1];
+    return kalman->x[FusionAltitudeKalmanStateVelocity];
 }
 
 /** @return accelerometer bias b, m/s^2, +up (already subtracted from the input). */
 static inline float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[4];
+    return kalman->x[FusionAltitudeKalmanStateAccelBias];
 }
 
 /** @return baro offset ob (baro reads h + ob), m; 0 before the first baro sample. */
 static inline float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[2];
+    return kalman->x[FusionAltitudeKalmanStateBaroOffset];
 }
 
 /** @return GPS offset og (GPS reads h + og), m; 0 before the first usable GPS sample. */
 static inline float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *const kalman) {
-    return kalman->x[3];
+    return kalman->x[FusionAltitudeKalmanStateGpsOffset];
 }
 
 /** @return covariance entry P[i][j] (state indices FusionAltitudeKalmanState). */
 static inline float FusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanState i,
                                                       const FusionAltitudeKalmanState j) {
     return kalman->P[i][j];
+}
+
+/** @return the number of gaps so far: updates with dt > gapPeriod. */
+static inline uint32_t FusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman) {
+    return kalman->gapCount;
 }
 
 /** @return the diagnostics of one sensor. */
@@ -772,6 +881,11 @@ static inline FusionAltitudeKalmanSensor FusionAltitudeKalmanGetSensor(const Fus
 }
 
 #undef FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_KALMAN_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_KALMAN_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

@@ -25,6 +25,18 @@
 extern "C" {
 #endif
 
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_SWEEP_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #if defined(__cplusplus)
 #define FUSION_ALTITUDE_RESTRICT __restrict
 #else
@@ -69,7 +81,11 @@ typedef struct {
     float *verticalVelocity;  /**< v[k], m/s */
     float *accelBias;         /**< b[k], m/s^2 */
     float *baroResidual;      /**< r[k], m (NaN after a step without baro) */
-    bool referenceSet;        /**< shared: every setting auto-zeroes on the same first baro sample */
+    float gapPeriod;          /**< shared, s: a dt above this is a gap (FusionAltitudeUpdate); set it after FusionAltitudeSweepInitialise */
+    float gapTime;            /**< shared, s: time since h was updated while a restart after a gap is pending; 0 otherwise */
+    float sinceRestart;       /**< shared, s since the last restart after a gap; -1 before any (column k holds its bias while sinceRestart*Kh[k] < 8) */
+    uint32_t gapCount;        /**< shared: gaps so far */
+    bool referenceSet;        /**< shared: every setting auto-zeroes on the same first baro sample, and restarts on the same one after a gap */
 } FusionAltitudeSweep;
 
 /**
@@ -104,8 +120,10 @@ typedef struct {
 } FusionAltitudeSweepMetrics;
 
 /**
- * @brief Initialises a sweep: every state zero, reference not set. The gains
- * are the caller's arrays; check each setting with FusionAltitudeSettingsCheck.
+ * @brief Initialises a sweep: every state zero, reference not set, no gap,
+ * gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (assign sweep->gapPeriod
+ * afterwards to change it; it must be > 0). The gains are the caller's
+ * arrays; check each setting with FusionAltitudeSettingsCheck.
  */
 static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const sweep) {
     for (size_t k = 0; k < sweep->count; k++) {
@@ -114,6 +132,10 @@ static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const swee
         sweep->accelBias[k] = 0.0f;
         sweep->baroResidual[k] = 0.0f;
     }
+    sweep->gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+    sweep->gapTime = 0.0f;
+    sweep->sinceRestart = -1.0f;
+    sweep->gapCount = 0u;
     sweep->referenceSet = false;
 }
 
@@ -153,108 +175,198 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCopyRow(float *const data, 
     }
 }
 
+/* The states, gains and metric sums of one chunk of settings, lane by lane. */
+typedef struct {
+    float kh[FUSION_ALTITUDE_SWEEP_LANES], kv[FUSION_ALTITUDE_SWEEP_LANES], kb[FUSION_ALTITUDE_SWEEP_LANES];
+    float h[FUSION_ALTITUDE_SWEEP_LANES], v[FUSION_ALTITUDE_SWEEP_LANES], b[FUSION_ALTITUDE_SWEEP_LANES];
+    float r[FUSION_ALTITUDE_SWEEP_LANES];
+    float sum[FUSION_ALTITUDE_SWEEP_LANES], sumSquared[FUSION_ALTITUDE_SWEEP_LANES], maxAbs[FUSION_ALTITUDE_SWEEP_LANES];
+} FusionAltitudeSweepLanes;
+
+/* What every setting shares, since the inputs are shared: the reference, the
+ * pending restart after a gap and the gap count (the fields of FusionAltitude). */
+typedef struct {
+    float gapTime;
+    float sinceRestart;
+    uint32_t gapCount;
+    bool referenceSet;
+} FusionAltitudeSweepShared;
+
+/* Loads settings [first, first + width) into lanes; lanes past width repeat the last setting. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepLoad(const FusionAltitudeSweep *const sweep, const FusionAltitudeSweepMetrics *const metrics,
+                                                          const size_t first, const size_t width, const size_t lanes,
+                                                          FusionAltitudeSweepLanes *const x) {
+    for (size_t j = 0; j < lanes; j++) {
+        const size_t k = first + ((j < width) ? j : (width - 1u));
+        x->kh[j] = sweep->positionGain[k];
+        x->kv[j] = sweep->velocityGain[k];
+        x->kb[j] = sweep->biasGain[k];
+        x->h[j] = sweep->altitude[k];
+        x->v[j] = sweep->verticalVelocity[k];
+        x->b[j] = sweep->accelBias[k];
+        x->r[j] = sweep->baroResidual[k];
+        x->sum[j] = (metrics != NULL) ? metrics->blockSumError[k] : 0.0f;
+        x->sumSquared[j] = (metrics != NULL) ? metrics->blockSumSquaredError[k] : 0.0f;
+        x->maxAbs[j] = (metrics != NULL) ? metrics->maxAbsError[k] : 0.0f;
+    }
+}
+
+/* Stores the first width lanes back into settings [first, first + width). */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStore(FusionAltitudeSweep *const sweep, FusionAltitudeSweepMetrics *const metrics,
+                                                           const size_t first, const size_t width, const FusionAltitudeSweepLanes *const x) {
+    for (size_t j = 0; j < width; j++) {
+        const size_t k = first + j;
+        sweep->altitude[k] = x->h[j];
+        sweep->verticalVelocity[k] = x->v[j];
+        sweep->accelBias[k] = x->b[j];
+        sweep->baroResidual[k] = x->r[j];
+        if (metrics != NULL) {
+            metrics->blockSumError[k] = x->sum[j];
+            metrics->blockSumSquaredError[k] = x->sumSquared[j];
+            metrics->maxAbsError[k] = x->maxAbs[j];
+        }
+    }
+}
+
+/* The shared part of FusionAltitudeUpdate before the lanes: gap detection,
+ * and the time of a pending restart or since the last one. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepShared *const shared, const float step, const float gapPeriod) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    if (shared->referenceSet && (step > gapPeriod)) {
+        shared->gapCount++;
+        shared->referenceSet = false;
+        shared->gapTime = step;
+    } else if (!shared->referenceSet && (shared->gapTime > 0.0f)) {
+        shared->gapTime += step;
+    } else if (shared->referenceSet && (shared->sinceRestart >= 0.0f)) {
+        shared->sinceRestart += step;
+    }
+}
+
+/* FusionAltitudeRestart on every lane: h = z, v = 0 or the mean velocity over the gap, r = 0. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
+                                                             const float z, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    const float gapTime = shared->gapTime;
+    if (gapTime > 0.0f) {
+        shared->sinceRestart = 0.0f;
+    }
+    for (size_t j = 0; j < lanes; j++) {
+        x->v[j] = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
+        x->h[j] = z;
+        x->r[j] = 0.0f;
+    }
+    shared->gapTime = 0.0f;
+    shared->referenceSet = true;
+}
+
+/* The correction on every lane; after a restart each lane holds its bias
+ * while sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCorrect(FusionAltitudeSweepLanes *const x, const float sinceRestart, const float a,
+                                                             const float z, const float step, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    if (sinceRestart < 0.0f) {
+        for (size_t j = 0; j < lanes; j++) {
+            const float residual = z - x->h[j];
+            x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
+            x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
+            x->b[j] -= (x->kb[j] * residual) * step;
+            x->r[j] = residual;
+        }
+        return;
+    }
+    for (size_t j = 0; j < lanes; j++) {
+        const float residual = z - x->h[j];
+        x->v[j] += ((a - x->b[j]) + x->kv[j] * residual) * step;
+        x->h[j] += (x->v[j] + x->kh[j] * residual) * step;
+        x->b[j] = (sinceRestart * x->kh[j] < FUSION_ALTITUDE_BIAS_HOLD) ? x->b[j] : (x->b[j] - (x->kb[j] * residual) * step);
+        x->r[j] = residual;
+    }
+}
+
+/* FusionAltitudeUpdate, lane by lane, the same operations in the same order
+ * (inputs already checked): gap detection, integration without baro, the
+ * restart on the first baro sample, or the correction. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
+                                                          const float a, const float z, const float step, const float gapPeriod,
+                                                          const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    FusionAltitudeSweepTiming(shared, step, gapPeriod);
+    if (FusionAltitudeIsNaN(z)) {
+        if (shared->referenceSet) {
+            for (size_t j = 0; j < lanes; j++) {
+                x->v[j] += (a - x->b[j]) * step;
+                x->h[j] += x->v[j] * step;
+            }
+        }
+        const float nan = FusionAltitudeNaN();
+        for (size_t j = 0; j < lanes; j++) {
+            x->r[j] = nan;
+        }
+    } else if (!shared->referenceSet) {
+        FusionAltitudeSweepRestart(x, shared, z, lanes);
+    } else {
+        FusionAltitudeSweepCorrect(x, shared->sinceRestart, a, z, step, lanes);
+    }
+}
+
+/* Adds the errors h - reference of one sample to the block sums, and the
+ * block sums into the totals of settings [first, first + width) when the
+ * block is full. Returns the metric samples in the open block afterwards. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepMetrics *const metrics,
+                                                                  const float reference, size_t samplesInBlock, const size_t first,
+                                                                  const size_t width, const size_t lanes) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    for (size_t j = 0; j < lanes; j++) {
+        const float error = x->h[j] - reference;
+        const float absolute = (error < 0.0f) ? -error : error;
+        x->sum[j] += error;
+        x->sumSquared[j] += error * error;
+        x->maxAbs[j] = (absolute > x->maxAbs[j]) ? absolute : x->maxAbs[j];
+    }
+    if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
+        for (size_t j = 0; j < width; j++) {
+            metrics->sumError[first + j] += x->sum[j];
+            metrics->sumSquaredError[first + j] += x->sumSquared[j];
+        }
+        for (size_t j = 0; j < lanes; j++) {
+            x->sum[j] = 0.0f;
+            x->sumSquared[j] = 0.0f;
+        }
+        samplesInBlock = 0;
+    }
+    return samplesInBlock;
+}
+
 /* Runs settings [first, first + width) (width <= lanes <= LANES) over samples inputs;
  * outputs rows and metrics inputs start at the same sample as the inputs.
- * Lanes past width repeat the last setting and are never stored.
- * Returns the metric samples in the open block afterwards. */
+ * Lanes past width repeat the last setting and are never stored. *shared
+ * starts as the sweep's and ends as it is after the samples (the same for
+ * every chunk). Returns the metric samples in the open block afterwards. */
 FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep *const sweep, const size_t first, const size_t width,
                                             const float *const accel, const float *const baroAltitude, const float *const dt,
                                             const size_t dtStride, const size_t samples,
                                             const FusionAltitudeSweepOutputs *const outputs,
-                                            FusionAltitudeSweepMetrics *const metrics, const size_t lanes) {
-    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
-    enum { L = FUSION_ALTITUDE_SWEEP_LANES };
-    float kh[L], kv[L], kb[L], h[L], v[L], b[L], r[L];
-    float sum[L], sumSquared[L], maxAbs[L];
-    for (size_t j = 0; j < lanes; j++) {
-        const size_t k = first + ((j < width) ? j : (width - 1u));
-        kh[j] = sweep->positionGain[k];
-        kv[j] = sweep->velocityGain[k];
-        kb[j] = sweep->biasGain[k];
-        h[j] = sweep->altitude[k];
-        v[j] = sweep->verticalVelocity[k];
-        b[j] = sweep->accelBias[k];
-        r[j] = sweep->baroResidual[k];
-        sum[j] = (metrics != NULL) ? metrics->blockSumError[k] : 0.0f;
-        sumSquared[j] = (metrics != NULL) ? metrics->blockSumSquaredError[k] : 0.0f;
-        maxAbs[j] = (metrics != NULL) ? metrics->maxAbsError[k] : 0.0f;
-    }
-    bool referenceSet = sweep->referenceSet;
+                                            FusionAltitudeSweepMetrics *const metrics, const size_t lanes,
+                                            FusionAltitudeSweepShared *const shared) {
+    FusionAltitudeSweepLanes x;
+    FusionAltitudeSweepLoad(sweep, metrics, first, width, lanes, &x);
     size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
-    const float nan = FusionAltitudeNaN();
     for (size_t t = 0; t < samples; t++) {
-        const float a = accel[t];
-        const float z = baroAltitude[t];
-        const float step = dt[t * dtStride];
-        /* FusionAltitudeUpdate, lane by lane, same operations in the same order */
-        if (FusionAltitudeIsNaN(z)) {
-            if (referenceSet) {
-                for (size_t j = 0; j < lanes; j++) {
-                    v[j] += (a - b[j]) * step;
-                    h[j] += v[j] * step;
-                }
-            }
-            for (size_t j = 0; j < lanes; j++) {
-                r[j] = nan;
-            }
-        } else if (!referenceSet) {
-            for (size_t j = 0; j < lanes; j++) {
-                h[j] = z;
-                v[j] = 0.0f;
-                r[j] = 0.0f;
-            }
-            referenceSet = true;
-        } else {
-            for (size_t j = 0; j < lanes; j++) {
-                const float residual = z - h[j];
-                v[j] += ((a - b[j]) + kv[j] * residual) * step;
-                h[j] += (v[j] + kh[j] * residual) * step;
-                b[j] -= (kb[j] * residual) * step;
-                r[j] = residual;
-            }
-        }
+        FusionAltitudeSweepStep(&x, shared, accel[t], baroAltitude[t], dt[t * dtStride], sweep->gapPeriod, lanes);
         if (outputs != NULL) {
             const size_t offset = t * outputs->stride + first;
-            FusionAltitudeSweepCopyRow(outputs->altitude, offset, h, width, lanes);
-            FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, v, width, lanes);
-            FusionAltitudeSweepCopyRow(outputs->accelBias, offset, b, width, lanes);
-            FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, r, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->altitude, offset, x.h, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, x.v, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->accelBias, offset, x.b, width, lanes);
+            FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, x.r, width, lanes);
         }
         if ((metrics != NULL) && ((metrics->mask == NULL) || (metrics->mask[t] != 0u)) &&
             FusionAltitudeIsFinite(metrics->reference[t])) {
-            const float reference = metrics->reference[t];
-            for (size_t j = 0; j < lanes; j++) {
-                const float error = h[j] - reference;
-                const float absolute = (error < 0.0f) ? -error : error;
-                sum[j] += error;
-                sumSquared[j] += error * error;
-                maxAbs[j] = (absolute > maxAbs[j]) ? absolute : maxAbs[j];
-            }
-            if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
-                for (size_t j = 0; j < width; j++) {
-                    metrics->sumError[first + j] += sum[j];
-                    metrics->sumSquaredError[first + j] += sumSquared[j];
-                }
-                for (size_t j = 0; j < lanes; j++) {
-                    sum[j] = 0.0f;
-                    sumSquared[j] = 0.0f;
-                }
-                samplesInBlock = 0;
-            }
+            samplesInBlock = FusionAltitudeSweepAccumulate(&x, metrics, metrics->reference[t], samplesInBlock, first, width, lanes);
         }
     }
-    for (size_t j = 0; j < width; j++) {
-        const size_t k = first + j;
-        sweep->altitude[k] = h[j];
-        sweep->verticalVelocity[k] = v[j];
-        sweep->accelBias[k] = b[j];
-        sweep->baroResidual[k] = r[j];
-        if (metrics != NULL) {
-            metrics->blockSumError[k] = sum[j];
-            metrics->blockSumSquaredError[k] = sumSquared[j];
-            metrics->maxAbsError[k] = maxAbs[j];
-        }
-    }
+    FusionAltitudeSweepStore(sweep, metrics, first, width, &x);
     return samplesInBlock;
 }
 
@@ -310,23 +422,31 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             window.mask = (metrics->mask != NULL) ? &metrics->mask[start] : NULL;
         }
         size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
+        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->gapCount, sweep->referenceSet};
         for (size_t first = 0; first < sweep->count; first += (size_t) FUSION_ALTITUDE_SWEEP_LANES) {
             const size_t remaining = sweep->count - first;
             const size_t width = (remaining < (size_t) FUSION_ALTITUDE_SWEEP_LANES) ? remaining : (size_t) FUSION_ALTITUDE_SWEEP_LANES;
             const FusionAltitudeSweepOutputs *const chunkOutputs = (outputs != NULL) ? &rows : NULL;
             FusionAltitudeSweepMetrics *const chunkMetrics = (metrics != NULL) ? &window : NULL;
+            /* every chunk starts from the same shared state and ends with the same one */
+            shared.gapTime = sweep->gapTime;
+            shared.sinceRestart = sweep->sinceRestart;
+            shared.gapCount = sweep->gapCount;
+            shared.referenceSet = sweep->referenceSet;
             /* constant lane counts, so that each call compiles to fixed-width vector code */
             if (width <= 8u) {
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
-                                                          dtStride, length, chunkOutputs, chunkMetrics, 8u);
+                                                          dtStride, length, chunkOutputs, chunkMetrics, 8u, &shared);
             } else {
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
-                                                          dtStride, length, chunkOutputs, chunkMetrics, (size_t) FUSION_ALTITUDE_SWEEP_LANES);
+                                                          dtStride, length, chunkOutputs, chunkMetrics, (size_t) FUSION_ALTITUDE_SWEEP_LANES,
+                                                          &shared);
             }
         }
-        for (size_t t = start; (t < start + length) && !sweep->referenceSet; t++) {
-            sweep->referenceSet = !FusionAltitudeIsNaN(baroAltitude[t]);
-        }
+        sweep->gapTime = shared.gapTime;
+        sweep->sinceRestart = shared.sinceRestart;
+        sweep->gapCount = shared.gapCount;
+        sweep->referenceSet = shared.referenceSet;
         if (metrics != NULL) {
             for (size_t t = start; t < start + length; t++) {
                 if (((metrics->mask == NULL) || (metrics->mask[t] != 0u)) && FusionAltitudeIsFinite(metrics->reference[t])) {
@@ -340,6 +460,11 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
 }
 
 #undef FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_SWEEP_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_SWEEP_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

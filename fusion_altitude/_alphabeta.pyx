@@ -30,6 +30,7 @@ C_STATUS_VALUES = {
     "INVALID_ALTITUDE_BAND": FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,
     "INVALID_GAP_MAX": FusionAltitudeAlphaBetaStatusInvalidGapMax,
     "INVALID_TIMEOUT": FusionAltitudeAlphaBetaStatusInvalidTimeout,
+    "INVALID_GAP_PERIOD": FusionAltitudeAlphaBetaStatusInvalidGapPeriod,
 }
 C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
 C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
@@ -60,6 +61,7 @@ cdef dict _settings_to_dict(const FusionAltitudeAlphaBetaSettings *c):
         s = &c.sensors[i]
         result[ALPHABETA_SENSORS[i]] = AlphaBetaSensorSettings(s.threshold, s.qualityMin, s.qualityMax, s.confidence,
                                                                s.altitudeMin, s.altitudeMax, s.gapMax, s.timeout)
+    result["gap_period"] = c.gapPeriod
     return result
 
 
@@ -71,6 +73,10 @@ cdef class AlphaBetaSettings:
     imu, baro, lidar, sonar, gps : AlphaBetaSensorSettings or mapping, optional
         A sensor's settings, or a mapping of the fields to change from its
         defaults, e.g. ``AlphaBetaSettings(gps={"gap_max": 30.0})``.
+    gap_period : float, default 1.5
+        s: an update whose dt exceeds this is a gap, not integrated (the
+        fusion restarts from the next samples), and the longest dead
+        reckoning before it re-acquires; ``inf`` never detects a gap.
 
     Notes
     -----
@@ -101,6 +107,7 @@ cdef class AlphaBetaSettings:
             self._c.sensors[i].altitudeMax = s.altitude_max
             self._c.sensors[i].gapMax = s.gap_max
             self._c.sensors[i].timeout = s.timeout
+        self._c.gapPeriod = values["gap_period"]
         cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSettingsCheck(&self._c)
         if status != FusionAltitudeAlphaBetaStatusOk:
             _alphabeta_glue.raise_alphabeta_settings_error(status, values)
@@ -129,6 +136,8 @@ cdef class AlphaBetaSettings:
             change = sensors.get(name)
             if change is None:
                 merged[name] = value
+            elif name == "gap_period":
+                merged[name] = change
             elif isinstance(change, AlphaBetaSensorSettings):
                 merged[name] = change
             else:
@@ -362,6 +371,11 @@ cdef class AlphaBetaFusion:
         return AlphaBetaSensors(*[self._c.filters[i].gap for i in range(5)])
 
     @property
+    def gap_count(self):
+        """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
+        return FusionAltitudeAlphaBetaGetGapCount(&self._c)
+
+    @property
     def settings(self):
         """The settings; assign new :class:`AlphaBetaSettings` to retune (qualities clamped to the new ranges)."""
         return AlphaBetaSettings._wrap(self._c.settings)
@@ -380,10 +394,11 @@ cdef class AlphaBetaFusion:
                             bool(self._c.filters[i].started)))
         filters = tuple(filters)
         return (self.settings.as_dict(), filters, self._c.altitude, self._c.verticalVelocity, self._c.totalWeight,
-                bool(self._c.started))
+                bool(self._c.started), self._c.coastingFor, self._c.gapTime, self._c.gapCount)
 
     def _set_state(self, state):
-        values, filters, h, v, total, started = state
+        values, filters, h, v, total, started = state[:6]
+        coasting, gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0.0, 0)
         cdef AlphaBetaSettings settings = AlphaBetaSettings(**values)
         self._c.settings = settings._c
         cdef int i
@@ -400,6 +415,9 @@ cdef class AlphaBetaFusion:
         self._c.verticalVelocity = v
         self._c.totalWeight = total
         self._c.started = bool(started)
+        self._c.coastingFor = coasting
+        self._c.gapTime = gap_time
+        self._c.gapCount = gap_count
 
     def __copy__(self):
         cdef AlphaBetaFusion clone = AlphaBetaFusion.__new__(AlphaBetaFusion)

@@ -29,6 +29,7 @@ class AlphaBetaStatus(enum.IntEnum):
     INVALID_ALTITUDE_BAND = 10
     INVALID_GAP_MAX = 11
     INVALID_TIMEOUT = 12
+    INVALID_GAP_PERIOD = 13
 
 
 #: Sensor channels of the alpha-beta fusion, in the C index order.
@@ -78,6 +79,7 @@ ALPHABETA_DEFAULTS = {
     "lidar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 40.0, 6.0, 1.5),
     "sonar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 5.0, 6.0, 1.5),
     "gps": AlphaBetaSensorSettings(10.0, 10, 120, 1.0, -10.0, _INF, 20.0, 1.5),
+    "gap_period": 1.5,  # s: not a sensor; see AlphaBetaSettings
 }
 
 
@@ -100,13 +102,18 @@ def _as_int32(value: object, name: str) -> int:
     return index
 
 
+#: Default gap period of the alpha-beta fusion, s (the sensor timeouts).
+ALPHABETA_GAP_PERIOD = ALPHABETA_DEFAULTS["gap_period"]
+
+
 def convert_alphabeta_settings(kwargs: dict) -> dict:
-    """``AlphaBetaSettings(**kwargs)`` arguments → {sensor: AlphaBetaSensorSettings of C-typed values}.
+    """``AlphaBetaSettings(**kwargs)`` arguments → {sensor: AlphaBetaSensorSettings of C-typed values,
+    "gap_period": float32-rounded float (s, default 1.5)}.
 
     Each sensor's argument is None (defaults), an AlphaBetaSensorSettings, or
     a mapping of the fields to change from the defaults.
     """
-    unknown = set(kwargs) - set(ALPHABETA_SENSORS)
+    unknown = set(kwargs) - set(ALPHABETA_SENSORS) - {"gap_period"}
     if unknown:
         raise TypeError(f"unknown alpha-beta sensor(s): {', '.join(sorted(unknown))}; "
                         f"choose from {', '.join(ALPHABETA_SENSORS)}")
@@ -133,6 +140,8 @@ def convert_alphabeta_settings(kwargs: dict) -> dict:
                 with np.errstate(over="ignore"):
                     converted[name] = float(np.float32(as_float(fields[name], f"{sensor}.{name}")))
         result[sensor] = AlphaBetaSensorSettings(**converted)
+    with np.errstate(over="ignore"):
+        result["gap_period"] = float(np.float32(as_float(kwargs.get("gap_period", ALPHABETA_GAP_PERIOD), "gap_period")))
     return result
 
 
@@ -157,6 +166,8 @@ def raise_alphabeta_settings_error(status: int, values: dict) -> None:
             raise ValueError(f"{where}.gap_max must be > 0 (m, inf: no limit), got {s.gap_max!r}")
         if not (math.isfinite(s.timeout) and s.timeout > 0):
             raise ValueError(f"{where}.timeout must be finite and > 0 (s), got {s.timeout!r}")
+    if status == AlphaBetaStatus.INVALID_GAP_PERIOD:
+        raise ValueError(f"gap_period must be > 0 (s; inf: never a gap), got {values['gap_period']!r}")
     raise ValueError(f"invalid alpha-beta settings (status {status})")
 
 

@@ -20,6 +20,7 @@ C_STATUS_VALUES = {
     "INVALID_DT": FusionAltitudeComplementaryStatusInvalidDt,
     "INVALID_TIME_CONSTANT": FusionAltitudeComplementaryStatusInvalidTimeConstant,
     "INVALID_COEFFICIENT": FusionAltitudeComplementaryStatusInvalidCoefficient,
+    "INVALID_GAP_PERIOD": FusionAltitudeComplementaryStatusInvalidGapPeriod,
 }
 
 
@@ -43,6 +44,7 @@ cdef dict _settings_to_dict(const FusionAltitudeComplementarySettings *c):
         "altitude_coefficient": c.altitudeCoefficient,
         "velocity_time_constant": c.velocityTimeConstant,
         "altitude_time_constant": c.altitudeTimeConstant,
+        "gap_period": c.gapPeriod,
     }
 
 
@@ -66,6 +68,9 @@ cdef class ComplementarySettings:
         :meth:`from_coefficients`).
     velocity_coefficient, altitude_coefficient : float, default 0.999, 0.998
         c_v, c_h in [0, 1] (used when ``per_sample_coefficients``).
+    gap_period : float, default 0.5
+        s: an update whose dt exceeds this is a gap, not integrated: the
+        filter restarts from the next baro sample; ``inf`` never detects one.
 
     Notes
     -----
@@ -91,6 +96,7 @@ cdef class ComplementarySettings:
         self._c.altitudeCoefficient = v["altitude_coefficient"]
         self._c.velocityTimeConstant = v["velocity_time_constant"]
         self._c.altitudeTimeConstant = v["altitude_time_constant"]
+        self._c.gapPeriod = v["gap_period"]
         cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySettingsCheck(&self._c)
         if status != FusionAltitudeComplementaryStatusOk:
             _complementary_glue.raise_complementary_settings_error(status, self.as_dict())
@@ -306,8 +312,13 @@ cdef class ComplementaryFilter:
 
     @property
     def reference_set(self):
-        """Whether the reference is set."""
+        """Whether the reference is set (False from a gap to the next baro sample)."""
         return FusionAltitudeComplementaryIsReferenceSet(&self._c)
+
+    @property
+    def gap_count(self):
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
+        return FusionAltitudeComplementaryGetGapCount(&self._c)
 
     @property
     def settings(self):
@@ -323,10 +334,12 @@ cdef class ComplementaryFilter:
 
     def _get_state(self):
         return (self.settings.as_dict(), self._c.altitude, self._c.verticalVelocity, self._c.accelFiltered,
-                self._c.baroFiltered, self._c.baroVelocity, self._c.sinceBaro, bool(self._c.referenceSet))
+                self._c.baroFiltered, self._c.baroVelocity, self._c.sinceBaro, bool(self._c.referenceSet),
+                self._c.gapTime, self._c.gapCount)
 
     def _set_state(self, state):
-        values, h, v, a, zf, vb, since, reference_set = state
+        values, h, v, a, zf, vb, since, reference_set = state[:8]
+        gap_time, gap_count = state[8:] if len(state) > 8 else (0.0, 0)
         cdef ComplementarySettings settings = ComplementarySettings(**values)
         self._c.settings = settings._c
         self._c.altitude = h
@@ -336,6 +349,8 @@ cdef class ComplementaryFilter:
         self._c.baroVelocity = vb
         self._c.sinceBaro = since
         self._c.referenceSet = bool(reference_set)
+        self._c.gapTime = gap_time
+        self._c.gapCount = gap_count
 
     def __copy__(self):
         cdef ComplementaryFilter clone = ComplementaryFilter.__new__(ComplementaryFilter)

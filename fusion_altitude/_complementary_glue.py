@@ -22,6 +22,7 @@ class ComplementaryStatus(enum.IntEnum):
     INVALID_DT = 3
     INVALID_TIME_CONSTANT = 4
     INVALID_COEFFICIENT = 5
+    INVALID_GAP_PERIOD = 6
 
 
 class ComplementaryBatch(NamedTuple):
@@ -46,7 +47,7 @@ class ComplementaryBatch(NamedTuple):
 
 
 #: Complementary settings in the order of the C struct: (name, default, kind).
-#: kind "t": time constant s (finite, >= 0); "c": coefficient in [0, 1]; "b": bool.
+#: kind "t": time constant s (finite, >= 0); "c": coefficient in [0, 1]; "b": bool; "g": gap period s (> 0).
 COMPLEMENTARY_SETTINGS = (
     ("accel_time_constant", 0.02, "t"),
     ("baro_time_constant", 0.05, "t"),
@@ -55,6 +56,7 @@ COMPLEMENTARY_SETTINGS = (
     ("altitude_coefficient", 0.998, "c"),
     ("velocity_time_constant", 9.99, "t"),
     ("altitude_time_constant", 4.99, "t"),
+    ("gap_period", 0.5, "g"),
 )
 
 
@@ -92,6 +94,8 @@ def raise_complementary_settings_error(status: int, values: dict) -> None:
         if kind == "c" and status == ComplementaryStatus.INVALID_COEFFICIENT:
             if not (math.isfinite(value) and 0 <= value <= 1):
                 raise ValueError(f"{name} must be finite and in [0, 1], got {value!r}")
+        if kind == "g" and status == ComplementaryStatus.INVALID_GAP_PERIOD:
+            raise ValueError(f"{name} must be > 0 (s; inf: never a gap), got {value!r}")
     raise ValueError(f"invalid complementary settings (status {status})")
 
 

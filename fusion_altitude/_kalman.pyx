@@ -30,6 +30,7 @@ C_STATUS_VALUES = {
     "INVALID_GPS": FusionAltitudeKalmanStatusInvalidGps,
     "INVALID_GATE": FusionAltitudeKalmanStatusInvalidGate,
     "INVALID_GROUND_EFFECT": FusionAltitudeKalmanStatusInvalidGroundEffect,
+    "INVALID_GAP_PERIOD": FusionAltitudeKalmanStatusInvalidGapPeriod,
 }
 C_RESULT_VALUES = {
     "NO_SAMPLE": FusionAltitudeKalmanResultNoSample,
@@ -73,6 +74,7 @@ cdef FusionAltitudeKalmanSettings _settings_from_dict(dict v):
     c.groundEffectDeadZone = v["ground_effect_dead_zone"]
     c.initialHeightSigma = v["initial_height_sigma"]
     c.initialVelocitySigma = v["initial_velocity_sigma"]
+    c.gapPeriod = v["gap_period"]
     return c
 
 
@@ -97,6 +99,7 @@ cdef dict _settings_to_dict(const FusionAltitudeKalmanSettings *c):
         "ground_effect_dead_zone": c.groundEffectDeadZone,
         "initial_height_sigma": c.initialHeightSigma,
         "initial_velocity_sigma": c.initialVelocitySigma,
+        "gap_period": c.gapPeriod,
     }
 
 
@@ -137,6 +140,10 @@ cdef class KalmanSettings:
         Negative baro innovations up to this are ignored in ground effect.
     initial_height_sigma, initial_velocity_sigma : 0.1 m, 1.0 m/s
         Initial uncertainty of "on the ground, at rest".
+    gap_period : 0.5 s
+        An update whose dt exceeds this is a gap: no prediction, the height
+        and velocity variances are inflated instead so the next samples are
+        accepted; ``inf`` never detects one.
 
     Raises
     ------
@@ -503,6 +510,11 @@ cdef class KalmanEstimator:
         return bool(self._c.gpsInitialised)
 
     @property
+    def gap_count(self):
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period``."""
+        return FusionAltitudeKalmanGetGapCount(&self._c)
+
+    @property
     def settings(self):
         """The settings; assign new :class:`KalmanSettings` to retune, keeping the state."""
         return KalmanSettings._wrap(FusionAltitudeKalmanGetSettings(&self._c))
@@ -520,10 +532,12 @@ cdef class KalmanEstimator:
                             int(s.resets), int(<int>s.result), bool(s.rejecting)))
         return (_settings_to_dict(&self._c.settings), [self._c.x[i] for i in range(5)],
                 [self._c.P[i][j] for i in range(5) for j in range(5)], sensors,
-                bool(self._c.baroInitialised), bool(self._c.gpsInitialised))
+                bool(self._c.baroInitialised), bool(self._c.gpsInitialised), self._c.gapCount, self._c.sinceFused)
 
     def _set_state(self, state):
-        settings, x, P, sensors, baro_initialised, gps_initialised = state
+        settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
+        gap_count = state[6] if len(state) > 6 else 0
+        since_fused = state[7] if len(state) > 7 else 0.0
         cdef KalmanSettings checked = KalmanSettings(**settings)
         cdef int i, j
         self._c.settings = checked._c
@@ -543,6 +557,8 @@ cdef class KalmanEstimator:
             self._c.sensors[i].rejecting = bool(rejecting)
         self._c.baroInitialised = bool(baro_initialised)
         self._c.gpsInitialised = bool(gps_initialised)
+        self._c.gapCount = gap_count
+        self._c.sinceFused = since_fused
 
     def __copy__(self):
         cdef KalmanEstimator clone = KalmanEstimator.__new__(KalmanEstimator)

@@ -28,6 +28,7 @@ class KalmanStatus(enum.IntEnum):
     INVALID_GPS = 8
     INVALID_GATE = 9
     INVALID_GROUND_EFFECT = 10
+    INVALID_GAP_PERIOD = 11
 
 
 class KalmanResult(enum.IntEnum):
@@ -72,6 +73,7 @@ KALMAN_SETTINGS = (
     ("ground_effect_dead_zone", 0.5, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
     ("initial_height_sigma", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
     ("initial_velocity_sigma", 1.0, "f", KalmanStatus.INVALID_NOISE, ">=0"),
+    ("gap_period", 0.5, "f", KalmanStatus.INVALID_GAP_PERIOD, "gap"),
 )
 
 
@@ -120,7 +122,9 @@ def raise_kalman_settings_error(status: int, values: dict) -> None:
         if group != status:
             continue
         value = values[name]
-        if kind == "f" and math.isfinite(value) and value > KALMAN_MAXIMUM_SETTING:
+        if rule == "gap":
+            ok, text = value > 0, "must be > 0 (s; inf: never a gap)"
+        elif kind == "f" and math.isfinite(value) and value > KALMAN_MAXIMUM_SETTING:
             ok, text = False, f"must be finite and <= {KALMAN_MAXIMUM_SETTING:g}"
         elif rule == ">range_min":
             ok = math.isfinite(value) and value > values["range_min"]

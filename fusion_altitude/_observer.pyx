@@ -27,6 +27,7 @@ C_STATUS_VALUES = {
     "UNSTABLE_DISCRETE": FusionAltitudeStatusUnstableDiscrete,
     "INVALID_BANDWIDTH": FusionAltitudeStatusInvalidBandwidth,
     "INVALID_PRESET": FusionAltitudeStatusInvalidPreset,
+    "INVALID_GAP_PERIOD": FusionAltitudeStatusInvalidGapPeriod,
 }
 C_GRAVITY = FUSION_ALTITUDE_GRAVITY
 C_VERSION = FUSION_ALTITUDE_VERSION
@@ -48,12 +49,16 @@ cdef class AltitudeSettings:
         Kv, 1/s²: baro residual into vertical velocity.
     bias_gain : float, default 0.675
         Kb, 1/s³: baro residual into the accel bias; 0 disables bias estimation.
+    gap_period : float, default 0.5
+        s: an update whose dt exceeds this is a gap, not integrated; ``inf``
+        never detects a gap.
 
     Raises
     ------
     ValueError
-        A gain is not finite or negative, or the observer is unstable
-        (Routh–Hurwitz: Kh·Kv > Kb when Kb > 0; Kh > 0 when Kv > 0).
+        A gain is not finite or negative, the observer is unstable
+        (Routh–Hurwitz: Kh·Kv > Kb when Kb > 0; Kh > 0 when Kv > 0), or
+        gap_period is NaN or <= 0.
 
     Notes
     -----
@@ -63,10 +68,11 @@ cdef class AltitudeSettings:
 
     cdef FusionAltitudeSettings _c
 
-    def __init__(self, position_gain=2.40, velocity_gain=2.88, bias_gain=0.675):
+    def __init__(self, position_gain=2.40, velocity_gain=2.88, bias_gain=0.675, gap_period=0.5):
         self._c.positionGain = <float>_as_double(position_gain, "position_gain")
         self._c.velocityGain = <float>_as_double(velocity_gain, "velocity_gain")
         self._c.biasGain = <float>_as_double(bias_gain, "bias_gain")
+        self._c.gapPeriod = <float>_as_double(gap_period, "gap_period")
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&self._c)
         if status != FusionAltitudeStatusOk:
             _observer_glue.raise_settings_error(status, self.as_tuple())
@@ -78,7 +84,7 @@ cdef class AltitudeSettings:
         return settings
 
     @classmethod
-    def from_bandwidth(cls, omega, zeta=0.7, omega_b=None):
+    def from_bandwidth(cls, omega, zeta=0.7, omega_b=None, gap_period=0.5):
         """Gains from position-loop bandwidth ω (rad/s), damping ζ and bias-loop bandwidth ω_b (rad/s).
 
         ``Kh = 2ζω + ω_b`` (1/s), ``Kv = ω² + 2ζω·ω_b`` (1/s²), ``Kb = ω²·ω_b``
@@ -92,8 +98,13 @@ cdef class AltitudeSettings:
         cdef float w = <float>_as_double(omega, "omega")
         cdef float z = <float>_as_double(zeta, "zeta")
         cdef float wb = w / 5.0 if omega_b is None else <float>_as_double(omega_b, "omega_b")
+        cdef float period = <float>_as_double(gap_period, "gap_period")
         cdef FusionAltitudeSettings c
         cdef FusionAltitudeStatus status = FusionAltitudeSettingsFromBandwidth(&c, w, z, wb)
+        if status != FusionAltitudeStatusOk:
+            _observer_glue.raise_settings_error(status, (w, z, wb))
+        c.gapPeriod = period
+        status = FusionAltitudeSettingsCheck(&c)
         if status != FusionAltitudeStatusOk:
             _observer_glue.raise_settings_error(status, (w, z, wb))
         return AltitudeSettings._wrap(c)
@@ -125,6 +136,11 @@ cdef class AltitudeSettings:
         """Kb, 1/s³."""
         return self._c.biasGain
 
+    @property
+    def gap_period(self):
+        """s: an update whose dt exceeds this is a gap, not integrated."""
+        return self._c.gapPeriod
+
     def validate(self, dt):
         """Check that the update is stable at sample period ``dt`` (s) (Jury's test).
 
@@ -151,25 +167,26 @@ cdef class AltitudeSettings:
     def __eq__(self, other):
         if not hasattr(other, "as_tuple") or not hasattr(other, "velocity_gain"):
             return NotImplemented
-        return self.as_tuple() == other.as_tuple()
+        return self.as_tuple() == other.as_tuple() and self.gap_period == getattr(other, "gap_period", 0.5)
 
     def __hash__(self):
-        return hash(self.as_tuple())
+        return hash((self.as_tuple(), self.gap_period))
 
     def __repr__(self):
         import numpy as np
         kh, kv, kb = (str(np.float32(g)) for g in self.as_tuple())
-        return f"AltitudeSettings(position_gain={kh}, velocity_gain={kv}, bias_gain={kb})"
+        return (f"AltitudeSettings(position_gain={kh}, velocity_gain={kv}, bias_gain={kb}, "
+                f"gap_period={np.float32(self.gap_period)})")
 
     def __reduce__(self):
-        return (AltitudeSettings, self.as_tuple())
+        return (AltitudeSettings, (*self.as_tuple(), self.gap_period))
 
 
 cdef AltitudeSettings _as_settings(object settings):
     if isinstance(settings, AltitudeSettings):
         return settings
     if hasattr(settings, "as_tuple"):
-        return AltitudeSettings(*settings.as_tuple())
+        return AltitudeSettings(*settings.as_tuple(), gap_period=getattr(settings, "gap_period", 0.5))
     raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
 
 
@@ -343,8 +360,13 @@ cdef class AltitudeEstimator:
 
     @property
     def reference_set(self):
-        """Whether the reference is set (first baro sample or reset)."""
+        """Whether the reference is set (first baro sample or reset); False again from a gap to the next baro sample."""
         return FusionAltitudeIsReferenceSet(&self._c)
+
+    @property
+    def gap_count(self):
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
+        return FusionAltitudeGetGapCount(&self._c)
 
     @property
     def settings(self):
@@ -359,11 +381,13 @@ cdef class AltitudeEstimator:
             _observer_glue.raise_settings_error(status, checked.as_tuple())
 
     def _get_state(self):
-        return (self.settings.as_tuple(), self._c.altitude, self._c.verticalVelocity, self._c.accelBias,
-                self._c.baroResidual, bool(self._c.referenceSet))
+        return ((*self.settings.as_tuple(), self._c.settings.gapPeriod), self._c.altitude, self._c.verticalVelocity,
+                self._c.accelBias, self._c.baroResidual, bool(self._c.referenceSet), self._c.gapTime,
+                self._c.gapCount, self._c.sinceRestart)
 
     def _set_state(self, state):
-        gains, h, v, b, r, reference_set = state
+        gains, h, v, b, r, reference_set = state[:6]
+        gap_time, gap_count, since_restart = state[6:] if len(state) > 6 else (0.0, 0, -1.0)
         cdef AltitudeSettings settings = AltitudeSettings(*gains)
         self._c.settings = settings._c
         self._c.altitude = h
@@ -371,6 +395,9 @@ cdef class AltitudeEstimator:
         self._c.accelBias = b
         self._c.baroResidual = r
         self._c.referenceSet = bool(reference_set)
+        self._c.gapTime = gap_time
+        self._c.gapCount = gap_count
+        self._c.sinceRestart = since_restart
 
     def __copy__(self):
         cdef AltitudeEstimator clone = AltitudeEstimator.__new__(AltitudeEstimator)

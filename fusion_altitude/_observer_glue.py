@@ -41,6 +41,7 @@ class Status(enum.IntEnum):
     UNSTABLE_DISCRETE = 7
     INVALID_BANDWIDTH = 8
     INVALID_PRESET = 9
+    INVALID_GAP_PERIOD = 10
 
 
 class DiscretisationWarning(UserWarning):
@@ -111,6 +112,8 @@ def raise_settings_error(status: int, gains: Tuple[float, float, float], dt: Opt
         raise ValueError(f"gains ({kh!r}, {kv!r}, {kb!r}) make the discrete update unstable at dt = {dt!r} s")
     if status == Status.INVALID_DT:
         raise ValueError(f"dt must be finite and > 0 (s), got {dt!r}")
+    if status == Status.INVALID_GAP_PERIOD:
+        raise ValueError("gap_period must be > 0 s (inf: never a gap)")
     if status == Status.INVALID_BANDWIDTH:
         raise ValueError("omega and zeta must be finite and > 0, omega_b finite and >= 0, "
                          "and the resulting gains finite")

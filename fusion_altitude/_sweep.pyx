@@ -15,13 +15,15 @@ BLOCK = FUSION_ALTITUDE_SWEEP_BLOCK
 
 def run(const float[::1] accel, const float[::1] baro_altitude, const float[::1] dt, bint dt_is_array,
         const float[:, ::1] gains, Py_ssize_t k_start, Py_ssize_t k_stop,
-        float[:, ::1] state, object outputs, object metrics, const float[::1] reference, const uint8_t[::1] mask):
+        float[:, ::1] state, object outputs, object metrics, const float[::1] reference, const uint8_t[::1] mask,
+        float gap_period=0.5):
     """Run settings k_start..k_stop-1 over all samples (inputs already float32 and checked for shape).
 
     ``gains`` is (3, K) (Kh, Kv, Kb rows); ``state`` is (4, K) scratch (h, v, b, r).
     ``outputs`` is None or 4 arrays (T, K) float32; ``metrics`` is None or 5
     arrays (K,) float32: sum_error, sum_squared_error, max_abs_error and two
-    zeroed scratch rows. Returns (status, bad_index, metric_samples).
+    zeroed scratch rows. ``gap_period`` (s) is shared by every setting.
+    Returns (status, bad_index, metric_samples).
     """
     cdef Py_ssize_t samples = accel.shape[0]
     cdef Py_ssize_t count = k_stop - k_start
@@ -45,6 +47,7 @@ def run(const float[::1] accel, const float[::1] baro_altitude, const float[::1]
     sweep.accelBias = &state[2, k_start]
     sweep.baroResidual = &state[3, k_start]
     FusionAltitudeSweepInitialise(&sweep)
+    sweep.gapPeriod = gap_period
     if outputs is not None:
         h_out, v_out, b_out, r_out = outputs
         out.altitude = &h_out[0, k_start]

@@ -29,6 +29,7 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         FusionAltitudeAlphaBetaStatusInvalidAltitudeBand
         FusionAltitudeAlphaBetaStatusInvalidGapMax
         FusionAltitudeAlphaBetaStatusInvalidTimeout
+        FusionAltitudeAlphaBetaStatusInvalidGapPeriod
 
     ctypedef struct FusionAltitudeAlphaBetaSensorSettings:
         float threshold
@@ -42,6 +43,7 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
 
     ctypedef struct FusionAltitudeAlphaBetaSettings:
         FusionAltitudeAlphaBetaSensorSettings sensors[5]
+        float gapPeriod
 
     ctypedef struct FusionAltitudeAlphaBetaMeasurements:
         float baroAltitude
@@ -64,6 +66,9 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         float altitude
         float verticalVelocity
         float totalWeight
+        float coastingFor
+        float gapTime
+        unsigned int gapCount
         bint started
 
     const char *FusionAltitudeAlphaBetaStatusMessage(FusionAltitudeAlphaBetaStatus status)
@@ -83,3 +88,4 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
     float FusionAltitudeAlphaBetaGetAltitude(const FusionAltitudeAlphaBeta *fusion)
     float FusionAltitudeAlphaBetaGetVerticalVelocity(const FusionAltitudeAlphaBeta *fusion)
     bint FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *fusion)
+    unsigned int FusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *fusion)

@@ -10,6 +10,7 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         FusionAltitudeComplementaryStatusInvalidDt
         FusionAltitudeComplementaryStatusInvalidTimeConstant
         FusionAltitudeComplementaryStatusInvalidCoefficient
+        FusionAltitudeComplementaryStatusInvalidGapPeriod
 
     ctypedef struct FusionAltitudeComplementarySettings:
         float accelTimeConstant
@@ -19,6 +20,7 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         float altitudeCoefficient
         float velocityTimeConstant
         float altitudeTimeConstant
+        float gapPeriod
 
     ctypedef struct FusionAltitudeComplementary:
         FusionAltitudeComplementarySettings settings
@@ -28,6 +30,8 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         float baroFiltered
         float baroVelocity
         float sinceBaro
+        float gapTime
+        unsigned int gapCount
         bint referenceSet
 
     const char *FusionAltitudeComplementaryStatusMessage(FusionAltitudeComplementaryStatus status)
@@ -48,3 +52,4 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
     float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary *filter)
     float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary *filter)
     bint FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *filter)
+    unsigned int FusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *filter)

@@ -5,6 +5,7 @@
 cdef extern from "fusion_altitude.h" nogil:
     float FUSION_ALTITUDE_GRAVITY
     int FUSION_ALTITUDE_VERSION
+    float FUSION_ALTITUDE_DEFAULT_GAP_PERIOD
 
     ctypedef enum FusionAltitudeStatus:
         FusionAltitudeStatusOk
@@ -17,6 +18,7 @@ cdef extern from "fusion_altitude.h" nogil:
         FusionAltitudeStatusUnstableDiscrete
         FusionAltitudeStatusInvalidBandwidth
         FusionAltitudeStatusInvalidPreset
+        FusionAltitudeStatusInvalidGapPeriod
 
     ctypedef enum FusionAltitudePreset:
         FusionAltitudePresetBalloon
@@ -28,6 +30,7 @@ cdef extern from "fusion_altitude.h" nogil:
         float positionGain
         float velocityGain
         float biasGain
+        float gapPeriod
 
     ctypedef struct FusionAltitude:
         FusionAltitudeSettings settings
@@ -35,6 +38,9 @@ cdef extern from "fusion_altitude.h" nogil:
         float verticalVelocity
         float accelBias
         float baroResidual
+        float gapTime
+        float sinceRestart
+        unsigned int gapCount
         bint referenceSet
 
     const char *FusionAltitudeStatusMessage(FusionAltitudeStatus status)
@@ -56,3 +62,4 @@ cdef extern from "fusion_altitude.h" nogil:
     float FusionAltitudeGetAccelBias(const FusionAltitude *altitude)
     float FusionAltitudeGetBaroResidual(const FusionAltitude *altitude)
     bint FusionAltitudeIsReferenceSet(const FusionAltitude *altitude)
+    unsigned int FusionAltitudeGetGapCount(const FusionAltitude *altitude)

@@ -40,6 +40,7 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         FusionAltitudeKalmanStatusInvalidGps
         FusionAltitudeKalmanStatusInvalidGate
         FusionAltitudeKalmanStatusInvalidGroundEffect
+        FusionAltitudeKalmanStatusInvalidGapPeriod
 
     ctypedef struct FusionAltitudeKalmanSettings:
         float accelNoise
@@ -61,6 +62,7 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         float groundEffectDeadZone
         float initialHeightSigma
         float initialVelocitySigma
+        float gapPeriod
 
     ctypedef struct FusionAltitudeKalmanMeasurements:
         float baroAltitude
@@ -85,6 +87,8 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         float x[5]
         float P[5][5]
         FusionAltitudeKalmanSensor sensors[3]
+        float sinceFused
+        unsigned int gapCount
         bint baroInitialised
         bint gpsInitialised
 
@@ -105,5 +109,6 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
     float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *kalman)
     float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *kalman)
     float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *kalman)
+    unsigned int FusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *kalman)
     float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *kalman)
     float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *kalman)

@@ -18,6 +18,10 @@ cdef extern from "fusion_altitude_sweep.h" nogil:
         float *verticalVelocity
         float *accelBias
         float *baroResidual
+        float gapPeriod
+        float gapTime
+        float sinceRestart
+        unsigned int gapCount
         bint referenceSet
 
     ctypedef struct FusionAltitudeSweepOutputs:

@@ -2,7 +2,7 @@
  * @file cycles_alphabeta.c
  * @brief Calls SizedFusionAltitudeAlphaBetaUpdate (sized_alphabeta.c) once on
  * each path, on bare-metal Cortex-M4F under QEMU with every executed
- * instruction logged, as cycles.c does for the observer. The traced calls,
+ * instruction logged, as cycles_observer.c does for the observer. The traced calls,
  * after a warm-up through the inline function (not traced):
  *   1. IMU and all four sensors sampled, every filter updated and weighted
  *   2. IMU and baro only (the common 25 Hz tick)

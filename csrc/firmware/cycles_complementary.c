@@ -2,7 +2,7 @@
  * @file cycles_complementary.c
  * @brief Calls SizedFusionAltitudeComplementaryUpdate (sized_complementary.c)
  * once on each path, on bare-metal Cortex-M4F under QEMU with every executed
- * instruction logged, as cycles.c does for the observer. The traced calls:
+ * instruction logged, as cycles_observer.c does for the observer. The traced calls:
  *   1. baro sample, time-constant blend (the default: two divisions more)
  *   2. baro sample, per-sample coefficients
  *   3. no baro sample (prediction only)

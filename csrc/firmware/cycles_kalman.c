@@ -2,7 +2,7 @@
  * @file cycles_kalman.c
  * @brief Calls SizedFusionAltitudeKalmanUpdate (sized_kalman.c) once on each
  * path, on bare-metal Cortex-M4F under QEMU with every executed instruction
- * logged (-singlestep -d exec,nochain), as cycles.c does for the observer.
+ * logged (-singlestep -d exec,nochain), as cycles_observer.c does for the observer.
  * size_table.py prices each executed instruction with the Cortex-M4 cycle
  * counts. The traced calls, in order (after a warm-up through the inline
  * function, which is not traced):

@@ -15,6 +15,7 @@ volatile bool firmwareAlphaBetaAccelReady;
 volatile float firmwareAlphaBetaSamples[4]; /* m: baro, lidar, sonar, GPS */
 volatile bool firmwareAlphaBetaReady[4];
 volatile float firmwareAlphaBetaAltitude;         /* m */
+volatile uint32_t firmwareAlphaBetaGapCount;
 volatile float firmwareAlphaBetaVerticalVelocity; /* m/s */
 volatile float firmwareAlphaBetaLidarWeight;
 volatile int32_t firmwareAlphaBetaBaroQuality;
@@ -75,6 +76,7 @@ void FirmwareAlphaBetaTask(void) {
         return;
     }
     firmwareAlphaBetaAltitude = FusionAltitudeAlphaBetaGetAltitude(&firmwareAlphaBeta);
+    firmwareAlphaBetaGapCount = FusionAltitudeAlphaBetaGetGapCount(&firmwareAlphaBeta);
     firmwareAlphaBetaVerticalVelocity = FusionAltitudeAlphaBetaGetVerticalVelocity(&firmwareAlphaBeta);
     firmwareAlphaBetaLidarWeight = FusionAltitudeAlphaBetaGetWeight(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorLidar);
     const int32_t quality = FusionAltitudeAlphaBetaGetQuality(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorBaro);

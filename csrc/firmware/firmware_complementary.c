@@ -17,6 +17,7 @@ volatile float firmwareComplementaryAltitude;          /* m */
 volatile float firmwareComplementaryVerticalVelocity;  /* m/s */
 volatile float firmwareComplementaryBaroFiltered;      /* m */
 volatile float firmwareComplementaryBaroVelocity;      /* m/s, NaN without baro */
+volatile uint32_t firmwareComplementaryGapCount;
 const char *volatile firmwareComplementaryError;
 
 static FusionAltitudeComplementary firmwareComplementary;
@@ -64,6 +65,7 @@ void FirmwareComplementaryTask(void) {
     firmwareComplementaryVerticalVelocity = FusionAltitudeComplementaryGetVerticalVelocity(&firmwareComplementary);
     firmwareComplementaryBaroFiltered = FusionAltitudeComplementaryGetBaroFiltered(&firmwareComplementary);
     firmwareComplementaryBaroVelocity = FusionAltitudeComplementaryGetBaroVelocity(&firmwareComplementary);
+    firmwareComplementaryGapCount = FusionAltitudeComplementaryGetGapCount(&firmwareComplementary);
     /* Guard against a corrupted RAM image: back to the defaults. */
     const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementaryGetSettings(&firmwareComplementary);
     if (FusionAltitudeComplementarySettingsCheck(&settings) != FusionAltitudeComplementaryStatusOk) {

@@ -31,6 +31,7 @@ volatile float firmwareKalmanVerticalVelocity; /* m/s */
 volatile float firmwareKalmanAccelBias;        /* m/s^2 */
 volatile float firmwareKalmanBaroOffset;       /* m */
 volatile float firmwareKalmanGpsOffset;        /* m */
+volatile uint32_t firmwareKalmanGapCount;
 volatile float firmwareKalmanVelocitySigma2;   /* m^2/s^2 */
 volatile uint32_t firmwareKalmanGpsRejections;
 volatile float firmwareKalmanBaroNis;
@@ -88,6 +89,7 @@ void FirmwareKalmanTask(void) {
     firmwareKalmanAccelBias = FusionAltitudeKalmanGetAccelBias(&firmwareKalman);
     firmwareKalmanBaroOffset = FusionAltitudeKalmanGetBaroOffset(&firmwareKalman);
     firmwareKalmanGpsOffset = FusionAltitudeKalmanGetGpsOffset(&firmwareKalman);
+    firmwareKalmanGapCount = FusionAltitudeKalmanGetGapCount(&firmwareKalman);
     firmwareKalmanVelocitySigma2 =
         FusionAltitudeKalmanGetCovariance(&firmwareKalman, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateVelocity);
     firmwareKalmanGpsRejections = FusionAltitudeKalmanGetSensor(&firmwareKalman, FusionAltitudeKalmanSensorGps).rejections;

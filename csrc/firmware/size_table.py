@@ -3,11 +3,11 @@
     make -C csrc/firmware sizes             # builds, then runs this
     python3 size_table.py BUILD [--json]    # BUILD as given to the Makefile
 
-Code size: the nm symbol size of Sized<Function> (sized.c: the public function
+Code size: the nm symbol size of Sized<Function> (sized_observer.c: the public function
 with everything it calls inlined into one out-of-line copy; the size includes
 its literal pool). Stack: the -fstack-usage line of the same wrapper. RAM: the
-nm size of the static FusionAltitude in firmware.c. Cycles: the instructions
-QEMU executed inside SizedFusionAltitudeUpdate (cycles.c, -d exec with
+nm size of the static FusionAltitude in firmware_observer.c. Cycles: the instructions
+QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
 The other estimators (ESTIMATORS: the Kalman filter, the complementary
@@ -33,7 +33,7 @@ FUNCTIONS = (
     "FusionAltitudeSettingsFromBandwidth", "FusionAltitudeSettingsFromPreset", "FusionAltitudeSettingsDefault",
     "FusionAltitudeStatusMessage", "FusionAltitudeGetSettings", "FusionAltitudeGetAltitude",
     "FusionAltitudeGetVerticalVelocity", "FusionAltitudeGetAccelBias", "FusionAltitudeGetBaroResidual",
-    "FusionAltitudeIsReferenceSet", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
+    "FusionAltitudeIsReferenceSet", "FusionAltitudeGetGapCount", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
     "FusionAltitudeFloatBits",
 )
 
@@ -44,6 +44,7 @@ KALMAN_FUNCTIONS = (
     "FusionAltitudeKalmanGetSensor", "FusionAltitudeKalmanGetCovariance", "FusionAltitudeKalmanGetHeightAboveGround",
     "FusionAltitudeKalmanGetAltitude", "FusionAltitudeKalmanGetAltitudeVariance", "FusionAltitudeKalmanGetVerticalVelocity",
     "FusionAltitudeKalmanGetAccelBias", "FusionAltitudeKalmanGetBaroOffset", "FusionAltitudeKalmanGetGpsOffset",
+    "FusionAltitudeKalmanGetGapCount",
 )
 
 COMPLEMENTARY_FUNCTIONS = (
@@ -53,6 +54,7 @@ COMPLEMENTARY_FUNCTIONS = (
     "FusionAltitudeComplementaryGetSettings", "FusionAltitudeComplementaryGetAltitude",
     "FusionAltitudeComplementaryGetVerticalVelocity", "FusionAltitudeComplementaryGetBaroFiltered",
     "FusionAltitudeComplementaryGetBaroVelocity", "FusionAltitudeComplementaryIsReferenceSet",
+    "FusionAltitudeComplementaryGetGapCount",
 )
 
 ALPHABETA_FUNCTIONS = (
@@ -62,6 +64,7 @@ ALPHABETA_FUNCTIONS = (
     "FusionAltitudeAlphaBetaMeasurementsNone", "FusionAltitudeAlphaBetaGains", "FusionAltitudeAlphaBetaStatusMessage",
     "FusionAltitudeAlphaBetaGetSettings", "FusionAltitudeAlphaBetaGetAltitude", "FusionAltitudeAlphaBetaGetVerticalVelocity",
     "FusionAltitudeAlphaBetaGetWeight", "FusionAltitudeAlphaBetaGetQuality", "FusionAltitudeAlphaBetaIsStarted",
+    "FusionAltitudeAlphaBetaGetGapCount",
 )
 
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the
@@ -128,9 +131,9 @@ def measure_sized(build: Path, stem: str, functions, firmware: str, instance: st
 
 def measure(build: Path) -> dict:
     """The observer's figures at the top level (size, stack, ram, c11_differs, cycles), each other estimator's under its name."""
-    result = measure_sized(build, "sized", FUNCTIONS, "firmware", "firmwareEstimator")
-    if (build / "cycles" / "trace.log").exists():
-        result["cycles"] = cycles(build / "cycles", "cycles", "SizedFusionAltitudeUpdate", CALLS)
+    result = measure_sized(build, "sized_observer", FUNCTIONS, "firmware_observer", "firmwareEstimator")
+    if (build / "cycles" / "observer-trace.log").exists():
+        result["cycles"] = cycles(build / "cycles", "observer", "SizedFusionAltitudeUpdate", CALLS)
     for name, functions, instance, _, update, calls in ESTIMATORS:
         figures = measure_sized(build, f"sized_{name}", functions, f"firmware_{name}", instance)
         if (build / "cycles" / f"{name}-trace.log").exists():
@@ -172,7 +175,7 @@ def instruction_cycles(mnemonic: str, taken: bool, operands: str = "") -> int:
 
 
 def cycles(directory: Path, stem: str, symbol: str, names) -> List[dict]:
-    """Cycle estimate of each call of symbol traced by QEMU (stem.nm, stem.lst; trace.log or stem-trace.log)."""
+    """Cycle estimate of each call of symbol traced by QEMU (stem.nm, stem.lst, stem-trace.log)."""
     start, size = read_symbols(directory / f"{stem}.nm")[symbol]
     instructions = {}
     for match in re.finditer(r"^\s*([0-9a-f]+):\s+([0-9a-f]{4})(?: ([0-9a-f]{4}))?\s+([a-z][\w.]*)[ \t]*([^\n]*)",
@@ -180,7 +183,7 @@ def cycles(directory: Path, stem: str, symbol: str, names) -> List[dict]:
         address = int(match.group(1), 16)
         if start <= address < start + size:
             instructions[address] = (4 if match.group(3) else 2, match.group(4), match.group(5))
-    trace = directory / ("trace.log" if stem == "cycles" else f"{stem}-trace.log")
+    trace = directory / f"{stem}-trace.log"
     pcs = [int(m.group(1), 16) for m in re.finditer(r"^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/",
                                                      trace.read_text(), re.MULTILINE)]
     calls: List[List[Tuple[int, int]]] = []

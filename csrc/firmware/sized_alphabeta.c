@@ -2,7 +2,7 @@
  * @file sized_alphabeta.c
  * @brief Out-of-line copies of every public function of
  * fusion_altitude_alphabeta.h, for measuring code size and stack
- * (docs/embedded.md), as sized.c does for fusion_altitude.h: each public
+ * (docs/embedded.md), as sized_observer.c does for fusion_altitude.h: each public
  * function is wrapped in an external function Sized<Name>, marked flatten so
  * that the function and everything it calls is inlined into the wrapper.
  */
@@ -118,4 +118,10 @@ bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const 
 
 SIZED bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const fusion) {
     return FusionAltitudeAlphaBetaIsStarted(fusion);
+}
+
+uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion);
+
+SIZED uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion) {
+    return FusionAltitudeAlphaBetaGetGapCount(fusion);
 }

@@ -2,7 +2,7 @@
  * @file sized_complementary.c
  * @brief Out-of-line copies of every public function of
  * fusion_altitude_complementary.h, for measuring code size and stack
- * (docs/embedded.md), as sized.c does for fusion_altitude.h: each public
+ * (docs/embedded.md), as sized_observer.c does for fusion_altitude.h: each public
  * function is wrapped in an external function Sized<Name>, marked flatten so
  * that the function and everything it calls is inlined into the wrapper.
  */
@@ -100,4 +100,10 @@ bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeCompleme
 
 SIZED bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *const filter) {
     return FusionAltitudeComplementaryIsReferenceSet(filter);
+}
+
+uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter);
+
+SIZED uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter) {
+    return FusionAltitudeComplementaryGetGapCount(filter);
 }

@@ -2,7 +2,7 @@
  * @file sized_kalman.c
  * @brief Out-of-line copies of every public function of
  * fusion_altitude_kalman.h, for measuring code size and stack
- * (docs/embedded.md), as sized.c does for fusion_altitude.h: each public
+ * (docs/embedded.md), as sized_observer.c does for fusion_altitude.h: each public
  * function is wrapped in an external function Sized<Name>, marked flatten so
  * that the function and everything it calls is inlined into the wrapper.
  */
@@ -103,6 +103,12 @@ SIZED float SizedFusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *c
 
 SIZED float SizedFusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *const kalman) {
     return FusionAltitudeKalmanGetGpsOffset(kalman);
+}
+
+uint32_t SizedFusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman);
+
+SIZED uint32_t SizedFusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman) {
+    return FusionAltitudeKalmanGetGapCount(kalman);
 }
 
 SIZED float SizedFusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanState i,

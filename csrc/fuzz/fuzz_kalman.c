@@ -65,7 +65,7 @@
 #define MAX_STEPS (20000)    /* updates since initialisation */
 #define MAX_ACCEL (1e3f)     /* m/s^2 */
 #define MAX_ALTITUDE (1e5f)  /* m */
-#define SETTINGS_FIELDS (19)
+#define SETTINGS_FIELDS (20)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -211,7 +211,7 @@ static void EditSettings(FusionAltitudeKalmanSettings *const s, const uint8_t fi
                                             &s->baroOffsetRandomWalk, &s->rangeNoise, &s->rangeMinimum, &s->rangeMaximum,
                                             &s->gpsNoiseBase, &s->gpsNoiseSatellite, NULL, &s->gpsOffsetRandomWalk, &s->gate,
                                             &s->rejectionTimeout, &s->groundEffectNoiseScale, &s->groundEffectDeadZone,
-                                            &s->initialHeightSigma, &s->initialVelocitySigma};
+                                            &s->initialHeightSigma, &s->initialVelocitySigma, &s->gapPeriod};
     const int index = field % SETTINGS_FIELDS;
     if (index == 3) {
         s->estimateAccelBias = bits != 0u;

@@ -203,6 +203,71 @@ static void BadSettingsAreRejected(void) {
     CHECK(FusionAltitudeAlphaBetaGetQuality(&fusion, FusionAltitudeAlphaBetaSensorBaro) == 20);
 }
 
+static void GapIsCountedAndRestartsFromThatStepsSamplesWithTheMeanVelocity(void) {
+    FusionAltitudeAlphaBeta fusion = Running();
+    const float h = FusionAltitudeAlphaBetaGetAltitude(&fusion);
+    FusionAltitudeAlphaBetaMeasurements m = Baro(h + 8.0f);
+    CHECK(FusionAltitudeAlphaBetaUpdate(&fusion, 30.0f, 2.0f, &m) == FusionAltitudeAlphaBetaStatusOk);
+    CHECK(FusionAltitudeAlphaBetaGetGapCount(&fusion) == 1u);
+    CHECK(FusionAltitudeAlphaBetaIsStarted(&fusion));
+    CHECK(FusionAltitudeAlphaBetaGetAltitude(&fusion) == h + 8.0f);
+    CHECK(FusionAltitudeAlphaBetaGetVerticalVelocity(&fusion) == ((h + 8.0f) - h) / 2.0f);
+    CHECK(FusionAltitudeAlphaBetaGetQuality(&fusion, FusionAltitudeAlphaBetaSensorBaro) == 10);
+}
+
+static void GapWithoutSamplesHoldsUntilTheNextSample(void) {
+    FusionAltitudeAlphaBeta fusion = Running();
+    const float h = FusionAltitudeAlphaBetaGetAltitude(&fusion);
+    const FusionAltitudeAlphaBetaMeasurements none = FusionAltitudeAlphaBetaMeasurementsNone();
+    CHECK(FusionAltitudeAlphaBetaUpdate(&fusion, 30.0f, 3.0f, &none) == FusionAltitudeAlphaBetaStatusOk);
+    CHECK(FusionAltitudeAlphaBetaUpdate(&fusion, 30.0f, 0.5f, &none) == FusionAltitudeAlphaBetaStatusOk);
+    CHECK(!FusionAltitudeAlphaBetaIsStarted(&fusion));
+    CHECK(FusionAltitudeAlphaBetaGetAltitude(&fusion) == h);
+    const FusionAltitudeAlphaBetaMeasurements m = Baro(h - 7.0f);
+    CHECK(FusionAltitudeAlphaBetaUpdate(&fusion, 0.0f, 0.5f, &m) == FusionAltitudeAlphaBetaStatusOk);
+    CHECK(FusionAltitudeAlphaBetaGetAltitude(&fusion) == h - 7.0f);
+    CHECK(FusionAltitudeAlphaBetaGetVerticalVelocity(&fusion) == ((h - 7.0f) - h) / 4.0f);
+    CHECK(FusionAltitudeAlphaBetaGetGapCount(&fusion) == 1u);
+}
+
+/* The baro drops out for 10 s and the IMU is the only channel left (weight
+ * 0 once its gap exceeds its maximum): dead reckoning with a 1 m/s^2 accel
+ * error stops after the gap period instead of running away, and the baro
+ * re-acquires the altitude on its first sample back. */
+static void DeadReckoningIsBoundedAndTheSensorReacquires(void) {
+    FusionAltitudeAlphaBeta fusion;
+    FusionAltitudeAlphaBetaInitialise(&fusion);
+    for (int i = 0; i < 500; i++) {
+        const FusionAltitudeAlphaBetaMeasurements m = Baro(20.0f);
+        (void) FusionAltitudeAlphaBetaUpdate(&fusion, 0.0f, 0.01f, &m);
+    }
+    float worst = 0.0f;
+    const FusionAltitudeAlphaBetaMeasurements none = FusionAltitudeAlphaBetaMeasurementsNone();
+    for (int i = 0; i < 1000; i++) {
+        (void) FusionAltitudeAlphaBetaUpdate(&fusion, 1.0f, 0.01f, &none);
+        const float error = fabsf(FusionAltitudeAlphaBetaGetAltitude(&fusion) - 20.0f);
+        worst = error > worst ? error : worst;
+    }
+    CHECK(!FusionAltitudeAlphaBetaIsStarted(&fusion));
+    CHECK(worst < 0.5f * 1.0f * 3.1f * 3.1f); /* at most the 1.5 s timeout plus the 1.5 s gap period of coasting */
+    const FusionAltitudeAlphaBetaMeasurements back = Baro(20.0f);
+    (void) FusionAltitudeAlphaBetaUpdate(&fusion, 1.0f, 0.01f, &back);
+    CHECK(FusionAltitudeAlphaBetaIsStarted(&fusion));
+    CHECK(FusionAltitudeAlphaBetaGetAltitude(&fusion) == 20.0f);
+    CHECK(FusionAltitudeAlphaBetaGetGapCount(&fusion) == 0u);
+}
+
+static void GapPeriodMustBePositive(void) {
+    FusionAltitudeAlphaBetaSettings s = FusionAltitudeAlphaBetaSettingsDefault();
+    CHECK(s.gapPeriod == 1.5f);
+    s.gapPeriod = 0.0f;
+    CHECK(FusionAltitudeAlphaBetaSettingsCheck(&s) == FusionAltitudeAlphaBetaStatusInvalidGapPeriod);
+    s.gapPeriod = FusionAltitudeNaN();
+    CHECK(FusionAltitudeAlphaBetaSettingsCheck(&s) == FusionAltitudeAlphaBetaStatusInvalidGapPeriod);
+    s.gapPeriod = FusionAltitudeAlphaBetaInfinity();
+    CHECK(FusionAltitudeAlphaBetaSettingsCheck(&s) == FusionAltitudeAlphaBetaStatusOk);
+}
+
 int main(void) {
     RUN(GainsAreTheLeastSquaresLineFit);
     RUN(DefaultsAreTheWriteUpsTables);
@@ -213,5 +278,9 @@ int main(void) {
     RUN(EverySensorDroppedMeansDeadReckoning);
     RUN(BadInputsLeaveTheStateUnchanged);
     RUN(BadSettingsAreRejected);
+    RUN(GapIsCountedAndRestartsFromThatStepsSamplesWithTheMeanVelocity);
+    RUN(GapWithoutSamplesHoldsUntilTheNextSample);
+    RUN(DeadReckoningIsBoundedAndTheSensorReacquires);
+    RUN(GapPeriodMustBePositive);
     return TestSummary();
 }

@@ -168,6 +168,47 @@ static void BadSettingsAreRejected(void) {
     CHECK(strcmp(FusionAltitudeComplementaryStatusMessage(FusionAltitudeComplementaryStatusInvalidDt), "dt must be finite and > 0") == 0);
 }
 
+static void GapIsCountedAndNotIntegrated(void) {
+    FusionAltitudeComplementary filter = Running();
+    const FusionAltitudeComplementary before = filter;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 40.0f, FusionAltitudeNaN(), 2.0f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(FusionAltitudeComplementaryGetGapCount(&filter) == 1u);
+    CHECK(!FusionAltitudeComplementaryIsReferenceSet(&filter));
+    CHECK(filter.altitude == before.altitude && filter.verticalVelocity == before.verticalVelocity);
+    CHECK(filter.accelFiltered == before.accelFiltered);
+}
+
+static void NextBaroAfterAGapRestartsWithTheMeanVelocity(void) {
+    FusionAltitudeComplementary filter = Running();
+    const float h = filter.altitude;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 0.0f, FusionAltitudeNaN(), 1.0f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 0.0f, h + 6.0f, 0.5f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(FusionAltitudeComplementaryIsReferenceSet(&filter));
+    CHECK(FusionAltitudeComplementaryGetAltitude(&filter) == h + 6.0f);
+    CHECK(FusionAltitudeComplementaryGetBaroFiltered(&filter) == h + 6.0f);
+    CHECK(FusionAltitudeComplementaryGetVerticalVelocity(&filter) == ((h + 6.0f) - h) / 1.5f);
+    CHECK(FusionAltitudeComplementaryGetBaroVelocity(&filter) == ((h + 6.0f) - h) / 1.5f);
+    CHECK(filter.sinceBaro == 0.0f);
+}
+
+static void DtAtTheGapPeriodIsIntegrated(void) {
+    FusionAltitudeComplementary filter = Running();
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 0.0f, FusionAltitudeNaN(), 0.5f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(FusionAltitudeComplementaryGetGapCount(&filter) == 0u);
+    CHECK(FusionAltitudeComplementaryIsReferenceSet(&filter));
+}
+
+static void GapPeriodMustBePositive(void) {
+    FusionAltitudeComplementarySettings s = FusionAltitudeComplementarySettingsDefault();
+    CHECK(s.gapPeriod == 0.5f);
+    s.gapPeriod = 0.0f;
+    CHECK(FusionAltitudeComplementarySettingsCheck(&s) == FusionAltitudeComplementaryStatusInvalidGapPeriod);
+    s.gapPeriod = FusionAltitudeNaN();
+    CHECK(FusionAltitudeComplementarySettingsCheck(&s) == FusionAltitudeComplementaryStatusInvalidGapPeriod);
+    s.gapPeriod = Infinity();
+    CHECK(FusionAltitudeComplementarySettingsCheck(&s) == FusionAltitudeComplementaryStatusOk);
+}
+
 int main(void) {
     RUN(DefaultsAreTheWriteUpsCoefficientsAt100Hz);
     RUN(FirstBaroSampleSetsTheReference);
@@ -178,5 +219,9 @@ int main(void) {
     RUN(SlowBaroUsesTheIntervalSinceTheLastSample);
     RUN(BadInputsLeaveTheStateUnchanged);
     RUN(BadSettingsAreRejected);
+    RUN(GapIsCountedAndNotIntegrated);
+    RUN(NextBaroAfterAGapRestartsWithTheMeanVelocity);
+    RUN(DtAtTheGapPeriodIsIntegrated);
+    RUN(GapPeriodMustBePositive);
     return TestSummary();
 }

@@ -429,6 +429,79 @@ static int RunLong(void) {
     return bad == 0 ? 0 : 1;
 }
 
+static void GapIsCountedNotPredictedAndInflatesHeightAndVelocity(void) {
+    FusionAltitudeKalman kalman = RunningFilter();
+    const FusionAltitudeKalman before = kalman;
+    CHECK(FusionAltitudeKalmanUpdate(&kalman, 50.0f, 2.0f, NULL) == FusionAltitudeKalmanStatusOk);
+    CHECK(FusionAltitudeKalmanGetGapCount(&kalman) == 1u);
+    CHECK(memcmp(kalman.x, before.x, sizeof(kalman.x)) == 0);
+    const float heightSigma = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * 2.0f;
+    CHECK(kalman.P[0][0] == before.P[0][0] + heightSigma * heightSigma);
+    CHECK(kalman.P[1][1] == before.P[1][1] + FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA);
+    CHECK(kalman.P[0][1] == before.P[0][1] && kalman.P[1][0] == before.P[1][0]);
+    CHECK(kalman.P[4][4] > before.P[4][4]); /* bias random walk over the gap */
+    FusionAltitudeKalman atPeriod = before;
+    CHECK(FusionAltitudeKalmanUpdate(&atPeriod, 0.0f, 0.5f, NULL) == FusionAltitudeKalmanStatusOk);
+    CHECK(FusionAltitudeKalmanGetGapCount(&atPeriod) == 0u);
+}
+
+/* A vehicle climbing at 3 m/s, baro only at 100 Hz; 2 s of data lost while
+ * it keeps climbing: the first samples after the gap pass the gate and the
+ * altitude is back within 0.5 m of the truth within 2 s, bias untouched. */
+static void GapInAClimbIsRecoveredWithinTwoSeconds(void) {
+    FusionAltitudeKalman kalman;
+    FusionAltitudeKalmanInitialise(&kalman);
+    float t = 0.0f;
+    for (int i = 0; i < 1000; i++) {
+        const float truth = 50.0f + 3.0f * (t > 2.0f ? t - 2.0f : 0.0f);
+        const FusionAltitudeKalmanMeasurements m = Baro(truth + 0.1f * Gaussian());
+        (void) FusionAltitudeKalmanUpdate(&kalman, (i == 200) ? 300.0f : 0.0f, 0.01f, &m);
+        t += 0.01f;
+    }
+    const float bias = FusionAltitudeKalmanGetAccelBias(&kalman);
+    t += 2.0f;
+    float worstAfter = 0.0f;
+    int rejected = 0;
+    for (int i = 0; i < 400; i++) {
+        const float truth = 50.0f + 3.0f * (t - 2.0f);
+        const FusionAltitudeKalmanMeasurements m = Baro(truth + 0.1f * Gaussian());
+        (void) FusionAltitudeKalmanUpdate(&kalman, 0.0f, (i == 0) ? 2.01f : 0.01f, &m);
+        rejected += (kalman.sensors[FusionAltitudeKalmanSensorBaro].result == FusionAltitudeKalmanResultRejected) ? 1 : 0;
+        const float error = Absolute(FusionAltitudeKalmanGetAltitude(&kalman) - truth);
+        worstAfter = (i >= 200 && error > worstAfter) ? error : worstAfter;
+        t += 0.01f;
+    }
+    CHECK(FusionAltitudeKalmanGetGapCount(&kalman) == 1u);
+    CHECK(rejected == 0);
+    CHECK(worstAfter < 0.5f);
+    CHECK(Absolute(FusionAltitudeKalmanGetAccelBias(&kalman) - bias) < 0.05f);
+}
+
+/* An accelerometer glitch burst (+20 m/s^2 for 0.5 s) throws the velocity
+ * 9 m/s off (and the bias 0.3 m/s^2) while the vehicle hovers: the baro is
+ * rejected until the timeout, then h, v and b are inflated with the reset,
+ * and the filter is back (altitude within 0.5 m from 2 s after the burst,
+ * velocity within 0.3 m/s from 3.5 s after) instead of re-basing the offset
+ * around a wrong velocity. */
+static void GlitchBurstIsRecoveredAfterTheRejectionTimeout(void) {
+    FusionAltitudeKalman kalman;
+    FusionAltitudeKalmanInitialise(&kalman);
+    float worstLate = 0.0f;
+    float worstVelocity = 0.0f;
+    for (int i = 0; i < 1500; i++) {
+        const float accel = (i >= 500 && i < 550) ? 20.0f : 0.05f * Gaussian();
+        const FusionAltitudeKalmanMeasurements m = Baro(80.0f + 0.1f * Gaussian());
+        (void) FusionAltitudeKalmanUpdate(&kalman, accel, 0.01f, &m);
+        const float error = Absolute(FusionAltitudeKalmanGetAltitude(&kalman) - 80.0f);
+        const float velocity = Absolute(FusionAltitudeKalmanGetVerticalVelocity(&kalman));
+        worstLate = (i >= 750 && error > worstLate) ? error : worstLate;
+        worstVelocity = (i >= 900 && velocity > worstVelocity) ? velocity : worstVelocity;
+    }
+    CHECK(kalman.sensors[FusionAltitudeKalmanSensorBaro].resets >= 1u);
+    CHECK(worstLate < 0.5f);
+    CHECK(worstVelocity < 0.3f);
+}
+
 int main(int argc, char **argv) {
     if ((argc > 1) && (strcmp(argv[1], "long") == 0)) {
         return RunLong();
@@ -445,5 +518,8 @@ int main(int argc, char **argv) {
     RUN(RangeOutsideLimitsAndTooFewSatellitesAreNotFused);
     RUN(GpsSigmaFollowsSatellitesOrReportedAccuracy);
     RUN(DisabledBiasStaysExactlyZero);
+    RUN(GapIsCountedNotPredictedAndInflatesHeightAndVelocity);
+    RUN(GapInAClimbIsRecoveredWithinTwoSeconds);
+    RUN(GlitchBurstIsRecoveredAfterTheRejectionTimeout);
     return TestSummary();
 }

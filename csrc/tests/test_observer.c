@@ -11,8 +11,8 @@
 #include <string.h>
 
 /* Struct sizes a firmware engineer budgets for (checked at compile time). */
-typedef char estimatorFitsIn32Bytes[(sizeof(FusionAltitude) <= 32u) ? 1 : -1];
-typedef char settingsAre12Bytes[(sizeof(FusionAltitudeSettings) == 12u) ? 1 : -1];
+typedef char estimatorFitsIn48Bytes[(sizeof(FusionAltitude) <= 48u) ? 1 : -1];
+typedef char settingsAre16Bytes[(sizeof(FusionAltitudeSettings) == 16u) ? 1 : -1];
 
 static float Infinity(void) {
     const uint32_t bits = 0x7F800000u;
@@ -141,9 +141,9 @@ static void RejectedInputsLeaveStateBitIdentical(void) {
     CHECK(FusionAltitudeReset(&altitude, inf) == FusionAltitudeStatusInvalidBaroAltitude);
     CHECK(FusionAltitudeResetWithBias(&altitude, 1.0f, nan) == FusionAltitudeStatusInvalidAccelBias);
     CHECK(FusionAltitudeResetWithBias(&altitude, nan, 0.0f) == FusionAltitudeStatusInvalidBaroAltitude);
-    const FusionAltitudeSettings negative = {-1.0f, 2.88f, 0.675f};
-    const FusionAltitudeSettings notFinite = {2.4f, nan, 0.675f};
-    const FusionAltitudeSettings unstable = {1.0f, 1.0f, 2.0f};
+    const FusionAltitudeSettings negative = {-1.0f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings notFinite = {2.4f, nan, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings unstable = {1.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     CHECK(FusionAltitudeSetSettings(&altitude, &negative) == FusionAltitudeStatusInvalidGain);
     CHECK(FusionAltitudeSetSettings(&altitude, &notFinite) == FusionAltitudeStatusInvalidGain);
     CHECK(FusionAltitudeSetSettings(&altitude, &unstable) == FusionAltitudeStatusUnstableGains);
@@ -161,11 +161,11 @@ static void FirstSampleStillChecksAllInputs(void) {
 }
 
 static void SettingsCheckAppliesRouthHurwitz(void) {
-    const FusionAltitudeSettings stable = {2.0f, 1.0f, 1.9f};
-    const FusionAltitudeSettings boundary = {2.0f, 1.0f, 2.0f};
-    const FusionAltitudeSettings noBias = {2.0f, 1.0f, 0.0f};
-    const FusionAltitudeSettings undamped = {0.0f, 1.0f, 0.0f};
-    const FusionAltitudeSettings inertialOnly = {0.0f, 0.0f, 0.0f};
+    const FusionAltitudeSettings stable = {2.0f, 1.0f, 1.9f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings boundary = {2.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings noBias = {2.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings undamped = {0.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings inertialOnly = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     CHECK(FusionAltitudeSettingsCheck(&stable) == FusionAltitudeStatusOk);
     CHECK(FusionAltitudeSettingsCheck(&boundary) == FusionAltitudeStatusUnstableGains);
     CHECK(FusionAltitudeSettingsCheck(&noBias) == FusionAltitudeStatusOk);
@@ -189,8 +189,8 @@ static void DiscreteValidationRejectsLongSteps(void) {
 static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
     const float omegas[4] = {0.2f, 0.5f, 1.5f, 5.0f};
     for (int i = 0; i < 4; i++) {
-        FusionAltitudeSettings fromPreset = {0.0f, 0.0f, 0.0f};
-        FusionAltitudeSettings fromBandwidth = {0.0f, 0.0f, 0.0f};
+        FusionAltitudeSettings fromPreset = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+        FusionAltitudeSettings fromBandwidth = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
         CHECK(FusionAltitudeSettingsFromPreset(&fromPreset, (FusionAltitudePreset) i) == FusionAltitudeStatusOk);
         CHECK(FusionAltitudeSettingsFromBandwidth(&fromBandwidth, omegas[i], 0.7f, omegas[i] / 5.0f) == FusionAltitudeStatusOk);
         const float pairs[3][2] = {{fromPreset.positionGain, fromBandwidth.positionGain},
@@ -201,7 +201,7 @@ static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
             CHECK(ulps >= -1 && ulps <= 1);
         }
     }
-    FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f};
+    FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, -1.0f, 0.7f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, 1.0f, 0.0f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
     int unknownPreset = (int) FusionAltitudePresetRacing + 1;
@@ -246,6 +246,109 @@ static void FloatClassificationNeedsNoLibm(void) {
     CHECK(!FusionAltitudeIsNaN(Infinity()) && !FusionAltitudeIsNaN(1.0f));
 }
 
+static void DtAboveTheGapPeriodIsCountedAndNotIntegrated(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const FusionAltitude before = altitude;
+    CHECK(FusionAltitudeUpdate(&altitude, 50.0f, FUSION_ALTITUDE_NO_BARO, 2.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+    CHECK(!FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == before.altitude);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == before.verticalVelocity);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == before.accelBias);
+    CHECK(FusionAltitudeIsNaN(FusionAltitudeGetBaroResidual(&altitude)));
+}
+
+static void DtEqualToTheGapPeriodIsIntegrated(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const float h = altitude.altitude;
+    CHECK(FusionAltitudeUpdate(&altitude, 1.0f, FUSION_ALTITUDE_NO_BARO, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 0u);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) != h);
+}
+
+static void NextBaroAfterAGapRestartsWithTheMeanVelocityAndKeepsTheBias(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const float h = altitude.altitude;
+    const float b = altitude.accelBias;
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 2.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 0.25f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, h + 4.5f, 0.25f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == h + 4.5f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == ((h + 4.5f) - h) / 2.5f);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == b);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+}
+
+static void GapStepWithABaroSampleRestartsOnIt(void) {
+    FusionAltitude altitude = RunningEstimator();
+    const float h = altitude.altitude;
+    CHECK(FusionAltitudeUpdate(&altitude, 9.0f, h - 3.0f, 1.5f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == h - 3.0f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == ((h - 3.0f) - h) / 1.5f);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+}
+
+static void GapBeforeTheReferenceIsNotCounted(void) {
+    FusionAltitude altitude;
+    FusionAltitudeInitialise(&altitude);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 5.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 12.0f, 5.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 0u);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == 0.0f);
+}
+
+static void ResetCancelsAPendingRestart(void) {
+    FusionAltitude altitude = RunningEstimator();
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 3.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeReset(&altitude, 7.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsReferenceSet(&altitude) && (altitude.gapTime == 0.0f));
+    const float b = altitude.accelBias;
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 7.0f, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == (0.0f - b) * 0.01f); /* a correction, not a restart */
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+}
+
+static void GapPeriodMustBePositiveAndMayBeInfinite(void) {
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
+    CHECK(settings.gapPeriod == 0.5f);
+    settings.gapPeriod = 0.0f;
+    CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusInvalidGapPeriod);
+    settings.gapPeriod = -1.0f;
+    CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusInvalidGapPeriod);
+    settings.gapPeriod = FusionAltitudeNaN();
+    CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusInvalidGapPeriod);
+    FusionAltitude altitude = RunningEstimator();
+    const FusionAltitude before = altitude;
+    CHECK(FusionAltitudeSetSettings(&altitude, &settings) == FusionAltitudeStatusInvalidGapPeriod);
+    CHECK(SameBits(&altitude, &before));
+    settings.gapPeriod = Infinity();
+    CHECK(FusionAltitudeSetSettings(&altitude, &settings) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 100.0f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 0u);
+    FusionAltitudeSettings balloon;
+    CHECK(FusionAltitudeSettingsFromPreset(&balloon, FusionAltitudePresetBalloon) == FusionAltitudeStatusOk);
+    CHECK(balloon.gapPeriod == 5.0f);
+}
+
+static void BiasIsHeldForEightOverKhAfterARestart(void) {
+    FusionAltitude altitude = RunningEstimator();
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 20.0f, 2.0f) == FusionAltitudeStatusOk); /* gap, restart on this sample */
+    const float b = FusionAltitudeGetAccelBias(&altitude);
+    int heldSteps = 0;
+    for (int i = 0; i < 500; i++) {
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, 21.0f, 0.01f) == FusionAltitudeStatusOk);
+        heldSteps += (FusionAltitudeGetAccelBias(&altitude) == b) ? 1 : 0;
+    }
+    /* 8 / 2.4 = 3.33 s: the 333 steps with sinceRestart * Kh < 8 hold it (float32 sums of 0.01 give 333 or 334) */
+    CHECK(heldSteps >= 332 && heldSteps <= 334);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) != b);
+}
+
 int main(void) {
     RUN(InitialiseUsesDefaultGainsAndNoReference);
     RUN(FirstBaroSampleOnlySetsTheReference);
@@ -263,5 +366,13 @@ int main(void) {
     RUN(ConstantAccelBiasIsEstimatedWithNoAltitudeError);
     RUN(StatusMessagesExistForEveryStatus);
     RUN(FloatClassificationNeedsNoLibm);
+    RUN(DtAboveTheGapPeriodIsCountedAndNotIntegrated);
+    RUN(DtEqualToTheGapPeriodIsIntegrated);
+    RUN(NextBaroAfterAGapRestartsWithTheMeanVelocityAndKeepsTheBias);
+    RUN(GapStepWithABaroSampleRestartsOnIt);
+    RUN(GapBeforeTheReferenceIsNotCounted);
+    RUN(ResetCancelsAPendingRestart);
+    RUN(GapPeriodMustBePositiveAndMayBeInfinite);
+    RUN(BiasIsHeldForEightOverKhAfterARestart);
     return TestSummary();
 }

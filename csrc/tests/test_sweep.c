@@ -44,7 +44,7 @@ static void MakeInputs(void) {
 }
 
 static FusionAltitudeSweep NewSweep(void) {
-    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], false};
+    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], 0.0f, 0.0f, 0.0f, 0u, false};
     FusionAltitudeSweepInitialise(&sweep);
     return sweep;
 }
@@ -55,13 +55,14 @@ static bool SameBits(const float a, const float b) {
 
 static void EveryColumnEqualsTheSingleFilter(void) {
     FusionAltitudeSweep sweep = NewSweep();
+    CHECK(sweep.gapPeriod == FUSION_ALTITUDE_DEFAULT_GAP_PERIOD);
     const FusionAltitudeSweepOutputs out = {outputs[0], outputs[1], outputs[2], outputs[3], SETTINGS};
     size_t bad = 0;
     CHECK(FusionAltitudeSweepUpdate(&sweep, accel, baro, dt, 1, SAMPLES, &out, NULL, &bad) == FusionAltitudeStatusOk);
     for (int k = 0; k < SETTINGS; k++) {
         FusionAltitude single;
         FusionAltitudeInitialise(&single);
-        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k]};
+        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
         (void) FusionAltitudeSetSettings(&single, &settings);
         bool same = true;
         for (int t = 0; t < SAMPLES; t++) {
@@ -120,12 +121,52 @@ static void ScalarDtUsesStrideZero(void) {
     CHECK(FusionAltitudeSweepUpdate(&sweep, accel, baro, &step, 0, SAMPLES, NULL, NULL, &bad) == FusionAltitudeStatusOk);
     FusionAltitude single;
     FusionAltitudeInitialise(&single);
-    const FusionAltitudeSettings settings = {kh[5], kv[5], kb[5]};
+    const FusionAltitudeSettings settings = {kh[5], kv[5], kb[5], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     (void) FusionAltitudeSetSettings(&single, &settings);
     for (int t = 0; t < SAMPLES; t++) {
         (void) FusionAltitudeUpdate(&single, accel[t], baro[t], step);
     }
     CHECK(SameBits(state[0][5], single.altitude));
+}
+
+/* Gaps (dt above the gap period, with and without a baro sample on the gap
+ * step) restart every column exactly as FusionAltitudeUpdate does, split
+ * over two calls so the shared gap state also carries across calls. */
+static void EveryColumnRestartsAfterAGapAsTheSingleFilter(void) {
+    static float gapDt[SAMPLES];
+    for (int t = 0; t < SAMPLES; t++) {
+        gapDt[t] = dt[t];
+    }
+    gapDt[700] = 2.0f;  /* no baro on this step (700 % 3 != 0) */
+    gapDt[1500] = 0.9f; /* a baro sample on this step */
+    gapDt[1501] = 0.6f; /* a gap right after the restart */
+    gapDt[2200] = 0.4f; /* below the gap period: integrated */
+    FusionAltitudeSweep sweep = NewSweep();
+    sweep.gapPeriod = 0.5f;
+    const FusionAltitudeSweepOutputs out = {outputs[0], outputs[1], outputs[2], outputs[3], SETTINGS};
+    const FusionAltitudeSweepOutputs rest = {&outputs[0][1000 * SETTINGS], &outputs[1][1000 * SETTINGS], &outputs[2][1000 * SETTINGS],
+                                             &outputs[3][1000 * SETTINGS], SETTINGS};
+    size_t bad = 0;
+    CHECK(FusionAltitudeSweepUpdate(&sweep, accel, baro, gapDt, 1, 1000, &out, NULL, &bad) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSweepUpdate(&sweep, &accel[1000], &baro[1000], &gapDt[1000], 1, SAMPLES - 1000, &rest, NULL, &bad) ==
+          FusionAltitudeStatusOk);
+    for (int k = 0; k < SETTINGS; k++) {
+        FusionAltitude single;
+        FusionAltitudeInitialise(&single);
+        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], 0.5f};
+        (void) FusionAltitudeSetSettings(&single, &settings);
+        bool same = true;
+        for (int t = 0; t < SAMPLES; t++) {
+            (void) FusionAltitudeUpdate(&single, accel[t], baro[t], gapDt[t]);
+            const size_t i = (size_t) t * SETTINGS + (size_t) k;
+            same = same && SameBits(outputs[0][i], single.altitude) && SameBits(outputs[1][i], single.verticalVelocity) &&
+                   SameBits(outputs[2][i], single.accelBias) && SameBits(outputs[3][i], single.baroResidual);
+        }
+        CHECK(same);
+        CHECK(FusionAltitudeGetGapCount(&single) == 3u);
+    }
+    CHECK(sweep.gapCount == 3u);
+    CHECK(sweep.referenceSet);
 }
 
 int main(void) {
@@ -134,5 +175,6 @@ int main(void) {
     RUN(MetricsMatchTheOutputs);
     RUN(RejectedSampleTouchesNothing);
     RUN(ScalarDtUsesStrideZero);
+    RUN(EveryColumnRestartsAfterAGapAsTheSingleFilter);
     return TestSummary();
 }

@@ -58,6 +58,11 @@ def _sensor_status(s: AlphaBetaSensorSettings) -> AlphaBetaStatus:
     return AlphaBetaStatus.OK
 
 
+def _gap_period_status(gap_period: float) -> AlphaBetaStatus:
+    """The gap-period part of FusionAltitudeAlphaBetaSettingsCheck: > 0 (NaN fails, inf passes)."""
+    return AlphaBetaStatus.OK if f32(gap_period) > 0 else AlphaBetaStatus.INVALID_GAP_PERIOD
+
+
 class AlphaBetaSettings(KeywordSettings):
     """One :class:`AlphaBetaSensorSettings` per sensor; see :class:`fusion_altitude.AlphaBetaSettings`."""
 
@@ -70,11 +75,14 @@ class AlphaBetaSettings(KeywordSettings):
             status = _sensor_status(values[sensor])
             if status != AlphaBetaStatus.OK:
                 _alphabeta_glue.raise_alphabeta_settings_error(status, values)
+        status = _gap_period_status(values["gap_period"])
+        if status != AlphaBetaStatus.OK:
+            _alphabeta_glue.raise_alphabeta_settings_error(status, values)
         self._values = values
 
     def replace(self, **sensors) -> "AlphaBetaSettings":
         """A copy with some sensors' fields changed."""
-        unknown = set(sensors) - set(ALPHABETA_SENSORS)
+        unknown = set(sensors) - set(ALPHABETA_SENSORS) - {"gap_period"}
         if unknown:
             raise TypeError(f"unknown alpha-beta sensor(s): {', '.join(sorted(unknown))}")
         merged = {}
@@ -82,6 +90,8 @@ class AlphaBetaSettings(KeywordSettings):
             change = sensors.get(name)
             if change is None:
                 merged[name] = value
+            elif name == "gap_period":
+                merged[name] = change
             elif isinstance(change, AlphaBetaSensorSettings):
                 merged[name] = change
             else:
@@ -124,7 +134,7 @@ class _Filter:
 class AlphaBetaFusion(Checkpointable):
     """Quality-weighted alpha-beta fusion; see :class:`fusion_altitude.AlphaBetaFusion`."""
 
-    __slots__ = ("_settings", "_filters", "_h", "_v", "_total", "_started")
+    __slots__ = ("_settings", "_filters", "_h", "_v", "_total", "_coasting", "_gap_time", "_gap_count", "_started")
 
     def __init__(self, settings: Optional[AlphaBetaSettings] = None) -> None:
         # FusionAltitudeAlphaBetaInitialise / InitialiseWith
@@ -136,13 +146,17 @@ class AlphaBetaFusion(Checkpointable):
         self._h = f32(0)
         self._v = f32(0)
         self._total = f32(0)
+        self._coasting = f32(0)
+        self._gap_time = f32(0)
+        self._gap_count = 0
         self._started = False
 
     def _sensor(self, i: int) -> AlphaBetaSensorSettings:
         return self._settings._values[ALPHABETA_SENSORS[i]]
 
-    def _start(self, accel: np.float32, z: list) -> AlphaBetaStatus:
-        """The first step with a non-IMU sample: their Qmin·confidence-weighted mean."""
+    def _start(self, accel: np.float32, z: list) -> None:
+        """FusionAltitudeAlphaBetaStart: h = the Qmin·confidence-weighted mean of the samples; v = 0, or after a
+        gap the mean velocity over it. Nothing changes when no non-IMU sample has weight."""
         sum_weight = f32(0)
         sum_altitude = f32(0)
         for i in range(1, 5):
@@ -152,16 +166,18 @@ class AlphaBetaFusion(Checkpointable):
                 sum_weight += w
                 sum_altitude += w * z[i]
         if not sum_weight > 0:
-            return AlphaBetaStatus.OK  # nothing to start from yet
-        self._h = sum_altitude / sum_weight
-        self._v = f32(0)
+            return  # nothing to start from yet
+        altitude = sum_altitude / sum_weight
+        velocity = (altitude - self._h) / self._gap_time if self._gap_time > 0 else f32(0)
+        self._h = altitude
+        self._v = velocity
         self._total = sum_weight
         imu_sample = bool(np.isfinite(accel))
         for i, f in enumerate(self._filters):
             s = self._sensor(i)
             sampled = imu_sample if i == _IMU else bool(np.isfinite(z[i]))
             f.x = self._h if i == _IMU else z[i]
-            f.v = f32(0)
+            f.v = velocity
             f.since = f32(0)
             f.gap = f.x - self._h if sampled else f32(0)
             f.quality = s.quality_min
@@ -169,19 +185,49 @@ class AlphaBetaFusion(Checkpointable):
             f.weight = f32(s.quality_min) * f32(s.confidence) if (sampled and i != _IMU) else f32(0)
             if not sampled:
                 f.x = f32(0)
+        self._coasting = f32(0)
+        self._gap_time = f32(0)
         self._started = True
-        return AlphaBetaStatus.OK
 
-    # FusionAltitudeAlphaBetaUpdate
-    def _update(self, accel: np.float32, dt: np.float32, measurements: tuple) -> AlphaBetaStatus:
-        status = check_inputs(accel, dt, measurements)
-        if status != AlphaBetaStatus.OK:
-            return status
+    def _filter_step(self, f: _Filter, s: AlphaBetaSensorSettings, z: np.float32, dt: np.float32,
+                     altitude_predicted: np.float32) -> np.float32:
+        """FusionAltitudeAlphaBetaFilterStep: one sensor's alpha-beta filter, quality and weight."""
+        timeout = f32(s.timeout)
+        if f.started:
+            f.x += f.v * dt
+            f.since += dt
+        if np.isfinite(z):
+            gap_max = f32(s.gap_max)
+            was_beyond_gap = not (-gap_max <= f.gap <= gap_max)
+            f.gap = z - altitude_predicted  # the sensor's gap, held until its next sample
+            if not f.started or f.since > timeout or was_beyond_gap:  # first, back after silence or gap: restart
+                f.x = z
+                f.v = self._v
+                f.quality = s.quality_min
+                f.started = True
+            else:
+                threshold = f32(s.threshold)
+                if -threshold <= f.gap <= threshold:
+                    f.quality = min(f.quality + 1, s.quality_max)
+                else:
+                    f.quality = max(f.quality - 1, s.quality_min)
+                alpha, beta = gains(f.quality)
+                residual = z - f.x
+                f.x += alpha * residual
+                f.v += (beta * residual) / f.since
+            f.since = f32(0)
+        weight = f32(0)
+        if f.started and not f.since > timeout:
+            in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
+            gap_max = f32(s.gap_max)
+            if in_band and -gap_max <= f.gap <= gap_max:
+                weight = f32(f.quality) * f32(s.confidence)
+        f.weight = weight
+        return weight
+
+    def _step(self, accel: np.float32, dt: np.float32, z: list) -> None:
+        """FusionAltitudeAlphaBetaStep: IMU prediction, every filter, weighted mean or bounded dead reckoning."""
         imu_sample = bool(np.isfinite(accel))
-        z = [_NAN, *measurements]
-        if not self._started:
-            return self._start(accel, z)
-
         # 1. IMU prediction of the fused altitude; also the IMU channel's sample.
         altitude_predicted = self._h + self._v * dt
         velocity_predicted = self._v
@@ -189,50 +235,18 @@ class AlphaBetaFusion(Checkpointable):
             altitude_predicted += _HALF * accel * dt * dt
             velocity_predicted += accel * dt
         z[_IMU] = altitude_predicted if imu_sample else _NAN
-
         # 2. Each sensor's alpha-beta filter, quality and weight.
         sum_weight = f32(0)
         sum_altitude = f32(0)
         sum_velocity = f32(0)
+        referenced = False  # a baro, lidar, sonar or GPS channel has weight
         for i, f in enumerate(self._filters):
-            s = self._sensor(i)
-            sampled = bool(np.isfinite(z[i]))
-            timeout = f32(s.timeout)
-            if f.started:
-                f.x += f.v * dt
-                f.since += dt
-            if sampled:
-                gap_max = f32(s.gap_max)
-                was_beyond_gap = not (-gap_max <= f.gap <= gap_max)
-                f.gap = z[i] - altitude_predicted  # the sensor's gap, held until its next sample
-                if not f.started or f.since > timeout or was_beyond_gap:  # first, back after silence or gap: restart
-                    f.x = z[i]
-                    f.v = self._v
-                    f.quality = s.quality_min
-                    f.started = True
-                else:
-                    threshold = f32(s.threshold)
-                    if -threshold <= f.gap <= threshold:
-                        f.quality = min(f.quality + 1, s.quality_max)
-                    else:
-                        f.quality = max(f.quality - 1, s.quality_min)
-                    alpha, beta = gains(f.quality)
-                    residual = z[i] - f.x
-                    f.x += alpha * residual
-                    f.v += (beta * residual) / f.since
-                f.since = f32(0)
-            weight = f32(0)
-            if f.started and not f.since > timeout:
-                in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
-                gap_max = f32(s.gap_max)
-                if in_band and -gap_max <= f.gap <= gap_max:
-                    weight = f32(f.quality) * f32(s.confidence)
-            f.weight = weight
+            weight = self._filter_step(f, self._sensor(i), z[i], dt, altitude_predicted)
             if weight > 0:
                 sum_weight += weight
                 sum_altitude += weight * f.x
                 sum_velocity += weight * f.v
-
+                referenced = referenced or i != _IMU
         # 3. Weighted mean, or dead reckoning when every weight is zero.
         if sum_weight > 0:
             self._h = sum_altitude / sum_weight
@@ -241,6 +255,27 @@ class AlphaBetaFusion(Checkpointable):
             self._h = altitude_predicted
             self._v = velocity_predicted
         self._total = sum_weight
+        # Bounded coasting: after gap_period s without a non-IMU weight, re-acquire from the next samples.
+        self._coasting = f32(0) if referenced else self._coasting + dt
+        if self._coasting > f32(self._settings._values["gap_period"]):
+            self._started = False
+
+    # FusionAltitudeAlphaBetaUpdate
+    def _update(self, accel: np.float32, dt: np.float32, measurements: tuple) -> AlphaBetaStatus:
+        status = check_inputs(accel, dt, measurements)
+        if status != AlphaBetaStatus.OK:
+            return status
+        z = [_NAN, *measurements]
+        if self._started and dt > f32(self._settings._values["gap_period"]):  # a gap: restart from the next samples
+            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
+            self._started = False
+            self._gap_time = dt
+        elif not self._started and self._gap_time > 0:  # still waiting for samples after a gap
+            self._gap_time += dt
+        if not self._started:
+            self._start(accel, z)
+        else:
+            self._step(accel, dt, z)
         return AlphaBetaStatus.OK
 
     def update(self, accel: float, dt: float, baro_altitude: float = math.nan, lidar_altitude: float = math.nan,
@@ -333,12 +368,18 @@ class AlphaBetaFusion(Checkpointable):
             s = self._sensor(i)
             f.quality = min(max(f.quality, s.quality_min), s.quality_max)
 
+    @property
+    def gap_count(self) -> int:
+        """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
+        return self._gap_count
+
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), tuple(f.state() for f in self._filters), float(self._h), float(self._v),
-                float(self._total), self._started)
+                float(self._total), self._started, float(self._coasting), float(self._gap_time), self._gap_count)
 
     def _set_state(self, state: tuple) -> None:
-        values, filters, h, v, total, started = state
+        values, filters, h, v, total, started = state[:6]
+        coasting, gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0.0, 0)
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
         for x, vi, since, gap, weight, quality, filter_started in filters:
@@ -348,6 +389,7 @@ class AlphaBetaFusion(Checkpointable):
             self._filters.append(f)
         self._h, self._v, self._total = f32(h), f32(v), f32(total)
         self._started = bool(started)
+        self._coasting, self._gap_time, self._gap_count = f32(coasting), f32(gap_time), int(gap_count)
 
     def __repr__(self) -> str:
         return f"AlphaBetaFusion(altitude={self._h}, vertical_velocity={self._v}, weights={tuple(self.weights)!r})"

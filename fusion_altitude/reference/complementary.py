@@ -6,8 +6,9 @@ bit for bit.
 
 State (float32): altitude h (m), vertical velocity v (m/s), low-passed accel
 aLp (m/s²), low-passed baro zLp (m), the latest finite-difference baro
-velocity (m/s), the time since the latest baro sample (s), and whether the
-reference is set.
+velocity (m/s), the time since the latest baro sample (s), the time since h
+was last updated while a restart after a gap is pending (s), the gap count,
+and whether the reference is set.
 """
 
 from __future__ import annotations
@@ -44,6 +45,8 @@ def _check(values: dict) -> ComplementaryStatus:
         return ComplementaryStatus.INVALID_TIME_CONSTANT
     if not (_is_coefficient(f32(values["velocity_coefficient"])) and _is_coefficient(f32(values["altitude_coefficient"]))):
         return ComplementaryStatus.INVALID_COEFFICIENT
+    if not f32(values["gap_period"]) > 0:
+        return ComplementaryStatus.INVALID_GAP_PERIOD
     return ComplementaryStatus.OK
 
 
@@ -91,7 +94,7 @@ class ComplementarySettings(KeywordSettings):
 class ComplementaryFilter(Checkpointable):
     """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
 
-    __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_reference_set")
+    __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_gap_time", "_gap_count", "_reference_set")
 
     def __init__(self, settings: Optional[ComplementarySettings] = None) -> None:
         # FusionAltitudeComplementaryInitialise
@@ -102,6 +105,8 @@ class ComplementaryFilter(Checkpointable):
         self._zf = f32(0)
         self._vb = f32(0)
         self._since = f32(0)
+        self._gap_time = f32(0)
+        self._gap_count = 0
         self._reference_set = False
 
     # FusionAltitudeComplementaryReset
@@ -113,8 +118,20 @@ class ComplementaryFilter(Checkpointable):
         self._v = f32(0)
         self._vb = f32(0)
         self._since = f32(0)
+        self._gap_time = f32(0)
         self._reference_set = True
         return ComplementaryStatus.OK
+
+    # FusionAltitudeComplementaryRestart: after a gap, v = vBaro = mean velocity over it
+    def _restart(self, z: np.float32) -> None:
+        velocity = (z - self._h) / self._gap_time
+        self._h = z
+        self._zf = z
+        self._v = velocity
+        self._vb = velocity
+        self._since = f32(0)
+        self._gap_time = f32(0)
+        self._reference_set = True
 
     # FusionAltitudeComplementaryUpdate
     def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryStatus:
@@ -122,7 +139,16 @@ class ComplementaryFilter(Checkpointable):
         if status != ComplementaryStatus.OK:
             return status
         baro_sample = bool(np.isfinite(z))
+        if self._reference_set and dt > f32(self._settings._values["gap_period"]):  # a gap
+            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
+            self._reference_set = False
+            self._gap_time = dt
+        elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
+            self._gap_time += dt
         if not self._reference_set:
+            if baro_sample and self._gap_time > 0:
+                self._restart(z)
+                return ComplementaryStatus.OK
             if baro_sample:
                 return self._reset(z)
             self._vb = _NAN
@@ -218,8 +244,13 @@ class ComplementaryFilter(Checkpointable):
 
     @property
     def reference_set(self) -> bool:
-        """Whether the reference is set."""
+        """Whether the reference is set (False from a gap to the next baro sample)."""
         return self._reference_set
+
+    @property
+    def gap_count(self) -> int:
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
+        return self._gap_count
 
     @property
     def settings(self) -> ComplementarySettings:
@@ -232,13 +263,15 @@ class ComplementaryFilter(Checkpointable):
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),
-                float(self._vb), float(self._since), self._reference_set)
+                float(self._vb), float(self._since), self._reference_set, float(self._gap_time), self._gap_count)
 
     def _set_state(self, state: tuple) -> None:
-        values, h, v, a, zf, vb, since, reference_set = state
+        values, h, v, a, zf, vb, since, reference_set = state[:8]
+        gap_time, gap_count = state[8:] if len(state) > 8 else (0.0, 0)
         self._settings = ComplementarySettings(**values)
         self._h, self._v, self._a, self._zf, self._vb, self._since = (f32(x) for x in (h, v, a, zf, vb, since))
         self._reference_set = bool(reference_set)
+        self._gap_time, self._gap_count = f32(gap_time), int(gap_count)
 
     def __repr__(self) -> str:
         return f"ComplementaryFilter(altitude={self._h}, vertical_velocity={self._v}, settings={self._settings!r})"

@@ -36,6 +36,8 @@ f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
 N_STATES = 5
+#: FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA, m/s.
+RESTART_VELOCITY_SIGMA = f32(10)
 MAX_SATELLITES = 64
 
 #: FusionAltitudeKalmanInverseSqrt: 1/sqrt(n) rounded to float32, n = 0..64 (n = 0 → 1).
@@ -138,6 +140,8 @@ def _check(values: dict) -> KalmanStatus:
             and non_negative(v["ground_effect_dead_zone"])
             and v["baro_noise"] * v["ground_effect_noise_scale"] <= MAXIMUM_SETTING):
         return KalmanStatus.INVALID_GROUND_EFFECT
+    if not v["gap_period"] > 0:
+        return KalmanStatus.INVALID_GAP_PERIOD
     return KalmanStatus.OK
 
 
@@ -206,7 +210,8 @@ class KalmanEstimator(Checkpointable):
     h + baro_offset, what a noise-free baro would read.
     """
 
-    __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_baro_initialised", "_gps_initialised")
+    __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_since_fused", "_gap_count", "_baro_initialised",
+                 "_gps_initialised")
 
     def __init__(self, settings: Optional[KalmanSettings] = None) -> None:
         # FusionAltitudeKalmanInitialiseWith
@@ -218,6 +223,8 @@ class KalmanEstimator(Checkpointable):
         P[1][1] = s.initial_velocity_sigma * s.initial_velocity_sigma
         P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma if s.estimate_accel_bias else _ZERO
         self._sensors = [_Sensor() for _ in range(3)]
+        self._since_fused = _ZERO
+        self._gap_count = 0
         self._baro_initialised = False
         self._gps_initialised = False
 
@@ -245,15 +252,37 @@ class KalmanEstimator(Checkpointable):
         for j in range(2, N_STATES):
             P[0][j] = P[j][0] = A[j]
             P[1][j] = P[j][1] = Bv[j]
+        self._random_walks(dt)
+        for sensor in self._sensors:
+            if sensor.rejecting:
+                sensor.rejecting_for += dt
+        self._since_fused += dt
+
+    def _random_walks(self, dt: np.float32) -> None:
+        """FusionAltitudeKalmanRandomWalks: offsets once they exist, the bias if estimated."""
+        P, s = self._P, self._s
         if self._baro_initialised:
             P[2][2] += (s.baro_offset_random_walk * s.baro_offset_random_walk) * dt
         if self._gps_initialised:
             P[3][3] += (s.gps_offset_random_walk * s.gps_offset_random_walk) * dt
         if s.estimate_accel_bias:
             P[4][4] += (s.accel_bias_random_walk * s.accel_bias_random_walk) * dt
+
+    def _inflate(self, T: np.float32) -> None:
+        """FusionAltitudeKalmanInflate: P_hh += (V·T)², P_vv += V² for V = RESTART_VELOCITY_SIGMA."""
+        height_sigma = RESTART_VELOCITY_SIGMA * T
+        self._P[0][0] += height_sigma * height_sigma
+        self._P[1][1] += RESTART_VELOCITY_SIGMA * RESTART_VELOCITY_SIGMA
+
+    def _gap(self, dt: np.float32) -> None:
+        """FusionAltitudeKalmanGap: x kept, P inflated, random walks over dt, streaks ended, gap counted."""
+        self._inflate(dt)
+        self._random_walks(dt)
         for sensor in self._sensors:
-            if sensor.rejecting:
-                sensor.rejecting_for += dt
+            sensor.rejecting = False
+            sensor.rejecting_for = _ZERO
+        self._since_fused += dt
+        self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
 
     def _fuse(self, c: List[np.float32], S: np.float32, y: np.float32) -> None:
         """FusionAltitudeKalmanFuse: x += K·y, P = P − K·cᵀ − c·Kᵀ + S·K·Kᵀ."""
@@ -310,6 +339,7 @@ class KalmanEstimator(Checkpointable):
         gate = self._s.gate
         if not nis > gate * gate:
             self._fuse(c, S, y)
+            self._since_fused = _ZERO
             sensor.rejecting = False
             sensor.rejecting_for = _ZERO
             sensor.result = KalmanResult.FUSED
@@ -319,6 +349,10 @@ class KalmanEstimator(Checkpointable):
             sensor.rejecting = True
             sensor.rejecting_for = _ZERO
         if sensor.rejecting_for > self._s.rejection_timeout:
+            if self._since_fused >= sensor.rejecting_for:  # nothing fused during the streak: the state is suspect
+                self._inflate(sensor.rejecting_for)
+                if self._s.estimate_accel_bias:
+                    self._P[4][4] += self._s.accel_bias_initial_sigma * self._s.accel_bias_initial_sigma
             if o < 0:
                 self._reset_ground(z, R)
             else:
@@ -354,7 +388,10 @@ class KalmanEstimator(Checkpointable):
         if gps_present and not _is_nan(accuracy) and not (_is_finite(accuracy) and accuracy > 0):
             return KalmanStatus.INVALID_GPS_ACCURACY
         s, x = self._s, self._x
-        self._predict(a, dt)
+        if dt > s.gap_period:
+            self._gap(dt)
+        else:
+            self._predict(a, dt)
 
         # Barometer: z = h + ob
         sensor = self._sensors[0]
@@ -596,12 +633,20 @@ class KalmanEstimator(Checkpointable):
                 self._P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma
         self._settings, self._s = new, s
 
+    @property
+    def gap_count(self) -> int:
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period``."""
+        return self._gap_count
+
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), [float(v) for v in self._x], [float(v) for row in self._P for v in row],
-                [s.as_tuple() for s in self._sensors], self._baro_initialised, self._gps_initialised)
+                [s.as_tuple() for s in self._sensors], self._baro_initialised, self._gps_initialised,
+                self._gap_count, float(self._since_fused))
 
     def _set_state(self, state: tuple) -> None:
-        settings, x, P, sensors, baro_initialised, gps_initialised = state
+        settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
+        self._gap_count = int(state[6]) if len(state) > 6 else 0
+        self._since_fused = f32(state[7]) if len(state) > 7 else _ZERO
         self._settings = KalmanSettings(**settings)
         self._s = _Settings32(self._settings)
         self._x = [f32(v) for v in x]

@@ -1,8 +1,11 @@
 """The 3rd-order complementary altitude observer, in plain Python.
 
 State (all float32): altitude h (m), vertical velocity v (m/s, +up), accel
-bias b (m/s², +up), last baro residual r (m), and whether the reference is
-set. Gains: position Kh (1/s), velocity Kv (1/s²), bias Kb (1/s³).
+bias b (m/s², +up), last baro residual r (m), the time since h was last
+updated while a restart after a gap is pending (s), the time since the last
+restart after a gap (s, −1 before any; the bias is held while it times Kh is
+below 8), the gap count, and whether the reference is set. Gains: position Kh (1/s), velocity Kv (1/s²),
+bias Kb (1/s³); gap period (s).
 
 Each function below mirrors the C function named in its docstring, statement
 for statement, so that the results agree bit for bit.
@@ -22,6 +25,11 @@ from ._checkpoint import Checkpointable
 
 f32 = np.float32
 _NAN = f32("nan")
+
+#: FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, s.
+DEFAULT_GAP_PERIOD = 0.5
+#: FUSION_ALTITUDE_BIAS_HOLD: after a restart the bias is held while (time since it)·Kh < this.
+BIAS_HOLD = f32(8)
 
 
 # -- float classification (FusionAltitudeIsFinite / FusionAltitudeIsNaN) ------
@@ -101,6 +109,10 @@ def _from_bandwidth(omega: np.float32, zeta: np.float32, omega_b: np.float32) ->
     return status, gains
 
 
+#: FusionAltitudeSettingsFromPreset: gap period, s (balloon: 1 Hz baro logs).
+_PRESET_GAP_PERIODS = {"balloon": 5.0, "fixed_wing": DEFAULT_GAP_PERIOD, "vtol": DEFAULT_GAP_PERIOD,
+                       "racing": DEFAULT_GAP_PERIOD}
+
 #: FusionAltitudeSettingsFromPreset: the formulas evaluated exactly, rounded to float32.
 _PRESET_GAINS = {
     "balloon": (f32(0.32), f32(0.0512), f32(0.0016)),
@@ -121,32 +133,42 @@ class AltitudeSettings:
         Kv, 1/s²: baro residual into vertical velocity.
     bias_gain : float, default 0.675
         Kb, 1/s³: baro residual into the accel bias; 0 disables bias estimation.
+    gap_period : float, default 0.5
+        s: an update whose dt exceeds this is a gap, not integrated (see
+        :meth:`AltitudeEstimator.update`); ``inf`` never detects a gap.
 
     Raises
     ------
     ValueError
-        A gain is not finite or negative, or the observer is unstable
-        (Routh–Hurwitz: Kh·Kv > Kb when Kb > 0; Kh > 0 when Kv > 0).
+        A gain is not finite or negative, the observer is unstable
+        (Routh–Hurwitz: Kh·Kv > Kb when Kb > 0; Kh > 0 when Kv > 0), or
+        gap_period is NaN or <= 0.
     """
 
-    __slots__ = ("_gains",)
+    __slots__ = ("_gains", "_gap_period")
 
-    def __init__(self, position_gain: float = 2.40, velocity_gain: float = 2.88, bias_gain: float = 0.675) -> None:
+    def __init__(self, position_gain: float = 2.40, velocity_gain: float = 2.88, bias_gain: float = 0.675,
+                 gap_period: float = DEFAULT_GAP_PERIOD) -> None:
         names = ("position_gain", "velocity_gain", "bias_gain")
         with np.errstate(over="ignore"):
             gains = tuple(f32(_common.as_float(value, name))
                           for value, name in zip((position_gain, velocity_gain, bias_gain), names))
+            period = f32(_common.as_float(gap_period, "gap_period"))
         status = _check_gains(*gains)
         if status != Status.OK:
             _observer_glue.raise_settings_error(status, tuple(float(g) for g in gains))
+        if not period > 0:
+            raise ValueError(f"gap_period must be > 0 s (inf: never a gap); got {float(period)}")
         self._gains = gains
+        self._gap_period = period
 
     @classmethod
-    def from_bandwidth(cls, omega: float, zeta: float = 0.7, omega_b: Optional[float] = None) -> "AltitudeSettings":
+    def from_bandwidth(cls, omega: float, zeta: float = 0.7, omega_b: Optional[float] = None,
+                       gap_period: float = DEFAULT_GAP_PERIOD) -> "AltitudeSettings":
         """Gains from position-loop bandwidth ω (rad/s), damping ζ and bias-loop bandwidth ω_b (rad/s).
 
         ``Kh = 2ζω + ω_b``, ``Kv = ω² + 2ζω·ω_b``, ``Kb = ω²·ω_b`` in float32;
-        ``omega_b`` defaults to ``float32(ω) / 5``.
+        ``omega_b`` defaults to ``float32(ω) / 5``; ``gap_period`` in s.
         """
         omega32 = f32(_common.as_float(omega, "omega"))
         zeta32 = f32(_common.as_float(zeta, "zeta"))
@@ -154,13 +176,16 @@ class AltitudeSettings:
         status, gains = _from_bandwidth(omega32, zeta32, omega_b32)
         if status != Status.OK:
             _observer_glue.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
-        return cls(*gains)
+        return cls(*gains, gap_period=gap_period)
 
     @classmethod
     def preset(cls, name: str) -> "AltitudeSettings":
-        """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0)."""
+        """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0).
+
+        The gap period is 5 s for ``balloon`` (1 Hz baro logs), 0.5 s for the others.
+        """
         _observer_glue.check_preset(name)
-        return cls(*_PRESET_GAINS[name])
+        return cls(*_PRESET_GAINS[name], gap_period=_PRESET_GAP_PERIODS[name])
 
     @property
     def position_gain(self) -> float:
@@ -176,6 +201,11 @@ class AltitudeSettings:
     def bias_gain(self) -> float:
         """Kb, 1/s³."""
         return float(self._gains[2])
+
+    @property
+    def gap_period(self) -> float:
+        """s: an update whose dt exceeds this is a gap, not integrated."""
+        return float(self._gap_period)
 
     def validate(self, dt: float) -> None:
         """Check that the update is stable at sample period ``dt`` (s) (Jury's test).
@@ -196,17 +226,19 @@ class AltitudeSettings:
     def __eq__(self, other: object) -> bool:
         if not hasattr(other, "as_tuple") or not hasattr(other, "velocity_gain"):
             return NotImplemented
-        return self.as_tuple() == other.as_tuple()  # type: ignore[attr-defined]
+        return (self.as_tuple() == other.as_tuple()  # type: ignore[attr-defined]
+                and self.gap_period == getattr(other, "gap_period", DEFAULT_GAP_PERIOD))
 
     def __hash__(self) -> int:
-        return hash(self.as_tuple())
+        return hash((self.as_tuple(), self.gap_period))
 
     def __repr__(self) -> str:
         kh, kv, kb = (str(g) for g in self._gains)
-        return f"AltitudeSettings(position_gain={kh}, velocity_gain={kv}, bias_gain={kb})"
+        return (f"AltitudeSettings(position_gain={kh}, velocity_gain={kv}, bias_gain={kb}, "
+                f"gap_period={self._gap_period})")
 
     def __reduce__(self):
-        return (type(self), self.as_tuple())
+        return (type(self), (*self.as_tuple(), self.gap_period))
 
 
 # -- estimator ---------------------------------------------------------------
@@ -226,7 +258,7 @@ class AltitudeEstimator(Checkpointable):
     sample sets the reference (auto-zero). NED users negate.
     """
 
-    __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_reference_set")
+    __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_gap_time", "_since_restart", "_gap_count", "_reference_set")
 
     def __init__(self, settings: Optional[AltitudeSettings] = None) -> None:
         # FusionAltitudeInitialise
@@ -235,6 +267,9 @@ class AltitudeEstimator(Checkpointable):
         self._v = f32(0)
         self._b = f32(0)
         self._r = f32(0)
+        self._gap_time = f32(0)
+        self._since_restart = f32(-1)
+        self._gap_count = 0
         self._reference_set = False
 
     # FusionAltitudeUpdate
@@ -242,6 +277,14 @@ class AltitudeEstimator(Checkpointable):
         status = check_inputs(a, z, dt)
         if status != Status.OK:
             return status
+        if self._reference_set and dt > self._settings._gap_period:  # a gap: restart from the next baro sample
+            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
+            self._reference_set = False
+            self._gap_time = dt
+        elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
+            self._gap_time += dt
+        elif self._reference_set and self._since_restart >= 0:  # time since the restart (bias hold)
+            self._since_restart += dt
         if _is_nan(z):
             if self._reference_set:
                 self._v += (a - self._b) * dt
@@ -249,12 +292,14 @@ class AltitudeEstimator(Checkpointable):
             self._r = _NAN
             return Status.OK
         if not self._reference_set:
-            return self._reset(z)
+            self._restart(z)
+            return Status.OK
         kh, kv, kb = self._settings._gains
         r = z - self._h
         self._v += ((a - self._b) + kv * r) * dt
         self._h += (self._v + kh * r) * dt
-        self._b -= (kb * r) * dt
+        if not (self._since_restart >= 0 and self._since_restart * kh < BIAS_HOLD):  # no bias hold after a restart
+            self._b -= (kb * r) * dt
         self._r = r
         return Status.OK
 
@@ -265,8 +310,20 @@ class AltitudeEstimator(Checkpointable):
         self._h = z
         self._v = f32(0)
         self._r = f32(0)
+        self._gap_time = f32(0)
+        self._since_restart = f32(-1)
         self._reference_set = True
         return Status.OK
+
+    # FusionAltitudeRestart: v = mean velocity over the gap (0 on the first sample ever)
+    def _restart(self, z: np.float32) -> None:
+        if self._gap_time > 0:
+            self._since_restart = f32(0)  # the bias hold starts
+        self._v = (z - self._h) / self._gap_time if self._gap_time > 0 else f32(0)
+        self._h = z
+        self._r = f32(0)
+        self._gap_time = f32(0)
+        self._reference_set = True
 
     def update(self, accel: float, baro_altitude: float, dt: float) -> None:
         """Process one sample.
@@ -280,6 +337,16 @@ class AltitudeEstimator(Checkpointable):
             (the filter then integrates the acceleration only).
         dt : float
             Time since the previous sample, s.
+
+        Notes
+        -----
+        Once the reference is set, a ``dt`` above ``settings.gap_period`` is a
+        gap: it is not integrated, :attr:`gap_count` goes up, the bias is held
+        and the next baro sample (this one's if present) restarts the altitude
+        at the baro and the velocity at the mean velocity over the gap
+        ((z − h_before) / time since h_before); :attr:`reference_set` is
+        False until then. After the restart the bias is held for 8/Kh s
+        (while the velocity error is corrected).
 
         Raises
         ------
@@ -331,6 +398,8 @@ class AltitudeEstimator(Checkpointable):
             result.accel_bias[i] = trial._b
             result.baro_residual[i] = trial._r
         self._h, self._v, self._b, self._r = trial._h, trial._v, trial._b, trial._r
+        self._gap_time, self._gap_count = trial._gap_time, trial._gap_count
+        self._since_restart = trial._since_restart
         self._reference_set = trial._reference_set
         return result
 
@@ -356,8 +425,13 @@ class AltitudeEstimator(Checkpointable):
 
     @property
     def reference_set(self) -> bool:
-        """Whether the reference is set (first baro sample or reset)."""
+        """Whether the reference is set (first baro sample or reset); False again from a gap to the next baro sample."""
         return self._reference_set
+
+    @property
+    def gap_count(self) -> int:
+        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
+        return self._gap_count
 
     @property
     def settings(self) -> AltitudeSettings:
@@ -369,14 +443,18 @@ class AltitudeEstimator(Checkpointable):
         self._settings = _as_settings(settings)
 
     def _get_state(self) -> tuple:
-        return (self._settings.as_tuple(), float(self._h), float(self._v), float(self._b), float(self._r),
-                self._reference_set)
+        return ((*self._settings.as_tuple(), self._settings.gap_period), float(self._h), float(self._v),
+                float(self._b), float(self._r), self._reference_set, float(self._gap_time), self._gap_count,
+                float(self._since_restart))
 
     def _set_state(self, state: tuple) -> None:
-        gains, h, v, b, r, reference_set = state
+        gains, h, v, b, r, reference_set = state[:6]
+        gap_time, gap_count, since_restart = state[6:] if len(state) > 6 else (0.0, 0, -1.0)
         self._settings = AltitudeSettings(*gains)
         self._h, self._v, self._b, self._r = f32(h), f32(v), f32(b), f32(r)
         self._reference_set = bool(reference_set)
+        self._gap_time, self._gap_count = f32(gap_time), int(gap_count)
+        self._since_restart = f32(since_restart)
 
     def __repr__(self) -> str:
         return (f"AltitudeEstimator(altitude={self._h}, vertical_velocity={self._v}, accel_bias={self._b}, "
@@ -387,5 +465,6 @@ def _as_settings(settings: object) -> AltitudeSettings:
     if isinstance(settings, AltitudeSettings):
         return settings
     if hasattr(settings, "as_tuple"):
-        return AltitudeSettings(*settings.as_tuple())  # type: ignore[attr-defined]
+        return AltitudeSettings(*settings.as_tuple(),  # type: ignore[attr-defined]
+                                gap_period=getattr(settings, "gap_period", DEFAULT_GAP_PERIOD))
     raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")

@@ -21,8 +21,11 @@ BLOCK = 1024
 
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
-          threads=None, out=None) -> SweepResult:
-    """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`)."""
+          threads=None, out=None, gap_period: float = 0.5) -> SweepResult:
+    """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`).
+
+    ``gap_period`` (s) is shared by every setting, as in ``FusionAltitudeSweep``.
+    """
     outputs = outputs or out is not None
     accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
@@ -33,7 +36,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
             raise ValueError(f"settings[{k}]: {error}") from None
     n, count = accel32.shape[0], gains.shape[0]
     dt_argument = dt32 if dt_is_array else dt32[0]
-    runs = [AltitudeEstimator(AltitudeSettings(*row)).update_batch(accel32, baro32, dt_argument) for row in gains]
+    runs = [AltitudeEstimator(AltitudeSettings(*row, gap_period=gap_period)).update_batch(accel32, baro32, dt_argument) for row in gains]
     output_arrays = None
     if outputs:
         output_arrays = _observer_glue.output_arrays((n, count), out)

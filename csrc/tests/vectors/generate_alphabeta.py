@@ -45,18 +45,19 @@ INF = float("inf")
 OPS = ("INITIALISE", "INITIALISE_WITH", "SET_SETTINGS", "UPDATE")
 FILTER_FIELDS = ("altitude", "velocity", "sinceSample", "gap", "weight", "quality", "started")
 SETTINGS_FIELDS = tuple(f"settings.{sensor}.{field}" for sensor in ALPHABETA_SENSORS
-                        for field in AlphaBetaSensorSettings._fields)
+                        for field in AlphaBetaSensorSettings._fields) + ("settings.gapPeriod",)
 STATE_FIELDS = (SETTINGS_FIELDS + tuple(f"{sensor}.{field}" for sensor in ALPHABETA_SENSORS for field in FILTER_FIELDS)
-                + ("altitude", "verticalVelocity", "totalWeight", "started"))
+                + ("altitude", "verticalVelocity", "totalWeight", "started", "coastingFor", "gapTime", "gapCount"))
 FLOAT_FIELDS = tuple(f"{sensor}.{field}" for sensor in ALPHABETA_SENSORS for field in FILTER_FIELDS[:5]) + (
-    "altitude", "verticalVelocity", "totalWeight")
+    "altitude", "verticalVelocity", "totalWeight", "coastingFor", "gapTime")
 
 
 def settings_words(values: Dict[str, AlphaBetaSensorSettings]) -> tuple:
     """FusionAltitudeAlphaBetaSettings as words (floats as bits, int32 two's complement)."""
     return tuple((int(value) & 0xFFFFFFFF) if field.startswith("quality") else vc.bits(value)
                  for sensor in ALPHABETA_SENSORS
-                 for field, value in zip(AlphaBetaSensorSettings._fields, values[sensor]))
+                 for field, value in zip(AlphaBetaSensorSettings._fields, values[sensor])) + (
+        vc.bits(values["gap_period"]),)
 
 
 def settings(**sensors) -> Dict[str, AlphaBetaSensorSettings]:
@@ -70,7 +71,7 @@ def check(values: Dict[str, AlphaBetaSensorSettings]) -> AlphaBetaStatus:
         status = _alphabeta._sensor_status(values[sensor])
         if status != AlphaBetaStatus.OK:
             return status
-    return AlphaBetaStatus.OK
+    return _alphabeta._gap_period_status(values["gap_period"])
 
 
 class Recorder(vc.Recorder):
@@ -87,7 +88,8 @@ class Recorder(vc.Recorder):
         for flt in f._filters:
             words += tuple(vc.bits(x) for x in (flt.x, flt.v, flt.since, flt.gap, flt.weight))
             words += (int(flt.quality) & 0xFFFFFFFF, int(flt.started))
-        return words + (vc.bits(f._h), vc.bits(f._v), vc.bits(f._total), int(f._started))
+        return words + (vc.bits(f._h), vc.bits(f._v), vc.bits(f._total), int(f._started), vc.bits(f._coasting),
+                        vc.bits(f._gap_time), f._gap_count)
 
     # FusionAltitudeAlphaBetaInitialise
     def initialise(self) -> None:
@@ -274,10 +276,31 @@ def build() -> Recorder:
            settings(gps={"altitude_max": NAN}), settings(imu={"altitude_min": INF, "altitude_max": INF}),
            settings(lidar={"gap_max": 0.0}), settings(baro={"gap_max": NAN}), settings(gps={"gap_max": -INF}),
            settings(sonar={"timeout": 0.0}), settings(imu={"timeout": INF}), settings(gps={"timeout": NAN}),
-           settings(baro={"timeout": 0.0}, imu={"threshold": -1.0})]
+           settings(baro={"timeout": 0.0}, imu={"threshold": -1.0}), settings(gap_period=0.0),
+           settings(gap_period=NAN), settings(gap_period=-2.0)]
     for values in bad:
         r.set_settings(values)
         r.initialise_with(values)
+    r.section("time gaps: dt above the gap period with samples (restart on them, mean velocity), without "
+              "(held until the next samples); bounded dead reckoning: the IMU alone for longer than the gap period "
+              "stops the fusion until the next samples; gap period +infinity")
+    flight = Flight(r, rng)
+    flight.h = 3.0
+    flight.fly(200, "climb")
+    flight.h += 4.0
+    r.update(2.0, 2.0, baro=flight.h + 0.1, gps=flight.h - 0.5)
+    flight.fly(100, "climb")
+    r.update(0.5, 1.6)
+    r.update(0.5, 0.01)
+    r.update(0.5, 0.01, lidar=flight.h)
+    flight.fly(100, "sine")
+    flight.fly(400, "hover", baro_every=0, lidar_every=0, sonar_every=0, gps_every=0)
+    flight.fly(100, "hover")
+    r.set_settings(settings(gap_period=INF))
+    r.update(0.0, 30.0, baro=flight.h)
+    flight.fly(50, "hover")
+    r.set_settings(default)
+
     r.section("initialise with settings: a balloon (1 Hz baro, 3 s timeouts), then the defaults")
     r.initialise_with(settings(**{s: {"timeout": 3.0} for s in ALPHABETA_SENSORS}))
     flight = Flight(r, rng, dt=0.1, baro_origin=500.0, gps_origin=480.0)
@@ -297,6 +320,8 @@ def build() -> Recorder:
     for _ in range(700):
         choice = rng.random()
         dt = 0.01 * (0.5 + rng.random())
+        if choice > 0.996:
+            dt = rng.uniform(1.0, 3.0)  # sometimes a time gap
         flight.dt = dt
         if choice < 0.01:
             r.update(rng.choice((INF, -INF)), dt, baro=1.0)

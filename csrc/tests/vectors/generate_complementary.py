@@ -43,8 +43,8 @@ INF = float("inf")
 OPS = ("INITIALISE", "SET_SETTINGS", "RESET", "UPDATE")
 SETTINGS_FIELDS = tuple(f"settings.{name}" for name, _, _ in COMPLEMENTARY_SETTINGS)
 STATE_FIELDS = SETTINGS_FIELDS + ("altitude", "verticalVelocity", "accelFiltered", "baroFiltered", "baroVelocity",
-                                  "sinceBaro", "referenceSet")
-FLOAT_FIELDS = tuple(f for f in STATE_FIELDS[len(SETTINGS_FIELDS):] if f != "referenceSet")
+                                  "sinceBaro", "referenceSet", "gapTime", "gapCount")
+FLOAT_FIELDS = tuple(f for f in STATE_FIELDS[len(SETTINGS_FIELDS):] if f not in ("referenceSet", "gapCount"))
 
 
 def settings_words(values: Dict[str, object]) -> tuple:
@@ -74,7 +74,7 @@ class Recorder(vc.Recorder):
         f = self.filter
         words = settings_words(f.settings.as_dict())
         words += tuple(vc.bits(x) for x in (f._h, f._v, f._a, f._zf, f._vb, f._since))
-        return words + (int(f._reference_set),)
+        return words + (int(f._reference_set), vc.bits(f._gap_time), f._gap_count)
 
     # FusionAltitudeComplementaryInitialise
     def initialise(self) -> None:
@@ -214,13 +214,35 @@ def build() -> Recorder:
            settings(altitude_time_constant=-1e-9), settings(velocity_coefficient=1.0000001),
            settings(altitude_coefficient=-0.1), settings(velocity_coefficient=NAN), settings(altitude_coefficient=INF),
            settings(per_sample_coefficients=True, velocity_coefficient=2.0),
-           settings(accel_time_constant=NAN, velocity_coefficient=NAN)]
+           settings(accel_time_constant=NAN, velocity_coefficient=NAN), settings(gap_period=0.0)]
     for values in bad:
         r.set_settings(values)
     r.set_settings(settings(accel_time_constant=-0.0, baro_time_constant=0.0, velocity_coefficient=0.0,
                             altitude_coefficient=1.0))
     flight.fly(40, "hover")
     r.set_settings(default)
+
+    r.section("time gaps: dt at the gap period (integrated), above it without baro (frozen; the next baro sample "
+              "restarts with the mean velocity), with baro (restarts on it), a reset while one is pending; "
+              "gap period rejected (0, negative, NaN), +infinity accepted")
+    flight.fly(100, "climb")
+    r.update(0.2, NAN, 0.5)
+    r.update(9.0, NAN, 2.0)
+    r.update(0.2, NAN, 0.01)
+    r.update(0.2, flight.origin + flight.h + 6.0, 0.01)
+    flight.fly(100, "sine")
+    r.update(-4.0, flight.origin + flight.h - 3.0, 1.5)
+    flight.fly(50, "sine")
+    r.update(0.0, NAN, 3.0)
+    r.reset(flight.origin + flight.h)
+    flight.fly(50, "hover")
+    for values in (settings(gap_period=0.0), settings(gap_period=-1.0), settings(gap_period=NAN)):
+        r.set_settings(values)
+    r.set_settings(settings(gap_period=INF))
+    r.update(0.0, NAN, 50.0)
+    r.update(0.0, flight.origin + flight.h, 5.0)
+    r.set_settings(default)
+    flight.fly(50, "hover")
 
     r.section("re-initialise: steps before the reference, first sample after a gap")
     r.initialise()
@@ -238,6 +260,8 @@ def build() -> Recorder:
     for _ in range(1100):
         choice = rng.random()
         dt = 0.01 * (0.5 + rng.random())
+        if choice > 0.996:
+            dt = rng.uniform(0.3, 3.0)  # sometimes a time gap
         flight.dt = dt
         if choice < 0.01:
             r.update(rng.choice(bad_floats), 120.0, dt)

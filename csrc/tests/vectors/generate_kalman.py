@@ -9,11 +9,12 @@ full state, word for word. csrc/firmware/replay_kalman.c replays them on the
 host (gcc, clang) and on an emulated Cortex-M4F (QEMU), which must reproduce
 every bit.
 
-The state, as 67 binary32/integer words (STATE_FIELDS, the same order in
-replay_kalman.c): the 19 settings, x (5), the upper triangle of P (15), the
+The state, as 70 binary32/integer words (STATE_FIELDS, the same order in
+replay_kalman.c): the 20 settings, x (5), the upper triangle of P (15), the
 altitude h + ob and its variance (the getters), per sensor (baro, range, GPS)
 innovation, innovation variance, NIS, rejecting-for, rejections, resets,
-result, rejecting (8 each), and the baro/GPS initialised flags. The hash is
+result, rejecting (8 each), the baro/GPS initialised flags, the gap count and
+the time since any sample was fused. The hash is
 word-wise FNV-1a: h = 2166136261; for each word, h = (h ^ word) * 16777619
 (mod 2^32). One changed word always changes it (the multiplier is odd).
 
@@ -25,7 +26,6 @@ The random-looking parts come from random.Random with a fixed seed.
 
 from __future__ import annotations
 
-import argparse
 import math
 import random
 import sys
@@ -33,6 +33,9 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import vector_common as vc  # noqa: E402
 
 from fusion_altitude._kalman_glue import KALMAN_SETTINGS, KALMAN_SETTINGS_DEFAULTS, KalmanStatus
 from fusion_altitude.reference import kalman as _kalman
@@ -54,7 +57,7 @@ SENSOR_FIELDS = ("innovation", "innovationVariance", "nis", "rejectingFor", "rej
 STATE_FIELDS = ([f"settings.{name}" for name, *_ in KALMAN_SETTINGS] + [f"x[{i}]" for i in range(5)]
                 + [f"P[{i}][{j}]" for i in range(5) for j in range(i, 5)] + ["altitude", "altitudeVariance"]
                 + [f"{sensor}.{field}" for sensor in ("baro", "range", "gps") for field in SENSOR_FIELDS]
-                + ["baroInitialised", "gpsInitialised"])
+                + ["baroInitialised", "gpsInitialised", "gapCount", "sinceFused"])
 NAN_ALLOWED = {f"{sensor}.{field}" for sensor in ("baro", "range", "gps")
                for field in ("innovation", "innovationVariance", "nis")}
 
@@ -96,7 +99,7 @@ def state_words(e: _kalman.KalmanEstimator) -> Tuple[int, ...]:
     for s in e._sensors:
         words += [bits(s.innovation), bits(s.innovation_variance), bits(s.nis), bits(s.rejecting_for),
                   s.rejections & 0xFFFFFFFF, s.resets & 0xFFFFFFFF, int(s.result), int(bool(s.rejecting))]
-    words += [int(e._baro_initialised), int(e._gps_initialised)]
+    words += [int(e._baro_initialised), int(e._gps_initialised), e._gap_count & 0xFFFFFFFF, bits(e._since_fused)]
     assert len(words) == len(STATE_FIELDS)
     return tuple(words)
 
@@ -363,7 +366,8 @@ def build() -> Recorder:
            settings(gps_noise_base=0.0, gps_noise_satellite=0.0), settings(gps_min_satellites=-1),
            settings(gate=0.0), settings(gate=NAN), settings(rejection_timeout=-0.5), settings(rejection_timeout=INF),
            settings(ground_effect_noise_scale=0.99), settings(ground_effect_noise_scale=NAN),
-           settings(ground_effect_dead_zone=-0.1), settings(accel_noise=NAN, range_min=-1.0, gate=0.0)]
+           settings(ground_effect_dead_zone=-0.1), settings(accel_noise=NAN, range_min=-1.0, gate=0.0),
+           settings(gap_period=0.0), settings(gap_period=-1.0), settings(gap_period=NAN)]
     for values in bad:
         r.set_settings(values)
         r.initialise_with(values)
@@ -373,6 +377,24 @@ def build() -> Recorder:
     flight.fly(60, "sine")
     r.set_settings(settings(gps_noise_satellite=0.0, gate=1.0, initial_height_sigma=0.0))
     flight.fly(60, "sine")
+
+    r.section("time gaps: dt at the gap period (predicted), above it (no prediction: h and v inflated, streaks "
+              "ended) with and without samples, in a climb; an accel glitch burst recovered through the timeout "
+              "(h, v and b inflated with the reset); gap period +infinity")
+    r.set_settings(default)
+    flight.fly(200, "climb")
+    r.update(0.2, 0.5)
+    r.update(3.0, 2.0)
+    flight.t += 2.0
+    flight.fly(300, "climb")
+    r.update(0.0, 1.2, 120.0 + flight.h, flight.h if flight.h > 0.1 else NAN, 160.0 + flight.h, NAN, 9, False)
+    flight.fly(200, "climb")
+    for _ in range(40):
+        r.update(25.0, 0.01, 120.0 + flight.h)
+    flight.fly(500, "hover")
+    r.set_settings(settings(gap_period=INF))
+    r.update(0.0, 30.0, 120.0 + flight.h)
+    flight.fly(100, "hover")
 
     r.section("random-ish steps: jittered dt, random sensor presence, spikes, ground effect, rejected inputs, "
               "retunes and re-initialisations")
@@ -385,6 +407,8 @@ def build() -> Recorder:
     for _ in range(1500):
         choice = rng.random()
         dt = 0.01 * (0.5 + rng.random())
+        if choice > 0.996:
+            dt = rng.uniform(0.3, 3.0)  # sometimes a time gap
         flight.dt = dt
         if choice < 0.01:
             r.update(rng.choice(bad_floats), dt, 120.0)
@@ -420,7 +444,7 @@ def check_representable(records) -> None:
     """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling."""
     float_fields = [i for i, name in enumerate(STATE_FIELDS)
                     if not name.endswith(("rejections", "resets", "result", "rejecting", "Initialised",
-                                          "estimate_accel_bias", "gps_min_satellites"))]
+                                          "estimate_accel_bias", "gps_min_satellites", "gapCount"))]
     for index, (_, _, _, state) in enumerate(records):
         for field in float_fields:
             name, pattern = STATE_FIELDS[field], state[field]
@@ -501,7 +525,7 @@ def render() -> str:
                  f"#define FUSION_ALTITUDE_KALMAN_VECTOR_STATE_WORDS ({len(STATE_FIELDS)})\n")
     lines += [f"#define FUSION_ALTITUDE_KALMAN_VECTOR_SETTINGS_COUNT ({len(recorder.settings_table)})", "",
               "static const uint32_t fusionAltitudeKalmanVectorSettings[FUSION_ALTITUDE_KALMAN_VECTOR_SETTINGS_COUNT]"
-              "[19] = {"]
+              f"[{len(KALMAN_SETTINGS)}] = {{"]
     for words in recorder.settings_table:
         lines.append("    {" + ",".join(word(p) for p in words) + "},")
     lines += ["};", "", f"#define FUSION_ALTITUDE_KALMAN_VECTOR_COUNT ({len(records)})", "",
@@ -518,21 +542,6 @@ def render() -> str:
     return "\n".join(lines)
 
 
-def main(argv: Sequence[str] = ()) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--check", action="store_true", help="exit 1 if kalman_vectors.h differs from a fresh generation")
-    args = parser.parse_args(argv)
-    text = render()
-    if args.check:
-        current = HEADER_PATH.read_text() if HEADER_PATH.exists() else ""
-        if current != text:
-            print(f"{HEADER_PATH} is out of date: run python {Path(__file__).name}", file=sys.stderr)
-            return 1
-        return 0
-    HEADER_PATH.write_text(text)
-    print(f"wrote {HEADER_PATH} ({text.count(chr(10))} lines, {len(text)} bytes)")
-    return 0
-
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(vc.main(HEADER_PATH, render, sys.argv[1:], __doc__))

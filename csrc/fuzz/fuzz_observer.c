@@ -1,0 +1,277 @@
+/**
+ * @file fuzz_observer.c
+ * @brief libFuzzer target for fusion_altitude.h, built with clang under
+ * AddressSanitizer + UndefinedBehaviorSanitizer (csrc/firmware/Makefile,
+ * target fuzz-run).
+ *
+ * The input is a loop period followed by a sequence of calls; floats are raw
+ * bytes (any bit pattern: NaNs, infinities, subnormals, huge values):
+ *   bytes 0-3   loop dt (float, s)
+ *   then, per call, one opcode byte and its float arguments (4 bytes each):
+ *   opcode & 7: 0 initialise, 1 set settings (Kh, Kv, Kb), 2 preset (1 byte),
+ *   3 bandwidth (omega, zeta, omega_b), 4 reset (z), 5 reset with bias (z, b),
+ *   6 update (a, z, dt), 7 update at the loop dt (a, z);
+ *   opcode bit 3 replaces z of an update with FUSION_ALTITUDE_NO_BARO.
+ *
+ * Asserted after every call (abort, so libFuzzer reports a crash):
+ *   - a rejected call leaves the estimator (and a rejected settings builder
+ *     its output) bit-identical (memcmp);
+ *   - FusionAltitudeCheckInputs returns what FusionAltitudeUpdate returned;
+ *   - an accepted update's outputs follow its contract (residual z - h or the
+ *     quiet NaN 0x7FC00000, reference set by the first baro sample);
+ *   - the state stays finite while the run is "sane" (see IsSane below).
+ *
+ * Finite inputs are not enough for a finite state: |a| = 3e38 m/s^2 overflows
+ * float32 in one step. A run is sane while every accepted input is physically
+ * plausible: |accel| <= 1e3 m/s^2, |baro| and |reset altitude| <= 1e5 m,
+ * |warm-start bias| <= 1e3 m/s^2, every update at the loop dt with
+ * 1e-4 s <= dt <= 0.1 s and with gains that pass FusionAltitudeSettingsValidate
+ * at that dt, and at most 4 gain changes since the state was last fully set
+ * (initialise or reset with bias). Under those bounds each stretch of
+ * constant gains is a stable linear system with bounded input, so the state
+ * is bounded far below float32's 3.4e38; unlimited switching between stable
+ * gains can still pump energy (switched systems), hence the gain-change cap.
+ */
+
+#include "fusion_altitude.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_ACCEL (1e3f)         /* m/s^2 */
+#define MAX_ALTITUDE (1e5f)      /* m */
+#define MAX_BIAS (1e3f)          /* m/s^2 */
+#define MIN_DT (1e-4f)           /* s */
+#define MAX_DT (0.1f)            /* s */
+#define MAX_GAIN_CHANGES (4)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#define CHECK(condition)                                                                \
+    do {                                                                                \
+        if (!(condition)) {                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            abort();                                                                    \
+        }                                                                               \
+    } while (0)
+
+typedef struct {
+    const uint8_t *data;
+    size_t size;
+} Reader;
+
+static bool ReadFloat(Reader *const reader, float *const value) {
+    if (reader->size < sizeof(*value)) {
+        return false;
+    }
+    memcpy(value, reader->data, sizeof(*value));
+    reader->data += sizeof(*value);
+    reader->size -= sizeof(*value);
+    return true;
+}
+
+static bool ReadByte(Reader *const reader, uint8_t *const value) {
+    if (reader->size < 1u) {
+        return false;
+    }
+    *value = reader->data[0];
+    reader->data++;
+    reader->size--;
+    return true;
+}
+
+static bool Within(const float value, const float limit) {
+    return FusionAltitudeIsFinite(value) && (value <= limit) && (value >= -limit);
+}
+
+static bool SameBits(const float a, const float b) {
+    return FusionAltitudeFloatBits(a) == FusionAltitudeFloatBits(b);
+}
+
+/* True while every state variable is finite (the residual may be the no-baro NaN). */
+static bool StateFinite(const FusionAltitude *const altitude) {
+    const float residual = FusionAltitudeGetBaroResidual(altitude);
+    return FusionAltitudeIsFinite(FusionAltitudeGetAltitude(altitude)) &&
+           FusionAltitudeIsFinite(FusionAltitudeGetVerticalVelocity(altitude)) &&
+           FusionAltitudeIsFinite(FusionAltitudeGetAccelBias(altitude)) &&
+           (FusionAltitudeIsFinite(residual) || (FusionAltitudeFloatBits(residual) == 0x7FC00000u));
+}
+
+typedef struct {
+    bool sane;         /* all accepted inputs physically plausible so far */
+    int gainChanges;   /* accepted gain changes since the state was last fully set */
+    float loopDt;      /* s */
+} Run;
+
+/* Applies an accepted gain change to the run's sanity. */
+static void GainsChanged(Run *const run) {
+    run->gainChanges++;
+    if (run->gainChanges > MAX_GAIN_CHANGES) {
+        run->sane = false;
+    }
+}
+
+static void Update(FusionAltitude *const altitude, Run *const run, const float accel, const float baro, const float dt) {
+    FusionAltitude before;
+    memcpy(&before, altitude, sizeof(before)); /* with its padding bytes */
+    const FusionAltitudeStatus status = FusionAltitudeUpdate(altitude, accel, baro, dt);
+    CHECK(FusionAltitudeCheckInputs(accel, baro, dt) == status);
+    if (status != FusionAltitudeStatusOk) {
+        CHECK(memcmp(&before, altitude, sizeof(before)) == 0);
+        return;
+    }
+    const bool baroMissing = FusionAltitudeIsNaN(baro);
+    const bool gap = before.referenceSet && (dt > before.settings.gapPeriod);
+    CHECK(FusionAltitudeGetGapCount(altitude) == before.gapCount + (gap ? 1u : 0u));
+    if (gap) { /* not integrated: frozen until the next baro sample, which restarts h at it */
+        CHECK(SameBits(altitude->accelBias, before.accelBias));
+        if (baroMissing) {
+            CHECK(!altitude->referenceSet && SameBits(altitude->altitude, before.altitude) &&
+                  SameBits(altitude->verticalVelocity, before.verticalVelocity));
+        } else {
+            CHECK(altitude->referenceSet && SameBits(altitude->altitude, baro) && SameBits(altitude->baroResidual, 0.0f));
+            CHECK(SameBits(altitude->verticalVelocity, (baro - before.altitude) / dt));
+        }
+        run->sane = false; /* a gap is outside the accuracy envelope */
+        return;
+    }
+    if (baroMissing) {
+        CHECK(FusionAltitudeFloatBits(FusionAltitudeGetBaroResidual(altitude)) == 0x7FC00000u);
+        CHECK(SameBits(altitude->accelBias, before.accelBias));
+        CHECK(altitude->referenceSet == before.referenceSet);
+        if (!before.referenceSet) {
+            CHECK(SameBits(altitude->altitude, before.altitude) && SameBits(altitude->verticalVelocity, before.verticalVelocity));
+        }
+    } else if (!before.referenceSet) { /* auto-zero (v = 0) or the restart after a gap (v = mean velocity over it) */
+        const float velocity = (before.gapTime > 0.0f) ? ((baro - before.altitude) / (before.gapTime + dt)) : 0.0f;
+        CHECK(SameBits(altitude->altitude, baro) && SameBits(altitude->verticalVelocity, velocity));
+        CHECK(SameBits(altitude->baroResidual, 0.0f) && SameBits(altitude->accelBias, before.accelBias));
+    } else {
+        CHECK(SameBits(altitude->baroResidual, baro - before.altitude));
+    }
+    CHECK(FusionAltitudeIsReferenceSet(altitude) == (before.referenceSet || !baroMissing));
+    const FusionAltitudeSettings settings = FusionAltitudeGetSettings(altitude);
+    const bool plausible = Within(accel, MAX_ACCEL) && (baroMissing || Within(baro, MAX_ALTITUDE)) && SameBits(dt, run->loopDt) &&
+                           (FusionAltitudeSettingsValidate(&settings, dt) == FusionAltitudeStatusOk);
+    run->sane = run->sane && plausible;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    Run run = {true, 0, 0.0f};
+    if (!ReadFloat(&reader, &run.loopDt)) {
+        return 0;
+    }
+    run.sane = (run.loopDt >= MIN_DT) && (run.loopDt <= MAX_DT);
+    const bool loopDtSane = run.sane;
+    FusionAltitude altitude;
+    memset(&altitude, 0, sizeof(altitude)); /* defined padding bytes for memcmp */
+    FusionAltitudeInitialise(&altitude);
+    uint8_t opcode;
+    while (ReadByte(&reader, &opcode)) {
+        float x = 0.0f;
+        float y = 0.0f;
+        float z = 0.0f;
+        FusionAltitudeSettings settings;
+        FusionAltitudeSettings untouched;
+        memset(&settings, 0xA5, sizeof(settings));
+        untouched = settings;
+        FusionAltitude before;
+        memcpy(&before, &altitude, sizeof(before));
+        FusionAltitudeStatus status = FusionAltitudeStatusOk;
+        switch (opcode & 7u) {
+            case 0:
+                FusionAltitudeInitialise(&altitude);
+                run.sane = loopDtSane;
+                run.gainChanges = 0;
+                break;
+            case 1:
+                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
+                    return 0;
+                }
+                settings.positionGain = x;
+                settings.velocityGain = y;
+                settings.biasGain = z;
+                settings.gapPeriod = FusionAltitudeGetSettings(&altitude).gapPeriod;
+                status = FusionAltitudeSetSettings(&altitude, &settings);
+                CHECK(status == FusionAltitudeSettingsCheck(&settings));
+                if (status == FusionAltitudeStatusOk) {
+                    GainsChanged(&run);
+                }
+                break;
+            case 2: {
+                uint8_t preset;
+                if (!ReadByte(&reader, &preset)) {
+                    return 0;
+                }
+                status = FusionAltitudeSettingsFromPreset(&settings, (FusionAltitudePreset) (preset % 6u));
+                if (status != FusionAltitudeStatusOk) {
+                    CHECK(memcmp(&settings, &untouched, sizeof(settings)) == 0);
+                    break;
+                }
+                CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusOk);
+                status = FusionAltitudeSetSettings(&altitude, &settings);
+                CHECK(status == FusionAltitudeStatusOk);
+                GainsChanged(&run);
+                break;
+            }
+            case 3:
+                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
+                    return 0;
+                }
+                status = FusionAltitudeSettingsFromBandwidth(&settings, x, y, z);
+                if (status != FusionAltitudeStatusOk) {
+                    CHECK(memcmp(&settings, &untouched, sizeof(settings)) == 0);
+                    break;
+                }
+                status = FusionAltitudeSetSettings(&altitude, &settings);
+                CHECK(status == FusionAltitudeStatusOk);
+                GainsChanged(&run);
+                break;
+            case 4:
+                if (!ReadFloat(&reader, &x)) {
+                    return 0;
+                }
+                status = FusionAltitudeReset(&altitude, x);
+                if (status == FusionAltitudeStatusOk) {
+                    CHECK(SameBits(altitude.altitude, x) && SameBits(altitude.accelBias, before.accelBias));
+                    run.sane = run.sane && Within(x, MAX_ALTITUDE);
+                }
+                break;
+            case 5:
+                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y)) {
+                    return 0;
+                }
+                status = FusionAltitudeResetWithBias(&altitude, x, y);
+                if (status == FusionAltitudeStatusOk) {
+                    CHECK(SameBits(altitude.altitude, x) && SameBits(altitude.accelBias, y));
+                    run.sane = loopDtSane && Within(x, MAX_ALTITUDE) && Within(y, MAX_BIAS);
+                    run.gainChanges = 0;
+                }
+                break;
+            case 6:
+                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
+                    return 0;
+                }
+                Update(&altitude, &run, x, ((opcode & 8u) != 0u) ? FUSION_ALTITUDE_NO_BARO : y, z);
+                break;
+            default:
+                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y)) {
+                    return 0;
+                }
+                Update(&altitude, &run, x, ((opcode & 8u) != 0u) ? FUSION_ALTITUDE_NO_BARO : y, run.loopDt);
+                break;
+        }
+        if (status != FusionAltitudeStatusOk) {
+            CHECK(memcmp(&before, &altitude, sizeof(before)) == 0);
+        }
+        (void) FusionAltitudeStatusMessage(status);
+        if (run.sane) {
+            CHECK(StateFinite(&altitude));
+        }
+    }
+    return 0;
+}

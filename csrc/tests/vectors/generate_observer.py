@@ -1,0 +1,393 @@
+"""Generates observer_vectors.h: shared test vectors for the C replay program.
+
+Every record is one call on one estimator (initialise, update, reset, warm
+start, settings) with its inputs and, as float32 bit patterns, the status and
+the full state after the call, computed by the pure-Python reference
+(fusion_altitude.reference), never by the C binding. The same records are
+replayed by csrc/firmware/replay_observer.c on the host (gcc, clang) and on an emulated
+Cortex-M4F (QEMU), which must reproduce every bit.
+
+    python csrc/tests/vectors/generate_observer.py           # rewrite observer_vectors.h
+    python csrc/tests/vectors/generate_observer.py --check   # exit 1 if observer_vectors.h is stale
+
+The random-looking parts come from random.Random with a fixed seed (its
+random() stream is stable across Python versions), not from numpy.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import sys
+from pathlib import Path
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import vector_common as vc  # noqa: E402
+
+from fusion_altitude.reference import AltitudeEstimator, AltitudeSettings, Status
+from fusion_altitude.reference import observer as _observer
+
+HEADER_PATH = Path(__file__).resolve().with_name("observer_vectors.h")
+f32 = np.float32
+
+# Operation codes, equal to FusionAltitudeVectorOp in observer_vectors.h.
+OPS = ("INITIALISE", "UPDATE", "RESET", "RESET_WITH_BIAS", "SET_SETTINGS", "SET_PRESET", "SET_BANDWIDTH",
+       "VALIDATE", "SET_GAP_PERIOD")
+OP = {name: index for index, name in enumerate(OPS)}
+QUIET_NAN_BITS = 0x7FC00000
+
+
+def bits(value: np.float32) -> int:
+    """The binary32 bit pattern of a float32."""
+    return int(np.array(value, dtype=np.float32).view(np.uint32))
+
+
+def from_bits(pattern: int) -> np.float32:
+    """The float32 with bit pattern ``pattern`` (keeps NaN payloads and signed zeros)."""
+    return np.array(pattern, dtype=np.uint32).view(np.float32)[()]
+
+
+class Recorder:
+    """Applies operations to a reference estimator, mirroring the C calls, and records them."""
+
+    def __init__(self) -> None:
+        self.estimator = AltitudeEstimator()
+        self.records: List[Tuple[int, int, Tuple[int, int, int], Tuple[int, ...], int]] = []
+        self.comments: List[str] = []
+
+    def _record(self, op: str, inputs: Sequence[np.float32], status: Status) -> None:
+        e = self.estimator
+        patterns = [bits(value) for value in inputs] + [0] * (3 - len(inputs))
+        state = tuple(bits(value) for value in (*e._settings._gains, e._settings._gap_period, e._h, e._v, e._b, e._r,
+                                                e._gap_time, e._since_restart)) + (e._gap_count,)
+        self.records.append((OP[op], int(status), tuple(patterns), state, int(e._reference_set)))
+
+    def section(self, text: str) -> None:
+        """Labels the next record in the generated header."""
+        self.comments.append(f"{len(self.records)}: {text}")
+
+    # FusionAltitudeInitialise
+    def initialise(self) -> None:
+        self.estimator = AltitudeEstimator()
+        self._record("INITIALISE", (), Status.OK)
+
+    # FusionAltitudeUpdate
+    def update(self, accel, baro_altitude, dt) -> Status:
+        a, z, t = (value if isinstance(value, np.float32) else f32(value) for value in (accel, baro_altitude, dt))
+        status = self.estimator._update(a, z, t)
+        self._record("UPDATE", (a, z, t), status)
+        return status
+
+    # FusionAltitudeReset
+    def reset(self, baro_altitude) -> Status:
+        z = baro_altitude if isinstance(baro_altitude, np.float32) else f32(baro_altitude)
+        status = self.estimator._reset(z)
+        self._record("RESET", (z,), status)
+        return status
+
+    # FusionAltitudeResetWithBias
+    def reset_with_bias(self, baro_altitude, accel_bias) -> Status:
+        z, b = (value if isinstance(value, np.float32) else f32(value) for value in (baro_altitude, accel_bias))
+        if not _observer._is_finite(z):
+            status = Status.INVALID_BARO_ALTITUDE
+        elif not _observer._is_finite(b):
+            status = Status.INVALID_ACCEL_BIAS
+        else:
+            self.estimator._b = b
+            status = self.estimator._reset(z)
+        self._record("RESET_WITH_BIAS", (z, b), status)
+        return status
+
+    def _set_gains(self, gains: Tuple[np.float32, ...], gap_period: np.float32) -> Status:
+        status = _observer._check_gains(*gains)
+        if status == Status.OK and not gap_period > 0:
+            status = Status.INVALID_GAP_PERIOD
+        if status == Status.OK:
+            settings = AltitudeSettings.__new__(AltitudeSettings)
+            settings._gains = tuple(gains)
+            settings._gap_period = gap_period
+            self.estimator._settings = settings
+        return status
+
+    def _gap_period(self) -> np.float32:
+        return self.estimator._settings._gap_period
+
+    # FusionAltitudeSetSettings with the gains changed (the gap period kept)
+    def set_settings(self, kh, kv, kb) -> Status:
+        gains = tuple(value if isinstance(value, np.float32) else f32(value) for value in (kh, kv, kb))
+        status = self._set_gains(gains, self._gap_period())
+        self._record("SET_SETTINGS", gains, status)
+        return status
+
+    # FusionAltitudeSetSettings with the gap period changed (the gains kept)
+    def set_gap_period(self, gap_period) -> Status:
+        period = gap_period if isinstance(gap_period, np.float32) else f32(gap_period)
+        status = self._set_gains(self.estimator._settings._gains, period)
+        self._record("SET_GAP_PERIOD", (period,), status)
+        return status
+
+    # FusionAltitudeSettingsFromPreset, then FusionAltitudeSetSettings on success
+    def set_preset(self, index: int) -> Status:
+        names = list(_observer._PRESET_GAINS)
+        status = Status.INVALID_PRESET
+        if 0 <= index < len(names):
+            status = self._set_gains(_observer._PRESET_GAINS[names[index]],
+                                     f32(_observer._PRESET_GAP_PERIODS[names[index]]))
+        self._record("SET_PRESET", (from_bits(index),), status)
+        return status
+
+    # FusionAltitudeSettingsFromBandwidth, then FusionAltitudeSetSettings on success
+    def set_bandwidth(self, omega, zeta, omega_bias) -> Status:
+        inputs = tuple(value if isinstance(value, np.float32) else f32(value) for value in (omega, zeta, omega_bias))
+        status, gains = _observer._from_bandwidth(*inputs)
+        if status == Status.OK:
+            status = self._set_gains(gains, f32(_observer.DEFAULT_GAP_PERIOD))
+        self._record("SET_BANDWIDTH", inputs, status)
+        return status
+
+    # FusionAltitudeSettingsValidate on the estimator's settings (state unchanged)
+    def validate(self, dt) -> Status:
+        t = dt if isinstance(dt, np.float32) else f32(dt)
+        status = _observer._validate(*self.estimator._settings._gains, t)
+        self._record("VALIDATE", (t,), status)
+        return status
+
+
+def flight(recorder: Recorder, rng: random.Random, steps: int, dt: float, baro_every: int, bias: float,
+           noise: float, profile: str) -> None:
+    """A simulated vertical flight: accel with a constant bias and noise, baro every n-th step, NaN otherwise."""
+    h = v = 0.0
+    for k in range(steps):
+        t = k * dt
+        if profile == "hover":
+            a_true = 0.0
+        elif profile == "climb":
+            a_true = 2.0 if t < 2.0 else (-2.0 if t < 4.0 else 0.0)
+        else:  # "sine"
+            a_true = 3.0 * math.sin(1.3 * t)
+        v += a_true * dt
+        h += v * dt
+        accel = a_true + bias + noise * (2.0 * rng.random() - 1.0)
+        baro = h + 120.0 + 4.0 * noise * (2.0 * rng.random() - 1.0) if k % baro_every == 0 else math.nan
+        recorder.update(accel, baro, dt)
+
+
+def build() -> Recorder:
+    """All scenarios, in order, on one estimator (state carries over between sections)."""
+    r = Recorder()
+    rng = random.Random(20261122)
+    nan = float("nan")
+    inf = float("inf")
+
+    r.section("initialise; steps without baro before the reference leave h, v, b alone")
+    r.initialise()
+    for _ in range(3):
+        r.update(0.5, nan, 0.01)
+    r.section("the first baro sample sets the reference (auto-zero), accel and dt unused")
+    r.update(0.5, 100.0, 0.01)
+    r.section("default (VTOL) gains, 100 Hz, 25 Hz baro, hover with accel bias 0.3 m/s^2")
+    flight(r, rng, 400, 0.01, 4, 0.3, 0.05, "hover")
+
+    r.section("rejected updates: accel inf/-inf/NaN, baro inf/-inf, dt 0/-0/negative/NaN/inf")
+    for accel in (inf, -inf, nan, from_bits(0x7F800001), from_bits(0xFFC00000)):
+        r.update(accel, 100.0, 0.01)
+        r.update(accel, nan, 0.01)
+    for baro in (inf, -inf):
+        r.update(0.1, baro, 0.01)
+    for dt in (0.0, -0.0, -0.01, nan, inf, -inf, from_bits(0x80000001)):
+        r.update(0.1, 100.0, dt)
+        r.update(0.1, nan, dt)
+    r.section("precedence: accel is checked before baro, baro before dt")
+    r.update(inf, inf, 0.0)
+    r.update(0.1, inf, nan)
+    r.section("NaN baro with other payloads is 'no sample'; the stored residual is 0x7FC00000")
+    for pattern in (0x7FC00000, 0xFFC00000, 0x7F800001, 0x7FFFFFFF, 0xFFFFFFFF, 0x7FC12345):
+        r.update(0.2, from_bits(pattern), 0.01)
+    r.section("subnormal dt and accel are valid inputs")
+    r.update(from_bits(0x00000001), 100.0, from_bits(0x00000001))
+    r.update(from_bits(0x807FFFFF), nan, 0.01)
+
+    r.section("resets: rejected (NaN, inf), accepted (keeps bias), signed zero")
+    for baro in (nan, inf, -inf):
+        r.reset(baro)
+    r.reset(250.0)
+    r.update(0.0, nan, 0.01)
+    r.reset(-0.0)
+    flight(r, rng, 80, 0.01, 4, 0.3, 0.05, "hover")
+
+    r.section("warm start (ResetWithBias): rejected inputs, then a ground calibration")
+    r.reset_with_bias(nan, 0.1)
+    r.reset_with_bias(inf, 0.1)
+    r.reset_with_bias(10.0, nan)
+    r.reset_with_bias(10.0, -inf)
+    r.reset_with_bias(nan, nan)
+    r.reset_with_bias(120.0, 0.3)
+    flight(r, rng, 500, 0.01, 4, 0.3, 0.05, "climb")
+
+    r.section("settings: rejected gains (negative, NaN, inf, Routh-Hurwitz), then accepted")
+    for gains in ((-1.0, 1.0, 0.1), (1.0, -0.0001, 0.0), (1.0, 1.0, -0.1), (nan, 1.0, 0.1), (1.0, inf, 0.1),
+                  (1.0, 1.0, 1.0), (1.0, 1.0, 2.0), (0.0, 1.0, 0.0), (0.0, 1.0, 0.5)):
+        r.set_settings(*gains)
+    r.set_settings(-0.0, 0.0, 0.0)
+    r.validate(0.01)
+    flight(r, rng, 40, 0.01, 4, 0.0, 0.05, "hover")
+    r.set_settings(1.0, 0.0, 0.0)
+    flight(r, rng, 40, 0.01, 2, 0.0, 0.05, "sine")
+    r.set_settings(3.0, 4.0, 0.0)
+    flight(r, rng, 60, 0.01, 1, 0.2, 0.05, "sine")
+
+    r.section("presets (and an unknown preset), validated at several dt, then flown")
+    r.set_preset(4)
+    r.set_preset(0x7FFFFFFF)
+    for preset, dt, baro_every in ((0, 0.1, 1), (1, 0.02, 5), (3, 0.005, 8), (2, 0.01, 4)):
+        r.set_preset(preset)
+        for validate_dt in (dt, 0.5, 0.0, nan, 1e30, 2.0):
+            r.validate(validate_dt)
+        r.reset(float(rng.randint(-400, 3000)))
+        flight(r, rng, 250, dt, baro_every, 0.1 * (preset - 1), 0.08, "sine")
+
+    r.section("bandwidth: rejected (omega/zeta <= 0, NaN, omega_b < 0, overflow), accepted mid-flight")
+    for args in ((0.0, 0.7, 0.1), (-1.0, 0.7, 0.1), (1.0, 0.0, 0.1), (1.0, nan, 0.1), (1.0, 0.7, -0.1),
+                 (inf, 0.7, 0.1), (1e20, 0.7, 1e19), (1.0, 0.7, nan)):
+        r.set_bandwidth(*args)
+    r.set_bandwidth(2.0, 0.7, 0.4)
+    flight(r, rng, 100, 0.01, 4, 0.25, 0.05, "climb")
+    r.set_bandwidth(0.8, 1.0, 0.0)
+    flight(r, rng, 100, 0.01, 4, 0.25, 0.05, "sine")
+
+    r.section("gap period: rejected (0, -0, negative, NaN), +infinity accepted (no gap ever), back to 0.5 s")
+    for period in (0.0, -0.0, -1.0, nan, from_bits(0xFFC00000)):
+        r.set_gap_period(period)
+    r.set_gap_period(inf)
+    r.update(0.1, nan, 100.0)
+    r.update(0.1, 120.0, 3.0)
+    r.set_gap_period(0.5)
+    r.section("gaps: dt at the gap period (integrated), above it without baro (held, then the next baro restarts "
+              "with the mean velocity), with baro (restarts on it), gap right after a restart, reset while pending")
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "sine")
+    r.update(1.0, nan, 0.5)
+    r.update(25.0, nan, 2.0)
+    for _ in range(3):
+        r.update(0.3, nan, 0.01)
+    r.update(0.3, 131.5, 0.01)
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "climb")
+    r.update(-3.0, 118.25, 1.25)
+    r.update(0.0, nan, 0.75)
+    r.update(0.0, 117.0, 0.01)
+    r.update(0.0, nan, 4.0)
+    r.reset(90.0)
+    r.update(0.0, 90.5, 0.01)
+    r.set_preset(0)
+    r.update(0.0, 91.0, 1.0)
+    r.update(0.0, 95.0, 5.5)
+    r.set_preset(2)
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "hover")
+
+    r.section("initialise again mid-run (state and gains back to the defaults)")
+    r.initialise()
+    r.update(0.0, nan, 0.01)
+    r.update(0.0, -35.5, 0.01)
+
+    r.section("random-ish steps: jittered dt, random gaps, occasional rejected inputs, resets and retunes")
+    bad_floats = (inf, -inf, nan, from_bits(0xFFC00000))
+    for _ in range(1500):
+        choice = rng.random()
+        accel = f32(20.0 * (2.0 * rng.random() - 1.0))
+        baro = f32(rng.uniform(-500.0, 5000.0)) if rng.random() < 0.3 else f32(nan)
+        dt = f32(0.01 * (0.5 + rng.random()))
+        if choice > 0.995:
+            dt = f32(rng.uniform(0.3, 3.0))  # sometimes a gap
+        if choice < 0.02:
+            r.update(rng.choice(bad_floats), baro, dt)
+        elif choice < 0.03:
+            r.update(accel, rng.choice((inf, -inf)), dt)
+        elif choice < 0.04:
+            r.update(accel, baro, rng.choice((0.0, -dt, nan, inf)))
+        elif choice < 0.045:
+            r.reset(rng.uniform(-100.0, 1000.0))
+        elif choice < 0.05:
+            r.reset_with_bias(rng.uniform(-100.0, 1000.0), rng.uniform(-1.0, 1.0))
+        elif choice < 0.055:
+            r.set_bandwidth(rng.uniform(0.1, 6.0), rng.uniform(0.4, 1.2), rng.uniform(0.0, 1.0))
+        elif choice < 0.058:
+            r.set_preset(rng.randint(0, 4))
+        else:
+            r.update(accel, baro, dt)
+    return r
+
+
+def check_representable(records) -> None:
+    """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling."""
+    for index, (_, _, _, state, _) in enumerate(records):
+        for field, pattern in zip(("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time", "since restart"),
+                                  state):
+            exponent_all_ones = (pattern & 0x7F800000) == 0x7F800000
+            if exponent_all_ones and not (field == "r" and pattern == QUIET_NAN_BITS) \
+                    and not (field == "gap period" and pattern == 0x7F800000):
+                raise AssertionError(f"record {index}: {field} = {pattern:#010x} is not finite")
+
+
+def render() -> str:
+    """The text of observer_vectors.h."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        recorder = build()
+    check_representable(recorder.records)
+    lines = [
+        "/**",
+        " * @file observer_vectors.h",
+        " * @brief Test vectors generated by csrc/tests/vectors/generate_observer.py from the",
+        " * pure-Python reference (fusion_altitude.reference). Do not edit: regenerate.",
+        " *",
+        " * Each record is one call; floats are IEEE 754 binary32 bit patterns.",
+        " * input: update (accel m/s^2, baro altitude m, dt s); reset (baro m);",
+        " * reset with bias (baro m, accel bias m/s^2); set settings (Kh 1/s, Kv 1/s^2,",
+        " * Kb 1/s^3); set preset (index as an integer); set bandwidth (omega rad/s,",
+        " * zeta, omega_b rad/s); validate (dt s); set gap period (s). state after the",
+        " * call: Kh, Kv, Kb, gap period s, altitude m, vertical velocity m/s, accel",
+        " * bias m/s^2, baro residual m, gap time s, time since the last restart s,",
+        " * and the gap count (an integer).",
+        " *",
+        " * Sections (record index: description):",
+    ]
+    lines += [f" *   {comment}" for comment in recorder.comments]
+    lines += [
+        " */",
+        "",
+        "#ifndef FUSION_ALTITUDE_VECTORS_H",
+        "#define FUSION_ALTITUDE_VECTORS_H",
+        "",
+        "#include <stdint.h>",
+        "",
+        "typedef enum {",
+    ]
+    lines += [f"    FusionAltitudeVectorOp{''.join(w.title() for w in name.split('_'))} = {index},"
+              for index, name in enumerate(OPS)]
+    lines += [
+        "} FusionAltitudeVectorOp;",
+        "",
+        "typedef struct {",
+        "    uint8_t op;           /**< FusionAltitudeVectorOp */",
+        "    uint8_t status;       /**< expected FusionAltitudeStatus */",
+        "    uint8_t referenceSet; /**< expected FusionAltitudeIsReferenceSet after the call */",
+        "    uint32_t input[3];    /**< arguments, binary32 bits (unused ones 0) */",
+        "    uint32_t state[11];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time, since restart (binary32 bits), gap count */",
+        "} FusionAltitudeVector;",
+        "",
+        f"#define FUSION_ALTITUDE_VECTOR_COUNT ({len(recorder.records)})",
+        "",
+        "static const FusionAltitudeVector fusionAltitudeVectors[FUSION_ALTITUDE_VECTOR_COUNT] = {",
+    ]
+    for op, status, inputs, state, reference_set in recorder.records:
+        words = ",".join(f"0x{p:08x}" for p in inputs)
+        state_words = ",".join(f"0x{p:08x}" for p in state)
+        lines.append(f"    {{{op},{status},{reference_set},{{{words}}},{{{state_words}}}}},")
+    lines += ["};", "", "#endif", ""]
+    return "\n".join(lines)
+
+
+
+if __name__ == "__main__":
+    sys.exit(vc.main(HEADER_PATH, render, sys.argv[1:], __doc__))

@@ -260,7 +260,7 @@ static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeIns
  *   accelNormRejection 2 m/s^2, accelRejection 0.17 rad (~10 deg),
  *   recoveryTriggerPeriod 5 s, baroNoise 0.3 m, stationary below 0.05 rad/s
  *   and 0.5 m/s^2 for 1 s, zeroRateNoise 0.01 rad/s, zeroVelocityNoise
- *   0.05 m/s, bias time constants 5 s, magTimeConstant 2 s, initial sigmas
+ *   0.05 m/s, baroBiasTimeConstant 5 s, accelBiasTimeConstant 2 s, magTimeConstant 2 s, initial sigmas
  *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s.
  */
 static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
@@ -279,7 +279,7 @@ static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     s.zeroRateNoise = 0.01f;
     s.zeroVelocityNoise = 0.05f;
     s.baroBiasTimeConstant = 5.0f;
-    s.accelBiasTimeConstant = 5.0f;
+    s.accelBiasTimeConstant = 2.0f;
     s.magTimeConstant = 2.0f;
     s.initialAttitudeSigma = 0.05f;
     s.initialGyroBiasSigma = 0.01f;

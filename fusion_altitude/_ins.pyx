@@ -71,7 +71,7 @@ cdef class InsSettings:
         Stationary once |gyro| and ||accel| − g| stayed below the thresholds on every sample for the window.
     zero_rate_noise, zero_velocity_noise : 0.01 rad/s, 0.05 m/s
         1σ of the zero-rate and zero-velocity updates while stationary (> 0).
-    baro_bias_time_constant, accel_bias_time_constant : 5.0 s, 5.0 s
+    baro_bias_time_constant, accel_bias_time_constant : 5.0 s, 2.0 s
         Complementary filters of the baro bias and the accel z bias while stationary (> 0).
     mag_time_constant : 2.0 s
         Local-to-global yaw filter (> 0).

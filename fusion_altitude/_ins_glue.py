@@ -48,7 +48,7 @@ INS_SETTINGS = (
     ("zero_rate_noise", "zeroRateNoise", 0.01, ">0"),
     ("zero_velocity_noise", "zeroVelocityNoise", 0.05, ">0"),
     ("baro_bias_time_constant", "baroBiasTimeConstant", 5.0, ">0"),
-    ("accel_bias_time_constant", "accelBiasTimeConstant", 5.0, ">0"),
+    ("accel_bias_time_constant", "accelBiasTimeConstant", 2.0, ">0"),
     ("mag_time_constant", "magTimeConstant", 2.0, ">0"),
     ("initial_attitude_sigma", "initialAttitudeSigma", 0.05, ">=0"),
     ("initial_gyro_bias_sigma", "initialGyroBiasSigma", 0.01, ">=0"),

@@ -58,8 +58,9 @@
  *   baro    z = baro - baroBias measures d (sigma baroNoise); not while
  *           stationary, when every baro reading goes to the baro bias.
  *   Each: c = P h^T, S = h c + R, K = c/S, y = z - h (x_nominal + dx),
- *   dx += K y, P <- P - K c^T - c K^T + S K K^T (the Joseph form expanded;
- *   each (i, j >= i) pair once, mirrored: P stays exactly symmetric).
+ *   dx += K y, P <- (P - (K c^T + c K^T)) + (K K^T) S (the Joseph form
+ *   (I-Kh)P(I-Kh)^T + K R K^T expanded; grouped so that entry (i, j) and
+ *   entry (j, i) round identically: P stays exactly symmetric).
  *   At the end of the step dx is injected: q <- normalise(q (x) (1, dtheta/2)),
  *   b += db, d += dd, v += dv (reset Jacobian I - [dtheta/2]x taken as I).
  * Stationary detection: stationary once |gyro| < stationaryGyroThreshold and
@@ -447,7 +448,7 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 /**
  * Scalar update given c = P h^T, S = h c + R and the innovation (z minus h
  * applied to the nominal state plus dx): K = c/S, dx += K*innovation,
- * P <- P - K c^T - c K^T + S K K^T, each (i, j >= i) once, mirrored.
+ * P <- (P - (K c^T + c K^T)) + (K K^T) S, the Joseph form expanded.
  */
 static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const float c[FUSION_ALTITUDE_INS_STATES],
                                              const float S, const float innovation) {
@@ -458,11 +459,10 @@ static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float
         K[i] = c[i] / S;
         dx[i] = dx[i] + K[i] * innovation;
     }
+    /* every entry; the grouping is symmetric in i and j (a*b = b*a, a + b = b + a exactly), so P stays bit-symmetric */
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        for (int j = i; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            const float value = P[i][j] - K[i] * c[j] - c[i] * K[j] + S * K[i] * K[j];
-            P[i][j] = value;
-            P[j][i] = value;
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            P[i][j] = (P[i][j] - (K[i] * c[j] + c[i] * K[j])) + (K[i] * K[j]) * S;
         }
     }
 }

@@ -282,8 +282,7 @@ class InsEstimator:
     def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
         K = c / S
         dx += K * innovation
-        M = self.P - np.outer(K, c) - np.outer(c, K) + np.outer(S * K, K)
-        self.P = np.where(_UPPER, M, M.T)
+        self.P = (self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S
 
     def _fuse(self, dx, i0, h0, i1, h1, y, R) -> None:
         P = self.P

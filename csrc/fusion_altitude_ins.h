@@ -558,21 +558,29 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
         G[6][j] = P[6][j] + dt * P[7][j] + hx * P[0][j] + hy * P[1][j] + hz * P[2][j];
         G[7][j] = P[7][j] + vx * P[0][j] + vy * P[1][j] + vz * P[2][j];
     }
-    /* P = G F^T: column j of F^T is row j of F; upper triangle, mirrored */
+    /* P = G F^T. Entry (i, j) = row j of F applied to row i of G; computed as
+       H = F G^T (rows combined element-wise, like G above, so it vectorises):
+       H[j][i] = (G F^T)[i][j]. The entries j >= i are kept and mirrored. */
+    float T[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        float row[FUSION_ALTITUDE_INS_STATES];
-        const float *const g = G[i];
-        row[0] = g[0] + az * g[1] - ay * g[2] - dt * g[3];
-        row[1] = g[1] - az * g[0] + ax * g[2] - dt * g[4];
-        row[2] = g[2] + ay * g[0] - ax * g[1] - dt * g[5];
-        row[3] = g[3];
-        row[4] = g[4];
-        row[5] = g[5];
-        row[6] = g[6] + dt * g[7] + hx * g[0] + hy * g[1] + hz * g[2];
-        row[7] = g[7] + vx * g[0] + vy * g[1] + vz * g[2];
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            T[j][i] = G[i][j];
+        }
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        G[0][i] = T[0][i] + az * T[1][i] - ay * T[2][i] - dt * T[3][i];
+        G[1][i] = T[1][i] - az * T[0][i] + ax * T[2][i] - dt * T[4][i];
+        G[2][i] = T[2][i] + ay * T[0][i] - ax * T[1][i] - dt * T[5][i];
+        G[3][i] = T[3][i];
+        G[4][i] = T[4][i];
+        G[5][i] = T[5][i];
+        G[6][i] = T[6][i] + dt * T[7][i] + hx * T[0][i] + hy * T[1][i] + hz * T[2][i];
+        G[7][i] = T[7][i] + vx * T[0][i] + vy * T[1][i] + vz * T[2][i];
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         for (int j = i; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            P[i][j] = row[j];
-            P[j][i] = row[j];
+            P[i][j] = G[j][i];
+            P[j][i] = G[j][i];
         }
     }
     /* Q */

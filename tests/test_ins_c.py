@@ -101,3 +101,18 @@ int main(void) {
         assert result.returncode == 0, result.stderr
         outputs.append(subprocess.run([str(binary)], capture_output=True, text=True).stdout)
     assert outputs[0] == outputs[1] == outputs[2]
+
+
+def test_ins_m4f_imu_step_costs_under_12000_cycles(tmp_path):
+    """csrc/firmware/ins_cycles.py on QEMU (Cortex-M4F, -Os): the common IMU
+    step (predict + accel correction) and the step with a baro sample each
+    under 12 000 estimated cycles (71 µs at 168 MHz), a rejected input under 200."""
+    import sys
+
+    sys.path.insert(0, str(CSRC / "firmware"))
+    import ins_cycles
+
+    rows = {name: cycles for name, _, cycles in ins_cycles.estimate(tmp_path)}
+    assert rows["predict + accel (no baro, no mag)"] < 12000
+    assert rows["predict + accel + baro"] < 12000
+    assert rows["rejected input (gyro NaN)"] < 200

@@ -18,6 +18,9 @@ from ._complementary import ComplementaryFilter, ComplementarySettings
 from ._complementary_glue import ComplementaryBatch, ComplementaryStatus
 from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
+from ._ins import InsEstimator, InsSettings
+from ._ins_glue import InsBatch, InsStatus
+from .ins_run import ins_run
 from ._version import __version__
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 from .tuning import FitResult, SweepResult, fit, sweep
@@ -38,6 +41,10 @@ __all__ = [
     "ComplementarySettings",
     "ComplementaryStatus",
     "DiscretisationWarning",
+    "InsBatch",
+    "InsEstimator",
+    "InsSettings",
+    "InsStatus",
     "FitResult",
     "KalmanBatch",
     "KalmanEstimator",
@@ -48,6 +55,7 @@ __all__ = [
     "Status",
     "SweepResult",
     "fit",
+    "ins_run",
     "sweep",
     "__version__",
     "altitude_to_pressure",

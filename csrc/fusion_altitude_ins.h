@@ -1,0 +1,873 @@
+/**
+ * @file fusion_altitude_ins.h
+ * @brief Inertial navigation filter: attitude, gyroscope bias, height and
+ * vertical velocity from a raw gyroscope and accelerometer, a barometer and
+ * (optionally) a magnetometer. An error-state extended Kalman filter.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals. The
+ * only math library call is sqrtf (one instruction on FPU microcontrollers);
+ * no trigonometry anywhere. Needs fusion_altitude.h next to it.
+ *
+ * Units and frames
+ *   gyro     rad/s, body frame          accel  m/s^2 specific force, body frame
+ *   mag      any unit, body frame       baro   m (baro altitude), +up
+ *   dt       s                          outputs m, m/s, +up
+ * Body axes are any right-handed set; the earth frame is NWU (x north, y
+ * west, z UP), the imufusion/Fusion default: a level IMU at rest reads
+ * accel = (0, 0, +9.81). NED users: negate distance and velocity.
+ *
+ * Nominal state (kept as values, not in the filter vector)
+ *   q      local attitude, unit quaternion body -> local earth; the local
+ *          yaw starts at 0 and is integrated, it never sees the magnetometer
+ *   b      gyroscope bias, rad/s, body frame
+ *   d      vertical distance above the reference, m, +up
+ *   v      vertical velocity, m/s, +up
+ * Error state x (index: quantity), the EKF's vector, zero after each step:
+ *   0..2 dtheta  attitude error angle-axis, body frame: q_true = q (x) (1, dtheta/2)
+ *   3..5 db      gyroscope bias error, rad/s
+ *   6    dd      distance error, m
+ *   7    dv      velocity error, m/s
+ * Separate complementary filters (not EKF states):
+ *   yaw offset local -> global (cos, sin), from the magnetometer only
+ *   baro bias (the baro altitude at d = 0), learned while stationary
+ *   accel z bias (body z), learned while stationary
+ *
+ * Prediction at the IMU rate, with w = gyro - b and f = accel - (0, 0, bz):
+ *   q <- normalise(q (x) (1, w*dt/2))
+ *   a = (R(q) f)_z - g        vertical acceleration, m/s^2, +up
+ *   d <- d + v*dt + a*dt^2/2,   v <- v + a*dt
+ *   F: dtheta <- (I - [w dt]x) dtheta - dt*db,   dv <- dv + dt*c.dtheta,
+ *      dd <- dd + dt*dv + dt^2/2*c.dtheta   with c = f x r, r = R^T e_z
+ *   P <- F P F^T + Q,  Q = dt*diag(Ng^2 I, Nb^2 I, 0, 0) + Na^2*dt*(dt^2/4, dt/2; dt/2, 1) on (d, v);
+ *   a variance of d or v above FUSION_ALTITUDE_INS_VARIANCE_LIMIT: its row
+ *   and column are zeroed and the variance held at the limit
+ * Corrections, sequential scalar updates on the error state:
+ *   accel   u = f/|f| measures the body gravity direction r: u = r + [r]x dtheta;
+ *           the two rows of [r]x with the smallest |r_k| are used (the third
+ *           is their combination), noise sigma accelAttitudeNoise (rad).
+ *           Acceleration rejection (the Fusion AHRS idea): skipped when
+ *           | |f| - g | > accelNormRejection, or when |u - r|^2 (the squared
+ *           chord of the angle between measured and predicted gravity,
+ *           ~ angle^2) > accelRejection^2, unless rejected for longer than
+ *           recoveryTriggerPeriod (then the angle gate is lifted until a
+ *           sample is fused).
+ *   yaw     if r^T P_theta r > FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT: r.dtheta = 0
+ *           with that variance (caps the unobservable local yaw variance).
+ *   stationary  zero rate (gyro = b, sigma zeroRateNoise) and zero velocity
+ *           (v = 0, sigma zeroVelocityNoise).
+ *   baro    z = baro - baroBias measures d (sigma baroNoise); not while
+ *           stationary, when every baro reading goes to the baro bias.
+ *   Each: c = P h^T, S = h c + R, K = c/S, y = z - h (x_nominal + dx),
+ *   dx += K y, P <- (P - (K c^T + c K^T)) + (K K^T) S (the Joseph form
+ *   (I-Kh)P(I-Kh)^T + K R K^T expanded; grouped so that entry (i, j) and
+ *   entry (j, i) round identically: P stays exactly symmetric).
+ *   At the end of the step dx is injected: q <- normalise(q (x) (1, dtheta/2)),
+ *   b += db, d += dd, v += dv (reset Jacobian I - [dtheta/2]x taken as I).
+ * Stationary detection: stationary once |gyro| < stationaryGyroThreshold and
+ *   | |accel| - g | < stationaryAccelThreshold have held on every sample for
+ *   stationaryWindow s (a timer that restarts on any failing sample or gap).
+ *   While stationary: baroBias += k (baro - d - baroBias), k = e/(tau_b + e)
+ *   with e the time since the previous baro sample; accelZBias += k (f_z -
+ *   g r_z - accelZBias) with the raw accel z and k = dt/(tau_a + dt).
+ * Magnetometer: m_l = R(q) m (the field in the local frame); its horizontal
+ *   part sets the target yaw offset (c, s) = (m_lx, -m_ly)/|.|, filtered
+ *   with k = e/(tau_m + e) and renormalised. The global attitude is
+ *   q_g = (yaw offset about z) (x) q; the local q never depends on the mag.
+ * Alignment: the first sample with | |accel| - g | <= accelNormRejection
+ *   sets q to the shortest rotation taking accel to +z (yaw 0); samples
+ *   before it are ignored (Ok, nothing changes).
+ * Gaps: a dt > gapPeriod is not integrated: gapCount += 1, the prediction is
+ *   skipped, the stationary timer restarts, and the attitude and velocity
+ *   variances are raised to at least their initial values (so the next
+ *   corrections pull hard); the step's corrections still run.
+ *
+ * Bit-exact results across compilers and targets need IEEE float32 without
+ * fused multiply-add contraction; the header turns contraction off for gcc
+ * (push_options / optimize) and clang (fp contract pragma) around its
+ * functions, so -std=gnu11 -O2 gives the same bits as -std=c99.
+ *
+ * Usage:
+ * @code
+ * FusionAltitudeIns ins;
+ * FusionAltitudeInsInitialise(&ins);                      // default settings
+ * for (;;) {                                              // IMU rate
+ *     const FusionAltitudeInsVector gyro = {gx, gy, gz};  // rad/s
+ *     const FusionAltitudeInsVector accel = {ax, ay, az}; // m/s^2
+ *     const float baro = baroReady ? baroAltitude : FUSION_ALTITUDE_NO_BARO;
+ *     if (FusionAltitudeInsUpdate(&ins, gyro, accel, FusionAltitudeInsNoMag(), baro, dt) != FusionAltitudeInsStatusOk) {
+ *         // input rejected, state unchanged
+ *     }
+ *     const float h = FusionAltitudeInsGetAltitude(&ins);  // m above the reference, +up
+ * }
+ * @endcode
+ */
+
+#ifndef FUSION_ALTITUDE_INS_H
+#define FUSION_ALTITUDE_INS_H
+
+#include "fusion_altitude.h"
+
+#include <math.h> /* sqrtf only */
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_INS_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_INS_NO_CONTRACT
+#endif
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/** Number of error states. */
+#define FUSION_ALTITUDE_INS_STATES (8)
+
+/** Largest accepted setting and input magnitude, so that squares stay finite in float32. */
+#define FUSION_ALTITUDE_INS_MAXIMUM (1e6f)
+
+/**
+ * Largest variance of d (m^2) and v (m^2/s^2), 100 m and 100 m/s sigma. A
+ * state unobserved for that long (no baro, never at rest) is decorrelated
+ * from the others and held there: P stays positive semi-definite in float32
+ * (a decorrelated row leaves a principal submatrix and a positive diagonal).
+ */
+#define FUSION_ALTITUDE_INS_VARIANCE_LIMIT (1e4f)
+
+/**
+ * Largest variance of the local yaw error r.dtheta (rad^2, 0.57 deg sigma):
+ * the local yaw is unobservable by design (no magnetometer), so its variance
+ * would grow without end and float32 round-off would make P indefinite.
+ * Above it, a pseudo-measurement r.dtheta = 0 with this variance is fused.
+ * The local yaw is arbitrary, so this changes no estimate beyond round-off.
+ */
+#define FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT (1e-4f)
+
+/** Three-axis vector. */
+typedef struct {
+    float x;
+    float y;
+    float z;
+} FusionAltitudeInsVector;
+
+/** Quaternion (w, x, y, z). */
+typedef struct {
+    float w;
+    float x;
+    float y;
+    float z;
+} FusionAltitudeInsQuaternion;
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeInsStatusOk = 0,
+    FusionAltitudeInsStatusInvalidGyro,         /**< a gyro component not finite or |.| > 1e6 */
+    FusionAltitudeInsStatusInvalidAccel,        /**< an accel component not finite or |.| > 1e6 */
+    FusionAltitudeInsStatusInvalidMag,          /**< mag not all NaN (no sample) and not all finite with |.| <= 1e6 */
+    FusionAltitudeInsStatusInvalidBaroAltitude, /**< baro altitude infinite or |.| > 1e6 (NaN: no sample) */
+    FusionAltitudeInsStatusInvalidDt,           /**< dt not finite or <= 0 */
+    FusionAltitudeInsStatusInvalidSettings,     /**< a setting out of its range (see FusionAltitudeInsSettingsCheck) */
+} FusionAltitudeInsStatus;
+
+/** Settings, all in physical units. */
+typedef struct {
+    float gyroNoise;               /**< Ng, rad/s/sqrt(Hz): gyro white-noise density */
+    float gyroBiasRandomWalk;      /**< Nb, rad/s^2/sqrt(Hz): gyro bias random walk */
+    float accelNoise;              /**< Na, m/s^2/sqrt(Hz): vertical acceleration noise density (vibration included) */
+    float accelAttitudeNoise;      /**< rad: 1 sigma of the gravity direction per sample (> 0) */
+    float accelNormRejection;      /**< m/s^2: accel not used for attitude when ||f| - g| exceeds it */
+    float accelRejection;          /**< rad: accel not used for attitude when its direction is further from the prediction */
+    float recoveryTriggerPeriod;   /**< s: rejected for longer lifts the angle gate */
+    float baroNoise;               /**< m: 1 sigma per baro sample (> 0) */
+    float stationaryGyroThreshold; /**< rad/s: |gyro| below it counts as still */
+    float stationaryAccelThreshold; /**< m/s^2: ||accel| - g| below it counts as still */
+    float stationaryWindow;        /**< s: still for this long = stationary */
+    float zeroRateNoise;           /**< rad/s: 1 sigma of the zero-rate update while stationary (> 0) */
+    float zeroVelocityNoise;       /**< m/s: 1 sigma of the zero-velocity update while stationary (> 0) */
+    float baroBiasTimeConstant;    /**< s: baro bias filter while stationary (> 0) */
+    float accelBiasTimeConstant;   /**< s: accel z bias filter while stationary (> 0) */
+    float magTimeConstant;         /**< s: local-to-global yaw filter (> 0) */
+    float initialAttitudeSigma;    /**< rad: attitude uncertainty after alignment */
+    float initialGyroBiasSigma;    /**< rad/s: initial gyro bias uncertainty */
+    float initialVelocitySigma;    /**< m/s: initial velocity uncertainty */
+    float gapPeriod;               /**< s: a dt above it is a gap, not integrated (> 0) */
+} FusionAltitudeInsSettings;
+
+/** Filter state. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeInsSettings settings;
+    float q[4];                /**< local attitude body -> local earth (w, x, y, z) */
+    float gyroBias[3];         /**< rad/s, body */
+    float distance;            /**< d, m, +up */
+    float velocity;            /**< v, m/s, +up */
+    float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES]; /**< error covariance, exactly symmetric */
+    float accelZBias;          /**< m/s^2, body z, subtracted from accel z */
+    float baroBias;            /**< m: baro altitude at d = 0 */
+    float yawCos;              /**< local -> global yaw offset, cos */
+    float yawSin;              /**< local -> global yaw offset, sin */
+    float stationaryTime;      /**< s still so far (capped at the window) */
+    float rejectionTime;       /**< s of consecutive accel rejections */
+    float baroElapsed;         /**< s since the previous baro sample */
+    float magElapsed;          /**< s since the previous mag sample */
+    uint32_t gapCount;         /**< steps with dt > gapPeriod, not integrated */
+    bool aligned;              /**< attitude set from the first usable accel sample */
+    bool baroInitialised;      /**< baro bias set from the first baro sample */
+    bool magInitialised;       /**< yaw offset set from the first usable mag sample */
+    bool stationary;           /**< stationary detected this step */
+    bool accelRejected;        /**< the latest step did not use the accel for attitude */
+} FusionAltitudeIns;
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeInsStatus status) {
+    switch (status) {
+        case FusionAltitudeInsStatusOk:
+            return "ok";
+        case FusionAltitudeInsStatusInvalidGyro:
+            return "gyro components must be finite with magnitude <= 1e6 rad/s";
+        case FusionAltitudeInsStatusInvalidAccel:
+            return "accel components must be finite with magnitude <= 1e6 m/s^2";
+        case FusionAltitudeInsStatusInvalidMag:
+            return "mag components must be all NaN (no sample) or all finite with magnitude <= 1e6";
+        case FusionAltitudeInsStatusInvalidBaroAltitude:
+            return "baro altitude must be finite with magnitude <= 1e6 m (or NaN for no sample)";
+        case FusionAltitudeInsStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeInsStatusInvalidSettings:
+            return "settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+/**
+ * @return the default settings (MEMS IMU at 100-500 Hz on a multirotor):
+ *   gyroNoise 3e-4 rad/s/sqrt(Hz), gyroBiasRandomWalk 1e-5 rad/s^2/sqrt(Hz),
+ *   accelNoise 0.05 m/s^2/sqrt(Hz), accelAttitudeNoise 0.05 rad,
+ *   accelNormRejection 2 m/s^2, accelRejection 0.17 rad (~10 deg),
+ *   recoveryTriggerPeriod 5 s, baroNoise 0.3 m, stationary below 0.05 rad/s
+ *   and 0.5 m/s^2 for 1 s, zeroRateNoise 0.01 rad/s, zeroVelocityNoise
+ *   0.05 m/s, baroBiasTimeConstant 5 s, accelBiasTimeConstant 2 s, magTimeConstant 2 s, initial sigmas
+ *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s.
+ */
+static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
+    FusionAltitudeInsSettings s;
+    s.gyroNoise = 3e-4f;
+    s.gyroBiasRandomWalk = 1e-5f;
+    s.accelNoise = 0.05f;
+    s.accelAttitudeNoise = 0.05f;
+    s.accelNormRejection = 2.0f;
+    s.accelRejection = 0.17f;
+    s.recoveryTriggerPeriod = 5.0f;
+    s.baroNoise = 0.3f;
+    s.stationaryGyroThreshold = 0.05f;
+    s.stationaryAccelThreshold = 0.5f;
+    s.stationaryWindow = 1.0f;
+    s.zeroRateNoise = 0.01f;
+    s.zeroVelocityNoise = 0.05f;
+    s.baroBiasTimeConstant = 5.0f;
+    s.accelBiasTimeConstant = 2.0f;
+    s.magTimeConstant = 2.0f;
+    s.initialAttitudeSigma = 0.05f;
+    s.initialGyroBiasSigma = 0.01f;
+    s.initialVelocitySigma = 0.5f;
+    s.gapPeriod = 0.1f;
+    return s;
+}
+
+/* value finite in [0, FUSION_ALTITUDE_INS_MAXIMUM] */
+static inline bool FusionAltitudeInsIsNonNegative(const float value) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= FUSION_ALTITUDE_INS_MAXIMUM);
+}
+
+/* value finite in (0, FUSION_ALTITUDE_INS_MAXIMUM] */
+static inline bool FusionAltitudeInsIsPositive(const float value) {
+    return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= FUSION_ALTITUDE_INS_MAXIMUM);
+}
+
+/**
+ * Checks the settings: every field finite in [0, 1e6]; accelAttitudeNoise,
+ * baroNoise, zeroRateNoise, zeroVelocityNoise, the three time constants and
+ * gapPeriod > 0.
+ */
+static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const FusionAltitudeInsSettings *const s) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const bool nonNegative = FusionAltitudeInsIsNonNegative(s->gyroNoise) && FusionAltitudeInsIsNonNegative(s->gyroBiasRandomWalk) &&
+                             FusionAltitudeInsIsNonNegative(s->accelNoise) && FusionAltitudeInsIsNonNegative(s->accelNormRejection) &&
+                             FusionAltitudeInsIsNonNegative(s->accelRejection) && FusionAltitudeInsIsNonNegative(s->recoveryTriggerPeriod) &&
+                             FusionAltitudeInsIsNonNegative(s->stationaryGyroThreshold) &&
+                             FusionAltitudeInsIsNonNegative(s->stationaryAccelThreshold) && FusionAltitudeInsIsNonNegative(s->stationaryWindow) &&
+                             FusionAltitudeInsIsNonNegative(s->initialAttitudeSigma) && FusionAltitudeInsIsNonNegative(s->initialGyroBiasSigma) &&
+                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma);
+    const bool positive = FusionAltitudeInsIsPositive(s->accelAttitudeNoise) && FusionAltitudeInsIsPositive(s->baroNoise) &&
+                          FusionAltitudeInsIsPositive(s->zeroRateNoise) && FusionAltitudeInsIsPositive(s->zeroVelocityNoise) &&
+                          FusionAltitudeInsIsPositive(s->baroBiasTimeConstant) && FusionAltitudeInsIsPositive(s->accelBiasTimeConstant) &&
+                          FusionAltitudeInsIsPositive(s->magTimeConstant) && FusionAltitudeInsIsPositive(s->gapPeriod);
+    return (nonNegative && positive) ? FusionAltitudeInsStatusOk : FusionAltitudeInsStatusInvalidSettings;
+}
+
+/** @return a magnetometer sample meaning "no sample this step" (all NaN). */
+static inline FusionAltitudeInsVector FusionAltitudeInsNoMag(void) {
+    FusionAltitudeInsVector m;
+    m.x = FusionAltitudeNaN();
+    m.y = FusionAltitudeNaN();
+    m.z = FusionAltitudeNaN();
+    return m;
+}
+
+//------------------------------------------------------------------------------
+// Estimator
+
+/** Sets the covariance to its initial value: diag(sa^2 I, sb^2 I, 0, sv^2). */
+static inline void FusionAltitudeInsResetCovariance(FusionAltitudeIns *const ins) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    memset(ins->P, 0, sizeof(ins->P));
+    const float attitude = s->initialAttitudeSigma * s->initialAttitudeSigma;
+    const float bias = s->initialGyroBiasSigma * s->initialGyroBiasSigma;
+    for (int i = 0; i < 3; i++) {
+        ins->P[i][i] = attitude;
+        ins->P[3 + i][3 + i] = bias;
+    }
+    ins->P[7][7] = s->initialVelocitySigma * s->initialVelocitySigma;
+}
+
+/**
+ * @brief Initialises the INS with the given settings (NULL: defaults;
+ * rejected with the INS untouched if they fail the check): not aligned,
+ * identity attitude, zero biases, d = v = 0, yaw offset 0.
+ */
+static inline FusionAltitudeInsStatus FusionAltitudeInsInitialiseWith(FusionAltitudeIns *const ins, const FusionAltitudeInsSettings *const settings) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings s = (settings == NULL) ? FusionAltitudeInsSettingsDefault() : *settings;
+    if (FusionAltitudeInsSettingsCheck(&s) != FusionAltitudeInsStatusOk) {
+        return FusionAltitudeInsStatusInvalidSettings;
+    }
+    memset(ins, 0, sizeof(*ins));
+    ins->settings = s;
+    ins->q[0] = 1.0f;
+    ins->yawCos = 1.0f;
+    FusionAltitudeInsResetCovariance(ins);
+    return FusionAltitudeInsStatusOk;
+}
+
+/** @brief Initialises the INS with the default settings. */
+static inline void FusionAltitudeInsInitialise(FusionAltitudeIns *const ins) {
+    (void) FusionAltitudeInsInitialiseWith(ins, NULL);
+}
+
+/** @brief Replaces the settings, keeping the state. Rejected (state unchanged) if the check fails. */
+static inline FusionAltitudeInsStatus FusionAltitudeInsSetSettings(FusionAltitudeIns *const ins, const FusionAltitudeInsSettings *const settings) {
+    if (FusionAltitudeInsSettingsCheck(settings) != FusionAltitudeInsStatusOk) {
+        return FusionAltitudeInsStatusInvalidSettings;
+    }
+    ins->settings = *settings;
+    return FusionAltitudeInsStatusOk;
+}
+
+/* |value| <= FUSION_ALTITUDE_INS_MAXIMUM and finite */
+static inline bool FusionAltitudeInsIsBounded(const float value) {
+    return FusionAltitudeIsFinite(value) && (value <= FUSION_ALTITUDE_INS_MAXIMUM) && (value >= -FUSION_ALTITUDE_INS_MAXIMUM);
+}
+
+static inline bool FusionAltitudeInsIsBoundedVector(const FusionAltitudeInsVector v) {
+    return FusionAltitudeInsIsBounded(v.x) && FusionAltitudeInsIsBounded(v.y) && FusionAltitudeInsIsBounded(v.z);
+}
+
+/** @return true if every component of the magnetometer sample is NaN (no sample). */
+static inline bool FusionAltitudeInsIsNoMag(const FusionAltitudeInsVector m) {
+    return FusionAltitudeIsNaN(m.x) && FusionAltitudeIsNaN(m.y) && FusionAltitudeIsNaN(m.z);
+}
+
+/** Checks the inputs of FusionAltitudeInsUpdate; the first bad one decides the status. */
+static inline FusionAltitudeInsStatus FusionAltitudeInsCheckInputs(const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel,
+                                                                   const FusionAltitudeInsVector mag, const float baroAltitude, const float dt) {
+    if (!FusionAltitudeInsIsBoundedVector(gyro)) {
+        return FusionAltitudeInsStatusInvalidGyro;
+    }
+    if (!FusionAltitudeInsIsBoundedVector(accel)) {
+        return FusionAltitudeInsStatusInvalidAccel;
+    }
+    if (!FusionAltitudeInsIsNoMag(mag) && !FusionAltitudeInsIsBoundedVector(mag)) {
+        return FusionAltitudeInsStatusInvalidMag;
+    }
+    if (!FusionAltitudeIsNaN(baroAltitude) && !FusionAltitudeInsIsBounded(baroAltitude)) {
+        return FusionAltitudeInsStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeInsStatusInvalidDt;
+    }
+    return FusionAltitudeInsStatusOk;
+}
+
+/** Normalises q in place (q is never near zero: it is a unit quaternion times a factor >= 1). */
+static inline void FusionAltitudeInsNormalise(float q[4]) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const float norm = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    const float inverse = 1.0f / norm;
+    q[0] = q[0] * inverse;
+    q[1] = q[1] * inverse;
+    q[2] = q[2] * inverse;
+    q[3] = q[3] * inverse;
+}
+
+/** q <- normalise(q (x) (1, h)) for a rotation vector half-angle h = theta/2 (body frame). */
+static inline void FusionAltitudeInsRotate(float q[4], const float hx, const float hy, const float hz) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const float w = q[0], x = q[1], y = q[2], z = q[3];
+    q[0] = w - x * hx - y * hy - z * hz;
+    q[1] = x + w * hx + y * hz - z * hy;
+    q[2] = y + w * hy - x * hz + z * hx;
+    q[3] = z + w * hz + x * hy - y * hx;
+    FusionAltitudeInsNormalise(q);
+}
+
+/** Third row of R(q) (body -> earth): r = R^T e_z, the up direction (gravity direction) in the body frame. */
+static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const float w = q[0], x = q[1], y = q[2], z = q[3];
+    r[0] = 2.0f * (x * z - w * y);
+    r[1] = 2.0f * (y * z + w * x);
+    r[2] = 1.0f - 2.0f * (x * x + y * y);
+}
+
+/**
+ * Scalar update given c = P h^T, S = h c + R and the innovation (z minus h
+ * applied to the nominal state plus dx): K = c/S, dx += K*innovation,
+ * P <- (P - (K c^T + c K^T)) + (K K^T) S, the Joseph form expanded.
+ */
+static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const float c[FUSION_ALTITUDE_INS_STATES],
+                                             const float S, const float innovation) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    float K[FUSION_ALTITUDE_INS_STATES];
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        K[i] = c[i] / S;
+        dx[i] = dx[i] + K[i] * innovation;
+    }
+    /* every entry; the grouping is symmetric in i and j (a*b = b*a, a + b = b + a exactly), so P stays bit-symmetric */
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            P[i][j] = (P[i][j] - (K[i] * c[j] + c[i] * K[j])) + (K[i] * K[j]) * S;
+        }
+    }
+}
+
+/**
+ * Scalar update with a measurement row h that is non-zero only at indices
+ * i0 (value h0) and i1 (value h1; i1 < 0: single index). Accumulates the
+ * error state dx; y is the residual against the nominal state (the function
+ * subtracts h dx itself). R: noise variance.
+ */
+static inline void FusionAltitudeInsFuse(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const int i0, const float h0,
+                                         const int i1, const float h1, const float y, const float R) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    float c[FUSION_ALTITUDE_INS_STATES];
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        c[i] = (i1 < 0) ? (P[i][i0] * h0) : (P[i][i0] * h0 + P[i][i1] * h1);
+    }
+    const float hc = (i1 < 0) ? (h0 * c[i0]) : (h0 * c[i0] + h1 * c[i1]);
+    const float hdx = (i1 < 0) ? (h0 * dx[i0]) : (h0 * dx[i0] + h1 * dx[i1]);
+    FusionAltitudeInsFuseGain(ins, dx, c, hc + R, y - hdx);
+}
+
+/** Caps the local yaw error variance r^T P r (see FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT). */
+static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const float r[3]) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    float c[FUSION_ALTITUDE_INS_STATES];
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        c[i] = P[i][0] * r[0] + P[i][1] * r[1] + P[i][2] * r[2];
+    }
+    const float hc = r[0] * c[0] + r[1] * c[1] + r[2] * c[2];
+    if (hc > FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT) {
+        const float hdx = r[0] * dx[0] + r[1] * dx[1] + r[2] * dx[2];
+        FusionAltitudeInsFuseGain(ins, dx, c, hc + FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT, 0.0f - hdx);
+    }
+}
+
+/** Sets q to the shortest rotation taking the body vector f (|f| > 0) to +z: yaw 0. */
+static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const FusionAltitudeInsVector f) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const float norm = sqrtf(f.x * f.x + f.y * f.y + f.z * f.z);
+    const float ux = f.x / norm, uy = f.y / norm, uz = f.z / norm;
+    /* q = normalise(1 + u.e_z, u x e_z) = normalise(1 + uz, uy, -ux, 0); u = -e_z: 180 deg about x */
+    if (uz > -0.999999f) {
+        ins->q[0] = 1.0f + uz;
+        ins->q[1] = uy;
+        ins->q[2] = -ux;
+        ins->q[3] = 0.0f;
+        FusionAltitudeInsNormalise(ins->q);
+    } else {
+        ins->q[0] = 0.0f;
+        ins->q[1] = 1.0f;
+        ins->q[2] = 0.0f;
+        ins->q[3] = 0.0f;
+    }
+    ins->aligned = true;
+}
+
+/**
+ * Prediction over dt (see the file comment). Internal: inputs checked.
+ * w: bias-corrected rate (rad/s); f: bias-corrected specific force (m/s^2).
+ */
+static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const float w[3], const float f[3], const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float halfDt = 0.5f * dt;
+    const float halfDt2 = halfDt * dt;
+    /* vertical acceleration with the attitude at the start of the step */
+    float r[3];
+    FusionAltitudeInsUpInBody(ins->q, r);
+    const float accel = (r[0] * f[0] + r[1] * f[1] + r[2] * f[2]) - FUSION_ALTITUDE_GRAVITY;
+    ins->distance = ins->distance + ins->velocity * dt + accel * halfDt2;
+    ins->velocity = ins->velocity + accel * dt;
+    FusionAltitudeInsRotate(ins->q, w[0] * halfDt, w[1] * halfDt, w[2] * halfDt);
+    /* Jacobian pieces: A = I - [w dt]x, c = f x r */
+    const float ax = w[0] * dt, ay = w[1] * dt, az = w[2] * dt;
+    const float cx = f[1] * r[2] - f[2] * r[1];
+    const float cy = f[2] * r[0] - f[0] * r[2];
+    const float cz = f[0] * r[1] - f[1] * r[0];
+    const float vx = dt * cx, vy = dt * cy, vz = dt * cz;             /* row v of F on dtheta */
+    const float hx = halfDt2 * cx, hy = halfDt2 * cy, hz = halfDt2 * cz; /* row d of F on dtheta */
+    /* G = F P: rows theta, d and v change; rows b are those of P */
+    float G[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
+    for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+        G[0][j] = P[0][j] + az * P[1][j] - ay * P[2][j] - dt * P[3][j];
+        G[1][j] = P[1][j] - az * P[0][j] + ax * P[2][j] - dt * P[4][j];
+        G[2][j] = P[2][j] + ay * P[0][j] - ax * P[1][j] - dt * P[5][j];
+        G[3][j] = P[3][j];
+        G[4][j] = P[4][j];
+        G[5][j] = P[5][j];
+        G[6][j] = P[6][j] + dt * P[7][j] + hx * P[0][j] + hy * P[1][j] + hz * P[2][j];
+        G[7][j] = P[7][j] + vx * P[0][j] + vy * P[1][j] + vz * P[2][j];
+    }
+    /* P = G F^T. Entry (i, j) = row j of F applied to row i of G; computed as
+       H = F G^T (rows combined element-wise, like G above, so it vectorises):
+       H[j][i] = (G F^T)[i][j]. The entries j >= i are kept and mirrored. */
+    float T[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            T[j][i] = G[i][j];
+        }
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        G[0][i] = T[0][i] + az * T[1][i] - ay * T[2][i] - dt * T[3][i];
+        G[1][i] = T[1][i] - az * T[0][i] + ax * T[2][i] - dt * T[4][i];
+        G[2][i] = T[2][i] + ay * T[0][i] - ax * T[1][i] - dt * T[5][i];
+        G[3][i] = T[3][i];
+        G[4][i] = T[4][i];
+        G[5][i] = T[5][i];
+        G[6][i] = T[6][i] + dt * T[7][i] + hx * T[0][i] + hy * T[1][i] + hz * T[2][i];
+        G[7][i] = T[7][i] + vx * T[0][i] + vy * T[1][i] + vz * T[2][i];
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = i; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            P[i][j] = G[j][i];
+            P[j][i] = G[j][i];
+        }
+    }
+    /* Q */
+    const float qTheta = s->gyroNoise * s->gyroNoise * dt;
+    const float qBias = s->gyroBiasRandomWalk * s->gyroBiasRandomWalk * dt;
+    const float qAccel = s->accelNoise * s->accelNoise * dt;
+    for (int i = 0; i < 3; i++) {
+        P[i][i] = P[i][i] + qTheta;
+        P[3 + i][3 + i] = P[3 + i][3 + i] + qBias;
+    }
+    P[6][6] = P[6][6] + qAccel * (0.25f * dt * dt);
+    P[6][7] = P[6][7] + qAccel * halfDt;
+    P[7][6] = P[6][7];
+    P[7][7] = P[7][7] + qAccel;
+    /* d and v unobserved for long (no baro, never at rest): decorrelate and hold at the limit */
+    for (int k = 6; k < FUSION_ALTITUDE_INS_STATES; k++) {
+        if (P[k][k] > FUSION_ALTITUDE_INS_VARIANCE_LIMIT) {
+            for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+                P[k][j] = 0.0f;
+                P[j][k] = 0.0f;
+            }
+            P[k][k] = FUSION_ALTITUDE_INS_VARIANCE_LIMIT;
+        }
+    }
+}
+
+/**
+ * @brief One IMU step: gyro (rad/s) and accel (m/s^2) in the body frame, mag
+ * (any unit, body; FusionAltitudeInsNoMag() for none), baro altitude (m;
+ * FUSION_ALTITUDE_NO_BARO for none), dt (s) since the previous step. Bad
+ * input: returns its status and leaves the INS bit-identical.
+ */
+static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                              const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
+                                                              const float baroAltitude, const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsStatus status = FusionAltitudeInsCheckInputs(gyro, accel, mag, baroAltitude, dt);
+    if (status != FusionAltitudeInsStatusOk) {
+        return status;
+    }
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float g = FUSION_ALTITUDE_GRAVITY;
+    const float accelNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + accel.z * accel.z);
+    const float normError = (accelNorm > g) ? (accelNorm - g) : (g - accelNorm);
+    if (!ins->aligned) {
+        if (!(normError <= s->accelNormRejection)) {
+            return FusionAltitudeInsStatusOk; /* wait for a usable gravity direction */
+        }
+        FusionAltitudeInsAlign(ins, accel);
+    } else if (dt > s->gapPeriod) {
+        /* gap: not integrated; widen attitude and velocity, restart stationary detection */
+        ins->gapCount++;
+        const float attitude = s->initialAttitudeSigma * s->initialAttitudeSigma;
+        const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
+        for (int i = 0; i < 3; i++) {
+            ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
+        }
+        ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
+        ins->stationaryTime = 0.0f;
+    } else {
+        const float w[3] = {gyro.x - ins->gyroBias[0], gyro.y - ins->gyroBias[1], gyro.z - ins->gyroBias[2]};
+        const float f[3] = {accel.x, accel.y, accel.z - ins->accelZBias};
+        FusionAltitudeInsPredict(ins, w, f, dt);
+        /* stationary detection on the raw samples */
+        const float gyroSquared = gyro.x * gyro.x + gyro.y * gyro.y + gyro.z * gyro.z;
+        const bool still = (gyroSquared < s->stationaryGyroThreshold * s->stationaryGyroThreshold) && (normError < s->stationaryAccelThreshold);
+        if (still) {
+            const float time = ins->stationaryTime + dt;
+            ins->stationaryTime = (time < s->stationaryWindow) ? time : s->stationaryWindow;
+        } else {
+            ins->stationaryTime = 0.0f;
+        }
+    }
+    ins->stationary = ins->stationaryTime >= s->stationaryWindow;
+    ins->baroElapsed = ins->baroElapsed + dt;
+    ins->magElapsed = ins->magElapsed + dt;
+
+    float dx[FUSION_ALTITUDE_INS_STATES] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    float r[3];
+    FusionAltitudeInsUpInBody(ins->q, r);
+    const float fz = accel.z - ins->accelZBias;
+
+    /* accel: gravity direction, with acceleration rejection */
+    bool rejected = !(normError <= s->accelNormRejection);
+    if (!rejected) {
+        const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
+        const float u[3] = {accel.x / fNorm, accel.y / fNorm, fz / fNorm};
+        const float e[3] = {u[0] - r[0], u[1] - r[1], u[2] - r[2]};
+        const float chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        const bool recovering = ins->rejectionTime > s->recoveryTriggerPeriod;
+        if ((chord2 > s->accelRejection * s->accelRejection) && !recovering) {
+            rejected = true;
+        } else {
+            /* rows of [r]x: 0: (0, -r2, r1), 1: (r2, 0, -r0), 2: (-r1, r0, 0); skip the row of the largest |r_k| */
+            const float a0 = (r[0] < 0.0f) ? -r[0] : r[0];
+            const float a1 = (r[1] < 0.0f) ? -r[1] : r[1];
+            const float a2 = (r[2] < 0.0f) ? -r[2] : r[2];
+            const int skip = (a2 >= a0 && a2 >= a1) ? 2 : ((a1 >= a0) ? 1 : 0);
+            const float R = s->accelAttitudeNoise * s->accelAttitudeNoise;
+            if (skip != 0) {
+                FusionAltitudeInsFuse(ins, dx, 1, -r[2], 2, r[1], e[0], R);
+            }
+            if (skip != 1) {
+                FusionAltitudeInsFuse(ins, dx, 0, r[2], 2, -r[0], e[1], R);
+            }
+            if (skip != 2) {
+                FusionAltitudeInsFuse(ins, dx, 0, -r[1], 1, r[0], e[2], R);
+            }
+        }
+    }
+    ins->rejectionTime = rejected ? (ins->rejectionTime + dt) : 0.0f;
+    ins->accelRejected = rejected;
+
+    FusionAltitudeInsLimitYaw(ins, dx, r);
+
+    /* stationary: zero rate, zero velocity, accel z bias */
+    if (ins->stationary) {
+        const float R = s->zeroRateNoise * s->zeroRateNoise;
+        FusionAltitudeInsFuse(ins, dx, 3, 1.0f, -1, 0.0f, gyro.x - ins->gyroBias[0], R);
+        FusionAltitudeInsFuse(ins, dx, 4, 1.0f, -1, 0.0f, gyro.y - ins->gyroBias[1], R);
+        FusionAltitudeInsFuse(ins, dx, 5, 1.0f, -1, 0.0f, gyro.z - ins->gyroBias[2], R);
+        FusionAltitudeInsFuse(ins, dx, 7, 1.0f, -1, 0.0f, -ins->velocity, s->zeroVelocityNoise * s->zeroVelocityNoise);
+        const float k = dt / (s->accelBiasTimeConstant + dt);
+        ins->accelZBias = ins->accelZBias + k * ((accel.z - g * r[2]) - ins->accelZBias);
+    }
+
+    /* baro */
+    if (!FusionAltitudeIsNaN(baroAltitude)) {
+        if (!ins->baroInitialised) {
+            ins->baroBias = baroAltitude - ins->distance;
+            ins->baroInitialised = true;
+        } else {
+            if (ins->stationary) { /* every reading is bias: d is held by the zero-velocity update */
+                const float k = ins->baroElapsed / (s->baroBiasTimeConstant + ins->baroElapsed);
+                ins->baroBias = ins->baroBias + k * ((baroAltitude - ins->distance) - ins->baroBias);
+            } else {
+                FusionAltitudeInsFuse(ins, dx, 6, 1.0f, -1, 0.0f, (baroAltitude - ins->baroBias) - ins->distance, s->baroNoise * s->baroNoise);
+            }
+        }
+        ins->baroElapsed = 0.0f;
+    }
+
+    /* inject the error state */
+    FusionAltitudeInsRotate(ins->q, 0.5f * dx[0], 0.5f * dx[1], 0.5f * dx[2]);
+    ins->gyroBias[0] = ins->gyroBias[0] + dx[3];
+    ins->gyroBias[1] = ins->gyroBias[1] + dx[4];
+    ins->gyroBias[2] = ins->gyroBias[2] + dx[5];
+    ins->distance = ins->distance + dx[6];
+    ins->velocity = ins->velocity + dx[7];
+
+    /* magnetometer: local -> global yaw offset only */
+    if (!FusionAltitudeInsIsNoMag(mag)) {
+        const float w = ins->q[0], x = ins->q[1], y = ins->q[2], z = ins->q[3];
+        /* first two rows of R(q) times m */
+        const float mx = (1.0f - 2.0f * (y * y + z * z)) * mag.x + 2.0f * (x * y - w * z) * mag.y + 2.0f * (x * z + w * y) * mag.z;
+        const float my = 2.0f * (x * y + w * z) * mag.x + (1.0f - 2.0f * (x * x + z * z)) * mag.y + 2.0f * (y * z - w * x) * mag.z;
+        const float horizontal = sqrtf(mx * mx + my * my);
+        if (horizontal > 0.0f) {
+            const float targetCos = mx / horizontal;
+            const float targetSin = -my / horizontal;
+            if (!ins->magInitialised) {
+                ins->yawCos = targetCos;
+                ins->yawSin = targetSin;
+                ins->magInitialised = true;
+            } else {
+                const float k = ins->magElapsed / (s->magTimeConstant + ins->magElapsed);
+                const float c = ins->yawCos + k * (targetCos - ins->yawCos);
+                const float sn = ins->yawSin + k * (targetSin - ins->yawSin);
+                const float norm = sqrtf(c * c + sn * sn);
+                if (norm > 1e-3f) {
+                    ins->yawCos = c / norm;
+                    ins->yawSin = sn / norm;
+                } else {
+                    ins->yawCos = targetCos;
+                    ins->yawSin = targetSin;
+                }
+            }
+            ins->magElapsed = 0.0f;
+        }
+    }
+    return FusionAltitudeInsStatusOk;
+}
+
+//------------------------------------------------------------------------------
+// Getters
+
+/** @return the settings. */
+static inline FusionAltitudeInsSettings FusionAltitudeInsGetSettings(const FusionAltitudeIns *const ins) {
+    return ins->settings;
+}
+
+/** @return the height above the reference d, m, +up (the baro reads d + baro bias). */
+static inline float FusionAltitudeInsGetAltitude(const FusionAltitudeIns *const ins) {
+    return ins->distance;
+}
+
+/** @return the vertical velocity, m/s, +up. */
+static inline float FusionAltitudeInsGetVerticalVelocity(const FusionAltitudeIns *const ins) {
+    return ins->velocity;
+}
+
+/** @return the local attitude (body -> local earth, NWU, yaw integrated from 0). */
+static inline FusionAltitudeInsQuaternion FusionAltitudeInsGetQuaternion(const FusionAltitudeIns *const ins) {
+    FusionAltitudeInsQuaternion q;
+    q.w = ins->q[0];
+    q.x = ins->q[1];
+    q.y = ins->q[2];
+    q.z = ins->q[3];
+    return q;
+}
+
+/**
+ * @return the local-to-global rotation (about earth z by the magnetometer's
+ * yaw offset; identity until the first usable mag sample).
+ */
+static inline FusionAltitudeInsQuaternion FusionAltitudeInsGetLocalToGlobal(const FusionAltitudeIns *const ins) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    /* half angle without trig: normalise(1 + cos, sin) */
+    FusionAltitudeInsQuaternion q;
+    const float a = 1.0f + ins->yawCos;
+    const float b = ins->yawSin;
+    const float norm = sqrtf(a * a + b * b);
+    q.x = 0.0f;
+    q.y = 0.0f;
+    if (norm > 1e-6f) {
+        q.w = a / norm;
+        q.z = b / norm;
+    } else {
+        q.w = 0.0f;
+        q.z = 1.0f;
+    }
+    return q;
+}
+
+/** @return the global attitude q_g = localToGlobal (x) q (body -> NWU with north from the magnetometer). */
+static inline FusionAltitudeInsQuaternion FusionAltitudeInsGetGlobalQuaternion(const FusionAltitudeIns *const ins) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsQuaternion a = FusionAltitudeInsGetLocalToGlobal(ins);
+    const float w = ins->q[0], x = ins->q[1], y = ins->q[2], z = ins->q[3];
+    FusionAltitudeInsQuaternion q;
+    q.w = a.w * w - a.z * z;
+    q.x = a.w * x - a.z * y;
+    q.y = a.w * y + a.z * x;
+    q.z = a.w * z + a.z * w;
+    return q;
+}
+
+/** @return the gyroscope bias, rad/s, body frame. */
+static inline FusionAltitudeInsVector FusionAltitudeInsGetGyroBias(const FusionAltitudeIns *const ins) {
+    FusionAltitudeInsVector b;
+    b.x = ins->gyroBias[0];
+    b.y = ins->gyroBias[1];
+    b.z = ins->gyroBias[2];
+    return b;
+}
+
+/** @return the accelerometer z bias, m/s^2, body z (learned while stationary). */
+static inline float FusionAltitudeInsGetAccelZBias(const FusionAltitudeIns *const ins) {
+    return ins->accelZBias;
+}
+
+/** @return the baro bias, m: the baro altitude at d = 0 (set by the first baro sample, learned while stationary). */
+static inline float FusionAltitudeInsGetBaroBias(const FusionAltitudeIns *const ins) {
+    return ins->baroBias;
+}
+
+/** @return true while stationary (see the file comment). */
+static inline bool FusionAltitudeInsIsStationary(const FusionAltitudeIns *const ins) {
+    return ins->stationary;
+}
+
+/** @return true if the latest step did not use the accelerometer for attitude. */
+static inline bool FusionAltitudeInsIsAccelRejected(const FusionAltitudeIns *const ins) {
+    return ins->accelRejected;
+}
+
+/** @return the number of steps with dt > gapPeriod (not integrated). */
+static inline uint32_t FusionAltitudeInsGetGapCount(const FusionAltitudeIns *const ins) {
+    return ins->gapCount;
+}
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC pop_options
+#endif
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,229 @@
+/**
+ * @file fuzz_ins.c
+ * @brief libFuzzer target for fusion_altitude_ins.h, built with clang under
+ * AddressSanitizer + UndefinedBehaviorSanitizer (tests/test_ins_c.py runs a
+ * fixed number of inputs; not yet in csrc/firmware/Makefile).
+ *
+ * The input is a sequence of calls; floats are raw bytes (any bit pattern):
+ *   opcode & 3:
+ *   0 initialise with the working settings
+ *   1 edit the working settings: field index byte (mod 20), 4 raw bytes, then
+ *     SetSettings
+ *   2 update with every argument raw: gyro, accel, mag (3 floats each), baro, dt
+ *   3 update with bytes scaled into a plausible range (sane): gyro, accel, mag,
+ *     a baro presence byte, baro, dt
+ *
+ * Asserted after every call (abort, so libFuzzer reports a crash):
+ *   - a rejected call leaves the INS bit-identical (memcmp, padding included),
+ *     and the status equals an independent classification of the inputs;
+ *   - SetSettings / InitialiseWith return what SettingsCheck returns;
+ *   - P is exactly symmetric (bitwise), always;
+ *   - while the run is sane (every accepted update had |gyro| <= 10 rad/s,
+ *     |accel| <= 160 m/s^2 (16 g), |mag| <= 1e3, |baro| <= 1e5 m,
+ *     1e-3 <= dt <= 0.02 s (so |gyro| dt <= 0.2 rad: the first-order
+ *     attitude integration and the EKF's linearisation hold),
+ *     at most 20000 updates since initialisation, and the settings in use are
+ *     plausible: noises in [1e-6, 10], random walks <= 1, sigmas <= 10,
+ *     thresholds and windows <= 1e3): q, biases, d, v and P are finite, P's
+ *     diagonal >= 0 and |q| within 1e-3 of 1.
+ */
+
+#include "fusion_altitude_ins.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FIELDS (20)
+#define MAX_STEPS (20000)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#define CHECK(condition)                                                                \
+    do {                                                                                \
+        if (!(condition)) {                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            abort();                                                                    \
+        }                                                                               \
+    } while (0)
+
+typedef struct {
+    const uint8_t *data;
+    size_t size;
+} Reader;
+
+static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
+    if (reader->size < size) {
+        return false;
+    }
+    memcpy(value, reader->data, size);
+    reader->data += size;
+    reader->size -= size;
+    return true;
+}
+
+static bool ReadFloat(Reader *const reader, float *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static bool ReadVector(Reader *const reader, FusionAltitudeInsVector *const v) {
+    return ReadFloat(reader, &v->x) && ReadFloat(reader, &v->y) && ReadFloat(reader, &v->z);
+}
+
+/* A byte pair scaled to [-limit, limit]. */
+static bool ReadScaled(Reader *const reader, const float limit, float *const value) {
+    uint16_t raw;
+    if (!ReadBytes(reader, &raw, sizeof(raw))) {
+        return false;
+    }
+    *value = ((float) raw / 32767.5f - 1.0f) * limit;
+    return true;
+}
+
+static bool Within(const float value, const float minimum, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
+}
+
+static bool Bounded(const float value, const float limit) {
+    return Within(value, -limit, limit);
+}
+
+static bool BoundedVector(const FusionAltitudeInsVector v, const float limit) {
+    return Bounded(v.x, limit) && Bounded(v.y, limit) && Bounded(v.z, limit);
+}
+
+static bool SaneSettings(const FusionAltitudeInsSettings *const s) {
+    return Within(s->gyroNoise, 1e-6f, 10.0f) && Within(s->gyroBiasRandomWalk, 0.0f, 1.0f) && Within(s->accelNoise, 1e-6f, 10.0f) &&
+           Within(s->accelAttitudeNoise, 1e-3f, 10.0f) && Within(s->baroNoise, 1e-2f, 100.0f) && Within(s->zeroRateNoise, 1e-4f, 10.0f) &&
+           Within(s->zeroVelocityNoise, 1e-3f, 10.0f) && Within(s->initialAttitudeSigma, 0.0f, 10.0f) &&
+           Within(s->initialGyroBiasSigma, 0.0f, 10.0f) && Within(s->initialVelocitySigma, 0.0f, 10.0f) &&
+           Within(s->accelNormRejection, 0.0f, 1e3f) && Within(s->accelRejection, 0.0f, 1e3f) && Within(s->recoveryTriggerPeriod, 0.0f, 1e3f) &&
+           Within(s->stationaryGyroThreshold, 0.0f, 1e3f) && Within(s->stationaryAccelThreshold, 0.0f, 1e3f) &&
+           Within(s->stationaryWindow, 0.0f, 1e3f) && Within(s->baroBiasTimeConstant, 1e-3f, 1e3f) &&
+           Within(s->accelBiasTimeConstant, 1e-3f, 1e3f) && Within(s->magTimeConstant, 1e-3f, 1e3f) && Within(s->gapPeriod, 1e-3f, 1e3f);
+}
+
+static FusionAltitudeInsStatus Expected(const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
+                                        const float baro, const float dt) {
+    if (!BoundedVector(gyro, 1e6f)) {
+        return FusionAltitudeInsStatusInvalidGyro;
+    }
+    if (!BoundedVector(accel, 1e6f)) {
+        return FusionAltitudeInsStatusInvalidAccel;
+    }
+    const bool noMag = FusionAltitudeIsNaN(mag.x) && FusionAltitudeIsNaN(mag.y) && FusionAltitudeIsNaN(mag.z);
+    if (!noMag && !BoundedVector(mag, 1e6f)) {
+        return FusionAltitudeInsStatusInvalidMag;
+    }
+    if (!FusionAltitudeIsNaN(baro) && !Bounded(baro, 1e6f)) {
+        return FusionAltitudeInsStatusInvalidBaroAltitude;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeInsStatusInvalidDt;
+    }
+    return FusionAltitudeInsStatusOk;
+}
+
+static void CheckState(const FusionAltitudeIns *const ins, const bool sane) {
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            CHECK(memcmp(&ins->P[i][j], &ins->P[j][i], sizeof(float)) == 0);
+        }
+    }
+    if (!sane) {
+        return;
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            CHECK(FusionAltitudeIsFinite(ins->P[i][j]));
+        }
+        CHECK(ins->P[i][i] >= 0.0f);
+    }
+    const float norm = ins->q[0] * ins->q[0] + ins->q[1] * ins->q[1] + ins->q[2] * ins->q[2] + ins->q[3] * ins->q[3];
+    CHECK(norm > 0.998f && norm < 1.002f);
+    CHECK(FusionAltitudeIsFinite(ins->distance) && FusionAltitudeIsFinite(ins->velocity));
+    CHECK(FusionAltitudeIsFinite(ins->gyroBias[0]) && FusionAltitudeIsFinite(ins->gyroBias[1]) && FusionAltitudeIsFinite(ins->gyroBias[2]));
+    CHECK(FusionAltitudeIsFinite(ins->accelZBias) && FusionAltitudeIsFinite(ins->baroBias));
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    FusionAltitudeIns ins;
+    FusionAltitudeInsInitialise(&ins);
+    FusionAltitudeInsSettings working = FusionAltitudeInsSettingsDefault();
+    bool sane = true;
+    int steps = 0;
+    uint8_t opcode;
+    while (ReadBytes(&reader, &opcode, 1)) {
+        const FusionAltitudeIns before = ins;
+        switch (opcode & 3) {
+            case 0: {
+                const FusionAltitudeInsStatus status = FusionAltitudeInsInitialiseWith(&ins, &working);
+                CHECK(status == FusionAltitudeInsSettingsCheck(&working));
+                if (status == FusionAltitudeInsStatusOk) {
+                    sane = SaneSettings(&working);
+                    steps = 0;
+                } else {
+                    CHECK(memcmp(&ins, &before, sizeof(ins)) == 0);
+                }
+                break;
+            }
+            case 1: {
+                uint8_t field;
+                float value;
+                if (!ReadBytes(&reader, &field, 1) || !ReadFloat(&reader, &value)) {
+                    return 0;
+                }
+                ((float *) &working)[field % FIELDS] = value;
+                const FusionAltitudeInsStatus status = FusionAltitudeInsSetSettings(&ins, &working);
+                CHECK(status == FusionAltitudeInsSettingsCheck(&working));
+                if (status == FusionAltitudeInsStatusOk) {
+                    sane = sane && SaneSettings(&working);
+                } else {
+                    CHECK(memcmp(&ins, &before, sizeof(ins)) == 0);
+                }
+                break;
+            }
+            default: {
+                FusionAltitudeInsVector gyro, accel, mag;
+                float baro, dt;
+                if ((opcode & 3) == 2) {
+                    if (!ReadVector(&reader, &gyro) || !ReadVector(&reader, &accel) || !ReadVector(&reader, &mag) ||
+                        !ReadFloat(&reader, &baro) || !ReadFloat(&reader, &dt)) {
+                        return 0;
+                    }
+                } else {
+                    uint8_t presence;
+                    if (!ReadScaled(&reader, 10.0f, &gyro.x) || !ReadScaled(&reader, 10.0f, &gyro.y) || !ReadScaled(&reader, 10.0f, &gyro.z) ||
+                        !ReadScaled(&reader, 160.0f, &accel.x) || !ReadScaled(&reader, 160.0f, &accel.y) || !ReadScaled(&reader, 160.0f, &accel.z) ||
+                        !ReadScaled(&reader, 1e3f, &mag.x) || !ReadScaled(&reader, 1e3f, &mag.y) || !ReadScaled(&reader, 1e3f, &mag.z) ||
+                        !ReadBytes(&reader, &presence, 1) || !ReadScaled(&reader, 1e5f, &baro) || !ReadScaled(&reader, 0.01f, &dt)) {
+                        return 0;
+                    }
+                    dt = 0.0105f + dt; /* [5e-4, 0.0205] */
+                    dt = dt < 1e-3f ? 1e-3f : (dt > 0.02f ? 0.02f : dt);
+                    if (!(presence & 1)) {
+                        baro = FusionAltitudeNaN();
+                    }
+                    if (!(presence & 2)) {
+                        mag = FusionAltitudeInsNoMag();
+                    }
+                }
+                const FusionAltitudeInsStatus status = FusionAltitudeInsUpdate(&ins, gyro, accel, mag, baro, dt);
+                CHECK(status == Expected(gyro, accel, mag, baro, dt));
+                if (status != FusionAltitudeInsStatusOk) {
+                    CHECK(memcmp(&ins, &before, sizeof(ins)) == 0);
+                } else {
+                    const bool noMag = FusionAltitudeIsNaN(mag.x) && FusionAltitudeIsNaN(mag.y) && FusionAltitudeIsNaN(mag.z);
+                    sane = sane && BoundedVector(gyro, 10.0f) && BoundedVector(accel, 160.0f) && (noMag || BoundedVector(mag, 1e3f)) &&
+                           (FusionAltitudeIsNaN(baro) || Bounded(baro, 1e5f)) && Within(dt, 1e-3f, 0.02f) && (++steps <= MAX_STEPS);
+                }
+                break;
+            }
+        }
+        CheckState(&ins, sane);
+    }
+    return 0;
+}

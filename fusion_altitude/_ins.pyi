@@ -1,0 +1,76 @@
+"""Type stubs of the INS binding (fusion_altitude/_ins.pyx)."""
+
+from typing import Dict, Optional, Sequence, Union
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ._ins_glue import InsBatch
+
+C_STATUS_VALUES: Dict[str, int]
+
+def c_default_settings() -> Dict[str, float]: ...
+def ins_status_message(status: int) -> str: ...
+
+class InsSettings:
+    gyro_noise: float
+    gyro_bias_random_walk: float
+    accel_noise: float
+    accel_attitude_noise: float
+    accel_norm_rejection: float
+    accel_rejection: float
+    recovery_trigger_period: float
+    baro_noise: float
+    stationary_gyro_threshold: float
+    stationary_accel_threshold: float
+    stationary_window: float
+    zero_rate_noise: float
+    zero_velocity_noise: float
+    baro_bias_time_constant: float
+    accel_bias_time_constant: float
+    mag_time_constant: float
+    initial_attitude_sigma: float
+    initial_gyro_bias_sigma: float
+    initial_velocity_sigma: float
+    gap_period: float
+    def __init__(self, **kwargs: float) -> None: ...
+    def as_dict(self) -> Dict[str, float]: ...
+    def replace(self, **changes: float) -> "InsSettings": ...
+
+class InsEstimator:
+    def __init__(self, settings: Optional[InsSettings] = ..., *, gyro_units: str = ..., accel_units: str = ...) -> None: ...
+    settings: InsSettings
+    def update(self, gyro: Sequence[float], accel: Sequence[float], dt: float, baro_altitude: float = ...,
+               mag: Optional[Sequence[float]] = ...) -> None: ...
+    def update_batch(self, gyro: ArrayLike, accel: ArrayLike, dt: Union[float, ArrayLike],
+                     baro_altitude: Optional[Union[float, ArrayLike]] = ..., mag: Optional[ArrayLike] = ...,
+                     out: Optional[InsBatch] = ...) -> InsBatch: ...
+    @property
+    def altitude(self) -> float: ...
+    @property
+    def vertical_velocity(self) -> float: ...
+    @property
+    def quaternion(self) -> np.ndarray: ...
+    @property
+    def local_to_global(self) -> np.ndarray: ...
+    @property
+    def global_quaternion(self) -> np.ndarray: ...
+    @property
+    def euler(self) -> np.ndarray: ...
+    @property
+    def global_euler(self) -> np.ndarray: ...
+    @property
+    def gyro_bias(self) -> np.ndarray: ...
+    @property
+    def accel_z_bias(self) -> float: ...
+    @property
+    def baro_bias(self) -> float: ...
+    @property
+    def is_stationary(self) -> bool: ...
+    @property
+    def is_accel_rejected(self) -> bool: ...
+    @property
+    def gap_count(self) -> int: ...
+    @property
+    def covariance(self) -> np.ndarray: ...
+    def state_dict(self) -> dict: ...

@@ -1,0 +1,545 @@
+"""The inertial navigation filter, in plain Python.
+
+Read it next to ``csrc/fusion_altitude_ins.h``: every method below mirrors
+the C function named in its docstring, statement for statement, in float32
+arithmetic (numpy scalars, and numpy float32 arrays only for element-wise
+operations, which round each element exactly as the C loop does) in the same
+operation order, so its results equal the C core's bit for bit.
+
+Frames: body axes right-handed; earth NWU (z up). Inputs gyro rad/s, accel
+m/s² (specific force: +9.81 on z when level at rest), mag any unit, baro m.
+
+Nominal state: local attitude q (body → local earth; yaw integrated from 0,
+never touched by the magnetometer), gyro bias b (rad/s), vertical distance d
+(m, +up), vertical velocity v (m/s, +up). Error state of the EKF (8):
+attitude error δθ (body frame, q_true = q ⊗ (1, δθ/2)), bias error δb, δd, δv.
+
+Prediction, w = gyro − b, f = accel − (0, 0, b_z), r = Rᵀe_z (up in body):
+    a = r·f − g;  d += v·dt + a·dt²/2;  v += a·dt;  q ← normalise(q ⊗ (1, w·dt/2))
+    F: δθ ← (I − [w·dt]×)δθ − dt·δb;  δv += dt·c·δθ;  δd += dt·δv + dt²/2·c·δθ;  c = f × r
+    P ← F P Fᵀ + Q
+Corrections (sequential scalar, accumulated in dx, injected at the end):
+    accel  u = f/|f| ≈ r + [r]×δθ (two rows; rejected when ||f| − g| or |u − r| is too large)
+    yaw    pseudo-measurement r·δθ = 0 while the local yaw variance exceeds its limit
+    still  zero rate (gyro = b) and zero velocity (v = 0)
+    baro   baro − baro_bias = d (not while stationary: then the reading is bias)
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from typing import Dict, Optional
+
+import numpy as np
+
+from .. import _ins_glue
+from .._ins_glue import InsBatch, InsStatus
+
+f32 = np.float32
+N_STATES = 8
+GRAVITY = f32(9.80665)
+VARIANCE_LIMIT = f32(1e4)
+YAW_VARIANCE_LIMIT = f32(1e-4)
+_ZERO = f32(0)
+_ONE = f32(1)
+_HALF = f32(0.5)
+_TWO = f32(2)
+#: upper triangle (j >= i): the C computes these entries and mirrors them (np.where keeps -0.0, unlike adding)
+_UPPER = np.triu(np.ones((N_STATES, N_STATES), dtype=bool))
+
+
+class InsSettings:
+    """Settings of the INS, float32, in physical units (keyword arguments only).
+
+    Parameters (defaults: a MEMS IMU at 100–500 Hz on a multirotor)
+    ----------------------------------------------------------------
+    gyro_noise : 3e-4 rad/s/√Hz
+        Gyro white-noise density.
+    gyro_bias_random_walk : 1e-5 rad/s²/√Hz
+        Gyro bias random walk.
+    accel_noise : 0.05 m/s²/√Hz
+        Vertical acceleration noise density (vibration included).
+    accel_attitude_noise : 0.05 rad
+        1σ of the gravity direction per sample (> 0).
+    accel_norm_rejection : 2.0 m/s²
+        Accel not used for attitude while ||f| − g| exceeds it.
+    accel_rejection : 0.17 rad
+        Accel not used while its direction is further than this from the prediction.
+    recovery_trigger_period : 5.0 s
+        Rejected for longer lifts the direction gate (the Fusion AHRS recovery).
+    baro_noise : 0.3 m
+        Baro 1σ per sample (> 0).
+    stationary_gyro_threshold : 0.05 rad/s
+    stationary_accel_threshold : 0.5 m/s²
+    stationary_window : 1.0 s
+        Stationary once |gyro| and ||accel| − g| stayed below the thresholds on every sample for the window.
+    zero_rate_noise : 0.01 rad/s
+    zero_velocity_noise : 0.05 m/s
+        1σ of the zero-rate and zero-velocity updates while stationary (> 0).
+    baro_bias_time_constant, accel_bias_time_constant : 5.0 s, 2.0 s
+        Complementary filters of the baro bias and accel z bias while stationary (> 0).
+    mag_time_constant : 2.0 s
+        Local-to-global yaw filter (> 0).
+    initial_attitude_sigma : 0.05 rad
+    initial_gyro_bias_sigma : 0.01 rad/s
+    initial_velocity_sigma : 0.5 m/s
+    gap_period : 0.1 s
+        A dt above it is a gap: not integrated, counted (> 0).
+
+    Raises
+    ------
+    ValueError
+        A setting out of range, naming it. TypeError for an unknown name.
+    """
+
+    def __init__(self, **kwargs):
+        for name, value in _ins_glue.convert_ins_settings(kwargs).items():
+            object.__setattr__(self, "_" + name, value)
+
+    def __getattr__(self, name):
+        if name in _ins_glue.INS_SETTINGS_NAMES:
+            return float(object.__getattribute__(self, "_" + name))
+        raise AttributeError(name)
+
+    def __setattr__(self, name, value):
+        raise AttributeError("InsSettings are immutable; use replace(**changes)")
+
+    def f32(self, name: str) -> np.float32:
+        """A setting as the float32 the C sees."""
+        return object.__getattribute__(self, "_" + name)
+
+    def as_dict(self) -> Dict[str, float]:
+        """Every setting by name (Python floats of the float32 values)."""
+        return {name: float(self.f32(name)) for name in _ins_glue.INS_SETTINGS_NAMES}
+
+    def replace(self, **changes) -> "InsSettings":
+        """A copy with some settings changed."""
+        return InsSettings(**{**self.as_dict(), **changes})
+
+    def __eq__(self, other):
+        return isinstance(other, InsSettings) and self.as_dict() == other.as_dict()
+
+    def __repr__(self):
+        return "InsSettings(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
+
+    def __reduce__(self):
+        return (_settings_from_dict, (self.as_dict(),))
+
+
+def _settings_from_dict(values):
+    return InsSettings(**values)
+
+
+def _normalise(q: np.ndarray) -> np.ndarray:
+    """FusionAltitudeInsNormalise."""
+    norm = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    inverse = _ONE / norm
+    return np.array([q[0] * inverse, q[1] * inverse, q[2] * inverse, q[3] * inverse], dtype=f32)
+
+
+def _rotate(q: np.ndarray, hx, hy, hz) -> np.ndarray:
+    """FusionAltitudeInsRotate: normalise(q ⊗ (1, h))."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    return _normalise(np.array([w - x * hx - y * hy - z * hz,
+                                x + w * hx + y * hz - z * hy,
+                                y + w * hy - x * hz + z * hx,
+                                z + w * hz + x * hy - y * hx], dtype=f32))
+
+
+def _up_in_body(q: np.ndarray):
+    """FusionAltitudeInsUpInBody: r = Rᵀe_z, the third row of R(q)."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    return (_TWO * (x * z - w * y), _TWO * (y * z + w * x), _ONE - _TWO * (x * x + y * y))
+
+
+class InsEstimator:
+    """Reference twin of :class:`fusion_altitude.InsEstimator` (same API, bit-identical results).
+
+    Parameters
+    ----------
+    settings : InsSettings, optional
+    gyro_units : {"rad/s", "deg/s"}
+    accel_units : {"m/s^2", "g"}
+        Units of the ``gyro`` and ``accel`` inputs (converted in double, then float32).
+    """
+
+    def __init__(self, settings: Optional[InsSettings] = None, *, gyro_units: str = "rad/s",
+                 accel_units: str = "m/s^2"):
+        self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(gyro_units, accel_units)
+        self._units = (gyro_units, accel_units)
+        self._initialise(settings if settings is not None else InsSettings())
+
+    # -- FusionAltitudeInsInitialiseWith -------------------------------------------------------
+    def _initialise(self, settings: InsSettings) -> None:
+        if not isinstance(settings, InsSettings):
+            settings = InsSettings(**settings.as_dict())
+        self._s = settings
+        self.q = np.array([1, 0, 0, 0], dtype=f32)
+        self.gyro_bias_ = np.zeros(3, dtype=f32)
+        self.distance = _ZERO
+        self.velocity = _ZERO
+        self.P = np.zeros((N_STATES, N_STATES), dtype=f32)
+        self.accel_z_bias_ = _ZERO
+        self.baro_bias_ = _ZERO
+        self.yaw_cos = _ONE
+        self.yaw_sin = _ZERO
+        self.stationary_time = _ZERO
+        self.rejection_time = _ZERO
+        self.baro_elapsed = _ZERO
+        self.mag_elapsed = _ZERO
+        self.gap_count_ = 0
+        self.aligned = False
+        self.baro_initialised = False
+        self.mag_initialised = False
+        self.stationary = False
+        self.accel_rejected = False
+        self._reset_covariance()
+
+    def _reset_covariance(self) -> None:
+        """FusionAltitudeInsResetCovariance."""
+        s = self._s
+        attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
+        bias = s.f32("initial_gyro_bias_sigma") * s.f32("initial_gyro_bias_sigma")
+        self.P[:] = 0
+        for i in range(3):
+            self.P[i, i] = attitude
+            self.P[3 + i, 3 + i] = bias
+        self.P[7, 7] = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
+
+    @property
+    def settings(self) -> InsSettings:
+        return self._s
+
+    @settings.setter
+    def settings(self, settings: InsSettings) -> None:
+        """FusionAltitudeInsSetSettings: state kept."""
+        if not isinstance(settings, InsSettings):
+            raise TypeError(f"settings must be InsSettings, got {type(settings).__name__}")
+        self._s = settings
+
+    # -- FusionAltitudeInsAlign ----------------------------------------------------------------
+    def _align(self, f: np.ndarray) -> None:
+        norm = np.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+        ux, uy, uz = f[0] / norm, f[1] / norm, f[2] / norm
+        if uz > f32(-0.999999):
+            self.q = _normalise(np.array([_ONE + uz, uy, -ux, _ZERO], dtype=f32))
+        else:
+            self.q = np.array([0, 1, 0, 0], dtype=f32)
+        self.aligned = True
+
+    # -- FusionAltitudeInsPredict --------------------------------------------------------------
+    def _predict(self, w: np.ndarray, f: np.ndarray, dt: np.float32) -> None:
+        s, P = self._s, self.P
+        half_dt = _HALF * dt
+        half_dt2 = half_dt * dt
+        r = _up_in_body(self.q)
+        accel = (r[0] * f[0] + r[1] * f[1] + r[2] * f[2]) - GRAVITY
+        self.distance = self.distance + self.velocity * dt + accel * half_dt2
+        self.velocity = self.velocity + accel * dt
+        self.q = _rotate(self.q, w[0] * half_dt, w[1] * half_dt, w[2] * half_dt)
+        ax, ay, az = w[0] * dt, w[1] * dt, w[2] * dt
+        cx = f[1] * r[2] - f[2] * r[1]
+        cy = f[2] * r[0] - f[0] * r[2]
+        cz = f[0] * r[1] - f[1] * r[0]
+        vx, vy, vz = dt * cx, dt * cy, dt * cz
+        hx, hy, hz = half_dt2 * cx, half_dt2 * cy, half_dt2 * cz
+        # G = F P (rows), element-wise over the columns
+        G = np.empty_like(P)
+        G[0] = P[0] + az * P[1] - ay * P[2] - dt * P[3]
+        G[1] = P[1] - az * P[0] + ax * P[2] - dt * P[4]
+        G[2] = P[2] + ay * P[0] - ax * P[1] - dt * P[5]
+        G[3:6] = P[3:6]
+        G[6] = P[6] + dt * P[7] + hx * P[0] + hy * P[1] + hz * P[2]
+        G[7] = P[7] + vx * P[0] + vy * P[1] + vz * P[2]
+        # G Fᵀ (columns), upper triangle mirrored
+        M = np.empty_like(P)
+        M[:, 0] = G[:, 0] + az * G[:, 1] - ay * G[:, 2] - dt * G[:, 3]
+        M[:, 1] = G[:, 1] - az * G[:, 0] + ax * G[:, 2] - dt * G[:, 4]
+        M[:, 2] = G[:, 2] + ay * G[:, 0] - ax * G[:, 1] - dt * G[:, 5]
+        M[:, 3:6] = G[:, 3:6]
+        M[:, 6] = G[:, 6] + dt * G[:, 7] + hx * G[:, 0] + hy * G[:, 1] + hz * G[:, 2]
+        M[:, 7] = G[:, 7] + vx * G[:, 0] + vy * G[:, 1] + vz * G[:, 2]
+        P = np.where(_UPPER, M, M.T)
+        q_theta = s.f32("gyro_noise") * s.f32("gyro_noise") * dt
+        q_bias = s.f32("gyro_bias_random_walk") * s.f32("gyro_bias_random_walk") * dt
+        q_accel = s.f32("accel_noise") * s.f32("accel_noise") * dt
+        for i in range(3):
+            P[i, i] = P[i, i] + q_theta
+            P[3 + i, 3 + i] = P[3 + i, 3 + i] + q_bias
+        P[6, 6] = P[6, 6] + q_accel * (f32(0.25) * dt * dt)
+        P[6, 7] = P[6, 7] + q_accel * half_dt
+        P[7, 6] = P[6, 7]
+        P[7, 7] = P[7, 7] + q_accel
+        for k in (6, 7):
+            if P[k, k] > VARIANCE_LIMIT:
+                P[k, :] = 0
+                P[:, k] = 0
+                P[k, k] = VARIANCE_LIMIT
+        self.P = P
+
+    # -- FusionAltitudeInsFuseGain / Fuse / LimitYaw -------------------------------------------
+    def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
+        K = c / S
+        dx += K * innovation
+        self.P = (self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S
+
+    def _fuse(self, dx, i0, h0, i1, h1, y, R) -> None:
+        P = self.P
+        if i1 < 0:
+            c = P[:, i0] * h0
+            hc = h0 * c[i0]
+            hdx = h0 * dx[i0]
+        else:
+            c = P[:, i0] * h0 + P[:, i1] * h1
+            hc = h0 * c[i0] + h1 * c[i1]
+            hdx = h0 * dx[i0] + h1 * dx[i1]
+        self._fuse_gain(dx, c, hc + R, y - hdx)
+
+    def _limit_yaw(self, dx, r) -> None:
+        P = self.P
+        c = P[:, 0] * r[0] + P[:, 1] * r[1] + P[:, 2] * r[2]
+        hc = r[0] * c[0] + r[1] * c[1] + r[2] * c[2]
+        if hc > YAW_VARIANCE_LIMIT:
+            hdx = r[0] * dx[0] + r[1] * dx[1] + r[2] * dx[2]
+            self._fuse_gain(dx, c, hc + YAW_VARIANCE_LIMIT, _ZERO - hdx)
+
+    # -- FusionAltitudeInsUpdate ---------------------------------------------------------------
+    def _step(self, gyro: np.ndarray, accel: np.ndarray, mag: np.ndarray, baro: np.float32, dt: np.float32) -> None:
+        s = self._s
+        g = GRAVITY
+        accel_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2])
+        norm_error = (accel_norm - g) if accel_norm > g else (g - accel_norm)
+        if not self.aligned:
+            if not (norm_error <= s.f32("accel_norm_rejection")):
+                return
+            self._align(accel)
+        elif dt > s.f32("gap_period"):
+            self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
+            attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
+            velocity = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
+            for i in range(3):
+                self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
+            self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
+            self.stationary_time = _ZERO
+        else:
+            w = gyro - self.gyro_bias_
+            f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
+            self._predict(w, f, dt)
+            gyro_squared = gyro[0] * gyro[0] + gyro[1] * gyro[1] + gyro[2] * gyro[2]
+            threshold = s.f32("stationary_gyro_threshold")
+            still = gyro_squared < threshold * threshold and norm_error < s.f32("stationary_accel_threshold")
+            if still:
+                time = self.stationary_time + dt
+                window = s.f32("stationary_window")
+                self.stationary_time = time if time < window else window
+            else:
+                self.stationary_time = _ZERO
+        self.stationary = bool(self.stationary_time >= s.f32("stationary_window"))
+        self.baro_elapsed = self.baro_elapsed + dt
+        self.mag_elapsed = self.mag_elapsed + dt
+
+        dx = np.zeros(N_STATES, dtype=f32)
+        r = _up_in_body(self.q)
+        fz = accel[2] - self.accel_z_bias_
+
+        # accel: gravity direction, with acceleration rejection
+        rejected = not (norm_error <= s.f32("accel_norm_rejection"))
+        if not rejected:
+            f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
+            u = (accel[0] / f_norm, accel[1] / f_norm, fz / f_norm)
+            e = (u[0] - r[0], u[1] - r[1], u[2] - r[2])
+            chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+            recovering = self.rejection_time > s.f32("recovery_trigger_period")
+            gate = s.f32("accel_rejection")
+            if chord2 > gate * gate and not recovering:
+                rejected = True
+            else:
+                a0, a1, a2 = abs(r[0]), abs(r[1]), abs(r[2])
+                skip = 2 if (a2 >= a0 and a2 >= a1) else (1 if a1 >= a0 else 0)
+                R = s.f32("accel_attitude_noise") * s.f32("accel_attitude_noise")
+                if skip != 0:
+                    self._fuse(dx, 1, -r[2], 2, r[1], e[0], R)
+                if skip != 1:
+                    self._fuse(dx, 0, r[2], 2, -r[0], e[1], R)
+                if skip != 2:
+                    self._fuse(dx, 0, -r[1], 1, r[0], e[2], R)
+        self.rejection_time = (self.rejection_time + dt) if rejected else _ZERO
+        self.accel_rejected = rejected
+
+        self._limit_yaw(dx, r)
+
+        # stationary: zero rate, zero velocity, accel z bias
+        if self.stationary:
+            R = s.f32("zero_rate_noise") * s.f32("zero_rate_noise")
+            for i in range(3):
+                self._fuse(dx, 3 + i, _ONE, -1, _ZERO, gyro[i] - self.gyro_bias_[i], R)
+            self._fuse(dx, 7, _ONE, -1, _ZERO, -self.velocity,
+                       s.f32("zero_velocity_noise") * s.f32("zero_velocity_noise"))
+            k = dt / (s.f32("accel_bias_time_constant") + dt)
+            self.accel_z_bias_ = self.accel_z_bias_ + k * ((accel[2] - g * r[2]) - self.accel_z_bias_)
+
+        # baro
+        if not np.isnan(baro):
+            if not self.baro_initialised:
+                self.baro_bias_ = baro - self.distance
+                self.baro_initialised = True
+            else:
+                if self.stationary:
+                    k = self.baro_elapsed / (s.f32("baro_bias_time_constant") + self.baro_elapsed)
+                    self.baro_bias_ = self.baro_bias_ + k * ((baro - self.distance) - self.baro_bias_)
+                else:
+                    self._fuse(dx, 6, _ONE, -1, _ZERO, (baro - self.baro_bias_) - self.distance,
+                               s.f32("baro_noise") * s.f32("baro_noise"))
+            self.baro_elapsed = _ZERO
+
+        # inject the error state
+        self.q = _rotate(self.q, _HALF * dx[0], _HALF * dx[1], _HALF * dx[2])
+        self.gyro_bias_ = self.gyro_bias_ + dx[3:6]
+        self.distance = self.distance + dx[6]
+        self.velocity = self.velocity + dx[7]
+
+        # magnetometer: local → global yaw offset only
+        if not np.isnan(mag).all():
+            w, x, y, z = self.q
+            mx = (_ONE - _TWO * (y * y + z * z)) * mag[0] + _TWO * (x * y - w * z) * mag[1] + _TWO * (x * z + w * y) * mag[2]
+            my = _TWO * (x * y + w * z) * mag[0] + (_ONE - _TWO * (x * x + z * z)) * mag[1] + _TWO * (y * z - w * x) * mag[2]
+            horizontal = np.sqrt(mx * mx + my * my)
+            if horizontal > 0:
+                target_cos = mx / horizontal
+                target_sin = -my / horizontal
+                if not self.mag_initialised:
+                    self.yaw_cos, self.yaw_sin = target_cos, target_sin
+                    self.mag_initialised = True
+                else:
+                    k = self.mag_elapsed / (s.f32("mag_time_constant") + self.mag_elapsed)
+                    c = self.yaw_cos + k * (target_cos - self.yaw_cos)
+                    sn = self.yaw_sin + k * (target_sin - self.yaw_sin)
+                    norm = np.sqrt(c * c + sn * sn)
+                    if norm > f32(1e-3):
+                        self.yaw_cos, self.yaw_sin = c / norm, sn / norm
+                    else:
+                        self.yaw_cos, self.yaw_sin = target_cos, target_sin
+                self.mag_elapsed = _ZERO
+
+    def update(self, gyro, accel, dt, baro_altitude=float("nan"), mag=None) -> None:
+        """One IMU step (see :meth:`fusion_altitude.InsEstimator.update`)."""
+        g, a, m, b, t = _ins_glue.step_inputs(gyro, accel, dt, baro_altitude, mag, self._gyro_scale,
+                                              self._accel_scale)
+        with np.errstate(all="ignore"):
+            self._step(g, a, m, b, t)
+
+    def update_batch(self, gyro, accel, dt, baro_altitude=None, mag=None, out=None) -> InsBatch:
+        """Arrays of steps (see :meth:`fusion_altitude.InsEstimator.update_batch`)."""
+        n, inputs, result = _ins_glue.prepare_batch(gyro, accel, dt, baro_altitude, mag, out, self._gyro_scale,
+                                                    self._accel_scale)
+        with np.errstate(all="ignore"):
+            for i in range(n):
+                self._step(inputs["gyro"][i], inputs["accel"][i], inputs["mag"][i], inputs["baro_altitude"][i],
+                           inputs["dt"][i])
+                result.altitude[i] = self.distance
+                result.vertical_velocity[i] = self.velocity
+                result.quaternion[i] = self.q
+                result.global_quaternion[i] = self.global_quaternion
+                result.gyro_bias[i] = self.gyro_bias_
+                result.accel_z_bias[i] = self.accel_z_bias_
+                result.baro_bias[i] = self.baro_bias_
+                result.is_stationary[i] = self.stationary
+        return result
+
+    # -- getters -------------------------------------------------------------------------------
+    @property
+    def altitude(self) -> float:
+        """Height above the reference d, m, +up (the baro reads d + baro_bias)."""
+        return float(self.distance)
+
+    @property
+    def vertical_velocity(self) -> float:
+        """m/s, +up."""
+        return float(self.velocity)
+
+    @property
+    def quaternion(self) -> np.ndarray:
+        """Local attitude (w, x, y, z), body → local NWU earth, float32 copy."""
+        return self.q.copy()
+
+    @property
+    def local_to_global(self) -> np.ndarray:
+        """FusionAltitudeInsGetLocalToGlobal: rotation about up by the magnetometer's yaw offset."""
+        a = _ONE + self.yaw_cos
+        b = self.yaw_sin
+        norm = np.sqrt(a * a + b * b)
+        if norm > f32(1e-6):
+            return np.array([a / norm, 0, 0, b / norm], dtype=f32)
+        return np.array([0, 0, 0, 1], dtype=f32)
+
+    @property
+    def global_quaternion(self) -> np.ndarray:
+        """FusionAltitudeInsGetGlobalQuaternion: local_to_global ⊗ quaternion."""
+        a = self.local_to_global
+        w, x, y, z = self.q
+        return np.array([a[0] * w - a[3] * z, a[0] * x - a[3] * y, a[0] * y + a[3] * x, a[0] * z + a[3] * w],
+                        dtype=f32)
+
+    @property
+    def euler(self) -> np.ndarray:
+        """Local roll, pitch, yaw, degrees."""
+        return _ins_glue.quaternion_to_euler(self.q)
+
+    @property
+    def global_euler(self) -> np.ndarray:
+        """Global roll, pitch, yaw (yaw from the magnetometer), degrees."""
+        return _ins_glue.quaternion_to_euler(self.global_quaternion)
+
+    @property
+    def gyro_bias(self) -> np.ndarray:
+        """rad/s, body frame, float32 copy."""
+        return self.gyro_bias_.copy()
+
+    @property
+    def accel_z_bias(self) -> float:
+        """m/s², body z (learned while stationary)."""
+        return float(self.accel_z_bias_)
+
+    @property
+    def baro_bias(self) -> float:
+        """m: the baro altitude at d = 0."""
+        return float(self.baro_bias_)
+
+    @property
+    def is_stationary(self) -> bool:
+        return bool(self.stationary)
+
+    @property
+    def is_accel_rejected(self) -> bool:
+        return bool(self.accel_rejected)
+
+    @property
+    def gap_count(self) -> int:
+        """Steps with dt > gap_period, not integrated."""
+        return int(self.gap_count_)
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """Error covariance P (8 × 8), float32 copy."""
+        return self.P.copy()
+
+    def state_dict(self) -> dict:
+        """Every field of the C struct, for bit-for-bit comparison with the binding."""
+        return {
+            "q": self.q.copy(), "gyro_bias": self.gyro_bias_.copy(), "distance": f32(self.distance),
+            "velocity": f32(self.velocity), "P": self.P.copy(), "accel_z_bias": f32(self.accel_z_bias_),
+            "baro_bias": f32(self.baro_bias_), "yaw_cos": f32(self.yaw_cos), "yaw_sin": f32(self.yaw_sin),
+            "stationary_time": f32(self.stationary_time), "rejection_time": f32(self.rejection_time),
+            "baro_elapsed": f32(self.baro_elapsed), "mag_elapsed": f32(self.mag_elapsed),
+            "gap_count": int(self.gap_count_), "aligned": self.aligned, "baro_initialised": self.baro_initialised,
+            "mag_initialised": self.mag_initialised, "stationary": self.stationary,
+            "accel_rejected": self.accel_rejected,
+        }
+
+    def __copy__(self):
+        return copy.deepcopy(self)
+
+    def __repr__(self):
+        return (f"InsEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
+                f"is_stationary={self.is_stationary!r})")

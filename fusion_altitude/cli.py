@@ -203,13 +203,13 @@ def _csv_options(args: argparse.Namespace, reference: bool = False) -> dict:
 def _cmd_run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import logs
+    from . import logs, runner
     from ._observer import AltitudeSettings
 
     try:
         data = logs.load_log(args.file, **_csv_options(args))
         settings = AltitudeSettings.preset(args.preset)
-        run = logs.run_log(data, settings, progress=_ProgressBar())
+        run = runner.run_log(data, settings, progress=_ProgressBar())
     except (logs.LogError, ValueError) as error:
         raise CliError(str(error)) from None
     n_baro = int(np.sum(np.isfinite(data.baro_altitude)))
@@ -244,7 +244,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                            [["mean (m)", fused.mean, raw.mean], ["RMS (m)", fused.rms, raw.rms],
                             ["max |·| (m)", fused.max, raw.max]]))
     if args.output:
-        logs.write_csv(run, args.output)
+        runner.write_csv(run, args.output)
         print(f"estimates written to {args.output}")
     if args.plot:
         from .plotting import plot_log_run
@@ -285,14 +285,14 @@ def _fit_inputs(args: argparse.Namespace):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import logs, tuning
+    from . import logs, runner, tuning
 
     try:
         source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args)
         mask = np.asarray(time) >= time[0] + skip
         if not mask.any():
             raise CliError(f"--skip {skip} s leaves no sample of a {time[-1] - time[0]:.1f} s log")
-        result = tuning.fit(accel, baro, logs.sample_periods(time), reference, mask=mask,
+        result = tuning.fit(accel, baro, runner.sample_periods(time), reference, mask=mask,
                             omega_range=(args.omega_min, args.omega_max))
     except (logs.LogError, ValueError) as error:
         raise CliError(str(error)) from None

@@ -94,7 +94,7 @@ def _fit_settings(name: str, fit_seed: int, attitude: str):
 def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str = "truth", repeat: int = 3,
                      estimators: Sequence[str] = ESTIMATORS, recovery_tolerance: float = 0.5) -> List[Row]:
     """Run every estimator on one scenario; one :class:`Row` each, in ``estimators`` order."""
-    from .logs import settings_for_baro_rate
+    from .tuning import settings_for_baro_rate
 
     result = run_scenario(name, seed=seed, attitude=attitude)
     accel, baro, rangefinder, gps, dt = _inputs(result)

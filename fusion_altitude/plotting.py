@@ -75,8 +75,8 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
 
     Parameters
     ----------
-    run : fusion_altitude.logs.LogRun
-        Output of :func:`fusion_altitude.logs.run_log`.
+    run : fusion_altitude.runner.LogRun
+        Output of :func:`fusion_altitude.runner.run_log`.
     path : str
         Output file.
     title : str, optional

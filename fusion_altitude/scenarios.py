@@ -243,7 +243,7 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     settings : AltitudeSettings, optional
         Observer gains; default the scenario's preset. When the baro is
         slower than the IMU they are scaled by the rate ratio
-        (:func:`fusion_altitude.logs.settings_for_baro_rate`) so the designed
+        (:func:`fusion_altitude.tuning.settings_for_baro_rate`) so the designed
         bandwidth holds.
     attitude : {"auto", "ahrs", "truth"}
         ``"ahrs"`` runs the IMU through imufusion (the ``[ahrs]`` extra);
@@ -282,7 +282,7 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     else:
         accel = sim.truth_vertical_acceleration(imu, trajectory)
     baro_altitude = sim.align_to(trajectory.time, baro)
-    from .logs import settings_for_baro_rate
+    from .tuning import settings_for_baro_rate
 
     gains = settings if settings is not None else AltitudeSettings.preset(spec.preset)
     steps_per_baro = len(trajectory) / max(int(np.sum(np.isfinite(baro_altitude))), 1)

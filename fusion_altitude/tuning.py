@@ -222,3 +222,25 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     landscape = np.array([(*key, value) for key, value in ranked], dtype=_LANDSCAPE)
     return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
                      float(default.rms_error[0]), landscape)
+
+
+def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) -> AltitudeSettings:
+    """Gains that keep the designed bandwidth when baro samples arrive on only 1 of ``steps_per_baro`` steps.
+
+    The C core applies the baro correction ``K·r·dt`` with the dt of the step
+    that carries the baro sample; steps without baro only integrate. With the
+    baro at 1/N of the IMU rate the corrections are therefore N times too
+    small and every loop runs N times slower than designed (the balloon
+    scenario: 10 Hz IMU, 1 Hz baro). Multiplying all three gains by N makes
+    each correction ``K·r·(N·dt)``, the designed observer sampled at the baro
+    rate. ``steps_per_baro`` ≤ 1 returns ``settings`` unchanged.
+    """
+    if steps_per_baro <= 1.0:
+        return settings
+    kh, kv, kb = settings.as_tuple()
+    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro)
+
+
+def _bandwidth_of(settings: AltitudeSettings) -> float:
+    """Position-loop bandwidth ω (rad/s) of gains built with ζ = 0.7, ω_b = ω/5 (inverts Kh = 1.6·ω)."""
+    return settings.position_gain / 1.6

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fusion_altitude import logs
+from fusion_altitude import logs, runner
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -56,7 +56,7 @@ def test_px4_ulog_yields_baro_accel_and_ekf_reference(data_dir):
 
 
 def test_px4_fused_estimate_is_closer_to_the_ekf_than_raw_baro_is(data_dir):
-    run = logs.run_log(logs.read_ulog(str(data_dir / "px4_sample_log_small.ulg")))
+    run = runner.run_log(logs.read_ulog(str(data_dir / "px4_sample_log_small.ulg")))
     assert run.comparison().rms <= run.baro_comparison().rms
 
 
@@ -72,7 +72,7 @@ def test_clipped_samples_freeze_the_bias_estimate():
     time = np.arange(n) * 0.01
     clipped = (time > 5) & (time < 6)
     accel = np.where(clipped, 30.0, 0.2)
-    out = logs.run_observer(time, accel, np.zeros(n), clipped=clipped)
+    out = runner.run_observer(time, accel, np.zeros(n), clipped=clipped)
     inside = np.flatnonzero(clipped)
     assert out.accel_bias[inside[-1]] == out.accel_bias[inside[0] - 1]
 
@@ -81,8 +81,8 @@ def test_clipping_handling_reduces_error_on_the_simulated_rocket():
     from fusion_altitude.scenarios import run_scenario
     result = run_scenario("rocket", 0, attitude="truth")
     assert result.imu.clipped.any()
-    handled = logs.run_observer(result.time, result.vertical_acceleration, result.baro_altitude,
+    handled = runner.run_observer(result.time, result.vertical_acceleration, result.baro_altitude,
                                 clipped=result.imu.clipped)
-    ignored = logs.run_observer(result.time, result.vertical_acceleration, result.baro_altitude)
+    ignored = runner.run_observer(result.time, result.vertical_acceleration, result.baro_altitude)
     truth = result.trajectory.altitude
     assert np.sqrt(np.mean((handled.altitude - truth) ** 2)) < np.sqrt(np.mean((ignored.altitude - truth) ** 2))

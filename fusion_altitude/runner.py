@@ -1,9 +1,38 @@
-"""Running estimators on recorded logs (:class:`fusion_altitude.logs.LogData`) and writing the results."""
+"""Running any estimator on a recorded log (:class:`fusion_altitude.logs.LogData`) and writing the results.
+
+Estimator registry
+------------------
+:data:`ESTIMATORS` maps a name (the CLI's ``--estimator`` choice) to an
+:class:`EstimatorEntry`: a one-line description and a function
+``run(data, dt, options) -> batch`` that feeds the estimator what the log
+has and returns its batch outputs (a NamedTuple of per-sample arrays with at
+least ``altitude`` (m) and ``vertical_velocity`` (m/s)). Adding an estimator
+to ``run``, ``compare LOG`` and the output CSV is one call::
+
+    from fusion_altitude import runner
+
+    def _run_ins(data, dt, options):
+        return InsEstimator().update_batch(...)      # any NamedTuple with altitude, vertical_velocity
+
+    runner.register_estimator(runner.EstimatorEntry("ins", "inertial filter (raw gyro + accel + baro)", _run_ins))
+
+Every 1-D float field of the batch becomes a column of :func:`write_csv`.
+
+Baro-rate compensation
+----------------------
+The observer's gains are scaled by :func:`fusion_altitude.tuning.settings_for_baro_rate`
+when the baro is slower than the accelerometer grid; ``run``, ``fit`` and
+``compare`` all go through :func:`fusion_altitude.tuning.steps_per_baro`, so
+the three agree on what a setting scores.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Callable, Optional
+import contextlib
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -11,22 +40,39 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from ._observer_glue import AltitudeBatch
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
-from .tuning import _bandwidth_of, settings_for_baro_rate
+from .tuning import _bandwidth_of, settings_for_baro_rate, steps_per_baro
 
-__all__ = ["LogRun", "run_observer", "sample_periods", "run_log", "write_csv"]
+__all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "run_observer",
+           "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
+           "csv_columns"]
 
 
 @dataclass
 class LogRun(LogData):
-    """A :class:`LogData` with the observer's outputs (``estimate``, per grid step)."""
+    """A :class:`LogData` with one estimator's outputs.
 
-    estimate: Optional[AltitudeBatch] = None
+    Attributes
+    ----------
+    estimate : NamedTuple
+        The estimator's batch outputs, per grid step (``altitude`` m,
+        ``vertical_velocity`` m/s, and the estimator's own fields).
+    estimator : str
+        The registry name of the estimator that produced ``estimate``.
+    datum : float
+        Altitude subtracted from every altitude column (m): 0, or the start
+        (pad) altitude with ``agl=True`` (see :func:`above_start`).
+    """
+
+    estimate: Optional[object] = None
+    estimator: str = "observer"
+    datum: float = 0.0
 
     def comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
-        """Statistics of fused − reference altitude (m) after ``transient`` s; None without a reference."""
+        """Statistics of estimate − reference altitude (m) after ``transient`` s; None without a reference."""
         if self.reference_altitude is None:
             return None
-        return error_statistics(self.time, self.estimate.altitude - self.reference_altitude, transient)
+        return error_statistics(self.time, np.asarray(self.estimate.altitude, float) - self.reference_altitude,
+                                transient)
 
     def baro_comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
         """Statistics of baro − reference altitude (m) after ``transient`` s; None without a reference."""
@@ -35,10 +81,122 @@ class LogRun(LogData):
         return error_statistics(self.time, self.baro_altitude - self.reference_altitude, transient)
 
 
+# ----------------------------------------------------------------------------
+# the registry
+
+
+@dataclass(frozen=True)
+class EstimatorEntry:
+    """One estimator that can run on a :class:`LogData`.
+
+    Attributes
+    ----------
+    name : str
+        Registry key and ``--estimator`` choice.
+    description : str
+        One line: what it is and which sensors of the log it uses.
+    run : callable(data, dt, options) -> NamedTuple
+        ``data`` a :class:`LogData`, ``dt`` the per-sample periods (s, from
+        :func:`sample_periods`), ``options`` a dict (``settings``,
+        ``progress``); returns per-sample outputs with ``altitude`` (m) and
+        ``vertical_velocity`` (m/s) fields.
+    """
+
+    name: str
+    description: str
+    run: Callable[[LogData, np.ndarray, dict], object]
+
+
+#: Registered estimators by name, in table order.
+ESTIMATORS: Dict[str, EstimatorEntry] = {}
+
+
+def register_estimator(entry: EstimatorEntry) -> None:
+    """Add (or replace) an estimator of :data:`ESTIMATORS`; it appears in ``run --estimator`` and ``compare LOG``."""
+    if not isinstance(entry, EstimatorEntry):
+        raise TypeError(f"entry must be an EstimatorEntry, got {type(entry).__name__}")
+    ESTIMATORS[entry.name] = entry
+
+
+def estimator_names() -> List[str]:
+    """The registered estimator names, in table order."""
+    return list(ESTIMATORS)
+
+
+def _optional(data: LogData, name: str) -> Optional[np.ndarray]:
+    """A per-sample field of the log if the reader filled it (fields land in LogData over time)."""
+    value = getattr(data, name, None)
+    if value is None:
+        return None
+    value = np.asarray(value)
+    return value if value.ndim == 1 and value.size == data.time.size else None
+
+
+def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
+    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, options.get("settings"),
+                        clipped=data.clipped, progress=options.get("progress"), dt=dt)
+
+
+def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
+    from ._kalman import KalmanEstimator
+
+    gps = _optional(data, "gps_altitude")
+    satellites = _optional(data, "gps_satellites")
+    accuracy = _optional(data, "gps_accuracy")
+    if satellites is not None:
+        satellites = np.where(np.isfinite(satellites.astype(float)), satellites, -1).astype(np.int32)  # -1: unknown
+    result = KalmanEstimator(options.get("kalman_settings")).update_batch(
+        data.vertical_acceleration, dt, data.baro_altitude, _optional(data, "rangefinder"), gps,
+        satellites if gps is not None else None, accuracy if gps is not None else None)
+    _done(options, data.time.size)
+    return result
+
+
+def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
+    from ._complementary import ComplementaryFilter
+
+    result = ComplementaryFilter().update_batch(data.vertical_acceleration, data.baro_altitude, dt)
+    _done(options, data.time.size)
+    return result
+
+
+def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
+    import math
+
+    from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+
+    # a log's baro altitude is above sea level and may dip below its start: no altitude window on the baro/imu
+    settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf} for s in ("imu", "baro", "gps")})
+    result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt, data.baro_altitude,
+                                                    _optional(data, "rangefinder"), None,
+                                                    _optional(data, "gps_altitude"))
+    _done(options, data.time.size)
+    return result
+
+
+def _done(options: dict, n: int) -> None:
+    if options.get("progress") is not None:
+        options["progress"](n, n)
+
+
+for _entry in (
+        EstimatorEntry("observer", "3rd-order complementary observer (baro + accel; default)", _run_observer_entry),
+        EstimatorEntry("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)",
+                       _run_kalman),
+        EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", _run_complementary),
+        EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS + accel)",
+                       _run_alphabeta)):
+    register_estimator(_entry)
+
+
+# ----------------------------------------------------------------------------
+# running
+
+
 def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[AltitudeSettings] = None,
                  clipped=None, clipped_settings: Optional[AltitudeSettings] = None,
                  progress: Optional[Callable[[int, int], None]] = None, chunk: int = 50_000,
-                 compensate_baro_rate: bool = True) -> AltitudeBatch:
+                 compensate_baro_rate: bool = True, dt=None) -> AltitudeBatch:
     """Run the observer over a log with irregular timestamps and missing baro samples.
 
     Parameters
@@ -61,8 +219,10 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         Called after each chunk of samples.
     compensate_baro_rate : bool, default True
         Scale the gains by (samples / baro samples) when the baro is slower
-        than the grid (:func:`settings_for_baro_rate`), so ``settings`` keeps
-        its designed bandwidth.
+        than the grid (:func:`fusion_altitude.tuning.settings_for_baro_rate`),
+        so ``settings`` keeps its designed bandwidth.
+    dt : array_like, optional
+        Per-sample periods, s; default :func:`sample_periods` of ``time``.
 
     Returns
     -------
@@ -83,11 +243,10 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     accel = np.asarray(vertical_acceleration, dtype=float)
     baro = np.asarray(baro_altitude, dtype=float)
     n = time.size
-    dt = sample_periods(time)
+    dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
     settings = settings or AltitudeSettings()
-    n_baro = int(np.sum(np.isfinite(baro)))
-    if compensate_baro_rate and n_baro > 0:
-        settings = settings_for_baro_rate(settings, n / n_baro)
+    if compensate_baro_rate:
+        settings = settings_for_baro_rate(settings, steps_per_baro(baro))
     estimator = AltitudeEstimator(settings)
     normal = estimator.settings
     if clipped is None:
@@ -119,22 +278,159 @@ def sample_periods(time) -> np.ndarray:
     return dt
 
 
+def nominal_period(time) -> float:
+    """The log's nominal sample period, s: the median of its positive steps (gaps do not move it)."""
+    steps = np.diff(np.asarray(time, dtype=float))
+    steps = steps[steps > 0]
+    return float(np.median(steps)) if steps.size else 0.01
+
+
+def above_start(data: LogData, seconds: float = 1.0) -> float:
+    """The datum (m) that turns the log's altitudes into heights above the start (or the pad).
+
+    The log's own ``ground_altitude`` (pad altitude) when the reader found
+    one, else the median baro altitude over the first ``seconds`` s with baro
+    samples. The baro and the reference share one datum (see
+    :class:`~fusion_altitude.logs.LogData`), so subtracting this one value
+    from both aligns them the same way.
+
+    Raises
+    ------
+    ValueError
+        No baro sample and no ground altitude.
+    """
+    ground = getattr(data, "ground_altitude", None)
+    if ground is not None and np.isfinite(ground):
+        return float(ground)
+    baro = np.asarray(data.baro_altitude, float)
+    finite = np.flatnonzero(np.isfinite(baro))
+    if finite.size == 0:
+        raise ValueError(f"{data.source}: no baro sample to take the start altitude from")
+    early = finite[data.time[finite] <= data.time[finite[0]] + seconds]
+    return float(np.median(baro[early]))
+
+
 def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
-            progress: Optional[Callable[[int, int], None]] = None) -> LogRun:
-    """Run the observer on a :class:`LogData` (clipped samples handled as in :func:`run_observer`)."""
-    estimate = run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
-                            clipped=data.clipped, progress=progress)
-    return LogRun(**{name: getattr(data, name) for name in LogData.__dataclass_fields__}, estimate=estimate)
+            progress: Optional[Callable[[int, int], None]] = None, estimator: str = "observer",
+            agl: bool = False, **options) -> LogRun:
+    """Run a registered estimator on a :class:`LogData`.
+
+    Parameters
+    ----------
+    data : LogData
+        The log.
+    settings : AltitudeSettings, optional
+        Observer gains (ignored by the other estimators); default VTOL,
+        compensated for the baro rate. Clipped samples are handled as in
+        :func:`run_observer`.
+    progress : callable(done, total), optional
+        Called as samples are processed.
+    estimator : str, default "observer"
+        A name of :data:`ESTIMATORS`.
+    agl : bool, default False
+        Heights above the start (or the pad): the baro, the GPS altitude,
+        the estimate and the reference all shifted by the one datum of
+        :func:`above_start` (``LogRun.datum``).
+    **options
+        Passed to the estimator's entry (e.g. ``kalman_settings``).
+
+    Returns
+    -------
+    LogRun
+
+    Raises
+    ------
+    ValueError
+        Unknown ``estimator`` (the message lists the known ones).
+    """
+    if estimator not in ESTIMATORS:
+        raise ValueError(f"estimator must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")
+    fields = {name: getattr(data, name) for name in LogData.__dataclass_fields__}
+    datum = 0.0
+    if agl:
+        datum = above_start(data)
+        fields["baro_altitude"] = np.asarray(data.baro_altitude, float) - datum
+        for name in ("reference_altitude", "gps_altitude"):
+            if fields.get(name) is not None:
+                fields[name] = np.asarray(fields[name], float) - datum
+        if "ground_altitude" in fields:
+            fields["ground_altitude"] = 0.0
+        data = type(data)(**fields)
+    options = dict(options, settings=settings, progress=progress)
+    estimate = ESTIMATORS[estimator].run(data, sample_periods(data.time), options)
+    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum)
 
 
-def write_csv(run: LogRun, path: str) -> None:
-    """Write the run per grid step: time s, baro_altitude m, vertical_acceleration m/s², altitude m,
-    vertical_velocity m/s, accel_bias m/s², baro_residual m and, if present, reference_altitude m."""
-    columns = [("time", run.time), ("baro_altitude", run.baro_altitude),
-               ("vertical_acceleration", run.vertical_acceleration), ("altitude", run.estimate.altitude),
-               ("vertical_velocity", run.estimate.vertical_velocity), ("accel_bias", run.estimate.accel_bias),
-               ("baro_residual", run.estimate.baro_residual)]
+# ----------------------------------------------------------------------------
+# writing
+
+
+@contextlib.contextmanager
+def atomic_output(path: str) -> Iterator[str]:
+    """Yield a temporary path next to ``path`` (same extension); rename it onto ``path`` only on success.
+
+    A crash or an exception while writing leaves ``path`` as it was and no
+    temporary file behind.
+    """
+    directory = os.path.dirname(os.path.abspath(path))
+    base, extension = os.path.splitext(os.path.basename(path))
+    handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
+    os.close(handle)
+    try:
+        yield temporary
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
+    """The columns :func:`write_csv` writes, in order: ``time``, ``altitude``, ``vertical_velocity``, the
+    estimator's other 1-D outputs, ``baro_altitude``, ``vertical_acceleration`` and, if present,
+    ``reference_altitude``."""
+    columns: List[Tuple[str, np.ndarray]] = [("time", run.time)]
+    estimate = run.estimate
+    names = ["altitude", "vertical_velocity"] + [n for n in estimate._fields if n not in ("altitude", "vertical_velocity")]
+    for name in names:
+        values = np.asarray(getattr(estimate, name))
+        if values.ndim == 1 and values.dtype.kind == "f" and values.size == run.time.size:
+            columns.append((name, values))
+    columns.append(("baro_altitude", run.baro_altitude))
+    columns.append(("vertical_acceleration", run.vertical_acceleration))
     if run.reference_altitude is not None:
         columns.append(("reference_altitude", run.reference_altitude))
-    table = np.column_stack([np.asarray(values, dtype=float) for _, values in columns])
-    np.savetxt(path, table, delimiter=",", header=",".join(name for name, _ in columns), comments="", fmt="%.6g")
+    return columns
+
+
+def _format(values: np.ndarray) -> str:
+    """printf format that round-trips the column: 9 significant digits for float32, the shortest
+    round-trip repr for float64."""
+    return "%.9g" if values.dtype == np.float32 else "%r"
+
+
+def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], None]] = None,
+              chunk: int = 100_000) -> None:
+    """Write the run per grid step at full precision, atomically (see :func:`atomic_output`).
+
+    Columns as :func:`csv_columns`: time s, altitude m, vertical_velocity m/s,
+    the estimator's other outputs (observer: accel_bias m/s², baro_residual m),
+    baro_altitude m, vertical_acceleration m/s² and reference_altitude m.
+    float64 columns (time, the log's inputs) are written as their shortest
+    round-trip repr (≤ 17 significant digits) and float32 estimates with 9
+    significant digits, so every value reads back bit for bit; a missing
+    value is ``nan``.
+    """
+    columns = csv_columns(run)
+    arrays = [np.asarray(values) for _, values in columns]
+    arrays = [a if a.dtype in (np.float32, np.float64) else a.astype(np.float64) for a in arrays]
+    row_format = ",".join(_format(a) for a in arrays) + "\n"
+    n = run.time.size
+    with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:
+        stream.write(",".join(name for name, _ in columns) + "\n")
+        for start in range(0, n, chunk):
+            stop = min(start + chunk, n)
+            block = np.column_stack([a[start:stop].astype(np.float64) for a in arrays])
+            stream.write((row_format * (stop - start)) % tuple(block.ravel().tolist()))
+            if progress is not None:
+                progress(stop, n)

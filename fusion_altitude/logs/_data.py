@@ -167,7 +167,7 @@ def find_gaps(time: np.ndarray) -> List[Tuple[float, float]]:
 
 
 def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
-                              lines: Optional[np.ndarray] = None, time_name: str = "time"):
+                              lines: Optional[np.ndarray] = None, time_name: str = "time", row_word: str = "line"):
     """Merge rows that share a timestamp; refuse time that goes backwards.
 
     Rule: consecutive rows with the same time become one sample. A numeric
@@ -187,6 +187,8 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
         File line of every row, for messages (default: row index + 2).
     time_name : str
         Time column's name, for messages.
+    row_word : str
+        What ``lines`` count, for messages ("line", "IMU message").
 
     Returns
     -------
@@ -203,13 +205,14 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
         lines = np.arange(time.size) + 2
     bad = np.flatnonzero(~np.isfinite(time))
     if bad.size:
-        raise LogError(f"{source}: line {int(lines[bad[0]])}, column {time_name!r}: time must be a finite number")
+        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
+                       f"time must be a finite number")
     dt = np.diff(time)
     back = np.flatnonzero(dt < 0)
     if back.size:
         i = back[0]
-        raise LogError(f"{source}: line {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
-                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on line {int(lines[i])})")
+        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
+                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
     same = dt == 0
     repeated = int(same.sum())
     if not repeated:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 from typing import Callable, Dict, List, Optional
 
@@ -28,6 +30,17 @@ def _time_of(fields: dict) -> Optional[float]:
     if "TimeMS" in fields:
         return fields["TimeMS"] * 1e-3
     return None
+
+
+def _time_spikes(time: np.ndarray) -> np.ndarray:
+    """Indices of damaged messages: a jump forward of more than max(60 s, 1000 median steps) that is
+    the last message or is followed by time going back (a corrupt tail or a bit flip in a stamp)."""
+    if time.size < 3:
+        return np.zeros(0, dtype=int)
+    dt = np.diff(time)
+    limit = max(60.0, 1000.0 * float(np.median(dt)))
+    jumps = np.flatnonzero(dt > limit) + 1
+    return np.array([i for i in jumps if i == time.size - 1 or time[i + 1] < time[i]], dtype=int)
 
 
 def read_dataflash(path: str, instance: Optional[int] = None,
@@ -83,10 +96,13 @@ def read_dataflash(path: str, instance: Optional[int] = None,
         with open(path, "rb") as handle:
             if handle.read(2) != DATAFLASH_MAGIC:
                 raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
-        log = DFReader.DFReader_binary(path, zero_time_base=True)
+        chatter = io.StringIO()  # pymavlink prints what it skips; keep it off the user's stdout
+        with contextlib.redirect_stdout(chatter):
+            log = DFReader.DFReader_binary(path, zero_time_base=True)
         count = 0
         while True:
-            message = log.recv_match(type=kinds)
+            with contextlib.redirect_stdout(chatter):
+                message = log.recv_match(type=kinds)
             if message is None:
                 break
             kind = message.get_type()
@@ -139,6 +155,15 @@ def read_dataflash(path: str, instance: Optional[int] = None,
 
     imu_time_raw = times("IMU")
     stamp = "TimeUS" if "TimeUS" in rows["IMU"][0] else "TimeMS"
+    spikes = _time_spikes(imu_time_raw)
+    if spikes.size:
+        keep = np.ones(imu_time_raw.size, dtype=bool)
+        keep[spikes] = False
+        rows["IMU"] = [r for r, k in zip(rows["IMU"], keep) if k]
+        imu_time_raw = imu_time_raw[keep]
+        damaged = spikes.size
+    else:
+        damaged = 0
     t0 = float(imu_time_raw[0])
     imu = {"accel": np.column_stack([column("IMU", f"Acc{a}") for a in "XYZ"]),
            "gyro": np.column_stack([column("IMU", f"Gyr{a}") for a in "XYZ"])}
@@ -159,6 +184,9 @@ def read_dataflash(path: str, instance: Optional[int] = None,
                    notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
                    + ([firmware] if firmware else []),
                    accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
+    skipped = chatter.getvalue().count("bad msg") + damaged
+    if skipped:
+        data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if "Press" in rows["BARO"][0]:
         data.pressure = _align(time, baro_time, column("BARO", "Press"))
     if "Temp" in rows["BARO"][0]:

@@ -19,8 +19,9 @@ FRAMES = {"NED": "FRD", "NWU": "FLU", "ENU": "RFU"}
 TEMPERATURE_UNITS = ("C", "K")
 #: Seconds at the start of a log taken as "at rest" for the gravity check and ground values.
 REST_SECONDS = 1.0
-#: Plausible static pressure, Pa; a pressure column whose median is outside gets a warning.
-PRESSURE_RANGE = (1.0, 120_000.0)
+#: Plausible static pressure, Pa (1 kPa ≈ 31 km up; 120 kPa below the Dead Sea); a pressure column
+#: whose median is outside gets a warning.
+PRESSURE_RANGE = (1_000.0, 120_000.0)
 
 
 def _rest(time: np.ndarray) -> np.ndarray:
@@ -31,13 +32,20 @@ def gravity_check(source: str, name: str, accel: np.ndarray, time: np.ndarray, r
     """Refuse (or, with ``remove_gravity``, remove) gravity left in a vertical-acceleration column.
 
     At rest (the first second) a gravity-removed column averages ≈ 0. A mean
-    within 0.75–1.25 g of ±g means gravity is still in it: LogError, unless
+    within 0.75–1.25 g of ±g means gravity is still in it, and a mean of
+    0.9–1.1 m/s² that hardly varies (σ < 0.05) a column in g with gravity:
+    LogError, unless
     ``remove_gravity`` — then +g at rest is taken as upward specific force
     (``a − g``) and −g at rest as downward specific force (``−(a + g)``).
     """
     finite = np.isfinite(accel) & _rest(time)
     mean = float(np.mean(accel[finite])) if finite.any() else 0.0
     holds_gravity = 0.75 * GRAVITY < abs(mean) < 1.25 * GRAVITY
+    steady = finite.sum() > 1 and float(np.std(accel[finite])) < 0.05
+    if not remove_gravity and 0.9 < abs(mean) < 1.1 and steady:
+        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+                       f"looks like 1 g: the column is probably in g with gravity still in it; say so with "
+                       f"accel_units='g' (--accel-units g) and remove_gravity=True (--remove-gravity)")
     if remove_gravity:
         if not holds_gravity:
             raise LogError(f"{source}: column {name!r}: remove_gravity asked, but its mean over the first "
@@ -86,7 +94,7 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         ``sea_level_pa`` (ISA temperature), or — with
         ``ground_temperature_k`` — to height above the first second's
         pressure with :func:`fusion_altitude.sensors.height_above_ground`.
-        A median outside 1–120,000 Pa gets a warning (an altitude column?).
+        A median outside 1,000–120,000 Pa gets a warning (an altitude column?).
     reference_column : str, optional
         A better altitude (RTK GPS, motion capture, the flight computer's
         own estimate), in ``altitude_units``; empty = unknown.

@@ -76,7 +76,7 @@ class DataFlashWriter:
             elif char in "fd":
                 packed.append(float(value))
             else:
-                packed.append(int(value))
+                packed.append(int(round(value)))
         self.out += b"\xa3\x95" + bytes([type_id]) + struct.pack("<" + "".join(_STRUCT[c] for c in fmt), *packed)
 
 
@@ -211,7 +211,8 @@ def write_altos_csv(path, duration: float = 30.0, rate: float = 20.0, pad_time: 
 
     Each time stamp is written ``rows_per_stamp`` times (one per telemetry
     packet), the copies with accelerations ±0.2 m/s² around the truth so
-    the merged mean is the truth. GPS locked from 1 s after launch.
+    the merged mean is the truth. GPS locked from 1 s after launch. Pressure
+    and temperature (°C) are the ISA atmosphere's at the altitude.
     """
     time = np.round(np.arange(-pad_time, duration, 1.0 / rate), 6)
     altitude, velocity, accel = profile(time, start=0.0)
@@ -223,7 +224,7 @@ def write_altos_csv(path, duration: float = 30.0, rate: float = 20.0, pad_time: 
         for copy in range(rows_per_stamp):
             delta = 0.2 * (1 if copy % 2 else -1) if rows_per_stamp > 1 else 0.0
             cells = [1, 2718, 7, "N0CALL", f"{t:.2f}", number, name, f"{a + delta:.4f}", f"{pressure:.1f}",
-                     f"{h + PAD_ALTITUDE:.3f}", f"{h:.3f}", f"{v:.3f}", "21.5", "3.9", "3.9", "3.8",
+                     f"{h + PAD_ALTITUDE:.3f}", f"{h:.3f}", f"{v:.3f}", f"{15.0 - 0.0065 * (h + PAD_ALTITUDE):.3f}", "3.9", "3.9", "3.8",
                      "0.1", "0.2", f"{a + G:.3f}", "1.0", "-2.0", "0.5", "0.1", "0.2", "0.3", "2", "0", 1, locked,
                      9 if locked else 3, "47.000000", "8.000000", f"{h + PAD_ALTITUDE + 40.0:.1f}" if locked else "0",
                      2024, 6, 1, 12, 0, 0, "1.5", "0.9", "1.2", "N"]

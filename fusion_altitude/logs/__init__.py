@@ -149,6 +149,15 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         if name in ("altos", "csv"):
             raise LogError(f"{path}: a {FORMATS[name].description} has one sensor instance; instance not supported")
         options["instance"] = instance
+    if name == "csv":
+        import inspect
+        known = set(inspect.signature(read_csv_log).parameters) - {"path", "progress"}
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise LogError(f"unknown CSV option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
+        if "time_column" not in options:
+            raise LogError(f"{path}: not a ULog, DataFlash, AltOS or CATS log; as a generic CSV it needs its "
+                           f"columns named (time_column, accel_column, baro_column or pressure_column)")
     accepted = {"ulog": {"instance"}, "dataflash": {"instance"}, "altos": {"ground_temperature_k"},
                 "cats": {"instance", "ground_temperature_k", "accel_range"}}
     if name in accepted:

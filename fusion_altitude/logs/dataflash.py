@@ -32,6 +32,35 @@ def _time_of(fields: dict) -> Optional[float]:
     return None
 
 
+@contextlib.contextmanager
+def _quiet_file_descriptors(sink):
+    """Send what C code writes to fds 1 and 2 (pymavlink's indexer reports bad bytes there) to ``sink``."""
+    import sys
+    import tempfile
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, ValueError):
+            pass
+    try:
+        saved = [os.dup(1), os.dup(2)]
+    except OSError:  # no real file descriptors (embedded interpreter): nothing to silence
+        yield
+        return
+    with tempfile.TemporaryFile(mode="w+b") as capture:
+        try:
+            os.dup2(capture.fileno(), 1)
+            os.dup2(capture.fileno(), 2)
+            yield
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+            capture.seek(0)
+            sink.write(capture.read().decode("utf-8", "replace"))
+
+
 def _time_spikes(time: np.ndarray) -> np.ndarray:
     """Indices of damaged messages: a jump forward of more than max(60 s, 1000 median steps) that is
     the last message or is followed by time going back (a corrupt tail or a bit flip in a stamp)."""
@@ -97,11 +126,12 @@ def read_dataflash(path: str, instance: Optional[int] = None,
             if handle.read(2) != DATAFLASH_MAGIC:
                 raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
         chatter = io.StringIO()  # pymavlink prints what it skips; keep it off the user's stdout
-        with contextlib.redirect_stdout(chatter):
+        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter), \
+                _quiet_file_descriptors(chatter):
             log = DFReader.DFReader_binary(path, zero_time_base=True)
         count = 0
         while True:
-            with contextlib.redirect_stdout(chatter):
+            with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
                 message = log.recv_match(type=kinds)
             if message is None:
                 break
@@ -184,7 +214,10 @@ def read_dataflash(path: str, instance: Optional[int] = None,
                    notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
                    + ([firmware] if firmware else []),
                    accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
-    skipped = chatter.getvalue().count("bad msg") + damaged
+    chatter_text = chatter.getvalue()
+    skipped = chatter_text.count("bad msg") + chatter_text.count("Skipped") + damaged
+    if "bad header" in chatter_text:
+        data.warn(f"{path}: damaged bytes skipped ({chatter_text.count('bad header')} bad message headers)")
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if "Press" in rows["BARO"][0]:

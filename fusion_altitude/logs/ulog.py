@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 from typing import Callable, Optional
 
@@ -75,7 +77,8 @@ def read_ulog(path: str, instance: Optional[int] = None,
         with open(path, "rb") as handle:
             if handle.read(len(ULOG_MAGIC)) != ULOG_MAGIC:
                 raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
-        ulog = ULog(path, _TOPICS)
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            ulog = ULog(path, _TOPICS)  # pyulog prints what it skips in a damaged file
     except LogError:
         raise
     except Exception as error:  # pyulog raises a variety of errors on a bad file

@@ -35,6 +35,7 @@ import math
 import os
 import sys
 import time as _time
+import warnings
 from typing import Callable, Iterator, List, Optional, Sequence
 
 from ._version import __version__
@@ -138,8 +139,9 @@ class _Progress:
     """Stage times and progress bars on stderr.
 
     Each stage (reading, estimating, writing, plotting, fitting) prints its
-    duration when it takes ≥ :data:`STAGE_REPORT_SECONDS`; stages over logs of
-    ≥ :data:`PROGRESS_MINIMUM` samples also draw a bar while they run.
+    duration when it takes ≥ :data:`STAGE_REPORT_SECONDS`; on a terminal,
+    stages over logs of ≥ :data:`PROGRESS_MINIMUM` samples (and every fit)
+    also draw a bar while they run.
     """
 
     def __init__(self, stream=None, width: int = 30, minimum: int = PROGRESS_MINIMUM):
@@ -148,8 +150,10 @@ class _Progress:
         self.minimum = minimum
 
     def bar(self, name: str) -> Callable[[int, int], None]:
+        interactive = bool(getattr(self.stream, "isatty", lambda: False)())
+
         def draw(done: int, total: int) -> None:
-            if total < self.minimum and name != "fitting":
+            if not interactive or (total < self.minimum and name != "fitting"):
                 return
             filled = int(self.width * done / max(total, 1))
             self.stream.write(f"\r{name:<10} [{'#' * filled}{'.' * (self.width - filled)}] "
@@ -366,7 +370,10 @@ def _load(args: argparse.Namespace, progress: _Progress):
         if "progress" in load_parameters:
             options["progress"] = bar
         try:
-            data = logs.load_log(args.file, **options)
+            with warnings.catch_warnings():
+                # the reader's LogWarnings are also in data.warnings, printed with the summary
+                warnings.simplefilter("ignore", getattr(logs, "LogWarning", UserWarning))
+                data = logs.load_log(args.file, **options)
         except ImportError as error:
             raise CliError(f"{args.file}: {error}") from None
     if data.time.size < 2:

@@ -512,3 +512,28 @@ def test_numbers_in_messages_are_plain(tmp_path):
     with pytest.raises(LogError) as error:
         logs.read_csv_log(str(path), "time", "accel", "baro")
     assert not re.search(r"np\.|float64|array\(", str(error.value))
+
+
+def test_csv_gps_rangefinder_and_temperature_columns_are_read_in_si_units(tmp_path):
+    path = tmp_path / "log.csv"
+    path.write_text("t,a,alt,gps,range,temp\n0,0,10,,3.0,20\n0.1,0,10,1000,,21\n0.2,0,10,1001,3.5,22\n")
+    data = logs.read_csv_log(str(path), "t", "a", "alt", gps_column="gps", rangefinder_column="range",
+                             temperature_column="temp", altitude_units="ft")
+    np.testing.assert_allclose(data.gps_altitude, [np.nan, 304.8, 305.1048])
+    np.testing.assert_allclose(data.rangefinder, [0.9144, np.nan, 1.0668])
+    np.testing.assert_allclose(data.temperature, [293.15, 294.15, 295.15])
+
+
+def test_cats_flight_info_state_column_becomes_flight_state(tmp_path):
+    fx.write_cats_set(tmp_path)
+    info = tmp_path / "flight_flight_info.csv"
+    lines = info.read_text().strip().split("\n")
+    lines = [lines[0] + ",state"] + [line + ("," + ("READY" if float(line.split(",")[0]) < 0 else "THRUSTING"))
+                                     for line in lines[1:]]
+    info.write_text("\n".join(lines) + "\n")
+    data = logs.load_log(str(tmp_path))
+    assert data.flight_state[0] == "READY" and data.flight_state[-1] == "THRUSTING"
+
+
+def test_log_error_message_is_folded_onto_one_line():
+    assert str(LogError("a\nb  c")) == "a b c"

@@ -10,7 +10,14 @@ import numpy as np
 
 
 class LogError(ValueError):
-    """A log cannot be read or used; the one-line message names the file, the line or message, and the column."""
+    """A log cannot be read or used; the one-line message names the file, the line or message, and the column.
+
+    Line breaks in the message (e.g. from a third-party parser's error) are
+    folded into spaces, so the message is always one line.
+    """
+
+    def __init__(self, message: str = ""):
+        super().__init__(" ".join(str(message).split()))
 
 
 class LogWarning(UserWarning):

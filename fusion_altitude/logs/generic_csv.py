@@ -64,7 +64,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                  sea_level_pa: float = 101325.0, remove_gravity: bool = False,
                  accel_body_columns: Optional[Sequence[str]] = None,
                  attitude_columns: Optional[Sequence[str]] = None, attitude_convention: str = "quaternion",
-                 frame: str = "NED", gps_column: Optional[str] = None, temperature_column: Optional[str] = None,
+                 frame: str = "NED", gps_column: Optional[str] = None, rangefinder_column: Optional[str] = None,
+                 temperature_column: Optional[str] = None,
                  temperature_units: str = "C", ground_temperature_k: Union[None, float, str] = None,
                  progress: Optional[Callable[[int, int], None]] = None) -> LogData:
     """Read a CSV log with a header row; the caller names the columns.
@@ -123,6 +124,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         (NED: body x forward, y right, z down).
     gps_column : str, optional
         GPS altitude (``altitude_units``), empty between fixes.
+    rangefinder_column : str, optional
+        Distance to the ground (``altitude_units``), empty without a reading.
     temperature_column : str, optional
         Temperature in ``temperature_units`` (stored in K).
     temperature_units : {"C", "K"}
@@ -189,7 +192,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     else:
         roles.update({f"body{i}": name for i, name in enumerate(accel_body_columns)})
         roles.update({f"att{i}": name for i, name in enumerate(attitude_columns)})
-    for role, name in (("reference", reference_column), ("gps", gps_column), ("temperature", temperature_column)):
+    for role, name in (("reference", reference_column), ("gps", gps_column), ("rangefinder", rangefinder_column),
+                       ("temperature", temperature_column)):
         if name is not None:
             roles[role] = name
     positions = {role: table.index(name) for role, name in roles.items()}
@@ -272,9 +276,10 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         raise LogError(f"{path}: column {baro_column or pressure_column!r}: no usable value on any row")
     reference = column["reference"] * altitude_scale if reference_column is not None else None
     gps = column["gps"] * altitude_scale if gps_column is not None else None
+    rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
     log = LogData(source, time, accel, baro, reference_altitude=reference,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
-                  notes=notes, gps_altitude=gps, accel=accel_body,
+                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body,
                   imu_frame=FRAMES[frame] if accel_body is not None else "",
                   pressure=pressure, temperature=temperature, altitude_reference=altitude_reference,
                   ground_altitude=ground_altitude, repeated_timestamps=repeated)

@@ -206,12 +206,13 @@ def altos_state(time: float):
 
 
 def write_altos_csv(path, duration: float = 30.0, rate: float = 20.0, pad_time: float = 3.0,
-                    rows_per_stamp: int = 2, bom: bool = False) -> dict:
+                    rows_per_stamp: int = 2, bom: bool = False, padded: bool = False) -> dict:
     """An AltOS-style CSV of :func:`profile` starting at launch (t = 0), pad at ``PAD_ALTITUDE`` m.
 
     Each time stamp is written ``rows_per_stamp`` times (one per telemetry
     packet), the copies with accelerations ±0.2 m/s² around the truth so
-    the merged mean is the truth. GPS locked from 1 s after launch. Pressure
+    the merged mean is the truth. GPS locked from 1 s after launch. ``padded``
+    writes fixed-width fields as AltosUI does (``   -3.00``, ``     pad``). Pressure
     and temperature (°C) are the ISA atmosphere's at the altitude.
     """
     time = np.round(np.arange(-pad_time, duration, 1.0 / rate), 6)
@@ -228,7 +229,7 @@ def write_altos_csv(path, duration: float = 30.0, rate: float = 20.0, pad_time: 
                      "0.1", "0.2", f"{a + G:.3f}", "1.0", "-2.0", "0.5", "0.1", "0.2", "0.3", "2", "0", 1, locked,
                      9 if locked else 3, "47.000000", "8.000000", f"{h + PAD_ALTITUDE + 40.0:.1f}" if locked else "0",
                      2024, 6, 1, 12, 0, 0, "1.5", "0.9", "1.2", "N"]
-            lines.append(",".join(str(c) for c in cells))
+            lines.append(",".join(f"{c:>8}" if padded else str(c) for c in cells))
     text = "\n".join(lines) + "\n"
     with open(path, "w", encoding="utf-8-sig" if bom else "utf-8") as handle:
         handle.write(text)

@@ -537,3 +537,10 @@ def test_cats_flight_info_state_column_becomes_flight_state(tmp_path):
 
 def test_log_error_message_is_folded_onto_one_line():
     assert str(LogError("a\nb  c")) == "a b c"
+
+
+def test_altos_fixed_width_fields_are_read(tmp_path):
+    truth = fx.write_altos_csv(tmp_path / "telemega.csv", padded=True)
+    data = logs.load_log(str(tmp_path / "telemega.csv"))
+    np.testing.assert_allclose(data.baro_altitude, truth_at(truth, data.time), atol=0.01)
+    assert data.flight_state[0] == "pad"

@@ -649,7 +649,7 @@ def _print_rows(args: argparse.Namespace, rows) -> None:
     if args.markdown:
         print(comparison.format_markdown(rows))
     else:
-        print(format_table(comparison.HEADER, comparison.table_cells(rows)))
+        print(format_table(comparison.header(rows), comparison.table_cells(rows)))
 
 
 def _compare_log(args: argparse.Namespace) -> int:

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -41,7 +41,7 @@ from .metrics import error_statistics, settling_time
 from .scenarios import ScenarioResult, run_scenario
 
 __all__ = ["ESTIMATORS", "SCENARIOS", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
-           "plot_comparison", "plot_log_comparison", "table_cells", "HEADER"]
+           "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
 
 #: Estimator names, in table order.
 ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "raw baro")
@@ -179,9 +179,18 @@ def table_cells(rows: Sequence[Row]) -> List[List[str]]:
              _cell(r.recovery, 1), _cell(r.ns_per_sample, 0)] for r in rows]
 
 
+def header(rows: Sequence[Row]) -> Tuple[str, ...]:
+    """:data:`HEADER`, with "log" as the first column's name when the rows come from :func:`compare_log`."""
+    from .scenarios import scenario_names
+
+    if rows and not any(r.scenario in scenario_names() for r in rows):
+        return ("log",) + HEADER[1:]
+    return HEADER
+
+
 def format_markdown(rows: Sequence[Row]) -> str:
     """A Markdown table of the rows."""
-    lines = ["| " + " | ".join(HEADER) + " |", "|" + "|".join(["---"] * 2 + ["---:"] * 5) + "|"]
+    lines = ["| " + " | ".join(header(rows)) + " |", "|" + "|".join(["---"] * 2 + ["---:"] * 5) + "|"]
     lines += ["| " + " | ".join(cells) + " |" for cells in table_cells(rows)]
     return "\n".join(lines)
 

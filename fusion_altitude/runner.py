@@ -165,13 +165,35 @@ def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
 
     from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 
-    # a log's baro altitude is above sea level and may dip below its start: no altitude window on the baro/imu
-    settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf} for s in ("imu", "baro", "gps")})
+    # a log's altitudes are above sea level (or any datum) and may dip below the start: the altitude windows of
+    # the defaults (made for heights above a take-off point) are opened for the imu, baro and GPS
+    settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf, "altitude_max": math.inf}
+                                    for s in ("imu", "baro", "gps")})
     result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt, data.baro_altitude,
-                                                    _optional(data, "rangefinder"), None,
-                                                    _optional(data, "gps_altitude"))
+                                                    _optional(data, "rangefinder"), None, _gps_on_baro_datum(data))
     _done(options, data.time.size)
     return result
+
+
+def _gps_on_baro_datum(data: LogData, seconds: float = 5.0) -> Optional[np.ndarray]:
+    """The log's GPS altitude shifted onto the baro's datum (the α-β fusion has no GPS-offset state, unlike the
+    Kalman filter): minus the median of GPS − baro over the first ``seconds`` s in which both have samples
+    (the baro held to each GPS step). None without GPS or without an overlap."""
+    gps = _optional(data, "gps_altitude")
+    if gps is None:
+        return None
+    baro = np.asarray(data.baro_altitude, float)
+    has_baro = np.flatnonzero(np.isfinite(baro))
+    has_gps = np.flatnonzero(np.isfinite(gps))
+    if has_baro.size == 0 or has_gps.size == 0:
+        return None
+    held = baro[has_baro[np.clip(np.searchsorted(has_baro, has_gps, side="right") - 1, 0, has_baro.size - 1)]]
+    both = has_gps[has_gps >= has_baro[0]]
+    if both.size == 0:
+        return None
+    early = data.time[has_gps] <= data.time[both[0]] + seconds
+    early &= has_gps >= has_baro[0]
+    return gps - float(np.median(gps[has_gps][early] - held[early]))
 
 
 def _done(options: dict, n: int) -> None:
@@ -184,7 +206,8 @@ for _entry in (
         EstimatorEntry("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)",
                        _run_kalman),
         EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", _run_complementary),
-        EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS + accel)",
+        EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS shifted onto the baro "
+                                    "datum + accel)",
                        _run_alphabeta)):
     register_estimator(_entry)
 

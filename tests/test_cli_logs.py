@@ -40,9 +40,10 @@ def test_the_registry_holds_the_four_estimators_in_table_order():
     assert runner.estimator_names()[:4] == ESTIMATORS
 
 
+@pytest.mark.parametrize("gps", [False, True], ids=["baro", "baro+gps on another datum"])
 @pytest.mark.parametrize("estimator", ESTIMATORS)
-def test_every_estimator_tracks_a_simulated_log(estimator):
-    run = runner.run_log(simulated_log(), estimator=estimator)
+def test_every_estimator_tracks_a_simulated_log(estimator, gps):
+    run = runner.run_log(simulated_log(gps=gps), estimator=estimator)
     assert run.comparison(transient=20.0).rms < 1.0
 
 

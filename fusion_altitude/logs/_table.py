@@ -214,9 +214,11 @@ def numeric_columns(table: Table, columns: Sequence[int],
 def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
     """The raw (stripped) cells of one column for the given file lines (object array of str)."""
     body = table.body.split("\n")
+    quoted = '"' in table.body
     out = []
     for number in lines:
-        cells = next(csv.reader([body[int(number) - table.first_line]]))
+        line = body[int(number) - table.first_line]
+        cells = next(csv.reader([line])) if quoted else line.split(",")
         out.append(cells[column].strip() if column < len(cells) else "")
     return np.array(out, dtype=object)
 

@@ -5,8 +5,8 @@ Run for a while and report::
     python tests/fuzz_readers.py --seconds 60 [--seed 1] [--data ../shared/data]
 
 Seeds are fixtures written by tests/logfixtures.py (DataFlash TimeMS and
-TimeUS, AltOS CSV, CATS set, generic CSV) plus, if the shared data directory
-is there, the PX4 ULog sample. Every mutation is a truncation, bit flips,
+TimeUS, PX4 ULog, AltOS CSV, CATS set, generic CSV) plus, if the shared data
+directory is there, the PX4 ULog sample. Every mutation is a truncation, bit flips,
 random bytes or deleted runs (:func:`logfixtures.mutations`). A finding is
 any exception other than LogError, or a read that takes longer than
 ``--timeout`` s; each is printed once per (format, exception type, message
@@ -45,6 +45,7 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
     fx.write_dataflash(d / "us.bin", style="TimeUS", duration=2.0, imu_rate=25.0)
     fx.write_altos_csv(d / "altos.csv", duration=2.0, pad_time=1.0, rate=10.0)
     fx.write_generic_csv(d / "generic.csv", duration=2.0, rate=20.0, baro_every=2)
+    fx.write_ulog(d / "fixture.ulg", duration=2.0, imu_rate=20.0, baro_rate=10.0, gps_rate=5.0)
     cats = d / "cats"
     cats.mkdir()
     fx.write_cats_set(cats, duration=1.0, pad_time=1.0, rate=20.0)
@@ -52,6 +53,7 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
         "dataflash-TimeMS": ((d / "ms.bin").read_bytes(), "log.bin", {}, {}),
         "dataflash-TimeUS": ((d / "us.bin").read_bytes(), "log.bin", {}, {}),
         "altos": ((d / "altos.csv").read_bytes(), "altos.csv", {}, {}),
+        "ulog-fixture": ((d / "fixture.ulg").read_bytes(), "log.ulg", {}, {}),
         "csv": ((d / "generic.csv").read_bytes(), "log.csv", CSV_OPTIONS, {}),
         "cats": ((cats / "flight_baro.csv").read_bytes(), "flight_baro.csv", {},
                  {"flight_imu.csv": (cats / "flight_imu.csv").read_bytes(),
@@ -61,7 +63,7 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
     }
     if data_dir and os.path.exists(os.path.join(data_dir, "px4_sample_log_small.ulg")):
         with open(os.path.join(data_dir, "px4_sample_log_small.ulg"), "rb") as handle:
-            out["ulog"] = (handle.read(), "log.ulg", {}, {})
+            out["ulog-px4-sample"] = (handle.read(), "log.ulg", {}, {})
     return out
 
 

@@ -326,3 +326,122 @@ def mutations(data: bytes, rng: np.random.Generator, count: int) -> List[bytes]:
                     del buffer[position: position + int(rng.integers(1, 64))]
             out.append(bytes(buffer))
     return out
+
+
+# --- PX4 ULog ------------------------------------------------------------------------
+
+_ULOG_TYPES = {"uint64_t": "Q", "int32_t": "i", "uint8_t": "B", "float": "f", "double": "d"}
+
+
+class ULogWriter:
+    """Writes a ULog: file header, FORMAT ('F') definitions, then ADD_LOGGED ('A') and DATA ('D')."""
+
+    def __init__(self, start_us: int = 1_000_000):
+        self.definitions = bytearray(b"ULog\x01\x12\x35\x01" + struct.pack("<Q", start_us))
+        self.data = bytearray()
+        self.fields: Dict[str, list] = {}
+        self.ids: Dict[tuple, int] = {}
+
+    @staticmethod
+    def _message(kind: bytes, payload: bytes) -> bytes:
+        return struct.pack("<HB", len(payload), kind[0]) + payload
+
+    def define(self, name: str, fields: Sequence[tuple]) -> None:
+        """``fields``: (type, name, count) with the first one ``("uint64_t", "timestamp", 1)``."""
+        self.fields[name] = list(fields)
+        text = name + ":" + "".join(f"{t}[{n}] {f};" if n > 1 else f"{t} {f};" for t, f, n in fields)
+        self.definitions += self._message(b"F", text.encode())
+
+    def subscribe(self, name: str, multi_id: int = 0) -> None:
+        msg_id = len(self.ids)
+        self.ids[(name, multi_id)] = msg_id
+        self.data += self._message(b"A", struct.pack("<BH", multi_id, msg_id) + name.encode())
+
+    def write(self, name: str, values: dict, multi_id: int = 0) -> None:
+        packed = b""
+        for type_, field, count in self.fields[name]:
+            value = values.get(field, 0)
+            items = list(value) if count > 1 else [value]
+            code = _ULOG_TYPES[type_]
+            packed += struct.pack("<" + code * count, *[int(round(v)) if code in "QiB" else float(v) for v in items])
+        self.data += self._message(b"D", struct.pack("<H", self.ids[(name, multi_id)]) + packed)
+
+    def bytes(self) -> bytes:
+        return bytes(self.definitions + self.data)
+
+
+def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float = 100.0,
+               baro_rate: float = 20.0, gps_rate: float = 5.0, gap: Optional[Sequence[float]] = None,
+               second_baro_offset_pa: float = -24.0, gps_fix_from: float = 2.0) -> dict:
+    """A PX4 ULog of :func:`profile` (level, FRD/NED), ``style="new"`` (``vehicle_air_data``,
+    ``sensor_gps.altitude_msl_m``, two ``sensor_baro`` instances) or ``"old"`` (PX4 < 1.8: baro
+    inside ``sensor_combined``, ``vehicle_gps_position.alt`` in mm). GPS reads 100 m above the
+    baro datum, without a fix before ``gps_fix_from`` s."""
+    w = ULogWriter()
+    start = 1_000_000
+    combined = [("uint64_t", "timestamp", 1), ("float", "gyro_rad", 3), ("float", "accelerometer_m_s2", 3),
+                ("uint8_t", "accelerometer_clipping", 1)]
+    if style == "old":
+        combined += [("float", "baro_alt_meter", 1), ("float", "baro_temp_celcius", 1),
+                     ("int32_t", "baro_timestamp_relative", 1)]
+    w.define("sensor_combined", combined)
+    w.define("vehicle_attitude", [("uint64_t", "timestamp", 1), ("float", "q", 4)])
+    w.define("vehicle_local_position", [("uint64_t", "timestamp", 1), ("float", "z", 1), ("float", "vz", 1)])
+    if style == "old":
+        w.define("vehicle_gps_position", [("uint64_t", "timestamp", 1), ("int32_t", "alt", 1), ("float", "epv", 1),
+                                          ("uint8_t", "fix_type", 1), ("uint8_t", "satellites_used", 1)])
+        topics = ["sensor_combined", "vehicle_attitude", "vehicle_local_position", "vehicle_gps_position"]
+    else:
+        w.define("vehicle_air_data", [("uint64_t", "timestamp", 1), ("uint64_t", "timestamp_sample", 1),
+                                      ("float", "baro_alt_meter", 1), ("float", "baro_temp_celcius", 1),
+                                      ("float", "baro_pressure_pa", 1)])
+        w.define("sensor_baro", [("uint64_t", "timestamp", 1), ("uint64_t", "timestamp_sample", 1),
+                                 ("float", "pressure", 1), ("float", "temperature", 1)])
+        w.define("sensor_gps", [("uint64_t", "timestamp", 1), ("double", "altitude_msl_m", 1), ("float", "epv", 1),
+                                ("uint8_t", "fix_type", 1), ("uint8_t", "satellites_used", 1)])
+        topics = ["sensor_combined", "vehicle_attitude", "vehicle_local_position", "vehicle_air_data",
+                  "sensor_gps"]
+    for topic in topics:
+        w.subscribe(topic)
+    if style != "old":
+        w.subscribe("sensor_baro", 0)
+        w.subscribe("sensor_baro", 1)
+    imu_time = np.arange(0.0, duration, 1.0 / imu_rate)
+    baro_every = int(round(imu_rate / baro_rate))
+    gps_every = int(round(imu_rate / gps_rate))
+    kept = drop_gap(imu_time, gap)
+    for k, t in enumerate(imu_time):
+        if not kept[k]:
+            continue
+        altitude, velocity, accel = (float(v) for v in profile(np.array(t)))
+        stamp = start + int(round(t * 1e6))
+        pressure = 101325.0 * (1 - 0.0065 * altitude / 288.15) ** 5.2559
+        sample = {"timestamp": stamp, "gyro_rad": (0, 0, 0), "accelerometer_m_s2": (0, 0, -(G + accel)),
+                  "accelerometer_clipping": 0}
+        if style == "old" and k % baro_every == 0:
+            sample.update(baro_alt_meter=altitude, baro_temp_celcius=25.0, baro_timestamp_relative=0)
+        elif style == "old" and k > 0:
+            sample.update(baro_alt_meter=np.nan, baro_temp_celcius=np.nan, baro_timestamp_relative=0)
+        w.write("sensor_combined", sample)
+        w.write("vehicle_attitude", {"timestamp": stamp, "q": (1, 0, 0, 0)})
+        if k % 2 == 0:
+            w.write("vehicle_local_position", {"timestamp": stamp, "z": -altitude, "vz": -velocity})
+        if k % baro_every == 0 and style != "old":
+            w.write("vehicle_air_data", {"timestamp": stamp, "timestamp_sample": stamp, "baro_alt_meter": altitude,
+                                         "baro_temp_celcius": 25.0, "baro_pressure_pa": pressure})
+            w.write("sensor_baro", {"timestamp": stamp, "timestamp_sample": stamp, "pressure": pressure,
+                                    "temperature": 25.0}, 0)
+            w.write("sensor_baro", {"timestamp": stamp, "timestamp_sample": stamp,
+                                    "pressure": pressure + second_baro_offset_pa, "temperature": 26.0}, 1)
+        if k % gps_every == 0:
+            fix = 3 if t >= gps_fix_from else 1
+            if style == "old":
+                w.write("vehicle_gps_position", {"timestamp": stamp, "alt": (altitude + 100.0) * 1000.0, "epv": 2.0,
+                                                 "fix_type": fix, "satellites_used": 10})
+            else:
+                w.write("sensor_gps", {"timestamp": stamp, "altitude_msl_m": altitude + 100.0, "epv": 2.0,
+                                       "fix_type": fix, "satellites_used": 10})
+    with open(path, "wb") as handle:
+        handle.write(w.bytes())
+    altitude, velocity, _ = profile(imu_time[kept])
+    return {"time": imu_time[kept], "altitude": altitude, "velocity": velocity}

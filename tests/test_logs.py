@@ -544,3 +544,53 @@ def test_altos_fixed_width_fields_are_read(tmp_path):
     data = logs.load_log(str(tmp_path / "telemega.csv"))
     np.testing.assert_allclose(data.baro_altitude, truth_at(truth, data.time), atol=0.01)
     assert data.flight_state[0] == "pad"
+
+
+# --- PX4 ULog ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("style", ["new", "old"])
+def test_ulog_of_either_generation_gives_the_baro_altitude(tmp_path, style):
+    truth = fx.write_ulog(tmp_path / "log.ulg", style=style)
+    data = logs.load_log(str(tmp_path / "log.ulg"))
+    baro = np.isfinite(data.baro_altitude)
+    assert baro.sum() >= 199
+    np.testing.assert_allclose(data.baro_altitude[baro], truth_at(truth, data.time[baro]), atol=1e-4)
+
+
+@pytest.mark.parametrize("style", ["new", "old"])
+def test_ulog_gps_altitude_in_metres_only_with_a_3d_fix(tmp_path, style):
+    truth = fx.write_ulog(tmp_path / "log.ulg", style=style, gps_fix_from=2.0)
+    data = logs.load_log(str(tmp_path / "log.ulg"))
+    gps = np.isfinite(data.gps_altitude)
+    assert not gps[data.time < 2.0].any() and gps.sum() == 40
+    np.testing.assert_allclose(data.gps_altitude[gps], truth_at(truth, data.time[gps]) + 100.0, atol=1e-3)
+
+
+def test_ulog_vertical_acceleration_is_gravity_free(tmp_path):
+    fx.write_ulog(tmp_path / "log.ulg")
+    data = logs.load_log(str(tmp_path / "log.ulg"))
+    np.testing.assert_allclose(data.vertical_acceleration, fx.profile(data.time)[2], atol=1e-4)
+
+
+def test_ulog_second_baro_instance_reads_its_pressure(tmp_path):
+    fx.write_ulog(tmp_path / "log.ulg", second_baro_offset_pa=-24.0)
+    primary = logs.load_log(str(tmp_path / "log.ulg"))
+    second = logs.load_log(str(tmp_path / "log.ulg"), instance=1)
+    baro = np.isfinite(primary.baro_altitude)
+    np.testing.assert_allclose(second.baro_altitude[baro] - primary.baro_altitude[baro], 2.0, atol=0.05)
+
+
+def test_ulog_missing_instance_is_a_log_error(tmp_path):
+    fx.write_ulog(tmp_path / "log.ulg")
+    with pytest.raises(LogError, match="instance 5"):
+        logs.load_log(str(tmp_path / "log.ulg"), instance=5)
+
+
+def test_ulog_gap_is_listed(tmp_path):
+    fx.write_ulog(tmp_path / "log.ulg", gap=(4.0, 2.0))
+    assert logs.load_log(str(tmp_path / "log.ulg")).gaps == [(pytest.approx(3.99), pytest.approx(2.01))]
+
+
+def test_ulog_is_recognised_by_content(tmp_path):
+    fx.write_ulog(tmp_path / "flight.dat")
+    assert logs.sniff_format(str(tmp_path / "flight.dat")) == "ulog"

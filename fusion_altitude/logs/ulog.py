@@ -40,7 +40,8 @@ def read_ulog(path: str, instance: Optional[int] = None,
     * IMU: ``sensor_combined`` ``accelerometer_m_s2[0..2]`` (m/s², body FRD)
       and ``gyro_rad[0..2]`` (rad/s) for instance 0 (PX4's voted primary);
       ``sensor_accel``/``sensor_gyro`` x, y, z of that ``multi_id`` for
-      ``instance`` ≥ 1. Clipping from ``accelerometer_clipping``.
+      ``instance`` ≥ 1 (the primary if the log has no such instance: the
+      notes say which). Clipping from ``accelerometer_clipping``.
     * attitude ``vehicle_attitude`` ``q`` (body FRD → NED) rotates the
       specific force to ``vertical_acceleration`` (+up, gravity removed).
     * baro: ``vehicle_air_data`` ``baro_alt_meter`` (m, ISA pressure
@@ -106,7 +107,11 @@ def read_ulog(path: str, instance: Optional[int] = None,
 
 def _build(path, want, topic, progress) -> LogData:
     notes = []
-    if want == 0:
+    accel_instance = want > 0 and topic("sensor_accel", want, needed=False) is not None
+    baro_instance = want > 0 and topic("sensor_baro", want, needed=False) is not None
+    if want > 0 and not (accel_instance or baro_instance):
+        raise LogError(f"{path}: no sensor_accel or sensor_baro instance {want} in the log")
+    if not accel_instance:
         imu = topic("sensor_combined")
         stamp = imu["timestamp"].astype(float)
         accel_body = np.column_stack([_first(imu, f"accelerometer_m_s2[{i}]", f"acc[{i}]") for i in range(3)]) \
@@ -116,7 +121,8 @@ def _build(path, want, topic, progress) -> LogData:
         gyro = np.column_stack([_first(imu, f"gyro_rad[{i}]", f"gyro_rad_s[{i}]") for i in range(3)]) \
             if _first(imu, "gyro_rad[0]", "gyro_rad_s[0]") is not None else None
         clipped = np.asarray(imu["accelerometer_clipping"]) != 0 if "accelerometer_clipping" in imu else None
-        notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q")
+        notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q"
+                     + (f" (no sensor_accel instance {want}: the primary IMU)" if want else ""))
     else:
         accel_topic = topic("sensor_accel", want)
         stamp = _first(accel_topic, "timestamp_sample", "timestamp")
@@ -141,7 +147,9 @@ def _build(path, want, topic, progress) -> LogData:
     q_grid = _previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
     accel = vertical_acceleration(columns["accel"], q_grid, frame="NED")
     pressure = temperature = None
-    if want == 0:
+    if not baro_instance:
+        if want:
+            notes.append(f"no sensor_baro instance {want}: the primary baro")
         air = topic("vehicle_air_data", needed=False)
         if air is not None and "baro_alt_meter" in air:
             air_time = (_first(air, "timestamp_sample", "timestamp") - t0) * 1e-6

@@ -99,15 +99,18 @@ def run_hedy(data_dir: str, omega: float = OMEGA, accel_range: float = ACCEL_RAN
 
 
 def summary(run: HedyRun) -> dict:
-    """RMS and max |estimate − flight computer| (m) from launch to the end, apogee heights (m) and times (s)."""
+    """RMS and max |estimate − flight computer| (m) after launch to the end, apogee heights (m) and times (s)."""
+    from fusion_altitude.metrics import error_statistics
+
     flight = run.time >= 0
     difference = run.estimate.altitude[flight] - run.reference_altitude[flight]
+    statistics = error_statistics(run.time[flight], difference, transient=0.0)
     i_est = int(np.argmax(run.estimate.altitude))
     i_ref = int(np.argmax(run.reference_altitude))
     i_baro = int(np.nanargmax(run.baro_altitude))
     return {
-        "rms_difference": float(np.sqrt(np.mean(difference ** 2))),
-        "max_difference": float(np.max(np.abs(difference))),
+        "rms_difference": statistics.rms,
+        "max_difference": statistics.max,
         "apogee_estimate": float(run.estimate.altitude[i_est]),
         "apogee_reference": float(run.reference_altitude[i_ref]),
         "apogee_baro": float(run.baro_altitude[i_baro]),

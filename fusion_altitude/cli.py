@@ -495,9 +495,9 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
             raise CliError("give a log FILE or --scenario, not both")
         result = run_scenario(args.scenario, args.seed)
         skip = result.transient if args.skip is None else args.skip
-        mask = result.time > result.time[0] + skip
-        preset_rms = result.statistics().rms if skip == result.transient else \
-            float(np.sqrt(np.mean(result.altitude_error[mask] ** 2)))
+        from .metrics import error_statistics
+
+        preset_rms = error_statistics(result.time, result.altitude_error, skip).rms
         return (f"scenario {args.scenario}, seed {args.seed} (reference: simulator truth)", result.time,
                 result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude,
                 ("scenario preset, as `demo` runs it", preset_rms), skip)
@@ -551,14 +551,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         try:
             if split is None:
                 dt_values = _sample_periods(time)
-                mask = time >= time[0] + skip
+                mask = time > time[0] + skip  # as metrics.error_statistics counts "after the transient"
                 result = tuning.fit(accel, baro, dt_values, reference, mask=mask, progress=bar, **options)
             else:
                 held_out = tuning.fit_held_out(time, accel, baro, reference, split, skip=skip, progress=bar, **options)
                 result = held_out.fit
         except ValueError as error:
             raise CliError(str(error)) from None
-    counted = (time >= time[0] + skip) & (time < scored_until)
+    counted = (time > time[0] + skip) & (time < scored_until)
     baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
         if np.isfinite((baro - reference)[counted]).any() else math.nan
     gains = result.settings
@@ -582,6 +582,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     rows.append(["raw baro", baro_rms, ""])
     title = "training part: altitude − reference" if split is not None else "altitude − reference"
     print(format_table([title, "RMS (m)", "fit improves by"], rows))
+    if not math.isfinite(result.default_rms_error):
+        print(f"(the VTOL default gains diverge with the baro on 1 of {steps:.2f} steps: no score)")
     if held_out is not None:
         print()
         print(format_table(["held-out part (after the split)", "RMS (m)", "fit improves by"],

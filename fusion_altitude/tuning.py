@@ -315,7 +315,7 @@ def fit_held_out(time, accel, baro_altitude, reference, train_until: float, skip
     time = np.asarray(time, dtype=float)
     reference = np.asarray(reference, dtype=float)
     has_reference = np.isfinite(reference)
-    train = (time >= time[0] + skip) & (time < train_until) & has_reference
+    train = (time > time[0] + skip) & (time < train_until) & has_reference
     held_out = (time >= train_until) & has_reference
     if not train.any():
         raise ValueError(f"train_until {train_until:g} s leaves no reference sample to train on")

@@ -290,8 +290,9 @@ def _overlay(top, bottom, t, reference, rows, decimate, reference_label, error_l
             finite = np.isfinite(row.altitude)
             for axis, values in ((top, row.altitude), (bottom, row.altitude - reference)):
                 x, y = decimate(t[finite], values[finite])
-                axis.plot(x, y, linestyle="none", marker=".", markersize=1.5, color="0.65", label=row.estimator,
-                          zorder=1)
+                style = dict(linestyle="none", marker=".", markersize=1.5) if x.size == int(finite.sum()) \
+                    else dict(linewidth=0.6)  # decimated: a line spans each pixel column's min..max
+                axis.plot(x, y, color="0.65", label=row.estimator, zorder=1, **style)
     x, y = decimate(t, reference)
     top.plot(x, y, color="black", linewidth=1.5, label=reference_label, zorder=2)
     for row in rows:

@@ -97,6 +97,24 @@ def decimate(x, y, columns: int = COLUMNS):
     return out_x, out_y
 
 
+def _decimated_style(args, kwargs, decimated: bool):
+    """A dotted series drawn as a thin line once decimated: min/max pairs joined by a line fill each pixel
+    column from its minimum to its maximum, where dots would show only the two extremes."""
+    if not decimated or not args or args[0] != ".":
+        return args, kwargs
+    kwargs = {k: v for k, v in kwargs.items() if k not in ("ms", "markersize")}
+    kwargs.setdefault("lw", 0.6)
+    return ("-",) + tuple(args[1:]), kwargs
+
+
+def _relative_time(time):
+    """Times for the x axis, s: epoch-like times (> 10^6 s) as seconds since the first sample, with the label."""
+    time = np.asarray(time, dtype=float)
+    if time.size and abs(time[0]) > 1e6:
+        return time - time[0], f"time since {time[0]:.3f} s (s)"
+    return time, "time (s)"
+
+
 def plot_scenario(result, path: str) -> None:
     """Write a PNG of a scenario run: altitude, error, and accelerometer bias.
 
@@ -157,7 +175,7 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
         Figure title; default the log's source.
     """
     plt = _pyplot()
-    t = run.time
+    t, time_label = _relative_time(run.time)
     estimate = run.estimate
     label = f"{getattr(run, 'estimator', 'observer')} estimate"
     fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True, constrained_layout=True)
@@ -166,6 +184,8 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
     def line(axis, values, *args, mask=None, **kwargs):
         values = np.asarray(values, dtype=float)
         x, y = decimate(t if mask is None else t[mask], values if mask is None else values[mask])
+        decimated = x.size < (t.size if mask is None else int(mask.sum()))
+        args, kwargs = _decimated_style(args, kwargs, decimated)
         axis.plot(x, y, *args, **kwargs)
 
     line(axes[0], run.baro_altitude, ".", mask=baro, ms=1.5, color="0.6", label="baro altitude", zorder=1)
@@ -200,7 +220,7 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
     else:
         line(axes[3], run.vertical_acceleration, color="C1", lw=0.5)
         axes[3].set_ylabel("vertical accel (m/s²)")
-    axes[3].set_xlabel("time (s)")
+    axes[3].set_xlabel(time_label)
     save_figure(fig, path, dpi=110)
     plt.close(fig)
 

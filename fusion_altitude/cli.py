@@ -356,10 +356,8 @@ def _load(args: argparse.Namespace, progress: _Progress):
         csv_only = [flag for flag in given if flag != "--ground-temperature"]
         if csv_only:
             raise CliError(f"{', '.join(csv_only)}: CSV column flags do not apply to {args.file} ({fmt})")
-        if "--ground-temperature" in given:
+        if "--ground-temperature" in given:  # the reader says whether its format takes it
             keyword, value = given["--ground-temperature"]
-            if keyword not in inspect.signature(logs.load_log).parameters:
-                raise CliError(f"--ground-temperature is not supported for {fmt} logs by this version's readers")
             options[keyword] = value
     load_parameters = inspect.signature(logs.load_log).parameters
     if args.instance is not None:
@@ -376,6 +374,11 @@ def _load(args: argparse.Namespace, progress: _Progress):
                 data = logs.load_log(args.file, **options)
         except ImportError as error:
             raise CliError(f"{args.file}: {error}") from None
+        except logs.LogError as error:  # name our flags, not the reader's keywords
+            message = str(error)
+            for flag, _, keyword, _ in _CSV_FLAGS:
+                message = message.replace(keyword, flag)
+            raise CliError(message) from None
     if data.time.size < 2:
         raise CliError(f"{data.source}: {data.time.size} sample(s); a log needs at least 2")
     if not (data.baro_altitude == data.baro_altitude).any():  # no finite baro sample at all

@@ -108,7 +108,7 @@ def test_agl_uses_the_pad_altitude_the_log_states():
 
 
 @pytest.mark.parametrize("estimator", ESTIMATORS)
-@pytest.mark.parametrize("name", ["px4_sample_log_small.ulg", "ardupilot_test.BIN"])
+@pytest.mark.parametrize("name", ["px4_sample_log_small.ulg", "ardupilot_test.BIN", "hedy_baro.csv"])
 def test_run_runs_every_estimator_on_the_shared_logs(shared_data, tmp_path, capsys, estimator, name):
     out = tmp_path / "out.csv"
     assert main(["run", str(shared_data / name), "--estimator", estimator, "--agl", "-o", str(out)]) == 0
@@ -154,3 +154,9 @@ def test_demo_export_writes_a_csv_that_run_reads_back_to_the_same_estimate(tmp_p
     demo = run_scenario("clean", attitude="truth")
     assert np.array_equal(table["time"], demo.time)
     assert np.array_equal(table["altitude"].astype(np.float32), demo.estimate.altitude)
+
+
+def test_reader_keywords_in_messages_are_given_as_flags(shared_data, capsys):
+    assert main(["run", str(shared_data / "px4_sample_log_small.ulg"), "--ground-temperature", "20"]) == 2
+    err = capsys.readouterr().err
+    assert "--ground-temperature" in err and "ground_temperature_k" not in err

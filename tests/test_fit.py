@@ -107,3 +107,13 @@ def test_fit_reports_progress_once_per_round():
     calls = []
     fusion_altitude.fit(accel, baro, 0.02, truth, refinements=2, progress=lambda done, total: calls.append((done, total)))
     assert calls == [(1, 4), (2, 4), (3, 4), (4, 4)]
+
+
+def test_a_held_out_fit_on_a_log_with_a_2_s_gap_beats_or_equals_the_default_there():
+    from fusion_altitude import tuning
+
+    t, accel, baro, truth = sine_log(seconds=200.0, noise=1.5)
+    t = t.copy()
+    t[2500:] += 2.0  # a 2 s logging gap in the training part
+    result = tuning.fit_held_out(t, accel, baro, truth, train_until=120.0, skip=5.0)
+    assert result.generalises and result.fitted_rms_error <= result.default_rms_error

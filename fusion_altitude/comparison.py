@@ -110,7 +110,8 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
     observer_settings = settings_for_baro_rate(AltitudeSettings.preset(_preset(name)), steps_per_baro(baro))
     runners["observer"] = lambda: AltitudeEstimator(observer_settings).update_batch(accel, baro, dt)
     if "observer (fit)" in estimators:
-        fitted = _fit_settings(name, fit_seed, attitude)
+        # fitted and run with the same baro-rate compensation as the preset row (and as `run` and `fit`)
+        fitted = settings_for_baro_rate(_fit_settings(name, fit_seed, attitude), steps_per_baro(baro))
         runners["observer (fit)"] = lambda: AltitudeEstimator(fitted).update_batch(accel, baro, dt)
     runners["Kalman"] = lambda: KalmanEstimator().update_batch(accel, dt, baro, rangefinder, gps)
     runners["complementary"] = lambda: ComplementaryFilter().update_batch(accel, baro, dt)

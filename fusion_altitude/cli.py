@@ -448,9 +448,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print()
         datum = "above the start" if args.agl else "on the baro datum"
         print(f"against the log's own estimate, {run.reference_name} ({datum}):")
-        print(format_table(["", "estimate − ref", "baro − ref"],
-                           [["mean (m)", estimate.mean, raw.mean], ["RMS (m)", estimate.rms, raw.rms],
-                            ["max |·| (m)", estimate.max, raw.max]]))
+        rows = [["mean (m)", estimate.mean, raw.mean], ["RMS (m)", estimate.rms, raw.rms],
+                ["max |·| (m)", estimate.max, raw.max]]
+        reference_velocity = run.reference_velocity
+        if reference_velocity is not None and np.isfinite(reference_velocity).any():
+            from .metrics import error_statistics
+
+            velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
+                                        - reference_velocity, 0.0)
+            rows.append(["velocity RMS (m/s)", velocity.rms, math.nan])
+        print(format_table(["", "estimate − ref", "baro − ref"], rows))
     if args.output:
         with progress.stage("writing") as bar:
             runner.write_csv(run, args.output, progress=bar)

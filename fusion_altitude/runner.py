@@ -16,7 +16,8 @@ to ``run``, ``compare LOG`` and the output CSV is one call::
 
     runner.register_estimator(runner.EstimatorEntry("ins", "inertial filter (raw gyro + accel + baro)", _run_ins))
 
-Every 1-D float field of the batch becomes a column of :func:`write_csv`.
+Every 1-D numeric field of the batch (float, integer or boolean, e.g. a
+flight-phase code) becomes a column of :func:`write_csv`.
 
 Baro-rate compensation
 ----------------------
@@ -417,7 +418,7 @@ def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
     names = ["altitude", "vertical_velocity"] + [n for n in estimate._fields if n not in ("altitude", "vertical_velocity")]
     for name in names:
         values = np.asarray(getattr(estimate, name))
-        if values.ndim == 1 and values.dtype.kind == "f" and values.size == run.time.size:
+        if values.ndim == 1 and values.dtype.kind in "fiub" and values.size == run.time.size:
             columns.append((name, values))
     columns.append(("baro_altitude", run.baro_altitude))
     columns.append(("vertical_acceleration", run.vertical_acceleration))
@@ -428,7 +429,9 @@ def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
 
 def _format(values: np.ndarray) -> str:
     """printf format that round-trips the column: 9 significant digits for float32, the shortest
-    round-trip repr for float64."""
+    round-trip repr for float64, a plain integer for integer and boolean columns (e.g. a flight phase)."""
+    if values.dtype.kind in "iub":
+        return "%d"
     return "%.9g" if values.dtype == np.float32 else "%r"
 
 
@@ -446,7 +449,8 @@ def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], No
     """
     columns = csv_columns(run)
     arrays = [np.asarray(values) for _, values in columns]
-    arrays = [a if a.dtype in (np.float32, np.float64) else a.astype(np.float64) for a in arrays]
+    arrays = [a if a.dtype in (np.float32, np.float64) or a.dtype.kind in "iub" else a.astype(np.float64)
+              for a in arrays]
     row_format = ",".join(_format(a) for a in arrays) + "\n"
     n = run.time.size
     with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:

@@ -67,20 +67,23 @@ def test_a_new_estimator_joins_run_and_the_output_csv_by_one_registration(tmp_pa
         altitude: np.ndarray
         vertical_velocity: np.ndarray
         confidence: np.ndarray
+        phase: np.ndarray
 
     def hold_baro(data, dt, options):
         held = np.asarray(data.baro_altitude, float).copy()
         for i in range(1, held.size):
             if np.isnan(held[i]):
                 held[i] = held[i - 1]
-        return Batch(held.astype(np.float32), np.zeros(held.size, np.float32), np.ones(held.size, np.float32))
+        return Batch(held.astype(np.float32), np.zeros(held.size, np.float32), np.ones(held.size, np.float32),
+                     (np.arange(held.size) // 1000).astype(np.uint8))
 
     runner.register_estimator(runner.EstimatorEntry("hold", "sample-and-hold baro", hold_baro))
     try:
         run = runner.run_log(simulated_log(), estimator="hold")
         runner.write_csv(run, str(tmp_path / "out.csv"))
-        header = (tmp_path / "out.csv").read_text().splitlines()[0].split(",")
-        assert header[:4] == ["time", "altitude", "vertical_velocity", "confidence"]
+        lines = (tmp_path / "out.csv").read_text().splitlines()
+        assert lines[0].split(",")[:5] == ["time", "altitude", "vertical_velocity", "confidence", "phase"]
+        assert lines[1500].split(",")[4] == "1"  # an integer column stays an integer
     finally:
         del runner.ESTIMATORS["hold"]
 

@@ -729,9 +729,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
                               description="Run an estimator on a log and compare it with the log's own estimate. "
-                                          "A generic CSV needs --time, --accel and --baro or --pressure; PX4 .ulg "
-                                          "and ArduPilot .bin are read by message name.")
-    run.add_argument("file", help="CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log")
+                                          "PX4 ULog, ArduPilot DataFlash, AltOS CSV and CATS files are recognised "
+                                          "by their content; a generic CSV needs --time, --accel and --baro or "
+                                          "--pressure.")
+    run.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
     _add_log_arguments(run)
     run.add_argument("--estimator", default="observer", choices=list(ESTIMATORS),
                      help="estimator (default observer): " + "; ".join(f"{e.name}: {e.description}"

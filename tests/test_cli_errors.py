@@ -4,7 +4,6 @@ import subprocess
 import sys
 import warnings
 
-import numpy as np
 import pytest
 
 from fusion_altitude.cli import main

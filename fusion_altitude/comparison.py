@@ -113,11 +113,15 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
         # fitted and run with the same baro-rate compensation as the preset row (and as `run` and `fit`)
         fitted = settings_for_baro_rate(_fit_settings(name, fit_seed, attitude), steps_per_baro(baro))
         runners["observer (fit)"] = lambda: AltitudeEstimator(fitted).update_batch(accel, baro, dt)
-    runners["Kalman"] = lambda: KalmanEstimator().update_batch(accel, dt, baro, rangefinder, gps)
+    # keywords after accel: the same call in the old and the new (accel, baro_altitude, dt, ...) argument order
+    runners["Kalman"] = lambda: KalmanEstimator().update_batch(accel, dt=dt, baro_altitude=baro,
+                                                               range_distance=rangefinder, gps_altitude=gps)
     runners["complementary"] = lambda: ComplementaryFilter().update_batch(accel, baro, dt)
     ab_settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf} for s in ("imu", "baro", "gps")}) \
         if name in _BELOW_START else AlphaBetaSettings()
-    runners["alpha-beta"] = lambda: AlphaBetaFusion(ab_settings).update_batch(accel, dt, baro, rangefinder, None, gps)
+    runners["alpha-beta"] = lambda: AlphaBetaFusion(ab_settings).update_batch(accel, dt=dt, baro_altitude=baro,
+                                                                              lidar_altitude=rangefinder,
+                                                                              gps_altitude=gps)
 
     truth_h = result.trajectory.altitude
     truth_v = result.trajectory.vertical_velocity

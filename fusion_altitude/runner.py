@@ -146,9 +146,13 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
     accuracy = _optional(data, "gps_accuracy")
     if satellites is not None:
         satellites = np.where(np.isfinite(satellites.astype(float)), satellites, -1).astype(np.int32)  # -1: unknown
+    # every argument after accel by keyword: valid in the old (accel, dt, ...) and the new (accel, baro_altitude,
+    # dt, ...) argument order alike
     result = KalmanEstimator(options.get("kalman_settings")).update_batch(
-        data.vertical_acceleration, dt, data.baro_altitude, _optional(data, "rangefinder"), gps,
-        satellites if gps is not None else None, accuracy if gps is not None else None)
+        data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
+        range_distance=_optional(data, "rangefinder"), gps_altitude=gps,
+        gps_satellites=satellites if gps is not None else None,
+        gps_vertical_accuracy=accuracy if gps is not None else None)
     _done(options, data.time.size)
     return result
 
@@ -170,8 +174,9 @@ def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
     # the defaults (made for heights above a take-off point) are opened for the imu, baro and GPS
     settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf, "altitude_max": math.inf}
                                     for s in ("imu", "baro", "gps")})
-    result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt, data.baro_altitude,
-                                                    _optional(data, "rangefinder"), None, _gps_on_baro_datum(data))
+    result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
+                                                    lidar_altitude=_optional(data, "rangefinder"),
+                                                    gps_altitude=_gps_on_baro_datum(data))
     _done(options, data.time.size)
     return result
 

@@ -41,7 +41,7 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from ._observer_glue import AltitudeBatch
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
-from .tuning import _bandwidth_of, settings_for_baro_rate, steps_per_baro
+from .tuning import _bandwidth_of, _other_fields, settings_for_baro_rate, steps_per_baro
 
 __all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "run_observer",
            "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
@@ -283,7 +283,7 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     clipped = np.asarray(clipped, dtype=bool)
     if clipped.any() and clipped_settings is None:
         omega = _bandwidth_of(normal)
-        clipped_settings = AltitudeSettings.from_bandwidth(4 * omega, 0.7, 0.0)
+        clipped_settings = AltitudeSettings.from_bandwidth(4 * omega, 0.7, 0.0, **_other_fields(normal))
     out = AltitudeBatch(*(np.empty(n, dtype=np.float32) for _ in range(4)))
     # Segments of constant clipping state, further cut into chunks for progress.
     edges = np.flatnonzero(np.diff(clipped.astype(np.int8))) + 1

@@ -459,7 +459,12 @@ def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) ->
     if steps_per_baro <= 1.0:
         return settings
     kh, kv, kb = settings.as_tuple()
-    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro)
+    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro, **_other_fields(settings))
+
+
+def _other_fields(settings: AltitudeSettings) -> dict:
+    """Settings other than the three gains (the gap period, where the core has one), to carry over."""
+    return {"gap_period": settings.gap_period} if hasattr(settings, "gap_period") else {}
 
 
 def _bandwidth_of(settings: AltitudeSettings) -> float:

@@ -153,7 +153,7 @@ class _Progress:
         interactive = bool(getattr(self.stream, "isatty", lambda: False)())
 
         def draw(done: int, total: int) -> None:
-            if not interactive or (total < self.minimum and name != "fitting"):
+            if not interactive or (total < self.minimum and name not in ("fitting", "comparing")):
                 return
             filled = int(self.width * done / max(total, 1))
             self.stream.write(f"\r{name:<10} [{'#' * filled}{'.' * (self.width - filled)}] "
@@ -642,8 +642,9 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     if args.file is not None:
         return _compare_log(args)
     scenarios = args.scenario or list(comparison.SCENARIOS)
-    rows = comparison.compare(scenarios, seed=args.seed, fit_seed=args.fit_seed, attitude=args.attitude,
-                              repeat=args.repeat)
+    with _Progress().stage("comparing") as bar:
+        rows = comparison.compare(scenarios, seed=args.seed, fit_seed=args.fit_seed, attitude=args.attitude,
+                                  repeat=args.repeat, progress=bar)
     print(f"seed {args.seed} (observer (fit): gains fitted on seed {args.fit_seed}), attitude {args.attitude}; "
           "errors after each scenario's transient; recovery: s after the fault ends until |error| <= 0.5 m")
     print()
@@ -672,7 +673,7 @@ def _compare_log(args: argparse.Namespace) -> int:
     _number("--skip", args.skip, 0.0, strict=False)
     progress = _Progress()
     data = _load(args, progress)
-    with progress.stage("estimating") as bar:
+    with progress.stage("comparing") as bar:
         try:
             rows = comparison.compare_log(data, repeat=args.repeat, skip=args.skip or 0.0, agl=args.agl,
                                           progress=bar)

@@ -157,11 +157,13 @@ def _preset(name: str) -> str:
 
 
 def compare(scenarios: Sequence[str] = SCENARIOS, seed: int = 0, fit_seed: int = 1, attitude: str = "truth",
-            repeat: int = 3, estimators: Sequence[str] = ESTIMATORS) -> List[Row]:
-    """:func:`compare_scenario` for each scenario, concatenated."""
+            repeat: int = 3, estimators: Sequence[str] = ESTIMATORS, progress=None) -> List[Row]:
+    """:func:`compare_scenario` for each scenario, concatenated; ``progress(done, total)`` after each."""
     rows: List[Row] = []
-    for name in scenarios:
+    for k, name in enumerate(scenarios):
         rows.extend(compare_scenario(name, seed, fit_seed, attitude, repeat, estimators))
+        if progress is not None:
+            progress(k + 1, len(scenarios))
     return rows
 
 

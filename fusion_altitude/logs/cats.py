@@ -102,6 +102,8 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
             note = f"{wanted}" + (f" of {', '.join(present)}" if len(present) > 1 else "")
     check_finite(path, "ts", column["ts"], lines)
     time, column, repeated = merge_repeated_timestamps(column.pop("ts"), column, path, lines, "ts")
+    if time.size < 2:
+        raise LogError(f"{path}: need at least 2 distinct time stamps, got {time.size}")
     return time, column, repeated, note, dropped
 
 

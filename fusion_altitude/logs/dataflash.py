@@ -166,12 +166,25 @@ def read_dataflash(path: str, instance: Optional[int] = None,
         handle = getattr(locals().get("log"), "filehandle", None)
         if handle is not None:
             handle.close()
+    try:
+        return _build(path, rows, firmware, chatter, want, progress, size)
+    except LogError:
+        raise
+    except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
+        raise LogError(f"{path}: unexpected DataFlash content: {type(error).__name__}: {error}") from None
+
+
+def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
+    """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
         if not rows[needed]:
             raise LogError(f"{path}: no {needed} messages" + (f" for instance {want}" if want else "") + " in the log")
 
     def times(kind):
-        values = np.array([_time_of(r) for r in rows[kind]], dtype=float)
+        try:
+            values = np.array([_time_of(r) for r in rows[kind]], dtype=float)
+        except (TypeError, ValueError):
+            raise LogError(f"{path}: {kind} messages with a time stamp that is not a number") from None
         if not np.all(np.isfinite(values)):
             raise LogError(f"{path}: {kind} messages without a TimeUS or TimeMS field")
         return values
@@ -179,7 +192,10 @@ def read_dataflash(path: str, instance: Optional[int] = None,
     def column(kind, *names):
         for name in names:
             if name in rows[kind][0]:
-                return np.array([r.get(name, np.nan) for r in rows[kind]], dtype=float)
+                try:
+                    return np.array([r.get(name, np.nan) for r in rows[kind]], dtype=float)
+                except (TypeError, ValueError):
+                    raise LogError(f"{path}: {kind}.{name}: not a number in every message") from None
         raise LogError(f"{path}: {kind} messages have no field {' or '.join(names)}; "
                        f"fields are {', '.join(rows[kind][0])}")
 

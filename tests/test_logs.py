@@ -99,7 +99,7 @@ def test_dataflash_timems_log_is_stamped_in_seconds(tmp_path):
 
 
 def test_dataflash_timems_vertical_acceleration_is_gravity_free(tmp_path):
-    truth = fx.write_dataflash(tmp_path / "log.bin", style="TimeMS")
+    fx.write_dataflash(tmp_path / "log.bin", style="TimeMS")
     data = logs.load_log(str(tmp_path / "log.bin"))
     _, _, accel = fx.profile(data.time)
     np.testing.assert_allclose(data.vertical_acceleration, accel, atol=1e-4)
@@ -594,3 +594,12 @@ def test_ulog_gap_is_listed(tmp_path):
 def test_ulog_is_recognised_by_content(tmp_path):
     fx.write_ulog(tmp_path / "flight.dat")
     assert logs.sniff_format(str(tmp_path / "flight.dat")) == "ulog"
+
+
+def test_csv_body_accelerometer_in_the_wrong_frame_is_refused(tmp_path):
+    path = tmp_path / "log.csv"
+    path.write_text("t,ax,ay,az,roll,pitch,yaw,alt\n" + "".join(
+        f"{t / 100},0,0,{fx.G},0,0,0,1.0\n" for t in range(200)))  # z-up body (+1 g) declared NED
+    with pytest.raises(LogError, match="frame 'NED' looks wrong"):
+        logs.read_csv_log(str(path), "t", baro_column="alt", accel_body_columns=("ax", "ay", "az"),
+                          attitude_columns=("roll", "pitch", "yaw"), attitude_convention="euler_deg", frame="NED")

@@ -121,7 +121,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     attitude_convention : {"quaternion", "euler_deg", "euler_rad"}
     frame : {"NED", "ENU", "NWU"}
         Earth frame of the attitude and body frame of the accelerometer
-        (NED: body x forward, y right, z down).
+        (NED: body x forward, y right, z down). A result averaging more than
+        ½ g over the first second (the frame or attitude is wrong) is refused.
     gps_column : str, optional
         GPS altitude (``altitude_units``), empty between fixes.
     rangefinder_column : str, optional
@@ -230,6 +231,13 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                 raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
                                f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
         accel = vertical_acceleration(accel_body, attitude, frame=frame)
+        rest = _rest(time)
+        mean = float(np.mean(accel[rest]))
+        if abs(mean) > 0.5 * GRAVITY:
+            raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
+                           f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
+                           f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
+                           f"ENU/NWU +1 g) or the attitude is not body → earth")
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
     altitude_scale = ALTITUDE_UNITS[altitude_units]

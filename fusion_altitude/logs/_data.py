@@ -82,7 +82,9 @@ class LogData:
         Raw gyroscope, rad/s, body frame ``imu_frame`` (right-handed).
     imu_frame : str
         Axes of ``accel``/``gyro``: ``"FRD"`` (x forward, y right, z down;
-        PX4, ArduPilot), ``"FLU"`` (x forward, y left, z up), ``"sensor"``
+        PX4, ArduPilot, CSV with ``frame="NED"``), ``"FLU"`` (x forward,
+        y left, z up; CSV ``"NWU"``), ``"RFU"`` (x right, y forward, z up;
+        CSV ``"ENU"``), ``"sensor"``
         (the board's own axes, unknown mounting: AltOS, CATS), or ``""``
         when there is no raw IMU.
     pressure : numpy.ndarray or None

@@ -44,6 +44,8 @@ __all__ = ["main", "build_parser", "format_table", "CliError"]
 
 #: Logs with at least this many samples get progress bars on stderr.
 PROGRESS_MINIMUM = 100_000
+#: Highest ``tune --rate``, Hz: the settling times come from a float64 simulation of 600 s at the rate.
+MAX_TUNE_RATE = 10_000.0
 #: A stage that takes at least this long prints its time on stderr, s.
 STAGE_REPORT_SECONDS = 0.5
 
@@ -253,7 +255,7 @@ def _cmd_tune(args: argparse.Namespace) -> int:
     _number("--omega", args.omega, 0.0)
     _number("--zeta", args.zeta, 0.0)
     _number("--omega-b", args.omega_b, 0.0, strict=False)
-    _number("--rate", args.rate, 0.0)
+    _number("--rate", args.rate, 0.0, maximum=MAX_TUNE_RATE)
     dt = 1.0 / args.rate
     omega_b = args.omega / 5.0 if args.omega_b is None else args.omega_b
     try:
@@ -725,7 +727,8 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--zeta", type=float, default=0.7, help="damping ratio ζ, > 0 (default 0.7)")
     tune.add_argument("--omega-b", type=float, default=None,
                       help="bias-loop bandwidth ω_b, rad/s, >= 0 (default ω/5; 0 = no bias estimation)")
-    tune.add_argument("--rate", type=float, default=100.0, help="sample rate, Hz, > 0 (default 100)")
+    tune.add_argument("--rate", type=float, default=100.0,
+                      help=f"sample rate, Hz, > 0 and <= {MAX_TUNE_RATE:g} (default 100)")
     tune.set_defaults(handler=_cmd_tune)
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",

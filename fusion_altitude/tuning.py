@@ -349,6 +349,10 @@ def steps_per_baro(baro_altitude) -> float:
     return max(baro.size / count, 1.0) if count else 1.0
 
 
+#: Shortest period :func:`report` accepts, s (its settling times simulate 600 s at this step in float64).
+MIN_REPORT_DT = 1e-4
+
+
 class TuneReport(NamedTuple):
     """What :func:`report` returns: what a set of gains does at a sample period.
 
@@ -395,7 +399,7 @@ def report(settings: AltitudeSettings, dt: float, omega: Optional[float] = None,
     settings : AltitudeSettings
         The gains.
     dt : float
-        Sample period, s, finite and > 0.
+        Sample period, s, finite and >= :data:`MIN_REPORT_DT` (1e-4 s).
     omega, omega_b : float, optional
         The bandwidths the gains were built from (rad/s); with both, the
         loop-separation check ω_b ≤ ω/5 is added.
@@ -407,7 +411,7 @@ def report(settings: AltitudeSettings, dt: float, omega: Optional[float] = None,
     Raises
     ------
     ValueError
-        ``dt`` not finite and > 0.
+        ``dt`` not finite or below :data:`MIN_REPORT_DT`.
     """
     import itertools
     import warnings
@@ -415,8 +419,9 @@ def report(settings: AltitudeSettings, dt: float, omega: Optional[float] = None,
     from . import metrics
 
     dt = float(dt)
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be finite and > 0 (s), got {dt:g}")
+    if not (math.isfinite(dt) and dt >= MIN_REPORT_DT):
+        raise ValueError(f"dt must be finite and >= {MIN_REPORT_DT:g} s (the settling times simulate 600 s "
+                         f"step by step), got {dt:g}")
     kh, kv, kb = settings.as_tuple()
     s_poles = sorted(np.roots([1.0, kh, kv, kb]), key=lambda p: (abs(p), p.imag))
     z_poles = list(metrics.discrete_poles(kh, kv, kb, dt))
@@ -440,9 +445,10 @@ def report(settings: AltitudeSettings, dt: float, omega: Optional[float] = None,
     if omega is not None and omega_b is not None:
         checks.append(("loop separation: ω_b ≤ ω/5", omega_b <= omega / 5 * (1 + 1e-9),
                        f"{omega_b:g} vs {omega / 5:g}"))
-    return TuneReport(settings, dt, poles, metrics.step_settling_time(kh, kv, kb, dt),
-                      metrics.bias_settling_time(kh, kv, kb, dt), checks, metrics.noise_gain(kh, kv, kb, dt),
-                      metrics.noise_bandwidth(kh, kv, kb, dt), bool(checks[0][1] and checks[1][1]))
+    with np.errstate(over="ignore", invalid="ignore"):  # an unstable choice overflows: inf, not a warning
+        return TuneReport(settings, dt, poles, metrics.step_settling_time(kh, kv, kb, dt),
+                          metrics.bias_settling_time(kh, kv, kb, dt), checks, metrics.noise_gain(kh, kv, kb, dt),
+                          metrics.noise_bandwidth(kh, kv, kb, dt), bool(checks[0][1] and checks[1][1]))
 
 
 def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) -> AltitudeSettings:

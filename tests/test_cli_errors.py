@@ -31,6 +31,7 @@ def one_line_error(capsys, *fragments):
     (["tune", "--rate", "0"], "--rate"),
     (["tune", "--rate", "-100"], "--rate"),
     (["tune", "--rate", "nan"], "--rate"),
+    (["tune", "--rate", "1e308"], "--rate"),
     (["tune", "--omega", "0"], "--omega"),
     (["tune", "--zeta", "-1"], "--zeta"),
     (["tune", "--omega-b", "-0.1"], "--omega-b"),

@@ -38,7 +38,7 @@ def test_loop_separation_is_checked_only_with_the_bandwidths():
     assert tuning.report(settings, 0.01, omega=1.5, omega_b=0.6).checks[3][1] is False
 
 
-@pytest.mark.parametrize("dt", [0.0, -0.01, math.inf, math.nan])
+@pytest.mark.parametrize("dt", [0.0, -0.01, math.inf, math.nan, 1e-308])
 def test_a_bad_period_names_dt(dt):
     with pytest.raises(ValueError, match="dt"):
         tuning.report(AltitudeSettings(), dt)

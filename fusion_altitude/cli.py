@@ -300,7 +300,13 @@ _CSV_FLAGS = (
     ("--sea-level-pa", "sea_level_pa", "sea_level_pa", 101325.0),
     ("--remove-gravity", "remove_gravity", "remove_gravity", False),
     ("--gps", "gps", "gps_column", None),
+    ("--rangefinder", "rangefinder", "rangefinder_column", None),
+    ("--accel-body", "accel_body", "accel_body_columns", None),
+    ("--attitude-columns", "attitude_columns", "attitude_columns", None),
+    ("--attitude-convention", "attitude_convention", "attitude_convention", "quaternion"),
+    ("--frame", "frame", "frame", "NED"),
     ("--temperature", "temperature", "temperature_column", None),
+    ("--temperature-units", "temperature_units", "temperature_units", "C"),
     ("--ground-temperature", "ground_temperature", "ground_temperature_k", None),
 )
 
@@ -326,8 +332,28 @@ def _load(args: argparse.Namespace, progress: _Progress):
     if not os.path.exists(args.file):
         raise CliError(f"{args.file}: no such file")
     _number("--sea-level-pa", args.sea_level_pa, 0.0)
+    ground_temperature_k = None
     if args.ground_temperature is not None:
-        _number("--ground-temperature", args.ground_temperature, -273.15, maximum=100.0)
+        if args.ground_temperature.strip().lower() == "log":
+            ground_temperature_k = "log"
+        else:
+            try:
+                celsius = float(args.ground_temperature)
+            except ValueError:
+                raise CliError(f"--ground-temperature must be a temperature in °C or 'log', "
+                               f"got {args.ground_temperature!r}") from None
+            _number("--ground-temperature", celsius, -273.15, maximum=100.0)
+            ground_temperature_k = celsius + 273.15
+    column_lists = {}
+    for flag, attribute, count in (("--accel-body", "accel_body", (3,)),
+                                   ("--attitude-columns", "attitude_columns", (3, 4))):
+        text = getattr(args, attribute, None)
+        if text is not None:
+            names = [name.strip() for name in text.split(",")]
+            if len(names) not in count or not all(names):
+                raise CliError(f"{flag} takes {' or '.join(str(c) for c in count)} comma-separated column names, "
+                               f"got {text!r}")
+            column_lists[attribute] = tuple(names)
     if args.instance is not None and args.instance < 0:
         raise CliError(f"--instance must be >= 0, got {args.instance}")
     fmt = _log_format(args.file)
@@ -336,7 +362,8 @@ def _load(args: argparse.Namespace, progress: _Progress):
         value = getattr(args, attribute, default)
         if value != default:
             if keyword == "ground_temperature_k":
-                value = value + 273.15
+                value = ground_temperature_k
+            value = column_lists.get(attribute, value)
             given[flag] = (keyword, value)
     options = {}
     if fmt == "csv":
@@ -344,6 +371,8 @@ def _load(args: argparse.Namespace, progress: _Progress):
         missing = [flag for flag, keyword in (("--time", "time_column"), ("--accel", "accel_column"))
                    if flag not in given and keyword in parameters
                    and parameters[keyword].default is inspect.Parameter.empty]
+        if "--accel" not in given and "--accel-body" not in given:
+            missing.append("--accel (or --accel-body with --attitude-columns)")
         if "--baro" not in given and "--pressure" not in given:
             missing.append("--baro or --pressure")
         if missing:
@@ -810,10 +839,22 @@ def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> Non
                        help="CSV: reference pressure for --pressure, Pa, > 0 (default 101325)")
     group.add_argument("--reference", help="CSV: the log's own altitude estimate or a better altitude, "
                                            "column (empty = unknown that row)")
+    group.add_argument("--accel-body", metavar="X,Y,Z",
+                       help="CSV: body-frame accelerometer columns (specific force), instead of --accel; needs "
+                            "--attitude-columns")
+    group.add_argument("--attitude-columns", metavar="COLS",
+                       help="CSV: attitude columns: W,X,Y,Z (quaternion, body → earth) or ROLL,PITCH,YAW (ZYX Euler)")
+    group.add_argument("--attitude-convention", default="quaternion",
+                       choices=("quaternion", "euler_deg", "euler_rad"), help="CSV: what --attitude-columns hold")
+    group.add_argument("--frame", default="NED", choices=("NED", "ENU", "NWU"),
+                       help="CSV: earth frame of --attitude-columns and body frame of --accel-body (default NED)")
     group.add_argument("--gps", help="CSV: GPS altitude column (used by --estimator kalman/alphabeta)")
+    group.add_argument("--rangefinder", help="CSV: distance-to-ground column, m (used by kalman/alphabeta)")
     group.add_argument("--temperature", help="CSV: air temperature column for the hypsometric conversion")
-    group.add_argument("--ground-temperature", type=float, default=None, metavar="DEG_C",
-                       help="temperature at the ground for the pressure → altitude conversion, °C")
+    group.add_argument("--temperature-units", default="C", choices=("C", "K"), help="CSV: units of --temperature")
+    group.add_argument("--ground-temperature", default=None, metavar="DEG_C|log",
+                       help="ground temperature for the pressure → height conversion, °C, or 'log' (the log's own "
+                            "temperature)")
     group.add_argument("--instance", type=int, default=None, metavar="N",
                        help=".bin/.ulg: sensor instance to read (default: the primary)")
     if agl:

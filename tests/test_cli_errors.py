@@ -133,3 +133,16 @@ def test_messages_give_plain_numbers_not_numpy_reprs(tmp_path, capsys):
     assert main(["run", str(log), "--time", "t", "--accel", "az", "--baro", "alt"]) == 2
     line = one_line_error(capsys)
     assert "2.99" in line and "np." not in line
+
+
+def test_body_accelerometer_columns_must_be_three(tmp_path, capsys):
+    log = csv_log(tmp_path / "log.csv")
+    assert main(["run", log, "--time", "t", "--accel-body", "az,alt", "--attitude-columns", "a,b,c,d",
+                 "--baro", "alt"]) == 2
+    one_line_error(capsys, "--accel-body")
+
+
+def test_a_ground_temperature_that_is_neither_a_number_nor_log_is_named(tmp_path, capsys):
+    log = csv_log(tmp_path / "log.csv")
+    assert main(["run", log, "--time", "t", "--accel", "az", "--pressure", "alt", "--ground-temperature", "warm"]) == 2
+    one_line_error(capsys, "--ground-temperature")

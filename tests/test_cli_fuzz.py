@@ -17,7 +17,9 @@ from fusion_altitude.cli import main
 
 NUMBERS = ["0", "-1", "-5", "1e308", "nan", "inf", "-inf", "0.5", "3", "abc", "", "1e-30", "100000"]
 COMMON_LOG_FLAGS = ["--time", "--accel", "--baro", "--pressure", "--reference", "--accel-units", "--altitude-units",
-                    "--sea-level-pa", "--remove-gravity", "--instance", "--ground-temperature", "--gps"]
+                    "--sea-level-pa", "--remove-gravity", "--instance", "--ground-temperature", "--gps",
+                    "--rangefinder", "--accel-body", "--attitude-columns", "--attitude-convention", "--frame",
+                    "--temperature", "--temperature-units"]
 FLAGS = {
     "demo": ["--seed", "--scenario", "--attitude", "--plot", "--export"],
     "tune": ["--omega", "--zeta", "--omega-b", "--rate"],
@@ -65,8 +67,14 @@ def value_for(flag, draw, folder):
         return draw(st.sampled_from([os.path.join(folder, "out.csv"), os.path.join(folder, "p.png"),
                                      os.path.join(folder, "p.xyz"), os.path.join(folder, "no", "p.png"), folder,
                                      ""]))
-    if flag in ("--time", "--accel", "--baro", "--pressure", "--reference", "--gps"):
+    if flag in ("--time", "--accel", "--baro", "--pressure", "--reference", "--gps", "--rangefinder", "--temperature"):
         return draw(st.sampled_from(COLUMNS))
+    if flag in ("--accel-body", "--attitude-columns"):
+        return draw(st.sampled_from(["az,az,az", "az,alt", "t,az,alt,ref", ",,", "nope,nope,nope"]))
+    if flag in ("--attitude-convention", "--frame", "--temperature-units"):
+        return draw(st.sampled_from(["quaternion", "euler_deg", "NED", "ENU", "C", "K", "bogus"]))
+    if flag == "--ground-temperature":
+        return draw(st.sampled_from(NUMBERS + ["log", "LOG"]))
     if flag in ("--scenario",):
         return draw(st.sampled_from(["clean", "terrain-step", "submarine"]))
     if flag == "--estimator":

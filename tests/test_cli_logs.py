@@ -163,3 +163,17 @@ def test_reader_keywords_in_messages_are_given_as_flags(shared_data, capsys):
     assert main(["run", str(shared_data / "px4_sample_log_small.ulg"), "--ground-temperature", "20"]) == 2
     err = capsys.readouterr().err
     assert "--ground-temperature" in err and "ground_temperature_k" not in err
+
+
+def test_run_turns_body_accelerometer_columns_and_a_quaternion_into_vertical_acceleration(tmp_path, capsys):
+    n = 1000
+    time = 0.01 * np.arange(n)
+    up = 0.5 * np.sin(time)  # m/s², +up
+    rows = ["t,ax,ay,az,qw,qx,qy,qz,alt"] + [f"{time[i]:.2f},0,0,{-(9.80665 + up[i]):.6f},1,0,0,0,10"
+                                             for i in range(n)]  # NED body: level, z down
+    (tmp_path / "log.csv").write_text("\n".join(rows) + "\n")
+    out = tmp_path / "out.csv"
+    assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel-body", "ax,ay,az",
+                 "--attitude-columns", "qw,qx,qy,qz", "--baro", "alt", "-o", str(out)]) == 0
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    np.testing.assert_allclose(table["vertical_acceleration"], up, atol=1e-4)

@@ -449,6 +449,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.output and args.plot and _same_file_name(args.output, args.plot):
         raise CliError("-o and --plot name the same file")
     data = _load(args, progress)
+    if args.estimator == "observer":
+        _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
     with progress.stage("estimating") as bar:
         run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=args.estimator,
                              agl=args.agl)
@@ -500,6 +502,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
             plot_log_run(run, args.plot)
         print(f"plot written to {args.plot}")
     return 0
+
+
+def _warn_if_unstable(settings, data, what: str) -> None:
+    """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
+    period (the estimate would diverge)."""
+    from . import runner, tuning
+
+    steps = tuning.steps_per_baro(data.baro_altitude)
+    period = runner.nominal_period(data.time) * steps
+    if not tuning._stable_at(settings, period):
+        print(f"warning: {what} is unstable with the baro on 1 of {steps:.2f} steps of "
+              f"{runner.nominal_period(data.time):g} s (Jury's test at {period:g} s): the estimate will diverge; "
+              "choose a slower preset (balloon, fixed_wing) or fit the gains", file=sys.stderr)
 
 
 # ----------------------------------------------------------------------------

@@ -146,3 +146,13 @@ def test_a_ground_temperature_that_is_neither_a_number_nor_log_is_named(tmp_path
     log = csv_log(tmp_path / "log.csv")
     assert main(["run", log, "--time", "t", "--accel", "az", "--pressure", "alt", "--ground-temperature", "warm"]) == 2
     one_line_error(capsys, "--ground-temperature")
+
+
+def test_run_warns_when_the_preset_is_unstable_at_the_logs_baro_rate(tmp_path, capsys):
+    rows = ["t,az,alt"] + [f"{0.1 * i:.1f},0,{'5' if i % 10 == 0 else ''}" for i in range(600)]  # 1 Hz baro, 10 Hz
+    (tmp_path / "log.csv").write_text("\n".join(rows) + "\n")
+    assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel", "az", "--baro", "alt"]) == 0
+    assert "warning: --preset vtol is unstable with the baro on 1 of 10.00 steps" in capsys.readouterr().err
+    assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel", "az", "--baro", "alt",
+                 "--preset", "balloon"]) == 0
+    assert "unstable" not in capsys.readouterr().err

@@ -374,7 +374,7 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
                baro_rate: float = 20.0, gps_rate: float = 5.0, gap: Optional[Sequence[float]] = None,
                second_baro_offset_pa: float = -24.0, gps_fix_from: float = 2.0) -> dict:
     """A PX4 ULog of :func:`profile` (level, FRD/NED), ``style="new"`` (``vehicle_air_data``,
-    ``sensor_gps.altitude_msl_m``, two ``sensor_baro`` instances) or ``"old"`` (PX4 < 1.8: baro
+    ``sensor_gps.altitude_msl_m``, two ``sensor_baro`` and ``sensor_accel`` instances) or ``"old"`` (PX4 < 1.8: baro
     inside ``sensor_combined``, ``vehicle_gps_position.alt`` in mm). GPS reads 100 m above the
     baro datum, without a fix before ``gps_fix_from`` s."""
     w = ULogWriter()
@@ -397,6 +397,8 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
                                       ("float", "baro_pressure_pa", 1)])
         w.define("sensor_baro", [("uint64_t", "timestamp", 1), ("uint64_t", "timestamp_sample", 1),
                                  ("float", "pressure", 1), ("float", "temperature", 1)])
+        w.define("sensor_accel", [("uint64_t", "timestamp", 1), ("uint64_t", "timestamp_sample", 1),
+                                  ("float", "x", 1), ("float", "y", 1), ("float", "z", 1)])
         w.define("sensor_gps", [("uint64_t", "timestamp", 1), ("double", "altitude_msl_m", 1), ("float", "epv", 1),
                                 ("uint8_t", "fix_type", 1), ("uint8_t", "satellites_used", 1)])
         topics = ["sensor_combined", "vehicle_attitude", "vehicle_local_position", "vehicle_air_data",
@@ -406,6 +408,8 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
     if style != "old":
         w.subscribe("sensor_baro", 0)
         w.subscribe("sensor_baro", 1)
+        w.subscribe("sensor_accel", 0)
+        w.subscribe("sensor_accel", 1)
     imu_time = np.arange(0.0, duration, 1.0 / imu_rate)
     baro_every = int(round(imu_rate / baro_rate))
     gps_every = int(round(imu_rate / gps_rate))
@@ -424,6 +428,10 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
             sample.update(baro_alt_meter=np.nan, baro_temp_celcius=np.nan, baro_timestamp_relative=0)
         w.write("sensor_combined", sample)
         w.write("vehicle_attitude", {"timestamp": stamp, "q": (1, 0, 0, 0)})
+        if style != "old":
+            for multi in (0, 1):  # the second accelerometer reads 0.3 m/s² more on z (a bias)
+                w.write("sensor_accel", {"timestamp": stamp, "timestamp_sample": stamp, "x": 0.0, "y": 0.0,
+                                         "z": -(G + accel) + 0.3 * multi}, multi)
         if k % 2 == 0:
             w.write("vehicle_local_position", {"timestamp": stamp, "z": -altitude, "vz": -velocity})
         if k % baro_every == 0 and style != "old":

@@ -603,3 +603,10 @@ def test_csv_body_accelerometer_in_the_wrong_frame_is_refused(tmp_path):
     with pytest.raises(LogError, match="frame 'NED' looks wrong"):
         logs.read_csv_log(str(path), "t", baro_column="alt", accel_body_columns=("ax", "ay", "az"),
                           attitude_columns=("roll", "pitch", "yaw"), attitude_convention="euler_deg", frame="NED")
+
+
+def test_ulog_second_accelerometer_instance_reads_sensor_accel(tmp_path):
+    fx.write_ulog(tmp_path / "log.ulg")  # instance 1 reads 0.3 m/s² more on body z (down)
+    primary = logs.load_log(str(tmp_path / "log.ulg"))
+    second = logs.load_log(str(tmp_path / "log.ulg"), instance=1)
+    np.testing.assert_allclose(second.vertical_acceleration - primary.vertical_acceleration, -0.3, atol=1e-5)

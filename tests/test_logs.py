@@ -610,3 +610,11 @@ def test_ulog_second_accelerometer_instance_reads_sensor_accel(tmp_path):
     primary = logs.load_log(str(tmp_path / "log.ulg"))
     second = logs.load_log(str(tmp_path / "log.ulg"), instance=1)
     np.testing.assert_allclose(second.vertical_acceleration - primary.vertical_acceleration, -0.3, atol=1e-5)
+
+
+def test_reader_warnings_point_at_the_callers_line(tmp_path):
+    fx.write_generic_csv(tmp_path / "log.csv", repeat_every=4)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", LogWarning)
+        read(tmp_path / "log.csv")
+    assert caught and all(Path(w.filename).name == "test_logs.py" for w in caught)

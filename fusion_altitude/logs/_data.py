@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import warnings
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
@@ -156,7 +157,10 @@ class LogData:
     def warn(self, message: str) -> None:
         """Record a reader warning in ``warnings`` and issue it as a :class:`LogWarning`."""
         self.warnings.append(message)
-        warnings.warn(message, LogWarning, stacklevel=3)
+        frame, level = sys._getframe(1), 2  # point the warning at the first caller outside the readers
+        while frame is not None and frame.f_globals.get("__name__", "").startswith("fusion_altitude.logs"):
+            frame, level = frame.f_back, level + 1
+        warnings.warn(message, LogWarning, stacklevel=level)
 
 
 def _fmt(value: float) -> str:

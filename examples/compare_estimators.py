@@ -11,7 +11,7 @@ every estimator on every comparison scenario, from seeds, so the numbers are rep
 
 import argparse
 
-from fusion_altitude import compare
+from fusion_altitude import comparison as compare
 
 
 def main(argv=None) -> int:

@@ -10,14 +10,14 @@ Pipeline, all with library functions:
    bias (:func:`fusion_altitude.sensors.gyro_attitude`);
 3. body specific force → vertical acceleration, +up, gravity removed
    (:func:`fusion_altitude.sensors.vertical_acceleration`);
-4. the observer (:func:`fusion_altitude.logs.run_observer`) with rocket gains,
+4. the observer (:func:`fusion_altitude.runner.run_observer`) with rocket gains,
    where accelerometer clipping is handled explicitly (see below);
 5. comparison with the flight computer's own height estimate.
 
 Clipping: a sample counts as clipped when any axis reads at or beyond
 ``ACCEL_RANGE`` (m/s²). On clipped samples the observer keeps the (too small)
 reading, switches to baro-trusting gains and freezes its bias estimate
-(:func:`fusion_altitude.logs.run_observer`). The script prints how many
+(:func:`fusion_altitude.runner.run_observer`). The script prints how many
 samples were clipped.
 
 Run::
@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fusion_altitude import AltitudeSettings
-from fusion_altitude.logs import run_observer
+from fusion_altitude.runner import run_observer
 from fusion_altitude.sensors import gyro_attitude, pressure_to_altitude, vertical_acceleration
 
 #: Accelerometer full scale assumed for clip detection, m/s² (±16 g).
@@ -99,15 +99,18 @@ def run_hedy(data_dir: str, omega: float = OMEGA, accel_range: float = ACCEL_RAN
 
 
 def summary(run: HedyRun) -> dict:
-    """RMS and max |estimate − flight computer| (m) from launch to the end, apogee heights (m) and times (s)."""
+    """RMS and max |estimate − flight computer| (m) after launch to the end, apogee heights (m) and times (s)."""
+    from fusion_altitude.metrics import error_statistics
+
     flight = run.time >= 0
     difference = run.estimate.altitude[flight] - run.reference_altitude[flight]
+    statistics = error_statistics(run.time[flight], difference, transient=0.0)
     i_est = int(np.argmax(run.estimate.altitude))
     i_ref = int(np.argmax(run.reference_altitude))
     i_baro = int(np.nanargmax(run.baro_altitude))
     return {
-        "rms_difference": float(np.sqrt(np.mean(difference ** 2))),
-        "max_difference": float(np.max(np.abs(difference))),
+        "rms_difference": statistics.rms,
+        "max_difference": statistics.max,
         "apogee_estimate": float(run.estimate.altitude[i_est]),
         "apogee_reference": float(run.reference_altitude[i_ref]),
         "apogee_baro": float(run.baro_altitude[i_baro]),

@@ -4,32 +4,50 @@ Subcommands
 -----------
 demo
     Simulate a scenario (:mod:`fusion_altitude.scenarios`), print an error
-    table and optionally plot it.
+    table, optionally plot it or export the simulated log as a CSV that
+    ``run`` reads.
 tune
     Gains, poles, settling times, stability checks and noise bandwidth for a
-    bandwidth choice (:mod:`fusion_altitude.tuning`-style report built from
-    :mod:`fusion_altitude.metrics`).
+    bandwidth choice (:func:`fusion_altitude.tuning.report`).
 run
-    Run the observer on a recorded log: CSV, PX4 ULog or ArduPilot DataFlash
-    (:mod:`fusion_altitude.logs`).
+    Run any estimator of :data:`fusion_altitude.runner.ESTIMATORS` on a
+    recorded log (:mod:`fusion_altitude.logs`), compare it with the log's own
+    estimate, write the estimates (full precision) and a plot.
+fit
+    Fit the observer's gains to a reference (a log's own estimate or a
+    scenario's truth), optionally holding out the end of the log
+    (:mod:`fusion_altitude.tuning`).
 compare
-    Every estimator (observer, fitted observer, Kalman filter, two-stage
-    complementary filter, α-β fusion, raw baro) on the simulator's scenarios:
-    one table (:mod:`fusion_altitude.compare`).
+    Every estimator on the simulator's scenarios, or on one recorded log
+    against its own estimate: one table (:mod:`fusion_altitude.comparison`).
 
 Errors in user input are printed as one line on stderr with exit status 2,
-never as a traceback.
+never as a traceback; output paths are checked before any work and written
+atomically; ``… | head`` ends quietly.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import inspect
+import math
+import os
 import sys
-from typing import List, Optional, Sequence
+import time as _time
+import warnings
+from typing import Callable, Iterator, List, Optional, Sequence
 
 from ._version import __version__
 
-__all__ = ["main", "build_parser", "format_table"]
+__all__ = ["main", "build_parser", "format_table", "CliError"]
+
+#: Logs with at least this many samples get progress bars on stderr.
+PROGRESS_MINIMUM = 100_000
+#: Highest ``tune --rate``, Hz: the settling times come from a float64 simulation of 600 s at the rate.
+MAX_TUNE_RATE = 10_000.0
+#: A stage that takes at least this long prints its time on stderr, s.
+STAGE_REPORT_SECONDS = 0.5
 
 
 class CliError(Exception):
@@ -39,11 +57,11 @@ class CliError(Exception):
 def format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     """Plain-text table: the first column left-aligned, the others right-aligned.
 
-    Floats are printed with 4 significant decimals; other values with ``str``.
+    Floats are printed with 4 decimals (NaN as "—"); other values with ``str``.
     """
     def cell(value: object) -> str:
         if isinstance(value, float):
-            return f"{value:.4f}"
+            return "—" if math.isnan(value) else f"{value:.4f}"
         return str(value)
 
     text = [[cell(v) for v in row] for row in [list(header)] + [list(r) for r in rows]]
@@ -58,18 +76,125 @@ def format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str
 
 
 # ----------------------------------------------------------------------------
+# validation of flags (by their names) and of output paths
+
+
+def _number(flag: str, value: Optional[float], minimum: Optional[float] = None, strict: bool = True,
+            maximum: Optional[float] = None) -> None:
+    """CliError naming ``flag`` unless ``value`` is finite and above ``minimum`` (≥ when not strict)."""
+    if value is None:
+        return
+    if not math.isfinite(value):
+        raise CliError(f"{flag} must be a finite number, got {value:g}")
+    if minimum is not None and (value <= minimum if strict else value < minimum):
+        raise CliError(f"{flag} must be {'>' if strict else '>='} {minimum:g}, got {value:g}")
+    if maximum is not None and value > maximum:
+        raise CliError(f"{flag} must be <= {maximum:g}, got {value:g}")
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def _check_output(path: Optional[str], flag: str, inputs: Sequence[str] = ()) -> None:
+    """Before any work: ``path`` can be written (its folder exists and is writable, it is no folder) and is
+    none of the ``inputs``."""
+    if path is None:
+        return
+    if not path or path.endswith(os.sep):
+        raise CliError(f"{flag} needs a file name, got {path!r}")
+    for source in inputs:
+        if source and os.path.exists(path) and _same_file(path, source):
+            raise CliError(f"{flag} {path} is the input file: refusing to overwrite it")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise CliError(f"{flag} {path}: folder {folder} does not exist")
+    if os.path.isdir(path):
+        raise CliError(f"{flag} {path} is a folder, not a file")
+    if not os.access(folder, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
+        raise CliError(f"{flag} {path}: permission denied")
+
+
+def _check_plot(path: Optional[str], inputs: Sequence[str] = ()) -> None:
+    """Before any work: matplotlib is installed, it can write ``path``'s format, and the path is writable."""
+    if path is None:
+        return
+    _check_output(path, "--plot", inputs)
+    from .plotting import check_plot_path
+
+    try:
+        check_plot_path(path)
+    except ImportError:
+        raise CliError("--plot needs matplotlib: pip install 'fusion-altitude[plot]'") from None
+    except ValueError as error:
+        raise CliError(f"--plot {path}: {error}") from None
+
+
+# ----------------------------------------------------------------------------
+# progress on stderr
+
+
+class _Progress:
+    """Stage times and progress bars on stderr.
+
+    Each stage (reading, estimating, writing, plotting, fitting) prints its
+    duration when it takes ≥ :data:`STAGE_REPORT_SECONDS`; on a terminal,
+    stages over logs of ≥ :data:`PROGRESS_MINIMUM` samples (and every fit)
+    also draw a bar while they run.
+    """
+
+    def __init__(self, stream=None, width: int = 30, minimum: int = PROGRESS_MINIMUM):
+        self.stream = stream if stream is not None else sys.stderr
+        self.width = width
+        self.minimum = minimum
+
+    def bar(self, name: str) -> Callable[[int, int], None]:
+        interactive = bool(getattr(self.stream, "isatty", lambda: False)())
+
+        def draw(done: int, total: int) -> None:
+            if not interactive or (total < self.minimum and name not in ("fitting", "comparing")):
+                return
+            filled = int(self.width * done / max(total, 1))
+            self.stream.write(f"\r{name:<10} [{'#' * filled}{'.' * (self.width - filled)}] "
+                              f"{100 * done / max(total, 1):5.1f}%")
+            if done >= total:
+                self.stream.write("\r" + " " * (self.width + 22) + "\r")
+            self.stream.flush()
+        return draw
+
+    @contextlib.contextmanager
+    def stage(self, name: str) -> Iterator[Callable[[int, int], None]]:
+        start = _time.perf_counter()
+        yield self.bar(name)
+        elapsed = _time.perf_counter() - start
+        if elapsed >= STAGE_REPORT_SECONDS:
+            self.stream.write(f"{name}: {elapsed:.2f} s\n")
+            self.stream.flush()
+
+
+# ----------------------------------------------------------------------------
 # demo
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ._common import GRAVITY
-    from .scenarios import PUBLISHED, describe, run_scenario
+    from .scenarios import PUBLISHED, PUBLISHED_SOURCE, describe, export_csv, run_scenario
 
+    if args.seed < 0:
+        raise CliError(f"--seed must be >= 0, got {args.seed}")
+    _check_attitude(args.attitude)
+    _check_plot(args.plot)
+    _check_output(args.export, "--export")
+    if args.export and args.plot and _same_file_name(args.export, args.plot):
+        raise CliError("--export and --plot name the same file")
     result = run_scenario(args.scenario, seed=args.seed, attitude=args.attitude)
     fused = result.statistics()
     baro = result.baro_statistics()
     print(f"scenario {result.name}, seed {result.seed}: {describe(result.name)}")
-    print(f"attitude: {'imufusion AHRS' if result.attitude == 'ahrs' else 'truth (imufusion not installed)'}; "
+    print(f"attitude: {'imufusion AHRS' if result.attitude == 'ahrs' else 'truth (imufusion not installed)' if args.attitude == 'auto' else 'truth'}; "
           f"errors after the first {result.transient:g} s")
     print()
     rows = [
@@ -88,6 +213,17 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     print()
     print(f"final accel bias estimate: {result.final_bias:+.4f} m/s² ({result.final_bias / GRAVITY:+.4f} g); "
           f"true vertical bias {result.true_bias:+.4f} m/s² ({result.true_bias / GRAVITY:+.4f} g)")
+    if published:
+        print()
+        print(f"published: {PUBLISHED_SOURCE}")
+        print("the raw baro's mean error is its zero-mean noise averaged out; the fused mean carries the small lag "
+              "of the bias loop behind the accelerometer bias, so it can exceed the raw baro's while its RMS is "
+              "several times smaller")
+    if args.export:
+        export_csv(result, args.export)
+        print(f"simulated log written to {args.export}; run it with:")
+        print(f"  fusion-altitude run {args.export} --time time --accel vertical_acceleration --baro baro_altitude "
+              "--reference true_altitude")
     if args.plot:
         from .plotting import plot_scenario
 
@@ -96,22 +232,37 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _same_file_name(a: str, b: str) -> bool:
+    return os.path.abspath(a) == os.path.abspath(b)
+
+
+def _check_attitude(attitude: str) -> None:
+    if attitude == "ahrs":
+        try:
+            import imufusion  # noqa: F401
+        except ImportError:
+            raise CliError("--attitude ahrs needs imufusion: pip install 'fusion-altitude[ahrs]'") from None
+
+
 # ----------------------------------------------------------------------------
 # tune
 
 
 def _cmd_tune(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from . import metrics
     from ._observer import AltitudeSettings
+    from .tuning import report
 
+    _number("--omega", args.omega, 0.0)
+    _number("--zeta", args.zeta, 0.0)
+    _number("--omega-b", args.omega_b, 0.0, strict=False)
+    _number("--rate", args.rate, 0.0, maximum=MAX_TUNE_RATE)
     dt = 1.0 / args.rate
     omega_b = args.omega / 5.0 if args.omega_b is None else args.omega_b
     try:
         settings = AltitudeSettings.from_bandwidth(args.omega, args.zeta, omega_b)
+        result = report(settings, dt, omega=args.omega, omega_b=omega_b)
     except ValueError as error:
-        raise CliError(str(error)) from None
+        raise CliError(f"--omega {args.omega:g}, --zeta {args.zeta:g}, --omega-b {omega_b:g}: {error}") from None
     kh, kv, kb = settings.as_tuple()
     print(f"omega {args.omega:g} rad/s, zeta {args.zeta:g}, omega_b {omega_b:g} rad/s, rate {args.rate:g} Hz "
           f"(dt {dt:g} s)")
@@ -119,146 +270,280 @@ def _cmd_tune(args: argparse.Namespace) -> int:
     print(format_table(["gain", "value", "unit"], [["position_gain Kh", kh, "1/s"], ["velocity_gain Kv", kv, "1/s²"],
                                                    ["bias_gain Kb", kb, "1/s³"]]))
     print()
-    poles = np.roots([1.0, kh, kv, kb])
-    zpoles = metrics.discrete_poles(kh, kv, kb, dt)
-    rows = []
-    for s_pole, z_pole in zip(sorted(poles, key=lambda p: (abs(p), p.imag)), sorted(zpoles, key=lambda z: -abs(z))):
-        tau = 1.0 / abs(s_pole.real) if s_pole.real != 0 else float("inf")
-        rows.append([f"{s_pole.real:+.4f}{s_pole.imag:+.4f}j", f"{tau:.3f}",
-                     f"{z_pole.real:+.6f}{z_pole.imag:+.6f}j", f"{abs(z_pole):.6f}"])
-    print(format_table(["continuous pole s (rad/s)", "time constant (s)", "discrete pole z", "|z|"], rows))
+    rows = [[f"{s.real:+.4f}{s.imag:+.4f}j", f"{tau:.3f}", f"{z.real:+.6f}{z.imag:+.6f}j", f"{abs(z):.6f}"]
+            for s, tau, z in result.poles]
+    print(format_table(["continuous pole s (rad/s)", "time constant (s)", "its discrete pole z", "|z|"], rows))
     print()
-    step = metrics.step_settling_time(kh, kv, kb, dt)
-    bias = metrics.bias_settling_time(kh, kv, kb, dt)
-    print(f"2% settling, altitude after a baro step: {step:.2f} s")
-    print(f"2% settling, bias estimate after an accel-bias step: {bias:.2f} s")
+    print(f"2% settling, altitude after a baro step: {result.step_settling:.2f} s")
+    print(f"2% settling, bias estimate after an accel-bias step: {result.bias_settling:.2f} s")
     print()
-    fastest = float(np.max(np.abs(poles)))
-    checks = [
-        ("Routh-Hurwitz: Kh·Kv > Kb", kh * kv > kb, f"{kh * kv:.4g} > {kb:.4g}"),
-    ]
-    try:
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            settings.validate(dt)
-        jury = (True, f"max |z| = {np.max(np.abs(zpoles)):.6f} < 1")
-    except ValueError:
-        jury = (False, f"max |z| = {np.max(np.abs(zpoles)):.6f} >= 1: diverges at this rate")
-    checks.append(("Jury: discrete update stable at this dt", jury[0], jury[1]))
-    checks.append(("discretisation: ω·dt < 0.1 (fastest pole)", fastest * dt < 0.1, f"{fastest * dt:.4g}"))
-    checks.append(("loop separation: ω_b ≤ ω/5", omega_b <= args.omega / 5 * (1 + 1e-9),
-                   f"{omega_b:g} vs {args.omega / 5:g}"))
     print(format_table(["check", "result", "value"], [[name, "ok" if ok else "FAIL", value]
-                                                      for name, ok, value in checks]))
+                                                      for name, ok, value in result.checks]))
     print()
-    gain = metrics.noise_gain(kh, kv, kb, dt)
-    print(f"baro noise gain: {gain:.4f} (altitude noise sd per m of white baro noise per sample)")
-    print(f"equivalent noise bandwidth of baro → altitude: {metrics.noise_bandwidth(kh, kv, kb, dt):.4f} Hz")
-    return 0 if all(ok for _, ok, _ in checks[:2]) else 1
+    print(f"baro noise gain: {result.noise_gain:.4f} (altitude noise sd per m of white baro noise per sample)")
+    print(f"equivalent noise bandwidth of baro → altitude: {result.noise_bandwidth:.4f} Hz")
+    return 0 if result.stable else 1
+
+
+# ----------------------------------------------------------------------------
+# reading logs
+
+#: CSV flags → (read_csv_log keyword, default): passed only when the user changed them.
+_CSV_FLAGS = (
+    ("--time", "time", "time_column", None),
+    ("--accel", "accel", "accel_column", None),
+    ("--baro", "baro", "baro_column", None),
+    ("--pressure", "pressure", "pressure_column", None),
+    ("--reference", "reference", "reference_column", None),
+    ("--accel-units", "accel_units", "accel_units", "m/s^2"),
+    ("--altitude-units", "altitude_units", "altitude_units", "m"),
+    ("--sea-level-pa", "sea_level_pa", "sea_level_pa", 101325.0),
+    ("--remove-gravity", "remove_gravity", "remove_gravity", False),
+    ("--gps", "gps", "gps_column", None),
+    ("--rangefinder", "rangefinder", "rangefinder_column", None),
+    ("--accel-body", "accel_body", "accel_body_columns", None),
+    ("--attitude-columns", "attitude_columns", "attitude_columns", None),
+    ("--attitude-convention", "attitude_convention", "attitude_convention", "quaternion"),
+    ("--frame", "frame", "frame", "NED"),
+    ("--temperature", "temperature", "temperature_column", None),
+    ("--temperature-units", "temperature_units", "temperature_units", "C"),
+    ("--ground-temperature", "ground_temperature", "ground_temperature_k", None),
+)
+
+
+def _log_format(path: str) -> str:
+    """"csv" for a generic CSV (needs column flags), else the reader's format name."""
+    from . import logs
+
+    sniff = getattr(logs, "sniff_format", None)
+    if sniff is not None:
+        try:
+            return str(sniff(path))
+        except (OSError, ValueError):
+            pass  # load_log reports the problem with its own message
+    suffix = os.path.splitext(path)[1].lower()
+    return {".ulg": "ulog", ".bin": "dataflash"}.get(suffix, "csv")
+
+
+def _load(args: argparse.Namespace, progress: _Progress):
+    """Read ``args.file`` with the CSV flags the user gave; LogError → CliError."""
+    from . import logs
+
+    if not os.path.exists(args.file):
+        raise CliError(f"{args.file}: no such file")
+    _number("--sea-level-pa", args.sea_level_pa, 0.0)
+    ground_temperature_k = None
+    if args.ground_temperature is not None:
+        if args.ground_temperature.strip().lower() == "log":
+            ground_temperature_k = "log"
+        else:
+            try:
+                celsius = float(args.ground_temperature)
+            except ValueError:
+                raise CliError(f"--ground-temperature must be a temperature in °C or 'log', "
+                               f"got {args.ground_temperature!r}") from None
+            _number("--ground-temperature", celsius, -273.15, maximum=100.0)
+            ground_temperature_k = celsius + 273.15
+    column_lists = {}
+    for flag, attribute, count in (("--accel-body", "accel_body", (3,)),
+                                   ("--attitude-columns", "attitude_columns", (3, 4))):
+        text = getattr(args, attribute, None)
+        if text is not None:
+            names = [name.strip() for name in text.split(",")]
+            if len(names) not in count or not all(names):
+                raise CliError(f"{flag} takes {' or '.join(str(c) for c in count)} comma-separated column names, "
+                               f"got {text!r}")
+            column_lists[attribute] = tuple(names)
+    if args.instance is not None and args.instance < 0:
+        raise CliError(f"--instance must be >= 0, got {args.instance}")
+    fmt = _log_format(args.file)
+    given = {}
+    for flag, attribute, keyword, default in _CSV_FLAGS:
+        value = getattr(args, attribute, default)
+        if value != default:
+            if keyword == "ground_temperature_k":
+                value = ground_temperature_k
+            value = column_lists.get(attribute, value)
+            given[flag] = (keyword, value)
+    options = {}
+    if fmt == "csv":
+        parameters = inspect.signature(logs.read_csv_log).parameters
+        missing = [flag for flag, keyword in (("--time", "time_column"), ("--accel", "accel_column"))
+                   if flag not in given and keyword in parameters
+                   and parameters[keyword].default is inspect.Parameter.empty]
+        if "--accel" not in given and "--accel-body" not in given:
+            missing.append("--accel (or --accel-body with --attitude-columns)")
+        if "--baro" not in given and "--pressure" not in given:
+            missing.append("--baro or --pressure")
+        if missing:
+            raise CliError(f"a CSV log needs {', '.join(missing)}")
+        if "--baro" in given and "--pressure" in given:
+            raise CliError("give --baro or --pressure, not both")
+        for flag, (keyword, value) in given.items():
+            if keyword not in parameters:
+                raise CliError(f"{flag} is not supported by this version's CSV reader")
+            options[keyword] = value
+    else:
+        csv_only = [flag for flag in given if flag != "--ground-temperature"]
+        if csv_only:
+            raise CliError(f"{', '.join(csv_only)}: CSV column flags do not apply to {args.file} ({fmt})")
+        if "--ground-temperature" in given:  # the reader says whether its format takes it
+            keyword, value = given["--ground-temperature"]
+            options[keyword] = value
+    load_parameters = inspect.signature(logs.load_log).parameters
+    if args.instance is not None:
+        if "instance" not in load_parameters:
+            raise CliError("--instance is not supported by this version's readers")
+        options["instance"] = args.instance
+    with progress.stage("reading") as bar:
+        if "progress" in load_parameters:
+            options["progress"] = bar
+        try:
+            with warnings.catch_warnings():
+                # the reader's LogWarnings are also in data.warnings, printed with the summary
+                warnings.simplefilter("ignore", getattr(logs, "LogWarning", UserWarning))
+                data = logs.load_log(args.file, **options)
+        except ImportError as error:
+            raise CliError(f"{args.file}: {error}") from None
+        except logs.LogError as error:  # name our flags, not the reader's keywords
+            message = str(error)
+            for flag, _, keyword, _ in _CSV_FLAGS:
+                message = message.replace(keyword, flag)
+            raise CliError(message) from None
+    if data.time.size < 2:
+        raise CliError(f"{data.source}: {data.time.size} sample(s); a log needs at least 2")
+    if not (data.baro_altitude == data.baro_altitude).any():  # no finite baro sample at all
+        raise CliError(f"{data.source}: no baro sample (the baro column is empty)")
+    return data
+
+
+def _print_log_summary(data, what: str) -> None:
+    import numpy as np
+
+    n_baro = int(np.count_nonzero(np.isfinite(data.baro_altitude)))
+    duration = float(data.time[-1] - data.time[0])
+    print(f"{data.source}: {data.time.size} samples over {duration:.2f} s "
+          f"({data.time.size / max(duration, 1e-9):.1f} Hz), {n_baro} baro samples; {what}")
+    for note in data.notes:
+        print(f"  {note}")
+    for warning in getattr(data, "warnings", []):
+        print(f"  warning: {warning}")
+    if data.clipped is not None and data.clipped.any():
+        print(f"  accelerometer clipped on {int(data.clipped.sum())} samples (observer: baro-trusting gains, "
+              "bias frozen there)")
 
 
 # ----------------------------------------------------------------------------
 # run
 
 
-class _ProgressBar:
-    """A text progress bar on stderr, drawn only for long logs."""
-
-    def __init__(self, minimum: int = 100_000, width: int = 40):
-        self.minimum = minimum
-        self.width = width
-
-    def __call__(self, done: int, total: int) -> None:
-        if total < self.minimum:
-            return
-        filled = int(self.width * done / total)
-        sys.stderr.write(f"\r[{'#' * filled}{'.' * (self.width - filled)}] {100 * done / total:5.1f}% "
-                         f"{done}/{total} samples")
-        if done >= total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
-def _csv_options(args: argparse.Namespace, reference: bool = False) -> dict:
-    """load_log keyword arguments for a CSV log (none for .ulg/.bin); CliError names missing flags."""
-    suffix = args.file.lower().rsplit(".", 1)[-1] if "." in args.file else ""
-    if suffix in ("ulg", "bin"):
-        return {}
-    missing = [flag for flag, value in (("--time", args.time), ("--accel", args.accel)) if value is None]
-    if args.baro is None and args.pressure is None:
-        missing.append("--baro or --pressure")
-    if missing:
-        raise CliError(f"a CSV log needs {', '.join(missing)}")
-    if args.baro is not None and args.pressure is not None:
-        raise CliError("give --baro or --pressure, not both")
-    options = dict(time_column=args.time, accel_column=args.accel, baro_column=args.baro,
-                   pressure_column=args.pressure, accel_units=args.accel_units, sea_level_pa=args.sea_level_pa)
-    if reference:
-        options["reference_column"] = args.reference
-    return options
-
-
 def _cmd_run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import logs
+    from . import runner
     from ._observer import AltitudeSettings
 
-    try:
-        data = logs.load_log(args.file, **_csv_options(args))
-        settings = AltitudeSettings.preset(args.preset)
-        run = logs.run_log(data, settings, progress=_ProgressBar())
-    except (logs.LogError, ValueError) as error:
-        raise CliError(str(error)) from None
-    n_baro = int(np.sum(np.isfinite(data.baro_altitude)))
-    duration = float(data.time[-1] - data.time[0])
-    print(f"{data.source}: {data.time.size} samples over {duration:.2f} s "
-          f"({data.time.size / max(duration, 1e-9):.1f} Hz), {n_baro} baro samples; preset {args.preset}")
-    for note in data.notes:
-        print(f"  {note}")
-    if data.clipped is not None and data.clipped.any():
-        print(f"  accelerometer clipped on {int(data.clipped.sum())} samples (baro-trusting gains, bias frozen there)")
+    progress = _Progress()
+    _check_output(args.output, "-o", [args.file])
+    _check_plot(args.plot, [args.file])
+    if args.output and args.plot and _same_file_name(args.output, args.plot):
+        raise CliError("-o and --plot name the same file")
+    data = _load(args, progress)
+    if args.estimator == "observer":
+        _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
+    with progress.stage("estimating") as bar:
+        run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=args.estimator,
+                             agl=args.agl)
+    what = f"estimator {args.estimator}" + (f", preset {args.preset}" if args.estimator == "observer" else "")
+    if args.agl:
+        what += f"; heights above the start ({run.datum:.2f} m)"
+    _print_log_summary(data, what)
     print()
-    h = run.estimate.altitude
-    baro = data.baro_altitude
-    rows = [["final altitude (m)", float(h[-1]), float(baro[np.isfinite(baro)][-1])],
-            ["max altitude (m)", float(np.max(h)), float(np.nanmax(baro))],
-            ["min altitude (m)", float(np.min(h)), float(np.nanmin(baro))]]
-    header = ["", "fused", "baro"]
-    if data.reference_altitude is not None:
-        header.append("reference")
-        ref = data.reference_altitude
-        rows[0].append(float(ref[np.isfinite(ref)][-1]))
-        rows[1].append(float(np.nanmax(ref)))
-        rows[2].append(float(np.nanmin(ref)))
-    print(format_table(header, rows))
-    print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
-    if data.reference_altitude is not None:
-        fused = run.comparison()
+    altitude = np.asarray(run.estimate.altitude, float)
+    baro = run.baro_altitude
+    columns = [("estimate", altitude), ("baro", baro)]
+    if run.reference_altitude is not None:
+        columns.append((run.reference_name or "reference", run.reference_altitude))
+
+    def last(values):
+        finite = values[np.isfinite(values)]
+        return float(finite[-1]) if finite.size else math.nan
+
+    rows = [["final altitude (m)"] + [last(v) for _, v in columns],
+            ["max altitude (m)"] + [float(np.nanmax(v)) if np.isfinite(v).any() else math.nan for _, v in columns],
+            ["min altitude (m)"] + [float(np.nanmin(v)) if np.isfinite(v).any() else math.nan for _, v in columns]]
+    print(format_table([""] + [name for name, _ in columns], rows))
+    if hasattr(run.estimate, "accel_bias"):
+        print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
+    if run.reference_altitude is not None and np.isfinite(run.reference_altitude).any():
+        estimate = run.comparison()
         raw = run.baro_comparison()
         print()
-        print(f"against {data.reference_name} (shifted to the baro datum):")
-        print(format_table(["", "fused − ref", "baro − ref"],
-                           [["mean (m)", fused.mean, raw.mean], ["RMS (m)", fused.rms, raw.rms],
-                            ["max |·| (m)", fused.max, raw.max]]))
+        datum = "above the start" if args.agl else "on the baro datum"
+        print(f"against the log's own estimate, {run.reference_name} ({datum}):")
+        rows = [["mean (m)", estimate.mean, raw.mean], ["RMS (m)", estimate.rms, raw.rms],
+                ["max |·| (m)", estimate.max, raw.max]]
+        reference_velocity = run.reference_velocity
+        if reference_velocity is not None and np.isfinite(reference_velocity).any():
+            from .metrics import error_statistics
+
+            velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
+                                        - reference_velocity, 0.0)
+            rows.append(["velocity RMS (m/s)", velocity.rms, math.nan])
+        print(format_table(["", "estimate − ref", "baro − ref"], rows))
     if args.output:
-        logs.write_csv(run, args.output)
+        with progress.stage("writing") as bar:
+            runner.write_csv(run, args.output, progress=bar)
         print(f"estimates written to {args.output}")
     if args.plot:
         from .plotting import plot_log_run
 
-        plot_log_run(run, args.plot)
+        with progress.stage("plotting"):
+            plot_log_run(run, args.plot)
         print(f"plot written to {args.plot}")
     return 0
 
 
-def _fit_inputs(args: argparse.Namespace):
+def _warn_if_unstable(settings, data, what: str) -> None:
+    """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
+    period (the estimate would diverge)."""
+    from . import runner, tuning
+
+    steps = tuning.steps_per_baro(data.baro_altitude)
+    period = runner.nominal_period(data.time) * steps
+    if not tuning._stable_at(settings, period):
+        print(f"warning: {what} is unstable with the baro on 1 of {steps:.2f} steps of "
+              f"{runner.nominal_period(data.time):g} s (Jury's test at {period:g} s): the estimate will diverge; "
+              "choose a slower preset (balloon, fixed_wing) or fit the gains", file=sys.stderr)
+
+
+# ----------------------------------------------------------------------------
+# fit
+
+
+def _train_until(text: Optional[str], time) -> Optional[float]:
+    """``--train-until``: "T" s after the first sample, or "P%" of the log; the absolute time, s."""
+    if text is None:
+        return None
+    start, stop = float(time[0]), float(time[-1])
+    try:
+        if text.endswith("%"):
+            fraction = float(text[:-1]) / 100.0
+            if not 0 < fraction < 1:
+                raise CliError(f"--train-until {text}: a percentage must be between 0 and 100 (exclusive)")
+            return start + fraction * (stop - start)
+        seconds = float(text)
+    except ValueError:
+        raise CliError(f"--train-until must be seconds after the log's start or a percentage like 60%, "
+                       f"got {text!r}") from None
+    if not (math.isfinite(seconds) and 0 < seconds < stop - start):
+        raise CliError(f"--train-until {text}: must be > 0 and < the log's {stop - start:.2f} s")
+    return start + seconds
+
+
+def _fit_inputs(args: argparse.Namespace, progress: _Progress):
     """(source, time s, accel m/s², baro m, reference m, default RMS row or None, skip s) for ``fit``."""
     import numpy as np
-
-    from . import logs
 
     if args.scenario is not None:
         from .scenarios import run_scenario
@@ -266,17 +551,20 @@ def _fit_inputs(args: argparse.Namespace):
             raise CliError("give a log FILE or --scenario, not both")
         result = run_scenario(args.scenario, args.seed)
         skip = result.transient if args.skip is None else args.skip
-        mask = result.time >= result.time[0] + skip
-        preset_rms = float(np.sqrt(np.mean(result.altitude_error[mask] ** 2)))
+        from .metrics import error_statistics
+
+        preset_rms = error_statistics(result.time, result.altitude_error, skip).rms
         return (f"scenario {args.scenario}, seed {args.seed} (reference: simulator truth)", result.time,
                 result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude,
                 ("scenario preset, as `demo` runs it", preset_rms), skip)
     if args.file is None:
         raise CliError("give a log FILE (with a reference) or --scenario NAME")
-    data = logs.load_log(args.file, **_csv_options(args, reference=True))
-    if data.reference_altitude is None:
+    data = _load(args, progress)
+    if data.reference_altitude is None or not np.isfinite(data.reference_altitude).any():
         raise CliError(f"{data.source} has no reference altitude: give --reference COLUMN (CSV), or a .ulg/.bin "
                        "with the autopilot's own height estimate")
+    for warning in getattr(data, "warnings", []):
+        print(f"warning: {warning}", file=sys.stderr)
     skip = 5.0 if args.skip is None else args.skip
     return (f"{data.source} (reference: {data.reference_name})", data.time, data.vertical_acceleration,
             data.baro_altitude, data.reference_altitude, None, skip)
@@ -285,43 +573,103 @@ def _fit_inputs(args: argparse.Namespace):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import logs, tuning
+    from . import metrics, tuning
 
-    try:
-        source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args)
-        mask = np.asarray(time) >= time[0] + skip
-        if not mask.any():
-            raise CliError(f"--skip {skip} s leaves no sample of a {time[-1] - time[0]:.1f} s log")
-        result = tuning.fit(accel, baro, logs.sample_periods(time), reference, mask=mask,
-                            omega_range=(args.omega_min, args.omega_max))
-    except (logs.LogError, ValueError) as error:
-        raise CliError(str(error)) from None
-    counted = mask & np.isfinite(baro) & np.isfinite(reference)
-    baro_rms = float(np.sqrt(np.mean((baro[counted] - reference[counted]) ** 2))) if counted.any() else float("nan")
+    progress = _Progress()
+    if args.scenario is None and args.file is None:
+        raise CliError("give a log FILE (with a reference) or --scenario NAME")
+    if args.seed < 0:
+        raise CliError(f"--seed must be >= 0, got {args.seed}")
+    _number("--skip", args.skip, 0.0, strict=False)
+    _number("--omega-min", args.omega_min, 0.0)
+    _number("--omega-max", args.omega_max, 0.0)
+    if args.omega_min >= args.omega_max:
+        raise CliError(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    _check_plot(args.plot, [args.file] if args.file else [])
+    source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args, progress)
+    time = np.asarray(time, float)
+    duration = float(time[-1] - time[0])
+    if skip >= duration:
+        raise CliError(f"--skip {skip:g} s leaves no sample of a {duration:.2f} s log")
+    split = _train_until(args.train_until, time)
+    scored_until = split if split is not None else float(time[-1])
+    scored = scored_until - (time[0] + skip)
+    if split is not None and scored <= 0:
+        raise CliError(f"--train-until {args.train_until} is within the first --skip {skip:g} s: nothing to train on")
+    slowest = 1.0 / (0.3 * 0.7)  # s: time constant of the default bias loop (ω_b = 0.3 rad/s)
+    if scored < 3 * slowest:
+        print(f"warning: the fit is scored over only {scored:.1f} s of data, less than 3 time constants of the "
+              f"default bias loop ({3 * slowest:.0f} s): the fitted gains may not generalise", file=sys.stderr)
+    steps = tuning.steps_per_baro(baro)
+    options = dict(omega_range=(args.omega_min, args.omega_max), steps_per_baro=steps)
+    held_out = None
+    with progress.stage("fitting") as bar:
+        try:
+            if split is None:
+                dt_values = _sample_periods(time)
+                mask = time > time[0] + skip  # as metrics.error_statistics counts "after the transient"
+                result = tuning.fit(accel, baro, dt_values, reference, mask=mask, progress=bar, **options)
+            else:
+                held_out = tuning.fit_held_out(time, accel, baro, reference, split, skip=skip, progress=bar, **options)
+                result = held_out.fit
+        except ValueError as error:
+            raise CliError(str(error)) from None
+    counted = (time > time[0] + skip) & (time < scored_until)
+    baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
+        if np.isfinite((baro - reference)[counted]).any() else math.nan
     gains = result.settings
-    print(f"{source}: {len(time)} samples, metrics after {skip:g} s")
-    print(f"best of {len(result.landscape)} stable candidates: omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, "
-          f"omega_b {result.omega_b:.4g} rad/s")
+    print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
+          + (f", trained before {split - time[0]:.2f} s" if split is not None else ""))
+    if steps > 1.0:
+        print(f"baro on 1 of {steps:.2f} steps: gains compensated for the baro rate, as `run` and `compare` do")
+    print(f"best of {len(result.landscape)} stable candidates (checked at the nominal period): "
+          f"omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, omega_b {result.omega_b:.4g} rad/s")
     print(f"  position_gain {gains.position_gain:.6g} 1/s, velocity_gain {gains.velocity_gain:.6g} 1/s², "
           f"bias_gain {gains.bias_gain:.6g} 1/s³")
     print()
+
+    def improvement(fitted: float, other: float) -> str:
+        return f"{100 * (1 - fitted / other):+.0f}%" if other > 0 and math.isfinite(other) else ""
+
     rows = [["fitted gains", result.rms_error, ""],
-            ["VTOL default gains", result.default_rms_error,
-             f"{100 * (1 - result.rms_error / result.default_rms_error):+.0f}%"]]
+            ["VTOL default gains", result.default_rms_error, improvement(result.rms_error, result.default_rms_error)]]
     if preset_row is not None:
-        rows.append([preset_row[0], preset_row[1], f"{100 * (1 - result.rms_error / preset_row[1]):+.0f}%"])
+        rows.append([preset_row[0], preset_row[1], improvement(result.rms_error, preset_row[1])])
     rows.append(["raw baro", baro_rms, ""])
-    print(format_table(["altitude − reference", "RMS (m)", "fit improves by"], rows))
+    title = "training part: altitude − reference" if split is not None else "altitude − reference"
+    print(format_table([title, "RMS (m)", "fit improves by"], rows))
+    if not math.isfinite(result.default_rms_error):
+        print(f"(the VTOL default gains diverge with the baro on 1 of {steps:.2f} steps: no score)")
+    if held_out is not None:
+        print()
+        print(format_table(["held-out part (after the split)", "RMS (m)", "fit improves by"],
+                           [["fitted gains", held_out.fitted_rms_error, ""],
+                            ["VTOL default gains", held_out.default_rms_error,
+                             improvement(held_out.fitted_rms_error, held_out.default_rms_error)]]))
+        if held_out.generalises:
+            print("the fitted gains generalise: use them")
+        else:
+            print("the fitted gains do worse than the default on the held-out part: keep the default "
+                  f"(position_gain {held_out.settings.position_gain:g}, velocity_gain "
+                  f"{held_out.settings.velocity_gain:g}, bias_gain {held_out.settings.bias_gain:g})")
     print()
     print("runners-up:")
     print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"],
-                       [[row["omega"], row["zeta"], row["omega_b"], row["rms_error"]] for row in result.landscape[1:6]]))
+                       [[float(row["omega"]), float(row["zeta"]), float(row["omega_b"]), float(row["rms_error"])]
+                        for row in result.landscape[1:6]]))
     if args.plot:
         from .plotting import plot_fit_landscape
 
-        plot_fit_landscape(result, args.plot, title=source)
+        with progress.stage("plotting"):
+            plot_fit_landscape(result, args.plot, title=source)
         print(f"plot written to {args.plot}")
     return 0
+
+
+def _sample_periods(time):
+    from .runner import sample_periods
+
+    return sample_periods(time)
 
 
 # ----------------------------------------------------------------------------
@@ -329,21 +677,62 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    from . import compare
+    from . import comparison
 
-    scenarios = args.scenario or list(compare.SCENARIOS)
-    rows = compare.compare(scenarios, seed=args.seed, fit_seed=args.fit_seed, attitude=args.attitude,
-                           repeat=args.repeat)
+    if args.repeat < 0:
+        raise CliError(f"--repeat must be >= 0 (0: no timing), got {args.repeat}")
+    if args.seed < 0 or args.fit_seed < 0:
+        raise CliError(f"--seed and --fit-seed must be >= 0, got {args.seed} and {args.fit_seed}")
+    _check_attitude(args.attitude)
+    _check_plot(args.plot, [args.file] if args.file else [])
+    if args.file is not None:
+        return _compare_log(args)
+    scenarios = args.scenario or list(comparison.SCENARIOS)
+    with _Progress().stage("comparing") as bar:
+        rows = comparison.compare(scenarios, seed=args.seed, fit_seed=args.fit_seed, attitude=args.attitude,
+                                  repeat=args.repeat, progress=bar)
     print(f"seed {args.seed} (observer (fit): gains fitted on seed {args.fit_seed}), attitude {args.attitude}; "
           "errors after each scenario's transient; recovery: s after the fault ends until |error| <= 0.5 m")
     print()
-    if args.markdown:
-        print(compare.format_markdown(rows))
-    else:
-        print(format_table(compare.HEADER, compare.table_cells(rows)))
+    _print_rows(args, rows)
     if args.plot:
-        compare.plot_comparison(args.plot_scenario or scenarios[0], args.plot, seed=args.seed,
-                                fit_seed=args.fit_seed, attitude=args.attitude)
+        comparison.plot_comparison(args.plot_scenario or scenarios[0], args.plot, seed=args.seed,
+                                   fit_seed=args.fit_seed, attitude=args.attitude)
+        print(f"plot written to {args.plot}")
+    return 0
+
+
+def _print_rows(args: argparse.Namespace, rows) -> None:
+    from . import comparison
+
+    if args.markdown:
+        print(comparison.format_markdown(rows))
+    else:
+        print(format_table(comparison.header(rows), comparison.table_cells(rows)))
+
+
+def _compare_log(args: argparse.Namespace) -> int:
+    from . import comparison
+
+    if args.scenario or args.plot_scenario:
+        raise CliError("--scenario and --plot-scenario apply to simulated comparisons, not to a log FILE")
+    _number("--skip", args.skip, 0.0, strict=False)
+    progress = _Progress()
+    data = _load(args, progress)
+    with progress.stage("comparing") as bar:
+        try:
+            rows = comparison.compare_log(data, repeat=args.repeat, skip=args.skip or 0.0, agl=args.agl,
+                                          progress=bar)
+        except ValueError as error:
+            raise CliError(str(error)) from None
+    _print_log_summary(data, "every estimator against the log's own estimate")
+    print(f"reference: {data.reference_name}; errors after {args.skip or 0.0:g} s"
+          + ("; heights above the start" if args.agl else "") + "; velocity against the log's own vertical velocity")
+    print()
+    _print_rows(args, rows)
+    if args.plot:
+        with progress.stage("plotting"):
+            comparison.plot_log_comparison(data, rows, args.plot, agl=args.agl)
         print(f"plot written to {args.plot}")
     return 0
 
@@ -354,6 +743,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``fusion-altitude``."""
+    from .runner import ESTIMATORS
     from .scenarios import scenario_names
 
     parser = argparse.ArgumentParser(
@@ -366,28 +756,39 @@ def build_parser() -> argparse.ArgumentParser:
                                description="Simulate a scenario, run the observer, print raw-baro vs fused errors.")
     demo.add_argument("--scenario", default="realistic", choices=scenario_names(),
                       help="scenario to simulate (default: realistic)")
-    demo.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    demo.add_argument("--seed", type=int, default=0, help="random seed, >= 0 (default: 0)")
     demo.add_argument("--attitude", default="auto", choices=("auto", "ahrs", "truth"),
                       help="attitude source: the imufusion AHRS, the truth, or auto (AHRS if installed)")
     demo.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
+    demo.add_argument("--export", metavar="OUT.csv",
+                      help="write the simulated log as a CSV that `run` reads (time, vertical_acceleration, "
+                           "baro_altitude, true_altitude)")
     demo.set_defaults(handler=_cmd_demo)
 
     tune = commands.add_parser("tune", help="gains, poles, settling and noise for a bandwidth choice",
                                description="Gains from ω, ζ, ω_b and what they do at a sample rate.")
-    tune.add_argument("--omega", type=float, default=1.5, help="position-loop bandwidth ω, rad/s (default 1.5)")
-    tune.add_argument("--zeta", type=float, default=0.7, help="damping ratio ζ (default 0.7)")
-    tune.add_argument("--omega-b", type=float, default=None, help="bias-loop bandwidth ω_b, rad/s (default ω/5)")
-    tune.add_argument("--rate", type=float, default=100.0, help="sample rate, Hz (default 100)")
+    tune.add_argument("--omega", type=float, default=1.5, help="position-loop bandwidth ω, rad/s, > 0 (default 1.5)")
+    tune.add_argument("--zeta", type=float, default=0.7, help="damping ratio ζ, > 0 (default 0.7)")
+    tune.add_argument("--omega-b", type=float, default=None,
+                      help="bias-loop bandwidth ω_b, rad/s, >= 0 (default ω/5; 0 = no bias estimation)")
+    tune.add_argument("--rate", type=float, default=100.0,
+                      help=f"sample rate, Hz, > 0 and <= {MAX_TUNE_RATE:g} (default 100)")
     tune.set_defaults(handler=_cmd_tune)
 
-    run = commands.add_parser("run", help="run the observer on a recorded log (CSV, .ulg, .bin)",
-                              description="Run the observer on a log. CSV needs --time, --accel and --baro or "
-                                          "--pressure; PX4 .ulg and ArduPilot .bin are read by message name.")
-    run.add_argument("file", help="CSV, PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log")
-    _add_csv_arguments(run)
+    run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
+                              description="Run an estimator on a log and compare it with the log's own estimate. "
+                                          "PX4 ULog, ArduPilot DataFlash, AltOS CSV and CATS files are recognised "
+                                          "by their content; a generic CSV needs --time, --accel and --baro or "
+                                          "--pressure.")
+    run.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
+    _add_log_arguments(run)
+    run.add_argument("--estimator", default="observer", choices=list(ESTIMATORS),
+                     help="estimator (default observer): " + "; ".join(f"{e.name}: {e.description}"
+                                                                       for e in ESTIMATORS.values()))
     run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing"),
                      help="observer gains (default vtol)")
-    run.add_argument("-o", "--output", metavar="OUT.csv", help="write the estimates per sample")
+    run.add_argument("-o", "--output", metavar="OUT.csv",
+                     help="write the estimates per sample (full precision; never the input file)")
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
     run.set_defaults(handler=_cmd_run)
 
@@ -396,23 +797,31 @@ def build_parser() -> argparse.ArgumentParser:
                                           "reference: a log's reference column or autopilot estimate, or a "
                                           "simulated scenario's truth.")
     fit.add_argument("file", nargs="?", help="CSV (with --reference), PX4 ULog (.ulg) or ArduPilot DataFlash (.bin)")
-    _add_csv_arguments(fit)
-    fit.add_argument("--reference", help="CSV: reference altitude column, m (empty = unknown that row)")
+    _add_log_arguments(fit, agl=False)
     fit.add_argument("--scenario", choices=scenario_names(), help="fit on a simulated scenario instead of a log")
-    fit.add_argument("--seed", type=int, default=0, help="scenario seed (default: 0)")
+    fit.add_argument("--seed", type=int, default=0, help="scenario seed, >= 0 (default: 0)")
     fit.add_argument("--skip", type=float, default=None,
-                     help="seconds at the start left out of the metric (default: the scenario's transient, 5 s for logs)")
+                     help="seconds at the start left out of the metric, >= 0 (default: the scenario's transient, "
+                          "5 s for logs)")
+    fit.add_argument("--train-until", metavar="T|P%",
+                     help="fit on the samples before T s after the start (or P%% of the log) and score fitted vs "
+                          "default gains on the rest; the default is kept if the fit does not generalise")
     fit.add_argument("--omega-min", type=float, default=0.05, help="lowest omega searched, rad/s (default 0.05)")
     fit.add_argument("--omega-max", type=float, default=20.0, help="highest omega searched, rad/s (default 20)")
     fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
     fit.set_defaults(handler=_cmd_fit)
 
-    from .compare import SCENARIOS
+    from .comparison import SCENARIOS
     comparison = commands.add_parser(
-        "compare", help="every estimator on the simulator's scenarios: one table",
-        description="Observer (preset and fitted gains), Kalman filter, two-stage complementary filter, "
-                    "quality-weighted alpha-beta fusion and raw baro on the same simulated data: altitude RMS and "
-                    "max error, velocity RMS, recovery time after a sensor fault, C batch ns/sample.")
+        "compare", help="every estimator on the simulator's scenarios, or on one log: one table",
+        description="Without FILE: observer (preset and fitted gains), Kalman filter, two-stage complementary "
+                    "filter, quality-weighted alpha-beta fusion and raw baro on the same simulated data: altitude "
+                    "RMS and max error, velocity RMS, recovery time after a sensor fault, C batch ns/sample. "
+                    "With a log FILE: every estimator of `run --estimator` against the log's own estimate.")
+    comparison.add_argument("file", nargs="?", help="a recorded log with its own estimate (as for `run`)")
+    _add_log_arguments(comparison)
+    comparison.add_argument("--skip", type=float, default=None,
+                            help="log: seconds at the start left out of the metrics (default 0)")
     comparison.add_argument("--scenario", action="append", choices=scenario_names(), metavar="NAME",
                             help=f"scenario (repeatable; default: {', '.join(SCENARIOS)})")
     comparison.add_argument("--seed", type=int, default=0, help="simulation seed (default: 0)")
@@ -420,9 +829,10 @@ def build_parser() -> argparse.ArgumentParser:
                             help="seed the fitted observer's gains are fitted on (default: 1, held out)")
     comparison.add_argument("--attitude", default="truth", choices=("truth", "ahrs"),
                             help="attitude source (default truth: the same numbers with or without imufusion)")
-    comparison.add_argument("--repeat", type=int, default=5, help="timing repeats, best taken (default 5)")
+    comparison.add_argument("--repeat", type=int, default=5,
+                            help="timing repeats, best taken (default 5; 0: no timing)")
     comparison.add_argument("--markdown", action="store_true", help="print a Markdown table")
-    comparison.add_argument("--plot", metavar="OUT.png", help="overlay the estimators for one scenario ([plot] extra)")
+    comparison.add_argument("--plot", metavar="OUT.png", help="overlay the estimators ([plot] extra)")
     comparison.add_argument("--plot-scenario", choices=scenario_names(), metavar="NAME",
                             help="scenario of the plot (default: the first one compared)")
     comparison.set_defaults(handler=_cmd_compare)
@@ -432,28 +842,82 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _add_csv_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--time", help="CSV: time column, s")
-    parser.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up, gravity removed)")
-    parser.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
-    parser.add_argument("--baro", help="CSV: baro altitude column, m (empty = no sample that row)")
-    parser.add_argument("--pressure", help="CSV: static pressure column, Pa (instead of --baro)")
-    parser.add_argument("--sea-level-pa", type=float, default=101325.0,
-                        help="CSV: reference pressure for --pressure, Pa (default 101325)")
+def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> None:
+    group = parser.add_argument_group("log options (column flags: generic CSV only)")
+    group.add_argument("--time", help="CSV: time column, s")
+    group.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up)")
+    group.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
+    group.add_argument("--remove-gravity", action="store_true",
+                       help="CSV: --accel still holds gravity (≈ +1 g at rest): subtract it")
+    group.add_argument("--baro", help="CSV: baro altitude column (empty = no sample that row)")
+    group.add_argument("--altitude-units", default="m", choices=("m", "ft"),
+                       help="CSV: units of --baro, --reference and --gps")
+    group.add_argument("--pressure", help="CSV: static pressure column, Pa (instead of --baro)")
+    group.add_argument("--sea-level-pa", type=float, default=101325.0,
+                       help="CSV: reference pressure for --pressure, Pa, > 0 (default 101325)")
+    group.add_argument("--reference", help="CSV: the log's own altitude estimate or a better altitude, "
+                                           "column (empty = unknown that row)")
+    group.add_argument("--accel-body", metavar="X,Y,Z",
+                       help="CSV: body-frame accelerometer columns (specific force), instead of --accel; needs "
+                            "--attitude-columns")
+    group.add_argument("--attitude-columns", metavar="COLS",
+                       help="CSV: attitude columns: W,X,Y,Z (quaternion, body → earth) or ROLL,PITCH,YAW (ZYX Euler)")
+    group.add_argument("--attitude-convention", default="quaternion",
+                       choices=("quaternion", "euler_deg", "euler_rad"), help="CSV: what --attitude-columns hold")
+    group.add_argument("--frame", default="NED", choices=("NED", "ENU", "NWU"),
+                       help="CSV: earth frame of --attitude-columns and body frame of --accel-body (default NED)")
+    group.add_argument("--gps", help="CSV: GPS altitude column (used by --estimator kalman/alphabeta)")
+    group.add_argument("--rangefinder", help="CSV: distance-to-ground column, m (used by kalman/alphabeta)")
+    group.add_argument("--temperature", help="CSV: air temperature column for the hypsometric conversion")
+    group.add_argument("--temperature-units", default="C", choices=("C", "K"), help="CSV: units of --temperature")
+    group.add_argument("--ground-temperature", default=None, metavar="DEG_C|log",
+                       help="ground temperature for the pressure → height conversion, °C, or 'log' (the log's own "
+                            "temperature)")
+    group.add_argument("--instance", type=int, default=None, metavar="N",
+                       help=".bin/.ulg: sensor instance to read (default: the primary)")
+    if agl:
+        group.add_argument("--agl", action="store_true",
+                           help="heights above the start (or the pad): estimate, baro and reference alike")
+
+
+def _quiet_broken_pipe() -> int:
+    """stdout's reader went away (``… | head``): stop quietly, as Unix tools do (status 141 = SIGPIPE)."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    return 141
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    """Entry point of ``fusion-altitude`` and ``python -m fusion_altitude``; returns the exit status."""
+    """Entry point of ``fusion-altitude`` and ``python -m fusion_altitude``; returns the exit status.
+
+    Input problems (bad flags, unreadable or inconsistent files, unwritable
+    outputs, missing optional extras) print one line on stderr and return 2.
+    """
     parser = build_parser()
-    args = parser.parse_args(argv)
-    if getattr(args, "handler", None) is None:
-        parser.print_help()
-        return 2
     try:
-        return int(args.handler(args) or 0)
-    except CliError as error:
-        print(f"fusion-altitude {args.command}: error: {error}", file=sys.stderr)
+        args = parser.parse_args(argv)
+        if getattr(args, "handler", None) is None:
+            parser.print_help()
+            return 2
+        try:
+            status = int(args.handler(args) or 0)
+            sys.stdout.flush()
+            return status
+        except CliError as error:
+            message = str(error)
+        except ImportError as error:
+            message = str(error)
+        except ValueError as error:  # LogError and the library's argument checks
+            message = str(error)
+        except OSError as error:
+            if isinstance(error, BrokenPipeError):
+                raise
+            message = f"{error.filename}: {error.strerror}" if error.filename else str(error)
+        print(f"fusion-altitude {args.command}: error: {message}", file=sys.stderr)
         return 2
-    except ImportError as error:
-        print(f"fusion-altitude {args.command}: error: {error}", file=sys.stderr)
-        return 2
+    except BrokenPipeError:
+        return _quiet_broken_pipe()
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130

@@ -1,7 +1,9 @@
 """Figures for scenario runs and log runs (the ``[plot]`` extra: matplotlib).
 
 matplotlib is imported inside the functions, with the Agg backend, so
-importing this module never needs it.
+importing this module never needs it. Every figure is written atomically
+(:func:`save_figure`) and long series are decimated for display
+(:func:`decimate`: min and max per pixel column, so spikes stay visible).
 """
 
 from __future__ import annotations
@@ -10,7 +12,11 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["plot_scenario", "plot_log_run", "plot_fit_landscape"]
+__all__ = ["plot_scenario", "plot_log_run", "plot_fit_landscape", "decimate", "save_figure", "check_plot_path",
+           "COLUMNS"]
+
+#: Pixel columns a long series is decimated to (a 10-inch figure at 110 dpi is 1100 px wide; 2000 leaves margin).
+COLUMNS = 2000
 
 
 def _pyplot():
@@ -21,6 +27,92 @@ def _pyplot():
     except ImportError as error:
         raise ImportError("plotting needs matplotlib: pip install 'fusion-altitude[plot]'") from error
     return plt
+
+
+def check_plot_path(path: str) -> None:
+    """Raise ImportError without matplotlib, ValueError naming the extension if matplotlib cannot write it.
+
+    Called before any work so that a missing extra or a typo in ``--plot``
+    costs nothing.
+    """
+    _pyplot()
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    import os
+
+    extension = os.path.splitext(path)[1].lower().lstrip(".")
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if extension not in formats:
+        raise ValueError(f"cannot write a plot as {'.' + extension if extension else 'a file without extension'!r}"
+                         f": use one of {', '.join('.' + f for f in sorted(formats))}")
+
+
+def save_figure(figure, path: str, **options) -> None:
+    """``figure.savefig(path)`` through a temporary file renamed onto ``path`` (no half-written plot)."""
+    from .runner import atomic_output
+
+    with atomic_output(path) as temporary:
+        figure.savefig(temporary, **options)
+
+
+def decimate(x, y, columns: int = COLUMNS):
+    """Min/max decimation of a line for display: at most 2·``columns`` points that draw like the full series.
+
+    The samples are split into ``columns`` runs of equal count; each run
+    contributes its minimum and maximum (in time order), so every spike
+    and every envelope survives. Series of ≤ 4·``columns`` samples are
+    returned unchanged. NaNs are ignored within a run (a run of only NaN
+    gives NaN: a gap in the line).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Same length; x increasing (time, s).
+    columns : int
+        Pixel columns of the target axis.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = y.size
+    if n <= 4 * columns:
+        return x, y
+    per = int(np.ceil(n / columns))
+    pad = per * int(np.ceil(n / per)) - n
+    xs = np.concatenate([x, np.full(pad, x[-1])]).reshape(-1, per)
+    ys = np.concatenate([y, np.full(pad, np.nan)]).reshape(-1, per)
+    filled = np.isfinite(ys)
+    any_finite = filled.any(axis=1)
+    low_index = np.argmin(np.where(filled, ys, np.inf), axis=1)
+    high_index = np.argmax(np.where(filled, ys, -np.inf), axis=1)
+    rows = np.arange(ys.shape[0])
+    first = np.minimum(low_index, high_index)
+    second = np.maximum(low_index, high_index)
+    out_x = np.column_stack([xs[rows, first], xs[rows, second]]).ravel()
+    out_y = np.column_stack([ys[rows, first], ys[rows, second]]).ravel()
+    out_y[np.repeat(~any_finite, 2)] = np.nan
+    return out_x, out_y
+
+
+def _decimated_style(args, kwargs, decimated: bool):
+    """A dotted series drawn as a thin line once decimated: min/max pairs joined by a line fill each pixel
+    column from its minimum to its maximum, where dots would show only the two extremes."""
+    if not decimated or not args or args[0] != ".":
+        return args, kwargs
+    kwargs = {k: v for k, v in kwargs.items() if k not in ("ms", "markersize")}
+    kwargs.setdefault("lw", 0.6)
+    return ("-",) + tuple(args[1:]), kwargs
+
+
+def _relative_time(time):
+    """Times for the x axis, s: epoch-like times (> 10^6 s) as seconds since the first sample, with the label."""
+    time = np.asarray(time, dtype=float)
+    if time.size and abs(time[0]) > 1e6:
+        return time - time[0], f"time since {time[0]:.3f} s (s)"
+    return time, "time (s)"
 
 
 def plot_scenario(result, path: str) -> None:
@@ -61,7 +153,7 @@ def plot_scenario(result, path: str) -> None:
     axes[2].set_ylabel("accel bias (m/s²)")
     axes[2].set_xlabel("time (s)")
     axes[2].legend(loc="lower right", fontsize=8)
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -75,43 +167,61 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
 
     Parameters
     ----------
-    run : fusion_altitude.logs.LogRun
-        Output of :func:`fusion_altitude.logs.run_log`.
+    run : fusion_altitude.runner.LogRun
+        Output of :func:`fusion_altitude.runner.run_log`.
     path : str
         Output file.
     title : str, optional
         Figure title; default the log's source.
     """
     plt = _pyplot()
-    t = run.time
+    t, time_label = _relative_time(run.time)
+    estimate = run.estimate
+    label = f"{getattr(run, 'estimator', 'observer')} estimate"
     fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True, constrained_layout=True)
     baro = ~np.isnan(run.baro_altitude)
-    axes[0].plot(t[baro], run.baro_altitude[baro], ".", ms=1.5, color="0.6", label="baro altitude")
+
+    def line(axis, values, *args, mask=None, **kwargs):
+        values = np.asarray(values, dtype=float)
+        x, y = decimate(t if mask is None else t[mask], values if mask is None else values[mask])
+        decimated = x.size < (t.size if mask is None else int(mask.sum()))
+        args, kwargs = _decimated_style(args, kwargs, decimated)
+        axis.plot(x, y, *args, **kwargs)
+
+    line(axes[0], run.baro_altitude, ".", mask=baro, ms=1.5, color="0.6", label="baro altitude", zorder=1)
     if run.reference_altitude is not None:
-        axes[0].plot(t, run.reference_altitude, color="k", lw=1.2, label=run.reference_name or "reference")
-    axes[0].plot(t, run.estimate.altitude, color="C0", lw=1.0, label="fused estimate")
-    axes[0].set_ylabel("altitude (m)")
+        line(axes[0], run.reference_altitude, color="k", lw=1.2, label=run.reference_name or "reference", zorder=2)
+    line(axes[0], estimate.altitude, color="C0", lw=1.0, label=label, zorder=3)
+    axes[0].set_ylabel("altitude above start (m)" if getattr(run, "datum", 0.0) else "altitude (m)")
     axes[0].legend(loc="best", fontsize=8)
     axes[0].set_title(title or run.source)
     if run.reference_altitude is not None:
-        axes[1].plot(t[baro], run.baro_altitude[baro] - run.reference_altitude[baro], ".", ms=1.5,
-                     color="0.6", label="baro − reference")
-        axes[1].plot(t, run.estimate.altitude - run.reference_altitude, color="C0", lw=1.0,
-                     label="fused − reference")
+        line(axes[1], run.baro_altitude - run.reference_altitude, ".", mask=baro, ms=1.5, color="0.6",
+             label="baro − reference", zorder=1)
+        line(axes[1], np.asarray(estimate.altitude, float) - run.reference_altitude, color="C0", lw=1.0,
+             label="estimate − reference", zorder=3)
         axes[1].set_ylabel("difference (m)")
-    else:
-        axes[1].plot(t, run.estimate.baro_residual, ".", ms=1.5, color="C3", label="baro residual")
+    elif hasattr(estimate, "baro_residual"):
+        line(axes[1], estimate.baro_residual, ".", ms=1.5, color="C3", label="baro residual")
         axes[1].set_ylabel("residual (m)")
+    else:
+        line(axes[1], run.baro_altitude - np.asarray(estimate.altitude, float), ".", mask=baro, ms=1.5,
+             color="C3", label="baro − estimate")
+        axes[1].set_ylabel("baro − estimate (m)")
     axes[1].legend(loc="best", fontsize=8)
-    axes[2].plot(t, run.estimate.vertical_velocity, color="C0", lw=1.0, label="fused")
+    line(axes[2], estimate.vertical_velocity, color="C0", lw=1.0, label=label)
     if run.reference_velocity is not None:
-        axes[2].plot(t, run.reference_velocity, color="k", lw=1.0, label=run.reference_name or "reference")
+        line(axes[2], run.reference_velocity, color="k", lw=1.0, label=run.reference_name or "reference")
     axes[2].set_ylabel("vertical velocity (m/s)")
     axes[2].legend(loc="best", fontsize=8)
-    axes[3].plot(t, run.estimate.accel_bias, color="C1")
-    axes[3].set_ylabel("accel bias (m/s²)")
-    axes[3].set_xlabel("time (s)")
-    fig.savefig(path, dpi=110)
+    if hasattr(estimate, "accel_bias"):
+        line(axes[3], estimate.accel_bias, color="C1")
+        axes[3].set_ylabel("accel bias (m/s²)")
+    else:
+        line(axes[3], run.vertical_acceleration, color="C1", lw=0.5)
+        axes[3].set_ylabel("vertical accel (m/s²)")
+    axes[3].set_xlabel(time_label)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -162,5 +272,5 @@ def plot_fit_landscape(result, path: str, title: Optional[str] = None) -> None:
     axes.set_title(title or "fit landscape")
     axes.legend(loc="upper left", fontsize=8)
     figure.tight_layout()
-    figure.savefig(path, dpi=110)
+    save_figure(figure, path, dpi=110)
     plt.close(figure)

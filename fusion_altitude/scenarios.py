@@ -21,7 +21,7 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from .metrics import ErrorStatistics, error_statistics
 from . import sim
 
-__all__ = ["PUBLISHED", "ScenarioResult", "scenario_names", "run_scenario", "describe"]
+__all__ = ["PUBLISHED", "PUBLISHED_SOURCE", "export_csv", "ScenarioResult", "ScenarioSpec", "scenario_names", "spec", "run_scenario", "describe"]
 
 #: Published figures of the Rust crate's examples (errors in m, after 5 s).
 #: ``clean``: ``with_fusion_ahrs``; ``realistic``: ``realistic_noise``.
@@ -29,6 +29,9 @@ PUBLISHED = {
     "clean": {"max": 0.105},
     "realistic": {"mean": 0.009, "rms": 0.036, "max": 0.15, "final_bias": 0.012 * GRAVITY},
 }
+#: Where :data:`PUBLISHED` comes from (its documentation states no version number).
+PUBLISHED_SOURCE = ("the Rust crate fusion-altitude (pre-1.0, the version its documentation describes; "
+                    "examples realistic_noise and with_fusion_ahrs)")
 
 
 @dataclass
@@ -116,7 +119,9 @@ class ScenarioResult:
 
 
 @dataclass
-class _Spec:
+class ScenarioSpec:
+    """How a scenario is built: description, trajectory, sensor models, preset, transient (s), faults."""
+
     description: str
     trajectory: Callable[[], sim.Trajectory]
     imu: sim.ImuModel
@@ -135,28 +140,28 @@ _REALISTIC_IMU = sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.0
                               mag_field=(1.0, 0.0, 0.0), mag_noise=0.05)
 
 
-def _specs() -> Dict[str, _Spec]:
+def _specs() -> Dict[str, ScenarioSpec]:
     return {
-        "realistic": _Spec(
+        "realistic": ScenarioSpec(
             "published realistic_noise: 60 s of h = 5 sin(2π·0.1·t) at 100 Hz, MEMS biases and noise, "
             "8 Hz prop-wash on the baro",
             lambda: sim.sinusoid(60.0, 100.0), _REALISTIC_IMU,
             sim.BaroModel(noise=0.10, prop_wash_amplitude=0.30, prop_wash_frequency=8.0)),
-        "clean": _Spec(
+        "clean": ScenarioSpec(
             "published with_fusion_ahrs: 30 s of h = 5 sin(2π·0.1·t) at 100 Hz, ideal IMU, "
             "baro = truth + 0.05 sin(0.41 i)",
             lambda: sim.sinusoid(30.0, 100.0), sim.ImuModel(),
             baro_override=lambda trajectory: trajectory.altitude + 0.05 * np.sin(0.41 * np.arange(len(trajectory)))),
-        "hover": _Spec(
+        "hover": ScenarioSpec(
             "60 s hover at 10 m, MEMS IMU, 50 Hz baro with noise, quantization and slow thermal drift",
             lambda: sim.hover(60.0, 100.0, 10.0), _REALISTIC_IMU,
             sim.BaroModel(rate=50.0, noise=0.10, quantization=0.02, drift_rate=0.002, drift_walk=0.01,
                           prop_wash_amplitude=0.2, prop_wash_frequency=8.0)),
-        "climb-cruise-descend": _Spec(
+        "climb-cruise-descend": ScenarioSpec(
             "120 s: climb at 3 m/s to 60 m, cruise, descend; fixed-wing gains, 25 Hz lagged baro",
             lambda: sim.climb_cruise_descend(120.0, 100.0), _REALISTIC_IMU,
             sim.BaroModel(rate=25.0, noise=0.2, lag=0.05, drift_rate=0.003), preset="fixed_wing", transient=20.0),
-        "takeoff-landing": _Spec(
+        "takeoff-landing": ScenarioSpec(
             "40 s VTOL hop to 5 m with rocking attitude, vibration, 50 Hz baro with prop-wash and glitches; "
             "rangefinder and GPS streams",
             lambda: sim.takeoff_landing(40.0, 200.0),
@@ -167,45 +172,45 @@ def _specs() -> Dict[str, _Spec]:
                           spike_probability=0.002, spike_magnitude=3.0, stuck_probability=0.0005,
                           stuck_duration=0.5, dropout_probability=0.01),
             rangefinder=sim.RangefinderModel(), gps=sim.GpsModel(satellites=(7, 14))),
-        "balloon": _Spec(
+        "balloon": ScenarioSpec(
             "weather balloon to 30 km at 5 m/s, 10 Hz IMU and 1 Hz baro; balloon gains",
             lambda: sim.balloon_ascent(10.0), _REALISTIC_IMU,
             sim.BaroModel(rate=1.0, noise=0.5, quantization=0.1, drift_walk=0.05),
             preset="balloon", transient=120.0, gps=sim.GpsModel(rate=1.0)),
-        "rocket": _Spec(
+        "rocket": ScenarioSpec(
             "sounding rocket: 15 g boost for 2.5 s (accel clips at ±16 g), coast to ≈1.1 km, drogue; 100 Hz baro",
             lambda: sim.rocket(60.0, 100.0),
             sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, accel_range=16.0,
                          gyro_noise=0.1, mag_noise=0.05),
             sim.BaroModel(noise=0.5, lag=0.02), preset="racing", transient=2.0),
         # -- issue 7: the estimator comparison's scenarios ------------------------------------------
-        "fixed-wing": _Spec(
+        "fixed-wing": ScenarioSpec(
             "180 s fixed wing: climb at 4 m/s to 100 m, cruise, descend; 25 Hz lagged drifting baro, 5 Hz GPS; "
             "fixed-wing gains",
             lambda: sim.climb_cruise_descend(180.0, 100.0, climb_rate=4.0, cruise_altitude=100.0), _REALISTIC_IMU,
             sim.BaroModel(rate=25.0, noise=0.25, lag=0.05, drift_rate=0.005, drift_walk=0.02),
             preset="fixed_wing", transient=20.0, gps=sim.GpsModel(jump_probability=0.0)),
-        "ground-effect": _Spec(
+        "ground-effect": ScenarioSpec(
             "40 s VTOL hop to 5 m: rotor ground effect makes the 50 Hz baro read up to 1.5 m low near the ground; "
             "rangefinder and GPS streams",
             lambda: sim.takeoff_landing(40.0, 100.0), _REALISTIC_IMU,
             sim.BaroModel(rate=50.0, noise=0.1, prop_wash_amplitude=0.2, prop_wash_frequency=8.0,
                           ground_effect_amplitude=1.5, ground_effect_height=0.7),
             rangefinder=sim.RangefinderModel(), gps=sim.GpsModel(jump_probability=0.0), fault_end=7.0),
-        "baro-glitches": _Spec(
+        "baro-glitches": ScenarioSpec(
             "60 s: climb at 1 m/s to a 5 m hover and back down; 50 Hz baro with spikes (1 %, 4 m), freezes, and an 8 m "
             "pressure glitch from 30 to 32 s; rangefinder",
             lambda: sim.climb_cruise_descend(60.0, 100.0, climb_rate=1.0, cruise_altitude=5.0), _REALISTIC_IMU,
             sim.BaroModel(rate=50.0, noise=0.1, spike_probability=0.01, spike_magnitude=4.0,
                           stuck_probability=0.002, stuck_duration=0.5),
             rangefinder=sim.RangefinderModel(), baro_fault=(30.0, 32.0, 8.0), fault_end=32.0),
-        "terrain-step": _Spec(
+        "terrain-step": ScenarioSpec(
             "60 s at 3 m over ground that rises 1 m at 20 s (a roof) and drops back at 40 s; 50 Hz baro, 20 Hz lidar",
             lambda: sim.climb_cruise_descend(60.0, 100.0, climb_rate=1.0, cruise_altitude=3.0), _REALISTIC_IMU,
             sim.BaroModel(rate=50.0, noise=0.15, prop_wash_amplitude=0.2, prop_wash_frequency=8.0),
             rangefinder=sim.RangefinderModel(terrain_steps=((20.0, 1.0), (40.0, -1.0)), dropout_probability=0.0),
             fault_end=40.0),
-        "gps-outage": _Spec(
+        "gps-outage": ScenarioSpec(
             "120 s at 30-50 m: 25 Hz baro drifting 3 cm/s, 5 Hz GPS with a 20 s outage from 50 to 70 s",
             lambda: sim.climb_cruise_descend(120.0, 100.0, climb_rate=2.0, cruise_altitude=40.0), _REALISTIC_IMU,
             sim.BaroModel(rate=25.0, noise=0.2, drift_rate=0.03, drift_walk=0.02),
@@ -220,10 +225,17 @@ def scenario_names() -> list:
 
 def describe(name: str) -> str:
     """One-line description of a scenario."""
-    return _spec(name).description
+    return spec(name).description
 
 
-def _spec(name: str) -> _Spec:
+def spec(name: str) -> ScenarioSpec:
+    """The :class:`ScenarioSpec` of a scenario.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``name`` (the message lists the scenarios).
+    """
     specs = _specs()
     if name not in specs:
         raise ValueError(f"unknown scenario {name!r}; choose one of {', '.join(specs)}")
@@ -243,7 +255,7 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     settings : AltitudeSettings, optional
         Observer gains; default the scenario's preset. When the baro is
         slower than the IMU they are scaled by the rate ratio
-        (:func:`fusion_altitude.logs.settings_for_baro_rate`) so the designed
+        (:func:`fusion_altitude.tuning.settings_for_baro_rate`) so the designed
         bandwidth holds.
     attitude : {"auto", "ahrs", "truth"}
         ``"ahrs"`` runs the IMU through imufusion (the ``[ahrs]`` extra);
@@ -254,7 +266,9 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     -------
     ScenarioResult
     """
-    spec = _spec(name)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+    scenario = spec(name)
     if attitude == "auto":
         try:
             import imufusion  # noqa: F401
@@ -264,30 +278,54 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     if attitude not in ("ahrs", "truth"):
         raise ValueError(f"attitude must be 'auto', 'ahrs' or 'truth'; got {attitude!r}")
     rng = np.random.default_rng(seed)
-    trajectory = spec.trajectory()
-    imu = sim.simulate_imu(trajectory, spec.imu, rng)
-    if spec.baro_override is not None:
-        value = spec.baro_override(trajectory)
+    trajectory = scenario.trajectory()
+    imu = sim.simulate_imu(trajectory, scenario.imu, rng)
+    if scenario.baro_override is not None:
+        value = scenario.baro_override(trajectory)
         from .sensors import altitude_to_pressure
         baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
     else:
-        baro = sim.simulate_baro(trajectory, spec.baro, rng)
-    if spec.baro_fault is not None:
-        start, end, offset = spec.baro_fault
+        baro = sim.simulate_baro(trajectory, scenario.baro, rng)
+    if scenario.baro_fault is not None:
+        start, end, offset = scenario.baro_fault
         baro.value = baro.value + np.where((baro.time >= start) & (baro.time < end), offset, 0.0)
-    rangefinder = sim.simulate_rangefinder(trajectory, spec.rangefinder, rng) if spec.rangefinder else None
-    gps = sim.simulate_gps(trajectory, spec.gps, rng)[0] if spec.gps else None
+    rangefinder = sim.simulate_rangefinder(trajectory, scenario.rangefinder, rng) if scenario.rangefinder else None
+    gps = sim.simulate_gps(trajectory, scenario.gps, rng)[0] if scenario.gps else None
     if attitude == "ahrs":
         accel = sim.ahrs_vertical_acceleration(imu)
     else:
         accel = sim.truth_vertical_acceleration(imu, trajectory)
     baro_altitude = sim.align_to(trajectory.time, baro)
-    from .logs import settings_for_baro_rate
+    from .tuning import settings_for_baro_rate, steps_per_baro
 
-    gains = settings if settings is not None else AltitudeSettings.preset(spec.preset)
-    steps_per_baro = len(trajectory) / max(int(np.sum(np.isfinite(baro_altitude))), 1)
-    estimator = AltitudeEstimator(settings_for_baro_rate(gains, steps_per_baro))
+    gains = settings if settings is not None else AltitudeSettings.preset(scenario.preset)
+    estimator = AltitudeEstimator(settings_for_baro_rate(gains, steps_per_baro(baro_altitude)))
     estimate = estimator.update_batch(accel, baro_altitude, trajectory.dt)
     return ScenarioResult(name, seed, trajectory, imu, baro, accel, baro_altitude, estimate,
-                          spec.imu.accel_bias[2] * GRAVITY, spec.transient, attitude, rangefinder, gps,
-                          spec.description, spec.fault_end)
+                          scenario.imu.accel_bias[2] * GRAVITY, scenario.transient, attitude, rangefinder, gps,
+                          scenario.description, scenario.fault_end)
+
+
+def export_csv(result: ScenarioResult, path: str) -> None:
+    """Write a scenario run as a log that ``fusion-altitude run`` reads, atomically.
+
+    Columns: ``time`` (s), ``vertical_acceleration`` (m/s², +up, gravity
+    removed), ``baro_altitude`` (m; empty on steps without a baro sample) and
+    ``true_altitude`` (m, the simulator's truth, for ``--reference``). Floats
+    are written at full precision (shortest round-trip repr).
+
+    Run it with ``fusion-altitude run PATH --time time --accel vertical_acceleration --baro baro_altitude
+    --reference true_altitude``.
+    """
+    from .runner import atomic_output
+
+    columns = (result.time, result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude)
+    table = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
+    with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:
+        stream.write("time,vertical_acceleration,baro_altitude,true_altitude\n")
+        for row in table.tolist():
+            stream.write(",".join("" if value != value else repr(value) for value in row) + "\n")
+
+
+#: Former private name of :func:`spec`, kept for one release.
+_spec = spec

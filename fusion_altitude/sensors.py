@@ -32,6 +32,8 @@ __all__ = [
     "ISA_TROPOPAUSE_ALTITUDE",
     "pressure_to_altitude",
     "altitude_to_pressure",
+    "isa_temperature",
+    "height_above_ground",
     "euler_to_quaternion",
     "quaternion_to_matrix",
     "quaternion_multiply",
@@ -49,8 +51,17 @@ ISA_LAPSE_RATE = 0.0065
 ISA_TROPOPAUSE_ALTITUDE = 11000.0
 #: Specific gas constant of dry air, J/(kg·K).
 _GAS_CONSTANT_AIR = 287.05287
-#: Exponent g / (R·L) of the troposphere formula (≈ 5.2559).
+#: Exponent g / (R·L) of the ISA troposphere formula (≈ 5.2559); other lapse rates use their own.
 _EXPONENT = GRAVITY / (_GAS_CONSTANT_AIR * ISA_LAPSE_RATE)
+
+
+def _check_atmosphere(sea_level_pa: float, sea_level_temperature_k: float, lapse_rate_k_per_m: float,
+                      names=("sea_level_pa", "sea_level_temperature_k", "lapse_rate_k_per_m")) -> None:
+    for name, value in zip(names, (sea_level_pa, sea_level_temperature_k)):
+        if not (np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a positive number, got {float(value):g}")
+    if not np.isfinite(lapse_rate_k_per_m):
+        raise ValueError(f"{names[2]} must be finite, got {float(lapse_rate_k_per_m):g}")
 
 
 def pressure_to_altitude(pressure_pa, sea_level_pa: float = ISA_SEA_LEVEL_PRESSURE,
@@ -58,7 +69,8 @@ def pressure_to_altitude(pressure_pa, sea_level_pa: float = ISA_SEA_LEVEL_PRESSU
                          lapse_rate_k_per_m: float = ISA_LAPSE_RATE) -> np.ndarray:
     """Barometric altitude from static pressure (ISA troposphere).
 
-    ``h = T0/L · (1 − (p/p0)^(R·L/g))``.
+    ``h = T0/L · (1 − (p/p0)^(R·L/g))`` (the exponent R·L/g follows the
+    lapse rate L; L = 0 gives the isothermal ``h = R·T0/g · ln(p0/p)``).
 
     Parameters
     ----------
@@ -88,11 +100,21 @@ def pressure_to_altitude(pressure_pa, sea_level_pa: float = ISA_SEA_LEVEL_PRESSU
     4.5 km at 30 km. It does not raise
     or clip; callers flying higher (balloons) should use a layered model.
     Non-positive pressures give NaN.
+
+    Raises
+    ------
+    ValueError
+        ``sea_level_pa`` or ``sea_level_temperature_k`` not a positive
+        number, or a non-finite lapse rate.
     """
+    _check_atmosphere(sea_level_pa, sea_level_temperature_k, lapse_rate_k_per_m)
     pressure = np.asarray(pressure_pa, dtype=float)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(pressure > 0, pressure / sea_level_pa, np.nan)
-        return sea_level_temperature_k / lapse_rate_k_per_m * (1.0 - np.power(ratio, 1.0 / _EXPONENT))
+        if lapse_rate_k_per_m == 0.0:
+            return _GAS_CONSTANT_AIR * sea_level_temperature_k / GRAVITY * -np.log(ratio)
+        exponent = _GAS_CONSTANT_AIR * lapse_rate_k_per_m / GRAVITY
+        return sea_level_temperature_k / lapse_rate_k_per_m * (1.0 - np.power(ratio, exponent))
 
 
 def altitude_to_pressure(altitude_m, sea_level_pa: float = ISA_SEA_LEVEL_PRESSURE,
@@ -120,11 +142,87 @@ def altitude_to_pressure(altitude_m, sea_level_pa: float = ISA_SEA_LEVEL_PRESSUR
     model as :func:`pressure_to_altitude`, so the round trip stays exact), and
     the pressure it gives is lower than the real atmosphere's. Altitudes at or
     above T0/L ≈ 44.3 km give NaN.
+
+    Raises
+    ------
+    ValueError
+        As :func:`pressure_to_altitude`.
     """
+    _check_atmosphere(sea_level_pa, sea_level_temperature_k, lapse_rate_k_per_m)
     altitude = np.asarray(altitude_m, dtype=float)
+    if lapse_rate_k_per_m == 0.0:
+        return sea_level_pa * np.exp(-GRAVITY * altitude / (_GAS_CONSTANT_AIR * sea_level_temperature_k))
+    exponent = GRAVITY / (_GAS_CONSTANT_AIR * lapse_rate_k_per_m)
     base = 1.0 - lapse_rate_k_per_m * altitude / sea_level_temperature_k
     with np.errstate(invalid="ignore"):
-        return np.where(base > 0, sea_level_pa * np.power(np.maximum(base, 0.0), _EXPONENT), np.nan)
+        return np.where(base > 0, sea_level_pa * np.power(np.maximum(base, 0.0), exponent), np.nan)
+
+
+def isa_temperature(altitude_m) -> np.ndarray:
+    """ISA (1976 U.S. Standard Atmosphere) air temperature in the troposphere, K.
+
+    ``T = 288.15 − 0.0065·h`` (h geopotential altitude, m, up to 11 km; the
+    isothermal 216.65 K above).
+    """
+    altitude = np.asarray(altitude_m, dtype=float)
+    return np.maximum(ISA_SEA_LEVEL_TEMPERATURE - ISA_LAPSE_RATE * altitude, 216.65)
+
+
+def height_above_ground(pressure_pa, ground_pressure_pa: float, ground_temperature_k=None,
+                        temperature_k=None, lapse_rate_k_per_m: float = ISA_LAPSE_RATE) -> np.ndarray:
+    """Height above the ground (pad) from pressure, with the ground's own temperature (hypsometric).
+
+    Setting ``sea_level_pa`` of :func:`pressure_to_altitude` to the pad's
+    pressure keeps the sea-level temperature 288.15 K, which scales heights
+    by T_pad/288.15 (≈ 3 % at a 1.3 km pad). This function starts the
+    atmosphere at the pad instead:
+
+    * with ``temperature_k`` (the air temperature on each sample, e.g. a
+      log's temperature column) the hypsometric equation with the mean
+      layer temperature: ``h = R·(T_ground + T)/2 / g · ln(p_ground/p)``;
+    * otherwise a layer whose temperature falls from ``T_ground`` with the
+      lapse rate: ``h = T_ground/L · (1 − (p/p_ground)^(R·L/g))``.
+
+    Parameters
+    ----------
+    pressure_pa : array_like
+        Static pressure, Pa. NaN passes through; non-positive gives NaN.
+    ground_pressure_pa : float
+        Pressure on the ground / pad, Pa (e.g. the median before launch).
+    ground_temperature_k : float, optional
+        Air temperature on the ground, K. Default: the ISA temperature at
+        the pressure altitude of ``ground_pressure_pa``.
+    temperature_k : array_like, optional
+        Air temperature on each sample, K (broadcast with ``pressure_pa``).
+    lapse_rate_k_per_m : float, default 0.0065
+        Lapse rate above the ground, K/m (without ``temperature_k``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Height above the ground, m, +up.
+
+    Raises
+    ------
+    ValueError
+        A ground pressure or temperature that is not a positive number, or
+        a temperature column with a non-positive value (naming its index).
+    """
+    if ground_temperature_k is None:
+        _check_atmosphere(ground_pressure_pa, 1.0, 0.0, names=("ground_pressure_pa", "", ""))
+        ground_temperature_k = float(isa_temperature(pressure_to_altitude(ground_pressure_pa)))
+    _check_atmosphere(ground_pressure_pa, ground_temperature_k, lapse_rate_k_per_m,
+                      names=("ground_pressure_pa", "ground_temperature_k", "lapse_rate_k_per_m"))
+    if temperature_k is None:
+        return pressure_to_altitude(pressure_pa, ground_pressure_pa, ground_temperature_k, lapse_rate_k_per_m)
+    temperature = np.asarray(temperature_k, dtype=float)
+    bad = np.flatnonzero(~(temperature.ravel() > 0) & np.isfinite(temperature.ravel()))
+    if bad.size:
+        raise ValueError(f"temperature_k[{int(bad[0])}] must be positive (K), got {float(temperature.ravel()[bad[0]]):g}")
+    pressure = np.asarray(pressure_pa, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(pressure > 0, ground_pressure_pa / pressure, np.nan)
+        return _GAS_CONSTANT_AIR * 0.5 * (ground_temperature_k + temperature) / GRAVITY * np.log(ratio)
 
 
 def euler_to_quaternion(roll, pitch, yaw) -> np.ndarray:

@@ -24,7 +24,7 @@ magnetometers arbitrary units. All altitudes are m, +up.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -54,6 +54,9 @@ __all__ = [
     "ahrs_vertical_acceleration",
     "truth_vertical_acceleration",
     "align_to",
+    "LogFaultModel",
+    "apply_log_faults",
+    "write_log_csv",
 ]
 
 
@@ -743,3 +746,118 @@ def align_to(target_time: np.ndarray, stream: SensorStream) -> np.ndarray:
     keep = index < target_time.size
     out[index[keep]] = stream.value[keep]
     return out
+
+
+# ----------------------------------------------------------------------------
+# Logging faults: what a recorder does to the samples (all streams at once)
+
+
+@dataclass
+class LogFaultModel:
+    """Faults of the *logger*, not of a sensor: applied to every column of a log at once.
+
+    Attributes
+    ----------
+    gap_start : float or None
+        Start of a logging gap, s (SD-card stall, brown-out): every row with
+        ``gap_start ≤ t < gap_start + gap_duration`` is lost. None = no gap.
+    gap_duration : float
+        Length of the gap, s.
+    repeat_probability : float
+        Per-row probability that a row is written with the previous row's
+        timestamp (a coarse or stalled logger clock); the values are kept.
+    timestamp_resolution : float
+        Written timestamps are truncated to this step, s (0 = exact); rows
+        faster than it share timestamps (e.g. 0.01 s for a 200 Hz log).
+    """
+
+    gap_start: Optional[float] = None
+    gap_duration: float = 2.0
+    repeat_probability: float = 0.0
+    timestamp_resolution: float = 0.0
+
+
+def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
+                     rng: Optional[np.random.Generator] = None):
+    """Apply :class:`LogFaultModel` to a log given as a time column and named columns.
+
+    Random draws (only if ``repeat_probability`` > 0): one uniform per row
+    left after the gap.
+
+    Parameters
+    ----------
+    time : array_like
+        Row times, s, increasing.
+    columns : dict of str → array_like
+        Columns with one entry (or row) per time.
+    model : LogFaultModel
+    rng : numpy.random.Generator, optional
+        Needed when ``repeat_probability`` > 0.
+
+    Returns
+    -------
+    time : numpy.ndarray
+        Written timestamps, s (non-decreasing: repeats are equal to the row
+        before, never smaller).
+    columns : dict of str → numpy.ndarray
+        The kept rows.
+    repeated : int
+        Number of rows whose timestamp equals the row before.
+
+    Raises
+    ------
+    ValueError
+        Bad model values (naming the field) or a column whose length is not
+        that of ``time`` (naming the column).
+    """
+    time = np.asarray(time, dtype=float)
+    if model.gap_duration < 0 or not np.isfinite(model.gap_duration):
+        raise ValueError(f"gap_duration must be a non-negative number of s, got {model.gap_duration}")
+    if not 0.0 <= model.repeat_probability <= 1.0:
+        raise ValueError(f"repeat_probability must be in [0, 1], got {model.repeat_probability}")
+    if model.timestamp_resolution < 0:
+        raise ValueError(f"timestamp_resolution must be ≥ 0 s, got {model.timestamp_resolution}")
+    columns = {name: np.asarray(values) for name, values in columns.items()}
+    for name, values in columns.items():
+        if values.shape[:1] != time.shape:
+            raise ValueError(f"column {name!r} has {values.shape[0] if values.ndim else 0} rows, time {time.size}")
+    keep = np.ones(time.shape, dtype=bool)
+    if model.gap_start is not None:
+        keep &= ~((time >= model.gap_start) & (time < model.gap_start + model.gap_duration))
+    time = time[keep]
+    columns = {name: values[keep] for name, values in columns.items()}
+    written = time.copy()
+    if model.timestamp_resolution > 0:
+        written = np.floor(written / model.timestamp_resolution + 1e-9) * model.timestamp_resolution
+    if model.repeat_probability > 0:
+        if rng is None:
+            raise ValueError("rng is needed when repeat_probability > 0")
+        repeat = rng.random(written.size) < model.repeat_probability
+        repeat[0] = False
+        for i in np.flatnonzero(repeat):
+            written[i] = written[i - 1]
+    repeated = int(np.sum(np.diff(written) == 0))
+    return written, columns, repeated
+
+
+def write_log_csv(path: str, time, columns: Dict[str, np.ndarray], time_column: str = "time") -> None:
+    """Write a log as a CSV (header row, full float64 precision; NaN written as an empty cell).
+
+    Parameters
+    ----------
+    path : str
+        Output file.
+    time : array_like
+        Row times, s.
+    columns : dict of str → array_like
+        Column name → one value per row.
+    time_column : str
+        Name of the time column.
+    """
+    names = [time_column] + list(columns)
+    table = np.column_stack([np.asarray(time, dtype=float)]
+                            + [np.asarray(values, dtype=float) for values in columns.values()])
+    with open(path, "w", newline="") as handle:
+        handle.write(",".join(names) + "\n")
+        for row in table:
+            handle.write(",".join("" if v != v else repr(float(v)) for v in row) + "\n")

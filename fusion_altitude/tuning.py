@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import List, NamedTuple, Optional, Sequence, Tuple
+from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -163,14 +163,17 @@ def _stable_at(settings: AltitudeSettings, dt_check: float) -> bool:
 
 def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float, float] = (0.05, 20.0),
         zetas: Sequence[float] = (0.5, 0.7, 1.0, 1.4), bias_ratios: Sequence[float] = (0.0, 0.05, 0.1, 0.2, 0.35),
-        refinements: int = 3, threads: Optional[int] = None) -> FitResult:
+        refinements: int = 3, threads: Optional[int] = None, steps_per_baro: float = 1.0,
+        stability_dt: Optional[float] = None,
+        progress: Optional[Callable[[int, int], None]] = None) -> FitResult:
     """Find the observer gains that best match a reference altitude.
 
     A coarse grid over ω (log-spaced in ``omega_range``, rad/s), ζ and
     ω_b = ratio·ω, then ``refinements`` rounds of a finer grid around the best
     point. Every candidate must pass Routh–Hurwitz and Jury's test at the
-    largest ``dt`` of the log; the metric is the RMS of altitude − reference
-    over ``mask``.
+    log's nominal period (``stability_dt``, default the median ``dt``, so a
+    logging gap does not rule out every useful gain); the metric is the RMS
+    of altitude − reference over ``mask``.
 
     Parameters
     ----------
@@ -180,34 +183,62 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
         Better altitude for (part of) the log, m; NaN where unknown.
     mask : array_like of bool, optional
         Samples that count, e.g. after the start-up transient.
+    omega_range : (float, float)
+        Lowest and highest ω searched, rad/s.
+    steps_per_baro : float, default 1
+        Grid steps per baro sample (:func:`steps_per_baro`): every candidate
+        and the default run with :func:`settings_for_baro_rate` applied, as
+        ``run`` and ``compare`` run them; the returned settings are the
+        designed (uncompensated) ones. Stability is checked for the designed
+        gains at ``stability_dt · steps_per_baro``.
+    stability_dt : float, optional
+        Period of the stability check, s; default the median of ``dt``.
+    progress : callable(done, total), optional
+        Called after each search round (coarse grid, refinements, default).
 
     Returns
     -------
     FitResult
+
+    Raises
+    ------
+    ValueError
+        A non-positive ``dt``, a bad ``omega_range``, or no stable candidate.
     """
     dt_values = np.asarray(dt, dtype=np.float64)
-    dt_check = float(np.max(dt_values)) if dt_values.size else 0.0
+    if stability_dt is None:
+        positive = dt_values[np.isfinite(dt_values) & (dt_values > 0)] if dt_values.ndim else dt_values.reshape(1)
+        stability_dt = float(np.median(positive)) if positive.size else 0.0
+    dt_check = float(stability_dt) * max(float(steps_per_baro), 1.0)
     if not math.isfinite(dt_check) or dt_check <= 0:
-        raise ValueError(f"dt must be finite and > 0 (s), got {dt_check!r}")
-    low, high = omega_range
+        raise ValueError(f"dt must be finite and > 0 (s), got {float(stability_dt)}")
+    low, high = (float(v) for v in omega_range)
     if not (0 < low < high and math.isfinite(high)):
-        raise ValueError(f"omega_range must be 0 < low < high, got {omega_range!r}")
+        raise ValueError(f"omega_range must be 0 < low < high, got ({low:g}, {high:g})")
     evaluated = {}
+    total = refinements + 2
+    done = [0]
+
+    def tick():
+        done[0] += 1
+        if progress is not None:
+            progress(done[0], total)
 
     def evaluate(candidates):
         fresh = [c for c in _stable_candidates(candidates, dt_check) if c[:3] not in evaluated]
-        if not fresh:
-            return
-        result = sweep(accel, baro_altitude, dt, np.array([c[3] for c in fresh]), reference=reference, mask=mask,
-                       threads=threads)
-        for candidate, rms in zip(fresh, result.rms_error):
-            # a candidate that overflowed float32 on this log (stable on paper, not in practice) ranks last
-            evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
+        if fresh:
+            gains = np.array([c[3] for c in fresh]) * max(float(steps_per_baro), 1.0)
+            result = sweep(accel, baro_altitude, dt, gains, reference=reference, mask=mask, threads=threads)
+            for candidate, rms in zip(fresh, result.rms_error):
+                # a candidate that overflowed float32 on this log (stable on paper, not in practice) ranks last
+                evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
+        tick()
 
     omegas = np.geomspace(low, high, 24)
     evaluate([(w, z, r * w) for w in omegas for z in zetas for r in bias_ratios])
     if not evaluated:
-        raise ValueError("no stable candidate at this dt: lower omega_range or sample faster")
+        raise ValueError(f"no stable candidate at the nominal period {dt_check:g} s: lower omega_range or sample "
+                         "faster")
     step = (high / low) ** (1 / 23)
     for _ in range(refinements):
         omega, zeta, omega_b = min(evaluated, key=evaluated.get)
@@ -218,7 +249,230 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
                   for z in (zeta * 0.8, zeta * 0.9, zeta, zeta * 1.1, zeta * 1.25) for r in ratios])
     ranked = sorted(evaluated.items(), key=lambda item: item[1])
     (omega, zeta, omega_b), best_rms = ranked[0]
-    default = sweep(accel, baro_altitude, dt, [AltitudeSettings()], reference=reference, mask=mask)
+    default = sweep(accel, baro_altitude, dt, [settings_for_baro_rate(AltitudeSettings(), steps_per_baro)],
+                    reference=reference, mask=mask)
+    tick()
     landscape = np.array([(*key, value) for key, value in ranked], dtype=_LANDSCAPE)
     return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
                      float(default.rms_error[0]), landscape)
+
+
+class HeldOutFit(NamedTuple):
+    """What :func:`fit_held_out` returns.
+
+    Attributes
+    ----------
+    fit : FitResult
+        The fit on the training part.
+    settings : AltitudeSettings
+        The gains to use: the fitted ones if they beat (or equal) the default
+        on the held-out part, else the default (VTOL) gains.
+    fitted_rms_error, default_rms_error : float
+        RMS altitude − reference on the held-out part, m, of the fitted and
+        the default gains (both baro-rate compensated).
+    generalises : bool
+        Whether the fitted gains won on the held-out part.
+    train_until : float
+        Time splitting training (before) and held-out (from) samples, s.
+    """
+
+    fit: FitResult
+    settings: AltitudeSettings
+    fitted_rms_error: float
+    default_rms_error: float
+    generalises: bool
+    train_until: float
+
+
+def fit_held_out(time, accel, baro_altitude, reference, train_until: float, skip: float = 0.0,
+                 **fit_options) -> HeldOutFit:
+    """Fit on the samples before ``train_until`` and score fitted vs default gains on the rest.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times, s, increasing.
+    accel, baro_altitude, reference : array_like
+        As for :func:`fit` (m/s², m, m).
+    train_until : float
+        Absolute time, s: samples before it (and after ``skip``) train, the
+        samples from it on are held out. The whole log is run in both cases
+        (the held-out part starts from the state the training part left).
+    skip : float, default 0
+        Seconds after the first sample left out of the training metric.
+    **fit_options
+        Passed to :func:`fit` (``omega_range``, ``steps_per_baro``, ``progress``...).
+
+    Returns
+    -------
+    HeldOutFit
+
+    Raises
+    ------
+    ValueError
+        No reference sample on one side of ``train_until``.
+    """
+    time = np.asarray(time, dtype=float)
+    reference = np.asarray(reference, dtype=float)
+    has_reference = np.isfinite(reference)
+    train = (time > time[0] + skip) & (time < train_until) & has_reference
+    held_out = (time >= train_until) & has_reference
+    if not train.any():
+        raise ValueError(f"train_until {train_until:g} s leaves no reference sample to train on")
+    if not held_out.any():
+        raise ValueError(f"train_until {train_until:g} s leaves no reference sample to hold out")
+    dt = _sample_periods(time)
+    result = fit(accel, baro_altitude, dt, reference, mask=train, **fit_options)
+    factor = max(float(fit_options.get("steps_per_baro", 1.0)), 1.0)
+    scores = sweep(accel, baro_altitude, dt, np.array([result.settings.as_tuple(), AltitudeSettings().as_tuple()])
+                   * factor, reference=reference, mask=held_out)
+    fitted_rms, default_rms = (float(v) for v in scores.rms_error)
+    generalises = bool(fitted_rms <= default_rms)
+    return HeldOutFit(result, result.settings if generalises else AltitudeSettings(), fitted_rms, default_rms,
+                      generalises, float(train_until))
+
+
+def _sample_periods(time: np.ndarray) -> np.ndarray:
+    dt = np.empty(time.size)
+    dt[1:] = np.diff(time)
+    dt[:1] = dt[1] if time.size > 1 else 0.01
+    return dt
+
+
+def steps_per_baro(baro_altitude) -> float:
+    """Grid steps per baro sample (≥ 1): samples / finite baro samples; 1 when there is no baro sample.
+
+    The one figure ``run``, ``fit`` and ``compare`` pass to :func:`settings_for_baro_rate`.
+    """
+    baro = np.asarray(baro_altitude, dtype=float)
+    count = int(np.count_nonzero(np.isfinite(baro)))
+    return max(baro.size / count, 1.0) if count else 1.0
+
+
+#: Shortest period :func:`report` accepts, s (its settling times simulate 600 s at this step in float64).
+MIN_REPORT_DT = 1e-4
+
+
+class TuneReport(NamedTuple):
+    """What :func:`report` returns: what a set of gains does at a sample period.
+
+    Attributes
+    ----------
+    settings : AltitudeSettings
+        The gains (1/s, 1/s², 1/s³).
+    dt : float
+        Sample period, s.
+    poles : list of (complex, float, complex)
+        Per pole: continuous pole s (rad/s), its time constant 1/|Re s| (s),
+        and the discrete pole z (at ``dt``) paired with it (the z nearest
+        exp(s·dt)).
+    step_settling, bias_settling : float
+        2 % settling time of the altitude after a baro step and of the bias
+        estimate after an accel-bias step, s (inf when bias estimation is off).
+    checks : list of (str, bool, str)
+        Named checks with their result and the figure checked.
+    noise_gain : float
+        Altitude noise sd per m of white baro noise per sample.
+    noise_bandwidth : float
+        Equivalent noise bandwidth of baro → altitude, Hz.
+    stable : bool
+        Routh–Hurwitz and Jury both pass.
+    """
+
+    settings: AltitudeSettings
+    dt: float
+    poles: list
+    step_settling: float
+    bias_settling: float
+    checks: list
+    noise_gain: float
+    noise_bandwidth: float
+    stable: bool
+
+
+def report(settings: AltitudeSettings, dt: float, omega: Optional[float] = None,
+           omega_b: Optional[float] = None) -> TuneReport:
+    """Poles, settling times, stability checks and noise bandwidth of ``settings`` at period ``dt``.
+
+    Parameters
+    ----------
+    settings : AltitudeSettings
+        The gains.
+    dt : float
+        Sample period, s, finite and >= :data:`MIN_REPORT_DT` (1e-4 s).
+    omega, omega_b : float, optional
+        The bandwidths the gains were built from (rad/s); with both, the
+        loop-separation check ω_b ≤ ω/5 is added.
+
+    Returns
+    -------
+    TuneReport
+
+    Raises
+    ------
+    ValueError
+        ``dt`` not finite or below :data:`MIN_REPORT_DT`.
+    """
+    import itertools
+    import warnings
+
+    from . import metrics
+
+    dt = float(dt)
+    if not (math.isfinite(dt) and dt >= MIN_REPORT_DT):
+        raise ValueError(f"dt must be finite and >= {MIN_REPORT_DT:g} s (the settling times simulate 600 s "
+                         f"step by step), got {dt:g}")
+    kh, kv, kb = settings.as_tuple()
+    s_poles = sorted(np.roots([1.0, kh, kv, kb]), key=lambda p: (abs(p), p.imag))
+    z_poles = list(metrics.discrete_poles(kh, kv, kb, dt))
+    targets = [np.exp(p * dt) for p in s_poles]
+    best = min(itertools.permutations(range(len(z_poles))),
+               key=lambda order: sum(abs(z_poles[j] - t) for j, t in zip(order, targets)))
+    poles = [(complex(s), 1.0 / abs(s.real) if s.real != 0 else math.inf, complex(z_poles[j]))
+             for s, j in zip(s_poles, best)]
+    largest = float(max(abs(z) for z in z_poles))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            settings.validate(dt)
+            jury = (True, f"max |z| = {largest:.6f} < 1")
+        except ValueError:
+            jury = (False, f"max |z| = {largest:.6f} >= 1: diverges at this rate")
+    fastest = float(max(abs(s) for s in s_poles))
+    checks = [("Routh-Hurwitz: Kh·Kv > Kb", kh * kv > kb, f"{kh * kv:.4g} > {kb:.4g}"),
+              ("Jury: discrete update stable at this dt", jury[0], jury[1]),
+              ("discretisation: ω·dt < 0.1 (fastest pole)", fastest * dt < 0.1, f"{fastest * dt:.4g}")]
+    if omega is not None and omega_b is not None:
+        checks.append(("loop separation: ω_b ≤ ω/5", omega_b <= omega / 5 * (1 + 1e-9),
+                       f"{omega_b:g} vs {omega / 5:g}"))
+    with np.errstate(over="ignore", invalid="ignore"):  # an unstable choice overflows: inf, not a warning
+        return TuneReport(settings, dt, poles, metrics.step_settling_time(kh, kv, kb, dt),
+                          metrics.bias_settling_time(kh, kv, kb, dt), checks, metrics.noise_gain(kh, kv, kb, dt),
+                          metrics.noise_bandwidth(kh, kv, kb, dt), bool(checks[0][1] and checks[1][1]))
+
+
+def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) -> AltitudeSettings:
+    """Gains that keep the designed bandwidth when baro samples arrive on only 1 of ``steps_per_baro`` steps.
+
+    The C core applies the baro correction ``K·r·dt`` with the dt of the step
+    that carries the baro sample; steps without baro only integrate. With the
+    baro at 1/N of the IMU rate the corrections are therefore N times too
+    small and every loop runs N times slower than designed (the balloon
+    scenario: 10 Hz IMU, 1 Hz baro). Multiplying all three gains by N makes
+    each correction ``K·r·(N·dt)``, the designed observer sampled at the baro
+    rate. ``steps_per_baro`` ≤ 1 returns ``settings`` unchanged.
+    """
+    if steps_per_baro <= 1.0:
+        return settings
+    kh, kv, kb = settings.as_tuple()
+    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro, **_other_fields(settings))
+
+
+def _other_fields(settings: AltitudeSettings) -> dict:
+    """Settings other than the three gains (the gap period, where the core has one), to carry over."""
+    return {"gap_period": settings.gap_period} if hasattr(settings, "gap_period") else {}
+
+
+def _bandwidth_of(settings: AltitudeSettings) -> float:
+    """Position-loop bandwidth ω (rad/s) of gains built with ζ = 0.7, ω_b = ω/5 (inverts Kh = 1.6·ω)."""
+    return settings.position_gain / 1.6

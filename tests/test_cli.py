@@ -158,3 +158,10 @@ def test_run_plot_writes_a_png(shared_data, tmp_path, capsys):
     path = tmp_path / "run.png"
     assert main(["run", str(shared_data / "px4_sample_log_small.ulg"), "--plot", str(path)]) == 0
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_python_m_runs_from_the_checkout_root_with_an_editable_install():
+    completed = subprocess.run([sys.executable, "-m", "fusion_altitude", "--version"],
+                               capture_output=True, text=True, cwd=ROOT)
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.strip() == f"fusion-altitude {fusion_altitude.__version__}"

@@ -54,3 +54,19 @@ def test_fit_without_a_reference_says_what_is_missing(capsys, tmp_path):
 def test_fit_needs_a_log_or_a_scenario(capsys):
     assert main(["fit"]) == 2
     assert "give a log FILE" in capsys.readouterr().err
+
+
+def test_fit_train_until_scores_fitted_and_default_gains_on_the_held_out_part(capsys, tmp_path):
+    log = csv_log(tmp_path / "log.csv")
+    assert main(["fit", str(log), "--time", "t", "--accel", "az", "--baro", "alt", "--reference", "rtk",
+                 "--train-until", "60%"]) == 0
+    output = capsys.readouterr().out
+    assert "held-out part (after the split)" in output
+    assert "generalise" in output or "keep the default" in output
+
+
+def test_fit_train_until_outside_the_log_is_a_one_line_error(capsys, tmp_path):
+    log = csv_log(tmp_path / "log.csv")
+    assert main(["fit", str(log), "--time", "t", "--accel", "az", "--baro", "alt", "--reference", "rtk",
+                 "--train-until", "500"]) == 2
+    assert "--train-until 500" in capsys.readouterr().err

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from fusion_altitude import compare
+from fusion_altitude import comparison as compare
 from fusion_altitude.cli import main
 
 

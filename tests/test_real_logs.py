@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fusion_altitude import logs
+from fusion_altitude import logs, runner
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -56,7 +56,7 @@ def test_px4_ulog_yields_baro_accel_and_ekf_reference(data_dir):
 
 
 def test_px4_fused_estimate_is_closer_to_the_ekf_than_raw_baro_is(data_dir):
-    run = logs.run_log(logs.read_ulog(str(data_dir / "px4_sample_log_small.ulg")))
+    run = runner.run_log(logs.read_ulog(str(data_dir / "px4_sample_log_small.ulg")))
     assert run.comparison().rms <= run.baro_comparison().rms
 
 
@@ -72,7 +72,7 @@ def test_clipped_samples_freeze_the_bias_estimate():
     time = np.arange(n) * 0.01
     clipped = (time > 5) & (time < 6)
     accel = np.where(clipped, 30.0, 0.2)
-    out = logs.run_observer(time, accel, np.zeros(n), clipped=clipped)
+    out = runner.run_observer(time, accel, np.zeros(n), clipped=clipped)
     inside = np.flatnonzero(clipped)
     assert out.accel_bias[inside[-1]] == out.accel_bias[inside[0] - 1]
 
@@ -81,8 +81,52 @@ def test_clipping_handling_reduces_error_on_the_simulated_rocket():
     from fusion_altitude.scenarios import run_scenario
     result = run_scenario("rocket", 0, attitude="truth")
     assert result.imu.clipped.any()
-    handled = logs.run_observer(result.time, result.vertical_acceleration, result.baro_altitude,
+    handled = runner.run_observer(result.time, result.vertical_acceleration, result.baro_altitude,
                                 clipped=result.imu.clipped)
-    ignored = logs.run_observer(result.time, result.vertical_acceleration, result.baro_altitude)
+    ignored = runner.run_observer(result.time, result.vertical_acceleration, result.baro_altitude)
     truth = result.trajectory.altitude
     assert np.sqrt(np.mean((handled.altitude - truth) ** 2)) < np.sqrt(np.mean((ignored.altitude - truth) ** 2))
+
+
+# --- the readers on the shared logs: what each real log yields -------------------------------
+
+def test_hedy_split_files_are_read_as_a_cats_rocket_log_from_the_baro_file(data_dir):
+    data = logs.load_log(str(data_dir / "hedy_baro.csv"))
+    assert (data.vehicle, data.altitude_reference, data.ground_altitude) == ("rocket", "pad", 0.0)
+    assert data.reference_name.startswith("CATS")
+
+
+def test_hedy_baro_apogee_is_about_5230_m_above_the_pad(data_dir):
+    data = logs.load_log(str(data_dir))
+    assert np.nanmax(data.baro_altitude) == pytest.approx(5230.0, rel=0.03)
+
+
+def test_hedy_through_the_reader_tracks_the_flight_computer_within_20_m_rms(data_dir):
+    from fusion_altitude import AltitudeSettings
+    data = logs.load_log(str(data_dir / "hedy_baro.csv"))
+    estimate = runner.run_observer(data.time, data.vertical_acceleration, data.baro_altitude,
+                                   AltitudeSettings.from_bandwidth(0.5), clipped=data.clipped)
+    flight = (data.time >= 0) & np.isfinite(data.reference_altitude)
+    difference = estimate.altitude[flight] - data.reference_altitude[flight]
+    assert np.sqrt(np.mean(difference ** 2)) < 20.0
+
+
+def test_px4_ulog_yields_gps_with_fix_pressure_temperature_and_arming(data_dir):
+    data = logs.load_log(str(data_dir / "px4_sample_log_small.ulg"))
+    assert np.isfinite(data.gps_altitude).sum() >= 30
+    assert np.nanmedian(data.pressure) == pytest.approx(100300.0, rel=0.01)
+    assert 250.0 < np.nanmedian(data.temperature) < 330.0
+    assert data.vehicle == "copter" and "armed" in set(data.flight_state)
+
+
+def test_px4_ulog_second_baro_instance_reads_sensor_baro(data_dir):
+    data = logs.load_log(str(data_dir / "px4_sample_log_small.ulg"), instance=1)
+    assert np.isfinite(data.baro_altitude).sum() >= 5
+    assert "sensor_baro instance 1" in " ".join(data.notes)
+
+
+def test_ardupilot_log_yields_gps_pressure_and_plane_hint(data_dir):
+    data = logs.load_log(str(data_dir / "ardupilot_test.BIN"))
+    assert data.vehicle == "plane"
+    assert np.isfinite(data.gps_altitude).sum() >= 4
+    assert np.nanmedian(data.pressure) == pytest.approx(94144.0, rel=0.01)

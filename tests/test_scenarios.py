@@ -90,3 +90,26 @@ def test_unknown_scenario_names_the_choices():
 
 def test_scenario_list_includes_the_published_ones():
     assert {"clean", "realistic"} <= set(scenario_names())
+
+
+def test_scenario_specs_are_public():
+    from fusion_altitude.scenarios import ScenarioSpec, spec
+
+    assert isinstance(spec("balloon"), ScenarioSpec) and spec("balloon").preset == "balloon"
+
+
+def test_a_negative_seed_is_refused_by_name():
+    from fusion_altitude.scenarios import run_scenario
+
+    with pytest.raises(ValueError, match="seed"):
+        run_scenario("clean", seed=-1)
+
+
+def test_export_csv_leaves_missing_baro_cells_empty(tmp_path):
+    from fusion_altitude.scenarios import export_csv, run_scenario
+
+    result = run_scenario("balloon", attitude="truth")  # 1 Hz baro on a 10 Hz grid
+    export_csv(result, str(tmp_path / "b.csv"))
+    lines = (tmp_path / "b.csv").read_text().splitlines()
+    assert lines[0] == "time,vertical_acceleration,baro_altitude,true_altitude"
+    assert sum(line.split(",")[2] == "" for line in lines[1:]) == int(np.isnan(result.baro_altitude).sum())

@@ -174,3 +174,85 @@ def test_gyro_attitude_integrates_a_constant_rate():
 def test_gyro_attitude_removes_the_given_bias():
     q = gyro_attitude(np.tile([5.0, -3.0, 2.0], (100, 1)), 0.01, [0.0, 0.0, 1.0], gyro_bias_dps=[5.0, -3.0, 2.0])
     np.testing.assert_allclose(q[-1], [1.0, 0.0, 0.0, 0.0], atol=1e-12)
+
+
+# --- atmosphere: 1976 U.S. Standard Atmosphere values, other lapse rates, hypsometric ----------
+
+# U.S. Standard Atmosphere 1976, geopotential altitude (m) → pressure (Pa), troposphere layer.
+US_STANDARD_ATMOSPHERE_1976 = [(-500.0, 107477.0), (0.0, 101325.0), (1000.0, 89874.6), (2000.0, 79495.2),
+                               (3000.0, 70108.5), (5000.0, 54019.9), (8000.0, 35599.8), (11000.0, 22632.1)]
+
+
+@pytest.mark.parametrize("altitude, pressure", US_STANDARD_ATMOSPHERE_1976)
+def test_pressure_to_altitude_matches_the_1976_standard_atmosphere_table(altitude, pressure):
+    assert pressure_to_altitude(pressure) == pytest.approx(altitude, abs=1.0)
+
+
+@pytest.mark.parametrize("altitude, pressure", US_STANDARD_ATMOSPHERE_1976)
+def test_altitude_to_pressure_matches_the_1976_standard_atmosphere_table(altitude, pressure):
+    assert altitude_to_pressure(altitude) == pytest.approx(pressure, rel=2e-5)
+
+
+def test_isa_temperature_matches_the_1976_table_at_5_km():
+    from fusion_altitude.sensors import isa_temperature
+    assert isa_temperature(5000.0) == pytest.approx(255.65)
+
+
+def _hydrostatic_altitude(pressure, p0, t0, lapse_rate, steps=200_000):
+    """Integrate dh/dp = −R·T(h)/(g·p) from p0 down to pressure with T = t0 − L·h (independent of the closed form)."""
+    pressures = np.linspace(p0, pressure, steps)
+    h = 0.0
+    for p_from, p_to in zip(pressures[:-1], pressures[1:]):
+        def slope(p, h_):
+            return -287.05287 * (t0 - lapse_rate * h_) / (9.80665 * p)
+        dp = p_to - p_from
+        k1 = slope(p_from, h)
+        k2 = slope(p_from + dp / 2, h + dp / 2 * k1)
+        k3 = slope(p_from + dp / 2, h + dp / 2 * k2)
+        k4 = slope(p_to, h + dp * k3)
+        h += dp / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return h
+
+
+def test_lapse_rate_other_than_isa_follows_the_hydrostatic_equation():
+    # 0.0098 K/m (dry adiabatic): the exponent must follow the lapse rate (issue: 1202 m instead of ~1794 m).
+    pressure = 81366.0
+    expected = _hydrostatic_altitude(pressure, 101325.0, 288.15, 0.0098, steps=20_000)
+    assert pressure_to_altitude(pressure, lapse_rate_k_per_m=0.0098) == pytest.approx(expected, abs=0.05)
+    assert expected == pytest.approx(1794.0, abs=2.0)
+
+
+def test_zero_lapse_rate_is_the_isothermal_atmosphere():
+    assert pressure_to_altitude(101325.0 / np.e, lapse_rate_k_per_m=0.0) == pytest.approx(
+        287.05287 * 288.15 / 9.80665)
+
+
+def test_altitude_to_pressure_with_another_lapse_rate_inverts_it():
+    assert pressure_to_altitude(altitude_to_pressure(1500.0, lapse_rate_k_per_m=0.0098),
+                                lapse_rate_k_per_m=0.0098) == pytest.approx(1500.0)
+
+
+def test_non_positive_sea_level_pressure_is_refused_by_name():
+    with pytest.raises(ValueError, match="sea_level_pa must be a positive number, got -5"):
+        pressure_to_altitude(100000.0, sea_level_pa=-5.0)
+
+
+def test_height_above_a_high_pad_uses_the_pads_temperature_not_288_k():
+    from fusion_altitude.sensors import height_above_ground
+    # Pad at 1300 m in the ISA atmosphere; 500 m above it the table pressure is that of 1800 m.
+    pad, above = altitude_to_pressure(1300.0), altitude_to_pressure(1800.0)
+    assert height_above_ground(above, pad) == pytest.approx(500.0, abs=0.01)
+    # The QFE shortcut (pad pressure as "sea level" at 288.15 K) is off by T_pad/288.15 ≈ 3 %.
+    assert pressure_to_altitude(above, sea_level_pa=pad) == pytest.approx(500.0 * 288.15 / 279.7, rel=1e-3)
+
+
+def test_height_above_ground_with_a_measured_ground_temperature():
+    from fusion_altitude.sensors import height_above_ground
+    pressure = 90000.0 * np.exp(-9.80665 * 200.0 / (287.05287 * 300.0))  # isothermal 300 K layer, 200 m
+    assert height_above_ground(pressure, 90000.0, 300.0, temperature_k=300.0) == pytest.approx(200.0, abs=1e-6)
+
+
+def test_height_above_ground_refuses_a_non_positive_temperature_by_index():
+    from fusion_altitude.sensors import height_above_ground
+    with pytest.raises(ValueError, match=r"temperature_k\[1\] must be positive"):
+        height_above_ground([90000.0, 89000.0], 90000.0, 290.0, temperature_k=[290.0, -3.0])

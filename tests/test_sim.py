@@ -169,3 +169,61 @@ def test_align_to_places_each_sample_on_the_first_step_at_or_after_it():
     grid = np.arange(10) * 0.01
     aligned = sim.align_to(grid, sim.SensorStream(np.array([0.0, 0.025, 0.05]), np.array([1.0, 2.0, 3.0])))
     np.testing.assert_array_equal(np.flatnonzero(np.isfinite(aligned)), [0, 3, 5])
+
+
+# --- logging faults ---------------------------------------------------------------------------
+
+def test_logging_gap_removes_every_row_inside_it():
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults
+    time = np.arange(0.0, 10.0, 0.01)
+    written, columns, _ = apply_log_faults(time, {"a": time}, LogFaultModel(gap_start=3.0, gap_duration=2.0))
+    assert not np.any((written >= 3.0) & (written < 5.0))
+    assert np.max(np.diff(written)) == pytest.approx(2.01)
+    np.testing.assert_array_equal(columns["a"], written)
+
+
+def test_repeated_timestamp_fault_repeats_the_previous_time_and_keeps_values():
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults
+    time = np.arange(0.0, 10.0, 0.01)
+    written, columns, repeated = apply_log_faults(time, {"a": time}, LogFaultModel(repeat_probability=0.1),
+                                                  np.random.default_rng(3))
+    assert repeated == int(np.sum(np.diff(written) == 0)) and 50 < repeated < 150
+    assert np.all(np.diff(written) >= 0)
+    np.testing.assert_array_equal(columns["a"], time)
+
+
+def test_coarse_timestamp_clock_makes_fast_rows_share_stamps():
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults
+    time = np.arange(0.0, 1.0, 0.005)
+    written, _, repeated = apply_log_faults(time, {}, LogFaultModel(timestamp_resolution=0.01))
+    assert repeated == 100
+
+
+def test_log_faults_are_deterministic_for_a_seed():
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults
+    time = np.arange(0.0, 5.0, 0.01)
+    model = LogFaultModel(repeat_probability=0.2)
+    first = apply_log_faults(time, {}, model, np.random.default_rng(7))[0]
+    second = apply_log_faults(time, {}, model, np.random.default_rng(7))[0]
+    np.testing.assert_array_equal(first, second)
+
+
+def test_log_fault_column_of_wrong_length_is_named():
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults
+    with pytest.raises(ValueError, match="column 'baro' has 3 rows, time 5"):
+        apply_log_faults(np.arange(5.0), {"baro": np.zeros(3)}, LogFaultModel())
+
+
+def test_simulated_log_with_faults_reads_back_with_gap_and_repeats_counted(tmp_path):
+    from fusion_altitude import logs
+    from fusion_altitude.sim import LogFaultModel, apply_log_faults, write_log_csv
+    time = np.arange(0.0, 20.0, 0.01)
+    columns = {"accel": np.zeros(time.size), "baro": np.where(np.arange(time.size) % 5 == 0, 1.0, np.nan)}
+    written, columns, repeated = apply_log_faults(
+        time, columns, LogFaultModel(gap_start=8.0, gap_duration=2.0, repeat_probability=0.05),
+        np.random.default_rng(1))
+    write_log_csv(str(tmp_path / "sim.csv"), written, columns)
+    with pytest.warns(logs.LogWarning):
+        data = logs.read_csv_log(str(tmp_path / "sim.csv"), "time", "accel", "baro")
+    assert data.repeated_timestamps == repeated
+    assert data.gap_count == 1

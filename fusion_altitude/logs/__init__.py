@@ -1,0 +1,168 @@
+"""Recorded logs: one reader module per format, all returning :class:`LogData`.
+
+Every reader returns a :class:`LogData` on one time grid (the accelerometer's
+timestamps, possibly irregular): the observer's vertical-acceleration input
+(m/s², +up, gravity removed), the baro altitude (m; NaN on steps without a new
+baro sample), when the log has them the flight computer's own height estimate
+as a reference, GPS, rangefinder, raw IMU, pressure, temperature and flight
+state (see :class:`LogData` for units and datums).
+:func:`fusion_altitude.runner.run_log` runs an estimator on it.
+
+Formats (:data:`FORMATS`, tried by :func:`sniff_format` in this order)
+----------------------------------------------------------------------
+* ``ulog`` — PX4 ULog, :func:`read_ulog` (``[logs]`` extra): by the file's
+  magic bytes or ``.ulg``.
+* ``dataflash`` — ArduPilot DataFlash, :func:`read_dataflash` (``[logs]``
+  extra), every generation (``TimeUS`` and ArduCopter ≤ 3.3's ``TimeMS``):
+  by its message header bytes or ``.bin``.
+* ``altos`` — AltOS CSV, :func:`read_altos_csv`: by its ``#version,serial,
+  flight,…`` header; no column options.
+* ``cats`` — CATS split CSVs, :func:`read_cats`: ``*baro.csv`` /
+  ``*imu.csv`` / ``*flight_info.csv`` (with a ``ts`` column) or a
+  directory holding them.
+* ``csv`` — anything else: :func:`read_csv_log`, the caller names columns.
+
+Repeated timestamps are merged (numeric columns averaged) and counted in
+``LogData.repeated_timestamps`` and a warning; logging gaps are listed in
+``LogData.gaps``; time that goes backwards is an error.
+
+Bad input raises :class:`LogError`: one line naming the file, the line (or
+message) and the column. Readers never raise anything else on a bad file.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Callable, Dict, Optional
+
+from ._data import LogData, LogError, LogWarning, find_gaps, merge_repeated_timestamps
+from .altos import looks_like_altos, read_altos_csv
+from .cats import find_cats_files, looks_like_cats, read_cats
+from .dataflash import DATAFLASH_MAGIC, read_dataflash
+from .generic_csv import read_csv_log
+from .ulog import ULOG_MAGIC, read_ulog
+
+__all__ = ["LogError", "LogWarning", "LogData", "Format", "FORMATS", "read_csv_log", "read_ulog",
+           "read_dataflash", "read_altos_csv", "read_cats", "find_cats_files", "sniff_format", "load_log",
+           "find_gaps", "merge_repeated_timestamps"]
+
+
+@dataclass(frozen=True)
+class Format:
+    """One log format of the registry.
+
+    Attributes
+    ----------
+    name : str
+        Short name (``load_log(format=…)``).
+    description : str
+        For messages and ``--help``.
+    extensions : tuple of str
+        Lower-case file extensions that select it when the content does not.
+    sniff : callable(path, head_bytes) -> bool
+        True if the file's first bytes (≤ 4 kB) are this format.
+    read : callable
+        The reader; called as ``read(path, **options)``.
+    needs_columns : bool
+        True if the caller must name the columns (generic CSV).
+    """
+
+    name: str
+    description: str
+    extensions: tuple
+    sniff: Callable[[str, bytes], bool]
+    read: Callable[..., LogData]
+    needs_columns: bool = False
+
+
+def _text(head: bytes) -> str:
+    return head.decode("utf-8-sig", errors="replace")
+
+
+FORMATS: Dict[str, Format] = {f.name: f for f in (
+    Format("ulog", "PX4 ULog", (".ulg",), lambda path, head: head.startswith(ULOG_MAGIC), read_ulog),
+    Format("dataflash", "ArduPilot DataFlash", (".bin",),
+           lambda path, head: head[:2] == DATAFLASH_MAGIC and len(head) > 2 and head[2] == 128, read_dataflash),
+    Format("altos", "AltOS CSV", (), lambda path, head: looks_like_altos(_text(head)), read_altos_csv),
+    Format("cats", "CATS CSV set", (), lambda path, head: looks_like_cats(path, _text(head)), read_cats),
+    Format("csv", "CSV (columns named by the caller)", (".csv", ".txt"), lambda path, head: True, read_csv_log,
+           needs_columns=True),
+)}
+
+
+def sniff_format(path: str) -> str:
+    """The name of the format of ``path`` (a key of :data:`FORMATS`), by content first, then extension.
+
+    A directory is a CATS set. Raises :class:`LogError` if the path does not exist.
+    """
+    if os.path.isdir(path):
+        find_cats_files(path)
+        return "cats"
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except OSError as error:
+        raise LogError(f"cannot open {path}: {error.strerror}") from None
+    for name in ("ulog", "dataflash", "altos", "cats"):
+        if FORMATS[name].sniff(path, head):
+            return name
+    suffix = os.path.splitext(path)[1].lower()
+    for format_ in FORMATS.values():
+        if suffix in format_.extensions:
+            return format_.name
+    return "csv"
+
+
+def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = None,
+             progress: Optional[Callable[[int, int], None]] = None, **options) -> LogData:
+    """Read a log of any known format.
+
+    Parameters
+    ----------
+    path : str
+        A log file, or a directory holding a CATS set.
+    format : str, optional
+        Force a format (a key of :data:`FORMATS`); default :func:`sniff_format`.
+    instance : int, optional
+        Sensor instance for formats with several (DataFlash, ULog, CATS);
+        default the primary.
+    progress : callable(done, total), optional
+        Called while reading.
+    **options
+        Passed to the reader: the column options of :func:`read_csv_log` for
+        generic CSV; ``ground_temperature_k`` for AltOS / CATS / CSV.
+        Options a format does not take are an error (LogError naming them).
+
+    Raises
+    ------
+    LogError
+        Missing file, unknown format, unreadable or inconsistent content.
+    """
+    if not os.path.exists(path):
+        raise LogError(f"{path}: no such file")
+    name = format or sniff_format(path)
+    if name not in FORMATS:
+        raise LogError(f"unknown log format {name!r}; known: {', '.join(FORMATS)}")
+    options = {key: value for key, value in options.items() if value is not None}
+    if instance is not None:
+        if name in ("altos", "csv"):
+            raise LogError(f"{path}: a {FORMATS[name].description} has one sensor instance; instance not supported")
+        options["instance"] = instance
+    if name == "csv":
+        import inspect
+        known = set(inspect.signature(read_csv_log).parameters) - {"path", "progress"}
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise LogError(f"unknown CSV option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
+        if "time_column" not in options:
+            raise LogError(f"{path}: not a ULog, DataFlash, AltOS or CATS log; as a generic CSV it needs its "
+                           f"columns named (time_column, accel_column, baro_column or pressure_column)")
+    accepted = {"ulog": {"instance"}, "dataflash": {"instance"}, "altos": {"ground_temperature_k"},
+                "cats": {"instance", "ground_temperature_k", "accel_range"}}
+    if name in accepted:
+        extra = sorted(set(options) - accepted[name])
+        if extra:
+            raise LogError(f"{path} is a {FORMATS[name].description}, which takes no {', '.join(extra)} option"
+                           f"{'s' if len(extra) > 1 else ''} (its columns are known)")
+    return FORMATS[name].read(path, progress=progress, **options)

@@ -1,0 +1,302 @@
+"""The common shape of every log: :class:`LogData` on one time grid, :class:`LogError`, grid helpers."""
+
+from __future__ import annotations
+
+import sys
+import warnings
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+
+class LogError(ValueError):
+    """A log cannot be read or used; the one-line message names the file, the line or message, and the column.
+
+    Line breaks in the message (e.g. from a third-party parser's error) are
+    folded into spaces, so the message is always one line.
+    """
+
+    def __init__(self, message: str = ""):
+        super().__init__(" ".join(str(message).split()))
+
+
+class LogWarning(UserWarning):
+    """A log was read but something in it deserves a look (repeated timestamps, gaps, odd units)."""
+
+
+#: A step longer than this many median steps counts as a logging gap ...
+GAP_FACTOR = 10.0
+#: ... and never one shorter than this, s.
+GAP_MIN_SECONDS = 0.1
+
+
+@dataclass
+class LogData:
+    """A log on the observer's time grid.
+
+    Every array field has one entry per grid step (the accelerometer's
+    timestamps, possibly irregular). Sensors slower than the grid are placed
+    on the first grid step at or after their own timestamp and are NaN on
+    the other steps ("NaN = no new sample on this step"). Optional fields are
+    ``None`` when the log does not have that quantity.
+
+    Attributes
+    ----------
+    source : str
+        File name and format, e.g. ``"flight.csv (AltOS CSV)"``.
+    time : numpy.ndarray
+        Sample times, s, strictly increasing (irregular allowed). Logs with
+        their own epoch (AltOS, CATS: 0 = launch, negative on the pad; CSVs:
+        as written) keep it; ULog and DataFlash start at 0.
+    vertical_acceleration : numpy.ndarray
+        Observer input, m/s², earth frame, +up, gravity removed.
+    baro_altitude : numpy.ndarray
+        Baro altitude, m, +up, datum given by ``altitude_reference``; NaN on
+        steps without a new baro sample.
+    reference_altitude, reference_velocity : numpy.ndarray or None
+        The flight computer's / autopilot's own height (m, **same datum as
+        ``baro_altitude``**) and vertical velocity (m/s, +up), if the log has
+        them. NaN where unknown.
+    reference_name : str
+        Where the reference came from.
+    clipped : numpy.ndarray of bool or None
+        True on samples where the accelerometer was at its range limit.
+    notes : list of str
+        What the reader chose (topics, instances, columns), for the report.
+    gps_altitude : numpy.ndarray or None
+        GPS altitude above mean sea level, m; NaN between fixes and whenever
+        the receiver has no 3D fix (fix status respected).
+    gps_accuracy : numpy.ndarray or None
+        Vertical 1σ accuracy of ``gps_altitude``, m, as the receiver reports
+        it; NaN unknown.
+    gps_satellites : numpy.ndarray or None
+        Satellites used in the fix (float; NaN unknown), on GPS steps.
+    rangefinder : numpy.ndarray or None
+        Distance to the ground, m (rangefinder / lidar / sonar, as logged);
+        NaN on steps without a valid reading.
+    accel : numpy.ndarray or None, shape (N, 3)
+        Raw accelerometer, specific force, m/s², body frame ``imu_frame``
+        (a level vehicle at rest reads −9.81 on the "down" axis of an FRD
+        frame, +9.81 on the "up" axis of an FLU frame).
+    gyro : numpy.ndarray or None, shape (N, 3)
+        Raw gyroscope, rad/s, body frame ``imu_frame`` (right-handed).
+    imu_frame : str
+        Axes of ``accel``/``gyro``: ``"FRD"`` (x forward, y right, z down;
+        PX4, ArduPilot, CSV with ``frame="NED"``), ``"FLU"`` (x forward,
+        y left, z up; CSV ``"NWU"``), ``"RFU"`` (x right, y forward, z up;
+        CSV ``"ENU"``), ``"sensor"``
+        (the board's own axes, unknown mounting: AltOS, CATS), or ``""``
+        when there is no raw IMU.
+    pressure : numpy.ndarray or None
+        Static pressure, Pa, on baro steps (NaN elsewhere).
+    temperature : numpy.ndarray or None
+        Temperature the log reports with the baro, K (often the board's
+        temperature, not the air's), on baro steps (NaN elsewhere).
+    flight_state : numpy.ndarray of str or None
+        The flight computer's own flight state on every step (the latest one
+        logged at or before it), e.g. AltOS ``state_name`` (``"pad"``,
+        ``"boost"``, ``"coast"``, ``"drogue"``, ``"main"``, ``"landed"``) or
+        ArduPilot/PX4 ``"armed"``/``"disarmed"`` where known.
+    vehicle : str
+        Hint of the kind of vehicle: ``"rocket"`` (AltOS, CATS), ``"copter"``,
+        ``"plane"``, ``"rover"`` or ``""`` unknown.
+    altitude_reference : str
+        Datum of ``baro_altitude`` and ``reference_altitude``:
+        ``"sea level"`` (pressure altitude, ISA or the flight computer's own
+        table), ``"pad"`` (0 at the launch pad / start of the log) or ``""``
+        (an arbitrary datum, e.g. an autopilot's own origin).
+    ground_altitude : float or None
+        Altitude of the ground / launch pad in that datum, m, when the log
+        states it (AltOS ``altitude − height``; 0 for ``"pad"``); subtract it
+        for height above the pad.
+    repeated_timestamps : int
+        Rows that shared a timestamp with the row before and were merged
+        into it (see :func:`merge_repeated_timestamps`); 0 if none.
+    gaps : list of (float, float)
+        Logging gaps, as (time of the last sample before the gap s, gap
+        length s): grid steps longer than ``GAP_FACTOR`` (10) median steps
+        and at least ``GAP_MIN_SECONDS`` (0.1 s).
+    warnings : list of str
+        One line per thing the reader noticed but accepted (repeated
+        timestamps, gaps, pressure values out of range); each is also issued
+        as a :class:`LogWarning`.
+    """
+
+    source: str
+    time: np.ndarray
+    vertical_acceleration: np.ndarray
+    baro_altitude: np.ndarray
+    reference_altitude: Optional[np.ndarray] = None
+    reference_velocity: Optional[np.ndarray] = None
+    reference_name: str = ""
+    clipped: Optional[np.ndarray] = None
+    notes: List[str] = field(default_factory=list)
+    gps_altitude: Optional[np.ndarray] = None
+    gps_accuracy: Optional[np.ndarray] = None
+    gps_satellites: Optional[np.ndarray] = None
+    rangefinder: Optional[np.ndarray] = None
+    accel: Optional[np.ndarray] = None
+    gyro: Optional[np.ndarray] = None
+    imu_frame: str = ""
+    pressure: Optional[np.ndarray] = None
+    temperature: Optional[np.ndarray] = None
+    flight_state: Optional[np.ndarray] = None
+    vehicle: str = ""
+    altitude_reference: str = ""
+    ground_altitude: Optional[float] = None
+    repeated_timestamps: int = 0
+    gaps: List[Tuple[float, float]] = field(default_factory=list)
+    warnings: List[str] = field(default_factory=list)
+
+    @property
+    def gap_count(self) -> int:
+        """Number of logging gaps (``len(gaps)``)."""
+        return len(self.gaps)
+
+    def warn(self, message: str) -> None:
+        """Record a reader warning in ``warnings`` and issue it as a :class:`LogWarning`."""
+        self.warnings.append(message)
+        frame, level = sys._getframe(1), 2  # point the warning at the first caller outside the readers
+        while frame is not None and frame.f_globals.get("__name__", "").startswith("fusion_altitude.logs"):
+            frame, level = frame.f_back, level + 1
+        warnings.warn(message, LogWarning, stacklevel=level)
+
+
+def _fmt(value: float) -> str:
+    """A number for a message: plain Python formatting, never a numpy repr."""
+    return f"{float(value):.6g}"
+
+
+def find_gaps(time: np.ndarray) -> List[Tuple[float, float]]:
+    """Logging gaps of a grid: (start s, length s) of steps > max(10 × median step, 0.1 s)."""
+    time = np.asarray(time, dtype=float)
+    if time.size < 3:
+        return []
+    dt = np.diff(time)
+    limit = max(GAP_FACTOR * float(np.median(dt)), GAP_MIN_SECONDS)
+    index = np.flatnonzero(dt > limit)
+    return [(float(time[i]), float(dt[i])) for i in index]
+
+
+def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
+                              lines: Optional[np.ndarray] = None, time_name: str = "time", row_word: str = "line"):
+    """Merge rows that share a timestamp; refuse time that goes backwards.
+
+    Rule: consecutive rows with the same time become one sample. A numeric
+    column takes the **mean of its finite values** in the group (NaN if it
+    has none); any other column (e.g. a state name) takes the **last** row's
+    value.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Row times, s.
+    columns : dict of str → numpy.ndarray
+        Per-row columns (first axis = rows).
+    source : str
+        File name, for messages.
+    lines : numpy.ndarray of int, optional
+        File line of every row, for messages (default: row index + 2).
+    time_name : str
+        Time column's name, for messages.
+    row_word : str
+        What ``lines`` count, for messages ("line", "IMU message").
+
+    Returns
+    -------
+    time, columns, repeated : numpy.ndarray, dict, int
+        The merged grid and columns and the number of rows merged away.
+
+    Raises
+    ------
+    LogError
+        Time decreases (naming the file line and both times) or is not finite.
+    """
+    time = np.asarray(time, dtype=float)
+    if lines is None:
+        lines = np.arange(time.size) + 2
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
+                       f"time must be a finite number")
+    dt = np.diff(time)
+    back = np.flatnonzero(dt < 0)
+    if back.size:
+        i = back[0]
+        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
+                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
+    same = dt == 0
+    repeated = int(same.sum())
+    if not repeated:
+        return time, columns, 0
+    starts = np.flatnonzero(np.concatenate([[True], ~same]))
+    ends = np.concatenate([starts[1:], [time.size]]) - 1
+    merged = {}
+    for name, values in columns.items():
+        values = np.asarray(values)
+        if values.dtype.kind == "f":
+            finite = np.isfinite(values)
+            total = np.add.reduceat(np.where(finite, values, 0.0), starts, axis=0)
+            count = np.add.reduceat(finite.astype(float), starts, axis=0)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                merged[name] = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+        elif values.dtype.kind == "b":
+            merged[name] = np.logical_or.reduceat(values, starts, axis=0)
+        else:
+            merged[name] = values[ends]
+    return time[starts], merged, repeated
+
+
+def finish(data: LogData) -> LogData:
+    """Common last step of every reader: check the grid, find gaps and warn about them and repeats."""
+    _check_grid(data.time, data.source)
+    if data.repeated_timestamps:
+        data.warn(f"{data.source}: {data.repeated_timestamps} rows repeated the timestamp of the row before; "
+                  f"merged (numeric columns averaged, states: last)")
+    data.gaps = find_gaps(data.time)
+    if data.gaps:
+        longest = max(length for _, length in data.gaps)
+        first = data.gaps[0]
+        data.warn(f"{data.source}: {len(data.gaps)} logging gap(s), the longest {_fmt(longest)} s "
+                  f"(first at {_fmt(first[0])} s, {_fmt(first[1])} s long)")
+    return data
+
+
+def _align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Each source sample on the first target step at or after it; NaN on other steps (newest wins)."""
+    values = np.asarray(values, dtype=float)
+    out = np.full(target_time.shape + values.shape[1:], np.nan)
+    index = np.searchsorted(target_time, source_time, side="left")
+    finite = np.isfinite(values) if values.ndim == 1 else np.all(np.isfinite(values), axis=1)
+    keep = (index < target_time.size) & finite
+    out[index[keep]] = values[keep]
+    return out
+
+
+def _previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """The latest source sample at or before each target time (the first one before it starts)."""
+    index = np.clip(np.searchsorted(source_time, target_time, side="right") - 1, 0, source_time.size - 1)
+    return values[index]
+
+
+def _reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
+    altitude = np.interp(time, ref_time, ref_altitude, left=np.nan, right=np.nan)
+    velocity = np.interp(time, ref_time, ref_velocity, left=np.nan, right=np.nan)
+    both = np.isfinite(altitude) & np.isfinite(baro_altitude)
+    early = both & (time <= time[both][0] + 2.0) if both.any() else both
+    if early.any():
+        altitude = altitude + float(np.median(baro_altitude[early] - altitude[early]))
+    return altitude, velocity
+
+
+def _check_grid(time: np.ndarray, source: str) -> None:
+    time = np.asarray(time, dtype=float)
+    if time.size < 2:
+        raise LogError(f"{source}: need at least 2 samples, got {time.size}")
+    if not np.all(np.isfinite(time)):
+        raise LogError(f"{source}: sample {int(np.flatnonzero(~np.isfinite(time))[0])}: time is not finite")
+    bad = np.flatnonzero(~(np.diff(time) > 0))
+    if bad.size:
+        raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
+                       f"({_fmt(time[bad[0] + 1])} s) follows {_fmt(time[bad[0]])} s")

@@ -1,0 +1,236 @@
+"""Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS).
+
+The fast path hands the numeric columns a reader needs to numpy's C parser
+(:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a progress callback
+can follow. Only if that parser refuses the text does a slow pure-Python
+pass run, to find the first bad line and name it — or to accept what the
+fast path cannot (``NA`` cells, spaces around empty cells).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass
+from typing import Callable, Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ._data import LogError
+
+#: Cells that mean "no value" (case-insensitive, after stripping spaces).
+MISSING = ("", "nan", "na", "n/a", "null", "none", "-")
+#: Characters of text per fast-parser chunk (progress granularity).
+_CHUNK_CHARS = 4_000_000
+
+
+def read_text(path: str, what: str = "CSV log") -> str:
+    """The whole file as text: UTF-8 (a BOM is dropped), newlines normalised; LogError if unreadable."""
+    if os.path.isdir(path):
+        raise LogError(f"{path}: is a directory, not a {what}")
+    try:
+        with open(path, "rb") as handle:
+            raw = handle.read()
+    except OSError as error:
+        raise LogError(f"cannot open {path}: {error.strerror}") from None
+    if b"\x00" in raw[:4096]:
+        raise LogError(f"{path}: binary data, not a {what} (NUL bytes in the first 4 kB)")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = raw[:error.start].count(b"\n") + 1
+        try:
+            text = raw.decode("latin-1")  # accept legacy encodings for names; numbers are ASCII anyway
+        except UnicodeDecodeError:  # pragma: no cover - latin-1 decodes every byte
+            raise LogError(f"{path}: line {line}: not UTF-8 text") from None
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    return text
+
+
+@dataclass
+class Table:
+    """A CSV file split into its header and its body.
+
+    Attributes
+    ----------
+    path : str
+        File path, for messages.
+    header : list of str
+        Column names (stripped; a leading ``#`` of the header line removed).
+    body : str
+        The data lines, ``\\n``-separated.
+    first_line : int
+        File line number (1-based) of the body's first line.
+    """
+
+    path: str
+    header: List[str]
+    body: str
+    first_line: int
+
+    def index(self, name: str, occurrence: int = 0) -> int:
+        """Position of column ``name`` (its ``occurrence``-th copy); LogError listing the columns if absent."""
+        positions = [i for i, column in enumerate(self.header) if column == name]
+        if len(positions) <= occurrence:
+            raise LogError(f"{self.path}: column {name!r} not found; columns are {', '.join(self.header)}")
+        return positions[occurrence]
+
+    def has(self, name: str) -> bool:
+        return name in self.header
+
+
+def split_header(path: str, text: str, header_prefix: str = "") -> Table:
+    """The first non-empty line is the header (after ``header_prefix``, e.g. ``#``)."""
+    position, line = 0, 1
+    while True:
+        end = text.find("\n", position)
+        end = len(text) if end < 0 else end
+        if text[position:end].strip():
+            break
+        if end >= len(text):
+            raise LogError(f"{path}: empty file (no header line)")
+        position, line = end + 1, line + 1
+    header_line = text[position:end].strip()
+    if header_prefix and header_line.startswith(header_prefix):
+        header_line = header_line[len(header_prefix):]
+    header = [name.strip().strip('"').strip() for name in next(csv.reader([header_line]))]
+    return Table(path, header, text[end + 1:], line + 1)
+
+
+def _row_lines(table: Table) -> np.ndarray:
+    """File line of every non-blank body line (the rows numpy returns, in order)."""
+    lines = np.array([i for i, line in enumerate(table.body.split("\n")) if line.strip()], dtype=np.int64)
+    return lines + table.first_line
+
+
+def _fast(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+    body = table.body
+    total = len(body)
+    parts = []
+    start = 0
+    while start < total:
+        stop = body.find("\n", min(start + _CHUNK_CHARS, total))
+        stop = total if stop < 0 else stop + 1
+        chunk = body[start:stop]
+        if ",," in chunk or ",\n" in chunk or chunk.startswith(",") or "\n," in chunk or chunk.endswith(","):
+            chunk = chunk.replace(",,", ",nan,").replace(",,", ",nan,")
+            chunk = chunk.replace("\n,", "\nnan,").replace(",\n", ",nan\n")
+            if chunk.startswith(","):
+                chunk = "nan" + chunk
+            if chunk.endswith(","):
+                chunk = chunk + "nan"
+        try:
+            part = np.loadtxt(io.StringIO(chunk), delimiter=",", usecols=tuple(columns), dtype=float,
+                              comments=None, ndmin=2, quotechar='"')
+        except (ValueError, IndexError, TypeError):
+            return None
+        parts.append(part)
+        start = stop
+        if progress is not None:
+            progress(start, total)
+    if not parts:
+        return np.zeros((0, len(columns)))
+    return np.concatenate(parts, axis=0)
+
+
+def _slow(table: Table, columns: Sequence[int], progress, allow_truncated_tail: bool):
+    """Pure-Python parse of the needed columns; LogError at the first bad line."""
+    names = [table.header[i] for i in columns]
+    lines = table.body.split("\n")
+    ends_cleanly = table.body.endswith("\n") or not table.body
+    last = max((i for i, line in enumerate(lines) if line.strip()), default=-1)
+    rows, row_lines = [], []
+    dropped = None
+    for i, line in enumerate(lines):
+        if not line.strip():
+            continue
+        number = table.first_line + i
+        try:
+            cells = next(csv.reader([line]))
+            values = []
+            for column, name in zip(columns, names):
+                if column >= len(cells):
+                    raise LogError(f"{table.path}: line {number}, column {name!r}: missing (the line has "
+                                   f"{len(cells)} cells, the header {len(table.header)})")
+                cell = cells[column].strip()
+                if cell.lower() in MISSING:
+                    values.append(np.nan)
+                    continue
+                try:
+                    values.append(float(cell))
+                except ValueError:
+                    shown = cell if len(cell) <= 40 else cell[:37] + "..."
+                    raise LogError(f"{table.path}: line {number}, column {name!r}: {shown!r} is not a number") \
+                        from None
+        except (LogError, csv.Error) as error:
+            if allow_truncated_tail and i == last and not ends_cleanly:
+                dropped = number
+                break
+            if isinstance(error, csv.Error):
+                raise LogError(f"{table.path}: line {number}: not CSV ({error})") from None
+            raise
+        rows.append(values)
+        row_lines.append(number)
+        if progress is not None and i % 100_000 == 0:
+            progress(i, len(lines))
+    data = np.array(rows, dtype=float).reshape(len(rows), len(columns))
+    return data, np.array(row_lines, dtype=np.int64), dropped
+
+
+def numeric_columns(table: Table, columns: Sequence[int],
+                    progress: Optional[Callable[[int, int], None]] = None,
+                    allow_truncated_tail: bool = True):
+    """Parse the numeric ``columns`` (positions) of a table.
+
+    Returns
+    -------
+    data : numpy.ndarray, shape (rows, len(columns))
+        float64; NaN for empty / ``nan`` / ``NA`` cells.
+    lines : numpy.ndarray of int
+        File line of every row.
+    dropped_line : int or None
+        A last line cut short (the file does not end with a newline and its
+        last line does not parse) is dropped, and its number returned.
+
+    Raises
+    ------
+    LogError
+        The first line with a bad cell, naming file line and column.
+    """
+    data = _fast(table, columns, progress)
+    if data is not None:
+        body = table.body
+        expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)
+        if data.shape[0] == expected:
+            return data, np.arange(expected, dtype=np.int64) + table.first_line, None
+        lines = _row_lines(table)
+        if lines.size == data.shape[0]:
+            return data, lines, None
+    return _slow(table, columns, progress, allow_truncated_tail)
+
+
+def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
+    """The raw (stripped) cells of one column for the given file lines (object array of str)."""
+    body = table.body.split("\n")
+    quoted = '"' in table.body
+    out = []
+    for number in lines:
+        line = body[int(number) - table.first_line]
+        cells = next(csv.reader([line])) if quoted else line.split(",")
+        out.append(cells[column].strip() if column < len(cells) else "")
+    return np.array(out, dtype=object)
+
+
+def check_finite(path: str, name: str, values: np.ndarray, lines: np.ndarray, what: str = "a number") -> None:
+    """LogError naming the first line where a required column is empty or not finite."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise LogError(f"{path}: line {int(lines[bad[0]])}, column {name!r}: needs {what} on every row "
+                       f"(empty or not finite)")
+
+
+def columns_by_name(table: Table, names: Dict[str, Optional[str]]) -> Dict[str, int]:
+    """Positions of the named columns (roles with None are skipped)."""
+    return {role: table.index(name) for role, name in names.items() if name is not None}

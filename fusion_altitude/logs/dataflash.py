@@ -1,0 +1,276 @@
+"""ArduPilot DataFlash (.bin) of every generation, through pymavlink (the ``[logs]`` extra)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+from typing import Callable, Dict, List, Optional
+
+import numpy as np
+
+from ..sensors import vertical_acceleration
+from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+
+#: First two bytes of every DataFlash message.
+DATAFLASH_MAGIC = b"\xa3\x95"
+#: Message names of a second / third sensor in logs before the ``I`` instance field (ArduPilot ≤ 3.x).
+_OLD_INSTANCE_NAMES = {"IMU": ["IMU", "IMU2", "IMU3"], "BARO": ["BARO", "BAR2", "BAR3"], "GPS": ["GPS", "GPS2"]}
+#: GPS ``Status`` at or above this is a 3D fix.
+GPS_3D_FIX = 3
+
+
+def _time_of(fields: dict) -> Optional[float]:
+    """Boot time of a message, s: ``TimeUS`` (µs, current logs), else GPS's ``T`` (ms boot time in old
+    logs, whose ``TimeMS`` is the GPS week time), else ``TimeMS`` (ms, ArduCopter ≤ 3.3)."""
+    if "TimeUS" in fields:
+        return fields["TimeUS"] * 1e-6
+    if "T" in fields and "Week" in fields:
+        return fields["T"] * 1e-3
+    if "TimeMS" in fields:
+        return fields["TimeMS"] * 1e-3
+    return None
+
+
+@contextlib.contextmanager
+def _quiet_file_descriptors(sink):
+    """Send what C code writes to fds 1 and 2 (pymavlink's indexer reports bad bytes there) to ``sink``."""
+    import sys
+    import tempfile
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, ValueError):
+            pass
+    try:
+        saved = [os.dup(1), os.dup(2)]
+    except OSError:  # no real file descriptors (embedded interpreter): nothing to silence
+        yield
+        return
+    with tempfile.TemporaryFile(mode="w+b") as capture:
+        try:
+            os.dup2(capture.fileno(), 1)
+            os.dup2(capture.fileno(), 2)
+            yield
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+            capture.seek(0)
+            sink.write(capture.read().decode("utf-8", "replace"))
+
+
+def _time_spikes(time: np.ndarray) -> np.ndarray:
+    """Indices of damaged messages: a jump forward of more than max(60 s, 1000 median steps) that is
+    the last message or is followed by time going back (a corrupt tail or a bit flip in a stamp)."""
+    if time.size < 3:
+        return np.zeros(0, dtype=int)
+    dt = np.diff(time)
+    limit = max(60.0, 1000.0 * float(np.median(dt)))
+    jumps = np.flatnonzero(dt > limit) + 1
+    return np.array([i for i in jumps if i == time.size - 1 or time[i + 1] < time[i]], dtype=int)
+
+
+def read_dataflash(path: str, instance: Optional[int] = None,
+                   progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+    """Read an ArduPilot DataFlash log (.bin) of any generation (the ``[logs]`` extra: pymavlink).
+
+    Time stamps: ``TimeUS`` (µs) in current logs, ``TimeMS`` (ms) in
+    ArduCopter ≤ 3.3 logs (GPS: its ``T`` boot-time field); the grid starts
+    at the first IMU sample (0 s).
+
+    Messages used (instance ``instance`` of each sensor, the ``I`` field in
+    current logs, ``IMU2``/``BAR2``/``GPS2`` names in old ones; default 0,
+    ArduPilot's primary unless the parameters chose another):
+
+    * ``IMU`` AccX/Y/Z (m/s², body FRD) → ``accel``; GyrX/Y/Z (rad/s) → ``gyro``;
+    * ``ATT`` Roll, Pitch, Yaw (°, NED) rotate the specific force to
+      ``vertical_acceleration`` (+up, gravity removed);
+    * ``BARO`` Alt (m above the arming point, datum "") → ``baro_altitude``;
+      Press (Pa) → ``pressure``; Temp (°C) → ``temperature`` (K);
+    * ``GPS`` Alt (m above sea level) where ``Status`` ≥ 3 (3D fix) →
+      ``gps_altitude``; NSats → ``gps_satellites``; ``GPA`` VAcc (m) →
+      ``gps_accuracy``;
+    * ``RFND`` Dist (or Dist1), m → ``rangefinder`` (readings with ``Stat``
+      other than 4 "good", where logged, are dropped);
+    * the first of ``XKF1`` (core 0), ``NKF1``, ``EKF1`` → reference (−PD, −VD);
+    * ``ARM`` ArmState → ``flight_state`` ("armed"/"disarmed"); the firmware
+      name in ``MSG`` → ``vehicle``.
+
+    Raises
+    ------
+    LogError
+        Not a DataFlash log, or no ``IMU``/``ATT``/``BARO`` data (for that
+        instance), time going backwards.
+    ImportError
+        pymavlink is not installed.
+    """
+    try:
+        from pymavlink import DFReader
+    except ImportError as error:
+        raise ImportError("reading .bin logs needs pymavlink: pip install 'fusion-altitude[logs]'") from error
+    want = 0 if instance is None else int(instance)
+    if want < 0:
+        raise LogError(f"instance must be 0 or more, got {want}")
+    kinds = ["IMU", "IMU2", "IMU3", "ATT", "BARO", "BAR2", "BAR3", "GPS", "GPS2", "GPA", "RFND",
+             "XKF1", "NKF1", "EKF1", "ARM", "MSG"]
+    rows: Dict[str, List[dict]] = {kind: [] for kind in ("IMU", "ATT", "BARO", "GPS", "GPA", "RFND",
+                                                          "XKF1", "NKF1", "EKF1", "ARM")}
+    firmware = ""
+    if os.path.isdir(path):
+        raise LogError(f"{path}: is a directory, not an ArduPilot DataFlash log")
+    try:
+        size = os.path.getsize(path)
+        with open(path, "rb") as handle:
+            if handle.read(2) != DATAFLASH_MAGIC:
+                raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
+        chatter = io.StringIO()  # pymavlink prints what it skips; keep it off the user's stdout
+        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter), \
+                _quiet_file_descriptors(chatter):
+            log = DFReader.DFReader_binary(path, zero_time_base=True)
+        count = 0
+        while True:
+            with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+                message = log.recv_match(type=kinds)
+            if message is None:
+                break
+            kind = message.get_type()
+            fields = message.to_dict()
+            count += 1
+            if progress is not None and count % 20000 == 0:
+                progress(min(getattr(log, "offset", 0), size), size)
+            if kind == "MSG":
+                text = str(fields.get("Message", ""))
+                if not firmware and text.startswith(("Ardu", "APM:")):
+                    firmware = text
+                continue
+            for family, names in _OLD_INSTANCE_NAMES.items():
+                if kind in names:
+                    number = names.index(kind) if kind != family else int(fields.get("I", 0))
+                    if number == want:
+                        rows[family].append(fields)
+                    break
+            else:
+                if kind == "XKF1" and int(fields.get("C", 0)) != 0:
+                    continue
+                if kind == "GPA" and int(fields.get("I", 0)) != want:
+                    continue
+                rows[kind].append(fields)
+    except LogError:
+        raise
+    except Exception as error:  # pymavlink raises many kinds of errors on a damaged file
+        raise LogError(f"cannot read {path} as an ArduPilot DataFlash log: {type(error).__name__}: {error}") \
+            from None
+    finally:
+        handle = getattr(locals().get("log"), "filehandle", None)
+        if handle is not None:
+            handle.close()
+    try:
+        return _build(path, rows, firmware, chatter, want, progress, size)
+    except LogError:
+        raise
+    except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
+        raise LogError(f"{path}: unexpected DataFlash content: {type(error).__name__}: {error}") from None
+
+
+def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
+    """The LogData of the parsed messages (see :func:`read_dataflash`)."""
+    for needed in ("IMU", "ATT", "BARO"):
+        if not rows[needed]:
+            raise LogError(f"{path}: no {needed} messages" + (f" for instance {want}" if want else "") + " in the log")
+
+    def times(kind):
+        try:
+            values = np.array([_time_of(r) for r in rows[kind]], dtype=float)
+        except (TypeError, ValueError):
+            raise LogError(f"{path}: {kind} messages with a time stamp that is not a number") from None
+        if not np.all(np.isfinite(values)):
+            raise LogError(f"{path}: {kind} messages without a TimeUS or TimeMS field")
+        return values
+
+    def column(kind, *names):
+        for name in names:
+            if name in rows[kind][0]:
+                try:
+                    return np.array([r.get(name, np.nan) for r in rows[kind]], dtype=float)
+                except (TypeError, ValueError):
+                    raise LogError(f"{path}: {kind}.{name}: not a number in every message") from None
+        raise LogError(f"{path}: {kind} messages have no field {' or '.join(names)}; "
+                       f"fields are {', '.join(rows[kind][0])}")
+
+    imu_time_raw = times("IMU")
+    stamp = "TimeUS" if "TimeUS" in rows["IMU"][0] else "TimeMS"
+    spikes = _time_spikes(imu_time_raw)
+    if spikes.size:
+        keep = np.ones(imu_time_raw.size, dtype=bool)
+        keep[spikes] = False
+        rows["IMU"] = [r for r, k in zip(rows["IMU"], keep) if k]
+        imu_time_raw = imu_time_raw[keep]
+        damaged = spikes.size
+    else:
+        damaged = 0
+    t0 = float(imu_time_raw[0])
+    imu = {"accel": np.column_stack([column("IMU", f"Acc{a}") for a in "XYZ"]),
+           "gyro": np.column_stack([column("IMU", f"Gyr{a}") for a in "XYZ"])}
+    order = np.arange(imu_time_raw.size) + 1
+    time, imu, repeated = merge_repeated_timestamps(imu_time_raw - t0, imu, path, order, stamp,
+                                                    row_word="IMU message")
+    att_time = times("ATT") - t0
+    euler = np.radians(np.column_stack([column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
+    accel = vertical_acceleration(imu["accel"], _previous(time, att_time, euler), frame="NED")
+    baro_time = times("BARO") - t0
+    baro = _align(time, baro_time, column("BARO", "Alt"))
+    vehicle = ""
+    for word, kind in (("copter", "copter"), ("plane", "plane"), ("rover", "rover"), ("sub", "sub")):
+        if word in firmware.lower():
+            vehicle = kind
+            break
+    data = LogData(f"{os.path.basename(path)} (ArduPilot DataFlash)", time, accel, baro,
+                   notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
+                   + ([firmware] if firmware else []),
+                   accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
+    chatter_text = chatter.getvalue()
+    skipped = chatter_text.count("bad msg") + chatter_text.count("Skipped") + damaged
+    if "bad header" in chatter_text:
+        data.warn(f"{path}: damaged bytes skipped ({chatter_text.count('bad header')} bad message headers)")
+    if skipped:
+        data.warn(f"{path}: {skipped} damaged message(s) skipped")
+    if "Press" in rows["BARO"][0]:
+        data.pressure = _align(time, baro_time, column("BARO", "Press"))
+    if "Temp" in rows["BARO"][0]:
+        data.temperature = _align(time, baro_time, column("BARO", "Temp") + 273.15)
+    if rows["GPS"]:
+        gps_time = times("GPS") - t0
+        status = column("GPS", "Status")
+        altitude = np.where(status >= GPS_3D_FIX, column("GPS", "Alt"), np.nan)
+        data.gps_altitude = _align(time, gps_time, altitude)
+        if "NSats" in rows["GPS"][0]:
+            data.gps_satellites = _align(time, gps_time, np.where(status >= GPS_3D_FIX, column("GPS", "NSats"),
+                                                                  np.nan))
+        if rows["GPA"] and "VAcc" in rows["GPA"][0]:
+            data.gps_accuracy = _align(time, times("GPA") - t0, column("GPA", "VAcc"))
+        data.notes.append("GPS.Alt where Status ≥ 3")
+    if rows["RFND"]:
+        distance = column("RFND", "Dist", "Dist1")
+        if "Stat" in rows["RFND"][0]:
+            distance = np.where(column("RFND", "Stat") == 4, distance, np.nan)
+        data.rangefinder = _align(time, times("RFND") - t0, distance)
+    if rows["ARM"] and "ArmState" in rows["ARM"][0]:
+        states = np.array(["armed" if r.get("ArmState") else "disarmed" for r in rows["ARM"]], dtype=object)
+        arm_time = times("ARM") - t0
+        index = np.searchsorted(arm_time, time, side="right") - 1
+        data.flight_state = np.where(index >= 0, states[np.clip(index, 0, None)], "disarmed").astype(object)
+    for kind in ("XKF1", "NKF1", "EKF1"):
+        if rows[kind]:
+            ref_time = times(kind) - t0
+            down = column(kind, "PD")
+            velocity = -column(kind, "VD") if "VD" in rows[kind][0] else np.gradient(-down, ref_time)
+            if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
+                data.reference_altitude, data.reference_velocity = _reference_on_grid(
+                    time, baro, ref_time, -down, velocity)
+                data.reference_name = f"ArduPilot EKF ({kind})"
+            break
+    if progress is not None:
+        progress(size, size)
+    return finish(data)

@@ -1,0 +1,298 @@
+"""Generic CSV logs: the caller names the columns."""
+
+from __future__ import annotations
+
+import os
+from typing import Callable, Optional, Sequence, Union
+
+import numpy as np
+
+from .._common import GRAVITY
+from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
+from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._table import check_finite, numeric_columns, read_text, split_header
+
+ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
+ALTITUDE_UNITS = {"m": 1.0, "ft": 0.3048}
+ATTITUDE_CONVENTIONS = ("quaternion", "euler_deg", "euler_rad")
+FRAMES = {"NED": "FRD", "NWU": "FLU", "ENU": "RFU"}
+TEMPERATURE_UNITS = ("C", "K")
+#: Seconds at the start of a log taken as "at rest" for the gravity check and ground values.
+REST_SECONDS = 1.0
+#: Plausible static pressure, Pa (1 kPa ≈ 31 km up; 120 kPa below the Dead Sea); a pressure column
+#: whose median is outside gets a warning.
+PRESSURE_RANGE = (1_000.0, 120_000.0)
+
+
+def _rest(time: np.ndarray) -> np.ndarray:
+    return time <= time[0] + REST_SECONDS
+
+
+def gravity_check(source: str, name: str, accel: np.ndarray, time: np.ndarray, remove_gravity: bool) -> np.ndarray:
+    """Refuse (or, with ``remove_gravity``, remove) gravity left in a vertical-acceleration column.
+
+    At rest (the first second) a gravity-removed column averages ≈ 0. A mean
+    within 0.75–1.25 g of ±g means gravity is still in it, and a mean of
+    0.9–1.1 m/s² that hardly varies (σ < 0.05) a column in g with gravity:
+    LogError, unless
+    ``remove_gravity`` — then +g at rest is taken as upward specific force
+    (``a − g``) and −g at rest as downward specific force (``−(a + g)``).
+    """
+    finite = np.isfinite(accel) & _rest(time)
+    mean = float(np.mean(accel[finite])) if finite.any() else 0.0
+    holds_gravity = 0.75 * GRAVITY < abs(mean) < 1.25 * GRAVITY
+    steady = finite.sum() > 1 and float(np.std(accel[finite])) < 0.05
+    if not remove_gravity and 0.9 < abs(mean) < 1.1 and steady:
+        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+                       f"looks like 1 g: the column is probably in g with gravity still in it; say so with "
+                       f"accel_units='g' (--accel-units g) and remove_gravity=True (--remove-gravity)")
+    if remove_gravity:
+        if not holds_gravity:
+            raise LogError(f"{source}: column {name!r}: remove_gravity asked, but its mean over the first "
+                           f"{_fmt(REST_SECONDS)} s is {_fmt(mean)} m/s², not about ±{_fmt(GRAVITY)} (±1 g)")
+        return accel - GRAVITY if mean > 0 else -(accel + GRAVITY)
+    if holds_gravity:
+        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+                       f"looks like gravity is still in it (the observer needs +up, gravity removed); "
+                       f"remove it with remove_gravity=True (--remove-gravity) or check the units")
+    return accel
+
+
+def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None,
+                 baro_column: Optional[str] = None, pressure_column: Optional[str] = None,
+                 reference_column: Optional[str] = None, accel_units: str = "m/s^2", altitude_units: str = "m",
+                 sea_level_pa: float = 101325.0, remove_gravity: bool = False,
+                 accel_body_columns: Optional[Sequence[str]] = None,
+                 attitude_columns: Optional[Sequence[str]] = None, attitude_convention: str = "quaternion",
+                 frame: str = "NED", gps_column: Optional[str] = None, rangefinder_column: Optional[str] = None,
+                 temperature_column: Optional[str] = None,
+                 temperature_units: str = "C", ground_temperature_k: Union[None, float, str] = None,
+                 progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+    """Read a CSV log with a header row; the caller names the columns.
+
+    Parameters
+    ----------
+    path : str
+        CSV file: comma separated, header on the first non-empty line; a
+        UTF-8 BOM (Excel's "CSV UTF-8") is accepted. Empty cells, ``nan``,
+        ``NA``, ``null`` mean "no value".
+    time_column : str
+        Time, s. Rows that repeat the previous row's time are merged (see
+        :func:`fusion_altitude.logs.merge_repeated_timestamps`: numeric
+        columns averaged) and counted in a warning; a time that goes
+        backwards is an error naming the line.
+    accel_column : str, optional
+        Vertical acceleration, earth frame, +up, gravity removed, in
+        ``accel_units``. If its mean over the first second is ≈ ±1 g, the
+        reader refuses it unless ``remove_gravity``. Give this or
+        ``accel_body_columns``.
+    baro_column : str, optional
+        Baro altitude in ``altitude_units``; an empty cell means no baro that
+        row. Give this or ``pressure_column``.
+    pressure_column : str, optional
+        Static pressure, Pa, converted to altitude: with
+        :func:`fusion_altitude.sensors.pressure_to_altitude` relative to
+        ``sea_level_pa`` (ISA temperature), or — with
+        ``ground_temperature_k`` — to height above the first second's
+        pressure with :func:`fusion_altitude.sensors.height_above_ground`.
+        A median outside 1,000–120,000 Pa gets a warning (an altitude column?).
+    reference_column : str, optional
+        A better altitude (RTK GPS, motion capture, the flight computer's
+        own estimate), in ``altitude_units``; empty = unknown.
+    accel_units : {"m/s^2", "g"}
+        Units of the acceleration column(s).
+    altitude_units : {"m", "ft"}
+        Units of the baro, reference and GPS altitude columns (output in m).
+    sea_level_pa : float
+        Reference pressure for ``pressure_column``, Pa.
+    remove_gravity : bool
+        The vertical-acceleration column still holds gravity: subtract it
+        (+g at rest: ``a − g``; −g at rest, a +down column: ``−(a + g)``).
+    accel_body_columns : (str, str, str), optional
+        Body-frame accelerometer (specific force) x, y, z columns in
+        ``accel_units``, axes as ``frame`` says; needs ``attitude_columns``.
+        Turned into vertical acceleration with
+        :func:`fusion_altitude.sensors.vertical_acceleration`.
+    attitude_columns : sequence of str, optional
+        Body → earth attitude: 4 columns, a quaternion (w, x, y, z), with
+        ``attitude_convention="quaternion"``; or 3 columns roll, pitch, yaw
+        (ZYX Euler angles about the ``frame`` axes) with ``"euler_deg"`` or
+        ``"euler_rad"``.
+    attitude_convention : {"quaternion", "euler_deg", "euler_rad"}
+    frame : {"NED", "ENU", "NWU"}
+        Earth frame of the attitude and body frame of the accelerometer
+        (NED: body x forward, y right, z down). A result averaging more than
+        ½ g over the first second (the frame or attitude is wrong) is refused.
+    gps_column : str, optional
+        GPS altitude (``altitude_units``), empty between fixes.
+    rangefinder_column : str, optional
+        Distance to the ground (``altitude_units``), empty without a reading.
+    temperature_column : str, optional
+        Temperature in ``temperature_units`` (stored in K).
+    temperature_units : {"C", "K"}
+    ground_temperature_k : float or "log", optional
+        Air temperature on the ground, K, for the hypsometric conversion of
+        ``pressure_column`` to height above the start (datum "pad"); ``"log"``
+        takes it from ``temperature_column`` over the first second.
+    progress : callable(done, total), optional
+        Called while reading (units: characters of the file).
+
+    Returns
+    -------
+    LogData
+        ``altitude_reference`` is ``"sea level"`` for pressure converted
+        with ``sea_level_pa`` = 101325 Pa, ``"pad"`` for the hypsometric
+        conversion, else ``""`` (the column's own datum).
+
+    Raises
+    ------
+    LogError
+        Missing file or column, a bad cell (naming file line and column),
+        time going backwards, gravity left in the acceleration, bad options.
+    """
+    if (baro_column is None) == (pressure_column is None):
+        raise LogError("give exactly one of a baro altitude column or a pressure column")
+    if (accel_column is None) == (accel_body_columns is None):
+        raise LogError("give exactly one of a vertical acceleration column or body accelerometer columns")
+    if accel_units not in ACCEL_UNITS:
+        raise LogError(f"accel units must be 'm/s^2' or 'g', got {accel_units!r}")
+    if altitude_units not in ALTITUDE_UNITS:
+        raise LogError(f"altitude units must be 'm' or 'ft', got {altitude_units!r}")
+    if temperature_units not in TEMPERATURE_UNITS:
+        raise LogError(f"temperature units must be 'C' or 'K', got {temperature_units!r}")
+    if not (np.isfinite(sea_level_pa) and sea_level_pa > 0):
+        raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
+    if accel_body_columns is not None:
+        if len(accel_body_columns) != 3:
+            raise LogError(f"body accelerometer columns: give 3 (x, y, z), got {len(accel_body_columns)}")
+        if attitude_columns is None:
+            raise LogError("body accelerometer columns need attitude columns (quaternion or Euler angles)")
+        if attitude_convention not in ATTITUDE_CONVENTIONS:
+            raise LogError(f"attitude convention must be one of {', '.join(ATTITUDE_CONVENTIONS)}, "
+                           f"got {attitude_convention!r}")
+        wanted_count = 4 if attitude_convention == "quaternion" else 3
+        if len(attitude_columns) != wanted_count:
+            raise LogError(f"attitude convention {attitude_convention!r} needs {wanted_count} attitude columns, "
+                           f"got {len(attitude_columns)}")
+        if frame not in FRAMES:
+            raise LogError(f"frame must be one of {', '.join(FRAMES)}, got {frame!r}")
+    if ground_temperature_k is not None:
+        if pressure_column is None:
+            raise LogError("a ground temperature needs a pressure column")
+        if isinstance(ground_temperature_k, str):
+            if ground_temperature_k != "log" or temperature_column is None:
+                raise LogError("ground temperature 'log' needs a temperature column")
+        elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
+            raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
+
+    table = split_header(path, read_text(path))
+    source = f"{os.path.basename(path)} (CSV)"
+    roles = {"time": time_column, "baro": baro_column or pressure_column}
+    if accel_column is not None:
+        roles["accel"] = accel_column
+    else:
+        roles.update({f"body{i}": name for i, name in enumerate(accel_body_columns)})
+        roles.update({f"att{i}": name for i, name in enumerate(attitude_columns)})
+    for role, name in (("reference", reference_column), ("gps", gps_column), ("rangefinder", rangefinder_column),
+                       ("temperature", temperature_column)):
+        if name is not None:
+            roles[role] = name
+    positions = {role: table.index(name) for role, name in roles.items()}
+    unique = sorted(set(positions.values()))
+    data, lines, dropped = numeric_columns(table, unique, progress)
+    column = {role: data[:, unique.index(position)] for role, position in positions.items()}
+    if data.shape[0] < 2:
+        raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
+    check_finite(path, time_column, column["time"], lines)
+    required = ["accel"] if accel_column is not None else [f"body{i}" for i in range(3)]
+    if accel_body_columns is not None:
+        required += [f"att{i}" for i in range(len(attitude_columns))]
+    for role in required:
+        check_finite(path, roles[role], column[role], lines)
+
+    time, merged, repeated = merge_repeated_timestamps(
+        column.pop("time"), column, path, lines, time_column)
+    column = merged
+    notes = [f"time {time_column!r}"]
+    scale = ACCEL_UNITS[accel_units]
+    accel_body = None
+    if accel_column is not None:
+        accel = gravity_check(source, accel_column, column["accel"] * scale, time, remove_gravity)
+        notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
+    else:
+        accel_body = np.column_stack([column[f"body{i}"] for i in range(3)]) * scale
+        attitude = np.column_stack([column[f"att{i}"] for i in range(len(attitude_columns))])
+        if attitude_convention == "euler_deg":
+            attitude = np.radians(attitude)
+        if attitude_convention == "quaternion":
+            norm = np.linalg.norm(attitude, axis=1)
+            bad = np.flatnonzero(~(norm > 0.5) | ~(norm < 1.5))
+            if bad.size:
+                raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
+                               f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
+        accel = vertical_acceleration(accel_body, attitude, frame=frame)
+        rest = _rest(time)
+        mean = float(np.mean(accel[rest]))
+        if abs(mean) > 0.5 * GRAVITY:
+            raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
+                           f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
+                           f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
+                           f"ENU/NWU +1 g) or the attitude is not body → earth")
+        notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
+                     f"{', '.join(attitude_columns)} ({attitude_convention})")
+    altitude_scale = ALTITUDE_UNITS[altitude_units]
+    temperature = None
+    if temperature_column is not None:
+        temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
+    pressure = None
+    altitude_reference = ""
+    ground_altitude = None
+    if pressure_column is not None:
+        pressure = column["baro"]
+        finite = np.isfinite(pressure)
+        median = float(np.median(pressure[finite])) if finite.any() else np.nan
+        if finite.any() and not PRESSURE_RANGE[0] <= median <= PRESSURE_RANGE[1]:
+            warning = (f"column {pressure_column!r}: median {_fmt(median)} is far outside "
+                       f"{_fmt(PRESSURE_RANGE[0])}–{_fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
+        else:
+            warning = None
+        if ground_temperature_k is not None:
+            early = finite & _rest(time)
+            if not early.any():
+                raise LogError(f"{path}: column {pressure_column!r}: no pressure in the first "
+                               f"{_fmt(REST_SECONDS)} s to take as the ground pressure")
+            ground_pa = float(np.median(pressure[early]))
+            if ground_temperature_k == "log":
+                warm = np.isfinite(temperature) & _rest(time)
+                if not warm.any():
+                    raise LogError(f"{path}: column {temperature_column!r}: no temperature in the first "
+                                   f"{_fmt(REST_SECONDS)} s to take as the ground temperature")
+                ground_temperature_k = float(np.median(temperature[warm]))
+            baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
+            altitude_reference, ground_altitude = "pad", 0.0
+            notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
+                         f"{_fmt(ground_temperature_k)} K (hypsometric)")
+        else:
+            baro = pressure_to_altitude(pressure, sea_level_pa)
+            altitude_reference = "sea level" if sea_level_pa == 101325.0 else ""
+            notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
+    else:
+        baro = column["baro"] * altitude_scale
+        warning = None
+        notes.append(f"baro {baro_column!r} ({altitude_units})")
+    if not np.isfinite(baro).any():
+        raise LogError(f"{path}: column {baro_column or pressure_column!r}: no usable value on any row")
+    reference = column["reference"] * altitude_scale if reference_column is not None else None
+    gps = column["gps"] * altitude_scale if gps_column is not None else None
+    rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
+    log = LogData(source, time, accel, baro, reference_altitude=reference,
+                  reference_name=f"column {reference_column!r}" if reference_column is not None else "",
+                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body,
+                  imu_frame=FRAMES[frame] if accel_body is not None else "",
+                  pressure=pressure, temperature=temperature, altitude_reference=altitude_reference,
+                  ground_altitude=ground_altitude, repeated_timestamps=repeated)
+    if dropped is not None:
+        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
+    if warning is not None:
+        log.warn(f"{path}: {warning}")
+    return finish(log)

@@ -1,0 +1,235 @@
+"""PX4 ULog (.ulg) through pyulog (the ``[logs]`` extra)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..sensors import pressure_to_altitude, vertical_acceleration
+from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+
+#: First bytes of every ULog file.
+ULOG_MAGIC = b"ULog\x01\x12\x35"
+_TOPICS = ["vehicle_air_data", "sensor_combined", "vehicle_attitude", "vehicle_local_position", "sensor_baro",
+           "sensor_accel", "sensor_gyro", "vehicle_gps_position", "sensor_gps", "distance_sensor", "vehicle_status"]
+#: ``vehicle_status.vehicle_type`` → vehicle hint.
+_VEHICLE_TYPES = {1: "copter", 2: "plane", 3: "rover"}
+#: ``vehicle_status.arming_state`` value for "armed".
+_ARMED = 2
+
+
+def _first(topic, *names):
+    """The first of ``names`` present in a topic's data, as float64; None if none is."""
+    for name in names:
+        if name in topic:
+            return np.asarray(topic[name], dtype=float)
+    return None
+
+
+def read_ulog(path: str, instance: Optional[int] = None,
+              progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+    """Read a PX4 ULog (.ulg) through pyulog (the ``[logs]`` extra).
+
+    Topics and fields (older and newer PX4 names both accepted; the grid
+    starts at the first IMU sample, 0 s):
+
+    * IMU: ``sensor_combined`` ``accelerometer_m_s2[0..2]`` (m/s², body FRD)
+      and ``gyro_rad[0..2]`` (rad/s) for instance 0 (PX4's voted primary);
+      ``sensor_accel``/``sensor_gyro`` x, y, z of that ``multi_id`` for
+      ``instance`` ≥ 1 (the primary if the log has no such instance: the
+      notes say which). Clipping from ``accelerometer_clipping``.
+    * attitude ``vehicle_attitude`` ``q`` (body FRD → NED) rotates the
+      specific force to ``vertical_acceleration`` (+up, gravity removed).
+    * baro: ``vehicle_air_data`` ``baro_alt_meter`` (m, ISA pressure
+      altitude, datum "sea level"), ``baro_pressure_pa``,
+      ``baro_temp_celcius`` at ``timestamp_sample`` — or, in PX4 < 1.8 logs,
+      the ``baro_*`` fields of ``sensor_combined``; for ``instance`` ≥ 1,
+      ``sensor_baro`` pressure of that ``multi_id`` through the ISA formula.
+    * GPS: ``vehicle_gps_position`` (or ``sensor_gps``) ``alt`` (mm) or
+      ``altitude_msl_m`` (m) where ``fix_type`` ≥ 3 → ``gps_altitude``;
+      ``epv`` (m) → ``gps_accuracy``; ``satellites_used``.
+    * ``distance_sensor`` ``current_distance`` (m, downward-facing ones,
+      orientation 25, with ``signal_quality`` ≠ 0) → ``rangefinder``.
+    * reference ``vehicle_local_position`` (z, vz NED → −z, −vz).
+    * ``vehicle_status`` ``arming_state`` → ``flight_state``
+      ("armed"/"disarmed"), ``vehicle_type`` → ``vehicle``.
+
+    Raises
+    ------
+    LogError
+        Not a ULog, a needed topic or instance missing, time going backwards.
+    ImportError
+        pyulog is not installed.
+    """
+    try:
+        from pyulog import ULog
+    except ImportError as error:
+        raise ImportError("reading .ulg logs needs pyulog: pip install 'fusion-altitude[logs]'") from error
+    want = 0 if instance is None else int(instance)
+    if want < 0:
+        raise LogError(f"instance must be 0 or more, got {want}")
+    if os.path.isdir(path):
+        raise LogError(f"{path}: is a directory, not a PX4 ULog")
+    try:
+        with open(path, "rb") as handle:
+            if handle.read(len(ULOG_MAGIC)) != ULOG_MAGIC:
+                raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            ulog = ULog(path, _TOPICS)  # pyulog prints what it skips in a damaged file
+    except LogError:
+        raise
+    except Exception as error:  # pyulog raises a variety of errors on a bad file
+        raise LogError(f"cannot read {path} as a PX4 ULog: {type(error).__name__}: {error}") from None
+    if progress is not None:
+        progress(1, 2)
+    topics = {(d.name, d.multi_id): d.data for d in ulog.data_list if len(d.data.get("timestamp", ())) > 0}
+    names = sorted({name for name, _ in topics})
+
+    def topic(name, multi=0, needed=True):
+        if (name, multi) in topics:
+            return topics[(name, multi)]
+        if needed:
+            raise LogError(f"{path}: topic {name!r}" + (f" instance {multi}" if multi else "")
+                           + f" not in the log; topics are {', '.join(names)}")
+        return None
+
+    try:
+        return _build(path, want, topic, progress)
+    except LogError:
+        raise
+    except (KeyError, IndexError, ValueError) as error:  # a topic with unexpected fields
+        raise LogError(f"{path}: unexpected ULog content: {type(error).__name__}: {error}") from None
+
+
+def _build(path, want, topic, progress) -> LogData:
+    notes = []
+    accel_instance = want > 0 and topic("sensor_accel", want, needed=False) is not None
+    baro_instance = want > 0 and topic("sensor_baro", want, needed=False) is not None
+    if want > 0 and not (accel_instance or baro_instance):
+        raise LogError(f"{path}: no sensor_accel or sensor_baro instance {want} in the log")
+    if not accel_instance:
+        imu = topic("sensor_combined")
+        stamp = imu["timestamp"].astype(float)
+        accel_body = np.column_stack([_first(imu, f"accelerometer_m_s2[{i}]", f"acc[{i}]") for i in range(3)]) \
+            if _first(imu, "accelerometer_m_s2[0]", "acc[0]") is not None else None
+        if accel_body is None:
+            raise LogError(f"{path}: topic 'sensor_combined' has no accelerometer_m_s2 field")
+        gyro = np.column_stack([_first(imu, f"gyro_rad[{i}]", f"gyro_rad_s[{i}]") for i in range(3)]) \
+            if _first(imu, "gyro_rad[0]", "gyro_rad_s[0]") is not None else None
+        clipped = np.asarray(imu["accelerometer_clipping"]) != 0 if "accelerometer_clipping" in imu else None
+        notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q"
+                     + (f" (no sensor_accel instance {want}: the primary IMU)" if want else ""))
+    else:
+        accel_topic = topic("sensor_accel", want)
+        stamp = _first(accel_topic, "timestamp_sample", "timestamp")
+        accel_body = np.column_stack([accel_topic[a].astype(float) for a in "xyz"])
+        gyro_topic = topic("sensor_gyro", want, needed=False)
+        gyro = None
+        if gyro_topic is not None:
+            gyro = np.column_stack([np.interp(stamp, _first(gyro_topic, "timestamp_sample", "timestamp"),
+                                              gyro_topic[a].astype(float)) for a in "xyz"])
+        clipped = None
+        notes.append(f"sensor_accel instance {want}, vehicle_attitude.q")
+    t0 = float(stamp[0])  # µs; float before subtracting (uint64 would wrap)
+    columns = {"accel": accel_body}
+    if gyro is not None:
+        columns["gyro"] = gyro
+    if clipped is not None:
+        columns["clipped"] = clipped
+    time, columns, repeated = merge_repeated_timestamps((stamp - t0) * 1e-6, columns, path,
+                                                        np.arange(stamp.size) + 1, "timestamp", row_word="IMU sample")
+    att = topic("vehicle_attitude")
+    q = np.column_stack([att[f"q[{i}]"] for i in range(4)]).astype(float)
+    q_grid = _previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
+    accel = vertical_acceleration(columns["accel"], q_grid, frame="NED")
+    pressure = temperature = None
+    if not baro_instance:
+        if want:
+            notes.append(f"no sensor_baro instance {want}: the primary baro")
+        air = topic("vehicle_air_data", needed=False)
+        if air is not None and "baro_alt_meter" in air:
+            air_time = (_first(air, "timestamp_sample", "timestamp") - t0) * 1e-6
+            baro = _align(time, air_time, air["baro_alt_meter"].astype(float))
+            if "baro_pressure_pa" in air:
+                pressure = _align(time, air_time, air["baro_pressure_pa"].astype(float))
+            if "baro_temp_celcius" in air:
+                temperature = _align(time, air_time, air["baro_temp_celcius"].astype(float) + 273.15)
+            notes.append("vehicle_air_data.baro_alt_meter")
+        elif "baro_alt_meter" in topic("sensor_combined"):  # PX4 < 1.8: baro inside sensor_combined
+            combined = topic("sensor_combined")
+            relative = _first(combined, "baro_timestamp_relative")
+            baro_stamp = combined["timestamp"].astype(float) + (relative if relative is not None else 0.0)
+            baro = _align(time, (baro_stamp - t0) * 1e-6, combined["baro_alt_meter"].astype(float))
+            if "baro_temp_celcius" in combined:
+                temperature = _align(time, (baro_stamp - t0) * 1e-6,
+                                     combined["baro_temp_celcius"].astype(float) + 273.15)
+            notes.append("sensor_combined.baro_alt_meter (PX4 < 1.8)")
+        else:
+            raise LogError(f"{path}: no baro: neither vehicle_air_data.baro_alt_meter nor "
+                           f"sensor_combined.baro_alt_meter in the log")
+    else:
+        sensor = topic("sensor_baro", want)
+        baro_time = (_first(sensor, "timestamp_sample", "timestamp") - t0) * 1e-6
+        pressure_raw = _first(sensor, "pressure")
+        if pressure_raw is None:
+            raise LogError(f"{path}: topic 'sensor_baro' instance {want} has no pressure field")
+        if np.nanmedian(pressure_raw) < 2000.0:  # PX4 < 1.12 logged mbar
+            pressure_raw = pressure_raw * 100.0
+        pressure = _align(time, baro_time, pressure_raw)
+        baro = pressure_to_altitude(pressure)
+        if "temperature" in sensor:
+            temperature = _align(time, baro_time, sensor["temperature"].astype(float) + 273.15)
+        notes.append(f"sensor_baro instance {want} pressure (ISA)")
+    data = LogData(f"{os.path.basename(path)} (PX4 ULog)", time, accel, baro, clipped=columns.get("clipped"),
+                   notes=notes, accel=columns["accel"], gyro=columns.get("gyro"), imu_frame="FRD",
+                   pressure=pressure, temperature=temperature, altitude_reference="sea level",
+                   repeated_timestamps=repeated)
+    gps = topic("vehicle_gps_position", needed=False)
+    if gps is None:
+        gps = topic("sensor_gps", needed=False)
+    if gps is not None:
+        gps_time = (gps["timestamp"].astype(float) - t0) * 1e-6
+        altitude = _first(gps, "altitude_msl_m")
+        if altitude is None and "alt" in gps:
+            altitude = gps["alt"].astype(float) * 1e-3
+        if altitude is not None:
+            fix = _first(gps, "fix_type")
+            good = fix >= 3 if fix is not None else np.ones(altitude.shape, dtype=bool)
+            data.gps_altitude = _align(time, gps_time, np.where(good, altitude, np.nan))
+            if "epv" in gps:
+                data.gps_accuracy = _align(time, gps_time, np.where(good, gps["epv"].astype(float), np.nan))
+            if "satellites_used" in gps:
+                data.gps_satellites = _align(time, gps_time,
+                                             np.where(good, gps["satellites_used"].astype(float), np.nan))
+    ranger = topic("distance_sensor", needed=False)
+    if ranger is not None and "current_distance" in ranger:
+        distance = ranger["current_distance"].astype(float)
+        keep = np.ones(distance.shape, dtype=bool)
+        if "orientation" in ranger:
+            keep &= ranger["orientation"] == 25
+        if "signal_quality" in ranger:
+            keep &= ranger["signal_quality"] != 0
+        if keep.any():
+            data.rangefinder = _align(time, (ranger["timestamp"].astype(float) - t0) * 1e-6,
+                                      np.where(keep, distance, np.nan))
+    status = topic("vehicle_status", needed=False)
+    if status is not None:
+        status_time = (status["timestamp"].astype(float) - t0) * 1e-6
+        if "vehicle_type" in status:
+            data.vehicle = _VEHICLE_TYPES.get(int(status["vehicle_type"][-1]), "")
+        if "arming_state" in status:
+            states = np.where(status["arming_state"] == _ARMED, "armed", "disarmed").astype(object)
+            data.flight_state = _previous(time, status_time, states)
+    position = topic("vehicle_local_position", needed=False)
+    if position is not None:
+        data.reference_altitude, data.reference_velocity = _reference_on_grid(
+            time, baro, (position["timestamp"].astype(float) - t0) * 1e-6, -position["z"].astype(float),
+            -position["vz"].astype(float))
+        data.reference_name = "PX4 EKF (vehicle_local_position)"
+    if progress is not None:
+        progress(2, 2)
+    return finish(data)

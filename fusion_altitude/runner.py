@@ -1,0 +1,468 @@
+"""Running any estimator on a recorded log (:class:`fusion_altitude.logs.LogData`) and writing the results.
+
+Estimator registry
+------------------
+:data:`ESTIMATORS` maps a name (the CLI's ``--estimator`` choice) to an
+:class:`EstimatorEntry`: a one-line description and a function
+``run(data, dt, options) -> batch`` that feeds the estimator what the log
+has and returns its batch outputs (a NamedTuple of per-sample arrays with at
+least ``altitude`` (m) and ``vertical_velocity`` (m/s)). Adding an estimator
+to ``run``, ``compare LOG`` and the output CSV is one call::
+
+    from fusion_altitude import runner
+
+    def _run_ins(data, dt, options):
+        return InsEstimator().update_batch(...)      # any NamedTuple with altitude, vertical_velocity
+
+    runner.register_estimator(runner.EstimatorEntry("ins", "inertial filter (raw gyro + accel + baro)", _run_ins))
+
+Every 1-D numeric field of the batch (float, integer or boolean, e.g. a
+flight-phase code) becomes a column of :func:`write_csv`.
+
+Baro-rate compensation
+----------------------
+The observer's gains are scaled by :func:`fusion_altitude.tuning.settings_for_baro_rate`
+when the baro is slower than the accelerometer grid; ``run``, ``fit`` and
+``compare`` all go through :func:`fusion_altitude.tuning.steps_per_baro`, so
+the three agree on what a setting scores.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from dataclasses import dataclass
+from typing import Callable, Dict, Iterator, List, Optional, Tuple
+
+import numpy as np
+
+from ._observer import AltitudeEstimator, AltitudeSettings
+from ._observer_glue import AltitudeBatch
+from .logs import LogData
+from .metrics import ErrorStatistics, error_statistics
+from .tuning import _bandwidth_of, _other_fields, settings_for_baro_rate, steps_per_baro
+
+__all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "run_observer",
+           "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
+           "csv_columns"]
+
+
+@dataclass
+class LogRun(LogData):
+    """A :class:`LogData` with one estimator's outputs.
+
+    Attributes
+    ----------
+    estimate : NamedTuple
+        The estimator's batch outputs, per grid step (``altitude`` m,
+        ``vertical_velocity`` m/s, and the estimator's own fields).
+    estimator : str
+        The registry name of the estimator that produced ``estimate``.
+    datum : float
+        Altitude subtracted from every altitude column (m): 0, or the start
+        (pad) altitude with ``agl=True`` (see :func:`above_start`).
+    """
+
+    estimate: Optional[object] = None
+    estimator: str = "observer"
+    datum: float = 0.0
+
+    def comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
+        """Statistics of estimate − reference altitude (m) after ``transient`` s; None without a reference."""
+        if self.reference_altitude is None:
+            return None
+        return error_statistics(self.time, np.asarray(self.estimate.altitude, float) - self.reference_altitude,
+                                transient)
+
+    def baro_comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
+        """Statistics of baro − reference altitude (m) after ``transient`` s; None without a reference."""
+        if self.reference_altitude is None:
+            return None
+        return error_statistics(self.time, self.baro_altitude - self.reference_altitude, transient)
+
+
+# ----------------------------------------------------------------------------
+# the registry
+
+
+@dataclass(frozen=True)
+class EstimatorEntry:
+    """One estimator that can run on a :class:`LogData`.
+
+    Attributes
+    ----------
+    name : str
+        Registry key and ``--estimator`` choice.
+    description : str
+        One line: what it is and which sensors of the log it uses.
+    run : callable(data, dt, options) -> NamedTuple
+        ``data`` a :class:`LogData`, ``dt`` the per-sample periods (s, from
+        :func:`sample_periods`), ``options`` a dict (``settings``,
+        ``progress``); returns per-sample outputs with ``altitude`` (m) and
+        ``vertical_velocity`` (m/s) fields.
+    """
+
+    name: str
+    description: str
+    run: Callable[[LogData, np.ndarray, dict], object]
+
+
+#: Registered estimators by name, in table order.
+ESTIMATORS: Dict[str, EstimatorEntry] = {}
+
+
+def register_estimator(entry: EstimatorEntry) -> None:
+    """Add (or replace) an estimator of :data:`ESTIMATORS`; it appears in ``run --estimator`` and ``compare LOG``."""
+    if not isinstance(entry, EstimatorEntry):
+        raise TypeError(f"entry must be an EstimatorEntry, got {type(entry).__name__}")
+    ESTIMATORS[entry.name] = entry
+
+
+def estimator_names() -> List[str]:
+    """The registered estimator names, in table order."""
+    return list(ESTIMATORS)
+
+
+def _optional(data: LogData, name: str) -> Optional[np.ndarray]:
+    """A per-sample field of the log if the reader filled it (fields land in LogData over time)."""
+    value = getattr(data, name, None)
+    if value is None:
+        return None
+    value = np.asarray(value)
+    return value if value.ndim == 1 and value.size == data.time.size else None
+
+
+def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
+    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, options.get("settings"),
+                        clipped=data.clipped, progress=options.get("progress"), dt=dt)
+
+
+def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
+    from ._kalman import KalmanEstimator
+
+    gps = _optional(data, "gps_altitude")
+    satellites = _optional(data, "gps_satellites")
+    accuracy = _optional(data, "gps_accuracy")
+    if satellites is not None:
+        satellites = np.where(np.isfinite(satellites.astype(float)), satellites, -1).astype(np.int32)  # -1: unknown
+    # every argument after accel by keyword: valid in the old (accel, dt, ...) and the new (accel, baro_altitude,
+    # dt, ...) argument order alike
+    result = KalmanEstimator(options.get("kalman_settings")).update_batch(
+        data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
+        range_distance=_optional(data, "rangefinder"), gps_altitude=gps,
+        gps_satellites=satellites if gps is not None else None,
+        gps_vertical_accuracy=accuracy if gps is not None else None)
+    _done(options, data.time.size)
+    return result
+
+
+def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
+    from ._complementary import ComplementaryFilter
+
+    result = ComplementaryFilter().update_batch(data.vertical_acceleration, data.baro_altitude, dt)
+    _done(options, data.time.size)
+    return result
+
+
+def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
+    import math
+
+    from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+
+    # a log's altitudes are above sea level (or any datum) and may dip below the start: the altitude windows of
+    # the defaults (made for heights above a take-off point) are opened for the imu, baro and GPS
+    settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf, "altitude_max": math.inf}
+                                    for s in ("imu", "baro", "gps")})
+    result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
+                                                    lidar_altitude=_optional(data, "rangefinder"),
+                                                    gps_altitude=_gps_on_baro_datum(data))
+    _done(options, data.time.size)
+    return result
+
+
+def _gps_on_baro_datum(data: LogData, seconds: float = 5.0) -> Optional[np.ndarray]:
+    """The log's GPS altitude shifted onto the baro's datum (the α-β fusion has no GPS-offset state, unlike the
+    Kalman filter): minus the median of GPS − baro over the first ``seconds`` s in which both have samples
+    (the baro held to each GPS step). None without GPS or without an overlap."""
+    gps = _optional(data, "gps_altitude")
+    if gps is None:
+        return None
+    baro = np.asarray(data.baro_altitude, float)
+    has_baro = np.flatnonzero(np.isfinite(baro))
+    has_gps = np.flatnonzero(np.isfinite(gps))
+    if has_baro.size == 0 or has_gps.size == 0:
+        return None
+    held = baro[has_baro[np.clip(np.searchsorted(has_baro, has_gps, side="right") - 1, 0, has_baro.size - 1)]]
+    both = has_gps[has_gps >= has_baro[0]]
+    if both.size == 0:
+        return None
+    early = data.time[has_gps] <= data.time[both[0]] + seconds
+    early &= has_gps >= has_baro[0]
+    return gps - float(np.median(gps[has_gps][early] - held[early]))
+
+
+def _done(options: dict, n: int) -> None:
+    if options.get("progress") is not None:
+        options["progress"](n, n)
+
+
+for _entry in (
+        EstimatorEntry("observer", "3rd-order complementary observer (baro + accel; default)", _run_observer_entry),
+        EstimatorEntry("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)",
+                       _run_kalman),
+        EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", _run_complementary),
+        EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS shifted onto the baro "
+                                    "datum + accel)",
+                       _run_alphabeta)):
+    register_estimator(_entry)
+
+
+# ----------------------------------------------------------------------------
+# running
+
+
+def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[AltitudeSettings] = None,
+                 clipped=None, clipped_settings: Optional[AltitudeSettings] = None,
+                 progress: Optional[Callable[[int, int], None]] = None, chunk: int = 50_000,
+                 compensate_baro_rate: bool = True, dt=None) -> AltitudeBatch:
+    """Run the observer over a log with irregular timestamps and missing baro samples.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times, s, strictly increasing; dt[i] = time[i] − time[i−1]
+        (the first step uses the second step's dt; it only sets the reference).
+    vertical_acceleration : array_like
+        m/s², +up, gravity removed.
+    baro_altitude : array_like
+        m; NaN where there is no baro sample.
+    settings : AltitudeSettings, optional
+        Gains; default the VTOL preset.
+    clipped : array_like of bool, optional
+        Samples whose accelerometer reading hit its range. See Notes.
+    clipped_settings : AltitudeSettings, optional
+        Gains on clipped samples; default ``settings`` with the position loop
+        4× faster (ω·4, ζ 0.7) and **bias estimation off** (Kb = 0).
+    progress : callable(done, total), optional
+        Called after each chunk of samples.
+    compensate_baro_rate : bool, default True
+        Scale the gains by (samples / baro samples) when the baro is slower
+        than the grid (:func:`fusion_altitude.tuning.settings_for_baro_rate`),
+        so ``settings`` keeps its designed bandwidth.
+    dt : array_like, optional
+        Per-sample periods, s; default :func:`sample_periods` of ``time``.
+
+    Returns
+    -------
+    AltitudeBatch
+
+    Notes
+    -----
+    **Clipping.** A clipped accelerometer under-reports the acceleration, and
+    the observer would integrate that error and push it into its bias
+    estimate. On clipped samples the observer therefore (1) still uses the
+    clipped reading (a lower bound of the true magnitude), (2) switches to
+    baro-trusting gains so the baro pulls the estimate back quickly, and
+    (3) freezes the bias estimate (Kb = 0) so the bias learned before the
+    clipping survives it. The normal gains return on the first unclipped
+    sample, with the state carried over.
+    """
+    time = np.asarray(time, dtype=float)
+    accel = np.asarray(vertical_acceleration, dtype=float)
+    baro = np.asarray(baro_altitude, dtype=float)
+    n = time.size
+    dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
+    settings = settings or AltitudeSettings()
+    if compensate_baro_rate:
+        settings = settings_for_baro_rate(settings, steps_per_baro(baro))
+    estimator = AltitudeEstimator(settings)
+    normal = estimator.settings
+    if clipped is None:
+        clipped = np.zeros(n, dtype=bool)
+    clipped = np.asarray(clipped, dtype=bool)
+    if clipped.any() and clipped_settings is None:
+        omega = _bandwidth_of(normal)
+        clipped_settings = AltitudeSettings.from_bandwidth(4 * omega, 0.7, 0.0, **_other_fields(normal))
+    out = AltitudeBatch(*(np.empty(n, dtype=np.float32) for _ in range(4)))
+    # Segments of constant clipping state, further cut into chunks for progress.
+    edges = np.flatnonzero(np.diff(clipped.astype(np.int8))) + 1
+    bounds = np.unique(np.concatenate([[0], edges, np.arange(0, n, chunk), [n]]))
+    for start, stop in zip(bounds[:-1], bounds[1:]):
+        estimator.settings = clipped_settings if clipped[start] else normal
+        views = AltitudeBatch(*(array[start:stop] for array in out))
+        estimator.update_batch(accel[start:stop], baro[start:stop], dt[start:stop], out=views)
+        if progress is not None:
+            progress(int(stop), n)
+    return out
+
+
+def sample_periods(time) -> np.ndarray:
+    """Per-sample dt, s, from timestamps: dt[i] = time[i] − time[i−1], and dt[0] = dt[1]
+    (the first sample only sets the reference)."""
+    time = np.asarray(time, dtype=float)
+    dt = np.empty(time.size)
+    dt[1:] = np.diff(time)
+    dt[:1] = dt[1] if time.size > 1 else 0.01
+    return dt
+
+
+def nominal_period(time) -> float:
+    """The log's nominal sample period, s: the median of its positive steps (gaps do not move it)."""
+    steps = np.diff(np.asarray(time, dtype=float))
+    steps = steps[steps > 0]
+    return float(np.median(steps)) if steps.size else 0.01
+
+
+def above_start(data: LogData, seconds: float = 1.0) -> float:
+    """The datum (m) that turns the log's altitudes into heights above the start (or the pad).
+
+    The log's own ``ground_altitude`` (pad altitude) when the reader found
+    one, else the median baro altitude over the first ``seconds`` s with baro
+    samples. The baro and the reference share one datum (see
+    :class:`~fusion_altitude.logs.LogData`), so subtracting this one value
+    from both aligns them the same way.
+
+    Raises
+    ------
+    ValueError
+        No baro sample and no ground altitude.
+    """
+    ground = getattr(data, "ground_altitude", None)
+    if ground is not None and np.isfinite(ground):
+        return float(ground)
+    baro = np.asarray(data.baro_altitude, float)
+    finite = np.flatnonzero(np.isfinite(baro))
+    if finite.size == 0:
+        raise ValueError(f"{data.source}: no baro sample to take the start altitude from")
+    early = finite[data.time[finite] <= data.time[finite[0]] + seconds]
+    return float(np.median(baro[early]))
+
+
+def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
+            progress: Optional[Callable[[int, int], None]] = None, estimator: str = "observer",
+            agl: bool = False, **options) -> LogRun:
+    """Run a registered estimator on a :class:`LogData`.
+
+    Parameters
+    ----------
+    data : LogData
+        The log.
+    settings : AltitudeSettings, optional
+        Observer gains (ignored by the other estimators); default VTOL,
+        compensated for the baro rate. Clipped samples are handled as in
+        :func:`run_observer`.
+    progress : callable(done, total), optional
+        Called as samples are processed.
+    estimator : str, default "observer"
+        A name of :data:`ESTIMATORS`.
+    agl : bool, default False
+        Heights above the start (or the pad): the baro, the GPS altitude,
+        the estimate and the reference all shifted by the one datum of
+        :func:`above_start` (``LogRun.datum``).
+    **options
+        Passed to the estimator's entry (e.g. ``kalman_settings``).
+
+    Returns
+    -------
+    LogRun
+
+    Raises
+    ------
+    ValueError
+        Unknown ``estimator`` (the message lists the known ones).
+    """
+    if estimator not in ESTIMATORS:
+        raise ValueError(f"estimator must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")
+    fields = {name: getattr(data, name) for name in LogData.__dataclass_fields__}
+    datum = 0.0
+    if agl:
+        datum = above_start(data)
+        fields["baro_altitude"] = np.asarray(data.baro_altitude, float) - datum
+        for name in ("reference_altitude", "gps_altitude"):
+            if fields.get(name) is not None:
+                fields[name] = np.asarray(fields[name], float) - datum
+        if "ground_altitude" in fields:
+            fields["ground_altitude"] = 0.0
+        data = type(data)(**fields)
+    options = dict(options, settings=settings, progress=progress)
+    estimate = ESTIMATORS[estimator].run(data, sample_periods(data.time), options)
+    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum)
+
+
+# ----------------------------------------------------------------------------
+# writing
+
+
+@contextlib.contextmanager
+def atomic_output(path: str) -> Iterator[str]:
+    """Yield a temporary path next to ``path`` (same extension); rename it onto ``path`` only on success.
+
+    A crash or an exception while writing leaves ``path`` as it was and no
+    temporary file behind.
+    """
+    directory = os.path.dirname(os.path.abspath(path))
+    base, extension = os.path.splitext(os.path.basename(path))
+    handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
+    os.close(handle)
+    try:
+        yield temporary
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
+    """The columns :func:`write_csv` writes, in order: ``time``, ``altitude``, ``vertical_velocity``, the
+    estimator's other 1-D outputs, ``baro_altitude``, ``vertical_acceleration`` and, if present,
+    ``reference_altitude``."""
+    columns: List[Tuple[str, np.ndarray]] = [("time", run.time)]
+    estimate = run.estimate
+    names = ["altitude", "vertical_velocity"] + [n for n in estimate._fields if n not in ("altitude", "vertical_velocity")]
+    for name in names:
+        values = np.asarray(getattr(estimate, name))
+        if values.ndim == 1 and values.dtype.kind in "fiub" and values.size == run.time.size:
+            columns.append((name, values))
+    columns.append(("baro_altitude", run.baro_altitude))
+    columns.append(("vertical_acceleration", run.vertical_acceleration))
+    if run.reference_altitude is not None:
+        columns.append(("reference_altitude", run.reference_altitude))
+    return columns
+
+
+def _format(values: np.ndarray) -> str:
+    """printf format that round-trips the column: 9 significant digits for float32, the shortest
+    round-trip repr for float64, a plain integer for integer and boolean columns (e.g. a flight phase)."""
+    if values.dtype.kind in "iub":
+        return "%d"
+    return "%.9g" if values.dtype == np.float32 else "%r"
+
+
+def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], None]] = None,
+              chunk: int = 100_000) -> None:
+    """Write the run per grid step at full precision, atomically (see :func:`atomic_output`).
+
+    Columns as :func:`csv_columns`: time s, altitude m, vertical_velocity m/s,
+    the estimator's other outputs (observer: accel_bias m/s², baro_residual m),
+    baro_altitude m, vertical_acceleration m/s² and reference_altitude m.
+    float64 columns (time, the log's inputs) are written as their shortest
+    round-trip repr (≤ 17 significant digits) and float32 estimates with 9
+    significant digits, so every value reads back bit for bit; a missing
+    value is ``nan``.
+    """
+    columns = csv_columns(run)
+    arrays = [np.asarray(values) for _, values in columns]
+    arrays = [a if a.dtype in (np.float32, np.float64) or a.dtype.kind in "iub" else a.astype(np.float64)
+              for a in arrays]
+    row_format = ",".join(_format(a) for a in arrays) + "\n"
+    n = run.time.size
+    with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:
+        stream.write(",".join(name for name, _ in columns) + "\n")
+        for start in range(0, n, chunk):
+            stop = min(start + chunk, n)
+            block = np.column_stack([a[start:stop].astype(np.float64) for a in arrays])
+            stream.write((row_format * (stop - start)) % tuple(block.ravel().tolist()))
+            if progress is not None:
+                progress(stop, n)

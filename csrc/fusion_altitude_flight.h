@@ -314,7 +314,7 @@ static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) 
  * @brief Defaults (justified in docs/rocket.md): stationary 2 m/s^2 over 0.5 s
  * windows; launch at 20 m/s^2 (about 2 g net) for 0.05 s; burnout below
  * 0 m/s^2 for 0.1 s; apogee margin 1 m/s; lockout above 100 m/s; spikes 20 m for at most 0.2 s;
- * offset rate 0.5; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
+ * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
  */
 static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(void) {
     FusionAltitudeRocketSettings settings;
@@ -329,7 +329,7 @@ static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(v
     settings.lockoutSpeed = 100.0f;
     settings.spikeThreshold = 20.0f;
     settings.spikeTime = 0.2f;
-    settings.offsetRate = 0.5f;
+    settings.offsetRate = 0.9f;
     settings.mainAltitude = 250.0f;
     settings.landedSpeed = 3.0f;
     settings.landedTime = 2.0f;

@@ -86,7 +86,7 @@ SETTINGS_FIELDS: Tuple[Tuple[str, float, str, str], ...] = (
     ("lockout_speed", 100.0, "positive", "m/s"),
     ("spike_threshold", 20.0, "positive", "m"),
     ("spike_time", 0.2, "non_negative", "s"),
-    ("offset_rate", 0.5, "rate", "fraction of |v|"),
+    ("offset_rate", 0.9, "rate", "fraction of |v|"),
     ("main_altitude", 250.0, "non_negative", "m"),
     ("landed_speed", 3.0, "positive", "m/s"),
     ("landed_time", 2.0, "non_negative", "s"),
@@ -333,7 +333,7 @@ class RocketSettings:
         m: a baro sample this far from the baro's own prediction is a spike.
     spike_time : float, default 0.2
         s: longest run of spike rejections; then the new level is accepted.
-    offset_rate : float, default 0.5
+    offset_rate : float, default 0.9
         The output height absorbs the baro offset found at re-admission at up
         to ``offset_rate·|v|`` m/s (0 < offset_rate ≤ 1).
     main_altitude : float, default 250.0

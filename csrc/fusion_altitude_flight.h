@@ -311,7 +311,7 @@ static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) 
 }
 
 /**
- * @brief Defaults (justified in docs/rocket.md): stationary 2 m/s^2 over 0.5 s
+ * @brief Defaults (justified in docs/rocket.md): stationary 5 m/s^2 over 0.5 s
  * windows; launch at 20 m/s^2 (about 2 g net) for 0.05 s; burnout below
  * 0 m/s^2 for 0.1 s; apogee margin 1 m/s; lockout above 100 m/s; spikes 20 m for at most 0.2 s;
  * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
@@ -319,7 +319,7 @@ static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) 
 static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(void) {
     FusionAltitudeRocketSettings settings;
     settings.observer = FusionAltitudeRocketObserverSettings();
-    settings.stationaryAccel = 2.0f;
+    settings.stationaryAccel = 5.0f;
     settings.calibrationWindow = 0.5f;
     settings.launchAccel = 20.0f;
     settings.launchTime = 0.05f;

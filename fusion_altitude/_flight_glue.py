@@ -76,7 +76,7 @@ MACH_LOCKOUT = 236.0
 #: Settings fields after the observer gains, in C declaration (and check) order:
 #: (name, default, rule) where rule is "positive", "non_negative", "finite" or "gap".
 SETTINGS_FIELDS: Tuple[Tuple[str, float, str, str], ...] = (
-    ("stationary_accel", 2.0, "positive", "m/s²"),
+    ("stationary_accel", 5.0, "positive", "m/s²"),
     ("calibration_window", 0.5, "positive", "s"),
     ("launch_accel", 20.0, "positive", "m/s²"),
     ("launch_time", 0.05, "non_negative", "s"),
@@ -313,7 +313,7 @@ class RocketSettings:
         Observer gains (Kh 1/s, Kv 1/s², Kb 1/s³) in flight; the rocket gains
         (1.4, 1.0, 0: ω 1 rad/s, ζ 0.7, no in-flight bias learning) if omitted.
         The bias gain is forced to 0 from apogee on.
-    stationary_accel : float, default 2.0
+    stationary_accel : float, default 5.0
         m/s²: a pad sample within this of its window's first sample is stationary.
     calibration_window : float, default 0.5
         s: pad calibration window; only all-stationary windows are learned.

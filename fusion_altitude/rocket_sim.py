@@ -269,3 +269,39 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
             baro[k] += rng.choice((-1.0, 1.0)) * rng.uniform(*model.pyro_spike)
     return RocketFlight(trajectory, accel, baro, static_error, apogee_time, apogee_height, float(t[k_main]),
                         model.pad_time, burnout_time, float(t[k_landed]), model)
+
+
+def summary(seeds: int = 20) -> str:
+    """The event and height figures of :func:`fusion_altitude.rocket.run_rocket` (default settings)
+    over ``seeds`` simulated flights, as a Markdown table (``python -m fusion_altitude.rocket_sim``)."""
+    from .rocket import run_rocket
+
+    rows = {"apogee delay after the true apogee (s)": [], "apogee height error (%)": [],
+            "true height at main (m; set 250)": [], "largest height drop during the ascent (m)": [],
+            "launch delay (s)": [], "burnout delay (s)": [], "max ascent height error (m)": [],
+            "max descent height error after main (m)": [], "peak speed (m/s)": [], "peak static-port error (m)": []}
+    for seed in range(seeds):
+        flight = simulate_rocket_flight(seed)
+        batch, events = run_rocket(flight.time, flight.accel, flight.baro_altitude)
+        truth = flight.trajectory.altitude
+        up = slice(events["launch"].sample, events["apogee"].sample + 1)
+        ascent = batch.height[up].astype(np.float64)
+        after_main = slice(events["main"].sample, None)
+        rows["apogee delay after the true apogee (s)"].append(events["apogee"].time - flight.apogee_time)
+        rows["apogee height error (%)"].append(100 * (events["apogee"].height - flight.apogee_height) / flight.apogee_height)
+        rows["true height at main (m; set 250)"].append(float(np.interp(events["main"].time, flight.time, truth)))
+        rows["largest height drop during the ascent (m)"].append(float((np.maximum.accumulate(ascent) - ascent).max()))
+        rows["launch delay (s)"].append(events["launch"].time - flight.launch_time)
+        rows["burnout delay (s)"].append(events["burnout"].time - flight.burnout_time)
+        rows["max ascent height error (m)"].append(float(np.abs(ascent - truth[up]).max()))
+        rows["max descent height error after main (m)"].append(float(np.abs(batch.height[after_main] - truth[after_main]).max()))
+        rows["peak speed (m/s)"].append(float(flight.trajectory.vertical_velocity.max()))
+        rows["peak static-port error (m)"].append(float(-flight.static_port_error.min()))
+    lines = [f"| over {seeds} seeds | min | mean | max |", "|---|---|---|---|"]
+    for name, values in rows.items():
+        lines.append(f"| {name} | {min(values):+.3f} | {np.mean(values):+.3f} | {max(values):+.3f} |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(summary())

@@ -76,7 +76,7 @@ def test_hedy_baro_is_locked_out_through_the_transonic_part_and_fused_after(hedy
     time, batch, events, _, _ = hedy
     fast = (time > 2.0) & (time < 20.0)
     assert not (batch.baro[fast] == rocket.BaroFate.FUSED).any()  # locked out, or a spike (the shock at 9.1 s)
-    assert (batch.baro[fast] == rocket.BaroFate.LOCKED_OUT).mean() > 0.99
+    assert (batch.baro[fast] == rocket.BaroFate.LOCKED_OUT).mean() > 0.98
     assert (batch.baro[events["apogee"].sample:] == rocket.BaroFate.FUSED).all()
 
 

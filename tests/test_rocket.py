@@ -206,3 +206,14 @@ def test_with_a_vertical_accel_the_descent_uses_the_accelerometer():
     descent = plain.phase >= rocket.Phase.DROGUE
     assert not np.array_equal(plain.height[descent], ins.height[descent])
     assert np.array_equal(plain.height[~descent], ins.height[~descent])
+
+
+def test_rocket_kalman_settings_follow_a_simulated_flight_where_the_defaults_do_not():
+    from fusion_altitude import KalmanEstimator, KalmanSettings
+    flight = simulate_rocket_flight(0)
+    baro = flight.baro_altitude - flight.model.pad_altitude
+    rms = {}
+    for name, settings in (("default", KalmanSettings()), ("rocket", rocket.rocket_kalman_settings())):
+        result = KalmanEstimator(settings).update_batch(flight.accel, flight.dt, baro_altitude=baro)
+        rms[name] = float(np.sqrt(np.mean((result.altitude - flight.trajectory.altitude) ** 2)))
+    assert rms["rocket"] < 20.0 < 100.0 < rms["default"]

@@ -86,7 +86,7 @@ class RocketFlightModel:
     drogue_velocity: float = -25.0
     main_velocity: float = -6.0
     main_altitude: float = 250.0
-    static_port_coefficient: float = 0.03
+    static_port_coefficient: float = 0.064
     transonic_bump: float = 60.0
     baro_noise: float = 1.0
     pyro_spike: tuple = (150.0, 500.0)
@@ -214,7 +214,7 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
         Base parameters; defaults if omitted.
     randomise : bool, default True
         Draw thrust (±15 %), burn time (±15 %), drag (±20 %), static-port
-        coefficient (0.02–0.04), accel bias (±0.5 m/s²) and scale error (±0.5 %) from ``seed``.
+        coefficient (0.04–0.08: 0.064 fitted on the Hedy flight), accel bias (±0.5 m/s²) and scale error (±0.5 %) from ``seed``.
     duration : float, optional
         s; long enough to land and rest 10 s if omitted.
     """
@@ -225,7 +225,7 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
         params["thrust_accel"] = base.thrust_accel * rng.uniform(0.85, 1.15)
         params["burn_time"] = base.burn_time * rng.uniform(0.85, 1.15)
         params["drag_k"] = base.drag_k * rng.uniform(0.8, 1.2)
-        params["static_port_coefficient"] = rng.uniform(0.02, 0.04)
+        params["static_port_coefficient"] = rng.uniform(0.04, 0.08)
         params["accel_bias"] = rng.uniform(-0.5, 0.5)
         params["accel_scale_error"] = rng.uniform(-0.005, 0.005)
     model = RocketFlightModel(**params)

@@ -52,9 +52,11 @@
  *     one) the disagreement o = z - h is stored as the baro offset and the
  *     observer fuses z - o, so the baro corrects the velocity drift without a
  *     step. The output height is h + oApplied, where oApplied moves towards o
- *     at up to offsetRate * |v| m/s: while climbing the reported height keeps
- *     rising (at least (1 - offsetRate) * v), and the velocity estimate used
- *     for apogee is never dragged by the height correction.
+ *     at up to offsetRate * |v| m/s before apogee (while climbing the reported
+ *     height keeps rising, at least (1 - offsetRate) * v) and at once after
+ *     it; the velocity estimate used for apogee is never dragged by the
+ *     height correction. A gap, and a baro step that outlasts spikeTime, are
+ *     re-admitted the same way.
  *
  * Phases and events (the observer's velocity v and height h after the step):
  *   pad -> boost     launch   (above)
@@ -550,10 +552,13 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     const float height = baroAltitude - rocket->padAltitude;
     if (rocket->lastBaroSet) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
-        if (((miss > settings->spikeThreshold) || (miss < -settings->spikeThreshold)) && (rocket->spikeTime < settings->spikeTime)) {
-            rocket->spikeTime += dt;
-            rocket->baro = FusionAltitudeRocketBaroSpike;
-            return FUSION_ALTITUDE_NO_BARO;
+        if ((miss > settings->spikeThreshold) || (miss < -settings->spikeThreshold)) {
+            if (rocket->spikeTime < settings->spikeTime) {
+                rocket->spikeTime += dt;
+                rocket->baro = FusionAltitudeRocketBaroSpike;
+                return FUSION_ALTITUDE_NO_BARO;
+            }
+            rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
         }
     }
     rocket->spikeTime = 0.0f;
@@ -613,6 +618,7 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
         rocket->runTime = 0.0f;
         rocket->baro = FusionAltitudeRocketBaroNone;
         rocket->accelTrusted = false;
+        rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
         return;
     }
     const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
@@ -621,11 +627,14 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
     (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
 
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
-    /* offsetApplied -> baroOffset at up to offsetRate * |v| m/s: while climbing the output height keeps rising */
+    /* offsetApplied -> baroOffset at up to offsetRate * |v| m/s while climbing (the output height keeps
+     * rising), at once in the descent */
     const float speed = (velocity < 0.0f) ? -velocity : velocity;
     const float offsetStep = settings->offsetRate * speed * dt;
     const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
-    if (offsetLeft > offsetStep) {
+    if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
+        rocket->offsetApplied = rocket->baroOffset;
+    } else if (offsetLeft > offsetStep) {
         rocket->offsetApplied += offsetStep;
     } else if (offsetLeft < -offsetStep) {
         rocket->offsetApplied -= offsetStep;

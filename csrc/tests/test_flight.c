@@ -394,6 +394,51 @@ static void GapsAreCountedAndExtrapolatedAtConstantVelocityInFlight(void) {
     CHECK(FusionAltitudeRocketGetHeight(&rocket) > expected - 0.05f && FusionAltitudeRocketGetHeight(&rocket) < expected + 0.05f);
 }
 
+static void ALongGapInTheDescentIsReAdmittedThroughTheOffsetWithoutALockout(void) {
+    FusionAltitudeRocket rocket = NewRocket(NULL);
+    float h = 0.0f;
+    float v = 0.0f;
+    for (int step = 0; step < 5000; step++) { /* into the drogue descent at -20 m/s */
+        const Sample s = Truth(step, &h, &v);
+        (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro, DT);
+    }
+    CHECK(FusionAltitudeRocketGetPhase(&rocket) == FusionAltitudeRocketPhaseDrogue);
+    for (int step = 5000; step < 9000; step++) { /* 40 s of truth the estimator never sees */
+        (void) Truth(step, &h, &v);
+    }
+    (void) FusionAltitudeRocketUpdate(&rocket, 0.0f, FUSION_ALTITUDE_NO_BARO, 40.0f);
+    CHECK(FusionAltitudeRocketGetGapCount(&rocket) == 1u);
+    bool lockedOut = false;
+    for (int step = 9000; step < 9200; step++) {
+        const Sample s = Truth(step, &h, &v);
+        (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro, DT);
+        lockedOut = lockedOut || FusionAltitudeRocketIsLockedOut(&rocket);
+    }
+    CHECK(!lockedOut);
+    const float error = FusionAltitudeRocketGetHeight(&rocket) - h;
+    CHECK(error > -2.0f && error < 2.0f);
+}
+
+static void ALastingBaroStepMovesTheHeightNotTheVelocity(void) {
+    FusionAltitudeRocket rocket = NewRocket(NULL);
+    float h = 0.0f;
+    float v = 0.0f;
+    for (int step = 0; step < 5000; step++) {
+        const Sample s = Truth(step, &h, &v);
+        (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro, DT);
+    }
+    float largestVelocityError = 0.0f;
+    for (int step = 5000; step < 5500; step++) { /* the baro steps up by 60 m and stays there */
+        const Sample s = Truth(step, &h, &v);
+        (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro + 60.0f, DT);
+        const float error = FusionAltitudeRocketGetVerticalVelocity(&rocket) - v;
+        largestVelocityError = (error > largestVelocityError) ? error : ((-error > largestVelocityError) ? -error : largestVelocityError);
+    }
+    CHECK(largestVelocityError < 1.0f);
+    const float error = FusionAltitudeRocketGetHeight(&rocket) - (h + 60.0f);
+    CHECK(error > -1.0f && error < 1.0f);
+}
+
 static void APadGapDiscardsTheCalibrationWindow(void) {
     FusionAltitudeRocket rocket = NewRocket(NULL);
     for (int step = 0; step < 40; step++) {
@@ -446,6 +491,8 @@ int main(void) {
     RUN(WithAVerticalAccelTheDescentUsesIt);
     RUN(TheBiasIsFrozenFromApogeeEvenWithABiasGain);
     RUN(GapsAreCountedAndExtrapolatedAtConstantVelocityInFlight);
+    RUN(ALongGapInTheDescentIsReAdmittedThroughTheOffsetWithoutALockout);
+    RUN(ALastingBaroStepMovesTheHeightNotTheVelocity);
     RUN(APadGapDiscardsTheCalibrationWindow);
     RUN(TimeIsTheCompensatedSumOfDt);
     RUN(AnUnknownEventIdHasNotOccurred);

@@ -183,10 +183,12 @@ class RocketEstimator(Checkpointable):
         height = z - self._pad_altitude
         if self._last_baro_set:
             miss = height - (self._last_baro + v * self._last_baro_age)
-            if (miss > s["spike_threshold"] or miss < -s["spike_threshold"]) and self._spike_time < s["spike_time"]:
-                self._spike_time += dt
-                self._baro = BaroFate.SPIKE
-                return _NAN
+            if miss > s["spike_threshold"] or miss < -s["spike_threshold"]:
+                if self._spike_time < s["spike_time"]:
+                    self._spike_time += dt
+                    self._baro = BaroFate.SPIKE
+                    return _NAN
+                self._baro_admitted = False  # a lasting step: re-admitted through the offset
         self._spike_time = _ZERO
         self._last_baro = height
         self._last_baro_age = _ZERO
@@ -231,6 +233,7 @@ class RocketEstimator(Checkpointable):
             self._run_time = _ZERO
             self._baro = BaroFate.NONE
             self._accel_trusted = False
+            self._baro_admitted = False  # the next baro sample is re-admitted through the offset
             return
         fused = self._gate(z, dt)
         self._accel_trusted = (not descending) or accel_vertical
@@ -240,7 +243,9 @@ class RocketEstimator(Checkpointable):
         speed = -v if v < 0 else v
         offset_step = s["offset_rate"] * speed * dt
         offset_left = self._baro_offset - self._offset_applied
-        if offset_left > offset_step:
+        if self._phase >= Phase.DROGUE:
+            self._offset_applied = self._baro_offset
+        elif offset_left > offset_step:
             self._offset_applied += offset_step
         elif offset_left < -offset_step:
             self._offset_applied -= offset_step

@@ -789,11 +789,12 @@ static inline bool FusionAltitudeRocketIsCalibrated(const FusionAltitudeRocket *
 /** @return the event (occurred false if not yet); an unknown id returns an event that has not occurred. */
 static inline FusionAltitudeRocketEvent FusionAltitudeRocketGetEvent(const FusionAltitudeRocket *const rocket,
                                                                      const FusionAltitudeRocketEventId event) {
-    if (((int) event < 0) || ((int) event >= FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS)) {
+    const unsigned int index = (unsigned int) event; /* an enum may be 1 byte and unsigned (-fshort-enums) */
+    if (index >= (unsigned int) FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS) {
         const FusionAltitudeRocketEvent none = {false, 0u, 0.0f, 0.0f, 0.0f};
         return none;
     }
-    return rocket->events[event];
+    return rocket->events[index];
 }
 
 /** @return updates with dt > gapPeriod so far. */

@@ -261,8 +261,9 @@ def replay_lines(output: str) -> list:
 
 
 def expected_replays(mismatches: str) -> list:
-    """Two runs (gcc and clang, or -Os and -O2) of each replay: observer, Kalman, complementary, alpha-beta."""
-    counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"))
+    """Two runs (gcc and clang, or -Os and -O2) of each replay: observer, Kalman, complementary, alpha-beta, flight."""
+    counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"),
+              hashed_vector_count("flight"))
     return sorted([(str(count), mismatches) for count in counts] * 2)
 
 
@@ -283,7 +284,7 @@ def test_replay_reports_a_mismatch(tmp_path):
         result = make(tmp_path / target, "-k", target, REPLAY_DEFINES=defines)
         assert result.returncode != 0, result.stdout
         assert replay_lines(result.stdout) == expected_replays("1"), result.stdout + result.stderr
-        assert result.stdout.count("record 1000 ") == 8, result.stdout
+        assert result.stdout.count("record 1000 ") == 10, result.stdout
 
 
 def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):

@@ -31,8 +31,8 @@ QNAN is the quiet NaN 0x7fc00000, also "no sample" in the inputs.
  *   update_vertical status 3 10
  */
 
-#ifndef FUSION_ALTITUDE_ROCKET_VECTORS_H
-#define FUSION_ALTITUDE_ROCKET_VECTORS_H
+#ifndef FUSION_ALTITUDE_FLIGHT_VECTORS_H
+#define FUSION_ALTITUDE_FLIGHT_VECTORS_H
 
 #include <stdint.h>
 
@@ -44,33 +44,33 @@ typedef enum {
     FusionAltitudeRocketVectorOpUpdateVertical = 2,
 } FusionAltitudeRocketVectorOp;
 
-#define FUSION_ALTITUDE_ROCKET_VECTOR_INPUTS (3)
-#define FUSION_ALTITUDE_ROCKET_VECTOR_STATE_WORDS (89)
-#define FUSION_ALTITUDE_ROCKET_VECTOR_SETTINGS_WORDS (18)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_INPUTS (3)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_STATE_WORDS (89)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_SETTINGS_WORDS (18)
 
 typedef struct {
     uint8_t op;     /**< FusionAltitudeRocketVectorOp */
     uint8_t status; /**< expected FusionAltitudeRocketStatus */
-    uint32_t input[FUSION_ALTITUDE_ROCKET_VECTOR_INPUTS]; /**< arguments (unused ones 0) */
+    uint32_t input[FUSION_ALTITUDE_FLIGHT_VECTOR_INPUTS]; /**< arguments (unused ones 0) */
     uint32_t hash;  /**< FNV-1a of the state words after the call */
 } FusionAltitudeRocketVector;
 
 typedef struct {
     uint32_t record; /**< index of the record */
-    uint32_t state[FUSION_ALTITUDE_ROCKET_VECTOR_STATE_WORDS]; /**< state words after it */
+    uint32_t state[FUSION_ALTITUDE_FLIGHT_VECTOR_STATE_WORDS]; /**< state words after it */
 } FusionAltitudeRocketVectorCheckpoint;
 
-#define FUSION_ALTITUDE_ROCKET_VECTOR_SETTINGS_COUNT (3)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_SETTINGS_COUNT (3)
 
-static const uint32_t fusionAltitudeRocketVectorSettings[FUSION_ALTITUDE_ROCKET_VECTOR_SETTINGS_COUNT][FUSION_ALTITUDE_ROCKET_VECTOR_SETTINGS_WORDS] = {
+static const uint32_t fusionAltitudeRocketVectorSettings[FUSION_ALTITUDE_FLIGHT_VECTOR_SETTINGS_COUNT][FUSION_ALTITUDE_FLIGHT_VECTOR_SETTINGS_WORDS] = {
     {0x3fb33333,0x3f800000,0,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x42c80000,0x41a00000,0x3e4ccccd,0x3f666666,0x437a0000,0x40400000,0x40000000,0x3f000000},
     {0x3fb33333,0x3f800000,0,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x42a00000,0x41a00000,0x3e4ccccd,0x3f666666,0x43c80000,0x40400000,0x40000000,0x3f000000},
     {0x3fcccccd,0x3fa3d70a,0x3e4ccccd,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x447a0000,0x41a00000,0,0x3f666666,0x437a0000,0x40400000,0x40000000,0x3dcccccd},
 };
 
-#define FUSION_ALTITUDE_ROCKET_VECTOR_COUNT (7416)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_COUNT (7416)
 
-static const FusionAltitudeRocketVector fusionAltitudeRocketVectors[FUSION_ALTITUDE_ROCKET_VECTOR_COUNT] = {
+static const FusionAltitudeRocketVector fusionAltitudeRocketVectors[FUSION_ALTITUDE_FLIGHT_VECTOR_COUNT] = {
     {0,0,{0,0,0},0x5b8d0ff6},
     {1,0,{0x3fd43114,0x44af052d,0x3d23d70a},0x2e5c7bd4},
     {1,0,{0xbe89ff68,0x44af3a81,0x3d23d70a},0xd407d217},
@@ -7489,9 +7489,9 @@ static const FusionAltitudeRocketVector fusionAltitudeRocketVectors[FUSION_ALTIT
     {1,0,{0xbf4df9fb,0x44af2d41,0x3d23d70a},0x5b9043c7},
 };
 
-#define FUSION_ALTITUDE_ROCKET_VECTOR_CHECKPOINT_COUNT (59)
+#define FUSION_ALTITUDE_FLIGHT_VECTOR_CHECKPOINT_COUNT (59)
 
-static const FusionAltitudeRocketVectorCheckpoint fusionAltitudeRocketVectorCheckpoints[FUSION_ALTITUDE_ROCKET_VECTOR_CHECKPOINT_COUNT] = {
+static const FusionAltitudeRocketVectorCheckpoint fusionAltitudeRocketVectorCheckpoints[FUSION_ALTITUDE_FLIGHT_VECTOR_CHECKPOINT_COUNT] = {
     {0,{0x3fb33333,0x3f800000,0,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x42c80000,0x41a00000,0x3e4ccccd,0x3f666666,0x437a0000,0x40400000,0x40000000,0x3f000000,0,0,0,0,1,0x3fb33333,0x3f800000,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,0,0,0}},
     {128,{0x3fb33333,0x3f800000,0,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x42c80000,0x41a00000,0x3e4ccccd,0x3f666666,0x437a0000,0x40400000,0x40000000,0x3f000000,0x4314e488,0x42f0da64,0x3df31dde,QNAN,1,0x3fb33333,0x3f800000,0,1,3,1,0x0000004b,0x40428f5c,0x3e308b7d,0x4089ecfa,0,0,0,0,0,1,0x0000007e,0x40a28f5c,0x4314e488,0x42f0da64,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,1,0x0000004b,0x40428f5c,0x3e308b7d,0x4089ecfa,0x0000007f,0,5,0,0,0x40a28f5c,0x33200000,0x3df31dde,0x44aefe84,0,0,0,0,0,0,0,0x42df7380,0,0,0,0,1,1,0,1,1}},
     {256,{0x3fb33333,0x3f800000,0,0x40a00000,0x3f000000,0x41a00000,0x3d4ccccd,0,0x3dcccccd,0x3f800000,0x42c80000,0x41a00000,0x3e4ccccd,0x3f666666,0x437a0000,0x40400000,0x40000000,0x3f000000,0x4599dd97,0x4292f403,0x3df31dde,0xbf500000,1,0x3fb33333,0x3f800000,0,2,2,1,0x0000004b,0x40428f5c,0x3e308b7d,0x4089ecfa,1,0x00000086,0x40accccd,0x433dbbac,0x43037da9,1,0x00000085,0x40ab851e,0x43387935,0x430402d2,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,1,0x00000086,0x40accccd,0x433dbbac,0x43037da9,0x000000fe,1,5,0,0,0x42487ae1,0x34680000,0x3df31dde,0x44aefe84,0,0,0,0,0,0,0,0x441efd9a,0,0xc585e03e,0xc3353205,0,1,1,1,0,1}},

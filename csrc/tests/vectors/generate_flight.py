@@ -149,7 +149,7 @@ def render() -> str:
     ]
     return vc.render(recorder, file="flight_vectors.h", header="fusion_altitude_flight.h",
                      generator="generate_flight.py", reference="fusion_altitude.reference.flight",
-                     type_prefix="FusionAltitudeRocket", macro_prefix="FUSION_ALTITUDE_ROCKET",
+                     type_prefix="FusionAltitudeRocket", macro_prefix="FUSION_ALTITUDE_FLIGHT",
                      description=description, state_fields=STATE_FIELDS, settings_words=len(SETTINGS_FIELDS),
                      checkpoint_every=128)
 

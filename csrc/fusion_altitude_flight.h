@@ -43,7 +43,7 @@
  *     already lasted spikeTime s, in which case the new level is accepted.
  *     Ejection charges and the transonic shock give spikes of tens to hundreds
  *     of metres lasting a few samples.
- *   - locked out while |v| > min(lockoutSpeed, FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT):
+ *   - locked out in boost and while |v| > min(lockoutSpeed, FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT):
  *     the static port reads low by roughly k * dynamic pressure, worst
  *     through Mach 1, so the estimator coasts on the accelerometer and the
  *     pad-learned bias;

@@ -78,7 +78,8 @@
  * Gaps: an update with dt > gapPeriod is counted (gapCount). On the pad it
  * discards the calibration window and any launch candidate. In flight the
  * step is extrapolated at constant velocity (no accel, no baro), split into
- * equal sub-steps of at most gapPeriod (up to 64), so the observer itself never
+ * equal sub-steps of at most gapPeriod (a power of two, up to 4096: 2048 s at
+ * the default gapPeriod), so the observer itself never
  * sees a step longer than gapPeriod; event timers restart.
  *
  * Bad input (accel not finite, baro infinite, dt not finite or <= 0) returns a
@@ -117,7 +118,7 @@ extern "C" {
 #define FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT (236.0f)
 
 /** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
-#define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (64u)
+#define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
 
 /** Number of completed stationary windows after which the calibration is an exponential mean (weight 1/8). */
 #define FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS (8u)

@@ -25,7 +25,7 @@ f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
 MACH_LOCKOUT = f32(236.0)
-MAX_GAP_STEPS = 64
+MAX_GAP_STEPS = 4096
 CALIBRATION_WINDOWS = 8
 
 # event indices

@@ -66,7 +66,7 @@ def test_height_never_goes_down_by_more_than_1_m_during_the_ascent(flights):
 def test_every_event_occurs_once_in_flight_order(flights):
     for flight, _, events in flights:
         times = [events[name].time for name in ("launch", "burnout", "apogee", "main", "landed")]
-        assert all(events[name].occurred for name in rocket.FlightEvents.__init__.__globals__["EVENT_NAMES"])
+        assert all(event.occurred for event in events)
         assert times == sorted(times)
         assert abs(events["launch"].time - flight.launch_time) <= 0.05
         assert abs(events["burnout"].time - flight.burnout_time) <= 0.3

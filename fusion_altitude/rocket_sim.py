@@ -303,5 +303,29 @@ def summary(seeds: int = 20) -> str:
     return "\n".join(lines)
 
 
+def kalman_comparison(seeds: int = 5) -> str:
+    """RMS height error over whole simulated flights (m): the Kalman filter with its default and its rocket
+    settings (accel as given, baro above the pad) and the rocket flight layer
+    (``python -m fusion_altitude.rocket_sim --kalman``)."""
+    from . import KalmanEstimator, KalmanSettings
+    from .rocket import rocket_kalman_settings, run_rocket
+
+    lines = ["| seed | Kalman, default settings | Kalman, rocket settings | RocketEstimator |", "|---|---|---|---|"]
+    for seed in range(seeds):
+        flight = simulate_rocket_flight(seed)
+        truth = flight.trajectory.altitude
+        baro = flight.baro_altitude - flight.model.pad_altitude
+        rms = []
+        for settings in (KalmanSettings(), rocket_kalman_settings()):
+            result = KalmanEstimator(settings).update_batch(flight.accel, flight.dt, baro_altitude=baro)
+            rms.append(float(np.sqrt(np.mean((result.altitude - truth) ** 2))))
+        batch, _ = run_rocket(flight.time, flight.accel, flight.baro_altitude)
+        rms.append(float(np.sqrt(np.mean((batch.height - truth) ** 2))))
+        lines.append(f"| {seed} | " + " | ".join(f"{value:.1f}" for value in rms) + " |")
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
-    print(summary())
+    import sys
+
+    print(kalman_comparison() if "--kalman" in sys.argv[1:] else summary())

@@ -226,11 +226,11 @@ def test_every_public_function_is_built_and_sized():
 
 def test_cross_builds_are_warning_free_without_double_or_libm(build):
     output = assert_ok(make(build, "check-objects"))
-    assert re.search(r"^160 objects checked, 0 with double or libm$", output, re.MULTILINE), output
+    assert re.search(r"^200 objects checked, 0 with double or libm$", output, re.MULTILINE), output
     for target in ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc"):
         for variant in ("c99-Os", "c99-O2", "c11-Os", "c11-O2"):
             for name in ("firmware_observer", "sized_observer", "firmware_kalman", "sized_kalman", "firmware_complementary",
-                         "sized_complementary", "firmware_alphabeta", "sized_alphabeta"):
+                         "sized_complementary", "firmware_alphabeta", "sized_alphabeta", "firmware_flight", "sized_flight"):
                 assert re.search(rf"^{target}/{variant}/{name}: ok ", output, re.MULTILINE), (target, variant, name)
 
 
@@ -265,10 +265,11 @@ def replay_lines(output: str) -> list:
 
 
 def expected_replays(mismatches: str) -> list:
-    """Three runs of each replay (observer, Kalman, complementary, alpha-beta): on the host gcc and clang
+    """Three runs of each replay (observer, Kalman, complementary, alpha-beta, flight): on the host gcc and clang
     (-std=c99) and gcc -std=gnu11 -O2 -mfma (FMA contraction on by default); on QEMU -Os, -O2 (-std=c99) and
     -std=gnu11 -O2 (vfma.f32 available)."""
-    counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"))
+    counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"),
+              hashed_vector_count("flight"))
     return sorted([(str(count), mismatches) for count in counts] * 3)
 
 
@@ -289,7 +290,7 @@ def test_replay_reports_a_mismatch(tmp_path):
         result = make(tmp_path / target, "-k", target, REPLAY_DEFINES=defines)
         assert result.returncode != 0, result.stdout
         assert replay_lines(result.stdout) == expected_replays("1"), result.stdout + result.stderr
-        assert result.stdout.count("record 1000 ") == 12, result.stdout
+        assert result.stdout.count("record 1000 ") == 15, result.stdout
 
 
 def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):

@@ -1,0 +1,817 @@
+/**
+ * @file fusion_altitude_flight.h
+ * @brief Rocket flight computer layer around the altitude observer of
+ * fusion_altitude.h: pad calibration, a barometer gate (dynamic-pressure
+ * lockout, ejection-spike rejection, gentle re-admission) and the flight
+ * phase state machine pad -> boost -> coast -> (apogee) drogue -> main ->
+ * landed, with the time and height of each event.
+ *
+ * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
+ * libm. It uses the observer through its public API only, so it includes
+ * fusion_altitude.h: copy both files.
+ *
+ * Units and frame: height m above the pad (+up), vertical velocity m/s (+up),
+ * acceleration m/s^2, time s. Inputs at every step:
+ *   accel        m/s^2, gravity removed, +up: on a rocket without an INS the
+ *                accelerometer axis along the airframe (long axis, nose up)
+ *                minus g, taken as vertical until apogee (the cosine error of
+ *                a tilted flight is not corrected; see docs/rocket.md). With an
+ *                INS, its earth-frame vertical acceleration (see
+ *                FusionAltitudeRocketUpdateWithVerticalAccel).
+ *   baroAltitude m, pressure altitude (any datum; the pad is learned), or
+ *                FUSION_ALTITUDE_NO_BARO when no sample arrived this step.
+ *   dt           s since the previous step.
+ *
+ * Pad calibration. On the pad, samples are grouped into windows of
+ * calibrationWindow s. A window is stationary when every accel sample in it
+ * stays within stationaryAccel of the window's first one (and no gap falls in
+ * it). Each completed stationary window's mean accel and mean baro altitude
+ * are blended into the calibration (running mean of the windows, the newest
+ * weighted at least 1/8):
+ *   accelBias   += (windowMeanAccel - accelBias) * w,   w = 1/min(n, 8)
+ *   padAltitude += (windowMeanBaro  - padAltitude) * w
+ * A window that holds any non-stationary sample is discarded, so the launch
+ * transient (and anything that shook the rocket) never enters the bias or the
+ * pad altitude. Launch is declared when accel - accelBias > launchAccel for
+ * launchTime s in a row; its time and height are those of the first sample of
+ * that run, and the motion from that sample on is integrated (no baro).
+ *
+ * Baro gate (after launch). Each baro sample is, in this order:
+ *   - a spike when |z - (zLast + v * age)| > spikeThreshold, where zLast is
+ *     the last sample not rejected as a spike, age the time since it and v
+ *     the velocity estimate; rejected (not fused) unless the rejections have
+ *     already lasted spikeTime s, in which case the new level is accepted.
+ *     Ejection charges and the transonic shock give spikes of tens to hundreds
+ *     of metres lasting a few samples.
+ *   - locked out in boost and while |v| > min(lockoutSpeed, FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT):
+ *     the static port reads low by roughly k * dynamic pressure, worst
+ *     through Mach 1, so the estimator coasts on the accelerometer and the
+ *     pad-learned bias;
+ *   - otherwise fused. The observer keeps the height it integrated through
+ *     the lockout: on re-admission (the first fused sample after a locked-out
+ *     one) the disagreement o = z - h is stored as the baro offset and the
+ *     observer fuses z - o, so the baro corrects the velocity drift without a
+ *     step. The output height is h + oApplied, where oApplied moves towards o
+ *     at up to offsetRate * |v| m/s before apogee (while climbing the reported
+ *     height keeps rising, at least (1 - offsetRate) * v) and at once after
+ *     it; the velocity estimate used for apogee is never dragged by the
+ *     height correction. A gap, and a baro step that outlasts spikeTime, are
+ *     re-admitted the same way.
+ *
+ * Phases and events (the observer's velocity v and height h after the step):
+ *   pad -> boost     launch   (above)
+ *   boost -> coast   burnout  accel - accelBias < burnoutAccel for burnoutTime s
+ *                             (time and height of the first sample of that run)
+ *   (boost, coast)   max speed: the step with the largest v so far
+ *   coast -> drogue  apogee   v < -apogeeMargin (v crossing zero, past its noise:
+ *                             1 m/s = 0.1 s late), never in boost (before
+ *                             burnout) and never while the lockout is active
+ *   drogue -> main   main     h <= mainAltitude
+ *   drogue/main -> landed     |v| < landedSpeed for landedTime s in a row
+ * After apogee the accelerometer is not vertical (tumbling, under a
+ * parachute): without an INS the accel input is ignored (the observer is fed
+ * its own bias, so a - b = 0) and the descent is baro-led with the bias frozen
+ * (bias gain 0). FusionAltitudeRocketUpdateWithVerticalAccel marks the accel
+ * as a trusted earth-frame vertical acceleration (an INS): it is then used in
+ * every phase, still with the bias frozen after apogee.
+ *
+ * Gaps: an update with dt > gapPeriod is counted (gapCount). On the pad it
+ * discards the calibration window and any launch candidate. In flight the
+ * step is extrapolated at constant velocity (no accel, no baro), split into
+ * equal sub-steps of at most gapPeriod (a power of two, up to 4096: 2048 s at
+ * the default gapPeriod), so the observer itself never
+ * sees a step longer than gapPeriod; event timers restart.
+ *
+ * Bad input (accel not finite, baro infinite, dt not finite or <= 0) returns a
+ * status and leaves the state bit-identical.
+ */
+
+#ifndef FUSION_ALTITUDE_FLIGHT_H
+#define FUSION_ALTITUDE_FLIGHT_H
+
+#include "fusion_altitude.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__clang__)
+#define FUSION_ALTITUDE_ROCKET_NO_CONTRACT _Pragma("clang fp contract(off)")
+#else
+#define FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+#endif
+
+//------------------------------------------------------------------------------
+// Definitions
+
+/**
+ * @brief Speed above which the baro is always locked out, m/s, whatever
+ * lockoutSpeed says: Mach 0.8 in the coldest layer of the standard atmosphere
+ * (295 m/s at -56.5 degC), where transonic shocks start to reach the static
+ * ports.
+ */
+#define FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT (236.0f)
+
+/** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
+#define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
+
+/** Number of completed stationary windows after which the calibration is an exponential mean (weight 1/8). */
+#define FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS (8u)
+
+/** Status returned by every function that can reject its input. */
+typedef enum {
+    FusionAltitudeRocketStatusOk = 0,
+    FusionAltitudeRocketStatusInvalidAccel,            /**< accel not finite */
+    FusionAltitudeRocketStatusInvalidBaroAltitude,     /**< baro altitude infinite */
+    FusionAltitudeRocketStatusInvalidDt,               /**< dt not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidObserverSettings, /**< observer gains rejected by FusionAltitudeSettingsCheck */
+    FusionAltitudeRocketStatusInvalidStationaryAccel,  /**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidCalibrationWindow,/**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidLaunchAccel,      /**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidLaunchTime,       /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidBurnoutAccel,     /**< not finite */
+    FusionAltitudeRocketStatusInvalidBurnoutTime,      /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidApogeeMargin,     /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidLockoutSpeed,     /**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidSpikeThreshold,   /**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidSpikeTime,        /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidOffsetRate,       /**< not finite, <= 0 or > 1 */
+    FusionAltitudeRocketStatusInvalidMainAltitude,     /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidLandedSpeed,      /**< not finite or <= 0 */
+    FusionAltitudeRocketStatusInvalidLandedTime,       /**< not finite or < 0 */
+    FusionAltitudeRocketStatusInvalidGapPeriod,        /**< NaN or <= 0 (+infinity: never a gap) */
+} FusionAltitudeRocketStatus;
+
+/** Flight phases, in the only order they can occur. */
+typedef enum {
+    FusionAltitudeRocketPhasePad = 0, /**< calibrating, waiting for launch */
+    FusionAltitudeRocketPhaseBoost,   /**< motor burning */
+    FusionAltitudeRocketPhaseCoast,   /**< after burnout, climbing */
+    FusionAltitudeRocketPhaseDrogue,  /**< after apogee, above the main altitude */
+    FusionAltitudeRocketPhaseMain,    /**< below the main altitude */
+    FusionAltitudeRocketPhaseLanded,  /**< at rest after the descent */
+} FusionAltitudeRocketPhase;
+
+/** Events, indices of FusionAltitudeRocket.events. */
+typedef enum {
+    FusionAltitudeRocketEventLaunch = 0,
+    FusionAltitudeRocketEventBurnout,
+    FusionAltitudeRocketEventMaxSpeed,
+    FusionAltitudeRocketEventApogee,
+    FusionAltitudeRocketEventMain,
+    FusionAltitudeRocketEventLanded,
+} FusionAltitudeRocketEventId;
+
+/** Number of FusionAltitudeRocketEventId values. */
+#define FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS (6)
+
+/** What happened to the baro sample of the latest step. */
+typedef enum {
+    FusionAltitudeRocketBaroNone = 0,   /**< no sample this step (NaN) */
+    FusionAltitudeRocketBaroPad,        /**< on the pad: used for calibration only */
+    FusionAltitudeRocketBaroFused,      /**< fused into the observer */
+    FusionAltitudeRocketBaroLockedOut,  /**< not fused: speed above the lockout */
+    FusionAltitudeRocketBaroSpike,      /**< not fused: rejected as a spike */
+} FusionAltitudeRocketBaro;
+
+/** One event: whether it occurred, and where. */
+typedef struct {
+    bool occurred;
+    uint32_t sample; /**< index of the step that declared it (0 = first update after initialise) */
+    float time;      /**< s since initialise (compensated sum of dt) */
+    float height;    /**< m above the pad */
+    float velocity;  /**< m/s, +up */
+} FusionAltitudeRocketEvent;
+
+/** Settings. Start from FusionAltitudeRocketSettingsDefault(). */
+typedef struct {
+    FusionAltitudeSettings observer; /**< observer gains in flight (bias gain forced to 0 after apogee) */
+    float stationaryAccel;   /**< m/s^2: pad samples within this of the window's first are stationary */
+    float calibrationWindow; /**< s: length of a pad calibration window */
+    float launchAccel;       /**< m/s^2: accel - bias above this ... */
+    float launchTime;        /**< s: ... for this long declares launch */
+    float burnoutAccel;      /**< m/s^2: accel - bias below this ... */
+    float burnoutTime;       /**< s: ... for this long declares burnout */
+    float apogeeMargin;      /**< m/s: apogee when v < -apogeeMargin (the crossing of zero, past the estimate's noise) */
+    float lockoutSpeed;      /**< m/s: baro locked out while |v| is above this (and always above Mach 0.8) */
+    float spikeThreshold;    /**< m: a baro sample this far from the baro's own prediction is a spike */
+    float spikeTime;         /**< s: longest run of spike rejections before the new level is accepted */
+    float offsetRate;        /**< 1: the output height absorbs the baro offset at up to offsetRate * |v| m/s */
+    float mainAltitude;      /**< m above the pad: main deployment in the descent */
+    float landedSpeed;       /**< m/s: |v| below this ... */
+    float landedTime;        /**< s: ... for this long declares landing */
+    float gapPeriod;         /**< s: an update with dt above this is a gap */
+} FusionAltitudeRocketSettings;
+
+/** State. Read it through the Get functions. */
+typedef struct {
+    FusionAltitudeRocketSettings settings;
+    FusionAltitude observer;          /**< the altitude observer, heights above the pad */
+    FusionAltitudeRocketPhase phase;
+    FusionAltitudeRocketBaro baro;    /**< fate of the latest baro sample */
+    FusionAltitudeRocketEvent events[FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS];
+    FusionAltitudeRocketEvent candidate; /**< first step of the current launch/burnout/landed run */
+    uint32_t sample;                  /**< steps accepted so far */
+    uint32_t gapCount;                /**< updates with dt > gapPeriod */
+    uint32_t windows;                 /**< stationary pad windows blended into the calibration */
+    uint32_t windowSamples;           /**< accel samples in the current window */
+    uint32_t windowBaroSamples;       /**< baro samples in the current window */
+    float time;                       /**< s since initialise */
+    float timeCompensation;           /**< Kahan compensation of time, s */
+    float accelBias;                  /**< pad-learned accel bias, m/s^2 */
+    float padAltitude;                /**< pad pressure altitude, m */
+    float windowTime;                 /**< s into the current window */
+    float windowAccelFirst;           /**< m/s^2, first accel of the window */
+    float windowAccelSum;             /**< sum of (accel - windowAccelFirst), m/s^2 */
+    float windowBaroFirst;            /**< m, first baro of the window */
+    float windowBaroSum;              /**< sum of (baro - windowBaroFirst), m */
+    float runTime;                    /**< s: duration of the current launch/burnout/landed condition run */
+    float spikeTime;                  /**< s: duration of the current run of spike rejections */
+    float lastBaro;                   /**< m above the pad, latest baro not rejected as a spike */
+    float lastBaroAge;                /**< s since lastBaro */
+    float baroOffset;                 /**< m: baro height minus observer height when the baro was last re-admitted */
+    float offsetApplied;              /**< m: the part of baroOffset added to the output height so far */
+    bool windowStationary;            /**< every sample of the current window stationary so far */
+    bool padAltitudeSet;              /**< a baro sample has been seen on the pad */
+    bool lastBaroSet;                 /**< lastBaro holds a sample */
+    bool baroAdmitted;                /**< the latest baro sample not rejected as a spike was fused */
+    bool lockout;                     /**< baro lockout active at the latest step */
+    bool accelTrusted;                /**< latest step used the accel after apogee (INS) */
+} FusionAltitudeRocket;
+
+//------------------------------------------------------------------------------
+// Status messages
+
+/** @return a short English description of the status, never NULL. */
+static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitudeRocketStatus status) {
+    switch (status) {
+        case FusionAltitudeRocketStatusOk:
+            return "ok";
+        case FusionAltitudeRocketStatusInvalidAccel:
+            return "accel must be finite";
+        case FusionAltitudeRocketStatusInvalidBaroAltitude:
+            return "baro altitude must be finite, or NaN for no sample";
+        case FusionAltitudeRocketStatusInvalidDt:
+            return "dt must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidObserverSettings:
+            return "observer gains are invalid or unstable";
+        case FusionAltitudeRocketStatusInvalidStationaryAccel:
+            return "stationary accel must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidCalibrationWindow:
+            return "calibration window must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidLaunchAccel:
+            return "launch accel must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidLaunchTime:
+            return "launch time must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidBurnoutAccel:
+            return "burnout accel must be finite";
+        case FusionAltitudeRocketStatusInvalidBurnoutTime:
+            return "burnout time must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidApogeeMargin:
+            return "apogee margin must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidLockoutSpeed:
+            return "lockout speed must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidSpikeThreshold:
+            return "spike threshold must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidSpikeTime:
+            return "spike time must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidOffsetRate:
+            return "offset rate must be > 0 and <= 1";
+        case FusionAltitudeRocketStatusInvalidMainAltitude:
+            return "main altitude must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidLandedSpeed:
+            return "landed speed must be finite and > 0";
+        case FusionAltitudeRocketStatusInvalidLandedTime:
+            return "landed time must be finite and >= 0";
+        case FusionAltitudeRocketStatusInvalidGapPeriod:
+            return "gap period must be > 0 (+infinity: never a gap)";
+    }
+    return "unknown status";
+}
+
+//------------------------------------------------------------------------------
+// Settings
+
+/**
+ * @brief Rocket observer gains: omega = 1.0 rad/s, zeta = 0.7, omega_b = 0
+ * through FusionAltitudeSettingsFromBandwidth's formulas: Kh = 1.4 1/s,
+ * Kv = 1.0 1/s^2, Kb = 0 (the bias is learned on the pad and frozen in flight,
+ * so static-port and transonic baro errors never enter it). Slower than VTOL (baro noise and static-port errors matter
+ * more than manoeuvres the accelerometer already measures well). Any field the
+ * observer settings hold beyond the gains keeps its default.
+ */
+static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) {
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
+    settings.positionGain = 1.4f;
+    settings.velocityGain = 1.0f;
+    settings.biasGain = 0.0f;
+    return settings;
+}
+
+/**
+ * @brief Defaults (justified in docs/rocket.md): stationary 5 m/s^2 over 0.5 s
+ * windows; launch at 20 m/s^2 (about 2 g net) for 0.05 s; burnout below
+ * 0 m/s^2 for 0.1 s; apogee margin 1 m/s; lockout above 100 m/s; spikes 20 m for at most 0.2 s;
+ * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
+ */
+static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(void) {
+    FusionAltitudeRocketSettings settings;
+    settings.observer = FusionAltitudeRocketObserverSettings();
+    settings.stationaryAccel = 5.0f;
+    settings.calibrationWindow = 0.5f;
+    settings.launchAccel = 20.0f;
+    settings.launchTime = 0.05f;
+    settings.burnoutAccel = 0.0f;
+    settings.burnoutTime = 0.1f;
+    settings.apogeeMargin = 1.0f;
+    settings.lockoutSpeed = 100.0f;
+    settings.spikeThreshold = 20.0f;
+    settings.spikeTime = 0.2f;
+    settings.offsetRate = 0.9f;
+    settings.mainAltitude = 250.0f;
+    settings.landedSpeed = 3.0f;
+    settings.landedTime = 2.0f;
+    settings.gapPeriod = 0.5f;
+    return settings;
+}
+
+static inline bool FusionAltitudeRocketPositive(const float value) {
+    return FusionAltitudeIsFinite(value) && (value > 0.0f);
+}
+
+static inline bool FusionAltitudeRocketNonNegative(const float value) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f);
+}
+
+/** @brief Checks every field, in declaration order; the first bad one is reported. */
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketSettingsCheck(const FusionAltitudeRocketSettings *const settings) {
+    if (FusionAltitudeSettingsCheck(&settings->observer) != FusionAltitudeStatusOk) {
+        return FusionAltitudeRocketStatusInvalidObserverSettings;
+    }
+    if (!FusionAltitudeRocketPositive(settings->stationaryAccel)) {
+        return FusionAltitudeRocketStatusInvalidStationaryAccel;
+    }
+    if (!FusionAltitudeRocketPositive(settings->calibrationWindow)) {
+        return FusionAltitudeRocketStatusInvalidCalibrationWindow;
+    }
+    if (!FusionAltitudeRocketPositive(settings->launchAccel)) {
+        return FusionAltitudeRocketStatusInvalidLaunchAccel;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->launchTime)) {
+        return FusionAltitudeRocketStatusInvalidLaunchTime;
+    }
+    if (!FusionAltitudeIsFinite(settings->burnoutAccel)) {
+        return FusionAltitudeRocketStatusInvalidBurnoutAccel;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->burnoutTime)) {
+        return FusionAltitudeRocketStatusInvalidBurnoutTime;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->apogeeMargin)) {
+        return FusionAltitudeRocketStatusInvalidApogeeMargin;
+    }
+    if (!FusionAltitudeRocketPositive(settings->lockoutSpeed)) {
+        return FusionAltitudeRocketStatusInvalidLockoutSpeed;
+    }
+    if (!FusionAltitudeRocketPositive(settings->spikeThreshold)) {
+        return FusionAltitudeRocketStatusInvalidSpikeThreshold;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->spikeTime)) {
+        return FusionAltitudeRocketStatusInvalidSpikeTime;
+    }
+    if (!FusionAltitudeRocketPositive(settings->offsetRate) || (settings->offsetRate > 1.0f)) {
+        return FusionAltitudeRocketStatusInvalidOffsetRate;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->mainAltitude)) {
+        return FusionAltitudeRocketStatusInvalidMainAltitude;
+    }
+    if (!FusionAltitudeRocketPositive(settings->landedSpeed)) {
+        return FusionAltitudeRocketStatusInvalidLandedSpeed;
+    }
+    if (!FusionAltitudeRocketNonNegative(settings->landedTime)) {
+        return FusionAltitudeRocketStatusInvalidLandedTime;
+    }
+    if (FusionAltitudeIsNaN(settings->gapPeriod) || !(settings->gapPeriod > 0.0f)) {
+        return FusionAltitudeRocketStatusInvalidGapPeriod;
+    }
+    return FusionAltitudeRocketStatusOk;
+}
+
+//------------------------------------------------------------------------------
+// Estimator
+
+static inline void FusionAltitudeRocketClearWindow(FusionAltitudeRocket *const rocket) {
+    rocket->windowSamples = 0u;
+    rocket->windowBaroSamples = 0u;
+    rocket->windowTime = 0.0f;
+    rocket->windowAccelFirst = 0.0f;
+    rocket->windowAccelSum = 0.0f;
+    rocket->windowBaroFirst = 0.0f;
+    rocket->windowBaroSum = 0.0f;
+    rocket->windowStationary = true;
+}
+
+/**
+ * @brief Initialises with the given settings (FusionAltitudeRocketSettingsDefault()
+ * if NULL): phase pad, nothing calibrated, no events, time 0.
+ * @return FusionAltitudeRocketStatusOk, or the settings' status (then *rocket
+ * is left untouched).
+ */
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketInitialise(FusionAltitudeRocket *const rocket,
+                                                                        const FusionAltitudeRocketSettings *const settings) {
+    const FusionAltitudeRocketSettings chosen = (settings == NULL) ? FusionAltitudeRocketSettingsDefault() : *settings;
+    const FusionAltitudeRocketStatus status = FusionAltitudeRocketSettingsCheck(&chosen);
+    if (status != FusionAltitudeRocketStatusOk) {
+        return status;
+    }
+    memset(rocket, 0, sizeof(*rocket)); /* padding too: two states compare with memcmp */
+    rocket->settings = chosen;
+    FusionAltitudeInitialise(&rocket->observer);
+    (void) FusionAltitudeSetSettings(&rocket->observer, &chosen.observer);
+    (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, 0.0f);
+    rocket->phase = FusionAltitudeRocketPhasePad;
+    rocket->baro = FusionAltitudeRocketBaroNone;
+    FusionAltitudeRocketClearWindow(rocket);
+    return FusionAltitudeRocketStatusOk;
+}
+
+/** @brief The input rules of the update functions, on their own. */
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketCheckInputs(const float accel, const float baroAltitude, const float dt) {
+    switch (FusionAltitudeCheckInputs(accel, baroAltitude, dt)) {
+        case FusionAltitudeStatusOk:
+            return FusionAltitudeRocketStatusOk;
+        case FusionAltitudeStatusInvalidAccel:
+            return FusionAltitudeRocketStatusInvalidAccel;
+        case FusionAltitudeStatusInvalidBaroAltitude:
+            return FusionAltitudeRocketStatusInvalidBaroAltitude;
+        default:
+            return FusionAltitudeRocketStatusInvalidDt;
+    }
+}
+
+static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const rocket, FusionAltitudeRocketEvent *const event) {
+    event->occurred = true;
+    event->sample = rocket->sample;
+    event->time = rocket->time;
+    event->height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+    event->velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
+}
+
+/** Pad step: calibration windows and the launch detector. */
+static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
+                                               const float dt, const bool gap) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const bool hasBaro = !FusionAltitudeIsNaN(baroAltitude);
+    rocket->baro = hasBaro ? FusionAltitudeRocketBaroPad : FusionAltitudeRocketBaroNone;
+    if (hasBaro && !rocket->padAltitudeSet) {
+        rocket->padAltitude = baroAltitude; /* until the first window completes */
+        rocket->padAltitudeSet = true;
+    }
+
+    /* Launch detector: accel - bias > launchAccel for launchTime s. */
+    const float netAccel = accel - rocket->accelBias;
+    if (!gap && (netAccel > settings->launchAccel)) {
+        if (rocket->runTime == 0.0f) { /* first sample of a candidate run: start from rest at the pad */
+            (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
+            (void) FusionAltitudeUpdate(&rocket->observer, accel, FUSION_ALTITUDE_NO_BARO, dt);
+            FusionAltitudeRocketRecord(rocket, &rocket->candidate);
+        } else {
+            (void) FusionAltitudeUpdate(&rocket->observer, accel, FUSION_ALTITUDE_NO_BARO, dt);
+        }
+        rocket->runTime += dt;
+        if (rocket->runTime >= settings->launchTime) {
+            rocket->events[FusionAltitudeRocketEventLaunch] = rocket->candidate;
+            rocket->phase = FusionAltitudeRocketPhaseBoost;
+            rocket->baroAdmitted = true; /* baro fused from launch with offset 0 until the first lockout */
+            rocket->runTime = 0.0f;
+            FusionAltitudeRocketClearWindow(rocket);
+        }
+        rocket->windowStationary = false;
+        return;
+    }
+    rocket->runTime = 0.0f;
+    (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
+
+    /* Calibration window. */
+    if (gap) {
+        FusionAltitudeRocketClearWindow(rocket);
+        return;
+    }
+    if (rocket->windowSamples == 0u) {
+        rocket->windowAccelFirst = accel;
+    }
+    const float deviation = accel - rocket->windowAccelFirst;
+    if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
+        rocket->windowStationary = false;
+    }
+    rocket->windowAccelSum += deviation;
+    rocket->windowSamples++;
+    if (hasBaro) {
+        if (rocket->windowBaroSamples == 0u) {
+            rocket->windowBaroFirst = baroAltitude;
+        }
+        rocket->windowBaroSum += baroAltitude - rocket->windowBaroFirst;
+        rocket->windowBaroSamples++;
+    }
+    rocket->windowTime += dt;
+    if (rocket->windowTime >= settings->calibrationWindow) {
+        if (rocket->windowStationary) {
+            if (rocket->windows < FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS) {
+                rocket->windows++;
+            }
+            const float weight = 1.0f / (float) rocket->windows;
+            const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
+            rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            if (rocket->windowBaroSamples > 0u) {
+                const float meanBaro = rocket->windowBaroFirst + rocket->windowBaroSum / (float) rocket->windowBaroSamples;
+                rocket->padAltitude += (meanBaro - rocket->padAltitude) * weight;
+            }
+            (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
+        }
+        FusionAltitudeRocketClearWindow(rocket);
+    }
+}
+
+/** Baro gate after launch: returns the baro value to fuse (height above the pad minus the baro offset) or NaN. */
+static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket, const float baroAltitude, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
+    const float lockoutSpeed = (settings->lockoutSpeed < FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT) ? settings->lockoutSpeed
+                                                                                            : FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT;
+    rocket->lockout = (rocket->phase == FusionAltitudeRocketPhaseBoost) || (velocity > lockoutSpeed) || (velocity < -lockoutSpeed);
+    rocket->lastBaroAge += dt;
+    if (FusionAltitudeIsNaN(baroAltitude)) {
+        rocket->baro = FusionAltitudeRocketBaroNone;
+        return FUSION_ALTITUDE_NO_BARO;
+    }
+    const float height = baroAltitude - rocket->padAltitude;
+    if (rocket->lastBaroSet) {
+        const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
+        if ((miss > settings->spikeThreshold) || (miss < -settings->spikeThreshold)) {
+            if (rocket->spikeTime < settings->spikeTime) {
+                rocket->spikeTime += dt;
+                rocket->baro = FusionAltitudeRocketBaroSpike;
+                return FUSION_ALTITUDE_NO_BARO;
+            }
+            rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
+        }
+    }
+    rocket->spikeTime = 0.0f;
+    rocket->lastBaro = height;
+    rocket->lastBaroAge = 0.0f;
+    rocket->lastBaroSet = true;
+    if (rocket->lockout) {
+        rocket->baro = FusionAltitudeRocketBaroLockedOut;
+        rocket->baroAdmitted = false;
+        return FUSION_ALTITUDE_NO_BARO;
+    }
+    rocket->baro = FusionAltitudeRocketBaroFused;
+    if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
+        rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
+        rocket->baroAdmitted = true;
+    }
+    return height - rocket->baroOffset;
+}
+
+/** Landing detector: |v| < landedSpeed for landedTime s (drogue and main phases). */
+static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const rocket, const float velocity, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    if (!rocket->lockout && (velocity < settings->landedSpeed) && (velocity > -settings->landedSpeed)) {
+        if (rocket->runTime == 0.0f) {
+            FusionAltitudeRocketRecord(rocket, &rocket->candidate);
+        }
+        rocket->runTime += dt;
+        if (rocket->runTime >= settings->landedTime) {
+            rocket->events[FusionAltitudeRocketEventLanded] = rocket->candidate;
+            rocket->phase = FusionAltitudeRocketPhaseLanded;
+            rocket->runTime = 0.0f;
+        }
+    } else {
+        rocket->runTime = 0.0f;
+    }
+}
+
+/** Flight step (boost and later). */
+static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
+                                                  const float dt, const bool gap, const bool accelVertical) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    if (gap) {
+        /* Constant-velocity extrapolation in sub-steps no longer than gapPeriod. */
+        uint32_t steps = 1u;
+        float step = dt;
+        while ((step > settings->gapPeriod) && (steps < FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS)) {
+            steps *= 2u;
+            step = dt / (float) steps;
+        }
+        for (uint32_t index = 0u; index < steps; index++) {
+            (void) FusionAltitudeUpdate(&rocket->observer, FusionAltitudeGetAccelBias(&rocket->observer), FUSION_ALTITUDE_NO_BARO, step);
+        }
+        rocket->lastBaroAge += dt;
+        rocket->runTime = 0.0f;
+        rocket->baro = FusionAltitudeRocketBaroNone;
+        rocket->accelTrusted = false;
+        rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
+        return;
+    }
+    const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
+    rocket->accelTrusted = !descending || accelVertical;
+    const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
+    (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
+
+    const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
+    /* offsetApplied -> baroOffset at up to offsetRate * |v| m/s while climbing (the output height keeps
+     * rising), at once in the descent */
+    const float speed = (velocity < 0.0f) ? -velocity : velocity;
+    const float offsetStep = settings->offsetRate * speed * dt;
+    const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
+    if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
+        rocket->offsetApplied = rocket->baroOffset;
+    } else if (offsetLeft > offsetStep) {
+        rocket->offsetApplied += offsetStep;
+    } else if (offsetLeft < -offsetStep) {
+        rocket->offsetApplied -= offsetStep;
+    } else {
+        rocket->offsetApplied = rocket->baroOffset;
+    }
+    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+    const float netAccel = accel - rocket->accelBias;
+    switch (rocket->phase) {
+        case FusionAltitudeRocketPhaseBoost:
+            if (netAccel < settings->burnoutAccel) {
+                if (rocket->runTime == 0.0f) {
+                    FusionAltitudeRocketRecord(rocket, &rocket->candidate);
+                }
+                rocket->runTime += dt;
+                if (rocket->runTime >= settings->burnoutTime) {
+                    rocket->events[FusionAltitudeRocketEventBurnout] = rocket->candidate;
+                    rocket->phase = FusionAltitudeRocketPhaseCoast;
+                    rocket->runTime = 0.0f;
+                }
+            } else {
+                rocket->runTime = 0.0f;
+            }
+            break;
+        case FusionAltitudeRocketPhaseCoast:
+            if (!rocket->lockout && (velocity < -settings->apogeeMargin)) {
+                FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventApogee]);
+                rocket->phase = FusionAltitudeRocketPhaseDrogue;
+                FusionAltitudeSettings descent = rocket->settings.observer;
+                descent.biasGain = 0.0f; /* bias frozen from apogee on */
+                (void) FusionAltitudeSetSettings(&rocket->observer, &descent);
+            }
+            break;
+        case FusionAltitudeRocketPhaseDrogue:
+            if (!rocket->lockout && !(height > settings->mainAltitude)) {
+                FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventMain]);
+                rocket->phase = FusionAltitudeRocketPhaseMain;
+                rocket->runTime = 0.0f;
+            } else {
+                FusionAltitudeRocketLandedStep(rocket, velocity, dt);
+            }
+            break;
+        case FusionAltitudeRocketPhaseMain:
+            FusionAltitudeRocketLandedStep(rocket, velocity, dt);
+            break;
+        default:
+            break;
+    }
+    if (((rocket->phase == FusionAltitudeRocketPhaseBoost) || (rocket->phase == FusionAltitudeRocketPhaseCoast)) &&
+        (!rocket->events[FusionAltitudeRocketEventMaxSpeed].occurred ||
+         (velocity > rocket->events[FusionAltitudeRocketEventMaxSpeed].velocity))) {
+        FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventMaxSpeed]);
+    }
+}
+
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketStep(FusionAltitudeRocket *const rocket, const float accel,
+                                                                  const float baroAltitude, const float dt, const bool accelVertical) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketStatus status = FusionAltitudeRocketCheckInputs(accel, baroAltitude, dt);
+    if (status != FusionAltitudeRocketStatusOk) {
+        return status;
+    }
+    /* time += dt, Kahan-compensated so that event times stay within a few ulp over long flights */
+    const float increment = dt - rocket->timeCompensation;
+    const float sum = rocket->time + increment;
+    rocket->timeCompensation = (sum - rocket->time) - increment;
+    rocket->time = sum;
+
+    const bool gap = dt > rocket->settings.gapPeriod;
+    if (gap) {
+        rocket->gapCount++;
+    }
+    if (rocket->phase == FusionAltitudeRocketPhasePad) {
+        rocket->lockout = false;
+        rocket->accelTrusted = true;
+        FusionAltitudeRocketPadStep(rocket, accel, baroAltitude, dt, gap);
+    } else {
+        FusionAltitudeRocketFlightStep(rocket, accel, baroAltitude, dt, gap, accelVertical);
+    }
+    rocket->sample++;
+    return FusionAltitudeRocketStatusOk;
+}
+
+/**
+ * @brief One step, accel from the accelerometer axis along the airframe.
+ *
+ * @param accel m/s^2, accelerometer along the long axis (nose up, +up on the
+ *        pad) minus g: about 0 at rest on the pad. Used as vertical until
+ *        apogee, ignored after it.
+ * @param baroAltitude m, pressure altitude; FUSION_ALTITUDE_NO_BARO when no
+ *        sample arrived this step.
+ * @param dt s since the previous step.
+ * @return FusionAltitudeRocketStatusOk, or the input's status with the state
+ *         bit-identical.
+ */
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketUpdate(FusionAltitudeRocket *const rocket, const float accel,
+                                                                    const float baroAltitude, const float dt) {
+    return FusionAltitudeRocketStep(rocket, accel, baroAltitude, dt, false);
+}
+
+/**
+ * @brief One step, accel a trusted earth-frame vertical acceleration (m/s^2,
+ * +up, gravity removed), e.g. from an INS (fusion_altitude_ins.h): used in
+ * every phase, including the descent. Otherwise as FusionAltitudeRocketUpdate.
+ */
+static inline FusionAltitudeRocketStatus FusionAltitudeRocketUpdateWithVerticalAccel(FusionAltitudeRocket *const rocket, const float accel,
+                                                                                     const float baroAltitude, const float dt) {
+    return FusionAltitudeRocketStep(rocket, accel, baroAltitude, dt, true);
+}
+
+/** @return height above the pad, m (0 on the pad while calibrating): observer height + applied baro offset. */
+static inline float FusionAltitudeRocketGetHeight(const FusionAltitudeRocket *const rocket) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    return FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+}
+
+/** @return vertical velocity, m/s, +up. */
+static inline float FusionAltitudeRocketGetVerticalVelocity(const FusionAltitudeRocket *const rocket) {
+    return FusionAltitudeGetVerticalVelocity(&rocket->observer);
+}
+
+/** @return the accel bias in use, m/s^2 (pad-learned; frozen after apogee). */
+static inline float FusionAltitudeRocketGetAccelBias(const FusionAltitudeRocket *const rocket) {
+    return FusionAltitudeGetAccelBias(&rocket->observer);
+}
+
+/** @return the pad's pressure altitude learned on the pad, m (0 before any baro sample). */
+static inline float FusionAltitudeRocketGetPadAltitude(const FusionAltitudeRocket *const rocket) {
+    return rocket->padAltitude;
+}
+
+/** @return the current flight phase. */
+static inline FusionAltitudeRocketPhase FusionAltitudeRocketGetPhase(const FusionAltitudeRocket *const rocket) {
+    return rocket->phase;
+}
+
+/** @return what happened to the latest step's baro sample. */
+static inline FusionAltitudeRocketBaro FusionAltitudeRocketGetBaro(const FusionAltitudeRocket *const rocket) {
+    return rocket->baro;
+}
+
+/** @return true while the baro is locked out by speed (latest step). */
+static inline bool FusionAltitudeRocketIsLockedOut(const FusionAltitudeRocket *const rocket) {
+    return rocket->lockout;
+}
+
+/** @return true once at least one stationary pad window has been blended into the calibration. */
+static inline bool FusionAltitudeRocketIsCalibrated(const FusionAltitudeRocket *const rocket) {
+    return rocket->windows > 0u;
+}
+
+/** @return the event (occurred false if not yet); an unknown id returns an event that has not occurred. */
+static inline FusionAltitudeRocketEvent FusionAltitudeRocketGetEvent(const FusionAltitudeRocket *const rocket,
+                                                                     const FusionAltitudeRocketEventId event) {
+    const unsigned int index = (unsigned int) event; /* an enum may be 1 byte and unsigned (-fshort-enums) */
+    if (index >= (unsigned int) FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS) {
+        const FusionAltitudeRocketEvent none = {false, 0u, 0.0f, 0.0f, 0.0f};
+        return none;
+    }
+    return rocket->events[index];
+}
+
+/** @return updates with dt > gapPeriod so far. */
+static inline uint32_t FusionAltitudeRocketGetGapCount(const FusionAltitudeRocket *const rocket) {
+    return rocket->gapCount;
+}
+
+/** @return s since initialise (compensated sum of the accepted dt). */
+static inline float FusionAltitudeRocketGetTime(const FusionAltitudeRocket *const rocket) {
+    return rocket->time;
+}
+
+#undef FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,158 @@
+"""Generates flight_vectors.h: test vectors of the rocket flight layer for the C replay.
+
+Every record is one call on one FusionAltitudeRocket (initialise with
+settings, update, update with a vertical accel) with its inputs, the expected
+status and an FNV-1a hash of the full state after the call, computed by the
+pure-Python reference (fusion_altitude.reference.flight), never by the C
+binding; every 128th record (and the last) carries the state words themselves
+(format: vector_common.py). csrc/firmware/replay_flight.c replays them on the
+host (gcc, clang) and on an emulated Cortex-M4F (QEMU).
+
+The flights are simulated rockets (fusion_altitude.rocket_sim: static-port
+error, transonic bump, pyro spikes, saturation, tumbling) at 25 Hz, with
+settings variations, baro dropouts, gaps and rejected inputs mixed in.
+
+    python csrc/tests/vectors/generate_flight.py           # rewrite flight_vectors.h
+    python csrc/tests/vectors/generate_flight.py --check   # exit 1 if it is stale
+"""
+
+from __future__ import annotations
+
+import random
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import vector_common as vc  # noqa: E402
+
+from fusion_altitude._flight_glue import FIELD_NAMES, RocketSettings, RocketStatus  # noqa: E402
+from fusion_altitude.reference import flight as _flight  # noqa: E402
+from fusion_altitude.rocket_sim import RocketFlightModel, simulate_rocket_flight  # noqa: E402
+
+HEADER_PATH = Path(__file__).resolve().with_name("flight_vectors.h")
+NAN = float("nan")
+INF = float("inf")
+
+OPS = ("INITIALISE_WITH", "UPDATE", "UPDATE_VERTICAL")
+SETTINGS_FIELDS = ("positionGain", "velocityGain", "biasGain") + FIELD_NAMES
+EVENT_FIELDS = ("occurred", "sample", "time", "height", "velocity")
+EVENTS = ("launch", "burnout", "maxSpeed", "apogee", "main", "landed", "candidate")
+#: The state words, in the order replay_flight.c reads and writes them.
+STATE_FIELDS = (tuple(f"settings.{name}" for name in SETTINGS_FIELDS)
+                + ("observer.altitude", "observer.verticalVelocity", "observer.accelBias", "observer.baroResidual",
+                   "observer.referenceSet", "observer.positionGain", "observer.velocityGain", "observer.biasGain",
+                   "phase", "baro")
+                + tuple(f"{event}.{field}" for event in EVENTS for field in EVENT_FIELDS)
+                + ("sample", "gapCount", "windows", "windowSamples", "windowBaroSamples",
+                   "time", "timeCompensation", "accelBias", "padAltitude", "windowTime", "windowAccelFirst",
+                   "windowAccelSum", "windowBaroFirst", "windowBaroSum", "runTime", "spikeTime", "lastBaro",
+                   "lastBaroAge", "baroOffset", "offsetApplied",
+                   "windowStationary", "padAltitudeSet", "lastBaroSet", "baroAdmitted", "lockout", "accelTrusted"))
+FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
+                     if not name.endswith(("occurred", "sample", "referenceSet", "Count", "windows", "Samples"))
+                     and name not in ("phase", "baro", "windowStationary", "padAltitudeSet", "lastBaroSet",
+                                      "baroAdmitted", "lockout", "accelTrusted"))
+
+
+def settings_words(settings: RocketSettings) -> tuple:
+    return tuple(vc.bits(g) for g in settings.gains) + tuple(vc.bits(settings.values[name]) for name in FIELD_NAMES)
+
+
+class Recorder(vc.Recorder):
+    OPS = OPS
+    INPUTS = 3
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.rocket = _flight.RocketEstimator()
+
+    def state(self) -> tuple:
+        r = self.rocket
+        o = r._obs
+        words = settings_words(r._settings)
+        words += (vc.bits(o._h), vc.bits(o._v), vc.bits(o._b), vc.bits(o._r), int(o._reference_set))
+        words += tuple(vc.bits(g) for g in o._settings._gains[:3])
+        words += (int(r._phase), int(r._baro))
+        for event in list(r._events) + [r._candidate]:
+            words += (int(event[0]), int(event[1]), vc.bits(event[2]), vc.bits(event[3]), vc.bits(event[4]))
+        words += (r._sample, r._gap_count, r._windows, r._window_samples, r._window_baro_samples)
+        words += tuple(vc.bits(x) for x in (r._time, r._time_c, r._accel_bias, r._pad_altitude, r._window_time,
+                                             r._window_accel_first, r._window_accel_sum, r._window_baro_first,
+                                             r._window_baro_sum, r._run_time, r._spike_time, r._last_baro,
+                                             r._last_baro_age, r._baro_offset, r._offset_applied))
+        words += tuple(int(x) for x in (r._window_stationary, r._pad_altitude_set, r._last_baro_set,
+                                         r._baro_admitted, r._lockout, r._accel_trusted))
+        return words
+
+    def initialise_with(self, settings: RocketSettings) -> None:
+        self.rocket = _flight.RocketEstimator(settings)
+        self.record("INITIALISE_WITH", (self.settings_index(settings_words(settings)),), RocketStatus.OK)
+
+    def update(self, accel: float, baro: float, dt: float, vertical: bool = False) -> None:
+        a, z, t = (vc.as_f32(v) for v in (accel, baro, dt))
+        phase = self.rocket._phase
+        status = self.rocket._step(a, z, t, vertical)
+        self.record("UPDATE_VERTICAL" if vertical else "UPDATE", (vc.bits(a), vc.bits(z), vc.bits(t)), status)
+        if status == RocketStatus.OK:
+            self.count(f"phase {int(self.rocket._phase)} baro {int(self.rocket._baro)}")
+            if self.rocket._phase != phase:
+                self.count(f"phase {int(phase)} -> {int(self.rocket._phase)}")
+
+
+def fly(recorder: Recorder, seed: int, settings: RocketSettings, rng: random.Random, vertical: bool = False,
+        stride: int = 4, faults: bool = True) -> None:
+    """A short flight (≈ 150 m/s, ≈ 1 km) at 100 Hz / stride."""
+    flight = simulate_rocket_flight(seed, RocketFlightModel(burn_time=2.5, main_altitude=300.0))
+    recorder.initialise_with(settings)
+    dt = flight.dt * stride
+    for k in range(0, len(flight.time), stride):
+        accel, baro = float(flight.accel[k]), float(flight.baro_altitude[k])
+        if faults:
+            choice = rng.random()
+            if choice < 0.003:
+                recorder.update(rng.choice((NAN, INF)), baro, dt, vertical)  # rejected accel
+            elif choice < 0.006:
+                recorder.update(accel, rng.choice((INF, -INF)), dt, vertical)  # rejected baro
+            elif choice < 0.009:
+                recorder.update(accel, baro, rng.choice((0.0, -dt, NAN, INF)), vertical)  # rejected dt
+            elif choice < 0.011:
+                recorder.update(accel, NAN, rng.choice((0.7, 1.3, 40.0)), vertical)  # a gap
+                continue
+            if rng.random() < 0.1:
+                baro = NAN
+        recorder.update(accel, baro, dt, vertical)
+
+
+def build() -> Recorder:
+    r = Recorder()
+    rng = random.Random(20261123)
+    r.section("seed 0, defaults, 25 Hz, faults: a whole flight pad to landed")
+    fly(r, 0, RocketSettings(), rng)
+    r.section("seed 1, vertical accel (INS hook), main at 400 m, lockout 80 m/s")
+    fly(r, 1, RocketSettings(main_altitude=400.0, lockout_speed=80.0), rng, vertical=True)
+    r.section("seed 2, bias gain 0.2, short gap period, lockout above Mach (capped)")
+    fly(r, 2, RocketSettings(observer=(1.6, 1.28, 0.2), gap_period=0.1, lockout_speed=1000.0, spike_time=0.0), rng)
+    return r
+
+
+def render() -> str:
+    """The text of flight_vectors.h."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        recorder = build()
+    vc.check_finite(recorder.records, STATE_FIELDS, FLOAT_FIELDS, nan_allowed=("observer.baroResidual",))
+    description = [
+        "Each record is one call; floats are IEEE 754 binary32 bit patterns.",
+        "input: update and update_vertical (accel m/s^2, baro altitude m or",
+        "NaN, dt s); initialise_with (index into fusionAltitudeRocketVectorSettings).",
+    ]
+    return vc.render(recorder, file="flight_vectors.h", header="fusion_altitude_flight.h",
+                     generator="generate_flight.py", reference="fusion_altitude.reference.flight",
+                     type_prefix="FusionAltitudeRocket", macro_prefix="FUSION_ALTITUDE_FLIGHT",
+                     description=description, state_fields=STATE_FIELDS, settings_words=len(SETTINGS_FIELDS),
+                     checkpoint_every=128)
+
+
+if __name__ == "__main__":
+    sys.exit(vc.main(HEADER_PATH, render, sys.argv[1:], __doc__))

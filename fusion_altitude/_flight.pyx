@@ -1,0 +1,304 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h.
+
+Converts and checks Python arguments, calls the C functions and raises for the
+statuses they return. It holds no copy of the algorithm; settings, statuses
+and the FlightEvents result live in ``_flight_glue``.
+"""
+
+from libc.string cimport memcpy
+
+from fusion_altitude._convert cimport as_double as _as_double
+from fusion_altitude.cflight cimport *
+
+from fusion_altitude import _flight_glue
+from fusion_altitude._flight_glue import (BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketSettings,
+                                          RocketStatus)
+
+#: The C values, for checking that the Python enums and defaults match.
+C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
+C_NUMBER_OF_EVENTS = FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
+C_LAST_STATUS = <int>FusionAltitudeRocketStatusInvalidGapPeriod
+
+
+def status_message(int status):
+    """The C header's message for a status code (FusionAltitudeRocketStatusMessage)."""
+    return FusionAltitudeRocketStatusMessage(<FusionAltitudeRocketStatus>status).decode("ascii")
+
+
+def c_default_settings():
+    """FusionAltitudeRocketSettingsDefault() as a dict (observer gains and the float fields)."""
+    cdef FusionAltitudeRocketSettings c = FusionAltitudeRocketSettingsDefault()
+    return _settings_dict(&c)
+
+
+cdef dict _settings_dict(const FusionAltitudeRocketSettings *c):
+    return {"observer": (c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain),
+            "stationary_accel": c.stationaryAccel, "calibration_window": c.calibrationWindow,
+            "launch_accel": c.launchAccel, "launch_time": c.launchTime, "burnout_accel": c.burnoutAccel,
+            "burnout_time": c.burnoutTime, "apogee_margin": c.apogeeMargin, "lockout_speed": c.lockoutSpeed,
+            "spike_threshold": c.spikeThreshold, "spike_time": c.spikeTime, "offset_rate": c.offsetRate,
+            "main_altitude": c.mainAltitude, "landed_speed": c.landedSpeed, "landed_time": c.landedTime,
+            "gap_period": c.gapPeriod}
+
+
+cdef FusionAltitudeRocketSettings _c_settings(object settings) except *:
+    cdef FusionAltitudeRocketSettings c = FusionAltitudeRocketSettingsDefault()
+    values = settings.values
+    c.observer = FusionAltitudeRocketObserverSettings()
+    c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain = settings.gains
+    c.stationaryAccel = values["stationary_accel"]
+    c.calibrationWindow = values["calibration_window"]
+    c.launchAccel = values["launch_accel"]
+    c.launchTime = values["launch_time"]
+    c.burnoutAccel = values["burnout_accel"]
+    c.burnoutTime = values["burnout_time"]
+    c.apogeeMargin = values["apogee_margin"]
+    c.lockoutSpeed = values["lockout_speed"]
+    c.spikeThreshold = values["spike_threshold"]
+    c.spikeTime = values["spike_time"]
+    c.offsetRate = values["offset_rate"]
+    c.mainAltitude = values["main_altitude"]
+    c.landedSpeed = values["landed_speed"]
+    c.landedTime = values["landed_time"]
+    c.gapPeriod = values["gap_period"]
+    return c
+
+
+cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const float *baro, const float *dt,
+                     Py_ssize_t dt_step, Py_ssize_t n, bint vertical, float *height, float *velocity, float *bias,
+                     unsigned char *phase, unsigned char *baro_fate) noexcept nogil:
+    """n updates on a private copy of *state, committed only if all succeed; the first bad index or -1."""
+    cdef FusionAltitudeRocket local
+    memcpy(&local, state, sizeof(FusionAltitudeRocket))
+    cdef Py_ssize_t i
+    cdef FusionAltitudeRocketStatus status
+    for i in range(n):
+        if vertical:
+            status = FusionAltitudeRocketUpdateWithVerticalAccel(&local, accel[i], baro[i], dt[i * dt_step])
+        else:
+            status = FusionAltitudeRocketUpdate(&local, accel[i], baro[i], dt[i * dt_step])
+        if status != FusionAltitudeRocketStatusOk:
+            return i
+        height[i] = FusionAltitudeRocketGetHeight(&local)
+        velocity[i] = FusionAltitudeRocketGetVerticalVelocity(&local)
+        bias[i] = FusionAltitudeRocketGetAccelBias(&local)
+        phase[i] = <unsigned char>FusionAltitudeRocketGetPhase(&local)
+        baro_fate[i] = <unsigned char>FusionAltitudeRocketGetBaro(&local)
+    memcpy(state, &local, sizeof(FusionAltitudeRocket))
+    return -1
+
+
+cdef class RocketEstimator:
+    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
+
+    Parameters
+    ----------
+    settings : RocketSettings, optional
+        Defaults if omitted.
+
+    Notes
+    -----
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
+    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
+    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
+    above the pad learned while stationary. See docs/rocket.md.
+    """
+
+    cdef FusionAltitudeRocket _c
+    cdef object _settings
+
+    def __init__(self, settings=None):
+        if settings is None:
+            settings = RocketSettings()
+        if not isinstance(settings, RocketSettings):
+            raise TypeError(f"settings must be RocketSettings, got {type(settings).__name__}")
+        cdef FusionAltitudeRocketSettings c = _c_settings(settings)
+        cdef FusionAltitudeRocketStatus status = FusionAltitudeRocketInitialise(&self._c, &c)
+        if status != FusionAltitudeRocketStatusOk:
+            _flight_glue.raise_settings_error(status, _settings_dict(&c))
+        self._settings = settings
+
+    def update(self, accel, baro_altitude, dt, accel_is_vertical=False):
+        """Process one step.
+
+        Parameters
+        ----------
+        accel : float
+            m/s², gravity removed, +up: the long-axis accelerometer minus g
+            (used as vertical until apogee, ignored after it) or, with
+            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
+            from an INS (used in every phase).
+        baro_altitude : float
+            Pressure altitude, m; NaN when no baro sample arrived this step.
+        dt : float
+            s since the previous step.
+        accel_is_vertical : bool, default False
+            See ``accel``.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        cdef double a = _as_double(accel, "accel")
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        cdef double t = _as_double(dt, "dt")
+        cdef FusionAltitudeRocketStatus status
+        if accel_is_vertical:
+            status = FusionAltitudeRocketUpdateWithVerticalAccel(&self._c, <float>a, <float>z, <float>t)
+        else:
+            status = FusionAltitudeRocketUpdate(&self._c, <float>a, <float>z, <float>t)
+        if status != FusionAltitudeRocketStatusOk:
+            _flight_glue.raise_update_error(status, a, z, t)
+
+    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical=False, out=None):
+        """Process arrays, continuing from the current state (GIL released).
+
+        Parameters
+        ----------
+        accel, baro_altitude : array_like
+            Per step, as for :meth:`update` (m/s², m; NaN = no baro); 1-D, any real dtype.
+        dt : float or array_like
+            s, one value or one per step.
+        accel_is_vertical : bool, default False
+            As for :meth:`update`, for every step.
+        out : RocketBatch or sequence of 5 arrays, optional
+            Preallocated contiguous arrays (float32 ×3, uint8 ×2) of the input's length.
+
+        Returns
+        -------
+        RocketBatch
+            Height, vertical velocity, accel bias, phase and baro fate after each step.
+
+        Raises
+        ------
+        ValueError
+            A bad step, naming the argument and its first bad index; nothing is
+            applied to the state.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each step and to the
+        reference :class:`fusion_altitude.reference.flight.RocketEstimator`.
+        """
+        accel32, baro32, dt32, dt_is_array, result = _flight_glue.prepare_batch(accel, baro_altitude, dt, out)
+        cdef const float[::1] a = accel32
+        cdef const float[::1] z = baro32
+        cdef const float[::1] t = dt32
+        cdef float[::1] h = result.height
+        cdef float[::1] v = result.vertical_velocity
+        cdef float[::1] b = result.accel_bias
+        cdef unsigned char[::1] p = result.phase
+        cdef unsigned char[::1] f = result.baro
+        cdef Py_ssize_t n = a.shape[0]
+        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+        cdef Py_ssize_t bad = -1
+        cdef bint vertical = bool(accel_is_vertical)
+        if n == 0:
+            return result
+        with nogil:
+            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, vertical, &h[0], &v[0], &b[0], &p[0], &f[0])
+        if bad >= 0:
+            _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+                                            a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        return result
+
+    @property
+    def settings(self):
+        """The :class:`RocketSettings` given at construction."""
+        return self._settings
+
+    @property
+    def height(self):
+        """Height above the pad, m."""
+        return FusionAltitudeRocketGetHeight(&self._c)
+
+    @property
+    def vertical_velocity(self):
+        """m/s, +up."""
+        return FusionAltitudeRocketGetVerticalVelocity(&self._c)
+
+    @property
+    def accel_bias(self):
+        """Accelerometer bias in use, m/s² (pad-learned, frozen after apogee)."""
+        return FusionAltitudeRocketGetAccelBias(&self._c)
+
+    @property
+    def pad_altitude(self):
+        """Pad pressure altitude learned on the pad, m."""
+        return FusionAltitudeRocketGetPadAltitude(&self._c)
+
+    @property
+    def phase(self):
+        """The current :class:`Phase`."""
+        return Phase(<int>FusionAltitudeRocketGetPhase(&self._c))
+
+    @property
+    def baro(self):
+        """:class:`BaroFate` of the latest step's baro sample."""
+        return BaroFate(<int>FusionAltitudeRocketGetBaro(&self._c))
+
+    @property
+    def locked_out(self):
+        """Whether the baro was locked out by speed at the latest step."""
+        return FusionAltitudeRocketIsLockedOut(&self._c)
+
+    @property
+    def calibrated(self):
+        """Whether a stationary pad window has been learned."""
+        return FusionAltitudeRocketIsCalibrated(&self._c)
+
+    @property
+    def gap_count(self):
+        """Updates with dt > gap_period so far."""
+        return FusionAltitudeRocketGetGapCount(&self._c)
+
+    @property
+    def time(self):
+        """s since initialise (compensated sum of dt)."""
+        return FusionAltitudeRocketGetTime(&self._c)
+
+    @property
+    def events(self):
+        """:class:`FlightEvents` so far (time in s since initialise)."""
+        cdef FusionAltitudeRocketEvent e
+        rows = []
+        for index in range(FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS):
+            e = FusionAltitudeRocketGetEvent(&self._c, <FusionAltitudeRocketEventId>index)
+            rows.append((e.occurred, e.sample, e.time, e.height, e.velocity))
+        return _flight_glue.events_from_tuples(rows)
+
+    def _get_state(self):
+        return (self._settings, (<char *>&self._c)[:sizeof(FusionAltitudeRocket)])
+
+    def _set_state(self, state):
+        settings, raw = state
+        if len(raw) != sizeof(FusionAltitudeRocket):
+            raise ValueError("state was saved by a build with another FusionAltitudeRocket layout")
+        cdef const unsigned char[::1] view = raw
+        memcpy(&self._c, &view[0], sizeof(FusionAltitudeRocket))
+        self._settings = settings
+
+    def __copy__(self):
+        cdef RocketEstimator clone = RocketEstimator.__new__(RocketEstimator)
+        memcpy(&clone._c, &self._c, sizeof(FusionAltitudeRocket))
+        clone._settings = self._settings
+        return clone
+
+    def __deepcopy__(self, memo):
+        return self.__copy__()
+
+    def __reduce__(self):
+        return (_restore, (self._get_state(),))
+
+    def __repr__(self):
+        return (f"RocketEstimator(phase={self.phase.name}, height={self.height!r}, "
+                f"vertical_velocity={self.vertical_velocity!r})")
+
+
+def _restore(state):
+    cdef RocketEstimator estimator = RocketEstimator.__new__(RocketEstimator)
+    estimator._set_state(state)
+    return estimator

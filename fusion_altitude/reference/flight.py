@@ -1,0 +1,435 @@
+"""The rocket flight layer (``csrc/fusion_altitude_flight.h``) in plain Python.
+
+Pad calibration, the baro gate (dynamic-pressure lockout, spike rejection,
+offset re-admission) and the phase state machine pad → boost →
+coast → drogue → main → landed around the reference altitude observer. Each
+method mirrors the C function named in its comment, statement for statement,
+in float32, so that the results agree bit for bit; see docs/rocket.md for the
+design and the C header for the equations.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import List, Optional, Sequence
+
+import numpy as np
+
+from .. import _common
+from .._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketSettings, RocketStatus, events_from_tuples,
+                            prepare_batch, raise_update_error)
+from ._checkpoint import Checkpointable
+from .observer import AltitudeEstimator, AltitudeSettings, check_inputs
+
+f32 = np.float32
+_NAN = f32("nan")
+_ZERO = f32(0)
+MACH_LOCKOUT = f32(236.0)
+MAX_GAP_STEPS = 4096
+CALIBRATION_WINDOWS = 8
+
+# event indices
+LAUNCH, BURNOUT, MAX_SPEED, APOGEE, MAIN, LANDED = range(6)
+
+
+def _event() -> list:
+    """[occurred, sample, time, height, velocity]"""
+    return [False, 0, _ZERO, _ZERO, _ZERO]
+
+
+class RocketEstimator(Checkpointable):
+    """Rocket flight computer: observer + pad calibration + baro gate + flight phases.
+
+    Parameters
+    ----------
+    settings : RocketSettings, optional
+        Defaults if omitted.
+
+    Notes
+    -----
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: the long-axis
+    accelerometer minus g without an INS), ``baro_altitude`` (m, pressure
+    altitude; NaN for no sample) and ``dt`` (s). Heights are above the pad.
+    """
+
+    __slots__ = ("_settings", "_obs", "_phase", "_baro", "_events", "_candidate", "_sample", "_gap_count", "_windows",
+                 "_window_samples", "_window_baro_samples", "_time", "_time_c", "_accel_bias", "_pad_altitude",
+                 "_window_time", "_window_accel_first", "_window_accel_sum", "_window_baro_first", "_window_baro_sum",
+                 "_run_time", "_spike_time", "_last_baro", "_last_baro_age", "_window_stationary", "_pad_altitude_set",
+                 "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted", "_s")
+
+    def __init__(self, settings: Optional[RocketSettings] = None) -> None:
+        # FusionAltitudeRocketInitialise
+        settings = RocketSettings() if settings is None else settings
+        if not isinstance(settings, RocketSettings):
+            raise TypeError(f"settings must be RocketSettings, got {type(settings).__name__}")
+        self._settings = settings
+        self._s = {name: f32(value) for name, value in settings.values.items()}
+        self._obs = AltitudeEstimator(AltitudeSettings(*settings.gains))
+        self._obs._b = _ZERO
+        self._obs._reset(_ZERO)
+        self._phase = Phase.PAD
+        self._baro = BaroFate.NONE
+        self._events: List[list] = [_event() for _ in range(6)]
+        self._candidate = _event()
+        self._sample = 0
+        self._gap_count = 0
+        self._windows = 0
+        self._time = _ZERO
+        self._time_c = _ZERO
+        self._accel_bias = _ZERO
+        self._pad_altitude = _ZERO
+        self._run_time = _ZERO
+        self._spike_time = _ZERO
+        self._last_baro = _ZERO
+        self._last_baro_age = _ZERO
+        self._pad_altitude_set = False
+        self._last_baro_set = False
+        self._baro_offset = _ZERO
+        self._offset_applied = _ZERO
+        self._baro_admitted = False
+        self._lockout = False
+        self._accel_trusted = False
+        self._clear_window()
+
+    # FusionAltitudeRocketClearWindow
+    def _clear_window(self) -> None:
+        self._window_samples = 0
+        self._window_baro_samples = 0
+        self._window_time = _ZERO
+        self._window_accel_first = _ZERO
+        self._window_accel_sum = _ZERO
+        self._window_baro_first = _ZERO
+        self._window_baro_sum = _ZERO
+        self._window_stationary = True
+
+    def _reset_observer(self) -> None:
+        # FusionAltitudeResetWithBias(&observer, 0, accelBias)
+        self._obs._b = self._accel_bias
+        self._obs._reset(_ZERO)
+
+    # FusionAltitudeRocketRecord
+    def _record(self, event: list) -> None:
+        event[:] = [True, self._sample, self._time, self._obs._h + self._offset_applied, self._obs._v]
+
+    # FusionAltitudeRocketPadStep
+    def _pad_step(self, a: np.float32, z: np.float32, dt: np.float32, gap: bool) -> None:
+        s = self._s
+        has_baro = not np.isnan(z)
+        self._baro = BaroFate.PAD if has_baro else BaroFate.NONE
+        if has_baro and not self._pad_altitude_set:
+            self._pad_altitude = z
+            self._pad_altitude_set = True
+
+        net = a - self._accel_bias
+        if not gap and net > s["launch_accel"]:
+            if self._run_time == 0:
+                self._reset_observer()
+                self._obs._update(a, _NAN, dt)
+                self._record(self._candidate)
+            else:
+                self._obs._update(a, _NAN, dt)
+            self._run_time += dt
+            if self._run_time >= s["launch_time"]:
+                self._events[LAUNCH] = list(self._candidate)
+                self._phase = Phase.BOOST
+                self._baro_admitted = True
+                self._run_time = _ZERO
+                self._clear_window()
+            self._window_stationary = False
+            return
+        self._run_time = _ZERO
+        self._reset_observer()
+
+        if gap:
+            self._clear_window()
+            return
+        if self._window_samples == 0:
+            self._window_accel_first = a
+        deviation = a - self._window_accel_first
+        if not deviation <= s["stationary_accel"] or not deviation >= -s["stationary_accel"]:
+            self._window_stationary = False
+        self._window_accel_sum += deviation
+        self._window_samples += 1
+        if has_baro:
+            if self._window_baro_samples == 0:
+                self._window_baro_first = z
+            self._window_baro_sum += z - self._window_baro_first
+            self._window_baro_samples += 1
+        self._window_time += dt
+        if self._window_time >= s["calibration_window"]:
+            if self._window_stationary:
+                if self._windows < CALIBRATION_WINDOWS:
+                    self._windows += 1
+                weight = f32(1) / f32(self._windows)
+                mean_accel = self._window_accel_first + self._window_accel_sum / f32(self._window_samples)
+                self._accel_bias += (mean_accel - self._accel_bias) * weight
+                if self._window_baro_samples > 0:
+                    mean_baro = self._window_baro_first + self._window_baro_sum / f32(self._window_baro_samples)
+                    self._pad_altitude += (mean_baro - self._pad_altitude) * weight
+                self._reset_observer()
+            self._clear_window()
+
+    # FusionAltitudeRocketGate
+    def _gate(self, z: np.float32, dt: np.float32) -> np.float32:
+        s = self._s
+        v = self._obs._v
+        lockout_speed = s["lockout_speed"] if s["lockout_speed"] < MACH_LOCKOUT else MACH_LOCKOUT
+        self._lockout = bool(self._phase == Phase.BOOST or v > lockout_speed or v < -lockout_speed)
+        self._last_baro_age += dt
+        if np.isnan(z):
+            self._baro = BaroFate.NONE
+            return _NAN
+        height = z - self._pad_altitude
+        if self._last_baro_set:
+            miss = height - (self._last_baro + v * self._last_baro_age)
+            if miss > s["spike_threshold"] or miss < -s["spike_threshold"]:
+                if self._spike_time < s["spike_time"]:
+                    self._spike_time += dt
+                    self._baro = BaroFate.SPIKE
+                    return _NAN
+                self._baro_admitted = False  # a lasting step: re-admitted through the offset
+        self._spike_time = _ZERO
+        self._last_baro = height
+        self._last_baro_age = _ZERO
+        self._last_baro_set = True
+        if self._lockout:
+            self._baro = BaroFate.LOCKED_OUT
+            self._baro_admitted = False
+            return _NAN
+        self._baro = BaroFate.FUSED
+        if not self._baro_admitted:
+            self._baro_offset = height - self._obs._h
+            self._baro_admitted = True
+        return height - self._baro_offset
+
+    # FusionAltitudeRocketLandedStep
+    def _landed_step(self, v: np.float32, dt: np.float32) -> None:
+        s = self._s
+        if not self._lockout and v < s["landed_speed"] and v > -s["landed_speed"]:
+            if self._run_time == 0:
+                self._record(self._candidate)
+            self._run_time += dt
+            if self._run_time >= s["landed_time"]:
+                self._events[LANDED] = list(self._candidate)
+                self._phase = Phase.LANDED
+                self._run_time = _ZERO
+        else:
+            self._run_time = _ZERO
+
+    # FusionAltitudeRocketFlightStep
+    def _flight_step(self, a: np.float32, z: np.float32, dt: np.float32, gap: bool, accel_vertical: bool) -> None:
+        s = self._s
+        descending = self._phase >= Phase.DROGUE
+        if gap:
+            steps = 1
+            step = dt
+            while step > s["gap_period"] and steps < MAX_GAP_STEPS:
+                steps *= 2
+                step = dt / f32(steps)
+            for _ in range(steps):
+                self._obs._update(self._obs._b, _NAN, step)
+            self._last_baro_age += dt
+            self._run_time = _ZERO
+            self._baro = BaroFate.NONE
+            self._accel_trusted = False
+            self._baro_admitted = False  # the next baro sample is re-admitted through the offset
+            return
+        fused = self._gate(z, dt)
+        self._accel_trusted = (not descending) or accel_vertical
+        self._obs._update(a if self._accel_trusted else self._obs._b, fused, dt)
+
+        v = self._obs._v
+        speed = -v if v < 0 else v
+        offset_step = s["offset_rate"] * speed * dt
+        offset_left = self._baro_offset - self._offset_applied
+        if self._phase >= Phase.DROGUE:
+            self._offset_applied = self._baro_offset
+        elif offset_left > offset_step:
+            self._offset_applied += offset_step
+        elif offset_left < -offset_step:
+            self._offset_applied -= offset_step
+        else:
+            self._offset_applied = self._baro_offset
+        h = self._obs._h + self._offset_applied
+        net = a - self._accel_bias
+        if self._phase == Phase.BOOST:
+            if net < s["burnout_accel"]:
+                if self._run_time == 0:
+                    self._record(self._candidate)
+                self._run_time += dt
+                if self._run_time >= s["burnout_time"]:
+                    self._events[BURNOUT] = list(self._candidate)
+                    self._phase = Phase.COAST
+                    self._run_time = _ZERO
+            else:
+                self._run_time = _ZERO
+        elif self._phase == Phase.COAST:
+            if not self._lockout and v < -s["apogee_margin"]:
+                self._record(self._events[APOGEE])
+                self._phase = Phase.DROGUE
+                kh, kv, _ = self._obs._settings._gains
+                descent = copy.copy(self._obs._settings)
+                descent._gains = (kh, kv, _ZERO)  # bias frozen from apogee on
+                self._obs._settings = descent
+        elif self._phase == Phase.DROGUE:
+            if not self._lockout and not h > s["main_altitude"]:
+                self._record(self._events[MAIN])
+                self._phase = Phase.MAIN
+                self._run_time = _ZERO
+            else:
+                self._landed_step(v, dt)
+        elif self._phase == Phase.MAIN:
+            self._landed_step(v, dt)
+        if self._phase in (Phase.BOOST, Phase.COAST) and (
+                not self._events[MAX_SPEED][0] or v > self._events[MAX_SPEED][4]):
+            self._record(self._events[MAX_SPEED])
+
+    # FusionAltitudeRocketStep
+    def _step(self, a: np.float32, z: np.float32, dt: np.float32, accel_vertical: bool) -> RocketStatus:
+        status = check_inputs(a, z, dt)
+        if status != 0:
+            return RocketStatus(int(status))  # the first three codes agree
+        increment = dt - self._time_c
+        total = self._time + increment
+        self._time_c = (total - self._time) - increment
+        self._time = total
+
+        gap = bool(dt > self._s["gap_period"])
+        if gap:
+            self._gap_count += 1
+        if self._phase == Phase.PAD:
+            self._lockout = False
+            self._accel_trusted = True
+            self._pad_step(a, z, dt, gap)
+        else:
+            self._flight_step(a, z, dt, gap, accel_vertical)
+        self._sample += 1
+        return RocketStatus.OK
+
+    # -- public API --------------------------------------------------------
+
+    def update(self, accel: float, baro_altitude: float, dt: float, accel_is_vertical: bool = False) -> None:
+        """Process one step.
+
+        Parameters
+        ----------
+        accel : float
+            m/s², gravity removed, +up: the long-axis accelerometer minus g
+            (used as vertical until apogee, ignored after it) or, with
+            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
+            from an INS (used in every phase).
+        baro_altitude : float
+            Pressure altitude, m; NaN when no baro sample arrived this step.
+        dt : float
+            s since the previous step.
+        accel_is_vertical : bool, default False
+            See ``accel``.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        with np.errstate(over="ignore"):
+            a = f32(_common.as_float(accel, "accel"))
+            z = f32(_common.as_float(baro_altitude, "baro_altitude"))
+            t = f32(_common.as_float(dt, "dt"))
+        status = self._step(a, z, t, bool(accel_is_vertical))
+        if status != RocketStatus.OK:
+            raise_update_error(status, float(accel), float(baro_altitude), float(dt))
+
+    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical: bool = False,
+                     out: Optional[Sequence[np.ndarray]] = None) -> RocketBatch:
+        """Process arrays, continuing from the current state; equal bit for bit to :meth:`update` per sample.
+
+        On a bad sample nothing is applied and ValueError names the argument and the first bad index.
+        """
+        a, z, t, dt_is_array, result = prepare_batch(accel, baro_altitude, dt, out)
+        trial = copy.copy(self)
+        for i in range(a.shape[0]):
+            ti = t[i] if dt_is_array else t[0]
+            status = trial._step(a[i], z[i], ti, bool(accel_is_vertical))
+            if status != RocketStatus.OK:
+                raise_update_error(status, float(a[i]), float(z[i]), float(ti), i, dt_is_array)
+            result.height[i] = trial._obs._h + trial._offset_applied
+            result.vertical_velocity[i] = trial._obs._v
+            result.accel_bias[i] = trial._obs._b
+            result.phase[i] = trial._phase
+            result.baro[i] = trial._baro
+        self._set_state(trial._get_state())
+        return result
+
+    @property
+    def settings(self) -> RocketSettings:
+        return self._settings
+
+    @property
+    def height(self) -> float:
+        """Height above the pad, m (observer height + applied baro offset)."""
+        return float(self._obs._h + self._offset_applied)
+
+    @property
+    def vertical_velocity(self) -> float:
+        """m/s, +up."""
+        return float(self._obs._v)
+
+    @property
+    def accel_bias(self) -> float:
+        """Accelerometer bias in use, m/s² (pad-learned, frozen after apogee)."""
+        return float(self._obs._b)
+
+    @property
+    def pad_altitude(self) -> float:
+        """Pad pressure altitude learned on the pad, m."""
+        return float(self._pad_altitude)
+
+    @property
+    def phase(self) -> Phase:
+        return Phase(self._phase)
+
+    @property
+    def baro(self) -> BaroFate:
+        """What happened to the latest step's baro sample."""
+        return BaroFate(self._baro)
+
+    @property
+    def locked_out(self) -> bool:
+        return self._lockout
+
+    @property
+    def calibrated(self) -> bool:
+        return self._windows > 0
+
+    @property
+    def gap_count(self) -> int:
+        return self._gap_count
+
+    @property
+    def time(self) -> float:
+        """s since initialise (compensated sum of dt)."""
+        return float(self._time)
+
+    @property
+    def events(self) -> FlightEvents:
+        return events_from_tuples([(e[0], e[1], e[2], e[3], e[4]) for e in self._events])
+
+    # -- checkpoint --------------------------------------------------------
+
+    def _get_state(self) -> tuple:
+        obs = self._obs
+        return (self._settings, (obs._settings, obs._h, obs._v, obs._b, obs._r, obs._reference_set),
+                {name: copy.copy(getattr(self, name)) for name in self.__slots__
+                 if name not in ("_settings", "_obs", "_s")})
+
+    def _set_state(self, state: tuple) -> None:
+        settings, (osettings, h, v, b, r, reference_set), fields = state
+        self._settings = settings
+        self._s = {name: f32(value) for name, value in settings.values.items()}
+        self._obs = AltitudeEstimator(AltitudeSettings(*settings.gains))
+        self._obs._settings = osettings
+        self._obs._h, self._obs._v, self._obs._b, self._obs._r = h, v, b, r
+        self._obs._reference_set = reference_set
+        for name, value in fields.items():
+            setattr(self, name, copy.deepcopy(value))

@@ -1,0 +1,214 @@
+"""Rockets: the flight layer (``csrc/fusion_altitude_flight.h``) for logs and scripts.
+
+- :func:`run_rocket` runs :class:`RocketEstimator` over a whole log and returns
+  the per-sample estimates and the :class:`FlightEvents` with times in the
+  log's own seconds; :func:`detect_events` returns the events only.
+- :func:`rocket_altitude_settings` and :func:`rocket_kalman_settings`: settings
+  of the plain observer and of the Kalman filter for rocket flights.
+- :func:`long_axis_accel` turns a body-frame accelerometer into the input the
+  flight layer expects (the long-axis specific force minus g).
+- :func:`events_from_estimates` derives events from another flight computer's
+  own height/velocity/acceleration (e.g. the CATS ``flightInfo`` log), to
+  compare against.
+
+Units: time s, heights m above the pad, velocity m/s (+up), acceleration m/s².
+See docs/rocket.md.
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+import numpy as np
+
+from ._common import GRAVITY, as_float
+from ._flight import RocketEstimator
+from ._flight_glue import (EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketSettings,
+                           RocketStatus)
+
+#: Observer gains of the rocket preset (Kh 1/s, Kv 1/s², Kb 1/s³): ω = 1 rad/s,
+#: ζ = 0.7 and no in-flight bias learning (the bias comes from the pad).
+ROCKET_OBSERVER_GAINS = (1.4, 1.0, 0.0)
+
+__all__ = ["RocketEstimator", "RocketSettings", "RocketBatch", "FlightEvents", "FlightEvent", "Phase", "BaroFate",
+           "RocketStatus", "ROCKET_OBSERVER_GAINS", "rocket_altitude_settings", "rocket_kalman_settings",
+           "long_axis_accel", "run_rocket", "detect_events", "events_from_estimates"]
+
+
+def rocket_altitude_settings():
+    """The rocket preset of the plain observer: ``AltitudeSettings(1.4, 1.0, 0.0)``.
+
+    ω = 1 rad/s, ζ = 0.7 through the bandwidth formulas with ω_b = 0: the
+    bias is not learned in flight (static-port and transonic baro errors would
+    leak into it); set it from a pad calibration with ``reset(..., accel_bias=...)``
+    or use :class:`RocketEstimator`, which learns it on the pad.
+    """
+    from . import AltitudeSettings
+    return AltitudeSettings(*ROCKET_OBSERVER_GAINS)
+
+
+def rocket_kalman_settings(**overrides: object):
+    """Kalman filter settings for rockets (``KalmanSettings``), keywords override.
+
+    Changed from the defaults, with reasons:
+
+    - ``accel_noise`` 0.5 m/s²/√Hz: motor vibration and airframe flex (the
+      default 0.035 is a quiet multirotor IMU);
+    - ``baro_noise`` 2.0 m and ``baro_offset_random_walk`` 3.0 m/√s: the static
+      port error changes with dynamic pressure by tens of metres within seconds;
+    - ``gate`` 10 σ and ``rejection_timeout`` 0.3 s: a rocket's baro is
+      rejected for good at the default 5 σ once the static-port error builds up;
+      ejection spikes still fail a 10 σ gate;
+    - ``accel_bias_random_walk`` 0.001 m/s³/√Hz: the bias is not observable
+      through the baro errors of a boost.
+    """
+    from . import KalmanSettings
+    values = {"accel_noise": 0.5, "baro_noise": 2.0, "baro_offset_random_walk": 3.0, "gate": 10.0,
+              "rejection_timeout": 0.3, "accel_bias_random_walk": 0.001}
+    values.update(overrides)
+    return KalmanSettings(**values)
+
+
+def long_axis_accel(accel_body: object, axis: int = 2, sign: float = 1.0) -> np.ndarray:
+    """Long-axis specific force minus g, m/s²: the flight layer's ``accel`` input.
+
+    Parameters
+    ----------
+    accel_body : array_like, shape (n, 3)
+        Accelerometer, m/s², body frame (specific force: +g along the up axis at rest).
+    axis : int, default 2
+        Column along the rocket's long axis (0, 1 or 2).
+    sign : float, default 1.0
+        +1 if that axis points to the nose, −1 if to the tail (e.g. the Hedy
+        CATS log: axis 1, sign −1, as its Y reads ≈ −9.9 on the rail).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``sign · accel_body[:, axis] − g``, float64, ≈ 0 at rest on the pad.
+    """
+    array = np.asarray(accel_body, dtype=np.float64)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"accel_body must have shape (n, 3), got {array.shape}")
+    if axis not in (0, 1, 2):
+        raise ValueError(f"axis must be 0, 1 or 2, got {axis!r}")
+    sign = as_float(sign, "sign")
+    if sign not in (1.0, -1.0):
+        raise ValueError(f"sign must be +1 or -1, got {sign!r}")
+    return sign * array[:, axis] - GRAVITY
+
+
+def _time_steps(time: object) -> Tuple[np.ndarray, np.ndarray]:
+    times = np.asarray(time, dtype=np.float64)
+    if times.ndim != 1 or times.size < 2:
+        raise ValueError(f"time must be 1-D with at least 2 samples, got shape {times.shape}")
+    if not np.all(np.isfinite(times)):
+        index = int(np.argmin(np.isfinite(times)))
+        raise ValueError(f"time[{index}] must be finite, got {times[index]!r}")
+    steps = np.diff(times)
+    if np.any(steps <= 0):
+        index = int(np.argmax(steps <= 0)) + 1
+        raise ValueError(f"time[{index}] = {times[index]!r} s does not increase (previous {times[index - 1]!r} s)")
+    dt = np.concatenate([[np.median(steps)], steps])
+    return times, dt
+
+
+def run_rocket(time: object, accel: object, baro_altitude: object, settings: Optional[RocketSettings] = None,
+               accel_is_vertical: bool = False, estimator: Optional[object] = None) -> Tuple[RocketBatch, FlightEvents]:
+    """Run the rocket flight layer over a whole log.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times, s, strictly increasing (the log's own clock).
+    accel : array_like
+        m/s², gravity removed: the long-axis accelerometer minus g
+        (:func:`long_axis_accel`), or an INS vertical acceleration with
+        ``accel_is_vertical``.
+    baro_altitude : array_like
+        Pressure altitude, m (NaN where no baro sample); e.g.
+        ``fusion_altitude.sensors.pressure_to_altitude(pressure_pa)``.
+    settings : RocketSettings, optional
+        Defaults if omitted.
+    accel_is_vertical : bool, default False
+        ``accel`` is a trusted earth-frame vertical acceleration (an INS): used
+        after apogee too.
+    estimator : RocketEstimator, optional
+        Run this one (e.g. the pure-Python reference) instead of a new C-backed one.
+
+    Returns
+    -------
+    (RocketBatch, FlightEvents)
+        Height above the pad, velocity, bias, phase and baro fate per sample;
+        the events with ``time`` in the log's seconds (of the declaring sample).
+        The first sample is integrated over the median sample period.
+    """
+    times, dt = _time_steps(time)
+    if estimator is None:
+        estimator = RocketEstimator(settings)
+    elif settings is not None:
+        raise ValueError("give settings or estimator, not both")
+    result = estimator.update_batch(accel, baro_altitude, dt, accel_is_vertical=accel_is_vertical)
+    if result.height.shape[0] != times.shape[0]:
+        raise ValueError(f"time has {times.shape[0]} samples but accel has {result.height.shape[0]}")
+    return result, estimator.events.with_times(times)
+
+
+def detect_events(time: object, accel: object, baro_altitude: object, settings: Optional[RocketSettings] = None,
+                  accel_is_vertical: bool = False) -> FlightEvents:
+    """The :class:`FlightEvents` of :func:`run_rocket` alone (times in the log's seconds)."""
+    return run_rocket(time, accel, baro_altitude, settings, accel_is_vertical)[1]
+
+
+def events_from_estimates(time: object, height: object, velocity: object, acceleration: object,
+                          main_altitude: float = 250.0, launch_accel: float = 20.0,
+                          landed_speed: float = 3.0, landed_time: float = 2.0) -> FlightEvents:
+    """Events read off another flight computer's own estimates (to compare against).
+
+    Rules, on its height h (m above the pad), velocity v (m/s) and acceleration a (m/s², gravity removed):
+    launch: the first sample with a > ``launch_accel``; burnout: the first sample after launch with a < 0; max speed: the
+    largest v; apogee: the first sample after burnout with v ≤ 0; main: the first sample after
+    apogee with h ≤ ``main_altitude``; landed: |v| < ``landed_speed`` for ``landed_time`` s after main.
+    ``sample`` indexes the given arrays.
+    """
+    t = np.asarray(time, dtype=np.float64)
+    h = np.asarray(height, dtype=np.float64)
+    v = np.asarray(velocity, dtype=np.float64)
+    a = np.asarray(acceleration, dtype=np.float64)
+    if not (t.shape == h.shape == v.shape == a.shape) or t.ndim != 1:
+        raise ValueError("time, height, velocity and acceleration must be 1-D of one length")
+    found = {}
+
+    def first(mask: np.ndarray, start: int) -> Optional[int]:
+        index = np.nonzero(mask[start:])[0]
+        return int(index[0] + start) if index.size else None
+
+    launch = first(a > launch_accel, 0)
+    if launch is not None:
+        found["launch"] = launch
+        burnout = first(a < 0, found["launch"])
+        if burnout is not None:
+            found["burnout"] = burnout
+            found["max_speed"] = int(np.argmax(v))
+            apogee = first(v <= 0, burnout)
+            if apogee is not None:
+                found["apogee"] = apogee
+                main = first(h <= main_altitude, apogee)
+                if main is not None:
+                    found["main"] = main
+                    slow = np.abs(v) < landed_speed
+                    for index in range(main, t.size):
+                        if slow[index]:
+                            end = first(~slow, index)
+                            last = (end if end is not None else t.size) - 1
+                            if t[last] - t[index] >= landed_time:
+                                found["landed"] = index
+                                break
+    events = []
+    for name in EVENT_NAMES:
+        if name in found:
+            k = found[name]
+            events.append(FlightEvent(name, True, k, float(t[k]), float(h[k]), float(v[k])))
+        else:
+            events.append(FlightEvent(name, False, 0, 0.0, 0.0, 0.0))
+    return FlightEvents(events)

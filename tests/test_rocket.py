@@ -208,7 +208,9 @@ def test_with_a_vertical_accel_the_descent_uses_the_accelerometer():
     assert np.array_equal(plain.height[~descent], ins.height[~descent])
 
 
-def test_rocket_kalman_settings_follow_a_simulated_flight_where_the_defaults_do_not():
+def test_rocket_kalman_settings_follow_a_simulated_flight_at_least_as_well_as_the_defaults():
+    # Before the Kalman filter's gate learned to recover (inflating h and v after a run of
+    # rejections) the defaults sawed 321-447 m RMS here; now both follow, the rocket settings closer.
     from fusion_altitude import KalmanEstimator, KalmanSettings
     flight = simulate_rocket_flight(0)
     baro = flight.baro_altitude - flight.model.pad_altitude
@@ -216,4 +218,5 @@ def test_rocket_kalman_settings_follow_a_simulated_flight_where_the_defaults_do_
     for name, settings in (("default", KalmanSettings()), ("rocket", rocket.rocket_kalman_settings())):
         result = KalmanEstimator(settings).update_batch(flight.accel, flight.dt, baro_altitude=baro)
         rms[name] = float(np.sqrt(np.mean((result.altitude - flight.trajectory.altitude) ** 2)))
-    assert rms["rocket"] < 30.0 < 100.0 < rms["default"]
+    assert rms["rocket"] < 30.0
+    assert rms["rocket"] <= rms["default"]

@@ -259,10 +259,10 @@ class AlphaBetaFusion(Checkpointable):
                                                           **{n: float(v) for n, v in zip(names, raw)}})  # type: ignore[arg-type]
 
     def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
-                     gps_altitude=None) -> AlphaBetaBatch:
+                     gps_altitude=None, out=None) -> AlphaBetaBatch:
         """Process arrays of steps; equal, bit for bit, to calling :meth:`update` for each."""
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
-                                                                    sonar_altitude, gps_altitude)
+                                                                    sonar_altitude, gps_altitude, out)
         trial = copy.copy(self)
         names = _alphabeta_glue.ALPHABETA_INPUTS
         with np.errstate(all="ignore"):

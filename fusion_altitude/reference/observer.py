@@ -19,6 +19,7 @@ from .. import _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
+from ._settings import GainSettings
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -110,7 +111,7 @@ _PRESET_GAINS = {
 }
 
 
-class AltitudeSettings:
+class AltitudeSettings(GainSettings):
     """Observer gains (float32).
 
     Parameters

@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Declarations of csrc/fusion_altitude.h, and nothing else."""
+"""Declarations of csrc/fusion_altitude.h (the observer), and nothing else."""
 
 
 cdef extern from "fusion_altitude.h" nogil:

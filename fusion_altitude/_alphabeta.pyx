@@ -81,7 +81,7 @@ cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
     return -1
 
 
-cdef class AlphaBetaFusion(Estimator):
+cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
     """Quality-weighted alpha-beta fusion of IMU-integrated altitude, baro, lidar, sonar and GPS.
 
     Each sensor runs an alpha-beta filter of depth Q (its quality), which
@@ -104,7 +104,6 @@ cdef class AlphaBetaFusion(Estimator):
     same altitude. Copies and pickles carry the full state.
     """
 
-    cdef FusionAltitudeAlphaBeta _c
 
     def __init__(self, settings=None):
         cdef FusionAltitudeAlphaBetaSettings c
@@ -209,21 +208,6 @@ cdef class AlphaBetaFusion(Estimator):
                       "gps_altitude": float(zg[bad * sg])}
             _alphabeta_glue.raise_alphabeta_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
         return result
-
-    @property
-    def altitude(self):
-        """Fused altitude h, m (0 until started)."""
-        return FusionAltitudeAlphaBetaGetAltitude(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Fused vertical velocity v, m/s, +up."""
-        return FusionAltitudeAlphaBetaGetVerticalVelocity(&self._c)
-
-    @property
-    def started(self):
-        """Whether the fusion has started (first baro, lidar, sonar or GPS sample)."""
-        return FusionAltitudeAlphaBetaIsStarted(&self._c)
 
     @property
     def total_weight(self):

@@ -101,3 +101,31 @@ cdef void _state_set(FusionAltitudeAlphaBeta *c, tuple state, object settings_in
     c.verticalVelocity = _vertical_velocity
     c.totalWeight = _total_weight
     c.started = _started
+
+
+
+cdef extern from "fusion_altitude_alphabeta.h" nogil:
+    float FusionAltitudeAlphaBetaGetAltitude(const FusionAltitudeAlphaBeta *)
+    float FusionAltitudeAlphaBetaGetVerticalVelocity(const FusionAltitudeAlphaBeta *)
+    bint FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *)
+
+
+cdef class _AlphaBetaFusionGetters(Estimator):
+    """The state (``FusionAltitudeAlphaBeta``) and a property per getter of fusion_altitude_alphabeta.h."""
+
+    cdef FusionAltitudeAlphaBeta _c
+
+    @property
+    def altitude(self):
+        """Fused altitude h, m (0 until started)."""
+        return FusionAltitudeAlphaBetaGetAltitude(&self._c)
+
+    @property
+    def vertical_velocity(self):
+        """Fused vertical velocity v, m/s, +up."""
+        return FusionAltitudeAlphaBetaGetVerticalVelocity(&self._c)
+
+    @property
+    def started(self):
+        """True once the fusion has started (first non-IMU sample)."""
+        return FusionAltitudeAlphaBetaIsStarted(&self._c)

@@ -47,7 +47,7 @@ cdef Py_ssize_t _run(FusionAltitudeComplementary *state, const float *accel, con
     return -1
 
 
-cdef class ComplementaryFilter(Estimator):
+cdef class ComplementaryFilter(_ComplementaryFilterGetters):
     """The hobbyist two-stage complementary filter: baro altitude + vertical acceleration.
 
     Low-passes both signals, blends the integrated acceleration with a
@@ -69,7 +69,6 @@ cdef class ComplementaryFilter(Estimator):
     the full state.
     """
 
-    cdef FusionAltitudeComplementary _c
 
     def __init__(self, settings=None):
         FusionAltitudeComplementaryInitialise(&self._c)
@@ -153,31 +152,6 @@ cdef class ComplementaryFilter(Estimator):
                 FusionAltitudeComplementaryCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                 a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result
-
-    @property
-    def altitude(self):
-        """Altitude estimate h, m (0 until the reference is set)."""
-        return FusionAltitudeComplementaryGetAltitude(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Vertical velocity estimate v, m/s, +up."""
-        return FusionAltitudeComplementaryGetVerticalVelocity(&self._c)
-
-    @property
-    def baro_filtered(self):
-        """Low-passed baro altitude, m."""
-        return FusionAltitudeComplementaryGetBaroFiltered(&self._c)
-
-    @property
-    def baro_velocity(self):
-        """Finite-difference baro velocity of the latest step, m/s (NaN on a step without baro)."""
-        return FusionAltitudeComplementaryGetBaroVelocity(&self._c)
-
-    @property
-    def reference_set(self):
-        """Whether the reference is set."""
-        return FusionAltitudeComplementaryIsReferenceSet(&self._c)
 
     @property
     def settings(self):

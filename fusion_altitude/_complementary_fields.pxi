@@ -85,3 +85,43 @@ cdef void _state_set(FusionAltitudeComplementary *c, tuple state, object setting
     c.baroVelocity = _baro_velocity
     c.sinceBaro = _since_baro
     c.referenceSet = _reference_set
+
+
+
+cdef extern from "fusion_altitude_complementary.h" nogil:
+    float FusionAltitudeComplementaryGetAltitude(const FusionAltitudeComplementary *)
+    float FusionAltitudeComplementaryGetVerticalVelocity(const FusionAltitudeComplementary *)
+    float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary *)
+    float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary *)
+    bint FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *)
+
+
+cdef class _ComplementaryFilterGetters(Estimator):
+    """The state (``FusionAltitudeComplementary``) and a property per getter of fusion_altitude_complementary.h."""
+
+    cdef FusionAltitudeComplementary _c
+
+    @property
+    def altitude(self):
+        """Altitude estimate h, m (0 until the reference is set)."""
+        return FusionAltitudeComplementaryGetAltitude(&self._c)
+
+    @property
+    def vertical_velocity(self):
+        """Vertical velocity estimate v, m/s, +up."""
+        return FusionAltitudeComplementaryGetVerticalVelocity(&self._c)
+
+    @property
+    def baro_filtered(self):
+        """Low-passed baro altitude zLp, m."""
+        return FusionAltitudeComplementaryGetBaroFiltered(&self._c)
+
+    @property
+    def baro_velocity(self):
+        """Finite-difference baro velocity of the latest step, m/s; NaN on a step without baro."""
+        return FusionAltitudeComplementaryGetBaroVelocity(&self._c)
+
+    @property
+    def reference_set(self):
+        """True once the reference is set."""
+        return FusionAltitudeComplementaryIsReferenceSet(&self._c)

@@ -72,7 +72,7 @@ cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
     return -1
 
 
-cdef class KalmanEstimator(Estimator):
+cdef class KalmanEstimator(_KalmanEstimatorGetters):
     """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with vertical acceleration.
 
     Estimates height above ground (m), baro-referenced altitude (m), vertical
@@ -93,7 +93,6 @@ cdef class KalmanEstimator(Estimator):
     state.
     """
 
-    cdef FusionAltitudeKalman _c
 
     def __init__(self, settings=None):
         cdef FusionAltitudeKalmanSettings c
@@ -246,41 +245,6 @@ cdef class KalmanEstimator(Estimator):
         m.gpsSatellites = satellites
         m.groundEffect = ground != 0
         return FusionAltitudeKalmanUpdate(&trial, accel, dt, &m)
-
-    @property
-    def height_above_ground(self):
-        """Height above ground h, m."""
-        return FusionAltitudeKalmanGetHeightAboveGround(&self._c)
-
-    @property
-    def altitude(self):
-        """Baro-referenced altitude h + baro_offset, m (equals h before the first baro sample)."""
-        return FusionAltitudeKalmanGetAltitude(&self._c)
-
-    @property
-    def altitude_variance(self):
-        """Variance of the altitude, m²: P_hh + 2·P_h,ob + P_ob,ob."""
-        return FusionAltitudeKalmanGetAltitudeVariance(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Vertical velocity v, m/s, +up."""
-        return FusionAltitudeKalmanGetVerticalVelocity(&self._c)
-
-    @property
-    def accel_bias(self):
-        """Accelerometer bias b, m/s², +up (subtracted from the input)."""
-        return FusionAltitudeKalmanGetAccelBias(&self._c)
-
-    @property
-    def baro_offset(self):
-        """Baro offset (baro reads h + offset), m; 0 before the first baro sample."""
-        return FusionAltitudeKalmanGetBaroOffset(&self._c)
-
-    @property
-    def gps_offset(self):
-        """GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample."""
-        return FusionAltitudeKalmanGetGpsOffset(&self._c)
 
     @property
     def state(self):

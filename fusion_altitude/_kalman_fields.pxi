@@ -133,3 +133,55 @@ cdef void _state_set(FusionAltitudeKalman *c, tuple state, object settings_in) e
         c.sensors[i].rejecting = row[7]
     c.baroInitialised = _baro_initialised
     c.gpsInitialised = _gps_initialised
+
+
+
+cdef extern from "fusion_altitude_kalman.h" nogil:
+    float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *)
+    float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *)
+
+
+cdef class _KalmanEstimatorGetters(Estimator):
+    """The state (``FusionAltitudeKalman``) and a property per getter of fusion_altitude_kalman.h."""
+
+    cdef FusionAltitudeKalman _c
+
+    @property
+    def height_above_ground(self):
+        """Height above ground h, m."""
+        return FusionAltitudeKalmanGetHeightAboveGround(&self._c)
+
+    @property
+    def altitude(self):
+        """Baro-referenced altitude h + ob, m: what a noise-free baro would read, comparable to the observer's altitude. Equals h until the first baro sample (ob is 0 then)."""
+        return FusionAltitudeKalmanGetAltitude(&self._c)
+
+    @property
+    def altitude_variance(self):
+        """Variance of the altitude h + ob, m²: P_hh + 2*P_h,ob + P_ob,ob."""
+        return FusionAltitudeKalmanGetAltitudeVariance(&self._c)
+
+    @property
+    def vertical_velocity(self):
+        """Vertical velocity v, m/s, +up."""
+        return FusionAltitudeKalmanGetVerticalVelocity(&self._c)
+
+    @property
+    def accel_bias(self):
+        """Accelerometer bias b, m/s², +up (already subtracted from the input)."""
+        return FusionAltitudeKalmanGetAccelBias(&self._c)
+
+    @property
+    def baro_offset(self):
+        """Baro offset ob (baro reads h + ob), m; 0 before the first baro sample."""
+        return FusionAltitudeKalmanGetBaroOffset(&self._c)
+
+    @property
+    def gps_offset(self):
+        """GPS offset og (GPS reads h + og), m; 0 before the first usable GPS sample."""
+        return FusionAltitudeKalmanGetGpsOffset(&self._c)

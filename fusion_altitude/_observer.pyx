@@ -73,7 +73,7 @@ def _checked_gains(gains):
     return AltitudeSettings(*gains).as_dict()
 
 
-cdef class AltitudeEstimator(Estimator):
+cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
     """3rd-order complementary observer: baro altitude + vertical acceleration.
 
     Estimates altitude (m), vertical velocity (m/s, +up) and the
@@ -92,7 +92,6 @@ cdef class AltitudeEstimator(Estimator):
     pickles carry the full state, so a run can be checkpointed and resumed.
     """
 
-    cdef FusionAltitude _c
 
     def __init__(self, settings=None):
         FusionAltitudeInitialise(&self._c)
@@ -199,31 +198,6 @@ cdef class AltitudeEstimator(Estimator):
             _observer_glue.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                                               a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result
-
-    @property
-    def altitude(self):
-        """Altitude estimate h, m (0 until the reference is set)."""
-        return FusionAltitudeGetAltitude(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Vertical velocity estimate v, m/s, +up."""
-        return FusionAltitudeGetVerticalVelocity(&self._c)
-
-    @property
-    def accel_bias(self):
-        """Accelerometer bias estimate b, m/s², +up (subtracted from the input)."""
-        return FusionAltitudeGetAccelBias(&self._c)
-
-    @property
-    def baro_residual(self):
-        """Baro residual z − h of the last update before its correction, m (0 after reset, NaN without baro)."""
-        return FusionAltitudeGetBaroResidual(&self._c)
-
-    @property
-    def reference_set(self):
-        """Whether the reference is set (first baro sample or reset)."""
-        return FusionAltitudeIsReferenceSet(&self._c)
 
     @property
     def settings(self):

@@ -86,3 +86,43 @@ cdef void _state_set(FusionAltitude *c, tuple state, object settings_in) except 
     c.accelBias = _accel_bias
     c.baroResidual = _baro_residual
     c.referenceSet = _reference_set
+
+
+
+cdef extern from "fusion_altitude.h" nogil:
+    float FusionAltitudeGetAltitude(const FusionAltitude *)
+    float FusionAltitudeGetVerticalVelocity(const FusionAltitude *)
+    float FusionAltitudeGetAccelBias(const FusionAltitude *)
+    float FusionAltitudeGetBaroResidual(const FusionAltitude *)
+    bint FusionAltitudeIsReferenceSet(const FusionAltitude *)
+
+
+cdef class _AltitudeEstimatorGetters(Estimator):
+    """The state (``FusionAltitude``) and a property per getter of fusion_altitude.h."""
+
+    cdef FusionAltitude _c
+
+    @property
+    def altitude(self):
+        """Altitude estimate h, m (0 until the reference is set)."""
+        return FusionAltitudeGetAltitude(&self._c)
+
+    @property
+    def vertical_velocity(self):
+        """Vertical velocity estimate v, m/s, +up."""
+        return FusionAltitudeGetVerticalVelocity(&self._c)
+
+    @property
+    def accel_bias(self):
+        """Accelerometer bias estimate b, m/s², +up (already subtracted from the accel input)."""
+        return FusionAltitudeGetAccelBias(&self._c)
+
+    @property
+    def baro_residual(self):
+        """Baro residual r = z - h of the latest update, m, before that update's correction: 0 after initialise and reset, NaN after a step without baro. A sustained large residual points at a stuck baro, prop-wash or divergence."""
+        return FusionAltitudeGetBaroResidual(&self._c)
+
+    @property
+    def reference_set(self):
+        """True once the reference is set (first baro sample or reset)."""
+        return FusionAltitudeIsReferenceSet(&self._c)

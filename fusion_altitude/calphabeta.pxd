@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Declarations of csrc/fusion_altitude_alphabeta.h, and nothing else."""
+"""Declarations of csrc/fusion_altitude_alphabeta.h (the scalar getters: generated, in _*_fields.pxi), and nothing else."""
 
 from libc.stdint cimport int32_t
 
@@ -80,6 +80,3 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
                                                                      const FusionAltitudeAlphaBetaMeasurements *m)
     FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaUpdate(FusionAltitudeAlphaBeta *fusion, float accel, float dt,
                                                                 const FusionAltitudeAlphaBetaMeasurements *m)
-    float FusionAltitudeAlphaBetaGetAltitude(const FusionAltitudeAlphaBeta *fusion)
-    float FusionAltitudeAlphaBetaGetVerticalVelocity(const FusionAltitudeAlphaBeta *fusion)
-    bint FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *fusion)

@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Declarations of csrc/fusion_altitude_complementary.h, and nothing else."""
+"""Declarations of csrc/fusion_altitude_complementary.h (the scalar getters: generated, in _*_fields.pxi), and nothing else."""
 
 
 cdef extern from "fusion_altitude_complementary.h" nogil:
@@ -43,8 +43,3 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
     FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdate(FusionAltitudeComplementary *filter, float accel,
                                                                         float baroAltitude, float dt)
     FusionAltitudeComplementarySettings FusionAltitudeComplementaryGetSettings(const FusionAltitudeComplementary *filter)
-    float FusionAltitudeComplementaryGetAltitude(const FusionAltitudeComplementary *filter)
-    float FusionAltitudeComplementaryGetVerticalVelocity(const FusionAltitudeComplementary *filter)
-    float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary *filter)
-    float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary *filter)
-    bint FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *filter)

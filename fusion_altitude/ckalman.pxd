@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Declarations of csrc/fusion_altitude_kalman.h, and nothing else."""
+"""Declarations of csrc/fusion_altitude_kalman.h (the scalar getters: generated, in _*_fields.pxi), and nothing else."""
 
 from libc.stdint cimport int32_t, uint32_t
 
@@ -100,10 +100,3 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
     FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitudeKalman *kalman, float accel, float dt,
                                                           const FusionAltitudeKalmanMeasurements *measurements)
     FusionAltitudeKalmanSettings FusionAltitudeKalmanGetSettings(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *kalman)
-    float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *kalman)

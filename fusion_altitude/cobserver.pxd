@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Declarations of csrc/fusion_altitude.h (the observer), and nothing else."""
+"""Declarations of csrc/fusion_altitude.h (the observer) (the scalar getters: generated, in _*_fields.pxi), and nothing else."""
 
 
 cdef extern from "fusion_altitude.h" nogil:
@@ -51,8 +51,3 @@ cdef extern from "fusion_altitude.h" nogil:
     FusionAltitudeStatus FusionAltitudeCheckInputs(float accel, float baroAltitude, float dt)
     FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *altitude, float accel, float baroAltitude, float dt)
     FusionAltitudeSettings FusionAltitudeGetSettings(const FusionAltitude *altitude)
-    float FusionAltitudeGetAltitude(const FusionAltitude *altitude)
-    float FusionAltitudeGetVerticalVelocity(const FusionAltitude *altitude)
-    float FusionAltitudeGetAccelBias(const FusionAltitude *altitude)
-    float FusionAltitudeGetBaroResidual(const FusionAltitude *altitude)
-    bint FusionAltitudeIsReferenceSet(const FusionAltitude *altitude)

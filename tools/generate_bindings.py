@@ -117,8 +117,17 @@ class Enum:
 
 
 @dataclass
+class Getter:
+    ctype: str
+    cname: str
+    python: str
+    doc: str
+
+
+@dataclass
 class Header:
     path: Path
+    getters: List[Getter] = field(default_factory=list)
     enums: Dict[str, Enum] = field(default_factory=dict)
     structs: Dict[str, List[Field]] = field(default_factory=dict)
     defines: Dict[str, str] = field(default_factory=dict)
@@ -153,6 +162,13 @@ def parse_header(path: Path, known: Optional[Header] = None) -> Header:
                 dims = tuple(re.findall(r"\[(\w+)\]", match.group(3)))
                 fields.append(Field(match.group(1).replace(" ", ""), match.group(2), dims, match.group(4) or ""))
         header.structs[name] = fields
+    getter = re.compile(r"(?:/\*\*((?:[^*]|\*(?!/))*)\*/\s*)?static inline (float|bool|int32_t|uint32_t) "
+                        r"(FusionAltitude\w*?(?:Get|Is)(\w+))\(const (\w+) \*const \w+\) \{")
+    for doc, ctype, cname, short, argument in getter.findall(text):
+        if argument in header.structs:
+            doc = " ".join(line.strip(" *") for line in doc.strip().splitlines()).strip()
+            doc = re.sub(r"^@brief\s*|^@return\s*", "", doc).replace("^2", "²").replace("^3", "³")
+            header.getters.append(Getter(ctype, cname, snake(short), (doc[:1].upper() + doc[1:]) or f"{cname}."))
     return header
 
 
@@ -375,6 +391,7 @@ def generate_pxi(module: str, header: Header) -> str:
             f"    cdef {settings} c = _settings_to_c(values)",
             f"    return int({settings}Check(&c))", "", ""]
     out += state_functions(header, state, settings)
+    out += getter_class(module, header, state)
     return "\n".join(out).rstrip() + "\n"
 
 
@@ -426,6 +443,28 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
             put.append(f"    c.{f.name} = {cast}{var}")
     get.append("    )")
     return get + ["", ""] + put + [""]
+
+
+def getter_class(module: str, header: Header, state: str) -> List[str]:
+    """``cdef class _<Estimator>Getters(Estimator)``: the state struct and one property per scalar getter of the
+    header (``...Get<Name>(const State *)``, ``...Is<Name>(const State *)``); the estimator derives from it."""
+    getters = [g for g in header.getters if g.cname.startswith(MODULES[module][1]) and _takes(header, g, state)]
+    ctype = {"bool": "bint"}
+    out = ["", "", f'cdef extern from "{header.path.name}" nogil:']
+    out += [f"    {ctype.get(g.ctype, g.ctype)} {g.cname}(const {state} *)" for g in getters]
+    out += ["", "", f"cdef class _{ESTIMATORS[module]}Getters(Estimator):",
+            f'    """The state (``{state}``) and a property per getter of {header.path.name}."""', "",
+            f"    cdef {state} _c"]
+    for g in getters:
+        doc = g.doc.replace('"', "'").replace("\\", "\\\\")
+        out += ["", "    @property", f"    def {g.python}(self):", f'        """{doc}"""',
+                f"        return {g.cname}(&self._c)"]
+    return out + [""]
+
+
+def _takes(header: Header, getter: Getter, state: str) -> bool:
+    text = header.path.read_text()
+    return re.search(rf"{getter.cname}\(const {state} \*const", text) is not None
 
 
 # -- _<module>.pyi -----------------------------------------------------------------------------------------------

@@ -17,6 +17,7 @@ from libc.stdint cimport int32_t
 from fusion_altitude.calphabeta cimport *
 
 from fusion_altitude import _alphabeta_glue
+from fusion_altitude._common import argument_order
 from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.alphabeta import AlphaBetaSettings
@@ -112,7 +113,8 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
             c = _settings_to_c(_c_values(settings))
             FusionAltitudeAlphaBetaInitialiseWith(&self._c, &c)
 
-    def update(self, accel, dt, baro_altitude=math.nan, lidar_altitude=math.nan, sonar_altitude=math.nan,
+    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:])
+    def update(self, accel, baro_altitude, dt, *, lidar_altitude=math.nan, sonar_altitude=math.nan,
                gps_altitude=math.nan):
         """Process one step.
 
@@ -144,7 +146,8 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
                 "lidar_altitude": float(lidar_altitude), "sonar_altitude": float(sonar_altitude),
                 "gps_altitude": float(gps_altitude)})
 
-    def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
+    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
                      gps_altitude=None, out=None):
         """Process arrays of steps, continuing from the current state.
 

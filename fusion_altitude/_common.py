@@ -7,7 +7,9 @@ for reading, in :mod:`fusion_altitude.reference`.
 
 from __future__ import annotations
 
+import functools
 import math
+import warnings
 from typing import Mapping, Optional, Sequence, Tuple
 
 import numpy as np
@@ -122,3 +124,34 @@ def optional_inputs(arguments: Mapping[str, object]) -> Tuple[int, dict, dict]:
     inputs.update((name, optional_input(arguments[name], name, n)) for name in names)
     steps = {name: 0 if value is None or np.ndim(value) == 0 else 1 for name, value in arguments.items()}
     return n, inputs, steps
+
+
+def argument_order(legacy: Tuple[str, ...]):
+    """Decorator: the contract order ``(accel, baro_altitude, dt, *, other sensors...)`` for an estimator whose
+    old order was ``(accel, *legacy)``: for one release, positional arguments after ``accel`` keep their old
+    meaning, with a DeprecationWarning (pass baro_altitude= and dt= by keyword; in the next release the
+    positional order is the new one). Keywords work throughout; ``baro_altitude`` may be left out, as
+    before: no sample (NaN per sample, None in a batch).
+    """
+    def decorate(method):
+        no_sample = None if method.__name__ == "update_batch" else math.nan
+
+        @functools.wraps(method)
+        def wrapper(self, accel, *args, **kwargs):
+            name = f"{type(self).__name__}.{method.__name__}"
+            if len(args) == 1 and "dt" in kwargs:
+                return method(self, accel, *args, **kwargs)
+            if args:
+                warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
+                              f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
+                              "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning, stacklevel=2)
+                if len(args) > len(legacy):
+                    raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
+                for key, value in zip(legacy, args):
+                    if key in kwargs:
+                        raise TypeError(f"{name}() got multiple values for argument {key!r}")
+                    kwargs[key] = value
+            kwargs.setdefault("baro_altitude", no_sample)
+            return method(self, accel, **kwargs)
+        return wrapper
+    return decorate

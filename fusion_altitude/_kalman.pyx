@@ -19,6 +19,7 @@ from fusion_altitude.ckalman cimport *
 import numpy as np
 
 from fusion_altitude import _kalman_glue
+from fusion_altitude._common import argument_order
 from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.kalman import KalmanSettings
@@ -102,7 +103,8 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
             c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
             FusionAltitudeKalmanInitialiseWith(&self._c, &c)
 
-    def update(self, accel, dt, baro_altitude=math.nan, range_distance=math.nan, gps_altitude=math.nan,
+    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
+    def update(self, accel, baro_altitude, dt, *, range_distance=math.nan, gps_altitude=math.nan,
                gps_satellites=None, gps_vertical_accuracy=None, ground_effect=False):
         """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
 
@@ -148,7 +150,8 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
                 "accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
                 "gps_vertical_accuracy": gps_vertical_accuracy})
 
-    def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
+    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
                      gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None):
         """Process arrays of steps, continuing from the current state.
 

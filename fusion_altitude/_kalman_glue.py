@@ -15,6 +15,11 @@ from ._c_tables import KalmanResult, KalmanStatus
 from ._common import as_float, optional_inputs, output_arrays, raise_input_error
 
 
+#: The positional order of ``update`` after accel before 0.2 (still accepted, deprecated).
+KALMAN_LEGACY_ORDER = ("dt", "baro_altitude", "range_distance", "gps_altitude", "gps_satellites",
+                       "gps_vertical_accuracy", "ground_effect")
+
+
 class KalmanSensors(NamedTuple):
     """One value per altitude sensor."""
 

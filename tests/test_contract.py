@@ -162,6 +162,33 @@ def test_binding_has_the_references_public_methods_with_the_same_parameters(row)
 
 @by_row
 @by_impl
+@pytest.mark.parametrize("method", ["update", "update_batch"])
+def test_updates_take_accel_baro_altitude_dt_then_keywords(impl, row, method):
+    parameters = list(inspect.signature(getattr(getattr(impl, row.estimator), method)).parameters.values())
+    assert [p.name for p in parameters[1:4]] == ["accel", "baro_altitude", "dt"]
+    assert all(p.kind is p.KEYWORD_ONLY or p.name == "out" for p in parameters[4:])
+
+
+LEGACY = [row for row in ESTIMATORS if row.estimator in ("KalmanEstimator", "AlphaBetaFusion")]
+
+
+@pytest.mark.parametrize("row", LEGACY, ids=[row.estimator for row in LEGACY])
+@by_impl
+def test_the_old_positional_order_still_works_for_one_release_with_a_deprecation_warning(impl, row):
+    inputs = row.inputs(np.random.default_rng(8), 30)
+    new, old = getattr(impl, row.estimator)(), getattr(impl, row.estimator)()
+    new.update_batch(accel=inputs["accel"], baro_altitude=inputs["baro_altitude"], dt=0.01)
+    with pytest.warns(DeprecationWarning, match="from the next release the order is"):
+        old.update_batch(inputs["accel"], 0.01, inputs["baro_altitude"])
+    assert state(old) == state(new)
+    with pytest.warns(DeprecationWarning):
+        old.update(0.1, 0.01, 12.0)
+    new.update(0.1, 12.0, dt=0.01)
+    assert state(old) == state(new)
+
+
+@by_row
+@by_impl
 @pytest.mark.parametrize("clone", [copy.copy, copy.deepcopy, lambda e: pickle.loads(pickle.dumps(e))],
                          ids=["copy", "deepcopy", "pickle"])
 def test_a_clone_resumes_with_identical_results(impl, row, clone):

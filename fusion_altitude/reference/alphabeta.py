@@ -243,7 +243,8 @@ class AlphaBetaFusion(Checkpointable):
         self._total = sum_weight
         return AlphaBetaStatus.OK
 
-    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, lidar_altitude: float = math.nan,
+    @_common.argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:])
+    def update(self, accel: float, baro_altitude: float, dt: float, *, lidar_altitude: float = math.nan,
                sonar_altitude: float = math.nan, gps_altitude: float = math.nan) -> None:
         """Process one step (accel m/s² or NaN, dt s, each sensor's altitude m or NaN)."""
         names = ("baro_altitude", "lidar_altitude", "sonar_altitude", "gps_altitude")
@@ -258,7 +259,8 @@ class AlphaBetaFusion(Checkpointable):
             _alphabeta_glue.raise_alphabeta_update_error(status, {"accel": float(a), "dt": float(t),
                                                           **{n: float(v) for n, v in zip(names, raw)}})  # type: ignore[arg-type]
 
-    def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
+    @_common.argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
                      gps_altitude=None, out=None) -> AlphaBetaBatch:
         """Process arrays of steps; equal, bit for bit, to calling :meth:`update` for each."""
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,

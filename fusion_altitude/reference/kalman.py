@@ -404,7 +404,8 @@ class KalmanEstimator(Checkpointable):
 
     # -- public API -----------------------------------------------------------------
 
-    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, range_distance: float = math.nan,
+    @_common.argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
+    def update(self, accel: float, baro_altitude: float, dt: float, *, range_distance: float = math.nan,
                gps_altitude: float = math.nan, gps_satellites: Optional[int] = None,
                gps_vertical_accuracy: Optional[float] = None, ground_effect: bool = False) -> None:
         """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
@@ -450,7 +451,8 @@ class KalmanEstimator(Checkpointable):
         if status != KalmanStatus.OK:
             _kalman_glue.raise_kalman_update_error(status, values)
 
-    def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
+    @_common.argument_order(_kalman_glue.KALMAN_LEGACY_ORDER + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
                      gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None) -> KalmanBatch:
         """Process arrays of steps, continuing from the current state.
 

@@ -104,12 +104,6 @@ cdef void _state_set(FusionAltitudeAlphaBeta *c, tuple state, object settings_in
 
 
 
-cdef extern from "fusion_altitude_alphabeta.h" nogil:
-    float FusionAltitudeAlphaBetaGetAltitude(const FusionAltitudeAlphaBeta *)
-    float FusionAltitudeAlphaBetaGetVerticalVelocity(const FusionAltitudeAlphaBeta *)
-    bint FusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *)
-
-
 cdef class _AlphaBetaFusionGetters(Estimator):
     """The state (``FusionAltitudeAlphaBeta``) and a property per getter of fusion_altitude_alphabeta.h."""
 

@@ -88,14 +88,6 @@ cdef void _state_set(FusionAltitudeComplementary *c, tuple state, object setting
 
 
 
-cdef extern from "fusion_altitude_complementary.h" nogil:
-    float FusionAltitudeComplementaryGetAltitude(const FusionAltitudeComplementary *)
-    float FusionAltitudeComplementaryGetVerticalVelocity(const FusionAltitudeComplementary *)
-    float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary *)
-    float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary *)
-    bint FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *)
-
-
 cdef class _ComplementaryFilterGetters(Estimator):
     """The state (``FusionAltitudeComplementary``) and a property per getter of fusion_altitude_complementary.h."""
 

@@ -136,16 +136,6 @@ cdef void _state_set(FusionAltitudeKalman *c, tuple state, object settings_in) e
 
 
 
-cdef extern from "fusion_altitude_kalman.h" nogil:
-    float FusionAltitudeKalmanGetHeightAboveGround(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetAltitude(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetAltitudeVariance(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetVerticalVelocity(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetAccelBias(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman *)
-    float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman *)
-
-
 cdef class _KalmanEstimatorGetters(Estimator):
     """The state (``FusionAltitudeKalman``) and a property per getter of fusion_altitude_kalman.h."""
 

@@ -89,14 +89,6 @@ cdef void _state_set(FusionAltitude *c, tuple state, object settings_in) except 
 
 
 
-cdef extern from "fusion_altitude.h" nogil:
-    float FusionAltitudeGetAltitude(const FusionAltitude *)
-    float FusionAltitudeGetVerticalVelocity(const FusionAltitude *)
-    float FusionAltitudeGetAccelBias(const FusionAltitude *)
-    float FusionAltitudeGetBaroResidual(const FusionAltitude *)
-    bint FusionAltitudeIsReferenceSet(const FusionAltitude *)
-
-
 cdef class _AltitudeEstimatorGetters(Estimator):
     """The state (``FusionAltitude``) and a property per getter of fusion_altitude.h."""
 

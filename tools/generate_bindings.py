@@ -445,14 +445,53 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
     return get + ["", ""] + put + [""]
 
 
+# -- c<module>.pxd -----------------------------------------------------------------------------------------------
+
+#: The .pxd of each module's header.
+PXD_NAMES = {"observer": "cobserver.pxd", "kalman": "ckalman.pxd", "complementary": "ccomplementary.pxd",
+             "alphabeta": "calphabeta.pxd"}
+
+
+def _cython_type(ctype: str) -> str:
+    ctype = re.sub(r"\*\s*const\b", "*", ctype.strip())
+    ctype = re.sub(r"\bbool\b", "bint", ctype)
+    return re.sub(r"\s+", " ", ctype).replace(" *", " *").strip()
+
+
+def generate_pxd(module: str, header: Header) -> str:
+    """Cython declarations of one header: its numeric #defines, enums, structs and functions, in header order."""
+    text = header.path.read_text()
+    own = parse_header(header.path)
+    code = _strip_comments(text)
+    out = [GENERATED.rstrip(), "# cython: language_level=3",
+           f'"""Declarations of csrc/{header.path.name}, and nothing else."""', "",
+           "from libc.stdint cimport int32_t, uint8_t, uint32_t", "", "",
+           f'cdef extern from "{header.path.name}" nogil:']
+    for name, value in re.findall(r"^#define\s+(FUSION_ALTITUDE_\w+)\s+\(([-\d.e]+f?)\)\s*$", text, flags=re.M):
+        out.append(f"    {'float' if value.endswith('f') else 'int'} {name}")
+    for match in re.finditer(r"typedef (enum|struct) \{(.*?)\} (\w+);", code, flags=re.S):
+        kind, name = match.group(1), match.group(3)
+        out += ["", f"    ctypedef {kind} {name}:"]
+        if kind == "enum":
+            out += [f"        {member}" for member, _ in own.enums[name].members]
+        else:
+            for f in own.structs[name]:
+                dims = "".join(f"[{header.defines.get(d, d)}]" for d in f.dims)
+                out.append(f"        {_cython_type(f.ctype)} {f.name}{dims}")
+    out.append("")
+    for ret, name, params in re.findall(r"static inline\s+((?:const\s+)?\w+(?:\s*\*)?)\s*(FusionAltitude\w+)\(([^)]*)\)\s*\{",
+                                        code):
+        args = [] if params.strip() == "void" else [_cython_type(re.sub(r"(\w+)\s*\[\w*\]$", r"*\1", p.strip()))
+                                                    for p in params.split(",")]
+        out.append(f"    {_cython_type(ret)} {name}({', '.join(args)})")
+    return "\n".join(out) + "\n"
+
+
 def getter_class(module: str, header: Header, state: str) -> List[str]:
     """``cdef class _<Estimator>Getters(Estimator)``: the state struct and one property per scalar getter of the
     header (``...Get<Name>(const State *)``, ``...Is<Name>(const State *)``); the estimator derives from it."""
     getters = [g for g in header.getters if g.cname.startswith(MODULES[module][1]) and _takes(header, g, state)]
-    ctype = {"bool": "bint"}
-    out = ["", "", f'cdef extern from "{header.path.name}" nogil:']
-    out += [f"    {ctype.get(g.ctype, g.ctype)} {g.cname}(const {state} *)" for g in getters]
-    out += ["", "", f"cdef class _{ESTIMATORS[module]}Getters(Estimator):",
+    out = ["", "", f"cdef class _{ESTIMATORS[module]}Getters(Estimator):",
             f'    """The state (``{state}``) and a property per getter of {header.path.name}."""', "",
             f"    cdef {state} _c"]
     for g in getters:
@@ -571,6 +610,7 @@ def generate() -> Dict[Path, str]:
     for module in MODULES:
         files[PACKAGE / f"_{module}_fields.pxi"] = generate_pxi(module, headers[module])
         files[PACKAGE / f"_{module}.pyi"] = generate_stub(module, headers[module])
+        files[PACKAGE / PXD_NAMES[module]] = generate_pxd(module, headers[module])
     return files
 
 

@@ -155,3 +155,11 @@ def argument_order(legacy: Tuple[str, ...]):
             return method(self, accel, **kwargs)
         return wrapper
     return decorate
+
+
+def share_docstrings(binding: type, reference: type) -> None:
+    """Give each method of the binding class that has no docstring the reference's (written once, there)."""
+    for name, member in vars(binding).items():
+        source = getattr(reference, name, None)
+        if callable(member) and not getattr(member, "__doc__", None) and getattr(source, "__doc__", None):
+            member.__doc__ = source.__doc__

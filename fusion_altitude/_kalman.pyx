@@ -18,11 +18,11 @@ from fusion_altitude.ckalman cimport *
 
 import numpy as np
 
-from fusion_altitude import _kalman_glue
+from fusion_altitude import _common, _kalman_glue
 from fusion_altitude._common import argument_order
 from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.kalman import KalmanSettings
+from fusion_altitude.reference.kalman import KalmanEstimator as _reference_KalmanEstimator, KalmanSettings
 
 include "_kalman_fields.pxi"
 
@@ -106,34 +106,6 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
     @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
     def update(self, accel, baro_altitude, dt, *, range_distance=math.nan, gps_altitude=math.nan,
                gps_satellites=None, gps_vertical_accuracy=None, ground_effect=False):
-        """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
-
-        Parameters
-        ----------
-        accel : float
-            Vertical acceleration, m/s², earth frame, +up, gravity removed.
-        dt : float
-            Time since the previous step, s.
-        baro_altitude, range_distance, gps_altitude : float, optional
-            Samples, m; NaN (the default) when a sensor has none this step. A
-            range outside [range_min, range_max] (or ±inf) counts as no echo.
-        gps_satellites : int, optional
-            Satellites used; None: unknown (the GPS model then assumes
-            ``gps_min_satellites``). Fewer than ``gps_min_satellites``: not fused.
-        gps_vertical_accuracy : float, optional
-            Receiver-reported 1σ vertical accuracy, m; used instead of the
-            satellite model when given.
-        ground_effect : bool
-            Take-off or landing: widen the baro noise and ignore negative baro
-            innovations up to the dead zone.
-
-        Raises
-        ------
-        ValueError
-            accel not finite, dt not finite or <= 0, baro or GPS altitude
-            infinite, a GPS accuracy (with a GPS sample) not finite and > 0;
-            the state is unchanged.
-        """
         cdef FusionAltitudeKalmanMeasurements m
         cdef double a = _as_double(accel, "accel")
         cdef double t = _as_double(dt, "dt")
@@ -318,6 +290,9 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
     def __repr__(self):
         return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
+
+
+_common.share_docstrings(KalmanEstimator, _reference_KalmanEstimator)
 
 
 def _restore(state):

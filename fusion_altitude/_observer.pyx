@@ -15,7 +15,7 @@ from fusion_altitude.cobserver cimport *
 from fusion_altitude import _common, _observer_glue
 from fusion_altitude._observer_glue import AltitudeBatch
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.observer import AltitudeSettings
+from fusion_altitude.reference.observer import AltitudeEstimator as _reference_AltitudeEstimator, AltitudeSettings
 
 include "_observer_fields.pxi"
 
@@ -99,24 +99,6 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
             self.settings = settings
 
     def update(self, accel, baro_altitude, dt):
-        """Process one sample.
-
-        Parameters
-        ----------
-        accel : float
-            Vertical acceleration, m/s², earth frame, +up, gravity removed.
-        baro_altitude : float
-            Barometric altitude, m; NaN when no baro sample arrived this step
-            (the filter then integrates the acceleration only).
-        dt : float
-            Time since the previous sample, s.
-
-        Raises
-        ------
-        ValueError
-            accel not finite, baro_altitude infinite, dt not finite or <= 0;
-            the state is unchanged.
-        """
         cdef double a = _as_double(accel, "accel")
         cdef double z = _as_double(baro_altitude, "baro_altitude")
         cdef double t = _as_double(dt, "dt")
@@ -220,6 +202,9 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
     def __repr__(self):
         return (f"AltitudeEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"accel_bias={self.accel_bias!r}, baro_residual={self.baro_residual!r}, settings={self.settings!r})")
+
+
+_common.share_docstrings(AltitudeEstimator, _reference_AltitudeEstimator)
 
 
 def _restore(state):

@@ -30,8 +30,7 @@ BUILDS = {
 PROGRAMS = {"test_observer.c": 16, "test_sweep.c": 4, "test_kalman.c": 12, "test_complementary.c": 9,
             "test_alphabeta.c": 9}
 #: public headers: copied into firmware, so no libm, no double, no malloc
-HEADERS = ["fusion_altitude.h", "fusion_altitude_sweep.h", "fusion_altitude_kalman.h", "fusion_altitude_complementary.h",
-           "fusion_altitude_alphabeta.h"]
+HEADERS = sorted(path.name for path in CSRC.glob("fusion_altitude*.h"))  # every header, new ones included
 
 
 def compiler(name: str) -> str:
@@ -103,6 +102,32 @@ USES = {
         "    for (int i = 0; i < 10; i++) (void) FusionAltitudeKalmanUpdate(&k, 0.1f, 0.01f, &m);\n"
         "    return FusionAltitudeKalmanGetAltitude(&k) > 99.0f ? 0 : 2;\n"),
 }
+
+
+USES.update({
+    "fusion_altitude_complementary.h": (
+        "    FusionAltitudeComplementary f; FusionAltitudeComplementaryInitialise(&f);\n"
+        "    for (int i = 0; i < 10; i++) (void) FusionAltitudeComplementaryUpdate(&f, 0.1f, 100.0f, 0.01f);\n"
+        "    return FusionAltitudeComplementaryGetAltitude(&f) > 99.0f ? 0 : 2;\n"),
+    "fusion_altitude_alphabeta.h": (
+        "    FusionAltitudeAlphaBeta a; FusionAltitudeAlphaBetaInitialise(&a);\n"
+        "    FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();\n"
+        "    m.baroAltitude = 100.0f; m.gpsAltitude = 100.5f;\n"
+        "    for (int i = 0; i < 10; i++) (void) FusionAltitudeAlphaBetaUpdate(&a, 0.1f, 0.01f, &m);\n"
+        "    return FusionAltitudeAlphaBetaGetAltitude(&a) > 99.0f ? 0 : 2;\n"),
+    "fusion_altitude_sweep.h": (
+        "    const float kh[2] = {2.4f, 0.8f}, kv[2] = {2.88f, 0.32f}, kb[2] = {0.675f, 0.025f};\n"
+        "    float h[2], v[2], b[2], r[2], accel[8] = {0}, baro[8] = {100, 100, 100, 100, 100, 100, 100, 100};\n"
+        "    const float dt = 0.01f; size_t bad = 0;\n"
+        "    FusionAltitudeSweep s = {2, kh, kv, kb, h, v, b, r, false};\n"
+        "    FusionAltitudeSweepInitialise(&s);\n"
+        "    if (FusionAltitudeSweepUpdate(&s, accel, baro, &dt, 0, 8, NULL, NULL, &bad) != FusionAltitudeStatusOk) return 1;\n"
+        "    return h[0] > 99.0f && h[1] > 99.0f ? 0 : 2;\n"),
+})
+
+
+def test_every_header_has_a_no_libm_link_program():
+    assert sorted(USES) == HEADERS
 
 
 @pytest.mark.parametrize("header", sorted(USES))

@@ -138,19 +138,23 @@ def argument_order(legacy: Tuple[str, ...]):
 
         @functools.wraps(method)
         def wrapper(self, accel, *args, **kwargs):
-            name = f"{type(self).__name__}.{method.__name__}"
+            if not args:  # keywords: the fast path, positional into the method
+                baro_altitude, dt = kwargs.pop("baro_altitude", no_sample), kwargs.pop("dt", None)
+                if kwargs:
+                    return method(self, accel, baro_altitude, dt, **kwargs)
+                return method(self, accel, baro_altitude, dt)
             if len(args) == 1 and "dt" in kwargs:
-                return method(self, accel, *args, **kwargs)
-            if args:
-                warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
-                              f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
-                              "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning, stacklevel=2)
-                if len(args) > len(legacy):
-                    raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
-                for key, value in zip(legacy, args):
-                    if key in kwargs:
-                        raise TypeError(f"{name}() got multiple values for argument {key!r}")
-                    kwargs[key] = value
+                return method(self, accel, args[0], kwargs.pop("dt"), **kwargs)
+            name = f"{type(self).__name__}.{method.__name__}"
+            warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
+                          f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
+                          "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning, stacklevel=2)
+            if len(args) > len(legacy):
+                raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
+            for key, value in zip(legacy, args):
+                if key in kwargs:
+                    raise TypeError(f"{name}() got multiple values for argument {key!r}")
+                kwargs[key] = value
             kwargs.setdefault("baro_altitude", no_sample)
             return method(self, accel, **kwargs)
         return wrapper

@@ -40,10 +40,6 @@ cdef extern from "fusion_altitude.h" nogil:
         float baroResidual
         bint referenceSet
 
-    uint32_t FusionAltitudeFloatBits(const float value)
-    bint FusionAltitudeIsFinite(const float value)
-    bint FusionAltitudeIsNaN(const float value)
-    float FusionAltitudeNaN()
     const char * FusionAltitudeStatusMessage(const FusionAltitudeStatus status)
     FusionAltitudeSettings FusionAltitudeSettingsDefault()
     FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltitudeSettings * settings)
@@ -56,7 +52,6 @@ cdef extern from "fusion_altitude.h" nogil:
     FusionAltitudeStatus FusionAltitudeResetWithBias(FusionAltitude * altitude, const float baroAltitude, const float accelBias)
     FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, const float baroAltitude, const float dt)
     FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude * altitude, const float accel, const float baroAltitude, const float dt)
-    FusionAltitudeSettings FusionAltitudeGetSettings(const FusionAltitude * altitude)
     float FusionAltitudeGetAltitude(const FusionAltitude * altitude)
     float FusionAltitudeGetVerticalVelocity(const FusionAltitude * altitude)
     float FusionAltitudeGetAccelBias(const FusionAltitude * altitude)

@@ -458,8 +458,10 @@ def _cython_type(ctype: str) -> str:
     return re.sub(r"\s+", " ", ctype).replace(" *", " *").strip()
 
 
-def generate_pxd(module: str, header: Header) -> str:
-    """Cython declarations of one header: its numeric #defines, enums, structs and functions, in header order."""
+def generate_pxd(module: str, header: Header, pxi: str) -> str:
+    """Cython declarations of one header: its numeric #defines, enums, structs, and the functions the binding
+    calls (``_<module>.pyx`` and its generated ``.pxi``; internal helpers stay undeclared), in header order."""
+    used = set(re.findall(r"\b(FusionAltitude\w+)\(", (PACKAGE / f"_{module}.pyx").read_text() + pxi))
     text = header.path.read_text()
     own = parse_header(header.path)
     code = _strip_comments(text)
@@ -481,6 +483,8 @@ def generate_pxd(module: str, header: Header) -> str:
     out.append("")
     for ret, name, params in re.findall(r"static inline\s+((?:const\s+)?\w+(?:\s*\*)?)\s*(FusionAltitude\w+)\(([^)]*)\)\s*\{",
                                         code):
+        if name not in used:
+            continue
         args = [] if params.strip() == "void" else [_cython_type(re.sub(r"(\w+)\s*\[\w*\]$", r"*\1", p.strip()))
                                                     for p in params.split(",")]
         out.append(f"    {_cython_type(ret)} {name}({', '.join(args)})")
@@ -610,7 +614,8 @@ def generate() -> Dict[Path, str]:
     for module in MODULES:
         files[PACKAGE / f"_{module}_fields.pxi"] = generate_pxi(module, headers[module])
         files[PACKAGE / f"_{module}.pyi"] = generate_stub(module, headers[module])
-        files[PACKAGE / PXD_NAMES[module]] = generate_pxd(module, headers[module])
+        files[PACKAGE / PXD_NAMES[module]] = generate_pxd(module, headers[module],
+                                                          files[PACKAGE / f"_{module}_fields.pxi"])
     return files
 
 

@@ -116,7 +116,16 @@ def _good_paths(first_run):
 
 
 def _file_states(directory):
-    return {path: (path.stat().st_mtime_ns, path.read_bytes()) for path in Path(directory).rglob("*") if path.is_file()}
+    """{path: (mtime ns, bytes)} of the finished files (a write in flight on another worker, a ``.tmp-`` file, is
+    not a result yet: it is renamed into place or removed)."""
+    states = {}
+    for path in Path(directory).rglob("*"):
+        try:
+            if path.is_file() and ".tmp-" not in path.name:
+                states[path] = (path.stat().st_mtime_ns, path.read_bytes())
+        except FileNotFoundError:  # renamed away between the listing and the read
+            pass
+    return states
 
 
 # ----------------------------------------------------------------------------

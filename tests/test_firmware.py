@@ -290,8 +290,10 @@ def test_cross_builds_are_warning_free_without_double_or_libm(build):
                          "firmware_ins", "sized_ins"):
                 line = re.search(rf"^{target}/{variant}/{name}: ok \(needs: (.*)\)$", output, re.MULTILINE)
                 assert line, (target, variant, name)
-                # sqrtf is the INS's one libm function (allowed by check_objects.py for its objects only)
-                assert ("sqrtf" in line.group(1).split(", ")) == name.endswith("_ins"), line.group(0)
+                # sqrtf is the INS's one libm function (allowed by check_objects.py for its objects only); without
+                # -fno-math-errno gcc calls it on every target but rv32imafc (an inline fsqrt.s there)
+                needs_sqrtf = name.endswith("_ins") and target != "rv32imafc"
+                assert ("sqrtf" in line.group(1).split(", ")) == needs_sqrtf, line.group(0)
 
 
 def test_object_check_allows_sqrtf_only_in_ins_objects(tmp_path):

@@ -2,13 +2,17 @@
  * @file cycles_ins.c
  * @brief Calls SizedFusionAltitudeInsUpdate (sized_ins.c) once on each path,
  * on bare-metal Cortex-M4F under QEMU with every executed instruction logged
- * (-singlestep -d exec,nochain); ins_cycles.py prices each executed
- * instruction with the Cortex-M4 cycle counts of size_table.py. Traced calls:
+ * (-singlestep -d exec,nochain), as cycles_observer.c does for the observer;
+ * size_table.py (and ins_cycles.py) price each executed instruction with the
+ * Cortex-M4 cycle counts (the Makefile builds it with -fno-math-errno, so
+ * sqrtf is one vsqrt.f32 inside the wrapper). Traced calls (the names are
+ * INS_CALLS of size_table.py):
  *   1. predict + accel correction (no baro, no mag): the common IMU step
  *   2. predict + accel + baro
  *   3. predict + accel + magnetometer
  *   4. stationary: predict + accel + zero-rate + zero-velocity + baro-bias learning
- *   5. rejected: gyro not finite
+ *   5. predict only: accel rejected by its norm (no correction at all)
+ *   6. rejected: gyro not finite
  * Exits non-zero if a call does not take its path.
  */
 
@@ -47,6 +51,9 @@ int main(void) {
     bad += SizedFusionAltitudeInsUpdate(&ins, Vector(0.001f, 0.0f, 0.0f), Vector(0.0f, 0.0f, 9.8f), none, 100.0f, 0.002f) !=
            FusionAltitudeInsStatusOk;
     bad += ins.stationary ? 0 : 1;
+    bad += SizedFusionAltitudeInsUpdate(&ins, moving, Vector(0.2f, -0.1f, 14.0f), none, FUSION_ALTITUDE_NO_BARO, 0.002f) !=
+           FusionAltitudeInsStatusOk;
+    bad += ins.accelRejected ? 0 : 1;
     bad += SizedFusionAltitudeInsUpdate(&ins, Vector(FusionAltitudeNaN(), 0.0f, 0.0f), accel, none, 100.0f, 0.002f) !=
            FusionAltitudeInsStatusInvalidGyro;
     return bad;

@@ -11,7 +11,7 @@ QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
 The other estimators (ESTIMATORS: the Kalman filter, the complementary
-filter, the alpha-beta fusion) are measured the same way: sized_<name>.c, the
+filter, the alpha-beta fusion, the rocket flight layer, the INS) are measured the same way: sized_<name>.c, the
 static instance in firmware_<name>.c, and Sized...Update traced by
 cycles_<name>.c; their figures are under result[<name>] and each has its own
 block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers).
@@ -67,6 +67,26 @@ ALPHABETA_FUNCTIONS = (
     "FusionAltitudeAlphaBetaGetGapCount",
 )
 
+FLIGHT_FUNCTIONS = (
+    "FusionAltitudeRocketUpdate", "FusionAltitudeRocketUpdateWithVerticalAccel", "FusionAltitudeRocketCheckInputs",
+    "FusionAltitudeRocketInitialise", "FusionAltitudeRocketSettingsCheck", "FusionAltitudeRocketSettingsDefault",
+    "FusionAltitudeRocketObserverSettings", "FusionAltitudeRocketStatusMessage", "FusionAltitudeRocketGetHeight",
+    "FusionAltitudeRocketGetVerticalVelocity", "FusionAltitudeRocketGetAccelBias", "FusionAltitudeRocketGetPadAltitude",
+    "FusionAltitudeRocketGetPhase", "FusionAltitudeRocketGetBaro", "FusionAltitudeRocketIsLockedOut",
+    "FusionAltitudeRocketIsCalibrated", "FusionAltitudeRocketGetEvent", "FusionAltitudeRocketGetGapCount",
+    "FusionAltitudeRocketGetTime",
+)
+
+INS_FUNCTIONS = (
+    "FusionAltitudeInsUpdate", "FusionAltitudeInsCheckInputs", "FusionAltitudeInsInitialise", "FusionAltitudeInsInitialiseWith",
+    "FusionAltitudeInsSetSettings", "FusionAltitudeInsSettingsCheck", "FusionAltitudeInsSettingsDefault",
+    "FusionAltitudeInsNoMag", "FusionAltitudeInsIsNoMag", "FusionAltitudeInsStatusMessage", "FusionAltitudeInsGetSettings",
+    "FusionAltitudeInsGetAltitude", "FusionAltitudeInsGetVerticalVelocity", "FusionAltitudeInsGetQuaternion",
+    "FusionAltitudeInsGetLocalToGlobal", "FusionAltitudeInsGetGlobalQuaternion", "FusionAltitudeInsGetGyroBias",
+    "FusionAltitudeInsGetAccelZBias", "FusionAltitudeInsGetBaroBias", "FusionAltitudeInsIsStationary",
+    "FusionAltitudeInsIsAccelRejected", "FusionAltitudeInsGetGapCount",
+)
+
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the
 # pipeline refill after a taken branch, is 1 to 3 cycles; 2 is used here.
 PIPELINE_REFILL = 2
@@ -79,6 +99,13 @@ COMPLEMENTARY_CALLS = ("baro sample, time-constant blend (default)", "baro sampl
                        "no baro sample (prediction only)", "rejected (accel not finite)")
 ALPHABETA_CALLS = ("IMU and all four sensors", "IMU and baro", "IMU only (the other filters predict)",
                    "rejected (accel infinite)")
+FLIGHT_CALLS = ("pad, baro sample, a calibration window completes", "coast below the lockout speed, baro fused",
+                "coast above the lockout speed, baro locked out", "descent, baro fused, accel ignored",
+                "rejected (accel infinite)")
+#: the paths of cycles_ins.c (ins_cycles.py and tests/test_ins_c.py use these names)
+INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "predict + accel + mag",
+             "stationary: + zero rate, zero velocity, baro bias", "predict only (accel rejected by its norm)",
+             "rejected input (gyro NaN)")
 
 # The estimators after the observer: name (sized_<name>.c, firmware_<name>.c,
 # cycles_<name>.c, marker <name>-sizes), public functions, static instance in
@@ -89,6 +116,8 @@ ESTIMATORS = (
      "FusionAltitudeComplementaryUpdate", COMPLEMENTARY_CALLS),
     ("alphabeta", ALPHABETA_FUNCTIONS, "firmwareAlphaBeta", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaUpdate",
      ALPHABETA_CALLS),
+    ("flight", FLIGHT_FUNCTIONS, "firmwareRocket", "FusionAltitudeRocket", "FusionAltitudeRocketUpdate", FLIGHT_CALLS),
+    ("ins", INS_FUNCTIONS, "firmwareIns", "FusionAltitudeIns", "FusionAltitudeInsUpdate", INS_CALLS),
 )
 
 
@@ -175,27 +204,43 @@ def instruction_cycles(mnemonic: str, taken: bool, operands: str = "") -> int:
 
 
 def cycles(directory: Path, stem: str, symbol: str, names) -> List[dict]:
-    """Cycle estimate of each call of symbol traced by QEMU (stem.nm, stem.lst, stem-trace.log)."""
+    """Cycle estimate of each call of symbol traced by QEMU (stem.nm, stem.lst, stem-trace.log).
+
+    A call is every instruction executed from an entry into the symbol until it leaves other than by a
+    bl/blx; the library functions it calls that way (memset, or sqrtf without -fno-math-errno) are
+    included, as executed."""
     start, size = read_symbols(directory / f"{stem}.nm")[symbol]
     instructions = {}
     for match in re.finditer(r"^\s*([0-9a-f]+):\s+([0-9a-f]{4})(?: ([0-9a-f]{4}))?\s+([a-z][\w.]*)[ \t]*([^\n]*)",
                              (directory / f"{stem}.lst").read_text(), re.MULTILINE):
-        address = int(match.group(1), 16)
-        if start <= address < start + size:
-            instructions[address] = (4 if match.group(3) else 2, match.group(4), match.group(5))
+        instructions[int(match.group(1), 16)] = (4 if match.group(3) else 2, match.group(4), match.group(5))
     trace = directory / f"{stem}-trace.log"
     pcs = [int(m.group(1), 16) for m in re.finditer(r"^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/",
                                                      trace.read_text(), re.MULTILINE)]
+
+    def inside(address: int) -> bool:
+        return start <= address < start + size
+
     calls: List[List[Tuple[int, int]]] = []
-    previous_inside = False
+    current = None
+    in_callee = False
     for index, pc in enumerate(pcs):
-        inside = pc in instructions
-        if inside and not previous_inside:
-            calls.append([])
-        if inside:
-            following = pcs[index + 1] if index + 1 < len(pcs) else None
-            calls[-1].append((pc, following))
-        previous_inside = inside
+        if current is None:
+            if not inside(pc):
+                continue
+            current = []
+        following = pcs[index + 1] if index + 1 < len(pcs) else None
+        current.append((pc, following))
+        if inside(pc) and following is not None and not inside(following):
+            if instructions[pc][1] in ("bl", "blx"):
+                in_callee = True  # a library call: its instructions belong to this call
+            else:
+                calls.append(current)  # returned to the caller
+                current, in_callee = None, False
+        elif in_callee and following is not None and inside(following):
+            in_callee = False
+    if current:
+        calls.append(current)
     estimates = []
     assert len(calls) == len(names), f"{len(calls)} calls of {symbol} traced, expected {len(names)}"
     for name, call in zip(names, calls):

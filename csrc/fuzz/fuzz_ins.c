@@ -1,8 +1,9 @@
 /**
  * @file fuzz_ins.c
  * @brief libFuzzer target for fusion_altitude_ins.h, built with clang under
- * AddressSanitizer + UndefinedBehaviorSanitizer (tests/test_ins_c.py runs a
- * fixed number of inputs; not yet in csrc/firmware/Makefile).
+ * AddressSanitizer + UndefinedBehaviorSanitizer: by csrc/firmware/Makefile
+ * (FUZZERS, timed fuzz-run from the seeds in csrc/fuzz/corpus_ins/, written
+ * by make_seeds_ins.py) and by tests/test_ins_c.py (a fixed number of inputs).
  *
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:

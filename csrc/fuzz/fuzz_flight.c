@@ -1,0 +1,197 @@
+/**
+ * @file fuzz_flight.c
+ * @brief libFuzzer target for fusion_altitude_flight.h (the rocket flight
+ * layer), built with clang under AddressSanitizer + UndefinedBehaviorSanitizer
+ * by csrc/firmware/Makefile (FUZZERS), seeds in csrc/fuzz/corpus_flight/
+ * (make_seeds_flight.py).
+ *
+ * The input is a sequence of calls; floats are raw bytes (any bit pattern):
+ *   opcode & 3:
+ *   0 initialise with the working settings (opcode & 4: with NULL, the defaults)
+ *   1 edit the working settings: field index byte (mod 19: the four observer
+ *     settings, then the 15 rocket settings), 4 raw bytes
+ *   2 update with every argument raw: accel, baro, dt (opcode & 4: the
+ *     vertical-accel update of an INS)
+ *   3 update with bytes scaled into a plausible range (sane): accel in
+ *     [-300, 300] m/s^2, a baro presence byte, baro in [-1e4, 1e5] m, dt in
+ *     [1e-3, 0.05] s (opcode & 4: vertical-accel update)
+ *
+ * Asserted after every call (abort, so libFuzzer reports a crash):
+ *   - a rejected call leaves the flight layer bit-identical (memcmp, padding
+ *     included); an update returns FusionAltitudeRocketCheckInputs of its
+ *     inputs, an initialise FusionAltitudeRocketSettingsCheck of its settings;
+ *   - the phase never goes back and a declared event (but maximum speed, a
+ *     running maximum) is never rewritten between initialisations;
+ *   - apogee is declared only after burnout, never during the baro lockout,
+ *     and with the velocity below -apogeeMargin;
+ *   - while the run is sane (every accepted update scaled as above, at most
+ *     20000 updates, settings in use within plausible bounds), height,
+ *     velocity, bias, pad altitude and time are finite.
+ */
+
+#include "fusion_altitude_flight.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FIELDS (19)
+#define MAX_STEPS (20000)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#define CHECK(condition)                                                                \
+    do {                                                                                \
+        if (!(condition)) {                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            abort();                                                                    \
+        }                                                                               \
+    } while (0)
+
+typedef struct {
+    const uint8_t *data;
+    size_t size;
+} Reader;
+
+static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
+    if (reader->size < size) {
+        return false;
+    }
+    memcpy(value, reader->data, size);
+    reader->data += size;
+    reader->size -= size;
+    return true;
+}
+
+static bool ReadFloat(Reader *const reader, float *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+/* A byte pair scaled to [minimum, maximum]. */
+static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {
+    uint16_t raw;
+    if (!ReadBytes(reader, &raw, sizeof(raw))) {
+        return false;
+    }
+    *value = minimum + ((float) raw / 65535.0f) * (maximum - minimum);
+    return true;
+}
+
+static bool Within(const float value, const float minimum, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
+}
+
+static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
+    float *const fields[FIELDS] = {&s->observer.positionGain, &s->observer.velocityGain, &s->observer.biasGain, &s->observer.gapPeriod,
+                                   &s->stationaryAccel, &s->calibrationWindow, &s->launchAccel, &s->launchTime, &s->burnoutAccel,
+                                   &s->burnoutTime, &s->apogeeMargin, &s->lockoutSpeed, &s->spikeThreshold, &s->spikeTime,
+                                   &s->offsetRate, &s->mainAltitude, &s->landedSpeed, &s->landedTime, &s->gapPeriod};
+    return fields[index];
+}
+
+/* Plausible settings: gains the observer validates at the sane dt range, and bounded thresholds. */
+static bool SaneSettings(const FusionAltitudeRocketSettings *const s) {
+    const bool gains = (FusionAltitudeSettingsValidate(&s->observer, 1e-3f) == FusionAltitudeStatusOk) &&
+                       (FusionAltitudeSettingsValidate(&s->observer, 0.05f) == FusionAltitudeStatusOk) &&
+                       Within(s->observer.positionGain, 0.0f, 100.0f) && Within(s->observer.velocityGain, 0.0f, 1e3f) &&
+                       Within(s->observer.biasGain, 0.0f, 1e3f);
+    return gains && Within(s->stationaryAccel, 0.0f, 1e3f) && Within(s->calibrationWindow, 0.0f, 1e3f) &&
+           Within(s->launchAccel, 0.0f, 1e3f) && Within(s->launchTime, 0.0f, 1e3f) && Within(s->burnoutAccel, -1e3f, 1e3f) &&
+           Within(s->burnoutTime, 0.0f, 1e3f) && Within(s->apogeeMargin, 0.0f, 1e3f) && Within(s->lockoutSpeed, 0.0f, 1e4f) &&
+           Within(s->spikeThreshold, 0.0f, 1e5f) && Within(s->spikeTime, 0.0f, 1e3f) && Within(s->mainAltitude, 0.0f, 1e5f) &&
+           Within(s->landedSpeed, 0.0f, 1e3f) && Within(s->landedTime, 0.0f, 1e3f);
+}
+
+static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAltitudeRocket *const before, const bool sane) {
+    CHECK(rocket->phase >= before->phase);
+    for (int i = 0; i < FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS; i++) {
+        if (before->events[i].occurred && (i != (int) FusionAltitudeRocketEventMaxSpeed)) { /* max speed: a running maximum */
+            CHECK(memcmp(&rocket->events[i], &before->events[i], sizeof(rocket->events[i])) == 0);
+        }
+    }
+    const FusionAltitudeRocketEvent apogee = FusionAltitudeRocketGetEvent(rocket, FusionAltitudeRocketEventApogee);
+    if (apogee.occurred && !before->events[FusionAltitudeRocketEventApogee].occurred) {
+        CHECK(before->events[FusionAltitudeRocketEventBurnout].occurred);
+        CHECK(!FusionAltitudeRocketIsLockedOut(rocket));
+        CHECK(apogee.velocity < -rocket->settings.apogeeMargin);
+    }
+    if (sane) {
+        CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetHeight(rocket)));
+        CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetVerticalVelocity(rocket)));
+        CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetAccelBias(rocket)));
+        CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetPadAltitude(rocket)));
+        CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetTime(rocket)));
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    FusionAltitudeRocket rocket;
+    memset(&rocket, 0, sizeof(rocket));
+    CHECK(FusionAltitudeRocketInitialise(&rocket, NULL) == FusionAltitudeRocketStatusOk);
+    FusionAltitudeRocketSettings working = FusionAltitudeRocketSettingsDefault();
+    bool sane = true;
+    int steps = 0;
+    uint8_t opcode;
+    while (ReadBytes(&reader, &opcode, 1)) {
+        FusionAltitudeRocket before;
+        memcpy(&before, &rocket, sizeof(rocket));
+        bool initialised = false;
+        switch (opcode & 3) {
+            case 0: {
+                const FusionAltitudeRocketSettings *const settings = (opcode & 4) ? NULL : &working;
+                const FusionAltitudeRocketSettings defaults = FusionAltitudeRocketSettingsDefault();
+                const FusionAltitudeRocketStatus status = FusionAltitudeRocketInitialise(&rocket, settings);
+                CHECK(status == FusionAltitudeRocketSettingsCheck(settings == NULL ? &defaults : settings));
+                if (status == FusionAltitudeRocketStatusOk) {
+                    sane = SaneSettings(settings == NULL ? &defaults : settings);
+                    steps = 0;
+                    initialised = true;
+                } else {
+                    CHECK(memcmp(&rocket, &before, sizeof(rocket)) == 0);
+                }
+                break;
+            }
+            case 1: {
+                uint8_t field;
+                float value;
+                if (!ReadBytes(&reader, &field, 1) || !ReadFloat(&reader, &value)) {
+                    return 0;
+                }
+                *Field(&working, field % FIELDS) = value;
+                break;
+            }
+            default: {
+                float accel, baro, dt;
+                if ((opcode & 3) == 2) {
+                    if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &baro) || !ReadFloat(&reader, &dt)) {
+                        return 0;
+                    }
+                } else {
+                    uint8_t presence;
+                    if (!ReadScaled(&reader, -300.0f, 300.0f, &accel) || !ReadBytes(&reader, &presence, 1) ||
+                        !ReadScaled(&reader, -1e4f, 1e5f, &baro) || !ReadScaled(&reader, 1e-3f, 0.05f, &dt)) {
+                        return 0;
+                    }
+                    if (!(presence & 1)) {
+                        baro = FUSION_ALTITUDE_NO_BARO;
+                    }
+                }
+                const FusionAltitudeRocketStatus status = (opcode & 4) ? FusionAltitudeRocketUpdateWithVerticalAccel(&rocket, accel, baro, dt)
+                                                                       : FusionAltitudeRocketUpdate(&rocket, accel, baro, dt);
+                CHECK(status == FusionAltitudeRocketCheckInputs(accel, baro, dt));
+                if (status != FusionAltitudeRocketStatusOk) {
+                    CHECK(memcmp(&rocket, &before, sizeof(rocket)) == 0);
+                } else {
+                    sane = sane && Within(accel, -300.0f, 300.0f) && (FusionAltitudeIsNaN(baro) || Within(baro, -1e4f, 1e5f)) &&
+                           Within(dt, 1e-3f, 0.05f) && (++steps <= MAX_STEPS);
+                }
+                break;
+            }
+        }
+        CheckState(&rocket, initialised ? &rocket : &before, sane);
+    }
+    return 0;
+}

@@ -1,0 +1,88 @@
+"""Writes the seed corpus of fuzz_ins.c: csrc/fuzz/corpus_ins/*.bin.
+
+    python csrc/fuzz/make_seeds_ins.py
+
+Each seed is a sequence of calls in fuzz_ins.c's format: simulated raw-IMU
+flights (fusion_altitude.imu_sim: a stationary start, then the `realistic`
+motion with rocking) as scaled updates with the baro and a magnetometer on
+every 10th step, a rest long enough for stationary learning, settings edits,
+and raw updates with NaN, infinite and out-of-range inputs and gaps.
+"""
+
+from __future__ import annotations
+
+import struct
+import sys
+from pathlib import Path
+
+import numpy as np
+
+CORPUS = Path(__file__).resolve().parent / "corpus_ins"
+LEVEL = (0.0, 0.0, 9.80665)
+
+
+def scaled(value: float, limit: float) -> bytes:
+    raw = int(round((min(max(value / limit, -1.0), 1.0) + 1.0) * 32767.5))
+    return struct.pack("<H", min(raw, 65535))
+
+
+def update(gyro, accel, mag=None, baro=float("nan"), dt=0.01) -> bytes:
+    presence = (0 if np.isnan(baro) else 1) | (0 if mag is None else 2)
+    mag = (0.0, 0.0, 0.0) if mag is None else mag
+    return (bytes([3]) + b"".join(scaled(g, 10.0) for g in gyro) + b"".join(scaled(a, 160.0) for a in accel)
+            + b"".join(scaled(m, 1e3) for m in mag) + bytes([presence]) + scaled(0.0 if np.isnan(baro) else baro, 1e5)
+            + scaled(dt - 0.0105, 0.01))
+
+
+def raw_update(gyro, accel, mag, baro, dt) -> bytes:
+    return bytes([2]) + struct.pack("<11f", *gyro, *accel, *mag, baro, dt)
+
+
+def edit(field: int, value: float) -> bytes:
+    return bytes([1, field]) + struct.pack("<f", value)
+
+
+def flight(seed: int, rest: float, steps: int) -> bytes:
+    from fusion_altitude.imu_sim import simulate_raw_imu
+
+    sim = simulate_raw_imu("realistic", seed=seed, rest_duration=rest, rocking_deg=15.0)
+    out = b""
+    for k in range(min(steps, len(sim.gyro))):
+        mag = tuple(float(x) for x in sim.mag[k]) if k % 10 == 3 else None
+        out += update(tuple(float(x) for x in sim.gyro[k]), tuple(float(x) for x in sim.accel[k]), mag,
+                      float(sim.baro_altitude[k]), float(sim.dt))
+    return out
+
+
+def seeds() -> dict:
+    nan, inf = float("nan"), float("inf")
+    return {
+        "rest_then_rocking": bytes([0]) + flight(0, 1.5, 600),
+        "rocking_no_rest": bytes([0]) + flight(1, 0.0, 400),
+        "stationary_learning": edit(10, 0.2) + bytes([0]) + b"".join(
+            update((0.001, 0.0, 0.0), LEVEL, (300.0, 0.0, -400.0) if k % 10 == 0 else None,
+                   100.0 if k % 4 == 0 else nan, 0.01) for k in range(300)),
+        "rejected_and_gaps": bytes([0]) + update((0.0, 0.0, 0.0), LEVEL)
+        + raw_update((nan, 0, 0), LEVEL, (nan, nan, nan), nan, 0.01)
+        + raw_update((0, 0, 0), (inf, 0, 0), (nan, nan, nan), nan, 0.01)
+        + raw_update((0, 0, 0), LEVEL, (1.0, nan, 0.0), nan, 0.01)
+        + raw_update((0, 0, 0), LEVEL, (nan, nan, nan), inf, 0.01)
+        + raw_update((0, 0, 0), LEVEL, (nan, nan, nan), nan, 0.0)
+        + raw_update((0, 0, 0), LEVEL, (nan, nan, nan), 100.0, 0.5)
+        + b"".join(update((0.0, 0.0, 0.0), LEVEL, None, 100.0, 0.01) for _ in range(50)),
+        "accel_rejection_recovery": edit(6, 0.2) + edit(5, 0.1) + bytes([0]) + update((0.0, 0.0, 0.0), LEVEL)
+        + b"".join(update((0.0, 0.0, 0.0), (4.9, 0.0, 8.49)) for _ in range(60))
+        + b"".join(update((0.0, 0.0, 0.0), (0.0, 0.0, 14.0)) for _ in range(20)),
+    }
+
+
+def main() -> int:
+    CORPUS.mkdir(exist_ok=True)
+    for name, data in seeds().items():
+        (CORPUS / f"{name}.bin").write_bytes(data)
+        print(f"{name}.bin: {len(data)} bytes")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -16,7 +16,9 @@ rangefinder and GPS every step), hobby_bench.make_inputs (alpha-beta: IMU,
 baro, lidar and GPS every step; complementary: baro every step),
 _signals.make_signals (observer: baro every 4th step; sweep: baro every
 step). The per-sample cases call ``update`` from a Python ``for`` loop over
-Python floats (lists), loop included. ``run()`` returns the rows;
+Python floats (lists), loop included; the Kalman filter and the alpha-beta
+fusion by keyword after ``accel`` (positional arguments in the old order go
+through the deprecation shim, which warns on every call). ``run()`` returns the rows;
 ``print_table`` prints them with PASS/FAIL.
 """
 
@@ -81,7 +83,8 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
     accel, baro, rangefinder, gps, satellites = kalman_bench.make_inputs(samples)
     out = fusion_altitude._kalman_glue.new_kalman_batch(samples)
     wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.KalmanEstimator().update_batch(
-        accel, DT, baro, rangefinder, gps, satellites, out=out), repeat)
+        accel, dt=DT, baro_altitude=baro, range_distance=rangefinder, gps_altitude=gps, gps_satellites=satellites,
+        out=out), repeat)
     rows.append(Target("Kalman C batch, baro + rangefinder + GPS every step", "ns/step", 124, 60,
                        wall / samples, cpu / samples, "cpu"))
     del out
@@ -91,7 +94,8 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
     def kalman_per_sample():
         update = fusion_altitude.KalmanEstimator().update
         for i in range(k):
-            update(a_l[i], DT, b_l[i], r_l[i], g_l[i], s_l[i])
+            update(a_l[i], dt=DT, baro_altitude=b_l[i], range_distance=r_l[i], gps_altitude=g_l[i],
+                   gps_satellites=s_l[i])
     wall, cpu = best_wall_and_cpu(kalman_per_sample, repeat)
     rows.append(Target("Kalman update() per sample from Python", "ns", 1122, 200, wall / k, cpu / k, "cpu"))
 
@@ -109,12 +113,12 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
     def alphabeta_per_sample():
         update = fusion_altitude.AlphaBetaFusion().update
         for a, zb, zl, zg in zip(a_l, b_l, l_l, g_l):
-            update(a, DT, zb, zl, gps_altitude=zg)
+            update(a, dt=DT, baro_altitude=zb, lidar_altitude=zl, gps_altitude=zg)
     wall, cpu = best_wall_and_cpu(alphabeta_per_sample, repeat)
     rows.append(Target("alpha-beta update() per sample", "ns", 409, 100, wall / k, cpu / k, "cpu"))
 
     wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.AlphaBetaFusion().update_batch(
-        accel, DT, baro, lidar, None, gps), repeat)
+        accel, dt=DT, baro_altitude=baro, lidar_altitude=lidar, gps_altitude=gps), repeat)
     rows.append(Target("alpha-beta C batch (IMU, baro, lidar, GPS every step)", "ns/step", 66, 15,
                        wall / samples, cpu / samples, "cpu"))
 

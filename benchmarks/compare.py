@@ -12,6 +12,9 @@ in ns per sample; the ratio column is that time over the C loop's.
 Inputs: 100 Hz IMU with a baro sample every 4th step (NaN between;
 ``--baro-every``), seeded noise, scalar dt = 0.01 s unless the case says
 otherwise. Exit status 1 if a target check fails.
+
+The last table (benchmarks/targets.py) is issue 16's: each target with its
+measured wall and CPU time and PASS/FAIL (``--no-targets`` skips it).
 """
 
 from __future__ import annotations
@@ -130,6 +133,8 @@ def main(argv=None) -> int:
     parser.add_argument("--no-hobby", dest="hobby", action="store_false",
                         help="skip the complementary filter and alpha-beta fusion table")
     parser.add_argument("--sweep-samples", type=int, default=100_000, help="samples for the sweep cases (default 1e5)")
+    parser.add_argument("--no-targets", dest="targets", action="store_false",
+                        help="skip the table of issue 16's targets (benchmarks/targets.py)")
     args = parser.parse_args(argv)
     n = args.samples
     repeat = max(1, args.repeat)
@@ -269,6 +274,12 @@ def main(argv=None) -> int:
         print(f"Two-stage complementary filter and alpha-beta fusion ({args.samples} steps):")
         print()
         hobby_bench.print_table(hobby_bench.run(args.samples, max(1, min(repeat, 5))))
+    if args.targets:
+        import targets
+        print()
+        target_rows = targets.run(args.samples, repeat, args.sweep_samples)
+        targets.print_table(target_rows)
+        checks += targets.checks(target_rows)
     return 0 if all(ok for _, ok in checks) else 1
 
 

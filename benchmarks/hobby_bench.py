@@ -50,7 +50,8 @@ def run(samples: int = 1_000_000, repeat: int = 5) -> List[Tuple[str, str, float
         rows.append(("complementary", label, best_ns(
             lambda: module.ComplementaryFilter().update_batch(accel[:n], baro[:n], DT), repeat) / n))
         rows.append(("alpha-beta", label, best_ns(
-            lambda: module.AlphaBetaFusion().update_batch(accel[:n], DT, baro[:n], lidar[:n], None, gps[:n]),
+            lambda: module.AlphaBetaFusion().update_batch(accel[:n], dt=DT, baro_altitude=baro[:n],
+                                                  lidar_altitude=lidar[:n], gps_altitude=gps[:n]),
             repeat) / n))
 
     def per_sample_complementary():
@@ -61,7 +62,7 @@ def run(samples: int = 1_000_000, repeat: int = 5) -> List[Tuple[str, str, float
     def per_sample_alphabeta():
         f = fusion_altitude.AlphaBetaFusion()
         for i in range(short):
-            f.update(accel[i], DT, baro[i], lidar[i], gps_altitude=gps[i])
+            f.update(accel[i], dt=DT, baro_altitude=baro[i], lidar_altitude=lidar[i], gps_altitude=gps[i])
 
     rows.append(("complementary", "per-sample update()", best_ns(per_sample_complementary, repeat) / short))
     rows.append(("alpha-beta", "per-sample update()", best_ns(per_sample_alphabeta, repeat) / short))

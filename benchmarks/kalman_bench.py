@@ -86,11 +86,13 @@ def run(samples: int = 1_000_000, repeat: int = 5) -> List[Tuple[str, float]]:
     out = fusion_altitude._kalman_glue.new_kalman_batch(samples)
 
     def c_batch():
-        fusion_altitude.KalmanEstimator().update_batch(accel, DT, baro, rangefinder, gps, satellites, out=out)
+        fusion_altitude.KalmanEstimator().update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder,
+                                                     gps_altitude=gps, gps_satellites=satellites, out=out)
     rows.append(("Kalman C update_batch(out=), 3 sensors every step", best_ns(c_batch, repeat) / samples))
 
     def c_batch_fresh():
-        fusion_altitude.KalmanEstimator().update_batch(accel, DT, baro, rangefinder, gps, satellites)
+        fusion_altitude.KalmanEstimator().update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder,
+                                                     gps_altitude=gps, gps_satellites=satellites)
     rows.append(("Kalman C update_batch, outputs allocated by the call", best_ns(c_batch_fresh, repeat) / samples))
 
     a_list, b_list, r_list, g_list, s_list = (x[:small].tolist() for x in (accel, baro, rangefinder, gps, satellites))
@@ -99,12 +101,14 @@ def run(samples: int = 1_000_000, repeat: int = 5) -> List[Tuple[str, float]]:
         estimator = fusion_altitude.KalmanEstimator()
         update = estimator.update
         for i in range(small):
-            update(a_list[i], DT, b_list[i], r_list[i], g_list[i], s_list[i])
+            update(a_list[i], dt=DT, baro_altitude=b_list[i], range_distance=r_list[i], gps_altitude=g_list[i],
+                   gps_satellites=s_list[i])
     rows.append(("Kalman update() per sample from Python", best_ns(per_sample, repeat) / small))
 
     def reference_batch():
-        reference.KalmanEstimator().update_batch(accel[:small], DT, baro[:small], rangefinder[:small], gps[:small],
-                                                 satellites[:small])
+        reference.KalmanEstimator().update_batch(accel[:small], dt=DT, baro_altitude=baro[:small],
+                                                 range_distance=rangefinder[:small], gps_altitude=gps[:small],
+                                                 gps_satellites=satellites[:small])
     rows.append(("Kalman pure-Python reference update_batch", best_ns(reference_batch, max(1, repeat // 2)) / small))
 
     try:

@@ -1,0 +1,137 @@
+/* Instruction-count harness for docs/performance.md (issue 16).
+ *
+ *   cc -O2 -ffp-contract=off -fno-fast-math -Icsrc benchmarks/c_steps.c -o c_steps
+ *   valgrind --tool=callgrind --callgrind-out-file=/dev/null ./c_steps alphabeta 100000
+ *
+ * Runs N steps of one estimator's C update (the same call the Cython batch
+ * loop makes) on synthetic 100 Hz inputs with every sensor sampled on every
+ * step (the issue's worst cases), and prints a checksum of the outputs so
+ * that nothing is optimised away. Instruction counts (callgrind "Collected")
+ * are repeatable on a loaded machine where wall time is not; divide the
+ * count of N steps minus the count of 0 steps by N.
+ *
+ * Cases: alphabeta (IMU, baro, lidar, GPS every step), kalman (baro,
+ * rangefinder, GPS every step), complementary (baro every step), observer
+ * (baro every step).
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fusion_altitude.h"
+#include "fusion_altitude_alphabeta.h"
+#include "fusion_altitude_complementary.h"
+#include "fusion_altitude_kalman.h"
+
+/* Deterministic noise in [-1, 1) without libm: a 32-bit LCG. */
+static float noise(uint32_t *seed) {
+    *seed = *seed * 1664525u + 1013904223u;
+    return (float) (int32_t) *seed * (1.0f / 2147483648.0f);
+}
+
+/* A slow triangle wave of amplitude 2 m instead of a sine (no libm). */
+static float truth(const long i) {
+    const long period = 2000;
+    const long p = i % period;
+    const float t = (float) p / (float) period;
+    return 4.0f + ((t < 0.5f) ? (8.0f * t - 2.0f) : (6.0f - 8.0f * t));
+}
+
+#if defined(__GNUC__)
+#define C_STEPS_NOINLINE __attribute__((noinline))
+#else
+#define C_STEPS_NOINLINE
+#endif
+
+/* One function per case, so that inlining decisions in one do not move the
+ * instruction counts of another. Each returns the sum of the altitudes. */
+static C_STEPS_NOINLINE float runAlphaBeta(const long n, const float dt, uint32_t seed) {
+    float checksum = 0.0f;
+    FusionAltitudeAlphaBeta fusion;
+    FusionAltitudeAlphaBetaInitialise(&fusion);
+    for (long i = 0; i < n; i++) {
+        const float h = truth(i);
+        FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
+        m.baroAltitude = h + 0.4f * noise(&seed);
+        m.lidarAltitude = h + 0.04f * noise(&seed);
+        m.gpsAltitude = h + 1.5f * noise(&seed);
+        if (FusionAltitudeAlphaBetaUpdate(&fusion, 0.3f * noise(&seed), dt, &m) != FusionAltitudeAlphaBetaStatusOk) {
+            exit(1);
+        }
+        checksum += FusionAltitudeAlphaBetaGetAltitude(&fusion);
+    }
+    return checksum;
+}
+
+static C_STEPS_NOINLINE float runKalman(const long n, const float dt, uint32_t seed) {
+    float checksum = 0.0f;
+    FusionAltitudeKalman kalman;
+    FusionAltitudeKalmanInitialise(&kalman);
+    for (long i = 0; i < n; i++) {
+        const float h = truth(i);
+        FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
+        m.baroAltitude = 250.0f + h + 0.4f * noise(&seed);
+        m.rangeDistance = h + 0.04f * noise(&seed);
+        m.gpsAltitude = 290.0f + h + 1.2f * noise(&seed);
+        m.gpsSatellites = 9;
+        if (FusionAltitudeKalmanUpdate(&kalman, 0.1f + 0.3f * noise(&seed), dt, &m) != FusionAltitudeKalmanStatusOk) {
+            exit(1);
+        }
+        checksum += FusionAltitudeKalmanGetAltitude(&kalman);
+    }
+    return checksum;
+}
+
+static C_STEPS_NOINLINE float runComplementary(const long n, const float dt, uint32_t seed) {
+    float checksum = 0.0f;
+    FusionAltitudeComplementary filter;
+    FusionAltitudeComplementaryInitialise(&filter);
+    for (long i = 0; i < n; i++) {
+        if (FusionAltitudeComplementaryUpdate(&filter, 0.3f * noise(&seed), truth(i) + 0.4f * noise(&seed), dt) !=
+            FusionAltitudeComplementaryStatusOk) {
+            exit(1);
+        }
+        checksum += FusionAltitudeComplementaryGetAltitude(&filter);
+    }
+    return checksum;
+}
+
+static C_STEPS_NOINLINE float runObserver(const long n, const float dt, uint32_t seed) {
+    float checksum = 0.0f;
+    FusionAltitude observer;
+    FusionAltitudeInitialise(&observer);
+    for (long i = 0; i < n; i++) {
+        if (FusionAltitudeUpdate(&observer, 0.3f * noise(&seed), truth(i) + 0.4f * noise(&seed), dt) != FusionAltitudeStatusOk) {
+            exit(1);
+        }
+        checksum += FusionAltitudeGetAltitude(&observer);
+    }
+    return checksum;
+}
+
+int main(int argc, char **argv) {
+    if (argc != 3) {
+        fprintf(stderr, "usage: %s alphabeta|kalman|complementary|observer N\n", argv[0]);
+        return 2;
+    }
+    const char *const name = argv[1];
+    const long n = atol(argv[2]);
+    const float dt = 0.01f;
+    const uint32_t seed = 12345u;
+    float checksum;
+    if (strcmp(name, "alphabeta") == 0) {
+        checksum = runAlphaBeta(n, dt, seed);
+    } else if (strcmp(name, "kalman") == 0) {
+        checksum = runKalman(n, dt, seed);
+    } else if (strcmp(name, "complementary") == 0) {
+        checksum = runComplementary(n, dt, seed);
+    } else if (strcmp(name, "observer") == 0) {
+        checksum = runObserver(n, dt, seed);
+    } else {
+        fprintf(stderr, "unknown case %s\n", name);
+        return 2;
+    }
+    printf("%s %ld steps checksum %.9g\n", name, n, (double) checksum);
+    return 0;
+}

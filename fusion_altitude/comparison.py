@@ -12,6 +12,11 @@ Estimators, each fed what it can use from one :func:`~fusion_altitude.scenarios.
 - ``alpha-beta``: the quality-weighted α-β fusion (seed 003), the write-up's tables; baro, rangefinder (as
   the lidar), GPS and accel; on the two sinusoid scenarios, which fly 5 m below their start, the altitude
   minimum of the tables is lifted (the tables assume height above the take-off point);
+- ``INS``: the inertial navigation filter (seed 004, :class:`fusion_altitude.InsEstimator`, defaults), fed the
+  scenario's **raw** IMU (the same simulated gyro °/s, accelerometer g and magnetometer from which the other
+  rows' vertical acceleration is made) and baro; its altitude in the baro's frame (INS height + baro bias). The
+  scenarios start moving at once, so the INS never sees the rest it learns its accel z bias in
+  (docs/ins.md: with a stationary start it beats the two-step pipeline, without one it does not);
 - ``raw baro``: the baro samples themselves.
 
 Metrics after the scenario's transient: altitude RMS and max |error| (m), velocity RMS (m/s), time to
@@ -44,7 +49,7 @@ __all__ = ["ESTIMATORS", "SCENARIOS", "Row", "compare", "compare_scenario", "com
            "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
 
 #: Estimator names, in table order.
-ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "raw baro")
+ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "INS", "raw baro")
 #: The scenarios of the table.
 SCENARIOS = ("realistic", "clean", "balloon", "fixed-wing", "ground-effect", "baro-glitches", "terrain-step",
              "gps-outage")
@@ -122,6 +127,8 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
     runners["alpha-beta"] = lambda: AlphaBetaFusion(ab_settings).update_batch(accel, dt=dt, baro_altitude=baro,
                                                                               lidar_altitude=rangefinder,
                                                                               gps_altitude=gps)
+    if "INS" in estimators:
+        runners["INS"] = _ins_runner(result, baro, dt)
 
     truth_h = result.trajectory.altitude
     truth_v = result.trajectory.vertical_velocity
@@ -148,6 +155,23 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
             recovery = settle if math.isfinite(settle) else math.inf
         rows.append(Row(name, estimator, rms, worst, velocity_rms, recovery, ns, altitude))
     return rows
+
+
+class _InsAltitude:
+    """The INS outputs a comparison row reads: altitude in the baro's frame (m) and vertical velocity (m/s)."""
+
+    def __init__(self, batch):
+        self.altitude = batch.altitude + batch.baro_bias
+        self.vertical_velocity = batch.vertical_velocity
+
+
+def _ins_runner(result: ScenarioResult, baro: np.ndarray, dt: np.float32):
+    """A call running the INS on the scenario's raw IMU (gyro °/s, accel g, magnetometer) and baro."""
+    from ._ins import InsEstimator
+
+    gyro, accel, mag = result.imu.gyro, result.imu.accel, result.imu.mag   # float64: converted by the binding
+    return lambda: _InsAltitude(InsEstimator(gyro_units="deg/s", accel_units="g").update_batch(gyro, accel, dt, baro,
+                                                                                             mag))
 
 
 def _preset(name: str) -> str:
@@ -212,8 +236,10 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
         The log; it needs a reference altitude (the autopilot's or flight
         computer's estimate, or a CSV ``reference_column``).
     estimators : sequence of str, optional
-        Names of :data:`fusion_altitude.runner.ESTIMATORS` (default all), in
-        table order; "raw baro" is appended.
+        Names of :data:`fusion_altitude.runner.ESTIMATORS` (default those
+        that can run on the log, :func:`fusion_altitude.runner.applicable_estimators`:
+        the INS needs raw gyro and accelerometer, the rocket layer a rocket
+        log), in table order; "raw baro" is appended.
     repeat : int, default 3
         Timing repeats, best taken; 0 skips the timing (ns/sample "—").
     skip : float, default 0
@@ -241,7 +267,7 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
     if data.reference_altitude is None:
         raise ValueError(f"{data.source} has no reference altitude to compare against: give --reference COLUMN "
                          "(CSV), or a .ulg/.bin with the autopilot's own height estimate")
-    names = list(runner.ESTIMATORS) if estimators is None else list(estimators)
+    names = runner.applicable_estimators(data) if estimators is None else list(estimators)
     if int(repeat) < 0:
         raise ValueError(f"repeat must be >= 0, got {repeat}")
     label = os.path.basename(str(data.source).split(" ")[0]) or str(data.source)

@@ -246,11 +246,14 @@ class InsLogBatch(NamedTuple):
     height : numpy.ndarray
         m, the INS's own height above its reference d (``InsBatch.altitude``).
     roll, pitch, yaw : numpy.ndarray
-        Local attitude, degrees (ZYX Euler; yaw starts at 0 and is integrated).
+        Local attitude, degrees (ZYX Euler, body → local NWU earth; yaw starts
+        at 0 and is integrated).
     quaternion_w, quaternion_x, quaternion_y, quaternion_z : numpy.ndarray
         Local attitude quaternion, body → local NWU earth.
     gyro_bias_x, gyro_bias_y, gyro_bias_z : numpy.ndarray
-        Gyroscope bias, rad/s, body frame of the log (``LogData.imu_frame``).
+        Gyroscope bias, rad/s, body frame: the log's own axes (``LogData.imu_frame``),
+        except FRD logs (PX4, ArduPilot), which are turned into FLU (x forward,
+        y left, z up: y and z negated) before the INS sees them.
     accel_z_bias : numpy.ndarray
         Accelerometer bias along body z, m/s² (learned while stationary).
     baro_bias : numpy.ndarray
@@ -280,7 +283,11 @@ class InsLogBatch(NamedTuple):
 def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
     from ._ins import InsEstimator
 
-    batch = InsEstimator(options.get("ins_settings")).update_batch(data.gyro, data.accel, dt, data.baro_altitude)
+    gyro, accel = np.asarray(data.gyro, float), np.asarray(data.accel, float)
+    if data.imu_frame == "FRD":  # to FLU (x forward, y left, z up): a level vehicle then reads roll 0, not ±180°
+        flip = np.array([1.0, -1.0, -1.0])
+        gyro, accel = gyro * flip, accel * flip
+    batch = InsEstimator(options.get("ins_settings")).update_batch(gyro, accel, dt, data.baro_altitude)
     _done(options, data.time.size)
     euler = batch.euler.astype(np.float32)
     return InsLogBatch(batch.altitude + batch.baro_bias, batch.vertical_velocity, batch.altitude,

@@ -89,7 +89,9 @@ def test_run_ins_altitude_is_the_ins_height_plus_its_baro_bias(px4, tmp_path, ca
 def test_run_ins_output_is_the_binding_on_the_logs_raw_imu(px4):
     data = logs.load_log(px4)
     run = runner.run_log(data, estimator="ins")
-    direct = InsEstimator().update_batch(data.gyro, data.accel, runner.sample_periods(data.time), data.baro_altitude)
+    flu = np.array([1.0, -1.0, -1.0])  # the log's FRD axes as FLU
+    direct = InsEstimator().update_batch(data.gyro * flu, data.accel * flu, runner.sample_periods(data.time),
+                                         data.baro_altitude)
     assert np.array_equal(run.estimate.height, direct.altitude)
     assert np.array_equal(run.estimate.gyro_bias_z, direct.gyro_bias[:, 2])
 
@@ -101,6 +103,13 @@ def test_run_ins_on_a_log_without_raw_gyro_is_refused_by_name(tmp_path, capsys):
                  "--estimator", "ins"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--estimator ins needs raw gyro and accel" in err[0]
+
+
+def test_run_ins_on_a_level_frd_log_reads_roll_and_pitch_near_zero(px4, tmp_path, capsys):
+    out = tmp_path / "ins.csv"
+    assert main(["run", px4, "--estimator", "ins", "-o", str(out)]) == 0
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    assert np.abs(table["roll"]).max() < 10 and np.abs(table["pitch"]).max() < 10
 
 
 def test_run_without_estimator_keeps_the_observer_on_a_log_with_raw_imu(px4, capsys):

@@ -33,7 +33,8 @@ def _page_id(page: Path) -> str:
 
 PYTHON_PAGES = [page for page in PAGES if blocks(page, "python")]
 C_BLOCKS = [(page, k, body) for page in PAGES for k, body in enumerate(blocks(page, "c"))]
-SH_LINES = [(page, line) for page in PAGES for body in blocks(page, "sh") for line in body.splitlines()
+SH_LINES = [(page, line) for page in PAGES for body in blocks(page, "sh")
+            for line in body.replace("\\\n", " ").splitlines()  # a trailing backslash continues the line
             if line.strip().startswith("fusion-altitude ")]
 
 

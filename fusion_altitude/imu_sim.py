@@ -189,7 +189,7 @@ def run_two_step(flight: RawImuFlight, use_magnetometer: bool = True):
     import imufusion
 
     from ._observer import AltitudeEstimator, AltitudeSettings
-    from .logs import settings_for_baro_rate
+    from .tuning import settings_for_baro_rate
 
     ahrs = imufusion.Ahrs()
     rate = 1.0 / flight.dt

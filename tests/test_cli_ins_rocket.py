@@ -270,3 +270,35 @@ def test_run_rocket_plot_is_written(simulated_rocket_csv, tmp_path, capsys):
     assert main(["run", path, "--time", "time", "--accel", "accel", "--baro", "baro", "--rocket",
                  "--plot", str(plot)]) == 0
     assert plot.stat().st_size > 10_000
+
+
+# ----------------------------------------------------------------------------
+# the rocket scenario
+
+
+def test_rocket_scenario_is_the_rocket_simulators_flight_on_the_baro_datum():
+    from fusion_altitude.scenarios import run_scenario
+
+    result = run_scenario("rocket", seed=2)
+    flight = simulate_rocket_flight(seed=2)
+    assert np.array_equal(result.baro_altitude, flight.baro_altitude)
+    assert np.array_equal(result.vertical_acceleration, flight.accel)
+    assert np.array_equal(result.trajectory.altitude, flight.trajectory.altitude + flight.model.pad_altitude)
+
+
+def test_rocket_scenario_clips_the_thrust_peak():
+    from fusion_altitude.scenarios import run_scenario
+
+    assert run_scenario("rocket", seed=0).imu.clipped.any()
+
+
+def test_compare_rocket_scenario_rocket_layer_row_beats_the_observer_row():
+    rows = {r.estimator: r for r in comparison.compare_scenario("rocket", repeat=0,
+                                                                 estimators=("observer", "rocket layer"))}
+    assert rows["rocket layer"].altitude_rms < rows["observer"].altitude_rms / 3
+
+
+def test_compare_has_a_rocket_layer_row_on_the_rocket_scenario_only():
+    assert "rocket layer" in comparison.estimators_for("rocket")
+    assert "rocket layer" not in comparison.estimators_for("realistic")
+    assert "INS" in comparison.estimators_for("realistic")

@@ -18,16 +18,20 @@ else:
         compile_args.append("-DFUSION_ALTITUDE_SWEEP_MULTIVERSION")
 
 # One extension per binding module fusion_altitude/_NAME.pyx; each wraps
-# headers from csrc/ and holds no copy of an algorithm.
+# headers from csrc/ and holds no copy of an algorithm. The _NAME_fields.pxi
+# they include are generated from the headers: python tools/generate_bindings.py.
 extensions = [
     Extension(
         f"fusion_altitude.{path.stem}",
         [str(path)],
         include_dirs=["csrc"],
-        depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude").glob("*.pxd"))],
+        depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude").glob("*.px[di]"))],
         extra_compile_args=compile_args,
     )
     for path in sorted(Path("fusion_altitude").glob("_*.pyx"))
 ]
+# The shared helpers are plain Python (the reference runs on them without any build); compiled as
+# well, they cost less per call (the update argument shim, conversions). The .py stays the source.
+extensions.append(Extension("fusion_altitude._common", ["fusion_altitude/_common.py"], extra_compile_args=compile_args))
 
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": "3"}))

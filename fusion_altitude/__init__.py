@@ -4,26 +4,53 @@ Fuses barometric altitude (m) with gravity-compensated vertical acceleration
 (m/s², earth frame, +up) into drift-free altitude, vertical velocity and the
 accelerometer's vertical bias. The estimators are C99 (``csrc/``), called
 through Cython; :mod:`fusion_altitude.reference` holds readable pure-Python
-twins that agree with them bit for bit.
+twins that agree with them bit for bit, and works without the compiled
+extension.
 
 Vertical is +up everywhere; NED users negate.
+
+Layers (see docs/architecture.md): the C core (``csrc/``); the thin binding
+(``_<estimator>.pyx`` with generated ``_<estimator>_fields.pxi``, ``_c_tables.py``);
+shared pure-Python pieces (``_common.py``, ``_<estimator>_glue.py``, the settings
+classes in ``reference/``); the reference; the applications (simulator,
+scenarios, logs, tuning, comparison, CLI).
 """
 
+from ._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, Status
 from ._common import GRAVITY
-from ._observer import AltitudeEstimator, AltitudeSettings
-from ._observer_glue import AltitudeBatch, DiscretisationWarning, Status
-from ._kalman import KalmanEstimator, KalmanSettings
-from ._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
-from ._complementary import ComplementaryFilter, ComplementarySettings
-from ._complementary_glue import ComplementaryBatch, ComplementaryStatus
-from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
-from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
-from ._ins import InsEstimator, InsSettings
-from ._ins_glue import InsBatch, InsStatus
-from .ins_run import ins_run
 from ._version import __version__
+from ._observer_glue import AltitudeBatch, DiscretisationWarning
+from ._kalman_glue import KalmanBatch, KalmanSensors
+from ._complementary_glue import ComplementaryBatch
+from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from ._ins_glue import InsBatch, InsStatus
+from .reference.observer import AltitudeSettings
+from .reference.kalman import KalmanSettings
+from .reference.complementary import ComplementarySettings
+from .reference.alphabeta import AlphaBetaSettings
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
-from .tuning import FitResult, SweepResult, fit, sweep
+
+#: The public names that need the compiled extension.
+_COMPILED = ("AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator",
+             "InsSettings", "ins_run", "FitResult", "SweepResult", "fit", "sweep")
+
+try:
+    from ._observer import AltitudeEstimator
+    from ._kalman import KalmanEstimator
+    from ._complementary import ComplementaryFilter
+    from ._alphabeta import AlphaBetaFusion
+    from ._ins import InsEstimator, InsSettings
+    from .ins_run import ins_run
+    from .tuning import FitResult, SweepResult, fit, sweep
+except ImportError as _error:  # not built: fusion_altitude.reference and the tables still import
+    _IMPORT_ERROR = _error
+
+    def __getattr__(name: str):
+        if name in _COMPILED:
+            raise ImportError(f"fusion_altitude.{name} needs the compiled extension, which failed to import "
+                              f"({_IMPORT_ERROR}); build it with `pip install .`, or use fusion_altitude.reference"
+                              ) from _IMPORT_ERROR
+        raise AttributeError(f"module 'fusion_altitude' has no attribute {name!r}")
 
 __all__ = [
     "GRAVITY",

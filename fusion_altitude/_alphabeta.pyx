@@ -2,49 +2,31 @@
 """Cython binding of the quality-weighted alpha-beta fusion in csrc/fusion_altitude_alphabeta.h.
 
 This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm.
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.AlphaBetaSettings`),
+converted to the C struct here; conversions, enums and the state layout are
+generated from the header (``_alphabeta_fields.pxi``).
 """
 
 import math
 
 from fusion_altitude._convert cimport as_double as _as_double
+from fusion_altitude._estimator cimport Estimator
 from libc.stdint cimport int32_t
 
 from fusion_altitude.calphabeta cimport *
 
 from fusion_altitude import _alphabeta_glue
+from fusion_altitude._common import argument_order
 from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.alphabeta import AlphaBetaSettings
 
-#: The C enum values, for checking that :class:`AlphaBetaStatus` matches.
-C_STATUS_VALUES = {
-    "OK": FusionAltitudeAlphaBetaStatusOk,
-    "INVALID_ACCEL": FusionAltitudeAlphaBetaStatusInvalidAccel,
-    "INVALID_DT": FusionAltitudeAlphaBetaStatusInvalidDt,
-    "INVALID_BARO_ALTITUDE": FusionAltitudeAlphaBetaStatusInvalidBaroAltitude,
-    "INVALID_LIDAR_ALTITUDE": FusionAltitudeAlphaBetaStatusInvalidLidarAltitude,
-    "INVALID_SONAR_ALTITUDE": FusionAltitudeAlphaBetaStatusInvalidSonarAltitude,
-    "INVALID_GPS_ALTITUDE": FusionAltitudeAlphaBetaStatusInvalidGpsAltitude,
-    "INVALID_THRESHOLD": FusionAltitudeAlphaBetaStatusInvalidThreshold,
-    "INVALID_QUALITY": FusionAltitudeAlphaBetaStatusInvalidQuality,
-    "INVALID_CONFIDENCE": FusionAltitudeAlphaBetaStatusInvalidConfidence,
-    "INVALID_ALTITUDE_BAND": FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,
-    "INVALID_GAP_MAX": FusionAltitudeAlphaBetaStatusInvalidGapMax,
-    "INVALID_TIMEOUT": FusionAltitudeAlphaBetaStatusInvalidTimeout,
-    "INVALID_GAP_PERIOD": FusionAltitudeAlphaBetaStatusInvalidGapPeriod,
-}
+include "_alphabeta_fields.pxi"
+
 C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
 C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
-
-
-def c_default_settings():
-    """The header's FusionAltitudeAlphaBetaSettingsDefault() as {sensor: AlphaBetaSensorSettings}."""
-    cdef FusionAltitudeAlphaBetaSettings c = FusionAltitudeAlphaBetaSettingsDefault()
-    return _settings_to_dict(&c)
-
-
-def status_message(int status):
-    """The C header's message for a status code."""
-    return FusionAltitudeAlphaBetaStatusMessage(<FusionAltitudeAlphaBetaStatus>status).decode("ascii")
+status_message = c_status_message
 
 
 def gains(int quality):
@@ -54,124 +36,27 @@ def gains(int quality):
     return alpha, beta
 
 
-cdef dict _settings_to_dict(const FusionAltitudeAlphaBetaSettings *c):
-    cdef int i
-    result = {}
-    for i in range(5):
-        s = &c.sensors[i]
-        result[ALPHABETA_SENSORS[i]] = AlphaBetaSensorSettings(s.threshold, s.qualityMin, s.qualityMax, s.confidence,
-                                                               s.altitudeMin, s.altitudeMax, s.gapMax, s.timeout)
-    result["gap_period"] = c.gapPeriod
+def _settings_dict(values):
+    """{"sensors": [{field: value} per sensor], other field: value} (from C) → {sensor: AlphaBetaSensorSettings,
+    other field: value}, as ``AlphaBetaSettings.as_dict()``."""
+    result = {name: AlphaBetaSensorSettings(**fields) for name, fields in zip(ALPHABETA_SENSORS, values["sensors"])}
+    result.update((name, value) for name, value in values.items() if name != "sensors")
     return result
 
 
-cdef class AlphaBetaSettings:
-    """Settings of the quality-weighted alpha-beta fusion: one :class:`AlphaBetaSensorSettings` per sensor.
-
-    Parameters
-    ----------
-    imu, baro, lidar, sonar, gps : AlphaBetaSensorSettings or mapping, optional
-        A sensor's settings, or a mapping of the fields to change from its
-        defaults, e.g. ``AlphaBetaSettings(gps={"gap_max": 30.0})``.
-    gap_period : float, default 1.5
-        s: an update whose dt exceeds this is a gap, not integrated (the
-        fusion restarts from the next samples), and the longest dead
-        reckoning before it re-acquires; ``inf`` never detects a gap.
-
-    Notes
-    -----
-    The defaults are the write-up's tables (threshold m, Q min, Q max,
-    confidence, altitude min m, gap max m): IMU 1, 2, 4, 5, −1, 4; baro 1, 10,
-    60, 2, −4, 10; lidar 0.5, 2, 8, 10, 0, 6; GPS 10, 10, 120, 1, −10, 20.
-    The sonar copies the lidar; altitude max is 40 m (lidar), 5 m (sonar),
-    infinite otherwise; every timeout is 1.5 s.
-
-    Raises
-    ------
-    ValueError
-        A field out of range, naming ``sensor.field``.
-    """
-
-    cdef FusionAltitudeAlphaBetaSettings _c
-
-    def __init__(self, **sensors):
-        values = _alphabeta_glue.convert_alphabeta_settings(sensors)
-        cdef int i
-        for i in range(5):
-            s = values[ALPHABETA_SENSORS[i]]
-            self._c.sensors[i].threshold = s.threshold
-            self._c.sensors[i].qualityMin = s.quality_min
-            self._c.sensors[i].qualityMax = s.quality_max
-            self._c.sensors[i].confidence = s.confidence
-            self._c.sensors[i].altitudeMin = s.altitude_min
-            self._c.sensors[i].altitudeMax = s.altitude_max
-            self._c.sensors[i].gapMax = s.gap_max
-            self._c.sensors[i].timeout = s.timeout
-        self._c.gapPeriod = values["gap_period"]
-        cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaSettingsCheck(&self._c)
-        if status != FusionAltitudeAlphaBetaStatusOk:
-            _alphabeta_glue.raise_alphabeta_settings_error(status, values)
-
-    @staticmethod
-    cdef AlphaBetaSettings _wrap(FusionAltitudeAlphaBetaSettings c):
-        cdef AlphaBetaSettings settings = AlphaBetaSettings.__new__(AlphaBetaSettings)
-        settings._c = c
-        return settings
-
-    def __getattr__(self, name):
-        values = self.as_dict()
-        if name in values:
-            return values[name]
-        raise AttributeError(f"'AlphaBetaSettings' object has no attribute {name!r}")
-
-    def as_dict(self):
-        """{sensor: AlphaBetaSensorSettings} in the C sensor order."""
-        return _settings_to_dict(&self._c)
-
-    def replace(self, **sensors):
-        """A copy with some sensors' fields changed (mappings of fields, or whole AlphaBetaSensorSettings)."""
-        current = self.as_dict()
-        merged = {}
-        for name, value in current.items():
-            change = sensors.get(name)
-            if change is None:
-                merged[name] = value
-            elif name == "gap_period":
-                merged[name] = change
-            elif isinstance(change, AlphaBetaSensorSettings):
-                merged[name] = change
-            else:
-                merged[name] = value._replace(**change)
-        unknown = set(sensors) - set(current)
-        if unknown:
-            raise TypeError(f"unknown alpha-beta sensor(s): {', '.join(sorted(unknown))}")
-        return AlphaBetaSettings(**merged)
-
-    def __eq__(self, other):
-        if not hasattr(other, "as_dict") or not hasattr(other, "sonar"):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()
-
-    def __hash__(self):
-        return hash(tuple(self.as_dict().items()))
-
-    def __repr__(self):
-        return "AlphaBetaSettings(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
+def c_default_settings():
+    """The header's FusionAltitudeAlphaBetaSettingsDefault() as {sensor: AlphaBetaSensorSettings}."""
+    return _settings_dict(_c_default_settings())
 
 
-def _settings_from_dict(values):
-    return AlphaBetaSettings(**values)
-
-
-cdef AlphaBetaSettings _as_settings(object settings):
-    if isinstance(settings, AlphaBetaSettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "sonar"):
-        return AlphaBetaSettings(**settings.as_dict())
-    raise TypeError(f"settings must be AlphaBetaSettings, got {type(settings).__name__}")
+def _c_values(settings):
+    """AlphaBetaSettings (or a {sensor: ...} dict, checked) → what ``_settings_to_c`` takes."""
+    if not isinstance(settings, AlphaBetaSettings):
+        settings = AlphaBetaSettings.coerce(settings) if hasattr(settings, "as_dict") else AlphaBetaSettings(**settings)
+    values = settings.as_dict()
+    result = {name: value for name, value in values.items() if name not in ALPHABETA_SENSORS}
+    result["sensors"] = [values[name]._asdict() for name in ALPHABETA_SENSORS]
+    return result
 
 
 cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
@@ -203,7 +88,7 @@ cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
     return -1
 
 
-cdef class AlphaBetaFusion:
+cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
     """Quality-weighted alpha-beta fusion of IMU-integrated altitude, baro, lidar, sonar and GPS.
 
     Each sensor runs an alpha-beta filter of depth Q (its quality), which
@@ -226,16 +111,16 @@ cdef class AlphaBetaFusion:
     same altitude. Copies and pickles carry the full state.
     """
 
-    cdef FusionAltitudeAlphaBeta _c
 
     def __init__(self, settings=None):
-        cdef AlphaBetaSettings checked
+        cdef FusionAltitudeAlphaBetaSettings c
         FusionAltitudeAlphaBetaInitialise(&self._c)
         if settings is not None:
-            checked = _as_settings(settings)
-            FusionAltitudeAlphaBetaInitialiseWith(&self._c, &checked._c)
+            c = _settings_to_c(_c_values(settings))
+            FusionAltitudeAlphaBetaInitialiseWith(&self._c, &c)
 
-    def update(self, accel, dt, baro_altitude=math.nan, lidar_altitude=math.nan, sonar_altitude=math.nan,
+    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:])
+    def update(self, accel, baro_altitude, dt, *, lidar_altitude=math.nan, sonar_altitude=math.nan,
                gps_altitude=math.nan):
         """Process one step.
 
@@ -267,8 +152,9 @@ cdef class AlphaBetaFusion:
                 "lidar_altitude": float(lidar_altitude), "sonar_altitude": float(sonar_altitude),
                 "gps_altitude": float(gps_altitude)})
 
-    def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
-                     gps_altitude=None):
+    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
+                     gps_altitude=None, out=None):
         """Process arrays of steps, continuing from the current state.
 
         Parameters
@@ -280,6 +166,8 @@ cdef class AlphaBetaFusion:
         baro_altitude, lidar_altitude, sonar_altitude, gps_altitude : array_like, float or None
             Per step, m; NaN where a sensor has no sample. A scalar applies to
             every step; None means no samples.
+        out : AlphaBetaBatch, optional
+            Preallocated contiguous output arrays of the right shapes and dtypes.
 
         Returns
         -------
@@ -297,7 +185,7 @@ cdef class AlphaBetaFusion:
         runs with the GIL released.
         """
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
-                                                                    sonar_altitude, gps_altitude)
+                                                                    sonar_altitude, gps_altitude, out)
         cdef const float[::1] a = inputs["accel"]
         cdef const float[::1] t = inputs["dt"]
         cdef const float[::1] zb = inputs["baro_altitude"]
@@ -331,21 +219,6 @@ cdef class AlphaBetaFusion:
         return result
 
     @property
-    def altitude(self):
-        """Fused altitude h, m (0 until started)."""
-        return FusionAltitudeAlphaBetaGetAltitude(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Fused vertical velocity v, m/s, +up."""
-        return FusionAltitudeAlphaBetaGetVerticalVelocity(&self._c)
-
-    @property
-    def started(self):
-        """Whether the fusion has started (first baro, lidar, sonar or GPS sample)."""
-        return FusionAltitudeAlphaBetaIsStarted(&self._c)
-
-    @property
     def total_weight(self):
         """Sum of the weights of the latest step (0: dead reckoning)."""
         return self._c.totalWeight
@@ -371,64 +244,20 @@ cdef class AlphaBetaFusion:
         return AlphaBetaSensors(*[self._c.filters[i].gap for i in range(5)])
 
     @property
-    def gap_count(self):
-        """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
-        return FusionAltitudeAlphaBetaGetGapCount(&self._c)
-
-    @property
     def settings(self):
         """The settings; assign new :class:`AlphaBetaSettings` to retune (qualities clamped to the new ranges)."""
-        return AlphaBetaSettings._wrap(self._c.settings)
+        return AlphaBetaSettings(**_settings_dict(_settings_from_c(&self._c.settings)))
 
     @settings.setter
     def settings(self, settings):
-        cdef AlphaBetaSettings checked = _as_settings(settings)
-        FusionAltitudeAlphaBetaSetSettings(&self._c, &checked._c)
+        cdef FusionAltitudeAlphaBetaSettings c = _settings_to_c(_c_values(settings))
+        FusionAltitudeAlphaBetaSetSettings(&self._c, &c)
 
     def _get_state(self):
-        cdef int i
-        filters = []
-        for i in range(5):
-            filters.append((self._c.filters[i].altitude, self._c.filters[i].velocity, self._c.filters[i].sinceSample,
-                            self._c.filters[i].gap, self._c.filters[i].weight, int(self._c.filters[i].quality),
-                            bool(self._c.filters[i].started)))
-        filters = tuple(filters)
-        return (self.settings.as_dict(), filters, self._c.altitude, self._c.verticalVelocity, self._c.totalWeight,
-                bool(self._c.started), self._c.coastingFor, self._c.gapTime, self._c.gapCount)
+        return _state_get(&self._c, _settings_dict)
 
     def _set_state(self, state):
-        values, filters, h, v, total, started = state[:6]
-        coasting, gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0.0, 0)
-        cdef AlphaBetaSettings settings = AlphaBetaSettings(**values)
-        self._c.settings = settings._c
-        cdef int i
-        for i in range(5):
-            x, vi, since, gap, weight, quality, filter_started = filters[i]
-            self._c.filters[i].altitude = x
-            self._c.filters[i].velocity = vi
-            self._c.filters[i].sinceSample = since
-            self._c.filters[i].gap = gap
-            self._c.filters[i].weight = weight
-            self._c.filters[i].quality = quality
-            self._c.filters[i].started = filter_started
-        self._c.altitude = h
-        self._c.verticalVelocity = v
-        self._c.totalWeight = total
-        self._c.started = bool(started)
-        self._c.coastingFor = coasting
-        self._c.gapTime = gap_time
-        self._c.gapCount = gap_count
-
-    def __copy__(self):
-        cdef AlphaBetaFusion clone = AlphaBetaFusion.__new__(AlphaBetaFusion)
-        clone._c = self._c
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
+        _state_set(&self._c, tuple(state), _c_values)
 
     def __repr__(self):
         return (f"AlphaBetaFusion(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
@@ -436,6 +265,5 @@ cdef class AlphaBetaFusion:
 
 
 def _restore(state):
-    cdef AlphaBetaFusion fusion = AlphaBetaFusion.__new__(AlphaBetaFusion)
-    fusion._set_state(state)
-    return fusion
+    """A new fusion holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(AlphaBetaFusion, state)

@@ -4,36 +4,18 @@
 
 from __future__ import annotations
 
-import enum
 import math
 from typing import NamedTuple, Optional
 
 import numpy as np
 
-from ._common import as_float, as_float32_vector
-
-
-class AlphaBetaStatus(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeAlphaBetaStatus``."""
-
-    OK = 0
-    INVALID_ACCEL = 1
-    INVALID_DT = 2
-    INVALID_BARO_ALTITUDE = 3
-    INVALID_LIDAR_ALTITUDE = 4
-    INVALID_SONAR_ALTITUDE = 5
-    INVALID_GPS_ALTITUDE = 6
-    INVALID_THRESHOLD = 7
-    INVALID_QUALITY = 8
-    INVALID_CONFIDENCE = 9
-    INVALID_ALTITUDE_BAND = 10
-    INVALID_GAP_MAX = 11
-    INVALID_TIMEOUT = 12
-    INVALID_GAP_PERIOD = 13
+from . import _c_tables
+from ._c_tables import AlphaBetaStatus
+from ._common import as_float, optional_inputs, output_arrays, raise_input_error
 
 
 #: Sensor channels of the alpha-beta fusion, in the C index order.
-ALPHABETA_SENSORS = ("imu", "baro", "lidar", "sonar", "gps")
+ALPHABETA_SENSORS = _c_tables.ALPHABETA_SENSORS
 
 
 #: Largest accepted quality (FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY).
@@ -69,18 +51,13 @@ class AlphaBetaSensorSettings(NamedTuple):
     timeout: float
 
 
-_INF = math.inf
+#: FusionAltitudeAlphaBetaSettingsDefault(), read from the header: the write-up's tables, plus the
+#: values it does not give (see csrc/fusion_altitude_alphabeta.h).
+ALPHABETA_DEFAULTS = {sensor: AlphaBetaSensorSettings(**fields) for sensor, fields in _c_tables.ALPHABETA_DEFAULTS.items()}
+ALPHABETA_DEFAULTS.update({name: default for name, _, _, default, _ in _c_tables.ALPHABETA_SETTINGS})
 
-
-#: The write-up's tables, plus the values it does not give (see csrc/fusion_altitude_alphabeta.h).
-ALPHABETA_DEFAULTS = {
-    "imu": AlphaBetaSensorSettings(1.0, 2, 4, 5.0, -1.0, _INF, 4.0, 1.5),
-    "baro": AlphaBetaSensorSettings(1.0, 10, 60, 2.0, -4.0, _INF, 10.0, 1.5),
-    "lidar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 40.0, 6.0, 1.5),
-    "sonar": AlphaBetaSensorSettings(0.5, 2, 8, 10.0, 0.0, 5.0, 6.0, 1.5),
-    "gps": AlphaBetaSensorSettings(10.0, 10, 120, 1.0, -10.0, _INF, 20.0, 1.5),
-    "gap_period": 1.5,  # s: not a sensor; see AlphaBetaSettings
-}
+#: Default gap period of the alpha-beta fusion, s (the sensor timeouts).
+ALPHABETA_GAP_PERIOD = ALPHABETA_DEFAULTS["gap_period"]
 
 
 class AlphaBetaSensors(NamedTuple):
@@ -100,10 +77,6 @@ def _as_int32(value: object, name: str) -> int:
     if not -2**31 <= index < 2**31:
         raise ValueError(f"{name} must fit in int32, got {index}")
     return index
-
-
-#: Default gap period of the alpha-beta fusion, s (the sensor timeouts).
-ALPHABETA_GAP_PERIOD = ALPHABETA_DEFAULTS["gap_period"]
 
 
 def convert_alphabeta_settings(kwargs: dict) -> dict:
@@ -188,9 +161,7 @@ ALPHABETA_INPUTS = ("accel", "dt", "baro_altitude", "lidar_altitude", "sonar_alt
 def raise_alphabeta_update_error(status: int, values: dict, index: Optional[int] = None,
                                  is_array: Optional[dict] = None) -> None:
     """Raise the ValueError for a rejected alpha-beta update, naming the argument (and index in a batch)."""
-    name, rule = _ALPHABETA_UPDATE_RULES[AlphaBetaStatus(status)]
-    where = name if index is None or not (is_array or {}).get(name, True) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {values[name]!r}")
+    raise_input_error(_ALPHABETA_UPDATE_RULES, status, values, index, is_array)
 
 
 class AlphaBetaBatch(NamedTuple):
@@ -212,30 +183,11 @@ class AlphaBetaBatch(NamedTuple):
     quality: np.ndarray
 
 
-def prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude, sonar_altitude, gps_altitude):
+def prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude, sonar_altitude, gps_altitude, out=None):
     """Convert ``update_batch`` inputs. Returns (n, inputs, steps, output): ``inputs`` maps each
     name of :data:`ALPHABETA_INPUTS` to a contiguous float32 array of length n, or of length 1 for a
-    scalar or None (then its entry in ``steps`` is 0, else 1)."""
-    if dt is None:
-        raise TypeError("dt must be a real number or an array, got None")
-    accel32 = as_float32_vector(accel, "accel")
-    n = accel32.shape[0]
-    arguments = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "lidar_altitude": lidar_altitude,
-                 "sonar_altitude": sonar_altitude, "gps_altitude": gps_altitude}
-    inputs = {"accel": accel32}
-    for name in ALPHABETA_INPUTS[1:]:
-        value = arguments[name]
-        if value is None:
-            inputs[name] = np.array([math.nan], dtype=np.float32)
-        elif np.ndim(value) == 0:
-            with np.errstate(over="ignore"):
-                inputs[name] = np.array([as_float(value, name)], dtype=np.float32)
-        else:
-            array = as_float32_vector(value, name)
-            if array.shape[0] != n:
-                raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
-            inputs[name] = array
-    steps = {name: 0 if arguments[name] is None or np.ndim(arguments[name]) == 0 else 1 for name in ALPHABETA_INPUTS}
-    output = AlphaBetaBatch(np.empty(n, dtype=np.float32), np.empty(n, dtype=np.float32),
-                            np.empty((n, 5), dtype=np.float32), np.empty((n, 5), dtype=np.int32))
-    return n, inputs, steps, output
+    scalar or None (then its entry in ``steps`` is 0, else 1); ``output`` is ``out`` checked, or new arrays."""
+    n, inputs, steps = optional_inputs(dict(zip(ALPHABETA_INPUTS, (accel, dt, baro_altitude, lidar_altitude,
+                                                                   sonar_altitude, gps_altitude))))
+    layout = [((n,), np.float32)] * 2 + [((n, 5), np.float32), ((n, 5), np.int32)]
+    return n, inputs, steps, output_arrays(AlphaBetaBatch, layout, out)

@@ -1,10 +1,16 @@
-"""Python-side helpers shared by every binding and reference: argument conversion.
+"""Python-side helpers shared by every binding and reference: argument conversion, batch
+inputs and outputs, error messages that name the argument.
 
 Nothing here is part of an algorithm; the algorithms live in ``csrc/`` and,
 for reading, in :mod:`fusion_altitude.reference`.
 """
 
 from __future__ import annotations
+
+import functools
+import math
+import warnings
+from typing import Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -32,3 +38,132 @@ def as_float32_vector(value: object, name: str) -> np.ndarray:
         raise ValueError(f"{name} must be 1-D, got shape {array.shape}")
     with np.errstate(over="ignore"):
         return np.ascontiguousarray(array, dtype=np.float32)
+
+
+def status_message(messages: Sequence[str], status: object) -> str:
+    """The C header's message for ``status`` (an int or enum member) from a generated message table."""
+    index = int(status)  # type: ignore[call-overload]
+    return messages[index] if 0 <= index < len(messages) else "unknown status"
+
+
+def raise_input_error(rules: Mapping[int, Tuple[str, str]], status: int, values: Mapping[str, object],
+                      index: Optional[int] = None, is_array: Optional[Mapping[str, bool]] = None) -> None:
+    """Raise the ValueError for a rejected update, naming the argument (and, in a batch, its first bad index).
+
+    ``rules`` maps each input status to (argument name, rule text); ``is_array``
+    says which arguments were given per sample (a scalar gets no index).
+    """
+    name, rule = rules[status]
+    where = name if index is None or not (is_array or {}).get(name, True) else f"{name}[{index}]"
+    raise ValueError(f"{where} {rule}, got {values[name]!r}")
+
+
+def output_arrays(batch_type: type, layout: Sequence[Tuple[Tuple[int, ...], object]],
+                  out: Optional[Sequence[np.ndarray]]):
+    """New output arrays of ``layout`` ((shape, dtype) per field of ``batch_type``), or ``out`` after checking it."""
+    if out is None:
+        return batch_type(*(np.empty(shape, dtype=dtype) for shape, dtype in layout))
+    if len(out) != len(layout):
+        raise ValueError(f"out must hold {len(layout)} arrays ({', '.join(batch_type._fields)}), got {len(out)}")
+    for field, array, (shape, dtype) in zip(batch_type._fields, out, layout):
+        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != shape \
+                or not array.flags.c_contiguous or not array.flags.writeable:
+            raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape {shape}")
+    return batch_type(*out)
+
+
+def prepare_inputs(accel: object, baro_altitude: object, dt: object) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """Convert per-sample (accel, baro_altitude, dt) to contiguous float32 vectors and check their lengths.
+
+    Returns accel and baro_altitude (length n), dt (length n, or 1 for a
+    scalar dt) and whether dt was given per sample.
+    """
+    accel32 = as_float32_vector(accel, "accel")
+    baro32 = as_float32_vector(baro_altitude, "baro_altitude")
+    n = accel32.shape[0]
+    if baro32.shape[0] != n:
+        raise ValueError(f"baro_altitude has {baro32.shape[0]} samples but accel has {n}")
+    dt_is_array = np.ndim(dt) != 0
+    if dt_is_array:
+        dt32 = as_float32_vector(dt, "dt")
+        if dt32.shape[0] != n:
+            raise ValueError(f"dt has {dt32.shape[0]} samples but accel has {n}")
+    else:
+        with np.errstate(over="ignore"):
+            dt32 = np.array([as_float(dt, "dt")], dtype=np.float32)
+    return accel32, baro32, dt32, dt_is_array
+
+
+def optional_input(value: object, name: str, n: int, fill: float = math.nan) -> np.ndarray:
+    """A per-step float32 input of a batch: None → [fill], a scalar → [value] (both broadcast, step 0),
+    else a contiguous vector of length n."""
+    if value is None:
+        return np.array([fill], dtype=np.float32)
+    if np.ndim(value) == 0:
+        with np.errstate(over="ignore"):
+            return np.array([as_float(value, name)], dtype=np.float32)
+    array = as_float32_vector(value, name)
+    if array.shape[0] != n:
+        raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
+    return array
+
+
+def optional_inputs(arguments: Mapping[str, object]) -> Tuple[int, dict, dict]:
+    """The float32 inputs of a multi-sensor batch: ``arguments`` maps names to values, accel first.
+
+    Returns (n, inputs, steps): ``inputs[name]`` has length n, or 1 for a
+    scalar or None (then ``steps[name]`` is 0, else 1).
+    """
+    if arguments.get("dt", 0) is None:
+        raise TypeError("dt must be a real number or an array, got None")
+    names = iter(arguments)
+    first = next(names)
+    accel32 = as_float32_vector(arguments[first], first)
+    n = accel32.shape[0]
+    inputs = {first: accel32}
+    inputs.update((name, optional_input(arguments[name], name, n)) for name in names)
+    steps = {name: 0 if value is None or np.ndim(value) == 0 else 1 for name, value in arguments.items()}
+    return n, inputs, steps
+
+
+def argument_order(legacy: Tuple[str, ...]):
+    """Decorator: the contract order ``(accel, baro_altitude, dt, *, other sensors...)`` for an estimator whose
+    old order was ``(accel, *legacy)``: for one release, positional arguments after ``accel`` keep their old
+    meaning, with a DeprecationWarning (pass baro_altitude= and dt= by keyword; in the next release the
+    positional order is the new one). Keywords work throughout; ``baro_altitude`` may be left out, as
+    before: no sample (NaN per sample, None in a batch).
+    """
+    def decorate(method):
+        no_sample = None if method.__name__ == "update_batch" else math.nan
+
+        @functools.wraps(method)
+        def wrapper(self, accel, *args, **kwargs):
+            if not args:  # keywords: the fast path, positional into the method
+                baro_altitude, dt = kwargs.pop("baro_altitude", no_sample), kwargs.pop("dt", None)
+                if kwargs:
+                    return method(self, accel, baro_altitude, dt, **kwargs)
+                return method(self, accel, baro_altitude, dt)
+            if len(args) == 1 and "dt" in kwargs:
+                return method(self, accel, args[0], kwargs.pop("dt"), **kwargs)
+            name = f"{type(self).__name__}.{method.__name__}"
+            warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
+                          f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
+                          "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning, stacklevel=2)
+            if len(args) > len(legacy):
+                raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
+            for key, value in zip(legacy, args):
+                if key in kwargs:
+                    raise TypeError(f"{name}() got multiple values for argument {key!r}")
+                kwargs[key] = value
+            kwargs.setdefault("baro_altitude", no_sample)
+            return method(self, accel, **kwargs)
+        return wrapper
+    return decorate
+
+
+def share_docstrings(binding: type, reference: type) -> None:
+    """Give each method of the binding class that has no docstring the reference's (written once, there)."""
+    for name, member in vars(binding).items():
+        source = getattr(reference, name, None)
+        if callable(member) and not getattr(member, "__doc__", None) and getattr(source, "__doc__", None):
+            member.__doc__ = source.__doc__

@@ -4,25 +4,14 @@
 
 from __future__ import annotations
 
-import enum
 import math
 from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
-from ._common import as_float
-
-
-class ComplementaryStatus(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeComplementaryStatus``."""
-
-    OK = 0
-    INVALID_ACCEL = 1
-    INVALID_BARO_ALTITUDE = 2
-    INVALID_DT = 3
-    INVALID_TIME_CONSTANT = 4
-    INVALID_COEFFICIENT = 5
-    INVALID_GAP_PERIOD = 6
+from . import _c_tables
+from ._c_tables import ComplementaryStatus
+from ._common import as_float, output_arrays, raise_input_error
 
 
 class ComplementaryBatch(NamedTuple):
@@ -46,18 +35,12 @@ class ComplementaryBatch(NamedTuple):
     baro_velocity: np.ndarray
 
 
-#: Complementary settings in the order of the C struct: (name, default, kind).
-#: kind "t": time constant s (finite, >= 0); "c": coefficient in [0, 1]; "b": bool; "g": gap period s (> 0).
-COMPLEMENTARY_SETTINGS = (
-    ("accel_time_constant", 0.02, "t"),
-    ("baro_time_constant", 0.05, "t"),
-    ("per_sample_coefficients", False, "b"),
-    ("velocity_coefficient", 0.999, "c"),
-    ("altitude_coefficient", 0.998, "c"),
-    ("velocity_time_constant", 9.99, "t"),
-    ("altitude_time_constant", 4.99, "t"),
-    ("gap_period", 0.5, "g"),
-)
+#: Complementary settings in the order of the C struct: (name, default, kind), the defaults read from
+#: the header (:mod:`fusion_altitude._c_tables`). kind "t": time constant s (finite, >= 0); "c":
+#: coefficient in [0, 1]; "b": bool; "g": gap period s (> 0, inf: never a gap).
+COMPLEMENTARY_SETTINGS = tuple((name, default, "b" if kind == "b" else "c" if name.endswith("_coefficient")
+                                else "g" if name == "gap_period" else "t")
+                               for name, _, kind, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
 
 
 COMPLEMENTARY_SETTINGS_NAMES = tuple(name for name, _, _ in COMPLEMENTARY_SETTINGS)
@@ -109,20 +92,10 @@ _COMPLEMENTARY_UPDATE_RULES = {
 def raise_complementary_update_error(status: int, accel: float, baro_altitude: float, dt: float,
                                      index: Optional[int] = None, dt_is_array: bool = False) -> None:
     """Raise the ValueError for a rejected complementary update, naming the argument (and index)."""
-    name, rule = _COMPLEMENTARY_UPDATE_RULES[ComplementaryStatus(status)]
-    value = {"accel": accel, "baro_altitude": baro_altitude, "dt": dt}[name]
-    where = name if index is None or (name == "dt" and not dt_is_array) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {value!r}")
+    raise_input_error(_COMPLEMENTARY_UPDATE_RULES, status, {"accel": accel, "baro_altitude": baro_altitude, "dt": dt},
+                      index, {"dt": dt_is_array})
 
 
 def complementary_outputs(n: int, out: Optional[Sequence[np.ndarray]]) -> ComplementaryBatch:
     """New float32 output arrays of length n, or the caller's ``out`` after checking it."""
-    if out is None:
-        return ComplementaryBatch(*(np.empty(n, dtype=np.float32) for _ in range(4)))
-    if len(out) != 4:
-        raise ValueError(f"out must hold 4 arrays ({', '.join(ComplementaryBatch._fields)}), got {len(out)}")
-    for field, array in zip(ComplementaryBatch._fields, out):
-        if not isinstance(array, np.ndarray) or array.dtype != np.float32 or array.shape != (n,) \
-                or not array.flags.c_contiguous or not array.flags.writeable:
-            raise ValueError(f"out.{field} must be a writeable contiguous float32 array of shape ({n},)")
-    return ComplementaryBatch(*out)
+    return output_arrays(ComplementaryBatch, [((n,), np.float32)] * 4, out)

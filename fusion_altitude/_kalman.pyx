@@ -2,211 +2,35 @@
 """Cython binding of the multi-sensor Kalman filter in csrc/fusion_altitude_kalman.h.
 
 This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm.
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.KalmanSettings`),
+converted to the C struct here; conversions, enums and the state layout are
+generated from the header (``_kalman_fields.pxi``).
 """
 
 import math
 
 from fusion_altitude._convert cimport as_double as _as_double
+from fusion_altitude._estimator cimport Estimator
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 from fusion_altitude.ckalman cimport *
 
 import numpy as np
 
-from fusion_altitude import _kalman_glue
+from fusion_altitude import _common, _kalman_glue
+from fusion_altitude._common import argument_order
 from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.kalman import KalmanEstimator as _reference_KalmanEstimator, KalmanSettings
 
-#: The C enum values, for checking that :class:`fusion_altitude.KalmanStatus` matches.
-C_STATUS_VALUES = {
-    "OK": FusionAltitudeKalmanStatusOk,
-    "INVALID_ACCEL": FusionAltitudeKalmanStatusInvalidAccel,
-    "INVALID_DT": FusionAltitudeKalmanStatusInvalidDt,
-    "INVALID_BARO_ALTITUDE": FusionAltitudeKalmanStatusInvalidBaroAltitude,
-    "INVALID_GPS_ALTITUDE": FusionAltitudeKalmanStatusInvalidGpsAltitude,
-    "INVALID_GPS_ACCURACY": FusionAltitudeKalmanStatusInvalidGpsAccuracy,
-    "INVALID_NOISE": FusionAltitudeKalmanStatusInvalidNoise,
-    "INVALID_RANGE": FusionAltitudeKalmanStatusInvalidRange,
-    "INVALID_GPS": FusionAltitudeKalmanStatusInvalidGps,
-    "INVALID_GATE": FusionAltitudeKalmanStatusInvalidGate,
-    "INVALID_GROUND_EFFECT": FusionAltitudeKalmanStatusInvalidGroundEffect,
-    "INVALID_GAP_PERIOD": FusionAltitudeKalmanStatusInvalidGapPeriod,
-}
-C_RESULT_VALUES = {
-    "NO_SAMPLE": FusionAltitudeKalmanResultNoSample,
-    "FUSED": FusionAltitudeKalmanResultFused,
-    "REJECTED": FusionAltitudeKalmanResultRejected,
-    "RESET": FusionAltitudeKalmanResultReset,
-    "INITIALISED": FusionAltitudeKalmanResultInitialised,
-    "UNUSABLE": FusionAltitudeKalmanResultUnusable,
-}
+include "_kalman_fields.pxi"
+
+kalman_status_message = c_status_message
 
 
-def c_default_settings():
-    """FusionAltitudeKalmanSettingsDefault() as a dict, for checking the Python defaults against the header's."""
-    cdef FusionAltitudeKalmanSettings c = FusionAltitudeKalmanSettingsDefault()
-    return _settings_to_dict(&c)
-
-
-def kalman_status_message(int status):
-    """The C header's message for a status code (FusionAltitudeKalmanStatusMessage)."""
-    return FusionAltitudeKalmanStatusMessage(<FusionAltitudeKalmanStatus>status).decode("ascii")
-
-
-cdef FusionAltitudeKalmanSettings _settings_from_dict(dict v):
-    cdef FusionAltitudeKalmanSettings c
-    c.accelNoise = v["accel_noise"]
-    c.accelBiasRandomWalk = v["accel_bias_random_walk"]
-    c.accelBiasInitialSigma = v["accel_bias_initial_sigma"]
-    c.estimateAccelBias = v["estimate_accel_bias"]
-    c.baroNoise = v["baro_noise"]
-    c.baroOffsetRandomWalk = v["baro_offset_random_walk"]
-    c.rangeNoise = v["range_noise"]
-    c.rangeMinimum = v["range_min"]
-    c.rangeMaximum = v["range_max"]
-    c.gpsNoiseBase = v["gps_noise_base"]
-    c.gpsNoiseSatellite = v["gps_noise_satellite"]
-    c.gpsMinimumSatellites = v["gps_min_satellites"]
-    c.gpsOffsetRandomWalk = v["gps_offset_random_walk"]
-    c.gate = v["gate"]
-    c.rejectionTimeout = v["rejection_timeout"]
-    c.groundEffectNoiseScale = v["ground_effect_noise_scale"]
-    c.groundEffectDeadZone = v["ground_effect_dead_zone"]
-    c.initialHeightSigma = v["initial_height_sigma"]
-    c.initialVelocitySigma = v["initial_velocity_sigma"]
-    c.gapPeriod = v["gap_period"]
-    return c
-
-
-cdef dict _settings_to_dict(const FusionAltitudeKalmanSettings *c):
-    return {
-        "accel_noise": c.accelNoise,
-        "accel_bias_random_walk": c.accelBiasRandomWalk,
-        "accel_bias_initial_sigma": c.accelBiasInitialSigma,
-        "estimate_accel_bias": bool(c.estimateAccelBias),
-        "baro_noise": c.baroNoise,
-        "baro_offset_random_walk": c.baroOffsetRandomWalk,
-        "range_noise": c.rangeNoise,
-        "range_min": c.rangeMinimum,
-        "range_max": c.rangeMaximum,
-        "gps_noise_base": c.gpsNoiseBase,
-        "gps_noise_satellite": c.gpsNoiseSatellite,
-        "gps_min_satellites": int(c.gpsMinimumSatellites),
-        "gps_offset_random_walk": c.gpsOffsetRandomWalk,
-        "gate": c.gate,
-        "rejection_timeout": c.rejectionTimeout,
-        "ground_effect_noise_scale": c.groundEffectNoiseScale,
-        "ground_effect_dead_zone": c.groundEffectDeadZone,
-        "initial_height_sigma": c.initialHeightSigma,
-        "initial_velocity_sigma": c.initialVelocitySigma,
-        "gap_period": c.gapPeriod,
-    }
-
-
-cdef class KalmanSettings:
-    """Settings of the Kalman filter, in physical units (float32). Keyword arguments only.
-
-    Parameters (defaults for a multirotor)
-    --------------------------------------
-    accel_noise : 0.035 m/s²/√Hz
-        Accelerometer white-noise density N_a, vibration included.
-    accel_bias_random_walk : 0.003 m/s³/√Hz
-        Accelerometer bias random walk N_b.
-    accel_bias_initial_sigma : 0.2 m/s²
-        Initial bias uncertainty.
-    estimate_accel_bias : True
-        False holds the bias state at 0.
-    baro_noise : 0.5 m
-        Baro 1σ per sample (> 0).
-    baro_offset_random_walk : 0.05 m/√s
-        Baro offset drift N_ob (weather, temperature).
-    range_noise : 0.05 m
-        Rangefinder 1σ per sample (> 0).
-    range_min, range_max : 0.1 m, 8.0 m
-        Readings outside are "no echo" (not fused).
-    gps_noise_base, gps_noise_satellite : 1.0 m, 1.0 m
-        GPS σ = base + satellite/√n for n satellites.
-    gps_min_satellites : 4
-        Fewer satellites: GPS not fused.
-    gps_offset_random_walk : 0.1 m/√s
-        GPS altitude wander N_og.
-    gate : 5.0 σ
-        A sample is rejected if y²/S > gate².
-    rejection_timeout : 1.0 s
-        A sensor rejected for longer is reset (offset; rangefinder: ground).
-    ground_effect_noise_scale : 3.0
-        Baro σ multiplier with the ground-effect flag (>= 1).
-    ground_effect_dead_zone : 0.5 m
-        Negative baro innovations up to this are ignored in ground effect.
-    initial_height_sigma, initial_velocity_sigma : 0.1 m, 1.0 m/s
-        Initial uncertainty of "on the ground, at rest".
-    gap_period : 0.5 s
-        An update whose dt exceeds this is a gap: no prediction, the height
-        and velocity variances are inflated instead so the next samples are
-        accepted; ``inf`` never detects one.
-
-    Raises
-    ------
-    ValueError
-        A setting out of range, naming it. TypeError for an unknown name.
-    """
-
-    cdef FusionAltitudeKalmanSettings _c
-
-    def __init__(self, **kwargs):
-        values = _kalman_glue.convert_kalman_settings(kwargs)
-        self._c = _settings_from_dict(values)
-        cdef FusionAltitudeKalmanStatus status = FusionAltitudeKalmanSettingsCheck(&self._c)
-        if status != FusionAltitudeKalmanStatusOk:
-            _kalman_glue.raise_kalman_settings_error(status, values)
-
-    @staticmethod
-    cdef KalmanSettings _wrap(FusionAltitudeKalmanSettings c):
-        cdef KalmanSettings settings = KalmanSettings.__new__(KalmanSettings)
-        settings._c = c
-        return settings
-
-    def __getattr__(self, name):
-        values = _settings_to_dict(&self._c)
-        try:
-            return values[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def as_dict(self):
-        """All settings as {name: value}, in the C struct's order."""
-        return _settings_to_dict(&self._c)
-
-    def replace(self, **changes):
-        """A copy with some settings changed."""
-        return KalmanSettings(**{**self.as_dict(), **changes})
-
-    def __eq__(self, other):
-        if not hasattr(other, "as_dict") or not hasattr(other, "gps_min_satellites"):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()
-
-    def __hash__(self):
-        return hash(tuple(self.as_dict().items()))
-
-    def __repr__(self):
-        inner = ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items())
-        return f"KalmanSettings({inner})"
-
-    def __reduce__(self):
-        return (_settings_from_kwargs, (self.as_dict(),))
-
-
-def _settings_from_kwargs(values):
-    return KalmanSettings(**values)
-
-
-cdef KalmanSettings _as_settings(object settings):
-    if isinstance(settings, KalmanSettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "gps_min_satellites"):
-        return KalmanSettings(**settings.as_dict())
-    raise TypeError(f"settings must be KalmanSettings, got {type(settings).__name__}")
+def _checked_settings(values):
+    return KalmanSettings(**values).as_dict()
 
 
 cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
@@ -233,12 +57,12 @@ cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
         m.groundEffect = ground[i * se] != 0
         if FusionAltitudeKalmanUpdate(&local, accel[i * sa], dt[i * sd], &m) != FusionAltitudeKalmanStatusOk:
             return i
-        h[i] = local.x[0]
+        h[i] = local.x[<int>FusionAltitudeKalmanStateHeight]
         alt[i] = FusionAltitudeKalmanGetAltitude(&local)
-        v[i] = local.x[1]
-        b[i] = local.x[4]
-        ob[i] = local.x[2]
-        og[i] = local.x[3]
+        v[i] = local.x[<int>FusionAltitudeKalmanStateVelocity]
+        b[i] = local.x[<int>FusionAltitudeKalmanStateAccelBias]
+        ob[i] = local.x[<int>FusionAltitudeKalmanStateBaroOffset]
+        og[i] = local.x[<int>FusionAltitudeKalmanStateGpsOffset]
         for j in range(5):
             diag[i * 5 + j] = local.P[j][j]
         for j in range(3):
@@ -249,7 +73,7 @@ cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
     return -1
 
 
-cdef class KalmanEstimator:
+cdef class KalmanEstimator(_KalmanEstimatorGetters):
     """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with vertical acceleration.
 
     Estimates height above ground (m), baro-referenced altitude (m), vertical
@@ -270,46 +94,18 @@ cdef class KalmanEstimator:
     state.
     """
 
-    cdef FusionAltitudeKalman _c
 
     def __init__(self, settings=None):
-        cdef KalmanSettings checked
+        cdef FusionAltitudeKalmanSettings c
         if settings is None:
             FusionAltitudeKalmanInitialise(&self._c)
         else:
-            checked = _as_settings(settings)
-            FusionAltitudeKalmanInitialiseWith(&self._c, &checked._c)
+            c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
+            FusionAltitudeKalmanInitialiseWith(&self._c, &c)
 
-    def update(self, accel, dt, baro_altitude=math.nan, range_distance=math.nan, gps_altitude=math.nan,
+    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
+    def update(self, accel, baro_altitude, dt, *, range_distance=math.nan, gps_altitude=math.nan,
                gps_satellites=None, gps_vertical_accuracy=None, ground_effect=False):
-        """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
-
-        Parameters
-        ----------
-        accel : float
-            Vertical acceleration, m/s², earth frame, +up, gravity removed.
-        dt : float
-            Time since the previous step, s.
-        baro_altitude, range_distance, gps_altitude : float, optional
-            Samples, m; NaN (the default) when a sensor has none this step. A
-            range outside [range_min, range_max] (or ±inf) counts as no echo.
-        gps_satellites : int, optional
-            Satellites used; None: unknown (the GPS model then assumes
-            ``gps_min_satellites``). Fewer than ``gps_min_satellites``: not fused.
-        gps_vertical_accuracy : float, optional
-            Receiver-reported 1σ vertical accuracy, m; used instead of the
-            satellite model when given.
-        ground_effect : bool
-            Take-off or landing: widen the baro noise and ignore negative baro
-            innovations up to the dead zone.
-
-        Raises
-        ------
-        ValueError
-            accel not finite, dt not finite or <= 0, baro or GPS altitude
-            infinite, a GPS accuracy (with a GPS sample) not finite and > 0;
-            the state is unchanged.
-        """
         cdef FusionAltitudeKalmanMeasurements m
         cdef double a = _as_double(accel, "accel")
         cdef double t = _as_double(dt, "dt")
@@ -326,7 +122,8 @@ cdef class KalmanEstimator:
                 "accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
                 "gps_vertical_accuracy": gps_vertical_accuracy})
 
-    def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
+    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
                      gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None):
         """Process arrays of steps, continuing from the current state.
 
@@ -425,41 +222,6 @@ cdef class KalmanEstimator:
         return FusionAltitudeKalmanUpdate(&trial, accel, dt, &m)
 
     @property
-    def height_above_ground(self):
-        """Height above ground h, m."""
-        return FusionAltitudeKalmanGetHeightAboveGround(&self._c)
-
-    @property
-    def altitude(self):
-        """Baro-referenced altitude h + baro_offset, m (equals h before the first baro sample)."""
-        return FusionAltitudeKalmanGetAltitude(&self._c)
-
-    @property
-    def altitude_variance(self):
-        """Variance of the altitude, m²: P_hh + 2·P_h,ob + P_ob,ob."""
-        return FusionAltitudeKalmanGetAltitudeVariance(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Vertical velocity v, m/s, +up."""
-        return FusionAltitudeKalmanGetVerticalVelocity(&self._c)
-
-    @property
-    def accel_bias(self):
-        """Accelerometer bias b, m/s², +up (subtracted from the input)."""
-        return FusionAltitudeKalmanGetAccelBias(&self._c)
-
-    @property
-    def baro_offset(self):
-        """Baro offset (baro reads h + offset), m; 0 before the first baro sample."""
-        return FusionAltitudeKalmanGetBaroOffset(&self._c)
-
-    @property
-    def gps_offset(self):
-        """GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample."""
-        return FusionAltitudeKalmanGetGpsOffset(&self._c)
-
-    @property
     def state(self):
         """State vector (h, v, baro_offset, gps_offset, accel_bias), float32 copy."""
         return np.array([self._c.x[i] for i in range(5)], dtype=np.float32)
@@ -510,73 +272,29 @@ cdef class KalmanEstimator:
         return bool(self._c.gpsInitialised)
 
     @property
-    def gap_count(self):
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period``."""
-        return FusionAltitudeKalmanGetGapCount(&self._c)
-
-    @property
     def settings(self):
         """The settings; assign new :class:`KalmanSettings` to retune, keeping the state."""
-        return KalmanSettings._wrap(FusionAltitudeKalmanGetSettings(&self._c))
+        return KalmanSettings(**_settings_from_c(&self._c.settings))
 
     @settings.setter
     def settings(self, settings):
-        cdef KalmanSettings checked = _as_settings(settings)
-        FusionAltitudeKalmanSetSettings(&self._c, &checked._c)
+        cdef FusionAltitudeKalmanSettings c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
+        FusionAltitudeKalmanSetSettings(&self._c, &c)
 
     def _get_state(self):
-        sensors = []
-        for i in range(3):
-            s = self._c.sensors[i]
-            sensors.append((s.innovation, s.innovationVariance, s.nis, s.rejectingFor, int(s.rejections),
-                            int(s.resets), int(<int>s.result), bool(s.rejecting)))
-        return (_settings_to_dict(&self._c.settings), [self._c.x[i] for i in range(5)],
-                [self._c.P[i][j] for i in range(5) for j in range(5)], sensors,
-                bool(self._c.baroInitialised), bool(self._c.gpsInitialised), self._c.gapCount, self._c.sinceFused)
+        return _state_get(&self._c, dict)
 
     def _set_state(self, state):
-        settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
-        gap_count = state[6] if len(state) > 6 else 0
-        since_fused = state[7] if len(state) > 7 else 0.0
-        cdef KalmanSettings checked = KalmanSettings(**settings)
-        cdef int i, j
-        self._c.settings = checked._c
-        for i in range(5):
-            self._c.x[i] = x[i]
-            for j in range(5):
-                self._c.P[i][j] = P[i * 5 + j]
-        for i in range(3):
-            innovation, variance, nis, rejecting_for, rejections, resets, result, rejecting = sensors[i]
-            self._c.sensors[i].innovation = innovation
-            self._c.sensors[i].innovationVariance = variance
-            self._c.sensors[i].nis = nis
-            self._c.sensors[i].rejectingFor = rejecting_for
-            self._c.sensors[i].rejections = rejections
-            self._c.sensors[i].resets = resets
-            self._c.sensors[i].result = <FusionAltitudeKalmanResult><int>KalmanResult(result)
-            self._c.sensors[i].rejecting = bool(rejecting)
-        self._c.baroInitialised = bool(baro_initialised)
-        self._c.gpsInitialised = bool(gps_initialised)
-        self._c.gapCount = gap_count
-        self._c.sinceFused = since_fused
-
-    def __copy__(self):
-        cdef KalmanEstimator clone = KalmanEstimator.__new__(KalmanEstimator)
-        clone._c = self._c
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
+        _state_set(&self._c, tuple(state), _checked_settings)
 
     def __repr__(self):
         return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
 
 
+_common.share_docstrings(KalmanEstimator, _reference_KalmanEstimator)
+
+
 def _restore(state):
-    cdef KalmanEstimator estimator = KalmanEstimator.__new__(KalmanEstimator)
-    estimator._set_state(state)
-    return estimator
+    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(KalmanEstimator, state)

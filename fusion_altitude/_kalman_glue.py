@@ -5,41 +5,19 @@ error messages that name the argument, batch conversion and result types.
 
 from __future__ import annotations
 
-import enum
 import math
 from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
-from ._common import as_float, as_float32_vector
+from . import _c_tables
+from ._c_tables import KalmanResult, KalmanStatus
+from ._common import as_float, optional_inputs, output_arrays, raise_input_error
 
 
-class KalmanStatus(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeKalmanStatus``."""
-
-    OK = 0
-    INVALID_ACCEL = 1
-    INVALID_DT = 2
-    INVALID_BARO_ALTITUDE = 3
-    INVALID_GPS_ALTITUDE = 4
-    INVALID_GPS_ACCURACY = 5
-    INVALID_NOISE = 6
-    INVALID_RANGE = 7
-    INVALID_GPS = 8
-    INVALID_GATE = 9
-    INVALID_GROUND_EFFECT = 10
-    INVALID_GAP_PERIOD = 11
-
-
-class KalmanResult(enum.IntEnum):
-    """What an update did with a sensor's sample (C ``FusionAltitudeKalmanResult``)."""
-
-    NO_SAMPLE = 0
-    FUSED = 1
-    REJECTED = 2
-    RESET = 3
-    INITIALISED = 4
-    UNUSABLE = 5
+#: The positional order of ``update`` after accel before 0.2 (still accepted, deprecated).
+KALMAN_LEGACY_ORDER = ("dt", "baro_altitude", "range_distance", "gps_altitude", "gps_satellites",
+                       "gps_vertical_accuracy", "ground_effect")
 
 
 class KalmanSensors(NamedTuple):
@@ -50,31 +28,30 @@ class KalmanSensors(NamedTuple):
     gps: object
 
 
-#: Kalman settings: (Python name, default, kind, status group, rule), in the
-#: order of the C struct FusionAltitudeKalmanSettings. kind: "f" float32,
-#: "b" bool, "i" int32. Rules: ">=0", ">0", ">=1".
-KALMAN_SETTINGS = (
-    ("accel_noise", 0.035, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("accel_bias_random_walk", 0.003, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("accel_bias_initial_sigma", 0.2, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("estimate_accel_bias", True, "b", None, None),
-    ("baro_noise", 0.5, "f", KalmanStatus.INVALID_NOISE, ">0"),
-    ("baro_offset_random_walk", 0.05, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("range_noise", 0.05, "f", KalmanStatus.INVALID_NOISE, ">0"),
-    ("range_min", 0.1, "f", KalmanStatus.INVALID_RANGE, ">=0"),
-    ("range_max", 8.0, "f", KalmanStatus.INVALID_RANGE, ">range_min"),
-    ("gps_noise_base", 1.0, "f", KalmanStatus.INVALID_GPS, ">=0"),
-    ("gps_noise_satellite", 1.0, "f", KalmanStatus.INVALID_GPS, ">=0"),
-    ("gps_min_satellites", 4, "i", KalmanStatus.INVALID_GPS, ">=0"),
-    ("gps_offset_random_walk", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("gate", 5.0, "f", KalmanStatus.INVALID_GATE, ">0"),
-    ("rejection_timeout", 1.0, "f", KalmanStatus.INVALID_GATE, ">=0"),
-    ("ground_effect_noise_scale", 3.0, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
-    ("ground_effect_dead_zone", 0.5, "f", KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
-    ("initial_height_sigma", 0.1, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("initial_velocity_sigma", 1.0, "f", KalmanStatus.INVALID_NOISE, ">=0"),
-    ("gap_period", 0.5, "f", KalmanStatus.INVALID_GAP_PERIOD, "gap"),
-)
+#: The status group and rule of each Kalman setting (the defaults, kinds and order come from the
+#: header through :mod:`fusion_altitude._c_tables`). Rules: ">=0", ">0", ">=1", ">range_min".
+_KALMAN_RULES = {
+    "estimate_accel_bias": (None, None),
+    "baro_noise": (KalmanStatus.INVALID_NOISE, ">0"),
+    "range_noise": (KalmanStatus.INVALID_NOISE, ">0"),
+    "range_min": (KalmanStatus.INVALID_RANGE, ">=0"),
+    "range_max": (KalmanStatus.INVALID_RANGE, ">range_min"),
+    "gps_noise_base": (KalmanStatus.INVALID_GPS, ">=0"),
+    "gps_noise_satellite": (KalmanStatus.INVALID_GPS, ">=0"),
+    "gps_min_satellites": (KalmanStatus.INVALID_GPS, ">=0"),
+    "gate": (KalmanStatus.INVALID_GATE, ">0"),
+    "rejection_timeout": (KalmanStatus.INVALID_GATE, ">=0"),
+    "ground_effect_noise_scale": (KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
+    "ground_effect_dead_zone": (KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
+    "gap_period": (KalmanStatus.INVALID_GAP_PERIOD, "gap"),
+}
+
+
+#: Kalman settings: (Python name, default, kind, status group, rule), in the order of the C struct
+#: FusionAltitudeKalmanSettings. kind: "f" float32, "b" bool, "i" int32. A setting the table above
+#: does not name is a noise (INVALID_NOISE, ">=0").
+KALMAN_SETTINGS = tuple((name, default, kind, *_KALMAN_RULES.get(name, (KalmanStatus.INVALID_NOISE, ">=0")))
+                        for name, _, kind, default, _ in _c_tables.KALMAN_SETTINGS)
 
 
 KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
@@ -160,9 +137,7 @@ _KALMAN_UPDATE_RULES = {
 def raise_kalman_update_error(status: int, values: dict, index: Optional[int] = None,
                               is_array: Optional[dict] = None) -> None:
     """Raise the ValueError for a rejected Kalman update, naming the argument (and index in a batch)."""
-    name, rule = _KALMAN_UPDATE_RULES[KalmanStatus(status)]
-    where = name if index is None or not (is_array or {}).get(name, True) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {values[name]!r}")
+    raise_input_error(_KALMAN_UPDATE_RULES, status, values, index, is_array)
 
 
 def kalman_satellites(value: object) -> int:
@@ -219,34 +194,12 @@ def _kalman_output_layout(n: int):
 
 def new_kalman_batch(n: int) -> KalmanBatch:
     """Uninitialised output arrays for n samples."""
-    return KalmanBatch(*(np.empty(shape, dtype=dtype) for shape, dtype in _kalman_output_layout(n)))
+    return output_arrays(KalmanBatch, _kalman_output_layout(n), None)
 
 
 def kalman_output_arrays(n: int, out: Optional[Sequence[np.ndarray]]) -> KalmanBatch:
     """New output arrays for n samples, or the caller's ``out`` (a KalmanBatch of preallocated arrays) after checking it."""
-    if out is None:
-        return new_kalman_batch(n)
-    layout = _kalman_output_layout(n)
-    if len(out) != len(layout):
-        raise ValueError(f"out must hold {len(layout)} arrays ({', '.join(KalmanBatch._fields)}), got {len(out)}")
-    for field, array, (shape, dtype) in zip(KalmanBatch._fields, out, layout):
-        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != shape \
-                or not array.flags.c_contiguous or not array.flags.writeable:
-            raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape {shape}")
-    return KalmanBatch(*out)
-
-
-def _kalman_input(value: object, name: str, n: Optional[int], fill: float) -> np.ndarray:
-    """A float32 input: None → [fill] (broadcast), scalar → [value], else a contiguous vector of length n."""
-    if value is None:
-        return np.array([fill], dtype=np.float32)
-    if np.ndim(value) == 0:
-        with np.errstate(over="ignore"):
-            return np.array([as_float(value, name)], dtype=np.float32)
-    array = as_float32_vector(value, name)
-    if n is not None and array.shape[0] != n:
-        raise ValueError(f"{name} has {array.shape[0]} samples but accel has {n}")
-    return array
+    return output_arrays(KalmanBatch, _kalman_output_layout(n), out)
 
 
 def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites,
@@ -255,18 +208,9 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
     maps each argument name to a contiguous array (float32; int32 satellites,
     uint8 ground effect) of length n, or of length 1 for a scalar or None
     (then its entry in ``steps`` is 0, else 1)."""
-    accel32 = as_float32_vector(accel, "accel")
-    n = accel32.shape[0]
-    inputs = {
-        "accel": accel32,
-        "dt": _kalman_input(dt, "dt", n, math.nan),
-        "baro_altitude": _kalman_input(baro_altitude, "baro_altitude", n, math.nan),
-        "range_distance": _kalman_input(range_distance, "range_distance", n, math.nan),
-        "gps_altitude": _kalman_input(gps_altitude, "gps_altitude", n, math.nan),
-        "gps_vertical_accuracy": _kalman_input(gps_vertical_accuracy, "gps_vertical_accuracy", n, math.nan),
-    }
-    if dt is None:
-        raise TypeError("dt must be a real number or an array, got None")
+    n, inputs, steps = optional_inputs({
+        "accel": accel, "dt": dt, "baro_altitude": baro_altitude, "range_distance": range_distance,
+        "gps_altitude": gps_altitude, "gps_vertical_accuracy": gps_vertical_accuracy})
     if gps_satellites is None or np.ndim(gps_satellites) == 0:
         satellites = np.array([kalman_satellites(gps_satellites)], dtype=np.int32)
     else:
@@ -290,8 +234,6 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
         if flags.ndim != 1 or flags.shape[0] != n:
             raise ValueError(f"ground_effect must be 1-D with {n} samples, got shape {flags.shape}")
     inputs["ground_effect"] = flags
-    arguments = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "range_distance": range_distance,
-                 "gps_altitude": gps_altitude, "gps_satellites": gps_satellites,
-                 "gps_vertical_accuracy": gps_vertical_accuracy, "ground_effect": ground_effect}
-    steps = {name: 0 if arguments[name] is None or np.ndim(arguments[name]) == 0 else 1 for name in inputs}
+    for name, value in (("gps_satellites", gps_satellites), ("ground_effect", ground_effect)):
+        steps[name] = int(value is not None and np.ndim(value) != 0)
     return n, inputs, steps, kalman_output_arrays(n, out)

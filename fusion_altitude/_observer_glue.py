@@ -5,14 +5,16 @@ messages that name the argument, batch argument conversion and the result type.
 
 from __future__ import annotations
 
-import enum
 import math
 import warnings
 from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._common import as_float, as_float32_vector
+from ._c_tables import Preset, Status
+from ._common import output_arrays as _output_arrays, prepare_inputs, raise_input_error
+
+__all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs", "prepare_batch", "output_arrays"]
 
 
 #: Preset names accepted by ``AltitudeSettings.preset`` and their position-loop
@@ -21,27 +23,11 @@ PRESET_OMEGA = {"balloon": 0.2, "fixed_wing": 0.5, "vtol": 1.5, "racing": 5.0}
 
 
 #: Index of each preset in the C enum ``FusionAltitudePreset``.
-PRESET_INDEX = {name: index for index, name in enumerate(PRESET_OMEGA)}
+PRESET_INDEX = {preset.name.lower(): int(preset) for preset in Preset}
 
 
 #: ``ω·dt`` at or above this gets a :class:`DiscretisationWarning`.
 OMEGA_DT_ADVICE = 0.1
-
-
-class Status(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeStatus``."""
-
-    OK = 0
-    INVALID_ACCEL = 1
-    INVALID_BARO_ALTITUDE = 2
-    INVALID_DT = 3
-    INVALID_ACCEL_BIAS = 4
-    INVALID_GAIN = 5
-    UNSTABLE_GAINS = 6
-    UNSTABLE_DISCRETE = 7
-    INVALID_BANDWIDTH = 8
-    INVALID_PRESET = 9
-    INVALID_GAP_PERIOD = 10
 
 
 class DiscretisationWarning(UserWarning):
@@ -74,7 +60,7 @@ class AltitudeBatch(NamedTuple):
     baro_residual: np.ndarray
 
 
-_UPDATE_RULES = {
+UPDATE_RULES = {
     Status.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
     Status.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
     Status.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
@@ -84,10 +70,8 @@ _UPDATE_RULES = {
 def raise_update_error(status: int, accel: float, baro_altitude: float, dt: float, index: Optional[int] = None,
                        dt_is_array: bool = False) -> None:
     """Raise the ValueError for a rejected update, naming the argument (and index)."""
-    name, rule = _UPDATE_RULES[Status(status)]
-    value = {"accel": accel, "baro_altitude": baro_altitude, "dt": dt}[name]
-    where = name if index is None or (name == "dt" and not dt_is_array) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {value!r}")
+    raise_input_error(UPDATE_RULES, status, {"accel": accel, "baro_altitude": baro_altitude, "dt": dt}, index,
+                      {"dt": dt_is_array})
 
 
 def raise_reset_error(status: int, baro_altitude: float, accel_bias: float) -> None:
@@ -146,28 +130,6 @@ def warn_if_coarse(gains: Tuple[float, float, float], dt: float, stacklevel: int
             DiscretisationWarning, stacklevel=stacklevel)
 
 
-def prepare_inputs(accel: object, baro_altitude: object, dt: object) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """Convert per-sample inputs to contiguous float32 vectors and check their lengths.
-
-    Returns accel and baro_altitude (length n), dt (length n, or 1 for a
-    scalar dt) and whether dt was given per sample.
-    """
-    accel32 = as_float32_vector(accel, "accel")
-    baro32 = as_float32_vector(baro_altitude, "baro_altitude")
-    n = accel32.shape[0]
-    if baro32.shape[0] != n:
-        raise ValueError(f"baro_altitude has {baro32.shape[0]} samples but accel has {n}")
-    dt_is_array = np.ndim(dt) != 0
-    if dt_is_array:
-        dt32 = as_float32_vector(dt, "dt")
-        if dt32.shape[0] != n:
-            raise ValueError(f"dt has {dt32.shape[0]} samples but accel has {n}")
-    else:
-        with np.errstate(over="ignore"):
-            dt32 = np.array([as_float(dt, "dt")], dtype=np.float32)
-    return accel32, baro32, dt32, dt_is_array
-
-
 def prepare_batch(accel: object, baro_altitude: object, dt: object,
                   out: Optional[Sequence[np.ndarray]]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool, AltitudeBatch]:
     """Convert batch inputs to contiguous float32 and check their shapes.
@@ -190,12 +152,4 @@ def prepare_batch(accel: object, baro_altitude: object, dt: object,
 
 def output_arrays(shape: Tuple[int, ...], out: Optional[Sequence[np.ndarray]]) -> AltitudeBatch:
     """New float32 output arrays of ``shape``, or the caller's ``out`` after checking it."""
-    if out is None:
-        return AltitudeBatch(*(np.empty(shape, dtype=np.float32) for _ in range(4)))
-    if len(out) != 4:
-        raise ValueError(f"out must hold 4 arrays (altitude, vertical_velocity, accel_bias, baro_residual), got {len(out)}")
-    for field, array in zip(AltitudeBatch._fields, out):
-        if not isinstance(array, np.ndarray) or array.dtype != np.float32 or array.shape != shape \
-                or not array.flags.c_contiguous or not array.flags.writeable:
-            raise ValueError(f"out.{field} must be a writeable contiguous float32 array of shape {shape}")
-    return AltitudeBatch(*out)
+    return _output_arrays(AltitudeBatch, [(shape, np.float32)] * 4, out)

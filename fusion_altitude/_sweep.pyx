@@ -7,7 +7,7 @@
 
 from libc.stdint cimport uint8_t
 
-from fusion_altitude.cfusion_altitude cimport FusionAltitudeStatus, FusionAltitudeStatusOk
+from fusion_altitude.cobserver cimport FusionAltitudeStatus, FusionAltitudeStatusOk
 from fusion_altitude.csweep cimport *
 
 BLOCK = FUSION_ALTITUDE_SWEEP_BLOCK

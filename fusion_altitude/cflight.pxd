@@ -3,7 +3,7 @@
 
 from libc.stdint cimport uint32_t
 
-from fusion_altitude.cfusion_altitude cimport FusionAltitudeSettings, FusionAltitude
+from fusion_altitude.cobserver cimport FusionAltitudeSettings, FusionAltitude
 
 
 cdef extern from "fusion_altitude_flight.h" nogil:

@@ -29,3 +29,21 @@ def estimator_state_bits(estimator) -> tuple:
 def state_bits():
     """``state_bits(estimator)``: the full state as comparable bit patterns."""
     return estimator_state_bits
+
+
+#: What takes minutes: cross builds and QEMU, fuzzing and cppcheck (test_firmware.py), the compiler and
+#: sanitizer matrix and the 10^7-step run (test_c_core.py), the Kalman Monte Carlo. ``pytest -m "not slow"``
+#: leaves them out for a quick run; CI (``pytest``) runs everything. A whole file, or ``file::test``.
+SLOW = {
+    "test_firmware.py",
+    "test_c_core.py::test_c_unit_tests_pass_warning_free",
+    "test_c_core.py::test_kalman_covariance_stays_symmetric_psd_over_ten_million_steps_at_1khz",
+    "test_kalman_consistency.py",
+}
+
+
+def pytest_collection_modifyitems(items):
+    for item in items:
+        file = item.path.name
+        if file in SLOW or f"{file}::{getattr(item, 'originalname', item.name)}" in SLOW:
+            item.add_marker(pytest.mark.slow)

@@ -25,7 +25,7 @@ def floats32(low, high):
 
 
 def state_bits(fusion):
-    values, filters, h, v, total, started, coasting, gap_time, gap_count = fusion._get_state()
+    values, filters, h, v, total, coasting, gap_time, gap_count, started = fusion._get_state()
     bits = lambda x: int(np.float32(x).view(np.uint32))  # noqa: E731
     return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, st_) for x, vi, s, g, w, q, st_ in filters),
             bits(h), bits(v), bits(total), started, bits(coasting), bits(gap_time), gap_count)

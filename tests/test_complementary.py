@@ -25,7 +25,7 @@ def floats32(low, high):
 
 def state_bits(f):
     state = f._get_state()
-    return (state[0], *(int(np.float32(x).view(np.uint32)) for x in state[1:7]), state[7])
+    return (state[0], *(int(np.float32(x).view(np.uint32)) for x in state[1:8]), state[8], state[9])
 
 
 step = st.one_of(

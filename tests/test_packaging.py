@@ -60,3 +60,32 @@ def test_type_stubs_declare_every_public_name_and_method():
 def test_version_matches_the_c_header():
     major, minor, patch = (int(part) for part in fusion_altitude.__version__.split("."))
     assert _observer.C_VERSION == major * 10000 + minor * 100 + patch
+
+
+BLOCK_EXTENSIONS = """
+import importlib.abc, sys
+class NoExtension(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name.startswith("fusion_altitude._") and name.split(".")[-1][1:] in {b[1:] for b in BINDINGS + ["_estimator"]}:
+            raise ImportError(f"{name}: blocked, as if the extension were not built")
+sys.meta_path.insert(0, NoExtension())
+"""
+
+
+def test_the_reference_imports_and_runs_without_the_compiled_extension():
+    code = f"BINDINGS = {BINDINGS!r}\n" + BLOCK_EXTENSIONS + """
+import fusion_altitude.reference as ref
+estimator = ref.AltitudeEstimator(ref.AltitudeSettings.preset("fixed_wing"))
+estimator.update(0.1, 10.0, 0.01)
+ref.KalmanEstimator().update(0.1, 0.01, baro_altitude=5.0)
+import fusion_altitude
+try:
+    fusion_altitude.AltitudeEstimator
+except ImportError as error:
+    print("binding:", error)
+print("reference:", estimator.altitude)
+"""
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "reference: 10.0" in result.stdout
+    assert "binding: fusion_altitude.AltitudeEstimator needs the compiled extension" in result.stdout

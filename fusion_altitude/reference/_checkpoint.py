@@ -1,15 +1,18 @@
-"""Copy and pickle for the reference estimators, from their ``_get_state``/``_set_state``.
+"""Copy, pickle and status messages for the reference estimators, from their ``_get_state``/``_set_state``.
 
 Every estimator carries its full state in one tuple, so a run can be
 checkpointed (``copy.copy``, ``copy.deepcopy``, ``pickle``) and resumed with
-identical results.
+identical results. The C binding's base class (``fusion_altitude/_estimator.pyx``)
+does the same, so the two implementations restore each other's checkpoints.
 """
 
 from __future__ import annotations
 
+from .. import _c_tables, _common
+
 
 class Checkpointable:
-    """Mixin: ``__copy__``, ``__deepcopy__`` and ``__reduce__`` through ``_get_state``/``_set_state``."""
+    """Mixin: ``__copy__``, ``__deepcopy__``, ``__reduce__`` and ``status_message`` through ``_get_state``/``_set_state``."""
 
     __slots__ = ()
 
@@ -27,6 +30,15 @@ class Checkpointable:
 
     def __reduce__(self):
         return (restore, (type(self), self._get_state()))
+
+    def reset(self) -> None:
+        """Back to the start state, keeping the settings (estimators with a reference altitude override this)."""
+        self.__init__(self.settings)
+
+    @classmethod
+    def status_message(cls, status: int) -> str:
+        """The C header's message for a status code of this estimator (``...StatusMessage``)."""
+        return _common.status_message(_c_tables.STATUS_MESSAGES[cls.__name__], status)
 
 
 def restore(cls: type, state: tuple):

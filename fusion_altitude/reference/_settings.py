@@ -1,32 +1,36 @@
-"""Settings held as ``{name: value}`` in the C struct's order, for the reference estimators.
+"""The settings classes' common behaviour. Each estimator's settings are ONE pure-Python class.
 
-The Kalman filter, the complementary filter and the alpha-beta fusion take
-their settings as keyword arguments; this base gives them attribute access,
-``as_dict``, equality with the C binding's settings, hashing, a repr, pickling
-and the conversion of foreign settings objects.
+The reference estimators use them, and so does the C binding: ``fusion_altitude.KalmanSettings``
+*is* ``fusion_altitude.reference.KalmanSettings``. The binding converts them to the C
+struct at the estimator boundary (``_settings_to_c``, generated from the header by
+``tools/generate_bindings.py``); the defaults come from the header's ``...SettingsDefault()``
+through the generated ``fusion_altitude/_c_tables.py``.
+
+Every settings class has ``as_dict``, ``replace``, equality, hashing, a repr, pickling and
+``coerce`` (accept an equal settings object from elsewhere).
 """
 
 from __future__ import annotations
 
+from .._c_tables import OBSERVER_SETTINGS
 
-class KeywordSettings:
-    """Base of dict-backed settings. Subclasses set ``_values`` in ``__init__`` and name ``_DISTINCT``."""
 
-    __slots__ = ("_values",)
+class Settings:
+    """Base of every settings class. A subclass defines ``as_dict`` and names ``_DISTINCT``."""
+
+    __slots__ = ()
 
     #: A setting name only this estimator's settings have: how settings of the
-    #: same estimator from the other implementation (the C binding) are recognised.
+    #: same estimator built elsewhere are recognised.
     _DISTINCT = ""
-
-    def __getattr__(self, name: str):
-        values = object.__getattribute__(self, "_values")
-        if name in values:
-            return values[name]
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def as_dict(self) -> dict:
         """Every setting as {name: value}, in the order of the C struct."""
-        return dict(self._values)
+        raise NotImplementedError
+
+    def replace(self, **changes):
+        """A copy with some settings changed (checked as by the constructor)."""
+        return type(self)(**{**self.as_dict(), **changes})
 
     @classmethod
     def _is_like(cls, other: object) -> bool:
@@ -38,22 +42,59 @@ class KeywordSettings:
         return self.as_dict() == other.as_dict()  # type: ignore[attr-defined]
 
     def __hash__(self) -> int:
-        return hash(tuple(self._values.items()))
+        return hash(tuple(self.as_dict().items()))
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}(" + ", ".join(f"{k}={v!r}" for k, v in self._values.items()) + ")"
+        return f"{type(self).__name__}(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
 
     def __reduce__(self):
         return (_from_dict, (type(self), self.as_dict()))
 
     @classmethod
     def coerce(cls, settings: object):
-        """``settings`` itself, or an equal instance of ``cls`` built from the other implementation's settings."""
+        """``settings`` itself, or an equal instance of ``cls`` built from another settings object."""
         if isinstance(settings, cls):
             return settings
         if cls._is_like(settings):
             return cls(**settings.as_dict())  # type: ignore[attr-defined]
         raise TypeError(f"settings must be {cls.__name__}, got {type(settings).__name__}")
+
+
+class KeywordSettings(Settings):
+    """Base of dict-backed settings. Subclasses set ``_values`` in ``__init__`` and name ``_DISTINCT``."""
+
+    __slots__ = ("_values",)
+
+    def __getattr__(self, name: str):
+        values = object.__getattribute__(self, "_values")
+        if name in values:
+            return values[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def as_dict(self) -> dict:
+        """Every setting as {name: value}, in the order of the C struct."""
+        return dict(self._values)
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._values.items()))
+
+
+#: The observer's gains, in the order of FusionAltitudeSettings.
+GAIN_NAMES = tuple(name for name, *_ in OBSERVER_SETTINGS)
+
+
+class GainSettings(Settings):
+    """Base of the observer's settings, which hold a tuple of gains (``as_tuple``)."""
+
+    __slots__ = ()
+    _DISTINCT = "velocity_gain"
+
+    def as_tuple(self) -> tuple:
+        raise NotImplementedError
+
+    def as_dict(self) -> dict:
+        """The gains as {name: value}, in the order of the C struct."""
+        return dict(zip(GAIN_NAMES, self.as_tuple()))
 
 
 def _from_dict(cls: type, values: dict):

@@ -278,7 +278,8 @@ class AlphaBetaFusion(Checkpointable):
             self._step(accel, dt, z)
         return AlphaBetaStatus.OK
 
-    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, lidar_altitude: float = math.nan,
+    @_common.argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:])
+    def update(self, accel: float, baro_altitude: float, dt: float, *, lidar_altitude: float = math.nan,
                sonar_altitude: float = math.nan, gps_altitude: float = math.nan) -> None:
         """Process one step (accel m/s² or NaN, dt s, each sensor's altitude m or NaN)."""
         names = ("baro_altitude", "lidar_altitude", "sonar_altitude", "gps_altitude")
@@ -293,11 +294,12 @@ class AlphaBetaFusion(Checkpointable):
             _alphabeta_glue.raise_alphabeta_update_error(status, {"accel": float(a), "dt": float(t),
                                                           **{n: float(v) for n, v in zip(names, raw)}})  # type: ignore[arg-type]
 
-    def update_batch(self, accel, dt, baro_altitude=None, lidar_altitude=None, sonar_altitude=None,
-                     gps_altitude=None) -> AlphaBetaBatch:
+    @_common.argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
+                     gps_altitude=None, out=None) -> AlphaBetaBatch:
         """Process arrays of steps; equal, bit for bit, to calling :meth:`update` for each."""
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
-                                                                    sonar_altitude, gps_altitude)
+                                                                    sonar_altitude, gps_altitude, out)
         trial = copy.copy(self)
         names = _alphabeta_glue.ALPHABETA_INPUTS
         with np.errstate(all="ignore"):
@@ -375,11 +377,15 @@ class AlphaBetaFusion(Checkpointable):
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), tuple(f.state() for f in self._filters), float(self._h), float(self._v),
-                float(self._total), self._started, float(self._coasting), float(self._gap_time), self._gap_count)
+                float(self._total), float(self._coasting), float(self._gap_time), self._gap_count, self._started)
 
     def _set_state(self, state: tuple) -> None:
-        values, filters, h, v, total, started = state[:6]
-        coasting, gap_time, gap_count = state[6:] if len(state) > 6 else (0.0, 0.0, 0)
+        # the C struct's order; a 6-tuple is a checkpoint from before the gap fields
+        if len(state) == 6:
+            values, filters, h, v, total, started = state
+            coasting, gap_time, gap_count = 0.0, 0.0, 0
+        else:
+            values, filters, h, v, total, coasting, gap_time, gap_count, started = state
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
         for x, vi, since, gap, weight, quality, filter_started in filters:

@@ -263,11 +263,15 @@ class ComplementaryFilter(Checkpointable):
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),
-                float(self._vb), float(self._since), self._reference_set, float(self._gap_time), self._gap_count)
+                float(self._vb), float(self._since), float(self._gap_time), self._gap_count, self._reference_set)
 
     def _set_state(self, state: tuple) -> None:
-        values, h, v, a, zf, vb, since, reference_set = state[:8]
-        gap_time, gap_count = state[8:] if len(state) > 8 else (0.0, 0)
+        # the C struct's order; an 8-tuple is a checkpoint from before the gap fields
+        if len(state) == 8:
+            values, h, v, a, zf, vb, since, reference_set = state
+            gap_time, gap_count = 0.0, 0
+        else:
+            values, h, v, a, zf, vb, since, gap_time, gap_count, reference_set = state
         self._settings = ComplementarySettings(**values)
         self._h, self._v, self._a, self._zf, self._vb, self._since = (f32(x) for x in (h, v, a, zf, vb, since))
         self._reference_set = bool(reference_set)

@@ -441,7 +441,8 @@ class KalmanEstimator(Checkpointable):
 
     # -- public API -----------------------------------------------------------------
 
-    def update(self, accel: float, dt: float, baro_altitude: float = math.nan, range_distance: float = math.nan,
+    @_common.argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
+    def update(self, accel: float, baro_altitude: float, dt: float, *, range_distance: float = math.nan,
                gps_altitude: float = math.nan, gps_satellites: Optional[int] = None,
                gps_vertical_accuracy: Optional[float] = None, ground_effect: bool = False) -> None:
         """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
@@ -487,7 +488,8 @@ class KalmanEstimator(Checkpointable):
         if status != KalmanStatus.OK:
             _kalman_glue.raise_kalman_update_error(status, values)
 
-    def update_batch(self, accel, dt, baro_altitude=None, range_distance=None, gps_altitude=None,
+    @_common.argument_order(_kalman_glue.KALMAN_LEGACY_ORDER + ("out",))
+    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
                      gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None) -> KalmanBatch:
         """Process arrays of steps, continuing from the current state.
 
@@ -640,13 +642,18 @@ class KalmanEstimator(Checkpointable):
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), [float(v) for v in self._x], [float(v) for row in self._P for v in row],
-                [s.as_tuple() for s in self._sensors], self._baro_initialised, self._gps_initialised,
-                self._gap_count, float(self._since_fused))
+                [s.as_tuple() for s in self._sensors], float(self._since_fused), self._gap_count,
+                self._baro_initialised, self._gps_initialised)
 
     def _set_state(self, state: tuple) -> None:
-        settings, x, P, sensors, baro_initialised, gps_initialised = state[:6]
-        self._gap_count = int(state[6]) if len(state) > 6 else 0
-        self._since_fused = f32(state[7]) if len(state) > 7 else _ZERO
+        # the C struct's order; a 6-tuple is a checkpoint from before the gap fields
+        if len(state) == 6:
+            settings, x, P, sensors, baro_initialised, gps_initialised = state
+            since_fused, gap_count = _ZERO, 0
+        else:
+            settings, x, P, sensors, since_fused, gap_count, baro_initialised, gps_initialised = state
+        self._gap_count = int(gap_count)
+        self._since_fused = f32(since_fused)
         self._settings = KalmanSettings(**settings)
         self._s = _Settings32(self._settings)
         self._x = [f32(v) for v in x]

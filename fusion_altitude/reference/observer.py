@@ -22,6 +22,7 @@ from .. import _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
+from ._settings import GainSettings
 
 f32 = np.float32
 _NAN = f32("nan")
@@ -122,7 +123,7 @@ _PRESET_GAINS = {
 }
 
 
-class AltitudeSettings:
+class AltitudeSettings(GainSettings):
     """Observer gains (float32).
 
     Parameters
@@ -222,6 +223,11 @@ class AltitudeSettings:
     def as_tuple(self) -> Tuple[float, float, float]:
         """(position_gain, velocity_gain, bias_gain) as Python floats."""
         return (self.position_gain, self.velocity_gain, self.bias_gain)
+
+    def as_dict(self) -> dict:
+        """The settings as {name: value}, in the order of the C struct (gains, then gap_period)."""
+        return {"position_gain": self.position_gain, "velocity_gain": self.velocity_gain,
+                "bias_gain": self.bias_gain, "gap_period": self.gap_period}
 
     def __eq__(self, other: object) -> bool:
         if not hasattr(other, "as_tuple") or not hasattr(other, "velocity_gain"):
@@ -444,12 +450,16 @@ class AltitudeEstimator(Checkpointable):
 
     def _get_state(self) -> tuple:
         return ((*self._settings.as_tuple(), self._settings.gap_period), float(self._h), float(self._v),
-                float(self._b), float(self._r), self._reference_set, float(self._gap_time), self._gap_count,
-                float(self._since_restart))
+                float(self._b), float(self._r), float(self._gap_time), float(self._since_restart), self._gap_count,
+                self._reference_set)
 
     def _set_state(self, state: tuple) -> None:
-        gains, h, v, b, r, reference_set = state[:6]
-        gap_time, gap_count, since_restart = state[6:] if len(state) > 6 else (0.0, 0, -1.0)
+        # the C struct's order; a 6-tuple is a checkpoint from before the gap fields
+        if len(state) == 6:
+            gains, h, v, b, r, reference_set = state
+            gap_time, since_restart, gap_count = 0.0, -1.0, 0
+        else:
+            gains, h, v, b, r, gap_time, since_restart, gap_count, reference_set = state
         self._settings = AltitudeSettings(*gains)
         self._h, self._v, self._b, self._r = f32(h), f32(v), f32(b), f32(r)
         self._reference_set = bool(reference_set)

@@ -1,0 +1,341 @@
+"""The estimator contract, estimator × implementation: what every estimator promises, in C and in the reference.
+
+A new estimator joins by one row of ``ESTIMATORS`` (see docs/architecture.md).
+"""
+
+import copy
+import inspect
+import math
+import pickle
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Dict, Tuple
+
+import numpy as np
+import pytest
+from hypothesis import given, settings as hypothesis_settings, strategies as st
+
+import fusion_altitude
+import fusion_altitude.reference
+from fusion_altitude import _alphabeta, _c_tables, _complementary, _kalman, _observer
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _altitude_inputs(rng, n):
+    baro = 50 + np.cumsum(rng.normal(0.0, 0.05, n))
+    baro[rng.random(n) < 0.5] = np.nan
+    return {"accel": rng.normal(0.0, 0.5, n), "baro_altitude": baro, "dt": rng.uniform(0.005, 0.02, n)}
+
+
+def _kalman_inputs(rng, n):
+    inputs = _altitude_inputs(rng, n)
+    gps = 80 + np.cumsum(rng.normal(0.0, 0.3, n))
+    gps[rng.random(n) < 0.8] = np.nan
+    rangefinder = rng.uniform(0.0, 9.0, n)
+    rangefinder[rng.random(n) < 0.3] = np.nan
+    return {**inputs, "range_distance": rangefinder, "gps_altitude": gps}
+
+
+def _alphabeta_inputs(rng, n):
+    inputs = _kalman_inputs(rng, n)
+    lidar = inputs.pop("range_distance")
+    return {**inputs, "lidar_altitude": lidar, "sonar_altitude": lidar * 0.98}
+
+
+@dataclass
+class Row:
+    """One estimator: its class name, settings class name, binding module, inputs and a settings change."""
+
+    estimator: str
+    settings: str
+    module: object
+    inputs: Callable
+    change: Dict[str, object]  # keyword arguments of settings.replace that change something
+    status: str  # the status enum in fusion_altitude._c_tables
+
+
+ESTIMATORS = [
+    Row("AltitudeEstimator", "AltitudeSettings", _observer, _altitude_inputs, {"bias_gain": 0.5}, "Status"),
+    Row("KalmanEstimator", "KalmanSettings", _kalman, _kalman_inputs, {"gate": 3.0}, "KalmanStatus"),
+    Row("ComplementaryFilter", "ComplementarySettings", _complementary, _altitude_inputs,
+        {"velocity_time_constant": 5.0}, "ComplementaryStatus"),
+    Row("AlphaBetaFusion", "AlphaBetaSettings", _alphabeta, _alphabeta_inputs, {"gps": {"gap_max": 30.0}},
+        "AlphaBetaStatus"),
+]
+IMPLEMENTATIONS = {"c": fusion_altitude, "reference": fusion_altitude.reference}
+
+by_row = pytest.mark.parametrize("row", ESTIMATORS, ids=[row.estimator for row in ESTIMATORS])
+by_impl = pytest.mark.parametrize("impl", list(IMPLEMENTATIONS.values()), ids=list(IMPLEMENTATIONS))
+
+
+def bits(value):
+    """A state or output with every float as its float32 bit pattern (NaNs and signed zeros compare exactly)."""
+    if isinstance(value, dict):
+        return {key: bits(item) for key, item in value.items()}
+    if isinstance(value, (tuple, list)):
+        return tuple(bits(item) for item in value)
+    if isinstance(value, np.ndarray):
+        return value.view(np.uint32).tobytes() if value.dtype == np.float32 else value.tobytes()
+    if isinstance(value, (float, np.floating)):
+        return int(np.float32(value).view(np.uint32))
+    return value
+
+
+def state(estimator):
+    return bits(estimator._get_state())
+
+
+def run_per_sample(estimator, inputs):
+    n = len(inputs["accel"])
+    for i in range(n):
+        estimator.update(**{name: float(values[i]) for name, values in inputs.items()})
+
+
+def warmed_up(impl, row, n=300, seed=1):
+    estimator = getattr(impl, row.estimator)()
+    estimator.update_batch(**row.inputs(np.random.default_rng(seed), n))
+    return estimator
+
+
+# -- one source of truth ------------------------------------------------------------------------------------------
+
+def test_generated_files_match_the_headers():
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "generate_bindings.py"), "--check"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+@by_row
+def test_binding_and_reference_share_one_settings_class(row):
+    assert getattr(fusion_altitude, row.settings) is getattr(fusion_altitude.reference, row.settings)
+
+
+@by_row
+def test_default_settings_equal_the_header(row):
+    c_defaults = row.module.c_default_settings()
+    assert getattr(fusion_altitude, row.settings)().as_dict() == c_defaults
+
+
+@by_row
+def test_status_enum_equals_the_header(row):
+    status = getattr(_c_tables, row.status)
+    assert {member.name: int(member) for member in status} == row.module.C_STATUS_VALUES
+
+
+@by_row
+@by_impl
+def test_status_messages_are_the_headers(impl, row):
+    estimator = getattr(impl, row.estimator)
+    for status in row.module.C_STATUS_VALUES.values():
+        assert estimator.status_message(status) == row.module.c_status_message(status)
+
+
+# -- one contract -------------------------------------------------------------------------------------------------
+
+@by_row
+@by_impl
+def test_every_estimator_has_the_contract_methods(impl, row):
+    estimator = getattr(impl, row.estimator)()
+    settings = estimator.settings
+    assert callable(estimator.reset) and callable(estimator.update) and callable(estimator.status_message)
+    assert "out" in inspect.signature(estimator.update_batch).parameters
+    assert isinstance(settings.as_dict(), dict)
+    assert settings.replace(**row.change) != settings
+
+
+@by_row
+def test_binding_has_the_references_public_methods_with_the_same_parameters(row):
+    c_class, reference_class = getattr(fusion_altitude, row.estimator), getattr(fusion_altitude.reference, row.estimator)
+    public = {name for name in dir(reference_class) if not name.startswith("_")}
+    assert public <= set(dir(c_class))
+    for name in sorted(public):
+        reference_member = getattr(reference_class, name)
+        if callable(reference_member) and not isinstance(reference_member, property):
+            assert list(inspect.signature(getattr(c_class, name)).parameters) == \
+                list(inspect.signature(reference_member).parameters), name
+
+
+@by_row
+@by_impl
+@pytest.mark.parametrize("method", ["update", "update_batch"])
+def test_updates_take_accel_baro_altitude_dt_then_keywords(impl, row, method):
+    parameters = list(inspect.signature(getattr(getattr(impl, row.estimator), method)).parameters.values())
+    assert [p.name for p in parameters[1:4]] == ["accel", "baro_altitude", "dt"]
+    assert all(p.kind is p.KEYWORD_ONLY or p.name == "out" for p in parameters[4:])
+
+
+LEGACY = [row for row in ESTIMATORS if row.estimator in ("KalmanEstimator", "AlphaBetaFusion")]
+
+
+@pytest.mark.parametrize("row", LEGACY, ids=[row.estimator for row in LEGACY])
+@by_impl
+def test_the_old_positional_order_still_works_for_one_release_with_a_deprecation_warning(impl, row):
+    inputs = row.inputs(np.random.default_rng(8), 30)
+    new, old = getattr(impl, row.estimator)(), getattr(impl, row.estimator)()
+    new.update_batch(accel=inputs["accel"], baro_altitude=inputs["baro_altitude"], dt=0.01)
+    with pytest.warns(DeprecationWarning, match="from the next release the order is"):
+        old.update_batch(inputs["accel"], 0.01, inputs["baro_altitude"])
+    assert state(old) == state(new)
+    with pytest.warns(DeprecationWarning):
+        old.update(0.1, 0.01, 12.0)
+    new.update(0.1, 12.0, dt=0.01)
+    assert state(old) == state(new)
+
+
+@by_row
+@by_impl
+@pytest.mark.parametrize("clone", [copy.copy, copy.deepcopy, lambda e: pickle.loads(pickle.dumps(e))],
+                         ids=["copy", "deepcopy", "pickle"])
+def test_a_clone_resumes_with_identical_results(impl, row, clone):
+    estimator = warmed_up(impl, row)
+    twin = clone(estimator)
+    assert state(twin) == state(estimator)
+    more = row.inputs(np.random.default_rng(2), 100)
+    assert bits(tuple(twin.update_batch(**more))) == bits(tuple(estimator.update_batch(**more)))
+    assert state(twin) == state(estimator)
+
+
+@by_row
+def test_a_reference_checkpoint_restores_in_the_binding_and_back(row):
+    reference = warmed_up(fusion_altitude.reference, row)
+    binding = fusion_altitude.reference._checkpoint.restore(getattr(fusion_altitude, row.estimator),
+                                                            reference._get_state())
+    assert state(binding) == state(reference)
+    back = fusion_altitude.reference._checkpoint.restore(type(reference), binding._get_state())
+    assert state(back) == state(reference)
+
+
+@by_row
+@by_impl
+@pytest.mark.parametrize("name, value", [("accel", math.inf), ("dt", -1.0)])
+def test_a_bad_update_names_the_argument_and_leaves_the_state(impl, row, name, value):
+    estimator = warmed_up(impl, row)
+    before = state(estimator)
+    sample = {key: float(values[0]) for key, values in row.inputs(np.random.default_rng(3), 1).items()}
+    with pytest.raises(ValueError, match=rf"^{name} "):
+        estimator.update(**{**sample, name: value})
+    assert state(estimator) == before
+
+
+@by_row
+@by_impl
+@pytest.mark.parametrize("name, value", [("accel", math.inf), ("dt", -1.0)])
+def test_a_bad_batch_names_the_argument_and_index_and_leaves_the_state(impl, row, name, value):
+    estimator = warmed_up(impl, row)
+    before = state(estimator)
+    inputs = row.inputs(np.random.default_rng(4), 20)
+    inputs[name][7] = value
+    with pytest.raises(ValueError, match=rf"^{name}\[7\] "):
+        estimator.update_batch(**inputs)
+    assert state(estimator) == before
+
+
+@by_row
+@by_impl
+def test_a_batch_equals_per_sample_updates(impl, row):
+    inputs = {name: values.astype(np.float32).astype(float) for name, values in
+              row.inputs(np.random.default_rng(5), 200).items()}
+    batched, stepped = getattr(impl, row.estimator)(), getattr(impl, row.estimator)()
+    batched.update_batch(**inputs)
+    run_per_sample(stepped, inputs)
+    assert state(batched) == state(stepped)
+
+
+@by_row
+@by_impl
+def test_a_batch_writes_into_out_and_returns_it(impl, row):
+    inputs = row.inputs(np.random.default_rng(6), 50)
+    expected = getattr(impl, row.estimator)().update_batch(**inputs)
+    out = type(expected)(*(np.full_like(array, 7) for array in expected))
+    result = getattr(impl, row.estimator)().update_batch(**inputs, out=out)
+    assert all(a is b for a, b in zip(result, out))
+    assert bits(tuple(result)) == bits(tuple(expected))
+
+
+@by_row
+@by_impl
+def test_reset_keeps_the_settings(impl, row):
+    settings = getattr(impl, row.settings)().replace(**row.change)
+    estimator = warmed_up(impl, row)
+    estimator.settings = settings
+    estimator.reset(*([12.5] if "baro_altitude" in inspect.signature(estimator.reset).parameters else []))
+    assert estimator.settings == settings
+
+
+@by_row
+def test_reset_agrees_between_implementations(row):
+    c, reference = warmed_up(fusion_altitude, row), warmed_up(fusion_altitude.reference, row)
+    arguments = [12.5] if "baro_altitude" in inspect.signature(c.reset).parameters else []
+    c.reset(*arguments)
+    reference.reset(*arguments)
+    assert state(c) == state(reference)
+
+
+@by_row
+def test_a_c_batch_releases_the_gil(row):
+    n = 400_000
+    inputs = {name: np.zeros(n, np.float32) for name in row.inputs(np.random.default_rng(0), 1)}
+    inputs["dt"] = 0.01
+    estimator = getattr(fusion_altitude, row.estimator)()
+    out = estimator.update_batch(**inputs)  # allocates the outputs once (and warms up)
+    finished = threading.Event()
+
+    def run_batches():
+        for _ in range(5):
+            estimator.update_batch(**inputs, out=out)
+        finished.set()
+
+    worker = threading.Thread(target=run_batches)
+    worker.start()
+    ticks = 0
+    while not finished.is_set():
+        ticks += 1
+        time.sleep(0)  # yields the GIL; a batch holding it would leave this loop one turn per batch
+    worker.join()
+    assert ticks > 50
+
+
+# -- C = reference, bit for bit -----------------------------------------------------------------------------------
+
+@by_row
+@hypothesis_settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 120))
+def test_c_equals_the_reference_bit_for_bit(row, seed, n):
+    inputs = row.inputs(np.random.default_rng(seed), n)
+    c, reference = getattr(fusion_altitude, row.estimator)(), getattr(fusion_altitude.reference, row.estimator)()
+    assert bits(tuple(c.update_batch(**inputs))) == bits(tuple(reference.update_batch(**inputs)))
+    assert state(c) == state(reference)
+
+
+@by_row
+@hypothesis_settings(max_examples=40, deadline=None)
+@given(data=st.data())
+def test_settings_accepted_by_python_are_exactly_those_c_accepts(row, data):
+    settings_class = getattr(fusion_altitude, row.settings)
+    defaults = settings_class().as_dict()
+    special = st.sampled_from([0.0, -1.0, 1.0, 1e7, math.inf, math.nan, 0.5])
+    if row.estimator == "AlphaBetaFusion":
+        sensors = [name for name, value in defaults.items() if hasattr(value, "_fields")]
+        sensor = data.draw(st.sampled_from(sensors + ["gap_period"]))
+        if sensor == "gap_period":
+            values = {**defaults, "gap_period": data.draw(special)}
+        else:
+            field = data.draw(st.sampled_from([f for f in defaults[sensor]._fields if not f.startswith("quality")]))
+            values = {**defaults, sensor: defaults[sensor]._replace(**{field: data.draw(special)})}
+        c_values = {name: value for name, value in values.items() if name not in sensors}
+        c_values["sensors"] = [values[name]._asdict() for name in sensors]
+    else:
+        field = data.draw(st.sampled_from([name for name, value in defaults.items() if isinstance(value, float)]))
+        values = {**defaults, field: data.draw(special)}
+        c_values = values
+    try:
+        settings_class(**values)
+        accepted = True
+    except ValueError:
+        accepted = False
+    assert accepted == (row.module.c_settings_check(c_values) == 0)

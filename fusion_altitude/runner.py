@@ -302,7 +302,7 @@ class RocketLogBatch(NamedTuple):
     Attributes
     ----------
     altitude : numpy.ndarray
-        float64, m, on the baro's datum: the pad altitude learned on the pad
+        float32, m, on the baro's datum: the pad altitude learned on the pad
         plus ``height`` (comparable with the log's own estimate).
     vertical_velocity : numpy.ndarray
         float32, m/s, +up.
@@ -364,7 +364,7 @@ def _run_rocket(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
     _done(options, data.time.size)
     options["events"] = estimator.events.with_times(data.time)
     pad = float(estimator.pad_altitude)
-    return RocketLogBatch(pad + result.height.astype(np.float64), result.vertical_velocity, result.height,
+    return RocketLogBatch(np.float32(pad) + result.height, result.vertical_velocity, result.height,
                           result.accel_bias, result.phase, result.baro)
 
 

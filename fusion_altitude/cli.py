@@ -437,6 +437,53 @@ def _print_log_summary(data, what: str) -> None:
 # run
 
 
+#: ``--long-axis`` values: the accelerometer column along the rocket's nose and its sign.
+LONG_AXES = {f"{sign}{axis}": (column, 1.0 if sign == "+" else -1.0)
+             for column, axis in enumerate("XYZ") for sign in "+-"}
+
+
+def _run_estimator(args: argparse.Namespace, data) -> str:
+    """The estimator ``run`` uses: ``--estimator``, else ``rocket`` for a rocket log (or ``--rocket``), else the
+    observer. CliError when the flags contradict each other or the log lacks what the estimator needs."""
+    from . import runner
+
+    rocket = args.rocket or getattr(data, "vehicle", "") == "rocket"
+    estimator = args.estimator or ("rocket" if rocket else "observer")
+    if args.rocket and estimator != "rocket":
+        raise CliError(f"--rocket runs the rocket flight layer; it cannot be combined with --estimator {estimator}")
+    if args.events_csv and estimator != "rocket":
+        raise CliError(f"--events-csv needs the rocket flight layer (a rocket log, --rocket or --estimator rocket), "
+                       f"not --estimator {estimator}")
+    if args.long_axis and estimator != "rocket":
+        raise CliError("--long-axis applies to the rocket flight layer only")
+    missing = runner.missing_inputs(data, estimator)
+    if missing:
+        raise CliError(f"--estimator {estimator} needs raw {' and '.join(missing)} in the log; {data.source} has no "
+                       f"{' or '.join(missing)} (PX4 sensor_combined, ArduPilot IMU, CSV --gyro-body/--accel-body)")
+    return estimator
+
+
+def _print_events(run, data) -> None:
+    """The rocket layer's events next to the flight computer's own (when the log has them)."""
+    from .rocket import flight_computer_events
+
+    theirs, how = flight_computer_events(data, pad_altitude=None)
+    print()
+    print("flight events (time: the log's s; height: m above the pad)" + (
+        f"; flight computer's: {how}" if theirs is not None else f"; no flight computer's events: {how}"))
+    header = ["event", "time (s)", "height (m)"]
+    if theirs is not None:
+        header += ["FC time (s)", "FC height (m)"]
+    rows = []
+    for event in run.events:
+        row = [event.name] + ([event.time, event.height] if event.occurred else [math.nan, math.nan])
+        if theirs is not None:
+            other = theirs[event.name]
+            row += [other.time, other.height] if other.occurred else [math.nan, math.nan]
+        rows.append(row)
+    print(format_table(header, rows))
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -445,16 +492,31 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     progress = _Progress()
     _check_output(args.output, "-o", [args.file])
+    _check_output(args.events_csv, "--events-csv", [args.file])
     _check_plot(args.plot, [args.file])
-    if args.output and args.plot and _same_file_name(args.output, args.plot):
-        raise CliError("-o and --plot name the same file")
+    outputs = [(flag, path) for flag, path in (("-o", args.output), ("--plot", args.plot),
+                                               ("--events-csv", args.events_csv)) if path]
+    for i, (flag_a, a) in enumerate(outputs):
+        for flag_b, b in outputs[i + 1:]:
+            if _same_file_name(a, b):
+                raise CliError(f"{flag_a} and {flag_b} name the same file")
     data = _load(args, progress)
-    if args.estimator == "observer":
+    estimator = _run_estimator(args, data)
+    if estimator == "observer":
         _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
+    options = {"long_axis": LONG_AXES[args.long_axis]} if args.long_axis else {}
     with progress.stage("estimating") as bar:
-        run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=args.estimator,
-                             agl=args.agl)
-    what = f"estimator {args.estimator}" + (f", preset {args.preset}" if args.estimator == "observer" else "")
+        try:
+            run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=estimator,
+                                 agl=args.agl, **options)
+        except ValueError as error:  # e.g. an INS input out of range, named by the binding
+            raise CliError(f"{data.source}: {error}") from None
+    what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
+    if estimator == "rocket" and not args.estimator:
+        what += " (rocket log)" if not args.rocket else " (--rocket)"
+    if estimator == "rocket" and data.accel is not None:
+        column, sign = LONG_AXES[args.long_axis] if args.long_axis else runner.rocket_long_axis(data.accel, data.time)
+        what += f"; long axis {'+' if sign > 0 else '-'}{'XYZ'[column]}"
     if args.agl:
         what += f"; heights above the start ({run.datum:.2f} m)"
     _print_log_summary(data, what)
@@ -475,6 +537,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     print(format_table([""] + [name for name, _ in columns], rows))
     if hasattr(run.estimate, "accel_bias"):
         print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
+    if estimator == "ins":
+        e = run.estimate
+        print(f"final INS state: roll {float(e.roll[-1]):+.2f}°, pitch {float(e.pitch[-1]):+.2f}°, "
+              f"gyro bias ({float(e.gyro_bias_x[-1]):+.5f}, {float(e.gyro_bias_y[-1]):+.5f}, "
+              f"{float(e.gyro_bias_z[-1]):+.5f}) rad/s, accel z bias {float(e.accel_z_bias[-1]):+.4f} m/s², "
+              f"baro bias {float(e.baro_bias[-1]):+.3f} m; stationary on {int(np.count_nonzero(e.is_stationary))} "
+              "samples")
     if run.reference_altitude is not None and np.isfinite(run.reference_altitude).any():
         estimate = run.comparison()
         raw = run.baro_comparison()
@@ -491,6 +560,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                         - reference_velocity, 0.0)
             rows.append(["velocity RMS (m/s)", velocity.rms, math.nan])
         print(format_table(["", "estimate − ref", "baro − ref"], rows))
+    if run.events is not None:
+        _print_events(run, data)
+    if args.events_csv:
+        with runner.atomic_output(args.events_csv) as temporary:
+            run.events.to_csv(temporary)
+        print(f"events written to {args.events_csv}")
     if args.output:
         with progress.stage("writing") as bar:
             runner.write_csv(run, args.output, progress=bar)
@@ -782,9 +857,17 @@ def build_parser() -> argparse.ArgumentParser:
                                           "--pressure.")
     run.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
     _add_log_arguments(run)
-    run.add_argument("--estimator", default="observer", choices=list(ESTIMATORS),
-                     help="estimator (default observer): " + "; ".join(f"{e.name}: {e.description}"
-                                                                       for e in ESTIMATORS.values()))
+    run.add_argument("--estimator", default=None, choices=list(ESTIMATORS),
+                     help="estimator (default: rocket on a rocket log (AltOS, CATS) or with --rocket, else "
+                          "observer): " + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
+    run.add_argument("--rocket", action="store_true",
+                     help="run the rocket flight layer (pad calibration, baro lockout, flight events) on any log")
+    run.add_argument("--events-csv", metavar="EVENTS.csv",
+                     help="rocket: write the flight events, one row each: event,time,height (launch, burnout, "
+                          "apogee, main, landed; the log's s, m above the pad)")
+    run.add_argument("--long-axis", choices=list(LONG_AXES), metavar="{+X,-X,+Y,-Y,+Z,-Z}",
+                     help="rocket: accelerometer axis pointing to the nose (default: the axis carrying gravity in "
+                          "the first second of the log)")
     run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing"),
                      help="observer gains (default vtol)")
     run.add_argument("-o", "--output", metavar="OUT.csv",

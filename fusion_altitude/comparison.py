@@ -12,6 +12,14 @@ Estimators, each fed what it can use from one :func:`~fusion_altitude.scenarios.
 - ``alpha-beta``: the quality-weighted α-β fusion (seed 003), the write-up's tables; baro, rangefinder (as
   the lidar), GPS and accel; on the two sinusoid scenarios, which fly 5 m below their start, the altitude
   minimum of the tables is lifted (the tables assume height above the take-off point);
+- ``INS``: the inertial navigation filter (seed 004, :class:`fusion_altitude.InsEstimator`, defaults), fed the
+  scenario's **raw** IMU (the same simulated gyro °/s, accelerometer g and magnetometer from which the other
+  rows' vertical acceleration is made) and baro; its altitude in the baro's frame (INS height + baro bias). The
+  scenarios start moving at once, so the INS never sees the rest it learns its accel z bias in
+  (docs/ins.md: with a stationary start it beats the two-step pipeline, without one it does not);
+- ``rocket layer`` (the ``rocket`` scenario only): :func:`fusion_altitude.rocket.run_rocket` (defaults: pad
+  calibration, baro lockout, spike gate, baro-led descent) on the long-axis accelerometer and the baro, its
+  height above the pad plus the pad altitude it learned;
 - ``raw baro``: the baro samples themselves.
 
 Metrics after the scenario's transient: altitude RMS and max |error| (m), velocity RMS (m/s), time to
@@ -40,11 +48,14 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from .metrics import error_statistics, settling_time
 from .scenarios import ScenarioResult, run_scenario
 
-__all__ = ["ESTIMATORS", "SCENARIOS", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
+__all__ = ["ESTIMATORS", "SCENARIOS", "estimators_for", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
            "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
 
 #: Estimator names, in table order.
-ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "raw baro")
+ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "INS", "rocket layer",
+              "raw baro")
+#: Estimators that only run on some scenarios.
+_ONLY_ON = {"rocket layer": ("rocket",)}
 #: The scenarios of the table.
 SCENARIOS = ("realistic", "clean", "balloon", "fixed-wing", "ground-effect", "baro-glitches", "terrain-step",
              "gps-outage")
@@ -98,11 +109,18 @@ def _fit_settings(name: str, fit_seed: int, attitude: str):
                training.trajectory.altitude, mask=mask, steps_per_baro=steps_per_baro(training.baro_altitude)).settings
 
 
+def estimators_for(name: str, estimators: Sequence[str] = ESTIMATORS) -> List[str]:
+    """The ``estimators`` that run on scenario ``name`` (the rocket layer only on ``rocket``), in order."""
+    return [e for e in estimators if name in _ONLY_ON.get(e, (name,))]
+
+
 def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str = "truth", repeat: int = 3,
                      estimators: Sequence[str] = ESTIMATORS, recovery_tolerance: float = 0.5) -> List[Row]:
-    """Run every estimator on one scenario; one :class:`Row` each, in ``estimators`` order."""
+    """Run every estimator of ``estimators`` that applies to the scenario (:func:`estimators_for`) on one
+    scenario; one :class:`Row` each, in that order."""
     from .tuning import settings_for_baro_rate, steps_per_baro
 
+    estimators = estimators_for(name, estimators)
     result = run_scenario(name, seed=seed, attitude=attitude)
     accel, baro, rangefinder, gps, dt = _inputs(result)
     n = accel.size
@@ -122,6 +140,10 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
     runners["alpha-beta"] = lambda: AlphaBetaFusion(ab_settings).update_batch(accel, dt=dt, baro_altitude=baro,
                                                                               lidar_altitude=rangefinder,
                                                                               gps_altitude=gps)
+    if "INS" in estimators:
+        runners["INS"] = _ins_runner(result, baro, dt)
+    if "rocket layer" in estimators:
+        runners["rocket layer"] = _rocket_runner(result)
 
     truth_h = result.trajectory.altitude
     truth_v = result.trajectory.vertical_velocity
@@ -148,6 +170,46 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
             recovery = settle if math.isfinite(settle) else math.inf
         rows.append(Row(name, estimator, rms, worst, velocity_rms, recovery, ns, altitude))
     return rows
+
+
+class _InsAltitude:
+    """The INS outputs a comparison row reads: altitude in the baro's frame (m) and vertical velocity (m/s)."""
+
+    def __init__(self, batch):
+        self.altitude = batch.altitude + batch.baro_bias
+        self.vertical_velocity = batch.vertical_velocity
+
+
+def _ins_runner(result: ScenarioResult, baro: np.ndarray, dt: np.float32):
+    """A call running the INS on the scenario's raw IMU (gyro °/s, accel g, magnetometer) and baro."""
+    from ._ins import InsEstimator
+
+    gyro, accel, mag = result.imu.gyro, result.imu.accel, result.imu.mag   # float64: converted by the binding
+    return lambda: _InsAltitude(InsEstimator(gyro_units="deg/s", accel_units="g").update_batch(gyro, accel, dt, baro,
+                                                                                             mag))
+
+
+class _RocketAltitude:
+    """The rocket layer's outputs a comparison row reads: altitude on the baro's datum (m), velocity (m/s)."""
+
+    def __init__(self, batch, pad_altitude: float):
+        self.altitude = batch.height.astype(np.float64) + pad_altitude
+        self.vertical_velocity = batch.vertical_velocity
+
+
+def _rocket_runner(result: ScenarioResult):
+    """A call running the rocket flight layer on the scenario's long-axis accelerometer and baro."""
+    from ._flight import RocketEstimator
+    from .runner import sample_periods
+
+    dt = sample_periods(result.time)
+    accel, baro = result.vertical_acceleration, result.baro_altitude
+
+    def run():
+        estimator = RocketEstimator()
+        batch = estimator.update_batch(accel, baro, dt)
+        return _RocketAltitude(batch, float(estimator.pad_altitude))
+    return run
 
 
 def _preset(name: str) -> str:
@@ -212,8 +274,10 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
         The log; it needs a reference altitude (the autopilot's or flight
         computer's estimate, or a CSV ``reference_column``).
     estimators : sequence of str, optional
-        Names of :data:`fusion_altitude.runner.ESTIMATORS` (default all), in
-        table order; "raw baro" is appended.
+        Names of :data:`fusion_altitude.runner.ESTIMATORS` (default those
+        that can run on the log, :func:`fusion_altitude.runner.applicable_estimators`:
+        the INS needs raw gyro and accelerometer, the rocket layer a rocket
+        log), in table order; "raw baro" is appended.
     repeat : int, default 3
         Timing repeats, best taken; 0 skips the timing (ns/sample "—").
     skip : float, default 0
@@ -241,7 +305,7 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
     if data.reference_altitude is None:
         raise ValueError(f"{data.source} has no reference altitude to compare against: give --reference COLUMN "
                          "(CSV), or a .ulg/.bin with the autopilot's own height estimate")
-    names = list(runner.ESTIMATORS) if estimators is None else list(estimators)
+    names = runner.applicable_estimators(data) if estimators is None else list(estimators)
     if int(repeat) < 0:
         raise ValueError(f"repeat must be >= 0, got {repeat}")
     label = os.path.basename(str(data.source).split(" ")[0]) or str(data.source)

@@ -221,8 +221,42 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
         line(axes[3], run.vertical_acceleration, color="C1", lw=0.5)
         axes[3].set_ylabel("vertical accel (m/s²)")
     axes[3].set_xlabel(time_label)
+    events = getattr(run, "events", None)
+    if events is not None:
+        offset = float(np.asarray(run.time, float)[0]) if time_label != "time (s)" else 0.0
+        for axis in axes:
+            mark_events(axis, events, offset, labels=axis is axes[0])
     save_figure(fig, path, dpi=110)
     plt.close(fig)
+
+
+def mark_events(axis, events, offset: float = 0.0, labels: bool = True) -> list:
+    """Mark flight events on a time axis: a dashed vertical line at each declared event, named on top.
+
+    Parameters
+    ----------
+    axis : matplotlib.axes.Axes
+    events : fusion_altitude.rocket.FlightEvents
+        Times in the log's seconds.
+    offset : float, default 0
+        Subtracted from each event time (s), as the x axis of :func:`_relative_time`.
+    labels : bool, default True
+        Write each event's name next to its line.
+
+    Returns
+    -------
+    list of (str, float)
+        The (event name, x position s) drawn.
+    """
+    drawn = []
+    for k, event in enumerate(events.occurred()):
+        x = float(event.time) - offset
+        axis.axvline(x, color="C3", linestyle="--", linewidth=0.8, alpha=0.7, zorder=0)
+        if labels:
+            axis.annotate(event.name, xy=(x, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10 - 9 * (k % 2)),
+                          textcoords="offset points", fontsize=7, color="C3")
+        drawn.append((event.name, x))
+    return drawn
 
 
 def plot_fit_landscape(result, path: str, title: Optional[str] = None) -> None:

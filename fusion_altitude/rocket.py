@@ -9,7 +9,9 @@
   flight layer expects (the long-axis specific force minus g).
 - :func:`events_from_estimates` derives events from another flight computer's
   own height/velocity/acceleration (e.g. the CATS ``flightInfo`` log), to
-  compare against.
+  compare against; :func:`events_from_states` reads them off its logged
+  flight states (AltOS ``state``); :func:`flight_computer_events` picks
+  whichever a :class:`~fusion_altitude.logs.LogData` allows.
 
 Units: time s, heights m above the pad, velocity m/s (+up), acceleration m/s².
 See docs/rocket.md.
@@ -32,7 +34,8 @@ ROCKET_OBSERVER_GAINS = (1.4, 1.0, 0.0)
 
 __all__ = ["RocketEstimator", "RocketSettings", "RocketBatch", "FlightEvents", "FlightEvent", "Phase", "BaroFate",
            "RocketStatus", "ROCKET_OBSERVER_GAINS", "rocket_altitude_settings", "rocket_kalman_settings",
-           "long_axis_accel", "run_rocket", "detect_events", "events_from_estimates"]
+           "long_axis_accel", "run_rocket", "detect_events", "events_from_estimates", "events_from_states",
+           "flight_computer_events", "STATE_EVENTS"]
 
 
 def rocket_altitude_settings():
@@ -212,3 +215,112 @@ def events_from_estimates(time: object, height: object, velocity: object, accele
         else:
             events.append(FlightEvent(name, False, 0, 0.0, 0.0, 0.0))
     return FlightEvents(events)
+
+
+#: Flight-computer states (AltOS ``state`` names, lower case) whose first sample dates each event: launch at the
+#: first boost sample, burnout at the first fast/coast (AltOS "fast" is the coast above Mach 0.7), apogee at the
+#: first drogue, then main and landed.
+STATE_EVENTS = {"launch": ("boost",), "burnout": ("fast", "coast"), "apogee": ("drogue",), "main": ("main",),
+                "landed": ("landed",)}
+
+
+def events_from_states(time: object, states: object, height: object, velocity: Optional[object] = None
+                       ) -> FlightEvents:
+    """Events read off a flight computer's own logged states (AltOS ``state`` column).
+
+    Parameters
+    ----------
+    time : array_like, shape (N,)
+        s, the log's time.
+    states : array_like of str, shape (N,)
+        The state on each step (case is ignored), e.g. ``pad``, ``boost``,
+        ``fast``, ``coast``, ``drogue``, ``main``, ``landed``.
+    height : array_like, shape (N,)
+        The flight computer's height, m above the pad (NaN where unknown).
+    velocity : array_like, shape (N,), optional
+        Its vertical velocity, m/s; dates ``max_speed`` (its largest value
+        between launch and apogee) when given.
+
+    Returns
+    -------
+    FlightEvents
+        Each event at the first step of its state (:data:`STATE_EVENTS`),
+        in flight order: an event is only looked for after the one before it.
+    """
+    t = np.asarray(time, dtype=np.float64)
+    names = np.array([str(s).strip().lower() for s in np.asarray(states, dtype=object)])
+    h = np.asarray(height, dtype=np.float64)
+    v = None if velocity is None else np.asarray(velocity, dtype=np.float64)
+    if not (t.shape == names.shape == h.shape) or t.ndim != 1 or (v is not None and v.shape != t.shape):
+        raise ValueError("time, states, height (and velocity) must be 1-D of one length")
+    found = {}
+    start = 0
+    for event, state_names in STATE_EVENTS.items():
+        index = np.flatnonzero(np.isin(names[start:], state_names))
+        if index.size == 0:
+            break
+        found[event] = start = int(index[0]) + start
+    if v is not None and "launch" in found and np.isfinite(v).any():
+        stop = found.get("apogee", t.size)
+        part = v[found["launch"]:stop]
+        if part.size and np.isfinite(part).any():
+            found["max_speed"] = found["launch"] + int(np.nanargmax(part))
+    events = []
+    for name in EVENT_NAMES:
+        if name in found:
+            k = found[name]
+            events.append(FlightEvent(name, True, k, float(t[k]), float(h[k]),
+                                      float(v[k]) if v is not None else float("nan")))
+        else:
+            events.append(FlightEvent(name, False, 0, 0.0, 0.0, 0.0))
+    return FlightEvents(events)
+
+
+def flight_computer_events(data: object, pad_altitude: Optional[float] = None,
+                           main_altitude: float = 250.0) -> Tuple[Optional[FlightEvents], str]:
+    """The events of a log's own flight computer, to print next to ours, and how they were found.
+
+    Parameters
+    ----------
+    data : fusion_altitude.logs.LogData
+        A rocket log.
+    pad_altitude : float, optional
+        Datum of the log's reference altitude to subtract for heights above the
+        pad, m; default the log's ``ground_altitude``, else the reference's
+        first finite value.
+    main_altitude : float, default 250
+        m above the pad, for :func:`events_from_estimates`.
+
+    Returns
+    -------
+    (FlightEvents or None, str)
+        From the logged flight states (AltOS ``state``: :func:`events_from_states`)
+        when they include ``boost``; else from the reference height and velocity
+        (CATS ``flightInfo``: :func:`events_from_estimates`, its acceleration the
+        time derivative of its velocity); (None, reason) when the log has neither.
+    """
+    time = np.asarray(data.time, dtype=np.float64)
+    reference = getattr(data, "reference_altitude", None)
+    velocity = getattr(data, "reference_velocity", None)
+    height = None
+    if reference is not None:
+        reference = np.asarray(reference, dtype=np.float64)
+        if pad_altitude is None:
+            ground = getattr(data, "ground_altitude", None)
+            finite = reference[np.isfinite(reference)]
+            pad_altitude = float(ground) if ground is not None and np.isfinite(ground) else (
+                float(finite[0]) if finite.size else 0.0)
+        height = reference - pad_altitude
+    states = getattr(data, "flight_state", None)
+    if states is not None and any(str(s).strip().lower() == "boost" for s in np.unique(np.asarray(states, object))):
+        h = height if height is not None else np.full(time.size, np.nan)
+        return events_from_states(time, states, h, velocity), "its logged flight states"
+    if height is not None and velocity is not None and np.isfinite(velocity).sum() >= 2:
+        v = np.asarray(velocity, dtype=np.float64)
+        finite = np.isfinite(v)
+        filled = np.interp(time, time[finite], v[finite])
+        acceleration = np.gradient(filled, time)
+        events = events_from_estimates(time, height, filled, acceleration,
+                                       main_altitude=main_altitude)
+        return events, "read off its height and velocity (events_from_estimates)"
+    return None, "the log has neither flight states nor the flight computer's height and velocity"

@@ -33,7 +33,7 @@ import contextlib
 import os
 import tempfile
 from dataclasses import dataclass
-from typing import Callable, Dict, Iterator, List, Optional, Tuple
+from typing import Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -43,7 +43,8 @@ from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
 from .tuning import _bandwidth_of, _other_fields, settings_for_baro_rate, steps_per_baro
 
-__all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "run_observer",
+__all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "applicable_estimators",
+           "missing_inputs", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
            "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
            "csv_columns"]
 
@@ -62,11 +63,15 @@ class LogRun(LogData):
     datum : float
         Altitude subtracted from every altitude column (m): 0, or the start
         (pad) altitude with ``agl=True`` (see :func:`above_start`).
+    events : fusion_altitude.rocket.FlightEvents or None
+        The flight events of the ``rocket`` estimator (times in the log's
+        seconds, heights m above the pad); None for the other estimators.
     """
 
     estimate: Optional[object] = None
     estimator: str = "observer"
     datum: float = 0.0
+    events: Optional[object] = None
 
     def comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
         """Statistics of estimate − reference altitude (m) after ``transient`` s; None without a reference."""
@@ -100,12 +105,25 @@ class EstimatorEntry:
         ``data`` a :class:`LogData`, ``dt`` the per-sample periods (s, from
         :func:`sample_periods`), ``options`` a dict (``settings``,
         ``progress``); returns per-sample outputs with ``altitude`` (m) and
-        ``vertical_velocity`` (m/s) fields.
+        ``vertical_velocity`` (m/s) fields. It may put ``options["events"]``
+        (a :class:`~fusion_altitude.rocket.FlightEvents`), which lands in
+        ``LogRun.events``.
+    needs : tuple of str, default ()
+        :class:`LogData` fields the estimator cannot run without (e.g.
+        ``("gyro", "accel")`` for the INS); ``compare LOG`` leaves it out on
+        logs that lack one (:func:`applicable_estimators`), ``run`` refuses
+        it by name.
+    vehicle : str, default ""
+        Non-empty: ``compare LOG`` runs it only on logs of that
+        ``LogData.vehicle`` (the rocket layer waits on the pad forever on a
+        multirotor log); ``run`` still runs it on any log when asked.
     """
 
     name: str
     description: str
     run: Callable[[LogData, np.ndarray, dict], object]
+    needs: Tuple[str, ...] = ()
+    vehicle: str = ""
 
 
 #: Registered estimators by name, in table order.
@@ -122,6 +140,18 @@ def register_estimator(entry: EstimatorEntry) -> None:
 def estimator_names() -> List[str]:
     """The registered estimator names, in table order."""
     return list(ESTIMATORS)
+
+
+def missing_inputs(data: LogData, estimator: str) -> List[str]:
+    """The :class:`LogData` fields that ``estimator`` needs (``EstimatorEntry.needs``) and ``data`` lacks."""
+    return [name for name in ESTIMATORS[estimator].needs if getattr(data, name, None) is None]
+
+
+def applicable_estimators(data: LogData) -> List[str]:
+    """The registered estimators ``compare LOG`` runs on ``data``, in table order: every input they need is in the
+    log and, for an entry made for one kind of vehicle (``EstimatorEntry.vehicle``), the log is of that kind."""
+    return [name for name, entry in ESTIMATORS.items()
+            if not missing_inputs(data, name) and entry.vehicle in ("", getattr(data, "vehicle", ""))]
 
 
 def _optional(data: LogData, name: str) -> Optional[np.ndarray]:
@@ -202,6 +232,142 @@ def _gps_on_baro_datum(data: LogData, seconds: float = 5.0) -> Optional[np.ndarr
     return gps - float(np.median(gps[has_gps][early] - held[early]))
 
 
+class InsLogBatch(NamedTuple):
+    """The INS on a log, per grid step, as ``run -o`` writes it (float32).
+
+    Attributes
+    ----------
+    altitude : numpy.ndarray
+        m, +up, on the baro's datum: the INS height plus its baro bias (what
+        the baro would read without noise), comparable with the log's own
+        estimate and the other estimators.
+    vertical_velocity : numpy.ndarray
+        m/s, +up.
+    height : numpy.ndarray
+        m, the INS's own height above its reference d (``InsBatch.altitude``).
+    roll, pitch, yaw : numpy.ndarray
+        Local attitude, degrees (ZYX Euler, body → local NWU earth; yaw starts
+        at 0 and is integrated).
+    quaternion_w, quaternion_x, quaternion_y, quaternion_z : numpy.ndarray
+        Local attitude quaternion, body → local NWU earth.
+    gyro_bias_x, gyro_bias_y, gyro_bias_z : numpy.ndarray
+        Gyroscope bias, rad/s, body frame: the log's own axes (``LogData.imu_frame``),
+        except FRD logs (PX4, ArduPilot), which are turned into FLU (x forward,
+        y left, z up: y and z negated) before the INS sees them.
+    accel_z_bias : numpy.ndarray
+        Accelerometer bias along body z, m/s² (learned while stationary).
+    baro_bias : numpy.ndarray
+        m: the baro altitude at height 0 (learned while stationary).
+    is_stationary : numpy.ndarray of bool
+        The INS's stationary detection.
+    """
+
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    height: np.ndarray
+    roll: np.ndarray
+    pitch: np.ndarray
+    yaw: np.ndarray
+    quaternion_w: np.ndarray
+    quaternion_x: np.ndarray
+    quaternion_y: np.ndarray
+    quaternion_z: np.ndarray
+    gyro_bias_x: np.ndarray
+    gyro_bias_y: np.ndarray
+    gyro_bias_z: np.ndarray
+    accel_z_bias: np.ndarray
+    baro_bias: np.ndarray
+    is_stationary: np.ndarray
+
+
+def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
+    from ._ins import InsEstimator
+
+    gyro, accel = np.asarray(data.gyro, float), np.asarray(data.accel, float)
+    if data.imu_frame == "FRD":  # to FLU (x forward, y left, z up): a level vehicle then reads roll 0, not ±180°
+        flip = np.array([1.0, -1.0, -1.0])
+        gyro, accel = gyro * flip, accel * flip
+    batch = InsEstimator(options.get("ins_settings")).update_batch(gyro, accel, dt, data.baro_altitude)
+    _done(options, data.time.size)
+    euler = batch.euler.astype(np.float32)
+    return InsLogBatch(batch.altitude + batch.baro_bias, batch.vertical_velocity, batch.altitude,
+                       euler[:, 0], euler[:, 1], euler[:, 2], *(batch.quaternion[:, i] for i in range(4)),
+                       *(batch.gyro_bias[:, i] for i in range(3)), batch.accel_z_bias, batch.baro_bias,
+                       batch.is_stationary)
+
+
+class RocketLogBatch(NamedTuple):
+    """The rocket flight layer on a log, per grid step, as ``run -o`` writes it.
+
+    Attributes
+    ----------
+    altitude : numpy.ndarray
+        float32, m, on the baro's datum: the pad altitude learned on the pad
+        plus ``height`` (comparable with the log's own estimate).
+    vertical_velocity : numpy.ndarray
+        float32, m/s, +up.
+    height : numpy.ndarray
+        float32, m above the pad.
+    accel_bias : numpy.ndarray
+        float32, the accelerometer bias in use, m/s² (pad-learned).
+    phase : numpy.ndarray
+        uint8, :class:`fusion_altitude.rocket.Phase` after each step.
+    baro_fate : numpy.ndarray
+        uint8, :class:`fusion_altitude.rocket.BaroFate` of each step's baro sample.
+    """
+
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    height: np.ndarray
+    accel_bias: np.ndarray
+    phase: np.ndarray
+    baro_fate: np.ndarray
+
+
+def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0) -> Tuple[int, float]:
+    """The rocket's long axis in a body-frame accelerometer: (column, sign) of :func:`fusion_altitude.rocket.long_axis_accel`.
+
+    On the pad the long axis is the one that carries gravity: the column with
+    the largest mean |specific force| over the first ``seconds`` s (all
+    samples if ``seconds_time`` is None), signed so that it reads +g (nose up).
+
+    Parameters
+    ----------
+    accel_body : array_like, shape (N, 3)
+        Specific force, m/s², body frame.
+    seconds_time : array_like, shape (N,), optional
+        Sample times, s.
+    seconds : float, default 1.0
+        Length of the pad window, s.
+    """
+    accel = np.asarray(accel_body, dtype=float)
+    window = np.ones(accel.shape[0], dtype=bool)
+    if seconds_time is not None:
+        t = np.asarray(seconds_time, dtype=float)
+        window = t <= t[0] + seconds
+    mean = np.nanmean(accel[window], axis=0)
+    axis = int(np.argmax(np.abs(mean)))
+    return axis, (1.0 if mean[axis] >= 0 else -1.0)
+
+
+def _run_rocket(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
+    from ._flight import RocketEstimator
+    from .rocket import long_axis_accel
+
+    if data.accel is not None:
+        axis, sign = options.get("long_axis") or rocket_long_axis(data.accel, data.time)
+        accel = long_axis_accel(data.accel, axis, sign)
+    else:  # no raw IMU: the reader's vertical acceleration, taken as the long axis until apogee
+        accel = np.asarray(data.vertical_acceleration, float)
+    estimator = RocketEstimator(options.get("rocket_settings"))
+    result = estimator.update_batch(accel, data.baro_altitude, dt)
+    _done(options, data.time.size)
+    options["events"] = estimator.events.with_times(data.time)
+    pad = float(estimator.pad_altitude)
+    return RocketLogBatch(np.float32(pad) + result.height, result.vertical_velocity, result.height,
+                          result.accel_bias, result.phase, result.baro)
+
+
 def _done(options: dict, n: int) -> None:
     if options.get("progress") is not None:
         options["progress"](n, n)
@@ -214,7 +380,11 @@ for _entry in (
         EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", _run_complementary),
         EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS shifted onto the baro "
                                     "datum + accel)",
-                       _run_alphabeta)):
+                       _run_alphabeta),
+        EstimatorEntry("ins", "inertial navigation filter (raw gyro + accelerometer + baro; attitude, gyro bias, "
+                              "baro bias)", _run_ins, needs=("gyro", "accel")),
+        EstimatorEntry("rocket", "rocket flight layer (long-axis accel + baro: pad calibration, baro lockout, "
+                                 "flight events)", _run_rocket, vehicle="rocket")):
     register_estimator(_entry)
 
 
@@ -374,6 +544,10 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
     """
     if estimator not in ESTIMATORS:
         raise ValueError(f"estimator must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")
+    missing = missing_inputs(data, estimator)
+    if missing:
+        raise ValueError(f"estimator {estimator} needs the log's raw {' and '.join(missing)}; {data.source} has "
+                         f"no {' or '.join(missing)}")
     fields = {name: getattr(data, name) for name in LogData.__dataclass_fields__}
     datum = 0.0
     if agl:
@@ -387,7 +561,7 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
         data = type(data)(**fields)
     options = dict(options, settings=settings, progress=progress)
     estimate = ESTIMATORS[estimator].run(data, sample_periods(data.time), options)
-    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum)
+    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum, events=options.get("events"))
 
 
 # ----------------------------------------------------------------------------

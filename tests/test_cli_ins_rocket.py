@@ -302,3 +302,11 @@ def test_compare_has_a_rocket_layer_row_on_the_rocket_scenario_only():
     assert "rocket layer" in comparison.estimators_for("rocket")
     assert "rocket layer" not in comparison.estimators_for("realistic")
     assert "INS" in comparison.estimators_for("realistic")
+
+
+def test_kalman_on_a_rocket_log_runs_with_the_rocket_settings(hedy):
+    data = logs.load_log(hedy)
+    run = runner.run_log(data, estimator="kalman")
+    error = run.estimate.altitude - data.reference_altitude
+    rms = float(np.sqrt(np.nanmean(error ** 2)))
+    assert rms < 30.0, rms  # the general defaults: 476.6 m on this flight

@@ -102,6 +102,7 @@ typedef enum {
     FusionAltitudePresetFixedWing,     /**< omega = 0.5 rad/s */
     FusionAltitudePresetVtol,          /**< omega = 1.5 rad/s (the default) */
     FusionAltitudePresetRacing,        /**< omega = 5.0 rad/s */
+    FusionAltitudePresetRocket,        /**< omega = 1.0 rad/s, omega_b = 0: no bias learning in flight */
 } FusionAltitudePreset;
 
 /**
@@ -333,6 +334,9 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
  *   fixed wing omega 0.5: 0.80, 0.32,   0.025
  *   VTOL       omega 1.5: 2.40, 2.88,   0.675
  *   racing     omega 5.0: 8.00, 32.0,   25.0
+ *   rocket     omega 1.0, omega_b = 0: 1.40, 1.00, 0 (static-port and
+ *              transonic baro errors would leak into a learned bias: set it
+ *              from a pad calibration, as fusion_altitude_flight.h does)
  * Gap period: 5 s for the balloon (1 Hz baro logs; its gains pass Jury's
  * test up to 6 s), FUSION_ALTITUDE_DEFAULT_GAP_PERIOD for the others.
  * *settings is written only on success.
@@ -359,6 +363,12 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
             result.positionGain = 8.0f;
             result.velocityGain = 32.0f;
             result.biasGain = 25.0f;
+            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+            break;
+        case FusionAltitudePresetRocket:
+            result.positionGain = 1.4f;
+            result.velocityGain = 1.0f;
+            result.biasGain = 0.0f;
             result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
             break;
         default:

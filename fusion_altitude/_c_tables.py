@@ -32,6 +32,7 @@ class Preset(enum.IntEnum):
     FIXED_WING = 1  #: omega = 0.5 rad/s
     VTOL = 2  #: omega = 1.5 rad/s (the default)
     RACING = 3  #: omega = 5.0 rad/s
+    ROCKET = 4  #: omega = 1.0 rad/s, omega_b = 0: no bias learning in flight
 
 
 #: ``FusionAltitudeStatusMessage`` of each status, read from C.

@@ -23,6 +23,7 @@ C_PRESET_VALUES = {
     'FIXED_WING': FusionAltitudePresetFixedWing,
     'VTOL': FusionAltitudePresetVtol,
     'RACING': FusionAltitudePresetRacing,
+    'ROCKET': FusionAltitudePresetRocket,
 }
 
 

@@ -19,7 +19,7 @@ __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs",
 
 #: Preset names accepted by ``AltitudeSettings.preset`` and their position-loop
 #: bandwidth ω (rad/s); each uses ζ = 0.7 and ω_b = ω/5.
-PRESET_OMEGA = {"balloon": 0.2, "fixed_wing": 0.5, "vtol": 1.5, "racing": 5.0}
+PRESET_OMEGA = {"balloon": 0.2, "fixed_wing": 0.5, "vtol": 1.5, "racing": 5.0, "rocket": 1.0}
 
 
 #: Index of each preset in the C enum ``FusionAltitudePreset``.

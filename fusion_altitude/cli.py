@@ -868,7 +868,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--long-axis", choices=list(LONG_AXES), metavar="{+X,-X,+Y,-Y,+Z,-Z}",
                      help="rocket: accelerometer axis pointing to the nose (default: the axis carrying gravity in "
                           "the first second of the log)")
-    run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing"),
+    run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing", "rocket"),
                      help="observer gains (default vtol)")
     run.add_argument("-o", "--output", metavar="OUT.csv",
                      help="write the estimates per sample (full precision; never the input file)")

@@ -29,6 +29,7 @@ cdef extern from "fusion_altitude.h" nogil:
         FusionAltitudePresetFixedWing
         FusionAltitudePresetVtol
         FusionAltitudePresetRacing
+        FusionAltitudePresetRocket
 
     ctypedef struct FusionAltitudeSettings:
         float positionGain

@@ -47,7 +47,7 @@ def rocket_altitude_settings():
     or use :class:`RocketEstimator`, which learns it on the pad.
     """
     from . import AltitudeSettings
-    return AltitudeSettings(*ROCKET_OBSERVER_GAINS)
+    return AltitudeSettings.preset("rocket")
 
 
 def rocket_kalman_settings(**overrides: object):

@@ -220,3 +220,9 @@ def test_rocket_kalman_settings_follow_a_simulated_flight_at_least_as_well_as_th
         rms[name] = float(np.sqrt(np.mean((result.altitude - flight.trajectory.altitude) ** 2)))
     assert rms["rocket"] < 30.0
     assert rms["rocket"] <= rms["default"]
+
+
+def test_rocket_preset_is_the_flight_layers_observer_gains(impl):
+    settings = impl.AltitudeSettings.preset("rocket")
+    assert settings.as_tuple() == tuple(float(np.float32(g)) for g in rocket.ROCKET_OBSERVER_GAINS)
+    assert settings.bias_gain == 0.0

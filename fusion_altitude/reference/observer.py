@@ -112,7 +112,7 @@ def _from_bandwidth(omega: np.float32, zeta: np.float32, omega_b: np.float32) ->
 
 #: FusionAltitudeSettingsFromPreset: gap period, s (balloon: 1 Hz baro logs).
 _PRESET_GAP_PERIODS = {"balloon": 5.0, "fixed_wing": DEFAULT_GAP_PERIOD, "vtol": DEFAULT_GAP_PERIOD,
-                       "racing": DEFAULT_GAP_PERIOD}
+                       "racing": DEFAULT_GAP_PERIOD, "rocket": DEFAULT_GAP_PERIOD}
 
 #: FusionAltitudeSettingsFromPreset: the formulas evaluated exactly, rounded to float32.
 _PRESET_GAINS = {
@@ -120,6 +120,7 @@ _PRESET_GAINS = {
     "fixed_wing": (f32(0.80), f32(0.32), f32(0.025)),
     "vtol": (f32(2.40), f32(2.88), f32(0.675)),
     "racing": (f32(8.0), f32(32.0), f32(25.0)),
+    "rocket": (f32(1.4), f32(1.0), f32(0.0)),  # omega 1, omega_b 0: the bias comes from a pad calibration
 }
 
 
@@ -181,7 +182,8 @@ class AltitudeSettings(GainSettings):
 
     @classmethod
     def preset(cls, name: str) -> "AltitudeSettings":
-        """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0).
+        """Preset gains: ``balloon`` (ω 0.2), ``fixed_wing`` (0.5), ``vtol`` (1.5, the default), ``racing`` (5.0),
+        ``rocket`` (1.0 with ω_b = 0: no bias learning in flight; set the bias from a pad calibration).
 
         The gap period is 5 s for ``balloon`` (1 Hz baro logs), 0.5 s for the others.
         """

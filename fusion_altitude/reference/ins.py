@@ -276,13 +276,33 @@ class InsEstimator:
                 P[k, :] = 0
                 P[:, k] = 0
                 P[k, k] = VARIANCE_LIMIT
-        self.P = P
+        self.P = self._condition_covariance(P)
+
+    # -- FusionAltitudeInsConditionCovariance ------------------------------------------------
+    @staticmethod
+    def _condition_covariance(P: np.ndarray) -> np.ndarray:
+        """Floor negative variances at 0 and clip |P_ij| to sqrt(P_ii P_jj), sign kept.
+
+        The C loop reads each P_ii after the floor and only off-diagonal
+        entries change afterwards, so the element-wise form gives the same
+        bits: P_ij * P_ij > P_ii * P_jj never holds on the diagonal.
+        """
+        diagonal = np.diagonal(P).copy()
+        diagonal = np.where(diagonal < _ZERO, _ZERO, diagonal).astype(np.float32)
+        P = P.copy()
+        np.fill_diagonal(P, diagonal)
+        bound2 = np.outer(diagonal, diagonal)
+        clip = (P * P) > bound2
+        if clip.any():
+            bound = np.sqrt(bound2)
+            P = np.where(clip, np.where(P < _ZERO, -bound, bound), P).astype(np.float32)
+        return P
 
     # -- FusionAltitudeInsFuseGain / Fuse / LimitYaw -------------------------------------------
     def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
         K = c / S
         dx += K * innovation
-        self.P = (self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S
+        self.P = self._condition_covariance((self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S)
 
     def _fuse(self, dx, i0, h0, i1, h1, y, R) -> None:
         P = self.P

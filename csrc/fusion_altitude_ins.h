@@ -61,7 +61,7 @@
  *   dx += K y, P <- (P - (K c^T + c K^T)) + (K K^T) S (the Joseph form
  *   (I-Kh)P(I-Kh)^T + K R K^T expanded; grouped so that entry (i, j) and
  *   entry (j, i) round identically: P stays exactly symmetric).
- *   After every scalar update and after the prediction, P is conditioned:
+ *   Once per step, after the prediction and the corrections, P is conditioned:
  *   negative variances are floored at 0 and covariances clipped to
  *   |P_ij| <= sqrt(P_ii P_jj) (see FusionAltitudeInsConditionCovariance).
  *   At the end of the step dx is injected: q <- normalise(q (x) (1, dtheta/2)),
@@ -449,8 +449,9 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 }
 
 /**
- * Keeps P a covariance in float32 (called after every scalar update and after
- * the prediction): a variance below 0 is set to 0 (the floor), and a
+ * Keeps P a covariance in float32 (called once per step, after the prediction
+ * and all the corrections: once per update rather than after each scalar
+ * update keeps the M4F step under its cycle budget): a variance below 0 is set to 0 (the floor), and a
  * covariance beyond |P_ij| <= sqrt(P_ii P_jj) (|correlation| > 1) is clipped
  * to that bound with its sign kept (sqrtf only when clipping). Why: the
  * Joseph-form update keeps P symmetric but, in float32, not positive
@@ -507,7 +508,6 @@ static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float
             P[i][j] = (P[i][j] - (K[i] * c[j] + c[i] * K[j])) + (K[i] * K[j]) * S;
         }
     }
-    FusionAltitudeInsConditionCovariance(P);
 }
 
 /**
@@ -648,7 +648,6 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
             P[k][k] = FUSION_ALTITUDE_INS_VARIANCE_LIMIT;
         }
     }
-    FusionAltitudeInsConditionCovariance(P);
 }
 
 /**
@@ -766,6 +765,9 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
         }
         ins->baroElapsed = 0.0f;
     }
+
+    /* once per step, after the prediction and every correction */
+    FusionAltitudeInsConditionCovariance(ins->P);
 
     /* inject the error state */
     FusionAltitudeInsRotate(ins->q, 0.5f * dx[0], 0.5f * dx[1], 0.5f * dx[2]);

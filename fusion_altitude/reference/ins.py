@@ -276,7 +276,7 @@ class InsEstimator:
                 P[k, :] = 0
                 P[:, k] = 0
                 P[k, k] = VARIANCE_LIMIT
-        self.P = self._condition_covariance(P)
+        self.P = P
 
     # -- FusionAltitudeInsConditionCovariance ------------------------------------------------
     @staticmethod
@@ -302,7 +302,7 @@ class InsEstimator:
     def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
         K = c / S
         dx += K * innovation
-        self.P = self._condition_covariance((self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S)
+        self.P = (self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S
 
     def _fuse(self, dx, i0, h0, i1, h1, y, R) -> None:
         P = self.P
@@ -412,6 +412,9 @@ class InsEstimator:
                     self._fuse(dx, 6, _ONE, -1, _ZERO, (baro - self.baro_bias_) - self.distance,
                                s.f32("baro_noise") * s.f32("baro_noise"))
             self.baro_elapsed = _ZERO
+
+        # once per step, after the prediction and every correction
+        self.P = self._condition_covariance(self.P)
 
         # inject the error state
         self.q = _rotate(self.q, _HALF * dx[0], _HALF * dx[1], _HALF * dx[2])

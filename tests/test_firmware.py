@@ -235,7 +235,8 @@ def test_every_public_hobby_function_is_built_and_sized(name):
 INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive", "FusionAltitudeInsResetCovariance",
                 "FusionAltitudeInsIsBounded", "FusionAltitudeInsIsBoundedVector", "FusionAltitudeInsNormalise",
                 "FusionAltitudeInsRotate", "FusionAltitudeInsUpInBody", "FusionAltitudeInsFuseGain", "FusionAltitudeInsFuse",
-                "FusionAltitudeInsLimitYaw", "FusionAltitudeInsAlign", "FusionAltitudeInsPredict"}
+                "FusionAltitudeInsLimitYaw", "FusionAltitudeInsAlign", "FusionAltitudeInsPredict",
+                "FusionAltitudeInsConditionCovariance"}
 
 
 def test_every_public_ins_function_is_built_and_sized():

@@ -449,7 +449,7 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 }
 
 /**
- * Keeps P a covariance in float32 (called once per step, after the prediction
+ * Internal. Keeps P a covariance in float32 (called once per step, after the prediction
  * and all the corrections: once per update rather than after each scalar
  * update keeps the M4F step under its cycle budget): a variance below 0 is set to 0 (the floor), and a
  * covariance beyond |P_ij| <= sqrt(P_ii P_jj) (|correlation| > 1) is clipped

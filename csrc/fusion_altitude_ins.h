@@ -61,6 +61,9 @@
  *   dx += K y, P <- (P - (K c^T + c K^T)) + (K K^T) S (the Joseph form
  *   (I-Kh)P(I-Kh)^T + K R K^T expanded; grouped so that entry (i, j) and
  *   entry (j, i) round identically: P stays exactly symmetric).
+ *   Once per step, after the prediction and the corrections, P is conditioned:
+ *   negative variances are floored at 0 and covariances clipped to
+ *   |P_ij| <= sqrt(P_ii P_jj) (see FusionAltitudeInsConditionCovariance).
  *   At the end of the step dx is injected: q <- normalise(q (x) (1, dtheta/2)),
  *   b += db, d += dd, v += dv (reset Jacobian I - [dtheta/2]x taken as I).
  * Stationary detection: stationary once |gyro| < stationaryGyroThreshold and
@@ -446,6 +449,46 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 }
 
 /**
+ * Internal. Keeps P a covariance in float32 (called once per step, after the prediction
+ * and all the corrections: once per update rather than after each scalar
+ * update keeps the M4F step under its cycle budget): a variance below 0 is set to 0 (the floor), and a
+ * covariance beyond |P_ij| <= sqrt(P_ii P_jj) (|correlation| > 1) is clipped
+ * to that bound with its sign kept (sqrtf only when clipping). Why: the
+ * Joseph-form update keeps P symmetric but, in float32, not positive
+ * semi-definite once P's condition number nears 1/eps (1e7): a strongly
+ * observed direction then rounds below zero. The fuzzer reached that
+ * (csrc/fuzz/findings/ins_negative_attitude_variance.bin, default settings:
+ * 1e5 m baro jumps pull large corrections through the cross-covariances, the
+ * gyro bias estimate grows, F = I - [w dt]x stops being a near-rotation and
+ * spreads P's eigenvalues from 7e-7 to 61 before a -1e-7 one appears; at
+ * step 243 P[0][0] = -9.1e-6). This is the cheapest repair a microcontroller
+ * EKF uses (8 compares, 28 products, no factorisation): it guarantees a
+ * non-negative diagonal and every 2x2 principal minor >= 0, and it changes
+ * nothing while P is well conditioned (no clip fires). It does not by itself
+ * guarantee that the whole 8x8 P is positive semi-definite (a UD or square-
+ * root filter would, at several times the cost).
+ */
+static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES]) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        if (P[i][i] < 0.0f) {
+            P[i][i] = 0.0f;
+        }
+    }
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = i + 1; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            const float bound2 = P[i][i] * P[j][j];
+            if (P[i][j] * P[i][j] > bound2) {
+                const float bound = sqrtf(bound2);
+                const float clipped = (P[i][j] < 0.0f) ? -bound : bound;
+                P[i][j] = clipped;
+                P[j][i] = clipped;
+            }
+        }
+    }
+}
+
+/**
  * Scalar update given c = P h^T, S = h c + R and the innovation (z minus h
  * applied to the nominal state plus dx): K = c/S, dx += K*innovation,
  * P <- (P - (K c^T + c K^T)) + (K K^T) S, the Joseph form expanded.
@@ -722,6 +765,9 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
         }
         ins->baroElapsed = 0.0f;
     }
+
+    /* once per step, after the prediction and every correction */
+    FusionAltitudeInsConditionCovariance(ins->P);
 
     /* inject the error state */
     FusionAltitudeInsRotate(ins->q, 0.5f * dx[0], 0.5f * dx[1], 0.5f * dx[2]);

@@ -278,6 +278,26 @@ class InsEstimator:
                 P[k, k] = VARIANCE_LIMIT
         self.P = P
 
+    # -- FusionAltitudeInsConditionCovariance ------------------------------------------------
+    @staticmethod
+    def _condition_covariance(P: np.ndarray) -> np.ndarray:
+        """Floor negative variances at 0 and clip |P_ij| to sqrt(P_ii P_jj), sign kept.
+
+        The C loop reads each P_ii after the floor and only off-diagonal
+        entries change afterwards, so the element-wise form gives the same
+        bits: P_ij * P_ij > P_ii * P_jj never holds on the diagonal.
+        """
+        diagonal = np.diagonal(P).copy()
+        diagonal = np.where(diagonal < _ZERO, _ZERO, diagonal).astype(np.float32)
+        P = P.copy()
+        np.fill_diagonal(P, diagonal)
+        bound2 = np.outer(diagonal, diagonal)
+        clip = (P * P) > bound2
+        if clip.any():
+            bound = np.sqrt(bound2)
+            P = np.where(clip, np.where(P < _ZERO, -bound, bound), P).astype(np.float32)
+        return P
+
     # -- FusionAltitudeInsFuseGain / Fuse / LimitYaw -------------------------------------------
     def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
         K = c / S
@@ -392,6 +412,9 @@ class InsEstimator:
                     self._fuse(dx, 6, _ONE, -1, _ZERO, (baro - self.baro_bias_) - self.distance,
                                s.f32("baro_noise") * s.f32("baro_noise"))
             self.baro_elapsed = _ZERO
+
+        # once per step, after the prediction and every correction
+        self.P = self._condition_covariance(self.P)
 
         # inject the error state
         self.q = _rotate(self.q, _HALF * dx[0], _HALF * dx[1], _HALF * dx[2])

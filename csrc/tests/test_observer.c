@@ -204,7 +204,7 @@ static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
     FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, -1.0f, 0.7f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, 1.0f, 0.0f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
-    int unknownPreset = (int) FusionAltitudePresetRacing + 1;
+    int unknownPreset = (int) FusionAltitudePresetRocket + 1;
     CHECK(FusionAltitudeSettingsFromPreset(&untouched, (FusionAltitudePreset) unknownPreset) == FusionAltitudeStatusInvalidPreset);
     CHECK(untouched.positionGain == 1.0f && untouched.velocityGain == 2.0f && untouched.biasGain == 3.0f);
 }

@@ -46,6 +46,13 @@ __all__ = ["main", "build_parser", "format_table", "CliError"]
 PROGRESS_MINIMUM = 100_000
 #: Highest ``tune --rate``, Hz: the settling times come from a float64 simulation of 600 s at the rate.
 MAX_TUNE_RATE = 10_000.0
+#: Lowest ``tune --rate``, Hz (one sample in 1000 s): below it dt³ · the gains overflow float64.
+MIN_TUNE_RATE = 0.001
+#: Highest ``--omega``/``--omega-b`` (tune) and ``--omega-max`` (fit), rad/s: at the highest ``tune --rate``
+#: ω·dt = 1, far past the observer's stability limit; beyond it the gains overflow float32.
+MAX_OMEGA = 10_000.0
+#: Highest ``tune --zeta``: far past any useful damping; beyond it the gains overflow.
+MAX_ZETA = 100.0
 #: A stage that takes at least this long prints its time on stderr, s.
 STAGE_REPORT_SECONDS = 0.5
 
@@ -252,10 +259,11 @@ def _cmd_tune(args: argparse.Namespace) -> int:
     from ._observer import AltitudeSettings
     from .tuning import report
 
-    _number("--omega", args.omega, 0.0)
-    _number("--zeta", args.zeta, 0.0)
-    _number("--omega-b", args.omega_b, 0.0, strict=False)
+    _number("--omega", args.omega, 0.0, maximum=MAX_OMEGA)
+    _number("--zeta", args.zeta, 0.0, maximum=MAX_ZETA)
+    _number("--omega-b", args.omega_b, 0.0, strict=False, maximum=MAX_OMEGA)
     _number("--rate", args.rate, 0.0, maximum=MAX_TUNE_RATE)
+    _number("--rate", args.rate, MIN_TUNE_RATE, strict=False)
     dt = 1.0 / args.rate
     omega_b = args.omega / 5.0 if args.omega_b is None else args.omega_b
     try:
@@ -426,8 +434,9 @@ def _print_log_summary(data, what: str) -> None:
           f"({data.time.size / max(duration, 1e-9):.1f} Hz), {n_baro} baro samples; {what}")
     for note in data.notes:
         print(f"  {note}")
-    for warning in getattr(data, "warnings", []):
-        print(f"  warning: {warning}")
+    sys.stdout.flush()  # the warnings on stderr come after the summary line in a terminal
+    for warning in getattr(data, "warnings", []):  # on stderr, as `fit` prints them
+        print(f"warning: {warning}", file=sys.stderr)
     if data.clipped is not None and data.clipped.any():
         print(f"  accelerometer clipped on {int(data.clipped.sum())} samples (observer: baro-trusting gains, "
               "bias frozen there)")
@@ -596,24 +605,37 @@ def _warn_if_unstable(settings, data, what: str) -> None:
 # fit
 
 
-def _train_until(text: Optional[str], time) -> Optional[float]:
-    """``--train-until``: "T" s after the first sample, or "P%" of the log; the absolute time, s."""
+def _parse_train_until(text: Optional[str]) -> Optional[tuple]:
+    """``--train-until`` checked before any work: ("%", fraction of the log) or ("s", seconds after its start)."""
     if text is None:
         return None
-    start, stop = float(time[0]), float(time[-1])
     try:
         if text.endswith("%"):
             fraction = float(text[:-1]) / 100.0
-            if not 0 < fraction < 1:
+            if not 0 < fraction < 1:  # also false for NaN
                 raise CliError(f"--train-until {text}: a percentage must be between 0 and 100 (exclusive)")
-            return start + fraction * (stop - start)
+            return ("%", fraction)
         seconds = float(text)
     except ValueError:
         raise CliError(f"--train-until must be seconds after the log's start or a percentage like 60%, "
                        f"got {text!r}") from None
-    if not (math.isfinite(seconds) and 0 < seconds < stop - start):
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise CliError(f"--train-until {text}: seconds must be finite and > 0")
+    return ("s", seconds)
+
+
+def _train_until(text: Optional[str], time) -> Optional[float]:
+    """``--train-until``: "T" s after the first sample, or "P%" of the log; the absolute time, s."""
+    parsed = _parse_train_until(text)
+    if parsed is None:
+        return None
+    start, stop = float(time[0]), float(time[-1])
+    kind, value = parsed
+    if kind == "%":
+        return start + value * (stop - start)
+    if not value < stop - start:
         raise CliError(f"--train-until {text}: must be > 0 and < the log's {stop - start:.2f} s")
-    return start + seconds
+    return start + value
 
 
 def _fit_inputs(args: argparse.Namespace, progress: _Progress):
@@ -626,6 +648,9 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
             raise CliError("give a log FILE or --scenario, not both")
         result = run_scenario(args.scenario, args.seed)
         skip = result.transient if args.skip is None else args.skip
+        duration = float(result.time[-1] - result.time[0])
+        if skip >= duration:
+            raise CliError(f"--skip {skip:g} s leaves no sample of scenario {args.scenario}'s {duration:.2f} s")
         from .metrics import error_statistics
 
         preset_rms = error_statistics(result.time, result.altitude_error, skip).rms
@@ -653,14 +678,17 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     progress = _Progress()
     if args.scenario is None and args.file is None:
         raise CliError("give a log FILE (with a reference) or --scenario NAME")
+    if args.scenario is not None and args.file is not None:
+        raise CliError("give a log FILE or --scenario, not both")
     if args.seed < 0:
         raise CliError(f"--seed must be >= 0, got {args.seed}")
     _number("--skip", args.skip, 0.0, strict=False)
-    _number("--omega-min", args.omega_min, 0.0)
-    _number("--omega-max", args.omega_max, 0.0)
+    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
+    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
     if args.omega_min >= args.omega_max:
         raise CliError(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
     _check_plot(args.plot, [args.file] if args.file else [])
+    _parse_train_until(args.train_until)
     source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args, progress)
     time = np.asarray(time, float)
     duration = float(time[-1] - time[0])
@@ -687,8 +715,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             else:
                 held_out = tuning.fit_held_out(time, accel, baro, reference, split, skip=skip, progress=bar, **options)
                 result = held_out.fit
-        except ValueError as error:
-            raise CliError(str(error)) from None
+        except ValueError as error:  # the library's keyword → our flags
+            raise CliError(str(error).replace("omega_range", "--omega-min/--omega-max")) from None
     counted = (time > time[0] + skip) & (time < scored_until)
     baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
         if np.isfinite((baro - reference)[counted]).any() else math.nan
@@ -842,12 +870,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     tune = commands.add_parser("tune", help="gains, poles, settling and noise for a bandwidth choice",
                                description="Gains from ω, ζ, ω_b and what they do at a sample rate.")
-    tune.add_argument("--omega", type=float, default=1.5, help="position-loop bandwidth ω, rad/s, > 0 (default 1.5)")
-    tune.add_argument("--zeta", type=float, default=0.7, help="damping ratio ζ, > 0 (default 0.7)")
+    tune.add_argument("--omega", type=float, default=1.5,
+                      help=f"position-loop bandwidth ω, rad/s, > 0 and <= {MAX_OMEGA:g} (default 1.5)")
+    tune.add_argument("--zeta", type=float, default=0.7,
+                      help=f"damping ratio ζ, > 0 and <= {MAX_ZETA:g} (default 0.7)")
     tune.add_argument("--omega-b", type=float, default=None,
-                      help="bias-loop bandwidth ω_b, rad/s, >= 0 (default ω/5; 0 = no bias estimation)")
+                      help=f"bias-loop bandwidth ω_b, rad/s, >= 0 and <= {MAX_OMEGA:g} (default ω/5; 0 = no bias "
+                           "estimation)")
     tune.add_argument("--rate", type=float, default=100.0,
-                      help=f"sample rate, Hz, > 0 and <= {MAX_TUNE_RATE:g} (default 100)")
+                      help=f"sample rate, Hz, >= {MIN_TUNE_RATE:g} and <= {MAX_TUNE_RATE:g} (default 100)")
     tune.set_defaults(handler=_cmd_tune)
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
@@ -890,7 +921,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="fit on the samples before T s after the start (or P%% of the log) and score fitted vs "
                           "default gains on the rest; the default is kept if the fit does not generalise")
     fit.add_argument("--omega-min", type=float, default=0.05, help="lowest omega searched, rad/s (default 0.05)")
-    fit.add_argument("--omega-max", type=float, default=20.0, help="highest omega searched, rad/s (default 20)")
+    fit.add_argument("--omega-max", type=float, default=20.0,
+                     help=f"highest omega searched, rad/s, <= {MAX_OMEGA:g} (default 20)")
     fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
     fit.set_defaults(handler=_cmd_fit)
 
@@ -971,12 +1003,50 @@ def _quiet_broken_pipe() -> int:
     return 141
 
 
+class _Terminated(BaseException):
+    """SIGTERM arrived: unwind (removing temporary output files) and exit with status 143."""
+
+
+def _raise_terminated(signum, frame) -> None:
+    raise _Terminated()
+
+
+@contextlib.contextmanager
+def _sigterm_unwinds() -> Iterator[None]:
+    """While the command runs, SIGTERM raises :class:`_Terminated` so that ``finally`` blocks and
+    :func:`fusion_altitude.runner.atomic_output` clean up (the default action would kill the process on the
+    spot and leave a ``.part`` file behind). Outside the main thread signals cannot be caught: no change."""
+    import signal
+
+    try:
+        previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     """Entry point of ``fusion-altitude`` and ``python -m fusion_altitude``; returns the exit status.
 
     Input problems (bad flags, unreadable or inconsistent files, unwritable
     outputs, missing optional extras) print one line on stderr and return 2.
+    Ctrl-C returns 130 and SIGTERM 143 (128 + the signal number), after
+    removing any partly written output.
     """
+    try:
+        with _sigterm_unwinds():
+            return _main(argv)
+    except _Terminated:
+        with contextlib.suppress(OSError, ValueError):
+            print("terminated", file=sys.stderr)
+        return 143
+
+
+def _main(argv: Optional[List[str]]) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

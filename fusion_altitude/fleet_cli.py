@@ -8,8 +8,8 @@ input are raised as the CLI's one-line error (exit status 2).
 from __future__ import annotations
 
 import argparse
-import json
 import math
+import os
 import sys
 from typing import Any, Dict, List, Optional
 
@@ -118,6 +118,53 @@ def _csv_options(args: argparse.Namespace) -> Dict[str, Any]:
     return options
 
 
+#: Python names in the library's messages → the command line's names for them.
+_FLAG_NAMES = (("paths_or_globs", "DIR_OR_GLOB"), ("output_dir", "OUT/"), ("omega_range", "--omega-min/--omega-max"),
+               ("time_column", "--time"), ("accel_column", "--accel"), ("accel_units", "--accel-units"),
+               ("baro_column", "--baro"), ("pressure_column", "--pressure"), ("sea_level_pa", "--sea-level-pa"),
+               ("reference_column", "--reference"))
+#: Names that are ordinary words too: replaced only where they open the message.
+_LEADING_NAMES = (("holdout:", "--holdout:"), ("skip ", "--skip "), ("workers ", "--workers "),
+                  ("estimator ", "--estimator "), ("settings:", "--preset:"))
+
+
+def _flag_message(error: BaseException) -> str:
+    """The library's message with the command line's flag names instead of its keyword names."""
+    import re
+
+    message = str(error)
+    for name, flag in _FLAG_NAMES:
+        message = re.sub(rf"\b{name}\b", flag, message)
+    for name, flag in _LEADING_NAMES:
+        if message.startswith(name):
+            message = flag + message[len(name):]
+    return message
+
+
+def _check_inputs(flag: str, paths: List[str]) -> List[str]:
+    """Before any cluster starts: every local path exists and every glob or directory holds logs; the expanded
+    list of logs. URLs are left to the workers."""
+    from . import fleet
+
+    for item in paths:
+        if "://" in item or any(ch in item for ch in "*?["):
+            continue
+        if not os.path.exists(item):
+            raise _cli_error(f"{flag} {item}: no such file or directory")
+    try:
+        return fleet.expand_paths(paths)
+    except (ValueError, TypeError) as error:
+        raise _cli_error(_flag_message(error).replace("DIR_OR_GLOB", flag, 1)) from None
+
+
+def _check_numbers(args: argparse.Namespace) -> None:
+    from .cli import _number
+
+    _number("--sea-level-pa", args.sea_level_pa, 0.0)
+    if getattr(args, "worst", 0) < 0:
+        raise _cli_error(f"--worst must be >= 0, got {args.worst}")
+
+
 def _cell(value: Any) -> Any:
     if value is None:
         return ""
@@ -161,10 +208,28 @@ def _client_argument(args: argparse.Namespace) -> Optional[str]:
     return args.scheduler
 
 
+def _check_output_directory(path: str) -> None:
+    """``fleet run -o``: a local output that exists must be a directory (it is created otherwise)."""
+    if not path:
+        raise _cli_error("-o needs a directory name, got ''")
+    if "://" not in path and os.path.exists(path) and not os.path.isdir(path):
+        raise _cli_error(f"-o {path} is a file, not a directory")
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     from . import fleet
+    from ._fleet_adapter import resolve_settings
 
+    fleet._fleet_imports()
+    _check_numbers(args)
     csv_options = _csv_options(args)
+    _client_argument(args)
+    _check_output_directory(args.output)
+    try:
+        resolve_settings(args.estimator, args.preset)
+    except (ValueError, TypeError) as error:
+        raise _cli_error(_flag_message(error)) from None
+    _check_inputs("DIR_OR_GLOB", args.paths)
     try:
         with fleet.open_client(_client_argument(args), args.workers) as client:
             link = fleet.dashboard_link(client)
@@ -175,7 +240,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                     output_dir=args.output, csv_options=csv_options, write_csv=args.csv,
                                     retry_failed=args.retry_failed, progress=sys.stdout.isatty())
     except (ValueError, TypeError) as error:
-        raise _cli_error(str(error)) from None
+        raise _cli_error(_flag_message(error)) from None
     costs = result.costs.to_pylist()
     computed = [row for row in costs if row["action"] == "computed"]
     print(f"{len(computed)} computed, {len(result.reused)} reused (same settings {result.settings_hash}), "
@@ -195,15 +260,28 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _cmd_fit(args: argparse.Namespace) -> int:
     from . import fleet
 
+    from .cli import MAX_OMEGA, _check_output, _number
+
+    fleet._fleet_imports()
+    _check_numbers(args)
     csv_options = _csv_options(args)
+    _client_argument(args)
     if args.holdout and args.holdout_every:
         raise _cli_error("give --holdout or --holdout-every, not both")
     if args.holdout_every is not None and args.holdout_every < 2:
         raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
+    _number("--skip", args.skip, 0.0, strict=False)
+    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
+    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
+    if args.omega_min >= args.omega_max:
+        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    _check_output(args.output, "-o")
+    every = _check_inputs("DIR_OR_GLOB", args.paths)
+    if args.holdout:
+        _check_inputs("--holdout", args.holdout)
     try:
         train, holdout = args.paths, args.holdout
         if args.holdout_every:
-            every = fleet.expand_paths(args.paths)
             holdout = every[args.holdout_every - 1::args.holdout_every]
             train = [path for path in every if path not in set(holdout)]
         with fleet.open_client(_client_argument(args), args.workers) as client:
@@ -213,7 +291,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             result = fleet.fit_many(train, holdout=holdout, client=client, csv_options=csv_options, skip=args.skip,
                                     omega_range=(args.omega_min, args.omega_max))
     except (ValueError, TypeError) as error:
-        raise _cli_error(str(error)) from None
+        raise _cli_error(_flag_message(error)) from None
     gains = result.settings
     print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {args.skip:g} s each), "
           f"{len(result.excluded)} left out")
@@ -245,7 +323,11 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                   "logs": result.logs, "excluded": [list(item) for item in result.excluded],
                   "holdout": result.holdout, "holdout_rms_error_m": result.holdout_rms_error,
                   "holdout_default_rms_error_m": result.holdout_default_rms_error}
-        with open(args.output, "w") as handle:
+        import json
+
+        from .runner import atomic_output
+
+        with atomic_output(args.output) as temporary, open(temporary, "w") as handle:
             json.dump(record, handle, indent=1, allow_nan=True)
         print(f"fit written to {args.output}")
     return 0
@@ -254,10 +336,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 def _cmd_summary(args: argparse.Namespace) -> int:
     from . import fleet
 
+    if args.worst < 0:
+        raise _cli_error(f"--worst must be >= 0, got {args.worst}")
+    if "://" not in args.output and not os.path.isdir(args.output):
+        raise _cli_error(f"OUT/ {args.output}: no such directory")
     try:
         table = fleet.summary(args.output)
     except ValueError as error:
-        raise _cli_error(str(error)) from None
+        raise _cli_error(_flag_message(error)) from None
     _print_summary(table, args.worst, everything=args.all)
     return 0
 

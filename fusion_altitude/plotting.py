@@ -111,7 +111,7 @@ def _relative_time(time):
     """Times for the x axis, s: epoch-like times (> 10^6 s) as seconds since the first sample, with the label."""
     time = np.asarray(time, dtype=float)
     if time.size and abs(time[0]) > 1e6:
-        return time - time[0], f"time since {time[0]:.3f} s (s)"
+        return time - time[0], f"time (s) since t = {time[0]:.3f} s"
     return time, "time (s)"
 
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple
@@ -575,6 +576,16 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
 # writing
 
 
+def _output_mode(path: str) -> int:
+    """Permission bits for a new output ``path``: those of the file it replaces, else 0o666 less the umask."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
 @contextlib.contextmanager
 def atomic_output(path: str) -> Iterator[str]:
     """Yield a temporary path next to ``path`` (same extension); rename it onto ``path`` only on success.
@@ -585,7 +596,12 @@ def atomic_output(path: str) -> Iterator[str]:
     directory = os.path.dirname(os.path.abspath(path))
     base, extension = os.path.splitext(os.path.basename(path))
     handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
-    os.close(handle)
+    try:
+        # mkstemp creates the file with mode 0600: give it the mode open() would (0666 less the umask), or
+        # the mode of the file it replaces
+        os.fchmod(handle, _output_mode(path))
+    finally:
+        os.close(handle)
     try:
         yield temporary
         os.replace(temporary, path)

@@ -1,21 +1,31 @@
-"""CLI fuzz: every subcommand with randomised bad flags and files never prints a traceback.
+"""CLI fuzz: every subcommand with randomised bad flags and files never prints a traceback or a warning.
 
 Each example builds an argument list from a vocabulary of real flags with
 odd values (NaN, inf, negative, huge, text, empty) and a file that is
 empty, binary garbage, truncated, header-only, a folder, missing or a valid
 log. ``main`` must return 0, 1 or 2 (or argparse's usage exit 2) and never
-raise; stderr never holds a traceback.
+raise; stderr never holds a traceback or a Python warning (``RuntimeWarning:
+overflow…``), and an error (status 2) is one line: nothing but stage times
+and the CLI's own ``warning: …`` lines may come before it.
+
+``fleet`` is fuzzed on its checks only: a combination that passes them would
+start a Dask cluster, which the test replaces by an exception that counts as
+"the checks passed".
 """
 
 import os
+import re
+import warnings
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from fusion_altitude.cli import main
 
-NUMBERS = ["0", "-1", "-5", "1e308", "nan", "inf", "-inf", "0.5", "3", "abc", "", "1e-30", "100000"]
+NUMBERS = ["0", "-1", "-5", "1e308", "nan", "inf", "-inf", "0.5", "3", "abc", "", "1e-30", "100000", "1e30",
+           "1000"]
 COMMON_LOG_FLAGS = ["--time", "--accel", "--baro", "--pressure", "--reference", "--accel-units", "--altitude-units",
                     "--sea-level-pa", "--remove-gravity", "--instance", "--ground-temperature", "--gps",
                     "--rangefinder", "--accel-body", "--attitude-columns", "--attitude-convention", "--frame",
@@ -23,12 +33,29 @@ COMMON_LOG_FLAGS = ["--time", "--accel", "--baro", "--pressure", "--reference", 
 FLAGS = {
     "demo": ["--seed", "--scenario", "--attitude", "--plot", "--export"],
     "tune": ["--omega", "--zeta", "--omega-b", "--rate"],
-    "run": COMMON_LOG_FLAGS + ["--estimator", "--preset", "-o", "--plot", "--agl"],
-    "fit": COMMON_LOG_FLAGS + ["--skip", "--train-until", "--omega-min", "--omega-max", "--plot"],
-    "compare": COMMON_LOG_FLAGS + ["--skip", "--repeat", "--markdown", "--plot", "--agl"],
+    "run": COMMON_LOG_FLAGS + ["--estimator", "--preset", "-o", "--plot", "--agl", "--rocket", "--events-csv",
+                               "--long-axis"],
+    "fit": COMMON_LOG_FLAGS + ["--skip", "--train-until", "--omega-min", "--omega-max", "--plot", "--scenario",
+                               "--seed"],
+    "compare": COMMON_LOG_FLAGS + ["--skip", "--repeat", "--markdown", "--plot", "--agl", "--scenario",
+                                   "--plot-scenario", "--seed", "--fit-seed"],
 }
-SWITCHES = {"--remove-gravity", "--agl", "--markdown"}
+CLUSTER_FLAGS = ["--workers", "--scheduler"]
+FLEET_CSV_FLAGS = ["--time", "--accel", "--baro", "--pressure", "--sea-level-pa", "--accel-units"]
+FLEET_FLAGS = {
+    "run": FLEET_CSV_FLAGS + CLUSTER_FLAGS + ["--estimator", "--preset", "--csv", "--retry-failed", "--worst"],
+    "fit": FLEET_CSV_FLAGS + CLUSTER_FLAGS + ["--reference", "--holdout", "--holdout-every", "--skip", "--omega-min",
+                                              "--omega-max", "-o"],
+    "summary": ["--worst", "--all"],
+}
+SWITCHES = {"--remove-gravity", "--agl", "--markdown", "--rocket", "--csv", "--retry-failed", "--all"}
 COLUMNS = ["t", "az", "alt", "ref", "nope"]
+#: What stderr may hold besides the error line: stage times and the CLI's own warnings.
+ALLOWED_EXTRA = re.compile(r"^(\w+: \d+\.\d\d s|warning: .*)$")
+
+
+class ClusterWouldStart(Exception):
+    """Raised instead of starting a Dask cluster: every check of the fleet command passed."""
 
 
 def make_file(folder, kind, seed):
@@ -62,11 +89,33 @@ def make_file(folder, kind, seed):
     return path
 
 
+def fleet_path(folder, kind, seed):
+    """A DIR_OR_GLOB argument of ``fleet``: a folder with one log, an empty folder, a missing folder, a glob
+    matching nothing or something, a single log."""
+    if kind == "logs":
+        logs = os.path.join(folder, "logs")
+        os.makedirs(logs, exist_ok=True)
+        make_file(logs, "valid", seed)
+        return logs
+    if kind == "empty-dir":
+        empty = os.path.join(folder, "empty")
+        os.makedirs(empty, exist_ok=True)
+        return empty
+    if kind == "missing-dir":
+        return os.path.join(folder, "no-such-dir")
+    if kind == "glob-nothing":
+        return os.path.join(folder, "*.nothing")
+    if kind == "glob":
+        make_file(folder, "valid", seed)
+        return os.path.join(folder, "*.csv")
+    return make_file(folder, kind, seed)
+
+
 def value_for(flag, draw, folder):
-    if flag in ("-o", "--plot", "--export"):
+    if flag in ("-o", "--plot", "--export", "--events-csv"):
         return draw(st.sampled_from([os.path.join(folder, "out.csv"), os.path.join(folder, "p.png"),
                                      os.path.join(folder, "p.xyz"), os.path.join(folder, "no", "p.png"), folder,
-                                     ""]))
+                                     os.path.join(folder, "fit.json"), ""]))
     if flag in ("--time", "--accel", "--baro", "--pressure", "--reference", "--gps", "--rangefinder", "--temperature"):
         return draw(st.sampled_from(COLUMNS))
     if flag in ("--accel-body", "--attitude-columns"):
@@ -75,17 +124,35 @@ def value_for(flag, draw, folder):
         return draw(st.sampled_from(["quaternion", "euler_deg", "NED", "ENU", "C", "K", "bogus"]))
     if flag == "--ground-temperature":
         return draw(st.sampled_from(NUMBERS + ["log", "LOG"]))
-    if flag in ("--scenario",):
+    if flag in ("--scenario", "--plot-scenario"):
         return draw(st.sampled_from(["clean", "terrain-step", "submarine"]))
     if flag == "--estimator":
-        return draw(st.sampled_from(["observer", "kalman", "complementary", "alphabeta", "x"]))
+        return draw(st.sampled_from(["observer", "kalman", "complementary", "alphabeta", "ins", "rocket", "x"]))
+    if flag == "--preset":
+        return draw(st.sampled_from(["vtol", "balloon", "rocket", "warp"]))
+    if flag == "--long-axis":
+        return draw(st.sampled_from(["+X", "-Z", "Z", "up"]))
     if flag in ("--accel-units",):
         return draw(st.sampled_from(["g", "m/s^2", "furlongs"]))
     if flag in ("--altitude-units",):
         return draw(st.sampled_from(["m", "ft", "km"]))
     if flag == "--train-until":
-        return draw(st.sampled_from(NUMBERS + ["50%", "0%", "150%", "x%"]))
+        return draw(st.sampled_from(NUMBERS + ["50%", "0%", "150%", "x%", "nan%"]))
+    if flag == "--scheduler":
+        return draw(st.sampled_from(["tcp://127.0.0.1:1", "", "nonsense"]))
+    if flag == "--holdout":
+        return fleet_path(folder, draw(st.sampled_from(["logs", "missing-dir", "glob-nothing", "empty-dir"])),
+                          draw(st.integers(0, 10_000)))
     return draw(st.sampled_from(NUMBERS))
+
+
+def draw_flags(draw, vocabulary, folder):
+    argv = []
+    for flag in draw(st.lists(st.sampled_from(vocabulary), max_size=4)):
+        argv.append(flag)
+        if flag not in SWITCHES:
+            argv.append(value_for(flag, draw, folder))
+    return argv
 
 
 @st.composite
@@ -100,11 +167,49 @@ def argv_and_file(draw, folder):
             argv += ["--time", "t", "--accel", "az", "--baro", "alt"]
     if command == "compare":
         argv += ["--repeat", "0"]
-    for flag in draw(st.lists(st.sampled_from(FLAGS[command]), max_size=4)):
-        argv.append(flag)
-        if flag not in SWITCHES:
-            argv.append(value_for(flag, draw, folder))
-    return argv
+    return argv + draw_flags(draw, FLAGS[command], folder)
+
+
+@st.composite
+def fleet_argv(draw, folder):
+    command = draw(st.sampled_from(sorted(FLEET_FLAGS)))
+    argv = ["fleet", command]
+    kinds = ["logs", "empty-dir", "missing-dir", "glob-nothing", "glob", "valid", "garbage", "missing"]
+    if command == "summary":
+        argv.append(draw(st.sampled_from([folder, os.path.join(folder, "no-such-dir"),
+                                          make_file(folder, "valid", 0)])))
+    else:
+        for _ in range(draw(st.integers(1, 2))):
+            argv.append(fleet_path(folder, draw(st.sampled_from(kinds)), draw(st.integers(0, 10_000))))
+        if command == "run" and draw(st.integers(0, 5)):
+            argv += ["-o", draw(st.sampled_from([os.path.join(folder, "out"), make_file(folder, "valid", 1), ""]))]
+        if draw(st.booleans()):
+            argv += ["--time", "t", "--accel", "az", "--baro", "alt"]
+    return argv + draw_flags(draw, FLEET_FLAGS[command], folder)
+
+
+def check(argv, run):
+    """Run ``main(argv)`` via ``run``; the status and stderr obey the CLI's promises."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            status = main(argv)
+        except SystemExit as exit_:  # argparse: usage error (2) or --help (0)
+            status = exit_.code
+            usage = True
+        except ClusterWouldStart:
+            status, usage = 0, False
+        else:
+            usage = False
+    err = run()
+    assert not caught, (argv, [f"{w.category.__name__}: {w.message}" for w in caught])
+    assert status in (0, 1, 2), (argv, status, err)
+    assert "Traceback" not in err, (argv, err)
+    assert not re.search(r"\w+Warning\b", err), (argv, err)
+    if status == 2 and not usage:
+        lines = err.strip().splitlines()
+        assert lines and lines[-1].startswith(f"fusion-altitude {argv[0]}: error: "), (argv, err)
+        assert all(ALLOWED_EXTRA.match(line) for line in lines[:-1]), (argv, err)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -112,12 +217,54 @@ def argv_and_file(draw, folder):
 def test_no_input_makes_the_cli_print_a_traceback(data, tmp_path_factory, capsys):
     folder = str(tmp_path_factory.mktemp("fuzz"))
     argv = data.draw(argv_and_file(folder))
-    try:
-        status = main(argv)
-    except SystemExit as exit_:  # argparse: usage error (2) or --help (0)
-        status = exit_.code
-    captured = capsys.readouterr()
-    assert status in (0, 1, 2), (argv, status, captured.err)
-    assert "Traceback" not in captured.err, (argv, captured.err)
-    if status == 2:
-        assert captured.err.strip(), argv
+    check(argv, lambda: capsys.readouterr().err)
+
+
+@pytest.fixture
+def no_cluster(monkeypatch):
+    from fusion_altitude import fleet
+
+    def refuse(*args, **kwargs):
+        raise ClusterWouldStart()
+
+    monkeypatch.setattr(fleet, "open_client", refuse)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_fleet_checks_never_print_a_traceback(data, tmp_path_factory, capsys, no_cluster):
+    folder = str(tmp_path_factory.mktemp("fleetfuzz"))
+    argv = data.draw(fleet_argv(folder))
+    check(argv, lambda: capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("argv,flag", [
+    (["tune", "--omega", "1e308"], "--omega"),
+    (["tune", "--omega", "1e30"], "--omega"),
+    (["tune", "--omega-b", "1e308"], "--omega-b"),
+    (["tune", "--zeta", "1e308"], "--zeta"),
+    (["tune", "--rate", "1e-300"], "--rate"),
+    (["fit", "--scenario", "clean", "--omega-max", "1e308"], "--omega-max"),
+    (["fit", "--scenario", "clean", "--skip", "1000"], "--skip"),
+])
+def test_huge_and_tiny_values_are_one_line_errors_without_warnings(argv, flag, capsys):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert main(argv) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and flag in lines[0], lines
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(omega=st.floats(1e-30, 1e4), zeta=st.floats(1e-30, 100), ratio=st.floats(0, 1e4),
+       rate=st.floats(1e-3, 1e4))
+def test_tune_anywhere_in_its_bounds_prints_no_warning(omega, zeta, ratio, rate, capsys):
+    omega_b = min(omega * ratio, 1e4)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        status = main(["tune", "--omega", repr(omega), "--zeta", repr(zeta), "--omega-b", repr(omega_b),
+                       "--rate", repr(rate)])
+    err = capsys.readouterr().err
+    assert not caught, [str(w.message) for w in caught]
+    assert status in (0, 1) or (status == 2 and len(err.strip().splitlines()) == 1), err
+    assert "Traceback" not in err and "Warning" not in err

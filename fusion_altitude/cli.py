@@ -757,9 +757,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                   f"{held_out.settings.velocity_gain:g}, bias_gain {held_out.settings.bias_gain:g})")
     print()
     print("runners-up:")
-    print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"],
-                       [[float(row["omega"]), float(row["zeta"]), float(row["omega_b"]), float(row["rms_error"])]
-                        for row in result.landscape[1:6]]))
+    print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"], _runners_up(result.landscape)))
     if args.plot:
         from .plotting import plot_fit_landscape
 
@@ -767,6 +765,23 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             plot_fit_landscape(result, args.plot, title=source)
         print(f"plot written to {args.plot}")
     return 0
+
+
+def _runners_up(landscape, count: int = 5) -> list:
+    """The ``count`` best candidates after the winner as printed rows (4 significant digits), without rows
+    that print the same as the winner or as a better one (the refinement revisits nearly equal candidates)."""
+    seen = set()
+    rows = []
+    for k, row in enumerate(landscape):
+        cells = tuple(f"{float(row[name]):.4g}" for name in ("omega", "zeta", "omega_b"))
+        if cells in seen:
+            continue
+        seen.add(cells)
+        if k > 0:
+            rows.append(list(cells) + [float(row["rms_error"])])
+            if len(rows) == count:
+                break
+    return rows
 
 
 def _sample_periods(time):

@@ -128,7 +128,7 @@ _LEADING_NAMES = (("holdout:", "--holdout:"), ("skip ", "--skip "), ("workers ",
                   ("estimator ", "--estimator "), ("settings:", "--preset:"))
 
 
-def _flag_message(error: BaseException) -> str:
+def _flag_message(error: object) -> str:
     """The library's message with the command line's flag names instead of its keyword names."""
     import re
 
@@ -178,7 +178,7 @@ def _print_rows(rows: List[Dict[str, Any]]) -> None:
                                                 for row in rows]))
     for row in rows:
         if row["status"] != "ok":
-            print(f"  {row['log_id']}: {row['error']}")
+            print(f"  {row['log_id']}: {_flag_message(row['error'])}")
 
 
 def _print_summary(table, worst: int, everything: bool = False) -> None:
@@ -296,7 +296,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {args.skip:g} s each), "
           f"{len(result.excluded)} left out")
     for path, reason in result.excluded:
-        print(f"  left out {path}: {reason}")
+        print(f"  left out {path}: {_flag_message(reason)}")
     print(f"best of {len(result.landscape)} stable candidates: omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, "
           f"omega_b {result.omega_b:.4g} rad/s")
     print(f"  position_gain {gains.position_gain:.6g} 1/s, velocity_gain {gains.velocity_gain:.6g} 1/s², "
@@ -314,7 +314,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                               _cell(row["default_rms_error_m"])] for row in result.holdout]))
         for row in result.holdout:
             if row["error"]:
-                print(f"  {row['log_id']}: {row['error']}")
+                print(f"  {row['log_id']}: {_flag_message(row['error'])}")
     if args.output:
         record = {"omega": result.omega, "zeta": result.zeta, "omega_b": result.omega_b,
                   "position_gain": gains.position_gain, "velocity_gain": gains.velocity_gain,

@@ -89,3 +89,15 @@ print("reference:", estimator.altitude)
     assert result.returncode == 0, result.stderr
     assert "reference: 10.0" in result.stdout
     assert "binding: fusion_altitude.AltitudeEstimator needs the compiled extension" in result.stdout
+
+
+def test_the_license_is_an_spdx_expression_not_a_deprecated_table():
+    # setuptools >= 77 warns "`project.license` as a TOML table is deprecated" on every build of {text = "MIT"}
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "pyproject.toml").read_text()
+    assert re.search(r'^license = "MIT"$', text, re.MULTILINE)
+    assert re.search(r'^license-files = \["LICENSE"\]$', text, re.MULTILINE)
+    assert '"setuptools>=77"' in text  # the first setuptools that reads an SPDX license and license-files
+    assert "License ::" not in text  # setuptools refuses a license classifier next to an SPDX expression

@@ -22,8 +22,10 @@ compare
     against its own estimate: one table (:mod:`fusion_altitude.comparison`).
 
 Errors in user input are printed as one line on stderr with exit status 2,
-never as a traceback; output paths are checked before any work and written
-atomically; ``… | head`` ends quietly.
+never as a traceback or a Python warning; output paths are checked before any
+work and written atomically with the mode ``open()`` would give them; SIGTERM
+(status 143) and Ctrl-C (130) remove a partly written output; ``… | head``
+ends quietly.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ raise; stderr never holds a traceback or a Python warning (``RuntimeWarning:
 overflow…``), and an error (status 2) is one line: nothing but stage times
 and the CLI's own ``warning: …`` lines may come before it.
 
-``fleet`` is fuzzed on its checks only: a combination that passes them would
+``compare`` also runs without a FILE on the cheapest scenario. ``fleet`` is fuzzed on its checks only: a combination that passes them would
 start a Dask cluster, which the test replaces by an exception that counts as
 "the checks passed".
 """
@@ -235,6 +235,32 @@ def no_cluster(monkeypatch):
 def test_fleet_checks_never_print_a_traceback(data, tmp_path_factory, capsys, no_cluster):
     folder = str(tmp_path_factory.mktemp("fleetfuzz"))
     argv = data.draw(fleet_argv(folder))
+    check(argv, lambda: capsys.readouterr().err)
+
+
+@st.composite
+def compare_scenario_argv(draw, folder):
+    """``compare`` without a FILE on the cheapest scenario, with odd --plot-scenario, --plot, seeds, attitude."""
+    argv = ["compare", "--scenario", "clean", "--repeat", "0"]
+    vocabulary = ["--scenario", "--plot-scenario", "--plot", "--seed", "--fit-seed", "--attitude", "--markdown"]
+    for flag in draw(st.lists(st.sampled_from(vocabulary), max_size=3, unique=True)):
+        argv.append(flag)
+        if flag == "--markdown":
+            continue
+        if flag in ("--seed", "--fit-seed"):
+            argv.append(draw(st.sampled_from(["0", "2", "-1", "abc", "1e308"])))
+        elif flag == "--attitude":
+            argv.append(draw(st.sampled_from(["truth", "ahrs", "magic"])))
+        else:
+            argv.append(value_for(flag, draw, folder))
+    return argv
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_compare_on_scenarios_never_prints_a_traceback(data, tmp_path_factory, capsys):
+    folder = str(tmp_path_factory.mktemp("comparefuzz"))
+    argv = data.draw(compare_scenario_argv(folder))
     check(argv, lambda: capsys.readouterr().err)
 
 

@@ -690,7 +690,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         try:
             if split is None:
                 dt_values = _sample_periods(time)
-                mask = time > time[0] + skip  # as metrics.error_statistics counts "after the transient"
+                mask = tuning.training_mask(time, skip)  # as metrics.error_statistics counts "after the transient"
                 result = tuning.fit(accel, baro, dt_values, reference, mask=mask, progress=bar, **options)
             else:
                 held_out = tuning.fit_held_out(time, accel, baro, reference, split, skip=skip, progress=bar, **options)

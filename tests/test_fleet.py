@@ -497,6 +497,30 @@ def test_cli_fleet_run_writes_outputs_and_reports_failures(fleet_dir, cluster, t
     assert len(list((tmp_path / "logs").glob("*.parquet"))) == 16
 
 
+def test_cli_fleet_run_takes_every_preset_of_run_including_rocket(fleet_dir, cluster, tmp_path):
+    import argparse
+
+    def command(parser, name):
+        subparsers = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        return subparsers.choices[name]
+
+    def presets(parser):
+        return tuple(next(a.choices for a in parser._actions if a.dest == "preset"))
+
+    parser = cli.build_parser()
+    assert "rocket" in presets(command(parser, "run"))
+    assert presets(command(command(parser, "fleet"), "run")) == presets(command(parser, "run"))
+    path = fleet_dir / "sim" / "sim01.csv"
+    status, out, _ = _cli(["fleet", "run", str(path), "-o", str(tmp_path), "--preset", "rocket",
+                           "--scheduler", cluster.scheduler_address, *CSV_FLAGS])
+    assert status == 0, out
+    (parquet,) = (tmp_path / "logs").glob("*.parquet")
+    from fusion_altitude import AltitudeSettings
+
+    alone = adapter.run_log(adapter.read_log(str(path), CSV_OPTIONS), "observer", AltitudeSettings.preset("rocket"))
+    np.testing.assert_array_equal(pq.read_table(parquet).column("altitude").to_numpy(), alone.estimate.altitude)
+
+
 def test_cli_fleet_summary_prints_the_table_and_the_worst_logs(first_run):
     status, out, _ = _cli(["fleet", "summary", first_run.output_dir, "--worst", "2"])
     assert status == 0

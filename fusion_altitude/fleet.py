@@ -5,7 +5,7 @@ an estimator on it, so fleet work scales with cores and machines. This module
 puts one task per log on a :mod:`dask.distributed` cluster — a
 ``LocalCluster`` sized to the machine when no client is given, or any
 existing cluster (``Client("tcp://HOST:8786")``) unchanged. Needs the
-``[fleet]`` extra (``dask[distributed]``, ``pyarrow``).
+``[fleet]`` extra (``dask[distributed]``, ``pyarrow``; ``bokeh`` for the dashboard).
 
 Functions
 ---------

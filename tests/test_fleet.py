@@ -549,6 +549,20 @@ def test_cli_fleet_rejects_zero_workers(fleet_dir, tmp_path):
     assert status == 2 and "--workers must be >= 1" in err
 
 
+def test_the_fleet_extra_brings_the_dashboard_and_fleet_run_prints_its_link(fleet_dir, tmp_path):
+    """bokeh is in the [fleet] extra, so the LocalCluster that `fleet run` starts (no --scheduler) has a dashboard,
+    and its link is printed."""
+    import re
+
+    extra = re.search(r"^fleet = \[(.*)\]$", (ROOT / "pyproject.toml").read_text(), re.MULTILINE).group(1)
+    assert '"bokeh>=' in extra
+    status, _, err = _cli(["fleet", "run", str(fleet_dir / "sim" / "sim01.csv"), "-o", str(tmp_path),
+                           "--workers", "1", *CSV_FLAGS])
+    assert status == 0, err
+    line = next(line for line in err.splitlines() if line.startswith("Dask cluster: 1 worker"))
+    assert ", dashboard http://" in line and line.rstrip().endswith("/status")
+
+
 def test_without_a_client_a_local_cluster_of_one_single_thread_worker_per_cpu_is_started():
     with fleet.open_client() as local:
         workers = local.scheduler_info()["workers"].values()

@@ -52,11 +52,13 @@
  *     one) the disagreement o = z - h is stored as the baro offset and the
  *     observer fuses z - o, so the baro corrects the velocity drift without a
  *     step. The output height is h + oApplied, where oApplied moves towards o
- *     at up to offsetRate * |v| m/s before apogee (while climbing the reported
- *     height keeps rising, at least (1 - offsetRate) * v) and at once after
- *     it; the velocity estimate used for apogee is never dragged by the
- *     height correction. A gap, and a baro step that outlasts spikeTime, are
- *     re-admitted the same way.
+ *     before apogee up by at most offsetRate * |v| * dt per step and down by
+ *     at most offsetRate times the observer's own rise in that step (nothing
+ *     when h did not rise), so that while climbing the reported height never
+ *     falls by absorbing the offset: it rises by at least (1 - offsetRate)
+ *     of h's rise. After apogee oApplied = o at once. The velocity estimate
+ *     used for apogee is never dragged by the height correction. A gap, and
+ *     a baro step that outlasts spikeTime, are re-admitted the same way.
  *
  * Phases and events (the observer's velocity v and height h after the step):
  *   pad -> boost     launch   (above)
@@ -625,20 +627,24 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
     const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
     rocket->accelTrusted = !descending || accelVertical;
     const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
+    const float heightBefore = FusionAltitudeGetAltitude(&rocket->observer);
     (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
 
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
-    /* offsetApplied -> baroOffset at up to offsetRate * |v| m/s while climbing (the output height keeps
-     * rising), at once in the descent */
+    /* offsetApplied -> baroOffset while climbing: up by at most offsetRate * |v| * dt (m), down by at most
+     * offsetRate times the observer's rise in this step (m; none if it did not rise), so the output height
+     * never falls by absorbing the offset; at once in the descent */
     const float speed = (velocity < 0.0f) ? -velocity : velocity;
     const float offsetStep = settings->offsetRate * speed * dt;
+    const float rise = FusionAltitudeGetAltitude(&rocket->observer) - heightBefore;
+    const float offsetStepDown = (rise > 0.0f) ? (settings->offsetRate * rise) : 0.0f;
     const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
     if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
         rocket->offsetApplied = rocket->baroOffset;
     } else if (offsetLeft > offsetStep) {
         rocket->offsetApplied += offsetStep;
-    } else if (offsetLeft < -offsetStep) {
-        rocket->offsetApplied -= offsetStep;
+    } else if (offsetLeft < -offsetStepDown) {
+        rocket->offsetApplied -= offsetStepDown;
     } else {
         rocket->offsetApplied = rocket->baroOffset;
     }

@@ -2,8 +2,11 @@
 
     FUSION_ALTITUDE_SHARED_DATA=/path/to/shared/data python examples/rocket_hedy.py
 
-Prints the events table (ours vs the events read off the CATS estimate by
-fusion_altitude.rocket.events_from_estimates) and our height minus the CATS
+Prints the events table (ours vs the CATS events, found as `fusion-altitude run`
+finds them: the log read by fusion_altitude.logs.read_cats, its events by
+fusion_altitude.rocket.flight_computer_events, i.e. events_from_estimates on
+the CATS height and velocity on the IMU's time grid, its acceleration the
+time derivative of that velocity) and our height minus the CATS
 height per flight phase; with --ins, the accelerometer is first rotated to the
 vertical by plain gyro integration (fusion_altitude.sensors.gyro_attitude) and
 passed as a trusted vertical acceleration. With --fit, the static-port coefficient c of
@@ -19,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from fusion_altitude import rocket
+from fusion_altitude.logs import read_cats
 from fusion_altitude.sensors import gyro_attitude, pressure_to_altitude, vertical_acceleration
 
 DATA = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
@@ -42,11 +46,11 @@ def main(use_ins: bool) -> None:
         accel = rocket.long_axis_accel(accel_body, axis=1, sign=-1)
     batch, events = rocket.run_rocket(time, accel, pressure_to_altitude(baro["P"].astype(np.float64)),
                                       accel_is_vertical=use_ins)
-    cats = rocket.events_from_estimates(info["ts"], info["height"], info["velocity"], info["acceleration"])
+    cats, _ = rocket.flight_computer_events(read_cats(str(DATA / "hedy_baro.csv")))
     print("| event | ours: time (s) | ours: height (m) | CATS estimate: time (s) | CATS estimate: height (m) |")
     print("|---|---|---|---|---|")
     for ours, theirs in zip(events, cats):
-        cell = lambda e: (f"{e.time:.2f}", f"{e.height:.1f}") if e.occurred else ("—", "—")
+        cell = lambda e: (f"{e.time:.3f}", f"{e.height:.1f}") if e.occurred else ("—", "—")
         print(f"| {ours.name} | " + " | ".join(cell(ours) + cell(theirs)) + " |")
     difference = batch.height - np.interp(time, info["ts"], info["height"])
     launch, burnout, apogee = (events[name].sample for name in ("launch", "burnout", "apogee"))

@@ -19,8 +19,8 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 
 __all__ = ["LOG_ERRORS", "estimator_names", "resolve_settings", "settings_key", "read_log", "run_log",
-           "run_columns", "write_csv", "compare", "sweep", "fit", "sample_periods", "stable_candidates",
-           "default_settings", "settings_from_bandwidth", "fit_landscape_dtype"]
+           "run_columns", "write_csv", "compare", "sweep", "fit", "sample_periods", "fit_mask", "steps_per_baro",
+           "stability_period", "fit_score", "fit_search", "default_settings", "settings_from_bandwidth", "fit_landscape_dtype"]
 
 
 def _logs():
@@ -181,10 +181,34 @@ def fit(accel, baro_altitude, dt, reference, mask, **options):
     return tuning.fit(accel, baro_altitude, dt, reference, mask=mask, **options)
 
 
-def stable_candidates(candidates, dt_check: float):
-    """:func:`fusion_altitude.tuning.fit`'s own filter: (ω, ζ, ω_b, gains) of the candidates stable at ``dt_check``."""
+def fit_mask(time, skip: float) -> np.ndarray:
+    """The samples ``fusion-altitude fit --skip`` scores (:func:`fusion_altitude.tuning.training_mask`)."""
     from . import tuning
-    return tuning._stable_candidates(candidates, dt_check)
+    return tuning.training_mask(time, skip)
+
+
+def steps_per_baro(baro_altitude) -> float:
+    """Grid steps per baro sample, as ``fusion-altitude fit`` passes it (:func:`fusion_altitude.tuning.steps_per_baro`)."""
+    from . import tuning
+    return tuning.steps_per_baro(baro_altitude)
+
+
+def stability_period(dt, steps_per_baro: float) -> float:
+    """Period of :func:`fusion_altitude.tuning.fit`'s stability check for one log, s (median dt · steps per baro)."""
+    from . import tuning
+    return tuning.stability_period(dt, steps_per_baro)
+
+
+def fit_score(accel, baro_altitude, dt, reference, mask, gains, steps_per_baro: float):
+    """:func:`fusion_altitude.tuning.score` (fit's metric, baro-rate compensated) on one thread."""
+    from . import tuning
+    return tuning.score(accel, baro_altitude, dt, reference, mask, gains, steps_per_baro, threads=1)
+
+
+def fit_search(evaluate_rms, dt_check: float, omega_range, zetas, bias_ratios, refinements: int):
+    """:func:`fusion_altitude.tuning.search`: fit's candidate search with the caller's metric."""
+    from . import tuning
+    return tuning.search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
 
 
 def default_settings():

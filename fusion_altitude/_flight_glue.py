@@ -240,7 +240,7 @@ class FlightEvents:
         path = os.fspath(path)
         temporary = f"{path}.partial"
         with open(temporary, "w", newline="") as handle:
-            writer = csv.writer(handle)
+            writer = csv.writer(handle, lineterminator="\n")
             writer.writerow(("event", "time", "height"))
             for name in CSV_EVENTS:
                 event = self[name]

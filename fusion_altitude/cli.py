@@ -427,14 +427,15 @@ def _load(args: argparse.Namespace, progress: _Progress):
     return data
 
 
-def _print_log_summary(data, what: str) -> None:
+def _print_log_summary(data, what: str, notes=None) -> None:
+    """The log's one-line summary, then its notes (``notes`` replaces ``data.notes``) and warnings."""
     import numpy as np
 
     n_baro = int(np.count_nonzero(np.isfinite(data.baro_altitude)))
     duration = float(data.time[-1] - data.time[0])
     print(f"{data.source}: {data.time.size} samples over {duration:.2f} s "
           f"({data.time.size / max(duration, 1e-9):.1f} Hz), {n_baro} baro samples; {what}")
-    for note in data.notes:
+    for note in data.notes if notes is None else notes:
         print(f"  {note}")
     sys.stdout.flush()  # the warnings on stderr come after the summary line in a terminal
     for warning in getattr(data, "warnings", []):  # on stderr, as `fit` prints them
@@ -525,12 +526,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
     if estimator == "rocket" and not args.estimator:
         what += " (rocket log)" if not args.rocket else " (--rocket)"
+    notes = None
     if estimator == "rocket" and data.accel is not None:
+        from .logs.cats import ATTITUDE_NOTE
+
         column, sign = LONG_AXES[args.long_axis] if args.long_axis else runner.rocket_long_axis(data.accel, data.time)
-        what += f"; long axis {'+' if sign > 0 else '-'}{'XYZ'[column]}"
+        axis = f"{'+' if sign > 0 else '-'}{'XYZ'[column]}"
+        what += f"; long axis {axis}"
+        # the rocket layer takes the raw accelerometer's long axis, not the reader's gyro-integrated vertical
+        notes = [f"rocket layer: accelerometer along the long axis ({axis}) minus g, not rotated by an attitude"
+                 if note == ATTITUDE_NOTE else note for note in data.notes]
     if args.agl:
         what += f"; heights above the start ({run.datum:.2f} m)"
-    _print_log_summary(data, what)
+    _print_log_summary(data, what, notes)
     print()
     altitude = np.asarray(run.estimate.altitude, float)
     baro = run.baro_altitude
@@ -712,7 +720,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         try:
             if split is None:
                 dt_values = _sample_periods(time)
-                mask = time > time[0] + skip  # as metrics.error_statistics counts "after the transient"
+                mask = tuning.training_mask(time, skip)  # as metrics.error_statistics counts "after the transient"
                 result = tuning.fit(accel, baro, dt_values, reference, mask=mask, progress=bar, **options)
             else:
                 held_out = tuning.fit_held_out(time, accel, baro, reference, split, skip=skip, progress=bar, **options)

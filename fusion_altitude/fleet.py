@@ -5,7 +5,7 @@ an estimator on it, so fleet work scales with cores and machines. This module
 puts one task per log on a :mod:`dask.distributed` cluster — a
 ``LocalCluster`` sized to the machine when no client is given, or any
 existing cluster (``Client("tcp://HOST:8786")``) unchanged. Needs the
-``[fleet]`` extra (``dask[distributed]``, ``pyarrow``).
+``[fleet]`` extra (``dask[distributed]``, ``pyarrow``; ``bokeh`` for the dashboard).
 
 Functions
 ---------
@@ -22,11 +22,11 @@ Functions
 Output directory
 ----------------
 ``OUT/logs/<log_id>.parquet``
-    Per grid step, the columns ``fusion-altitude run -o`` writes (time s,
-    baro_altitude m, vertical_acceleration m/s², altitude m, vertical_velocity
-    m/s, accel_bias m/s², baro_residual m, reference_altitude m when the log
-    has one), in their native dtypes (the estimates float32, as computed),
-    plus ``log_id``. The file's key-value metadata ``fusion_altitude.fleet``
+    Per grid step, the columns ``fusion-altitude run -o`` writes, in its order
+    (time s, altitude m, vertical_velocity m/s, the estimator's other outputs —
+    the observer's accel_bias m/s² and baro_residual m —, baro_altitude m,
+    vertical_acceleration m/s², reference_altitude m when the log has one),
+    in their native dtypes (the estimates float32, as computed), plus ``log_id``. The file's key-value metadata ``fusion_altitude.fleet``
     holds the settings hash, the source fingerprint and the log's summary row.
 ``OUT/csv/<log_id>.csv`` (``write_csv=True``)
     The very file ``fusion-altitude run -o`` writes.
@@ -645,6 +645,8 @@ class _FitInputs(NamedTuple):
     dt: np.ndarray
     reference: np.ndarray
     mask: np.ndarray
+    steps_per_baro: float  # grid steps per baro sample: the gains run multiplied by it, as `fit` runs them
+    stability_dt: float  # s, the period tuning.fit checks stability at on this log (median dt · steps per baro)
 
 
 class _FitMeta(NamedTuple):
@@ -652,7 +654,7 @@ class _FitMeta(NamedTuple):
     path: str
     error: str
     samples: int
-    max_dt: float
+    stability_dt: float
 
 
 def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_FitInputs, _FitMeta]:
@@ -667,9 +669,11 @@ def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_Fi
         if data.reference_altitude is None:
             raise ValueError(f"{data.source} has no reference altitude")
         time = np.asarray(data.time, dtype=float)
-        mask = time >= time[0] + skip
-        inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude,
-                            adapter.sample_periods(time), data.reference_altitude, mask)
+        dt = adapter.sample_periods(time)
+        steps = adapter.steps_per_baro(data.baro_altitude)
+        inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude, dt,
+                            data.reference_altitude, adapter.fit_mask(time, skip), steps,
+                            adapter.stability_period(dt, steps))
         adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [adapter.default_settings()],
                       inputs.reference, inputs.mask)  # checks the inputs once, naming the problem
         return inputs
@@ -680,13 +684,14 @@ def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_Fi
 def _fit_meta(inputs: Union[_FitInputs, _FitMeta]) -> _FitMeta:
     if isinstance(inputs, _FitMeta):
         return inputs
-    dt = np.asarray(inputs.dt, dtype=np.float64)
-    return _FitMeta(inputs.log_id, inputs.path, "", int(dt.size), float(np.max(dt)) if dt.size else 0.0)
+    return _FitMeta(inputs.log_id, inputs.path, "", int(np.asarray(inputs.dt).size), inputs.stability_dt)
 
 
 def _sweep_sums(inputs: _FitInputs, gains: np.ndarray) -> Tuple[int, np.ndarray]:
-    """(metric samples, float32 sums of squared altitude − reference per setting, m²) of one log."""
-    result = adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, gains, inputs.reference, inputs.mask)
+    """(metric samples, float32 sums of squared altitude − reference per setting, m²) of one log, for designed
+    gains (K, 3): tuning.fit's own metric (tuning.score: the gains times the log's steps per baro sample)."""
+    result = adapter.fit_score(inputs.accel, inputs.baro_altitude, inputs.dt, inputs.reference, inputs.mask, gains,
+                               inputs.steps_per_baro)
     return result.metric_samples, result.sum_squared_error
 
 
@@ -743,45 +748,6 @@ class FleetFit(NamedTuple):
     holdout_default_rms_error: float
 
 
-def _search(evaluate_rms: Callable[[np.ndarray], np.ndarray], dt_check: float, omega_range: Tuple[float, float],
-            zetas: Sequence[float], bias_ratios: Sequence[float], refinements: int):
-    """The candidate search of :func:`fusion_altitude.tuning.fit`, with the metric supplied by the caller.
-
-    Kept step for step equal to ``tuning.fit`` (tests/test_fleet.py checks that a
-    one-log fleet fit returns tuning.fit's result exactly). Returns (best key, best
-    RMS, ranked list of ((ω, ζ, ω_b), RMS)).
-    """
-    if not math.isfinite(dt_check) or dt_check <= 0:
-        raise ValueError(f"dt must be finite and > 0 (s), got {dt_check!r}")
-    low, high = omega_range
-    if not (0 < low < high and math.isfinite(high)):
-        raise ValueError(f"omega_range must be 0 < low < high, got {omega_range!r}")
-    evaluated: Dict[Tuple[float, float, float], float] = {}
-
-    def evaluate(candidates):
-        fresh = [c for c in adapter.stable_candidates(candidates, dt_check) if c[:3] not in evaluated]
-        if not fresh:
-            return
-        rms_values = evaluate_rms(np.array([c[3] for c in fresh]))
-        for candidate, rms in zip(fresh, rms_values):
-            evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
-
-    omegas = np.geomspace(low, high, 24)
-    evaluate([(w, z, r * w) for w in omegas for z in zetas for r in bias_ratios])
-    if not evaluated:
-        raise ValueError("no stable candidate at this dt: lower omega_range or sample faster")
-    step = (high / low) ** (1 / 23)
-    for _ in range(refinements):
-        omega, zeta, omega_b = min(evaluated, key=evaluated.get)
-        ratio = omega_b / omega
-        step = math.sqrt(step)
-        ratios = sorted({max(0.0, ratio * f) for f in (0.6, 0.8, 1.0, 1.25, 1.6)} | ({0.0} if ratio == 0 else set()))
-        evaluate([(omega * step**i, z, r * omega * step**i) for i in range(-3, 4)
-                  for z in (zeta * 0.8, zeta * 0.9, zeta, zeta * 1.1, zeta * 1.25) for r in ratios])
-    ranked = sorted(evaluated.items(), key=lambda item: item[1])
-    return ranked
-
-
 def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str, Sequence[str]] = None,
              client: Any = None, workers: Optional[int] = None, csv_options: Optional[Dict[str, Any]] = None,
              skip: float = 5.0, omega_range: Tuple[float, float] = (0.05, 20.0),
@@ -789,14 +755,21 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
              bias_ratios: Sequence[float] = (0.0, 0.05, 0.1, 0.2, 0.35), refinements: int = 3) -> FleetFit:
     """One set of observer gains for many logs (a vehicle type), scored on held-out logs.
 
-    Each log is read once by a worker and kept there. For every round of the
-    search of :func:`fusion_altitude.tuning.fit` (a coarse grid over ω, ζ,
-    ω_b = ratio·ω, then ``refinements`` finer grids around the best point) each
-    worker sweeps all candidate gains over its logs and returns only the
-    per-candidate sum of squared altitude − reference (float32, as the sweep
-    kernel accumulates it) and the sample count; the client adds them in log
-    order in float64 and ranks by pooled RMS. The result does not depend on the
-    cluster; with one log it is exactly ``tuning.fit``'s.
+    Each log is read once by a worker and kept there. The search is
+    :func:`fusion_altitude.tuning.search`, the one :func:`fusion_altitude.tuning.fit`
+    runs (a coarse grid over ω, ζ, ω_b = ratio·ω, then ``refinements`` finer
+    grids around the best point); a candidate is kept when it is stable at
+    every log's own check period (:func:`fusion_altitude.tuning.stability_period`:
+    the log's median dt times its grid steps per baro sample; the largest over
+    the logs). For every round each worker scores all candidate gains on its
+    logs with :func:`fusion_altitude.tuning.score` (fit's metric: the gains
+    multiplied by the log's steps per baro sample, as ``run`` and ``fit`` run
+    them) and returns only the per-candidate sum of squared altitude −
+    reference (float32, as the sweep kernel accumulates it) and the sample
+    count; the client adds them in log order in float64 and ranks by pooled
+    RMS. The result does not depend on the cluster; with one log it is exactly
+    the result of ``fusion-altitude fit LOG --skip SKIP`` (``tuning.fit`` with
+    the log's steps per baro sample and :func:`fusion_altitude.tuning.training_mask`).
 
     Parameters
     ----------
@@ -810,7 +783,8 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
     csv_options : dict, optional
         ``load_log`` keyword arguments for CSV logs.
     skip : float
-        Seconds at the start of each log left out of the metric (start-up transient), s.
+        Seconds at the start of each log left out of the metric (start-up transient), s: the
+        samples after ``time[0] + skip`` count, as ``fusion-altitude fit --skip``.
     omega_range, zetas, bias_ratios, refinements
         The search grid, as :func:`fusion_altitude.tuning.fit`.
 
@@ -844,7 +818,8 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
         if not usable:
             raise ValueError("paths_or_globs: no usable training log"
                              + (f"; first: {excluded[0][0]}: {excluded[0][1]}" if excluded else ""))
-        dt_check = max(meta.max_dt for _, meta in usable)
+        # every log's own check period (tuning.fit's: median dt · steps per baro); the gains must be stable on all
+        dt_check = max(meta.stability_dt for _, meta in usable)
         samples_seen = {}
 
         def evaluate_rms(gains: np.ndarray) -> np.ndarray:
@@ -853,7 +828,7 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
             samples_seen["count"] = sum(samples for samples, _ in parts)
             return _pooled_rms(parts)
 
-        ranked = _search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
+        ranked = adapter.fit_search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
         (omega, zeta, omega_b), best_rms = ranked[0]
         fitted = adapter.settings_from_bandwidth(omega, zeta, omega_b)
         default_rms = float(evaluate_rms(np.array([adapter.default_settings().as_tuple()], dtype=np.float64))[0])

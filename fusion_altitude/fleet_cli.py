@@ -66,8 +66,10 @@ def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
     run.add_argument("paths", nargs="+", metavar="DIR_OR_GLOB", help="logs: files, directories, globs or URLs")
     run.add_argument("-o", "--output", required=True, metavar="OUT/", help="output directory (or fsspec URL)")
     run.add_argument("--estimator", default="observer", help="estimator (default observer)")
-    run.add_argument("--preset", default=None, choices=("balloon", "fixed_wing", "vtol", "racing"),
-                     help="observer gains (default vtol)")
+    from ._observer_glue import PRESET_OMEGA
+
+    run.add_argument("--preset", default=None, choices=tuple(PRESET_OMEGA),
+                     help="observer gains, as `run --preset` (default vtol)")
     run.add_argument("--csv", action="store_true", help="also write each log's `run -o` CSV to OUT/csv/")
     run.add_argument("--retry-failed", action="store_true", help="recompute logs that failed before")
     run.add_argument("--worst", type=int, default=10, help="worst logs to print (default 10)")

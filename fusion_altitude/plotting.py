@@ -241,7 +241,10 @@ def mark_events(axis, events, offset: float = 0.0, labels: bool = True) -> list:
     offset : float, default 0
         Subtracted from each event time (s), as the x axis of :func:`_relative_time`.
     labels : bool, default True
-        Write each event's name next to its line.
+        Write each event's name next to its line, each on the highest row where it does not
+        overlap a name to its left (events close in time, e.g. launch, max_speed and burnout on a
+        long flight, are stacked instead of written over each other). Call after the data are
+        plotted, so that the x limits are final.
 
     Returns
     -------
@@ -249,14 +252,39 @@ def mark_events(axis, events, offset: float = 0.0, labels: bool = True) -> list:
         The (event name, x position s) drawn.
     """
     drawn = []
-    for k, event in enumerate(events.occurred()):
+    occurred = list(events.occurred())
+    rows = event_label_rows(axis, [float(event.time) - offset for event in occurred],
+                            [event.name for event in occurred]) if labels else []
+    for k, event in enumerate(occurred):
         x = float(event.time) - offset
         axis.axvline(x, color="C3", linestyle="--", linewidth=0.8, alpha=0.7, zorder=0)
         if labels:
-            axis.annotate(event.name, xy=(x, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10 - 9 * (k % 2)),
+            axis.annotate(event.name, xy=(x, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10 - 9 * rows[k]),
                           textcoords="offset points", fontsize=7, color="C3")
         drawn.append((event.name, x))
     return drawn
+
+
+def event_label_rows(axis, positions, names, fontsize: float = 7.0) -> list:
+    """Row (0 = top) of each event label so that no two labels in one row overlap.
+
+    Greedy from left to right: a label takes the first row whose last label ends (estimated
+    width 0.6·fontsize per character plus 4 points) left of its own start. ``positions`` are
+    in data units (s) on ``axis``'s current x limits.
+    """
+    left, right = axis.get_xlim()
+    width_points = axis.get_window_extent().width * 72.0 / axis.figure.dpi
+    scale = width_points / (right - left) if right != left else 0.0
+    ends = []  # per row: x (points) where its last label ends
+    rows = [0] * len(positions)
+    for k in sorted(range(len(positions)), key=lambda i: positions[i]):
+        start = (positions[k] - left) * scale + 2.0
+        row = next((r for r, end in enumerate(ends) if end <= start), len(ends))
+        if row == len(ends):
+            ends.append(0.0)
+        ends[row] = start + 0.6 * fontsize * len(names[k]) + 4.0
+        rows[k] = row
+    return rows
 
 
 def plot_fit_landscape(result, path: str, title: Optional[str] = None) -> None:

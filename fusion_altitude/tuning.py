@@ -205,6 +205,45 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     ValueError
         A non-positive ``dt``, a bad ``omega_range``, or no stable candidate.
     """
+    dt_check = stability_period(dt, steps_per_baro, stability_dt)
+    done = [0]
+    total = refinements + 2
+
+    def tick():
+        done[0] += 1
+        if progress is not None:
+            progress(done[0], total)
+
+    def evaluate_rms(gains: np.ndarray) -> np.ndarray:
+        return score(accel, baro_altitude, dt, reference, mask, gains, steps_per_baro, threads).rms_error
+
+    ranked = search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements, tick)
+    (omega, zeta, omega_b), best_rms = ranked[0]
+    default = score(accel, baro_altitude, dt, reference, mask, np.array([AltitudeSettings().as_tuple()]),
+                    steps_per_baro)
+    tick()
+    landscape = np.array([(*key, value) for key, value in ranked], dtype=_LANDSCAPE)
+    return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
+                     float(default.rms_error[0]), landscape)
+
+
+# The pieces of :func:`fit`, public so that the fleet fit (fusion_altitude.fleet.fit_many) runs the very same
+# steps on many logs: change the fit here and both follow.
+
+
+def stability_period(dt, steps_per_baro: float = 1.0, stability_dt: Optional[float] = None) -> float:
+    """The period at which :func:`fit` checks a candidate's stability, s.
+
+    ``stability_dt`` (default the median of the positive ``dt``: a logging gap
+    does not rule out every useful gain) times ``max(steps_per_baro, 1)`` (the
+    designed gains, run at 1 baro sample per ``steps_per_baro`` steps with
+    :func:`settings_for_baro_rate`, act once per baro period).
+
+    Raises
+    ------
+    ValueError
+        The period is not finite and > 0.
+    """
     dt_values = np.asarray(dt, dtype=np.float64)
     if stability_dt is None:
         positive = dt_values[np.isfinite(dt_values) & (dt_values > 0)] if dt_values.ndim else dt_values.reshape(1)
@@ -212,27 +251,65 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     dt_check = float(stability_dt) * max(float(steps_per_baro), 1.0)
     if not math.isfinite(dt_check) or dt_check <= 0:
         raise ValueError(f"dt must be finite and > 0 (s), got {float(stability_dt)}")
+    return dt_check
+
+
+def training_mask(time, skip: float) -> np.ndarray:
+    """Samples ``fusion-altitude fit`` scores: after the first ``skip`` s (``time > time[0] + skip``)."""
+    time = np.asarray(time, dtype=float)
+    return time > time[0] + skip
+
+
+def score(accel, baro_altitude, dt, reference, mask, gains, steps_per_baro: float = 1.0,
+          threads: Optional[int] = None) -> SweepResult:
+    """The metric of :func:`fit`: designed gains (K, 3) run as ``run`` runs them, scored against ``reference``.
+
+    Each row (Kh 1/s, Kv 1/s², Kb 1/s³) is multiplied by ``max(steps_per_baro, 1)``
+    (:func:`settings_for_baro_rate`) and swept over the log (:func:`sweep`); the
+    result's ``rms_error`` is what :func:`fit` ranks by, its
+    ``sum_squared_error`` and ``metric_samples`` what the fleet fit adds over logs.
+    """
+    gains = np.asarray(gains, dtype=np.float64) * max(float(steps_per_baro), 1.0)
+    return sweep(accel, baro_altitude, dt, gains, reference=reference, mask=mask, threads=threads)
+
+
+def search(evaluate_rms: Callable[[np.ndarray], np.ndarray], dt_check: float,
+           omega_range: Tuple[float, float] = (0.05, 20.0), zetas: Sequence[float] = (0.5, 0.7, 1.0, 1.4),
+           bias_ratios: Sequence[float] = (0.0, 0.05, 0.1, 0.2, 0.35), refinements: int = 3,
+           round_done: Optional[Callable[[], None]] = None) -> List[Tuple[Tuple[float, float, float], float]]:
+    """The candidate search of :func:`fit`, the metric supplied by the caller.
+
+    A coarse grid over ω (24 values log-spaced in ``omega_range``, rad/s), ζ
+    and ω_b = ratio·ω, then ``refinements`` rounds of a finer grid around the
+    best point. Only candidates stable at ``dt_check`` (s, :func:`stability_period`)
+    are evaluated: ``evaluate_rms`` gets their designed gains as a (K, 3) array
+    and returns K RMS errors (m; a non-finite one ranks last). ``round_done`` is
+    called after each round.
+
+    Returns
+    -------
+    list of ((ω, ζ, ω_b), rms)
+        Every evaluated candidate, best first.
+
+    Raises
+    ------
+    ValueError
+        A bad ``omega_range`` or no stable candidate.
+    """
     low, high = (float(v) for v in omega_range)
     if not (0 < low < high and math.isfinite(high)):
         raise ValueError(f"omega_range must be 0 < low < high, got ({low:g}, {high:g})")
     evaluated = {}
-    total = refinements + 2
-    done = [0]
-
-    def tick():
-        done[0] += 1
-        if progress is not None:
-            progress(done[0], total)
 
     def evaluate(candidates):
         fresh = [c for c in _stable_candidates(candidates, dt_check) if c[:3] not in evaluated]
         if fresh:
-            gains = np.array([c[3] for c in fresh]) * max(float(steps_per_baro), 1.0)
-            result = sweep(accel, baro_altitude, dt, gains, reference=reference, mask=mask, threads=threads)
-            for candidate, rms in zip(fresh, result.rms_error):
+            rms_values = evaluate_rms(np.array([c[3] for c in fresh]))
+            for candidate, rms in zip(fresh, rms_values):
                 # a candidate that overflowed float32 on this log (stable on paper, not in practice) ranks last
                 evaluated[candidate[:3]] = float(rms) if math.isfinite(rms) else math.inf
-        tick()
+        if round_done is not None:
+            round_done()
 
     omegas = np.geomspace(low, high, 24)
     evaluate([(w, z, r * w) for w in omegas for z in zetas for r in bias_ratios])
@@ -247,14 +324,7 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
         ratios = sorted({max(0.0, ratio * f) for f in (0.6, 0.8, 1.0, 1.25, 1.6)} | ({0.0} if ratio == 0 else set()))
         evaluate([(omega * step**i, z, r * omega * step**i) for i in range(-3, 4)
                   for z in (zeta * 0.8, zeta * 0.9, zeta, zeta * 1.1, zeta * 1.25) for r in ratios])
-    ranked = sorted(evaluated.items(), key=lambda item: item[1])
-    (omega, zeta, omega_b), best_rms = ranked[0]
-    default = sweep(accel, baro_altitude, dt, [settings_for_baro_rate(AltitudeSettings(), steps_per_baro)],
-                    reference=reference, mask=mask)
-    tick()
-    landscape = np.array([(*key, value) for key, value in ranked], dtype=_LANDSCAPE)
-    return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
-                     float(default.rms_error[0]), landscape)
+    return sorted(evaluated.items(), key=lambda item: item[1])
 
 
 class HeldOutFit(NamedTuple):
@@ -315,7 +385,7 @@ def fit_held_out(time, accel, baro_altitude, reference, train_until: float, skip
     time = np.asarray(time, dtype=float)
     reference = np.asarray(reference, dtype=float)
     has_reference = np.isfinite(reference)
-    train = (time > time[0] + skip) & (time < train_until) & has_reference
+    train = training_mask(time, skip) & (time < train_until) & has_reference
     held_out = (time >= train_until) & has_reference
     if not train.any():
         raise ValueError(f"train_until {train_until:g} s leaves no reference sample to train on")

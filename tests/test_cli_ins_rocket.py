@@ -158,6 +158,9 @@ def test_run_on_a_rocket_log_runs_the_flight_layer_without_being_asked(hedy, cap
     assert main(["run", hedy]) == 0
     text = capsys.readouterr().out
     assert "estimator rocket (rocket log)" in text and "long axis -Y" in text and "flight events" in text
+    # the rocket layer uses the long axis, not the CATS reader's gyro-integrated attitude: the header says so
+    assert "attitude by gyro integration" not in text
+    assert "rocket layer: accelerometer along the long axis (-Y) minus g, not rotated by an attitude" in text
 
 
 def test_run_on_hedy_writes_the_events_csv_one_row_per_event(hedy, tmp_path, capsys):
@@ -262,6 +265,23 @@ def test_plot_marks_every_declared_event(simulated_rocket_csv):
     plt.close(figure)
     assert [name for name, _ in drawn] == [e.name for e in events.occurred()]
     assert [x for _, x in drawn] == [e.time for e in events.occurred()]
+
+
+def test_event_labels_close_in_time_are_put_on_separate_rows():
+    """Hedy: launch −0.11 s, max_speed 7.95 s, burnout 7.96 s on a 250 s axis: three rows, apogee back on the top."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from fusion_altitude.plotting import event_label_rows
+
+    figure, axis = plt.subplots(figsize=(10, 3))
+    axis.set_xlim(-10.0, 255.0)
+    rows = event_label_rows(axis, [-0.106, 7.954, 7.964, 33.484, 233.734],
+                            ["launch", "max_speed", "burnout", "apogee", "main"])
+    plt.close(figure)
+    assert rows == [0, 1, 2, 0, 0]
 
 
 def test_run_rocket_plot_is_written(simulated_rocket_csv, tmp_path, capsys):

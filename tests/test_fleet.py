@@ -386,20 +386,42 @@ def test_worst_logs_puts_failed_first_then_largest_rms(first_run):
 # fit_many
 
 
-def _fit_arrays(path):
+def _fit_arrays(path, skip=5.0):
+    """(accel, baro, dt, reference, mask) of a log as ``fusion-altitude fit --skip`` scores it."""
     data = adapter.read_log(path, CSV_OPTIONS)
-    mask = data.time >= data.time[0] + 5.0
+    mask = tuning.training_mask(data.time, skip)
     return data.vertical_acceleration, data.baro_altitude, adapter.sample_periods(data.time), data.reference_altitude, mask
+
+
+def _same_fit(fleet_fit, single):
+    assert fleet_fit.settings.as_tuple() == single.settings.as_tuple()
+    assert (fleet_fit.omega, fleet_fit.zeta, fleet_fit.omega_b) == (single.omega, single.zeta, single.omega_b)
+    assert (fleet_fit.rms_error, fleet_fit.default_rms_error) == (single.rms_error, single.default_rms_error)
+    np.testing.assert_array_equal(fleet_fit.landscape, single.landscape)
 
 
 def test_fleet_fit_of_one_log_equals_the_single_machine_fit(fleet_dir, client):
     path = str(fleet_dir / "sim" / "sim04.csv")
     fleet_fit = fleet.fit_many(path, client=client, csv_options=CSV_OPTIONS)
-    single = tuning.fit(*_fit_arrays(path))
-    assert fleet_fit.settings.as_tuple() == single.settings.as_tuple()
-    assert (fleet_fit.omega, fleet_fit.zeta, fleet_fit.omega_b) == (single.omega, single.zeta, single.omega_b)
-    assert (fleet_fit.rms_error, fleet_fit.default_rms_error) == (single.rms_error, single.default_rms_error)
-    np.testing.assert_array_equal(fleet_fit.landscape, single.landscape)
+    arrays = _fit_arrays(path)
+    _same_fit(fleet_fit, tuning.fit(*arrays, steps_per_baro=tuning.steps_per_baro(arrays[1])))
+
+
+def test_fleet_fit_of_the_px4_log_equals_the_cli_fit_with_the_same_skip(data_dir, client, monkeypatch):
+    """The shared PX4 ULog has a 20 Hz baro on a 205 Hz grid and a 0.16 s logging gap: fit checks stability at the
+    median dt times the steps per baro sample and runs the gains multiplied by it; the fleet fit must do the same."""
+    path = str(data_dir / "px4_sample_log_small.ulg")
+    results = []
+    real_fit = tuning.fit
+    monkeypatch.setattr(tuning, "fit", lambda *a, **k: results.append(real_fit(*a, **k)) or results[-1])
+    status, out, _ = _cli(["fit", path, "--skip", "1"])
+    assert status == 0, out
+    (single,) = results
+    monkeypatch.undo()
+    data = adapter.read_log(path)
+    dt = adapter.sample_periods(data.time)
+    assert tuning.steps_per_baro(data.baro_altitude) > 5 and dt.max() > 10 * np.median(dt)  # what the test is about
+    _same_fit(fleet.fit_many(path, client=client, skip=1.0), single)
 
 
 def test_fleet_fit_minimises_the_pooled_rms_over_all_logs(fleet_dir, client):
@@ -408,7 +430,7 @@ def test_fleet_fit_minimises_the_pooled_rms_over_all_logs(fleet_dir, client):
     sums, count = 0.0, 0
     for path in paths:  # the pooled RMS of the winner, recomputed log by log with the sweep kernel
         accel, baro, dt, reference, mask = _fit_arrays(path)
-        one = tuning.sweep(accel, baro, dt, [result.settings], reference=reference, mask=mask)
+        one = tuning.score(accel, baro, dt, reference, mask, [result.settings.as_tuple()], tuning.steps_per_baro(baro))
         sums += float(one.sum_squared_error[0])
         count += one.metric_samples
     assert result.rms_error == np.sqrt(sums / count)
@@ -433,8 +455,9 @@ def test_fleet_fit_scores_held_out_logs(fleet_dir, client):
     assert [row["log_id"] for row in result.holdout] == [fleet.log_id(path) for path in held]
     for row, path in zip(result.holdout, held):
         accel, baro, dt, reference, mask = _fit_arrays(path)
-        one = tuning.sweep(accel, baro, dt, [result.settings, adapter.default_settings()], reference=reference,
-                           mask=mask)
+        one = tuning.score(accel, baro, dt, reference, mask,
+                           [result.settings.as_tuple(), adapter.default_settings().as_tuple()],
+                           tuning.steps_per_baro(baro))
         assert (row["rms_error_m"], row["default_rms_error_m"]) == tuple(one.rms_error)
     assert min(r["rms_error_m"] for r in result.holdout) <= result.holdout_rms_error <= max(
         r["rms_error_m"] for r in result.holdout)
@@ -474,6 +497,30 @@ def test_cli_fleet_run_writes_outputs_and_reports_failures(fleet_dir, cluster, t
     assert len(list((tmp_path / "logs").glob("*.parquet"))) == 16
 
 
+def test_cli_fleet_run_takes_every_preset_of_run_including_rocket(fleet_dir, cluster, tmp_path):
+    import argparse
+
+    def command(parser, name):
+        subparsers = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        return subparsers.choices[name]
+
+    def presets(parser):
+        return tuple(next(a.choices for a in parser._actions if a.dest == "preset"))
+
+    parser = cli.build_parser()
+    assert "rocket" in presets(command(parser, "run"))
+    assert presets(command(command(parser, "fleet"), "run")) == presets(command(parser, "run"))
+    path = fleet_dir / "sim" / "sim01.csv"
+    status, out, _ = _cli(["fleet", "run", str(path), "-o", str(tmp_path), "--preset", "rocket",
+                           "--scheduler", cluster.scheduler_address, *CSV_FLAGS])
+    assert status == 0, out
+    (parquet,) = (tmp_path / "logs").glob("*.parquet")
+    from fusion_altitude import AltitudeSettings
+
+    alone = adapter.run_log(adapter.read_log(str(path), CSV_OPTIONS), "observer", AltitudeSettings.preset("rocket"))
+    np.testing.assert_array_equal(pq.read_table(parquet).column("altitude").to_numpy(), alone.estimate.altitude)
+
+
 def test_cli_fleet_summary_prints_the_table_and_the_worst_logs(first_run):
     status, out, _ = _cli(["fleet", "summary", first_run.output_dir, "--worst", "2"])
     assert status == 0
@@ -500,6 +547,20 @@ def test_cli_fleet_summary_of_an_empty_directory_is_a_one_line_error(tmp_path):
 def test_cli_fleet_rejects_zero_workers(fleet_dir, tmp_path):
     status, _, err = _cli(["fleet", "run", str(fleet_dir / "sim"), "-o", str(tmp_path), "--workers", "0"])
     assert status == 2 and "--workers must be >= 1" in err
+
+
+def test_the_fleet_extra_brings_the_dashboard_and_fleet_run_prints_its_link(fleet_dir, tmp_path):
+    """bokeh is in the [fleet] extra, so the LocalCluster that `fleet run` starts (no --scheduler) has a dashboard,
+    and its link is printed."""
+    import re
+
+    extra = re.search(r"^fleet = \[(.*)\]$", (ROOT / "pyproject.toml").read_text(), re.MULTILINE).group(1)
+    assert '"bokeh>=' in extra
+    status, _, err = _cli(["fleet", "run", str(fleet_dir / "sim" / "sim01.csv"), "-o", str(tmp_path),
+                           "--workers", "1", *CSV_FLAGS])
+    assert status == 0, err
+    line = next(line for line in err.splitlines() if line.startswith("Dask cluster: 1 worker"))
+    assert ", dashboard http://" in line and line.rstrip().endswith("/status")
 
 
 def test_without_a_client_a_local_cluster_of_one_single_thread_worker_per_cpu_is_started():

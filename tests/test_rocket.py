@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from fusion_altitude import rocket
+from fusion_altitude._flight_glue import MACH_LOCKOUT
 from fusion_altitude.rocket_sim import simulate_rocket_flight
 
 SEEDS = range(20)
@@ -51,10 +52,18 @@ def test_main_is_declared_within_10_m_of_its_set_altitude(flights):
 
 
 def test_no_event_is_declared_while_the_baro_is_locked_out(flights):
-    """Apogee, main and landed are the baro-dependent events; none falls on a locked-out step."""
+    """Apogee, main and landed are the baro-dependent events: none falls on a locked-out step, none is declared
+    while the speed is above the lockout speed (100 m/s by default, the C's ``min(lockoutSpeed, 236 m/s)``)
+    or during the boost."""
+    lockout_speed = min(rocket.RocketSettings().lockout_speed, MACH_LOCKOUT)
     for _, batch, events in flights:
         for name in ("apogee", "main", "landed"):
-            assert batch.baro[events[name].sample] != rocket.BaroFate.LOCKED_OUT
+            k = events[name].sample
+            assert events[name].occurred
+            assert batch.baro[k] != rocket.BaroFate.LOCKED_OUT
+            assert abs(float(batch.vertical_velocity[k])) <= lockout_speed, (name, batch.vertical_velocity[k])
+            assert abs(events[name].velocity) <= lockout_speed
+            assert batch.phase[k] != rocket.Phase.BOOST and batch.phase[k - 1] != rocket.Phase.BOOST
 
 
 def test_height_never_goes_down_by_more_than_1_m_during_the_ascent(flights):
@@ -172,6 +181,7 @@ def test_events_csv_has_one_row_per_declared_event(tmp_path):
     events = rocket.detect_events(flight.time, flight.accel, flight.baro_altitude)
     path = tmp_path / "events.csv"
     events.to_csv(path)
+    assert b"\r" not in path.read_bytes()  # "\n" line endings on every platform
     lines = path.read_text().splitlines()
     assert lines[0] == "event,time,height"
     assert [line.split(",")[0] for line in lines[1:]] == ["launch", "burnout", "apogee", "main", "landed"]

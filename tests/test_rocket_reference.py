@@ -135,3 +135,88 @@ def test_copy_and_pickle_resume_bit_identically(make):
     for clone in clones:
         assert same_batch(clone.update_batch(flight.accel[half:], flight.baro_altitude[half:], flight.dt), rest)
         assert clone.events == estimator.events
+
+
+# -- the ascent never goes down by more than 1 m, whatever the baro does (within what the gate is built for) ---------
+#
+# Bad baro fed to simulated flights (fusion_altitude.rocket_sim, the transonic static-port error included), in
+# the C binding and in the reference: spikes and bursts shorter than spikeTime (0.2 s) of 25-500 m, either
+# sign, around the baro's re-admission after the lockout; lasting steps of 25-500 m, either sign, starting
+# during the lockout or in the coast after re-admission (re-admitted through the baro offset, which the output
+# absorbs without falling). The height (launch to the declared apogee) may never fall more than 1 m below its
+# running maximum. Before the offset's downward rate was tied to the observer's rise, a -50 m step in the coast
+# of seed 1 fell 1.66 m. NOT covered, because the flight layer fails it (docs/rocket.md, Limits): steps smaller
+# than spikeThreshold (20 m), which are fused as they come and pull the velocity (a -10 m step 1 s before
+# apogee: apogee 0.26 s early).
+
+from functools import lru_cache
+
+from fusion_altitude.rocket_sim import simulate_rocket_flight
+
+
+@lru_cache(maxsize=None)
+def clean_flight(seed: int):
+    """(flight, first fused baro sample after launch, apogee sample) of a simulated flight."""
+    flight = simulate_rocket_flight(seed)
+    batch, events = rocket.run_rocket(flight.time, flight.accel, flight.baro_altitude)
+    launch = events["launch"].sample
+    fused = np.flatnonzero(batch.baro == rocket.BaroFate.FUSED)
+    return flight, int(fused[fused > launch][0]), events["apogee"].sample
+
+
+def ascent_drop(make, flight, baro) -> float:
+    """Largest fall of the height below its running maximum between launch and apogee, m."""
+    estimator = make()
+    batch = estimator.update_batch(flight.accel, baro, flight.dt)
+    events = estimator.events
+    assert events["launch"].occurred and events["apogee"].occurred
+    ascent = batch.height[events["launch"].sample:events["apogee"].sample + 1].astype(np.float64)
+    return float((np.maximum.accumulate(ascent) - ascent).max())
+
+
+def bad_baro(seed: int, kind: str, size: float, where: float, length: int):
+    """A simulated flight and its baro altitude (m) with one defect:
+
+    - ``burst``: ``size`` m added to ``length`` samples (≤ 0.15 s) from ``where`` s after the re-admission;
+    - ``step``: ``size`` m added from ``where`` (−3…0.9) to the end of the log, where ``where`` < 0 is in s
+      before the re-admission (in the lockout) and ``where`` ≥ 0 the fraction of the way from re-admission to
+      apogee.
+    """
+    flight, readmit, apogee = clean_flight(seed)
+    baro = flight.baro_altitude.copy()
+    if kind == "burst":
+        start = readmit + int(round(where / flight.dt))
+        baro[start:start + length] += size
+    else:
+        start = readmit + (int(round(where / flight.dt)) if where < 0 else int(where * (apogee - readmit)))
+        baro[start:] += size
+    return flight, baro
+
+
+CASES = [(seed, "burst", size, where, length) for seed in (0, 1, 7) for size in (-300.0, -25.0, 25.0, 300.0)
+         for where, length in ((-0.1, 1), (0.0, 1), (0.0, 15), (0.05, 5))] + \
+        [(seed, "step", size, where, 0) for seed in (1, 9) for size in (-300.0, -50.0, 25.0, 300.0)
+         for where in (-3.0, -0.05, 0.1, 0.5, 0.7, 0.9)]
+
+
+@pytest.mark.parametrize("make", [CRocket, RefRocket], ids=["c", "reference"])
+def test_the_height_does_not_drop_more_than_1_m_in_the_ascent_with_bad_baro(make):
+    drops = {case: ascent_drop(make, *bad_baro(*case)) for case in CASES}
+    worst = max(drops, key=drops.get)
+    assert drops[worst] <= 1.0, (worst, drops[worst])
+    # the bad baro reached the estimator: a burst is rejected sample by sample
+    flight, baro = bad_baro(0, "burst", 300.0, 0.0, 15)
+    assert (make().update_batch(flight.accel, baro, flight.dt).baro == rocket.BaroFate.SPIKE).sum() >= 15
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 19), kind=st.sampled_from(["burst", "step"]),
+       size=st.one_of(st.floats(-500.0, -25.0), st.floats(25.0, 500.0)), where=st.floats(0.0, 1.0),
+       length=st.integers(1, 15))
+def test_the_height_does_not_drop_more_than_1_m_in_the_ascent_with_drawn_bad_baro(seed, kind, size, where, length):
+    where = -0.2 + 0.5 * where if kind == "burst" else -3.0 + 3.9 * where
+    flight, baro = bad_baro(seed, kind, size, where, length)
+    c, r = CRocket(), RefRocket()
+    assert same_batch(c.update_batch(flight.accel, baro, flight.dt), r.update_batch(flight.accel, baro, flight.dt))
+    assert c.events == r.events
+    assert ascent_drop(CRocket, flight, baro) <= 1.0

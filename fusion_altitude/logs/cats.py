@@ -107,6 +107,11 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
     return time, column, repeated, note, dropped
 
 
+#: The note saying how ``vertical_acceleration`` was made (the rocket flight layer does not use it: it takes the
+#: raw accelerometer's long axis, and ``fusion-altitude run`` prints that instead).
+ATTITUDE_NOTE = "attitude by gyro integration (ENU)"
+
+
 def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: Union[None, float] = None,
               accel_range: float = ACCEL_RANGE, progress: Optional[Callable[[int, int], None]] = None) -> LogData:
     """Read a CATS flight-computer export (split CSVs) onto the IMU's time grid.
@@ -177,7 +182,7 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
     ground_pa = float(np.median(baro["P"][good]))
     baro_altitude = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
-             f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), "attitude by gyro integration (ENU)"]
+             f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
     log = LogData(f"{os.path.basename(files['baro'])} + {os.path.basename(files['imu'])} (CATS CSV)", time, accel,
                   baro_altitude, clipped=clipped, notes=notes, accel=accel_body, gyro=np.radians(gyro_dps),
                   imu_frame="sensor", pressure=pressure, temperature=temperature, vehicle="rocket",

@@ -237,18 +237,24 @@ class RocketEstimator(Checkpointable):
             return
         fused = self._gate(z, dt)
         self._accel_trusted = (not descending) or accel_vertical
+        height_before = self._obs._h
         self._obs._update(a if self._accel_trusted else self._obs._b, fused, dt)
 
+        # offset_applied -> baro_offset while climbing: up by at most offset_rate·|v|·dt (m), down by at most
+        # offset_rate times the observer's rise in this step (m; none if it did not rise): the output height
+        # never falls by absorbing the offset. At once in the descent.
         v = self._obs._v
         speed = -v if v < 0 else v
         offset_step = s["offset_rate"] * speed * dt
+        rise = self._obs._h - height_before
+        offset_step_down = s["offset_rate"] * rise if rise > 0 else _ZERO
         offset_left = self._baro_offset - self._offset_applied
         if self._phase >= Phase.DROGUE:
             self._offset_applied = self._baro_offset
         elif offset_left > offset_step:
             self._offset_applied += offset_step
-        elif offset_left < -offset_step:
-            self._offset_applied -= offset_step
+        elif offset_left < -offset_step_down:
+            self._offset_applied -= offset_step_down
         else:
             self._offset_applied = self._baro_offset
         h = self._obs._h + self._offset_applied

@@ -254,10 +254,63 @@ ALPHABETA_SETTINGS = (
 )
 
 
+# -- fusion_altitude_ins.h -------------------------------------------------------------------------------
+
+class InsStatus(enum.IntEnum):
+    """C ``FusionAltitudeInsStatus`` (fusion_altitude_ins.h)."""
+
+    OK = 0
+    INVALID_GYRO = 1  #: a gyro component not finite or |.| > 1e6
+    INVALID_ACCEL = 2  #: an accel component not finite or |.| > 1e6
+    INVALID_MAG = 3  #: mag not all NaN (no sample) and not all finite with |.| <= 1e6
+    INVALID_BARO_ALTITUDE = 4  #: baro altitude infinite or |.| > 1e6 (NaN: no sample)
+    INVALID_DT = 5  #: dt not finite or <= 0
+    INVALID_SETTINGS = 6  #: a setting out of its range (see FusionAltitudeInsSettingsCheck)
+
+
+#: ``FusionAltitudeInsStatusMessage`` of each status, read from C.
+INS_STATUS_MESSAGES = (
+    'ok',
+    'gyro components must be finite with magnitude <= 1e6 rad/s',
+    'accel components must be finite with magnitude <= 1e6 m/s^2',
+    'mag components must be all NaN (no sample) or all finite with magnitude <= 1e6',
+    'baro altitude must be finite with magnitude <= 1e6 m (or NaN for no sample)',
+    'dt must be finite and > 0',
+    'settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)',
+)
+
+
+#: ``FusionAltitudeInsSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
+#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeInsSettingsDefault()``, read from C.
+INS_SETTINGS = (
+    ('gyro_noise', 'gyroNoise', 'f', 0.0003, 'Ng, rad/s/sqrt(Hz): gyro white-noise density'),
+    ('gyro_bias_random_walk', 'gyroBiasRandomWalk', 'f', 1e-05, 'Nb, rad/s^2/sqrt(Hz): gyro bias random walk'),
+    ('accel_noise', 'accelNoise', 'f', 0.05, 'Na, m/s^2/sqrt(Hz): vertical acceleration noise density (vibration included)'),
+    ('accel_attitude_noise', 'accelAttitudeNoise', 'f', 0.05, 'rad: 1 sigma of the gravity direction per sample (> 0)'),
+    ('accel_norm_rejection', 'accelNormRejection', 'f', 2.0, 'm/s^2: accel not used for attitude when ||f| - g| exceeds it'),
+    ('accel_rejection', 'accelRejection', 'f', 0.17, 'rad: accel not used for attitude when its direction is further from the prediction'),
+    ('recovery_trigger_period', 'recoveryTriggerPeriod', 'f', 5.0, 's: rejected for longer lifts the angle gate'),
+    ('baro_noise', 'baroNoise', 'f', 0.3, 'm: 1 sigma per baro sample (> 0)'),
+    ('stationary_gyro_threshold', 'stationaryGyroThreshold', 'f', 0.05, 'rad/s: |gyro| below it counts as still'),
+    ('stationary_accel_threshold', 'stationaryAccelThreshold', 'f', 0.5, 'm/s^2: ||accel| - g| below it counts as still'),
+    ('stationary_window', 'stationaryWindow', 'f', 1.0, 's: still for this long = stationary'),
+    ('zero_rate_noise', 'zeroRateNoise', 'f', 0.01, 'rad/s: 1 sigma of the zero-rate update while stationary (> 0)'),
+    ('zero_velocity_noise', 'zeroVelocityNoise', 'f', 0.05, 'm/s: 1 sigma of the zero-velocity update while stationary (> 0)'),
+    ('baro_bias_time_constant', 'baroBiasTimeConstant', 'f', 5.0, 's: baro bias filter while stationary (> 0)'),
+    ('accel_bias_time_constant', 'accelBiasTimeConstant', 'f', 2.0, 's: accel z bias filter while stationary (> 0)'),
+    ('mag_time_constant', 'magTimeConstant', 'f', 2.0, 's: local-to-global yaw filter (> 0)'),
+    ('initial_attitude_sigma', 'initialAttitudeSigma', 'f', 0.05, 'rad: attitude uncertainty after alignment'),
+    ('initial_gyro_bias_sigma', 'initialGyroBiasSigma', 'f', 0.01, 'rad/s: initial gyro bias uncertainty'),
+    ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 0.5, 'm/s: initial velocity uncertainty'),
+    ('gap_period', 'gapPeriod', 'f', 0.1, 's: a dt above it is a gap, not integrated (> 0)'),
+)
+
+
 #: Status messages of each estimator class, for ``Estimator.status_message``.
 STATUS_MESSAGES = {
     'AltitudeEstimator': OBSERVER_STATUS_MESSAGES,
     'KalmanEstimator': KALMAN_STATUS_MESSAGES,
     'ComplementaryFilter': COMPLEMENTARY_STATUS_MESSAGES,
     'AlphaBetaFusion': ALPHABETA_STATUS_MESSAGES,
+    'InsEstimator': INS_STATUS_MESSAGES,
 }

@@ -54,11 +54,12 @@ MODULES = {
                       "FusionAltitudeComplementarySettings", "FusionAltitudeComplementary"),
     "alphabeta": ("fusion_altitude_alphabeta.h", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaSettings",
                   "FusionAltitudeAlphaBeta"),
+    "ins": ("fusion_altitude_ins.h", "FusionAltitudeIns", "FusionAltitudeInsSettings", "FusionAltitudeIns"),
 }
 
 #: module name → the Python estimator class (binding and reference alike).
 ESTIMATORS = {"observer": "AltitudeEstimator", "kalman": "KalmanEstimator", "complementary": "ComplementaryFilter",
-              "alphabeta": "AlphaBetaFusion"}
+              "alphabeta": "AlphaBetaFusion", "ins": "InsEstimator"}
 
 #: Python enum name of each C enum, and the prefix its members drop.
 ENUM_NAMES = {
@@ -71,6 +72,7 @@ ENUM_NAMES = {
     "FusionAltitudeComplementaryStatus": "ComplementaryStatus",
     "FusionAltitudeAlphaBetaStatus": "AlphaBetaStatus",
     "FusionAltitudeAlphaBetaSensorIndex": "AlphaBetaSensorIndex",
+    "FusionAltitudeInsStatus": "InsStatus",
 }
 
 #: Python names that are not the snake_case of the C name (kept for compatibility).
@@ -78,6 +80,12 @@ PYTHON_NAMES = {
     "rangeMinimum": "range_min",
     "rangeMaximum": "range_max",
     "gpsMinimumSatellites": "gps_min_satellites",
+}
+
+#: Python property names of getters that are not the snake_case of the part after ``Get``/``Is``.
+GETTER_NAMES = {
+    "FusionAltitudeInsIsStationary": "is_stationary",
+    "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
 }
 
 #: C scalar type → kind: "f" float32, "b" bool, "i" signed int, "u" unsigned int, "e" enum (as int).
@@ -168,7 +176,8 @@ def parse_header(path: Path, known: Optional[Header] = None) -> Header:
         if argument in header.structs:
             doc = " ".join(line.strip(" *") for line in doc.strip().splitlines()).strip()
             doc = re.sub(r"^@brief\s*|^@return\s*", "", doc).replace("^2", "²").replace("^3", "³")
-            header.getters.append(Getter(ctype, cname, snake(short), (doc[:1].upper() + doc[1:]) or f"{cname}."))
+            header.getters.append(Getter(ctype, cname, GETTER_NAMES.get(cname, snake(short)),
+                                         (doc[:1].upper() + doc[1:]) or f"{cname}."))
     return header
 
 
@@ -461,7 +470,7 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
 
 #: The .pxd of each module's header.
 PXD_NAMES = {"observer": "cobserver.pxd", "kalman": "ckalman.pxd", "complementary": "ccomplementary.pxd",
-             "alphabeta": "calphabeta.pxd"}
+             "alphabeta": "calphabeta.pxd", "ins": "cins.pxd"}
 
 
 def _cython_type(ctype: str) -> str:
@@ -537,6 +546,7 @@ EXTRA_STUBS = {
     "alphabeta": ["C_SENSOR_COUNT: int", "C_MAX_QUALITY: int", "def status_message(status: int) -> str: ...",
                   "def gains(quality: int) -> Tuple[float, float]: ...",
                   "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ..."],
+    "ins": [],
 }
 
 

@@ -52,7 +52,8 @@ OBSERVER_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeSettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeSettingsDefault()``, read from C.
 OBSERVER_SETTINGS = (
     ('position_gain', 'positionGain', 'f', 2.4, 'Kh, 1/s: baro residual into altitude'),
     ('velocity_gain', 'velocityGain', 'f', 2.88, 'Kv, 1/s^2: baro residual into vertical velocity'),
@@ -71,6 +72,14 @@ class KalmanStateIndex(enum.IntEnum):
     BARO_OFFSET = 2  #: ob, m: baro reads h + ob
     GPS_OFFSET = 3  #: og, m: GPS reads h + og
     ACCEL_BIAS = 4  #: b, m/s^2, +up
+
+
+class KalmanSensorIndex(enum.IntEnum):
+    """C ``FusionAltitudeKalmanSensorIndex`` (fusion_altitude_kalman.h)."""
+
+    BARO = 0
+    RANGE = 1
+    GPS = 2
 
 
 class KalmanResult(enum.IntEnum):
@@ -119,7 +128,8 @@ KALMAN_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeKalmanSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeKalmanSettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeKalmanSettingsDefault()``, read from C.
 KALMAN_SETTINGS = (
     ('accel_noise', 'accelNoise', 'f', 0.035, 'N_a, m/s^2/sqrt(Hz): accelerometer white-noise density (with vibration)'),
     ('accel_bias_random_walk', 'accelBiasRandomWalk', 'f', 0.003, 'N_b, m/s^3/sqrt(Hz): accel bias random walk'),
@@ -171,7 +181,8 @@ COMPLEMENTARY_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeComplementarySettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeComplementarySettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeComplementarySettingsDefault()``, read from C.
 COMPLEMENTARY_SETTINGS = (
     ('accel_time_constant', 'accelTimeConstant', 'f', 0.02, 'tauA, s, >= 0: accel low-pass (0: none)'),
     ('baro_time_constant', 'baroTimeConstant', 'f', 0.05, 'tauB, s, >= 0: baro low-pass (0: none)'),
@@ -185,6 +196,16 @@ COMPLEMENTARY_SETTINGS = (
 
 
 # -- fusion_altitude_alphabeta.h -------------------------------------------------------------------------
+
+class AlphaBetaSensorIndex(enum.IntEnum):
+    """C ``FusionAltitudeAlphaBetaSensorIndex`` (fusion_altitude_alphabeta.h)."""
+
+    IMU = 0
+    BARO = 1
+    LIDAR = 2
+    SONAR = 3
+    GPS = 4
+
 
 class AlphaBetaStatus(enum.IntEnum):
     """C ``FusionAltitudeAlphaBetaStatus`` (fusion_altitude_alphabeta.h)."""
@@ -281,7 +302,8 @@ INS_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeInsSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeInsSettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeInsSettingsDefault()``, read from C.
 INS_SETTINGS = (
     ('gyro_noise', 'gyroNoise', 'f', 0.0003, 'Ng, rad/s/sqrt(Hz): gyro white-noise density'),
     ('gyro_bias_random_walk', 'gyroBiasRandomWalk', 'f', 1e-05, 'Nb, rad/s^2/sqrt(Hz): gyro bias random walk'),
@@ -306,6 +328,113 @@ INS_SETTINGS = (
 )
 
 
+# -- fusion_altitude_flight.h ----------------------------------------------------------------------------
+
+class RocketStatus(enum.IntEnum):
+    """C ``FusionAltitudeRocketStatus`` (fusion_altitude_flight.h)."""
+
+    OK = 0
+    INVALID_ACCEL = 1  #: accel not finite
+    INVALID_BARO_ALTITUDE = 2  #: baro altitude infinite
+    INVALID_DT = 3  #: dt not finite or <= 0
+    INVALID_OBSERVER_SETTINGS = 4  #: observer gains rejected by FusionAltitudeSettingsCheck
+    INVALID_STATIONARY_ACCEL = 5  #: not finite or <= 0
+    INVALID_CALIBRATION_WINDOW = 6  #: not finite or <= 0
+    INVALID_LAUNCH_ACCEL = 7  #: not finite or <= 0
+    INVALID_LAUNCH_TIME = 8  #: not finite or < 0
+    INVALID_BURNOUT_ACCEL = 9  #: not finite
+    INVALID_BURNOUT_TIME = 10  #: not finite or < 0
+    INVALID_APOGEE_MARGIN = 11  #: not finite or < 0
+    INVALID_LOCKOUT_SPEED = 12  #: not finite or <= 0
+    INVALID_SPIKE_THRESHOLD = 13  #: not finite or <= 0
+    INVALID_SPIKE_TIME = 14  #: not finite or < 0
+    INVALID_OFFSET_RATE = 15  #: not finite, <= 0 or > 1
+    INVALID_MAIN_ALTITUDE = 16  #: not finite or < 0
+    INVALID_LANDED_SPEED = 17  #: not finite or <= 0
+    INVALID_LANDED_TIME = 18  #: not finite or < 0
+    INVALID_GAP_PERIOD = 19  #: NaN or <= 0 (+infinity: never a gap)
+
+
+class Phase(enum.IntEnum):
+    """C ``FusionAltitudeRocketPhase`` (fusion_altitude_flight.h)."""
+
+    PAD = 0  #: calibrating, waiting for launch
+    BOOST = 1  #: motor burning
+    COAST = 2  #: after burnout, climbing
+    DROGUE = 3  #: after apogee, above the main altitude
+    MAIN = 4  #: below the main altitude
+    LANDED = 5  #: at rest after the descent
+
+
+class RocketEventId(enum.IntEnum):
+    """C ``FusionAltitudeRocketEventId`` (fusion_altitude_flight.h)."""
+
+    LAUNCH = 0
+    BURNOUT = 1
+    MAX_SPEED = 2
+    APOGEE = 3
+    MAIN = 4
+    LANDED = 5
+
+
+class BaroFate(enum.IntEnum):
+    """C ``FusionAltitudeRocketBaro`` (fusion_altitude_flight.h)."""
+
+    NONE = 0  #: no sample this step (NaN)
+    PAD = 1  #: on the pad: used for calibration only
+    FUSED = 2  #: fused into the observer
+    LOCKED_OUT = 3  #: not fused: speed above the lockout
+    SPIKE = 4  #: not fused: rejected as a spike
+
+
+#: ``FusionAltitudeRocketStatusMessage`` of each status, read from C.
+FLIGHT_STATUS_MESSAGES = (
+    'ok',
+    'accel must be finite',
+    'baro altitude must be finite, or NaN for no sample',
+    'dt must be finite and > 0',
+    'observer gains are invalid or unstable',
+    'stationary accel must be finite and > 0',
+    'calibration window must be finite and > 0',
+    'launch accel must be finite and > 0',
+    'launch time must be finite and >= 0',
+    'burnout accel must be finite',
+    'burnout time must be finite and >= 0',
+    'apogee margin must be finite and >= 0',
+    'lockout speed must be finite and > 0',
+    'spike threshold must be finite and > 0',
+    'spike time must be finite and >= 0',
+    'offset rate must be > 0 and <= 1',
+    'main altitude must be finite and >= 0',
+    'landed speed must be finite and > 0',
+    'landed time must be finite and >= 0',
+    'gap period must be > 0 (+infinity: never a gap)',
+)
+
+
+#: ``FusionAltitudeRocketSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeRocketSettingsDefault()``, read from C.
+FLIGHT_SETTINGS = (
+    ('observer', 'observer', 's', (1.4, 1.0, 0.0, 0.5,), 'observer gains in flight (bias gain forced to 0 after apogee)'),
+    ('stationary_accel', 'stationaryAccel', 'f', 5.0, "m/s^2: pad samples within this of the window's first are stationary"),
+    ('calibration_window', 'calibrationWindow', 'f', 0.5, 's: length of a pad calibration window'),
+    ('launch_accel', 'launchAccel', 'f', 20.0, 'm/s^2: accel - bias above this ...'),
+    ('launch_time', 'launchTime', 'f', 0.05, 's: ... for this long declares launch'),
+    ('burnout_accel', 'burnoutAccel', 'f', 0.0, 'm/s^2: accel - bias below this ...'),
+    ('burnout_time', 'burnoutTime', 'f', 0.1, 's: ... for this long declares burnout'),
+    ('apogee_margin', 'apogeeMargin', 'f', 1.0, "m/s: apogee when v < -apogeeMargin (the crossing of zero, past the estimate's noise)"),
+    ('lockout_speed', 'lockoutSpeed', 'f', 100.0, 'm/s: baro locked out while |v| is above this (and always above Mach 0.8)'),
+    ('spike_threshold', 'spikeThreshold', 'f', 20.0, "m: a baro sample this far from the baro's own prediction is a spike"),
+    ('spike_time', 'spikeTime', 'f', 0.2, 's: longest run of spike rejections before the new level is accepted'),
+    ('offset_rate', 'offsetRate', 'f', 0.9, '1: the output height absorbs the baro offset at up to offsetRate * |v| m/s'),
+    ('main_altitude', 'mainAltitude', 'f', 250.0, 'm above the pad: main deployment in the descent'),
+    ('landed_speed', 'landedSpeed', 'f', 3.0, 'm/s: |v| below this ...'),
+    ('landed_time', 'landedTime', 'f', 2.0, 's: ... for this long declares landing'),
+    ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update with dt above this is a gap'),
+)
+
+
 #: Status messages of each estimator class, for ``Estimator.status_message``.
 STATUS_MESSAGES = {
     'AltitudeEstimator': OBSERVER_STATUS_MESSAGES,
@@ -313,4 +442,5 @@ STATUS_MESSAGES = {
     'ComplementaryFilter': COMPLEMENTARY_STATUS_MESSAGES,
     'AlphaBetaFusion': ALPHABETA_STATUS_MESSAGES,
     'InsEstimator': INS_STATUS_MESSAGES,
+    'RocketEstimator': FLIGHT_STATUS_MESSAGES,
 }

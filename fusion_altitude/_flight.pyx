@@ -80,7 +80,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         if status != FusionAltitudeRocketStatusOk:  # cannot happen: RocketSettings checked them
             _flight_glue.raise_settings_error(status, _settings_from_c(&c))
 
-    def update(self, accel, baro_altitude, dt, accel_is_vertical=False):
+    def update(self, accel, baro_altitude, dt, *, accel_is_vertical=False):
         """Process one step.
 
         Parameters
@@ -114,7 +114,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         if status != FusionAltitudeRocketStatusOk:
             _flight_glue.raise_update_error(status, a, z, t)
 
-    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical=False, out=None):
+    def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical=False, out=None):
         """Process arrays, continuing from the current state (GIL released).
 
         Parameters

@@ -159,7 +159,7 @@ cdef class _InsEstimatorGetters(Estimator):
         return FusionAltitudeInsGetVerticalVelocity(&self._c)
 
     @property
-    def accel_zbias(self):
+    def accel_z_bias(self):
         """The accelerometer z bias, m/s², body z (learned while stationary)."""
         return FusionAltitudeInsGetAccelZBias(&self._c)
 

@@ -181,6 +181,11 @@ class InsBatch:
     baro_bias: np.ndarray
     is_stationary: np.ndarray
 
+    def __iter__(self):
+        """The arrays in field order, as for the other estimators' batch results (``tuple(batch)``)."""
+        return iter((self.altitude, self.vertical_velocity, self.quaternion, self.global_quaternion, self.gyro_bias,
+                     self.accel_z_bias, self.baro_bias, self.is_stationary))
+
     @classmethod
     def empty(cls, n: int) -> "InsBatch":
         """Newly allocated outputs for n steps."""

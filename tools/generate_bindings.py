@@ -91,6 +91,7 @@ PYTHON_NAMES = {
 GETTER_NAMES = {
     "FusionAltitudeInsIsStationary": "is_stationary",
     "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
+    "FusionAltitudeInsGetAccelZBias": "accel_z_bias",
 }
 
 #: C scalar type → kind: "f" float32, "b" bool, "i" signed int, "u" unsigned int, "e" enum (as int).

@@ -378,7 +378,7 @@ class RocketEstimator(Checkpointable):
 
     # -- public API --------------------------------------------------------
 
-    def update(self, accel: float, baro_altitude: float, dt: float, accel_is_vertical: bool = False) -> None:
+    def update(self, accel: float, baro_altitude: float, dt: float, *, accel_is_vertical: bool = False) -> None:
         """Process one step.
 
         Parameters
@@ -409,7 +409,7 @@ class RocketEstimator(Checkpointable):
         if status != RocketStatus.OK:
             raise_update_error(status, float(accel), float(baro_altitude), float(dt))
 
-    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical: bool = False,
+    def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical: bool = False,
                      out: Optional[Sequence[np.ndarray]] = None) -> RocketBatch:
         """Process arrays, continuing from the current state; equal bit for bit to :meth:`update` per sample.
 

@@ -35,6 +35,13 @@ class Preset(enum.IntEnum):
     ROCKET = 4  #: omega = 1.0 rad/s, omega_b = 0: no bias learning in flight
 
 
+#: The numeric ``#define`` constants of fusion_altitude.h (floats are float32 in C).
+FUSION_ALTITUDE_GRAVITY = 9.80665
+FUSION_ALTITUDE_VERSION = 100
+FUSION_ALTITUDE_DEFAULT_GAP_PERIOD = 0.5
+FUSION_ALTITUDE_BIAS_HOLD = 8.0
+
+
 #: ``FusionAltitudeStatusMessage`` of each status, read from C.
 OBSERVER_STATUS_MESSAGES = (
     'ok',
@@ -108,6 +115,14 @@ class KalmanStatus(enum.IntEnum):
     INVALID_GATE = 9  #: gate not finite or <= 0, or timeout not finite or < 0
     INVALID_GROUND_EFFECT = 10  #: ground-effect noise scale not finite or < 1, dead zone not finite or < 0
     INVALID_GAP_PERIOD = 11  #: gap period NaN or <= 0 (+infinity: never a gap)
+
+
+#: The numeric ``#define`` constants of fusion_altitude_kalman.h (floats are float32 in C).
+FUSION_ALTITUDE_KALMAN_STATES = 5
+FUSION_ALTITUDE_KALMAN_SENSORS = 3
+FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA = 10.0
+FUSION_ALTITUDE_KALMAN_MAX_SATELLITES = 64
+FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING = 1e6
 
 
 #: ``FusionAltitudeKalmanStatusMessage`` of each status, read from C.
@@ -226,6 +241,11 @@ class AlphaBetaStatus(enum.IntEnum):
     INVALID_GAP_PERIOD = 13  #: gap period NaN or <= 0 (+infinity: never a gap)
 
 
+#: The numeric ``#define`` constants of fusion_altitude_alphabeta.h (floats are float32 in C).
+FUSION_ALTITUDE_ALPHABETA_SENSORS = 5
+FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY = 10000
+
+
 #: ``FusionAltitudeAlphaBetaStatusMessage`` of each status, read from C.
 ALPHABETA_STATUS_MESSAGES = (
     'ok',
@@ -287,6 +307,13 @@ class InsStatus(enum.IntEnum):
     INVALID_BARO_ALTITUDE = 4  #: baro altitude infinite or |.| > 1e6 (NaN: no sample)
     INVALID_DT = 5  #: dt not finite or <= 0
     INVALID_SETTINGS = 6  #: a setting out of its range (see FusionAltitudeInsSettingsCheck)
+
+
+#: The numeric ``#define`` constants of fusion_altitude_ins.h (floats are float32 in C).
+FUSION_ALTITUDE_INS_STATES = 8
+FUSION_ALTITUDE_INS_MAXIMUM = 1e6
+FUSION_ALTITUDE_INS_VARIANCE_LIMIT = 1e4
+FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT = 1e-4
 
 
 #: ``FusionAltitudeInsStatusMessage`` of each status, read from C.
@@ -385,6 +412,11 @@ class BaroFate(enum.IntEnum):
     FUSED = 2  #: fused into the observer
     LOCKED_OUT = 3  #: not fused: speed above the lockout
     SPIKE = 4  #: not fused: rejected as a spike
+
+
+#: The numeric ``#define`` constants of fusion_altitude_flight.h (floats are float32 in C).
+FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT = 236.0
+FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS = 6
 
 
 #: ``FusionAltitudeRocketStatusMessage`` of each status, read from C.

@@ -27,7 +27,7 @@ EVENT_NAMES = tuple(event.name.lower() for event in RocketEventId)
 CSV_EVENTS = ("launch", "burnout", "apogee", "main", "landed")
 
 #: Speed above which the baro is always locked out, m/s (FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT).
-MACH_LOCKOUT = 236.0
+MACH_LOCKOUT = _c_tables.FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 
 #: The check of each settings field after ``observer`` (FusionAltitudeRocketSettingsCheck): "positive",
 #: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed).

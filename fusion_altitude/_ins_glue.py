@@ -18,7 +18,7 @@ from ._c_tables import InsStatus
 from ._common import GRAVITY, as_float
 
 #: Largest accepted setting and input magnitude (FUSION_ALTITUDE_INS_MAXIMUM).
-MAXIMUM = np.float32(1e6)
+MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 
 
 #: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.

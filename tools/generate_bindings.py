@@ -353,6 +353,12 @@ def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
                 continue
             seen.add(enum.cname)
             out += enum_python(header, enum)
+        constants = re.findall(r"^#define\s+(FUSION_ALTITUDE_\w+)\s+\(([-\d.e]+)f?\)\s*$", header.path.read_text(),
+                               flags=re.M)
+        if constants:
+            out.append(f"#: The numeric ``#define`` constants of {header_name} (floats are float32 in C).")
+            out += [f"{name} = {value}" for name, value in constants]
+            out += ["", ""]
         out.append(f"#: ``{prefix}StatusMessage`` of each status, read from C.")
         out.append(f"{module.upper()}_STATUS_MESSAGES = (")
         out += [f"    {message!r}," for message in messages[module]]

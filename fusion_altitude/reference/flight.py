@@ -25,7 +25,7 @@ from .observer import AltitudeEstimator, AltitudeSettings, Status, _check_gains,
 f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
-MACH_LOCKOUT = f32(236.0)
+MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
 CALIBRATION_WINDOWS = 8
 

@@ -1,4 +1,4 @@
-/* Instruction-count harness for docs/performance.md (issue 16).
+/* Instruction-count harness for docs/performance.md (the per-case speed targets).
  *
  *   cc -O2 -ffp-contract=off -fno-fast-math -Icsrc benchmarks/c_steps.c -o c_steps
  *   valgrind --tool=callgrind --callgrind-out-file=/dev/null ./c_steps alphabeta 100000

@@ -1,4 +1,4 @@
-"""Fleet throughput (issue 15): logs/s and MB/s of ``fleet.run_many`` with 1 and 2 workers
+"""Fleet throughput: logs/s and MB/s of ``fleet.run_many`` with 1 and 2 workers
 against a plain sequential loop over the same logs, in one run, and the per-log cost
 split into read, estimate and write.
 

@@ -1,4 +1,4 @@
-"""Speed of the two hobbyist estimators (issue 7). Not a timed test.
+"""Speed of the two hobbyist estimators. Not a timed test.
 
     python benchmarks/hobby_bench.py [--samples N] [--repeat K]
 

@@ -1,4 +1,4 @@
-"""Speed of the inertial navigation filter (issue 13). Not a timed test.
+"""Speed of the inertial navigation filter. Not a timed test.
 
     python benchmarks/ins_bench.py [--samples N] [--repeat K]
 

@@ -1,4 +1,4 @@
-"""Speed of the multi-sensor Kalman filter (issue 5, item 6). Not a timed test.
+"""Speed of the multi-sensor Kalman filter. Not a timed test.
 
     python benchmarks/kalman_bench.py [--samples N] [--repeat K]
 

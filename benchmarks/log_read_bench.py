@@ -1,4 +1,4 @@
-"""Time reading a large generic CSV log (issue 12: 1 million rows, 5.7 s before numpy's C parser).
+"""Time reading a large generic CSV log (1 million rows; 5.7 s before numpy's C parser was used).
 
 Run::
 

@@ -1,4 +1,4 @@
-"""Gain-sweep timings for compare.py (issue 6): ns per sample·setting.
+"""Gain-sweep timings for compare.py: ns per sample·setting.
 
     python benchmarks/sweep_bench.py [--samples N] [--repeat K]
 

@@ -1,4 +1,4 @@
-"""The targets of issue 16, each measured and checked in one run.
+"""The speed targets (docs/performance.md), each measured and checked in one run.
 
     python benchmarks/targets.py [--samples N] [--repeat K]
 
@@ -161,7 +161,7 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
 
 def print_table(rows: List[Target]) -> None:
     load = os.getloadavg()[0]
-    print(f"Issue 16 targets (load average {load:.1f} on {os.cpu_count()} CPUs). Judged on CPU time for "
+    print(f"Speed targets (load average {load:.1f} on {os.cpu_count()} CPUs). Judged on CPU time for "
           "single-threaded cases, on wall time for the sweep (default threads; its CPU column is one thread).")
     print()
     print("| case | unit | issue's now | target | wall | CPU | judged | result |")

@@ -1,4 +1,4 @@
-"""Regenerate the README's estimator comparison table and plot (issue 7).
+"""Regenerate the README's estimator comparison table and plot.
 
 Run::
 

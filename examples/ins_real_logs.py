@@ -31,6 +31,7 @@ import numpy as np
 
 import fusion_altitude as fa
 from fusion_altitude import _ins_glue
+from fusion_altitude.metrics import error_statistics
 from fusion_altitude.sensors import pressure_to_altitude
 
 
@@ -121,22 +122,26 @@ def summarise(name, t, result, height, velocity, baro, tilt=None) -> dict:
     sampled = np.isfinite(baro)
     baro_error = (altitude + result.baro_bias - baro)[sampled]
     log_baro_error = (height - height[0] + baro[sampled][0] - baro)[sampled]
+
+    def rms(error, time=t):  # over the whole log
+        return error_statistics(time, error, transient=-np.inf).rms
+
     row = {
         "log": name,
         "steps": t.size,
         "duration (s)": f"{t[-1] - t[0]:.1f}",
-        "height RMS diff (m)": f"{np.sqrt(np.mean(error ** 2)):.3f}",
+        "height RMS diff (m)": f"{rms(error):.3f}",
         "height max |diff| (m)": f"{np.max(np.abs(error)):.3f}",
-        "velocity RMS diff (m/s)": f"{np.sqrt(np.mean(velocity_error ** 2)):.3f}",
-        "INS vs raw baro RMS (m)": f"{np.sqrt(np.mean(baro_error ** 2)):.3f}",
-        "log estimate vs raw baro RMS (m)": f"{np.sqrt(np.mean(log_baro_error ** 2)):.3f}",
+        "velocity RMS diff (m/s)": f"{rms(velocity_error):.3f}",
+        "INS vs raw baro RMS (m)": f"{rms(baro_error, t[sampled]):.3f}",
+        "log estimate vs raw baro RMS (m)": f"{rms(log_baro_error, t[sampled]):.3f}",
         "stationary at start": bool(result.is_stationary[: max(1, t.size // 20)].any()),
         "gyro bias at end (°/s)": np.array2string(np.degrees(result.gyro_bias[-1]), precision=3),
     }
     if tilt is not None:
-        row["tilt RMS diff vs log attitude (°)"] = f"{np.sqrt(np.mean(tilt ** 2)):.2f}"
+        row["tilt RMS diff vs log attitude (°)"] = f"{rms(tilt):.2f}"
     row["_error"] = error
-    row["_baro_rms"] = float(np.sqrt(np.mean(baro_error ** 2)))
+    row["_baro_rms"] = rms(baro_error, t[sampled])
     row["_apogee"] = (float(np.max(height)), float(np.max(altitude)))
     return row
 

@@ -9,10 +9,7 @@ learning after 30 s at rest, and the magnetic-disturbance check.
 import numpy as np
 
 from fusion_altitude import imu_sim
-
-
-def rms(values) -> float:
-    return float(np.sqrt(np.mean(np.square(values))))
+from fusion_altitude.metrics import error_statistics
 
 
 def twenty_seeds(rocking_deg: float, rest_duration: float = 10.0):
@@ -24,6 +21,10 @@ def twenty_seeds(rocking_deg: float, rest_duration: float = 10.0):
         truth = flight.trajectory.altitude + flight.baro_offset
         e = flight.evaluated
         attitude = flight.trajectory.attitude
+
+        def rms(error) -> float:  # over the evaluated samples
+            return error_statistics(flight.trajectory.time[e], error, transient=-np.inf).rms
+
         rows.append([
             100 * rms((ins.altitude + ins.baro_bias - truth)[e]),
             100 * rms((observer.altitude - truth)[e]),

@@ -23,6 +23,7 @@ import numpy as np
 
 from fusion_altitude import rocket
 from fusion_altitude.logs import read_cats
+from fusion_altitude.metrics import error_statistics
 from fusion_altitude.sensors import gyro_attitude, pressure_to_altitude, vertical_acceleration
 
 DATA = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
@@ -59,8 +60,8 @@ def main(use_ins: bool) -> None:
     print("|---|---|---|---|")
     for name, part in (("pad", slice(0, launch)), ("boost", slice(launch, burnout)), ("coast", slice(burnout, apogee)),
                        ("descent (apogee to end of log)", slice(apogee, None))):
-        d = difference[part].astype(np.float64)
-        print(f"| {name} | {d.mean():+.1f} | {np.sqrt(np.mean(d ** 2)):.1f} | {np.abs(d).max():.1f} |")
+        d = error_statistics(time[part], difference[part].astype(np.float64), transient=-np.inf)
+        print(f"| {name} | {d.mean:+.1f} | {d.rms:.1f} | {d.max:.1f} |")
 
 
 def fit() -> None:
@@ -81,7 +82,7 @@ def fit() -> None:
     coast = (time > 9.5) & (time < 25.0)
     design = np.column_stack([np.ones(coast.sum()), time[coast], pressure_term[coast]])
     (d0, d1, c), *_ = np.linalg.lstsq(design, difference[coast], rcond=None)
-    residual = np.sqrt(np.mean((design @ (d0, d1, c) - difference[coast]) ** 2))
+    residual = error_statistics(time[coast], design @ (d0, d1, c) - difference[coast], transient=-np.inf).rms
     print(f"coast: c = {c:.4f}, d0 = {d0:.1f} m, d1 = {d1:.2f} m/s, residual RMS {residual:.1f} m")
     boost = (time > 0.5) & (time < 6.5)
     design = np.column_stack([np.ones(boost.sum()), pressure_term[boost]])

@@ -16,7 +16,7 @@ classes in ``reference/``); the reference; the applications (simulator,
 scenarios, logs, tuning, comparison, CLI).
 """
 
-from ._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, Status
+from ._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, RocketStatus, Status
 from ._common import GRAVITY
 from ._version import __version__
 from ._observer_glue import AltitudeBatch, DiscretisationWarning
@@ -24,15 +24,18 @@ from ._kalman_glue import KalmanBatch, KalmanSensors
 from ._complementary_glue import ComplementaryBatch
 from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from ._ins_glue import InsBatch, InsStatus
+from ._flight_glue import RocketBatch
 from .reference.observer import AltitudeSettings
 from .reference.kalman import KalmanSettings
 from .reference.complementary import ComplementarySettings
 from .reference.alphabeta import AlphaBetaSettings
+from .reference.ins import InsSettings
+from .reference.flight import RocketSettings
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 
 #: The public names that need the compiled extension.
 _COMPILED = ("AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator",
-             "InsSettings", "ins_run", "FitResult", "SweepResult", "fit", "sweep")
+             "RocketEstimator", "ins_run", "FitResult", "SweepResult", "fit", "sweep")
 
 def _add_installed_extension_to_path() -> None:
     """Run from a source checkout (``python -m fusion_altitude`` in the repository root after a plain
@@ -62,7 +65,8 @@ try:
     from ._kalman import KalmanEstimator
     from ._complementary import ComplementaryFilter
     from ._alphabeta import AlphaBetaFusion
-    from ._ins import InsEstimator, InsSettings
+    from ._ins import InsEstimator
+    from ._flight import RocketEstimator
     from .ins_run import ins_run
     from .tuning import FitResult, SweepResult, fit, sweep
 except ImportError as _error:  # not built: fusion_altitude.reference and the tables still import
@@ -102,6 +106,10 @@ __all__ = [
     "KalmanSensors",
     "KalmanSettings",
     "KalmanStatus",
+    "RocketBatch",
+    "RocketEstimator",
+    "RocketSettings",
+    "RocketStatus",
     "Status",
     "SweepResult",
     "fit",

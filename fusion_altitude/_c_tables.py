@@ -35,6 +35,13 @@ class Preset(enum.IntEnum):
     ROCKET = 4  #: omega = 1.0 rad/s, omega_b = 0: no bias learning in flight
 
 
+#: The numeric ``#define`` constants of fusion_altitude.h (floats are float32 in C).
+FUSION_ALTITUDE_GRAVITY = 9.80665
+FUSION_ALTITUDE_VERSION = 100
+FUSION_ALTITUDE_DEFAULT_GAP_PERIOD = 0.5
+FUSION_ALTITUDE_BIAS_HOLD = 8.0
+
+
 #: ``FusionAltitudeStatusMessage`` of each status, read from C.
 OBSERVER_STATUS_MESSAGES = (
     'ok',
@@ -52,7 +59,8 @@ OBSERVER_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeSettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeSettingsDefault()``, read from C.
 OBSERVER_SETTINGS = (
     ('position_gain', 'positionGain', 'f', 2.4, 'Kh, 1/s: baro residual into altitude'),
     ('velocity_gain', 'velocityGain', 'f', 2.88, 'Kv, 1/s^2: baro residual into vertical velocity'),
@@ -71,6 +79,14 @@ class KalmanStateIndex(enum.IntEnum):
     BARO_OFFSET = 2  #: ob, m: baro reads h + ob
     GPS_OFFSET = 3  #: og, m: GPS reads h + og
     ACCEL_BIAS = 4  #: b, m/s^2, +up
+
+
+class KalmanSensorIndex(enum.IntEnum):
+    """C ``FusionAltitudeKalmanSensorIndex`` (fusion_altitude_kalman.h)."""
+
+    BARO = 0
+    RANGE = 1
+    GPS = 2
 
 
 class KalmanResult(enum.IntEnum):
@@ -101,6 +117,14 @@ class KalmanStatus(enum.IntEnum):
     INVALID_GAP_PERIOD = 11  #: gap period NaN or <= 0 (+infinity: never a gap)
 
 
+#: The numeric ``#define`` constants of fusion_altitude_kalman.h (floats are float32 in C).
+FUSION_ALTITUDE_KALMAN_STATES = 5
+FUSION_ALTITUDE_KALMAN_SENSORS = 3
+FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA = 10.0
+FUSION_ALTITUDE_KALMAN_MAX_SATELLITES = 64
+FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING = 1e6
+
+
 #: ``FusionAltitudeKalmanStatusMessage`` of each status, read from C.
 KALMAN_STATUS_MESSAGES = (
     'ok',
@@ -119,7 +143,8 @@ KALMAN_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeKalmanSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeKalmanSettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeKalmanSettingsDefault()``, read from C.
 KALMAN_SETTINGS = (
     ('accel_noise', 'accelNoise', 'f', 0.035, 'N_a, m/s^2/sqrt(Hz): accelerometer white-noise density (with vibration)'),
     ('accel_bias_random_walk', 'accelBiasRandomWalk', 'f', 0.003, 'N_b, m/s^3/sqrt(Hz): accel bias random walk'),
@@ -171,7 +196,8 @@ COMPLEMENTARY_STATUS_MESSAGES = (
 
 
 #: ``FusionAltitudeComplementarySettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
-#: kind f float32, i int32, b bool; the defaults are ``FusionAltitudeComplementarySettingsDefault()``, read from C.
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeComplementarySettingsDefault()``, read from C.
 COMPLEMENTARY_SETTINGS = (
     ('accel_time_constant', 'accelTimeConstant', 'f', 0.02, 'tauA, s, >= 0: accel low-pass (0: none)'),
     ('baro_time_constant', 'baroTimeConstant', 'f', 0.05, 'tauB, s, >= 0: baro low-pass (0: none)'),
@@ -185,6 +211,16 @@ COMPLEMENTARY_SETTINGS = (
 
 
 # -- fusion_altitude_alphabeta.h -------------------------------------------------------------------------
+
+class AlphaBetaSensorIndex(enum.IntEnum):
+    """C ``FusionAltitudeAlphaBetaSensorIndex`` (fusion_altitude_alphabeta.h)."""
+
+    IMU = 0
+    BARO = 1
+    LIDAR = 2
+    SONAR = 3
+    GPS = 4
+
 
 class AlphaBetaStatus(enum.IntEnum):
     """C ``FusionAltitudeAlphaBetaStatus`` (fusion_altitude_alphabeta.h)."""
@@ -203,6 +239,11 @@ class AlphaBetaStatus(enum.IntEnum):
     INVALID_GAP_MAX = 11  #: a gap maximum NaN or <= 0 (+infinity: no limit)
     INVALID_TIMEOUT = 12  #: a timeout not finite or <= 0
     INVALID_GAP_PERIOD = 13  #: gap period NaN or <= 0 (+infinity: never a gap)
+
+
+#: The numeric ``#define`` constants of fusion_altitude_alphabeta.h (floats are float32 in C).
+FUSION_ALTITUDE_ALPHABETA_SENSORS = 5
+FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY = 10000
 
 
 #: ``FusionAltitudeAlphaBetaStatusMessage`` of each status, read from C.
@@ -254,10 +295,184 @@ ALPHABETA_SETTINGS = (
 )
 
 
+# -- fusion_altitude_ins.h -------------------------------------------------------------------------------
+
+class InsStatus(enum.IntEnum):
+    """C ``FusionAltitudeInsStatus`` (fusion_altitude_ins.h)."""
+
+    OK = 0
+    INVALID_GYRO = 1  #: a gyro component not finite or |.| > 1e6
+    INVALID_ACCEL = 2  #: an accel component not finite or |.| > 1e6
+    INVALID_MAG = 3  #: mag not all NaN (no sample) and not all finite with |.| <= 1e6
+    INVALID_BARO_ALTITUDE = 4  #: baro altitude infinite or |.| > 1e6 (NaN: no sample)
+    INVALID_DT = 5  #: dt not finite or <= 0
+    INVALID_SETTINGS = 6  #: a setting out of its range (see FusionAltitudeInsSettingsCheck)
+
+
+#: The numeric ``#define`` constants of fusion_altitude_ins.h (floats are float32 in C).
+FUSION_ALTITUDE_INS_STATES = 8
+FUSION_ALTITUDE_INS_MAXIMUM = 1e6
+FUSION_ALTITUDE_INS_VARIANCE_LIMIT = 1e4
+FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT = 1e-4
+
+
+#: ``FusionAltitudeInsStatusMessage`` of each status, read from C.
+INS_STATUS_MESSAGES = (
+    'ok',
+    'gyro components must be finite with magnitude <= 1e6 rad/s',
+    'accel components must be finite with magnitude <= 1e6 m/s^2',
+    'mag components must be all NaN (no sample) or all finite with magnitude <= 1e6',
+    'baro altitude must be finite with magnitude <= 1e6 m (or NaN for no sample)',
+    'dt must be finite and > 0',
+    'settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)',
+)
+
+
+#: ``FusionAltitudeInsSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeInsSettingsDefault()``, read from C.
+INS_SETTINGS = (
+    ('gyro_noise', 'gyroNoise', 'f', 0.0003, 'Ng, rad/s/sqrt(Hz): gyro white-noise density'),
+    ('gyro_bias_random_walk', 'gyroBiasRandomWalk', 'f', 1e-05, 'Nb, rad/s^2/sqrt(Hz): gyro bias random walk'),
+    ('accel_noise', 'accelNoise', 'f', 0.05, 'Na, m/s^2/sqrt(Hz): vertical acceleration noise density (vibration included)'),
+    ('accel_attitude_noise', 'accelAttitudeNoise', 'f', 0.05, 'rad: 1 sigma of the gravity direction per sample (> 0)'),
+    ('accel_norm_rejection', 'accelNormRejection', 'f', 2.0, 'm/s^2: accel not used for attitude when ||f| - g| exceeds it'),
+    ('accel_rejection', 'accelRejection', 'f', 0.17, 'rad: accel not used for attitude when its direction is further from the prediction'),
+    ('recovery_trigger_period', 'recoveryTriggerPeriod', 'f', 5.0, 's: rejected for longer lifts the angle gate'),
+    ('baro_noise', 'baroNoise', 'f', 0.3, 'm: 1 sigma per baro sample (> 0)'),
+    ('stationary_gyro_threshold', 'stationaryGyroThreshold', 'f', 0.05, 'rad/s: |gyro| below it counts as still'),
+    ('stationary_accel_threshold', 'stationaryAccelThreshold', 'f', 0.5, 'm/s^2: ||accel| - g| below it counts as still'),
+    ('stationary_window', 'stationaryWindow', 'f', 1.0, 's: still for this long = stationary'),
+    ('zero_rate_noise', 'zeroRateNoise', 'f', 0.01, 'rad/s: 1 sigma of the zero-rate update while stationary (> 0)'),
+    ('zero_velocity_noise', 'zeroVelocityNoise', 'f', 0.05, 'm/s: 1 sigma of the zero-velocity update while stationary (> 0)'),
+    ('baro_bias_time_constant', 'baroBiasTimeConstant', 'f', 5.0, 's: baro bias filter while stationary (> 0)'),
+    ('accel_bias_time_constant', 'accelBiasTimeConstant', 'f', 2.0, 's: accel z bias filter while stationary (> 0)'),
+    ('mag_time_constant', 'magTimeConstant', 'f', 2.0, 's: local-to-global yaw filter (> 0)'),
+    ('initial_attitude_sigma', 'initialAttitudeSigma', 'f', 0.05, 'rad: attitude uncertainty after alignment'),
+    ('initial_gyro_bias_sigma', 'initialGyroBiasSigma', 'f', 0.01, 'rad/s: initial gyro bias uncertainty'),
+    ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 0.5, 'm/s: initial velocity uncertainty'),
+    ('gap_period', 'gapPeriod', 'f', 0.1, 's: a dt above it is a gap, not integrated (> 0)'),
+)
+
+
+# -- fusion_altitude_flight.h ----------------------------------------------------------------------------
+
+class RocketStatus(enum.IntEnum):
+    """C ``FusionAltitudeRocketStatus`` (fusion_altitude_flight.h)."""
+
+    OK = 0
+    INVALID_ACCEL = 1  #: accel not finite
+    INVALID_BARO_ALTITUDE = 2  #: baro altitude infinite
+    INVALID_DT = 3  #: dt not finite or <= 0
+    INVALID_OBSERVER_SETTINGS = 4  #: observer gains rejected by FusionAltitudeSettingsCheck
+    INVALID_STATIONARY_ACCEL = 5  #: not finite or <= 0
+    INVALID_CALIBRATION_WINDOW = 6  #: not finite or <= 0
+    INVALID_LAUNCH_ACCEL = 7  #: not finite or <= 0
+    INVALID_LAUNCH_TIME = 8  #: not finite or < 0
+    INVALID_BURNOUT_ACCEL = 9  #: not finite
+    INVALID_BURNOUT_TIME = 10  #: not finite or < 0
+    INVALID_APOGEE_MARGIN = 11  #: not finite or < 0
+    INVALID_LOCKOUT_SPEED = 12  #: not finite or <= 0
+    INVALID_SPIKE_THRESHOLD = 13  #: not finite or <= 0
+    INVALID_SPIKE_TIME = 14  #: not finite or < 0
+    INVALID_OFFSET_RATE = 15  #: not finite, <= 0 or > 1
+    INVALID_MAIN_ALTITUDE = 16  #: not finite or < 0
+    INVALID_LANDED_SPEED = 17  #: not finite or <= 0
+    INVALID_LANDED_TIME = 18  #: not finite or < 0
+    INVALID_GAP_PERIOD = 19  #: NaN or <= 0 (+infinity: never a gap)
+
+
+class Phase(enum.IntEnum):
+    """C ``FusionAltitudeRocketPhase`` (fusion_altitude_flight.h)."""
+
+    PAD = 0  #: calibrating, waiting for launch
+    BOOST = 1  #: motor burning
+    COAST = 2  #: after burnout, climbing
+    DROGUE = 3  #: after apogee, above the main altitude
+    MAIN = 4  #: below the main altitude
+    LANDED = 5  #: at rest after the descent
+
+
+class RocketEventId(enum.IntEnum):
+    """C ``FusionAltitudeRocketEventId`` (fusion_altitude_flight.h)."""
+
+    LAUNCH = 0
+    BURNOUT = 1
+    MAX_SPEED = 2
+    APOGEE = 3
+    MAIN = 4
+    LANDED = 5
+
+
+class BaroFate(enum.IntEnum):
+    """C ``FusionAltitudeRocketBaro`` (fusion_altitude_flight.h)."""
+
+    NONE = 0  #: no sample this step (NaN)
+    PAD = 1  #: on the pad: used for calibration only
+    FUSED = 2  #: fused into the observer
+    LOCKED_OUT = 3  #: not fused: speed above the lockout
+    SPIKE = 4  #: not fused: rejected as a spike
+
+
+#: The numeric ``#define`` constants of fusion_altitude_flight.h (floats are float32 in C).
+FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT = 236.0
+FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS = 6
+
+
+#: ``FusionAltitudeRocketStatusMessage`` of each status, read from C.
+FLIGHT_STATUS_MESSAGES = (
+    'ok',
+    'accel must be finite',
+    'baro altitude must be finite, or NaN for no sample',
+    'dt must be finite and > 0',
+    'observer gains are invalid or unstable',
+    'stationary accel must be finite and > 0',
+    'calibration window must be finite and > 0',
+    'launch accel must be finite and > 0',
+    'launch time must be finite and >= 0',
+    'burnout accel must be finite',
+    'burnout time must be finite and >= 0',
+    'apogee margin must be finite and >= 0',
+    'lockout speed must be finite and > 0',
+    'spike threshold must be finite and > 0',
+    'spike time must be finite and >= 0',
+    'offset rate must be > 0 and <= 1',
+    'main altitude must be finite and >= 0',
+    'landed speed must be finite and > 0',
+    'landed time must be finite and >= 0',
+    'gap period must be > 0 (+infinity: never a gap)',
+)
+
+
+#: ``FusionAltitudeRocketSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
+#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
+#: defaults are ``FusionAltitudeRocketSettingsDefault()``, read from C.
+FLIGHT_SETTINGS = (
+    ('observer', 'observer', 's', (1.4, 1.0, 0.0, 0.5,), 'observer gains in flight (bias gain forced to 0 after apogee)'),
+    ('stationary_accel', 'stationaryAccel', 'f', 5.0, "m/s^2: pad samples within this of the window's first are stationary"),
+    ('calibration_window', 'calibrationWindow', 'f', 0.5, 's: length of a pad calibration window'),
+    ('launch_accel', 'launchAccel', 'f', 20.0, 'm/s^2: accel - bias above this ...'),
+    ('launch_time', 'launchTime', 'f', 0.05, 's: ... for this long declares launch'),
+    ('burnout_accel', 'burnoutAccel', 'f', 0.0, 'm/s^2: accel - bias below this ...'),
+    ('burnout_time', 'burnoutTime', 'f', 0.1, 's: ... for this long declares burnout'),
+    ('apogee_margin', 'apogeeMargin', 'f', 1.0, "m/s: apogee when v < -apogeeMargin (the crossing of zero, past the estimate's noise)"),
+    ('lockout_speed', 'lockoutSpeed', 'f', 100.0, 'm/s: baro locked out while |v| is above this (and always above Mach 0.8)'),
+    ('spike_threshold', 'spikeThreshold', 'f', 20.0, "m: a baro sample this far from the baro's own prediction is a spike"),
+    ('spike_time', 'spikeTime', 'f', 0.2, 's: longest run of spike rejections before the new level is accepted'),
+    ('offset_rate', 'offsetRate', 'f', 0.9, '1: the output height absorbs the baro offset at up to offsetRate * |v| m/s'),
+    ('main_altitude', 'mainAltitude', 'f', 250.0, 'm above the pad: main deployment in the descent'),
+    ('landed_speed', 'landedSpeed', 'f', 3.0, 'm/s: |v| below this ...'),
+    ('landed_time', 'landedTime', 'f', 2.0, 's: ... for this long declares landing'),
+    ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update with dt above this is a gap'),
+)
+
+
 #: Status messages of each estimator class, for ``Estimator.status_message``.
 STATUS_MESSAGES = {
     'AltitudeEstimator': OBSERVER_STATUS_MESSAGES,
     'KalmanEstimator': KALMAN_STATUS_MESSAGES,
     'ComplementaryFilter': COMPLEMENTARY_STATUS_MESSAGES,
     'AlphaBetaFusion': ALPHABETA_STATUS_MESSAGES,
+    'InsEstimator': INS_STATUS_MESSAGES,
+    'RocketEstimator': FLIGHT_STATUS_MESSAGES,
 }

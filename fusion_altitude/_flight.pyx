@@ -2,67 +2,35 @@
 """Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h.
 
 Converts and checks Python arguments, calls the C functions and raises for the
-statuses they return. It holds no copy of the algorithm; settings, statuses
-and the FlightEvents result live in ``_flight_glue``.
+statuses they return. It holds no copy of the algorithm. The settings class is
+the reference's (:class:`fusion_altitude.reference.flight.RocketSettings`),
+converted to the C struct here; the enums, conversions, state layout and scalar
+getters are generated from the header (``_flight_fields.pxi``); the
+``FlightEvents`` result lives in ``_flight_glue``.
 """
 
 from libc.string cimport memcpy
 
 from fusion_altitude._convert cimport as_double as _as_double
+from fusion_altitude._estimator cimport Estimator
 from fusion_altitude.cflight cimport *
 
 from fusion_altitude import _flight_glue
-from fusion_altitude._flight_glue import (BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketSettings,
-                                          RocketStatus)
+from fusion_altitude._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.flight import RocketSettings
 
-#: The C values, for checking that the Python enums and defaults match.
+include "_flight_fields.pxi"
+
+#: The C values, for checking that the Python constants match.
 C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 C_NUMBER_OF_EVENTS = FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
-C_LAST_STATUS = <int>FusionAltitudeRocketStatusInvalidGapPeriod
+
+status_message = c_status_message
 
 
-def status_message(int status):
-    """The C header's message for a status code (FusionAltitudeRocketStatusMessage)."""
-    return FusionAltitudeRocketStatusMessage(<FusionAltitudeRocketStatus>status).decode("ascii")
-
-
-def c_default_settings():
-    """FusionAltitudeRocketSettingsDefault() as a dict (observer gains and the float fields)."""
-    cdef FusionAltitudeRocketSettings c = FusionAltitudeRocketSettingsDefault()
-    return _settings_dict(&c)
-
-
-cdef dict _settings_dict(const FusionAltitudeRocketSettings *c):
-    return {"observer": (c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain),
-            "stationary_accel": c.stationaryAccel, "calibration_window": c.calibrationWindow,
-            "launch_accel": c.launchAccel, "launch_time": c.launchTime, "burnout_accel": c.burnoutAccel,
-            "burnout_time": c.burnoutTime, "apogee_margin": c.apogeeMargin, "lockout_speed": c.lockoutSpeed,
-            "spike_threshold": c.spikeThreshold, "spike_time": c.spikeTime, "offset_rate": c.offsetRate,
-            "main_altitude": c.mainAltitude, "landed_speed": c.landedSpeed, "landed_time": c.landedTime,
-            "gap_period": c.gapPeriod}
-
-
-cdef FusionAltitudeRocketSettings _c_settings(object settings) except *:
-    cdef FusionAltitudeRocketSettings c = FusionAltitudeRocketSettingsDefault()
-    values = settings.values
-    c.observer = FusionAltitudeRocketObserverSettings()
-    c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain = settings.gains
-    c.stationaryAccel = values["stationary_accel"]
-    c.calibrationWindow = values["calibration_window"]
-    c.launchAccel = values["launch_accel"]
-    c.launchTime = values["launch_time"]
-    c.burnoutAccel = values["burnout_accel"]
-    c.burnoutTime = values["burnout_time"]
-    c.apogeeMargin = values["apogee_margin"]
-    c.lockoutSpeed = values["lockout_speed"]
-    c.spikeThreshold = values["spike_threshold"]
-    c.spikeTime = values["spike_time"]
-    c.offsetRate = values["offset_rate"]
-    c.mainAltitude = values["main_altitude"]
-    c.landedSpeed = values["landed_speed"]
-    c.landedTime = values["landed_time"]
-    c.gapPeriod = values["gap_period"]
-    return c
+def _checked_settings(values):
+    return RocketSettings(**values).as_dict()
 
 
 cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const float *baro, const float *dt,
@@ -89,7 +57,7 @@ cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const floa
     return -1
 
 
-cdef class RocketEstimator:
+cdef class RocketEstimator(_RocketEstimatorGetters):
     """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
 
     Parameters
@@ -105,21 +73,14 @@ cdef class RocketEstimator:
     above the pad learned while stationary. See docs/rocket.md.
     """
 
-    cdef FusionAltitudeRocket _c
-    cdef object _settings
-
     def __init__(self, settings=None):
-        if settings is None:
-            settings = RocketSettings()
-        if not isinstance(settings, RocketSettings):
-            raise TypeError(f"settings must be RocketSettings, got {type(settings).__name__}")
-        cdef FusionAltitudeRocketSettings c = _c_settings(settings)
+        settings = RocketSettings() if settings is None else RocketSettings.coerce(settings)
+        cdef FusionAltitudeRocketSettings c = _settings_to_c(settings.as_dict())
         cdef FusionAltitudeRocketStatus status = FusionAltitudeRocketInitialise(&self._c, &c)
-        if status != FusionAltitudeRocketStatusOk:
-            _flight_glue.raise_settings_error(status, _settings_dict(&c))
-        self._settings = settings
+        if status != FusionAltitudeRocketStatusOk:  # cannot happen: RocketSettings checked them
+            _flight_glue.raise_settings_error(status, _settings_from_c(&c))
 
-    def update(self, accel, baro_altitude, dt, accel_is_vertical=False):
+    def update(self, accel, baro_altitude, dt, *, accel_is_vertical=False):
         """Process one step.
 
         Parameters
@@ -153,7 +114,7 @@ cdef class RocketEstimator:
         if status != FusionAltitudeRocketStatusOk:
             _flight_glue.raise_update_error(status, a, z, t)
 
-    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical=False, out=None):
+    def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical=False, out=None):
         """Process arrays, continuing from the current state (GIL released).
 
         Parameters
@@ -208,27 +169,7 @@ cdef class RocketEstimator:
     @property
     def settings(self):
         """The :class:`RocketSettings` given at construction."""
-        return self._settings
-
-    @property
-    def height(self):
-        """Height above the pad, m."""
-        return FusionAltitudeRocketGetHeight(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """m/s, +up."""
-        return FusionAltitudeRocketGetVerticalVelocity(&self._c)
-
-    @property
-    def accel_bias(self):
-        """Accelerometer bias in use, m/s² (pad-learned, frozen after apogee)."""
-        return FusionAltitudeRocketGetAccelBias(&self._c)
-
-    @property
-    def pad_altitude(self):
-        """Pad pressure altitude learned on the pad, m."""
-        return FusionAltitudeRocketGetPadAltitude(&self._c)
+        return RocketSettings(**_settings_from_c(&self._c.settings))
 
     @property
     def phase(self):
@@ -241,26 +182,6 @@ cdef class RocketEstimator:
         return BaroFate(<int>FusionAltitudeRocketGetBaro(&self._c))
 
     @property
-    def locked_out(self):
-        """Whether the baro was locked out by speed at the latest step."""
-        return FusionAltitudeRocketIsLockedOut(&self._c)
-
-    @property
-    def calibrated(self):
-        """Whether a stationary pad window has been learned."""
-        return FusionAltitudeRocketIsCalibrated(&self._c)
-
-    @property
-    def gap_count(self):
-        """Updates with dt > gap_period so far."""
-        return FusionAltitudeRocketGetGapCount(&self._c)
-
-    @property
-    def time(self):
-        """s since initialise (compensated sum of dt)."""
-        return FusionAltitudeRocketGetTime(&self._c)
-
-    @property
     def events(self):
         """:class:`FlightEvents` so far (time in s since initialise)."""
         cdef FusionAltitudeRocketEvent e
@@ -271,27 +192,11 @@ cdef class RocketEstimator:
         return _flight_glue.events_from_tuples(rows)
 
     def _get_state(self):
-        return (self._settings, (<char *>&self._c)[:sizeof(FusionAltitudeRocket)])
+        """The fields of FusionAltitudeRocket in order (structs as tuples, the settings as ``as_dict()``)."""
+        return _state_get(&self._c, dict)
 
     def _set_state(self, state):
-        settings, raw = state
-        if len(raw) != sizeof(FusionAltitudeRocket):
-            raise ValueError("state was saved by a build with another FusionAltitudeRocket layout")
-        cdef const unsigned char[::1] view = raw
-        memcpy(&self._c, &view[0], sizeof(FusionAltitudeRocket))
-        self._settings = settings
-
-    def __copy__(self):
-        cdef RocketEstimator clone = RocketEstimator.__new__(RocketEstimator)
-        memcpy(&clone._c, &self._c, sizeof(FusionAltitudeRocket))
-        clone._settings = self._settings
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, (self._get_state(),))
+        _state_set(&self._c, tuple(state), _checked_settings)
 
     def __repr__(self):
         return (f"RocketEstimator(phase={self.phase.name}, height={self.height!r}, "
@@ -299,6 +204,5 @@ cdef class RocketEstimator:
 
 
 def _restore(state):
-    cdef RocketEstimator estimator = RocketEstimator.__new__(RocketEstimator)
-    estimator._set_state(state)
-    return estimator
+    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(RocketEstimator, state)

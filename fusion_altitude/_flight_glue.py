@@ -1,5 +1,6 @@
 """Glue of the rocket flight layer shared by its binding (``_flight.pyx``) and its
-reference (``reference/flight.py``): statuses, settings fields, phases, the
+reference (``reference/flight.py``): the settings rules (the enums, defaults and
+status messages are generated from the header into ``_c_tables``), the
 ``FlightEvents`` result, error messages naming the argument and batch
 argument conversion. No algorithm lives here (see ``csrc/fusion_altitude_flight.h``).
 """
@@ -7,97 +8,52 @@ argument conversion. No algorithm lives here (see ``csrc/fusion_altitude_flight.
 from __future__ import annotations
 
 import csv
-import enum
 import math
 import os
 from typing import Dict, Iterator, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from . import _c_tables
+from ._c_tables import BaroFate, Phase, RocketEventId, RocketStatus
 from ._common import as_float, as_float32_vector
 from ._observer_glue import prepare_inputs
 
 
-class RocketStatus(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeRocketStatus``."""
-
-    OK = 0
-    INVALID_ACCEL = 1
-    INVALID_BARO_ALTITUDE = 2
-    INVALID_DT = 3
-    INVALID_OBSERVER_SETTINGS = 4
-    INVALID_STATIONARY_ACCEL = 5
-    INVALID_CALIBRATION_WINDOW = 6
-    INVALID_LAUNCH_ACCEL = 7
-    INVALID_LAUNCH_TIME = 8
-    INVALID_BURNOUT_ACCEL = 9
-    INVALID_BURNOUT_TIME = 10
-    INVALID_APOGEE_MARGIN = 11
-    INVALID_LOCKOUT_SPEED = 12
-    INVALID_SPIKE_THRESHOLD = 13
-    INVALID_SPIKE_TIME = 14
-    INVALID_OFFSET_RATE = 15
-    INVALID_MAIN_ALTITUDE = 16
-    INVALID_LANDED_SPEED = 17
-    INVALID_LANDED_TIME = 18
-    INVALID_GAP_PERIOD = 19
-
-
-class Phase(enum.IntEnum):
-    """Flight phases, equal to the C enum ``FusionAltitudeRocketPhase``."""
-
-    PAD = 0
-    BOOST = 1
-    COAST = 2
-    DROGUE = 3
-    MAIN = 4
-    LANDED = 5
-
-
-class BaroFate(enum.IntEnum):
-    """What happened to a step's baro sample (C enum ``FusionAltitudeRocketBaro``)."""
-
-    NONE = 0
-    PAD = 1
-    FUSED = 2
-    LOCKED_OUT = 3
-    SPIKE = 4
-
-
 #: Event names in the order of the C enum ``FusionAltitudeRocketEventId``.
-EVENT_NAMES = ("launch", "burnout", "max_speed", "apogee", "main", "landed")
+EVENT_NAMES = tuple(event.name.lower() for event in RocketEventId)
 
 #: Events written by :meth:`FlightEvents.to_csv` (one row each, when they occurred).
 CSV_EVENTS = ("launch", "burnout", "apogee", "main", "landed")
 
 #: Speed above which the baro is always locked out, m/s (FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT).
-MACH_LOCKOUT = 236.0
+MACH_LOCKOUT = _c_tables.FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 
-#: Settings fields after the observer gains, in C declaration (and check) order:
-#: (name, default, rule) where rule is "positive", "non_negative", "finite" or "gap".
-SETTINGS_FIELDS: Tuple[Tuple[str, float, str, str], ...] = (
-    ("stationary_accel", 5.0, "positive", "m/s²"),
-    ("calibration_window", 0.5, "positive", "s"),
-    ("launch_accel", 20.0, "positive", "m/s²"),
-    ("launch_time", 0.05, "non_negative", "s"),
-    ("burnout_accel", 0.0, "finite", "m/s²"),
-    ("burnout_time", 0.1, "non_negative", "s"),
-    ("apogee_margin", 1.0, "non_negative", "m/s"),
-    ("lockout_speed", 100.0, "positive", "m/s"),
-    ("spike_threshold", 20.0, "positive", "m"),
-    ("spike_time", 0.2, "non_negative", "s"),
-    ("offset_rate", 0.9, "rate", "fraction of |v|"),
-    ("main_altitude", 250.0, "non_negative", "m"),
-    ("landed_speed", 3.0, "positive", "m/s"),
-    ("landed_time", 2.0, "non_negative", "s"),
-    ("gap_period", 0.5, "gap", "s"),
-)
+#: The check of each settings field after ``observer`` (FusionAltitudeRocketSettingsCheck): "positive",
+#: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed).
+SETTINGS_RULES = {
+    "stationary_accel": "positive", "calibration_window": "positive", "launch_accel": "positive",
+    "launch_time": "non_negative", "burnout_accel": "finite", "burnout_time": "non_negative",
+    "apogee_margin": "non_negative", "lockout_speed": "positive", "spike_threshold": "positive",
+    "spike_time": "non_negative", "offset_rate": "rate", "main_altitude": "non_negative", "landed_speed": "positive",
+    "landed_time": "non_negative", "gap_period": "gap",
+}
+
+#: Settings fields after the observer settings, in C declaration (and check) order: (name, default, rule, unit),
+#: the defaults and units read from the header (:mod:`fusion_altitude._c_tables`).
+SETTINGS_FIELDS: Tuple[Tuple[str, float, str, str], ...] = tuple(
+    (name, default, SETTINGS_RULES[name], comment.split(":")[0].replace("^2", "²").replace("1", "dimensionless"))
+    for name, _, kind, default, comment in _c_tables.FLIGHT_SETTINGS if kind != "s")
 
 FIELD_NAMES = tuple(field[0] for field in SETTINGS_FIELDS)
 DEFAULTS = {field[0]: field[1] for field in SETTINGS_FIELDS}
 
-#: Rocket observer gains (FusionAltitudeRocketObserverSettings): ω 1.0 rad/s, ζ 0.7, ω_b 0 (bias frozen in flight).
-ROCKET_GAINS = (1.4, 1.0, 0.0)
+#: The rocket observer settings of FusionAltitudeRocketSettingsDefault(): (Kh 1/s, Kv 1/s², Kb 1/s³, gap period s),
+#: ω 1.0 rad/s, ζ 0.7, ω_b 0 (bias frozen in flight).
+ROCKET_OBSERVER = dict((name, default) for name, _, kind, default, _ in _c_tables.FLIGHT_SETTINGS)["observer"]
+
+#: The rocket observer gains (Kh, Kv, Kb).
+ROCKET_GAINS = ROCKET_OBSERVER[:3]
 
 _RULE_TEXT = {"positive": "must be finite and > 0", "non_negative": "must be finite and >= 0",
               "finite": "must be finite", "rate": "must be > 0 and <= 1", "gap": "must be > 0 (+inf: never a gap)"}
@@ -301,106 +257,22 @@ def is_real_nan(value: float) -> bool:
 
 
 __all__ = ["RocketStatus", "Phase", "BaroFate", "FlightEvent", "FlightEvents", "RocketBatch", "EVENT_NAMES",
-           "CSV_EVENTS", "SETTINGS_FIELDS", "MACH_LOCKOUT", "as_float32_vector"]
+           "CSV_EVENTS", "SETTINGS_FIELDS", "MACH_LOCKOUT", "as_float32_vector", "observer_settings"]
 
 
-class RocketSettings:
-    """Settings of the rocket flight layer (``FusionAltitudeRocketSettings``), float32.
-
-    Parameters
-    ----------
-    observer : AltitudeSettings or (float, float, float), optional
-        Observer gains (Kh 1/s, Kv 1/s², Kb 1/s³) in flight; the rocket gains
-        (1.4, 1.0, 0: ω 1 rad/s, ζ 0.7, no in-flight bias learning) if omitted.
-        The bias gain is forced to 0 from apogee on.
-    stationary_accel : float, default 5.0
-        m/s²: a pad sample within this of its window's first sample is stationary.
-    calibration_window : float, default 0.5
-        s: pad calibration window; only all-stationary windows are learned.
-    launch_accel : float, default 20.0
-        m/s²: accel − bias above this ...
-    launch_time : float, default 0.05
-        s: ... for this long declares launch.
-    burnout_accel : float, default 0.0
-        m/s²: accel − bias below this ...
-    burnout_time : float, default 0.1
-        s: ... for this long declares burnout.
-    apogee_margin : float, default 1.0
-        m/s: apogee when the velocity estimate falls below −apogee_margin.
-    lockout_speed : float, default 100.0
-        m/s: the baro is not fused while |v| exceeds this (and always above 236 m/s, Mach 0.8).
-    spike_threshold : float, default 20.0
-        m: a baro sample this far from the baro's own prediction is a spike.
-    spike_time : float, default 0.2
-        s: longest run of spike rejections; then the new level is accepted.
-    offset_rate : float, default 0.9
-        The output height absorbs the baro offset found at re-admission at up
-        to ``offset_rate·|v|`` m/s (0 < offset_rate ≤ 1).
-    main_altitude : float, default 250.0
-        m above the pad: main deployment on the way down.
-    landed_speed : float, default 3.0
-        m/s: |v| below this ...
-    landed_time : float, default 2.0
-        s: ... for this long declares landing.
-    gap_period : float, default 0.5
-        s: an update with a longer dt is a gap (counted; extrapolated in flight).
-
-    Raises
-    ------
-    ValueError
-        A value breaks its rule (named in the message); TypeError for an
-        unknown name or a non-real value.
-    """
-
-    __slots__ = ("gains", "values")
-
-    def __init__(self, observer: object = None, **kwargs: object) -> None:
-        if observer is None:
-            gains = ROCKET_GAINS
-        elif hasattr(observer, "as_tuple"):
-            gains = tuple(observer.as_tuple())[:3]  # type: ignore[attr-defined]
-        else:
-            gains = tuple(as_float(g, "observer") for g in observer)  # type: ignore[union-attr]
-            if len(gains) != 3:
-                raise ValueError(f"observer must hold 3 gains, got {len(gains)}")
-        from .reference.observer import _check_gains  # the C check, in float32
-        gains32 = tuple(np.float32(g) for g in gains)
-        values = convert_settings(kwargs)
-        if _check_gains(*gains32) != 0:
-            raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": tuple(gains)})
-        status = check_settings_values(values)
-        if status != RocketStatus.OK:
-            raise_settings_error(status, values)
-        self.gains = tuple(float(g) for g in gains32)
-        self.values = values
-
-    def __getattr__(self, name: str) -> float:
-        values = object.__getattribute__(self, "values")
-        if name in values:
-            return values[name]
-        raise AttributeError(name)
-
-    def as_dict(self) -> Dict[str, object]:
-        """Every field: ``observer`` (the 3 gains) and the floats, as Python values."""
-        return {"observer": self.gains, **self.values}
-
-    def replace(self, **changes: object) -> "RocketSettings":
-        """A copy with some fields changed (validated)."""
-        fields = self.as_dict()
-        fields.update(changes)
-        return RocketSettings(**fields)
-
-    def __eq__(self, other: object) -> bool:
-        if not isinstance(other, RocketSettings):
-            return NotImplemented
-        return self.as_dict() == other.as_dict()
-
-    def __repr__(self) -> str:
-        return "RocketSettings(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
-
-    def __reduce__(self):
-        return (_rebuild_settings, (self.as_dict(),))
-
-
-def _rebuild_settings(fields: Dict[str, object]) -> RocketSettings:
-    return RocketSettings(**fields)
+def observer_settings(observer: object) -> Tuple[float, float, float, float]:
+    """The ``observer`` setting as (Kh, Kv, Kb, gap period), float32-rounded Python floats: None (the rocket
+    observer), observer settings (``as_tuple`` and ``gap_period``), or 3 gains (the rocket gap period) or 4 values.
+    TypeError for non-reals, ValueError for a wrong count; the stability check is the caller's."""
+    if observer is None:
+        values = ROCKET_OBSERVER
+    elif hasattr(observer, "as_tuple"):
+        values = (*tuple(observer.as_tuple())[:3], getattr(observer, "gap_period", ROCKET_OBSERVER[3]))  # type: ignore
+    else:
+        values = tuple(as_float(g, "observer") for g in observer)  # type: ignore[union-attr]
+        if len(values) == 3:
+            values = (*values, ROCKET_OBSERVER[3])
+        if len(values) != 4:
+            raise ValueError(f"observer must hold 3 gains (and optionally a gap period), got {len(values)} values")
+    with np.errstate(over="ignore"):
+        return tuple(float(np.float32(as_float(v, "observer"))) for v in values)  # type: ignore[return-value]

@@ -2,7 +2,10 @@
 """Cython binding of the inertial navigation filter in csrc/fusion_altitude_ins.h.
 
 This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm.
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.ins.InsSettings`),
+converted to the C struct here; the status enum, conversions, state layout and
+scalar getters are generated from the header (``_ins_fields.pxi``).
 """
 
 import math
@@ -10,118 +13,23 @@ import math
 from cpython.list cimport PyList_CheckExact
 from cpython.tuple cimport PyTuple_CheckExact
 from libc.stdint cimport uint8_t, uint32_t
-from libc.string cimport memcpy
 
 from fusion_altitude._convert cimport as_double as _as_double
+from fusion_altitude._estimator cimport Estimator
 from fusion_altitude.cins cimport *
 
 import numpy as np
 
 from fusion_altitude import _ins_glue
 from fusion_altitude._ins_glue import InsBatch, InsStatus
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.ins import InsSettings
 
-#: The C enum values, for checking that :class:`fusion_altitude.InsStatus` matches.
-C_STATUS_VALUES = {
-    "OK": FusionAltitudeInsStatusOk,
-    "INVALID_GYRO": FusionAltitudeInsStatusInvalidGyro,
-    "INVALID_ACCEL": FusionAltitudeInsStatusInvalidAccel,
-    "INVALID_MAG": FusionAltitudeInsStatusInvalidMag,
-    "INVALID_BARO_ALTITUDE": FusionAltitudeInsStatusInvalidBaroAltitude,
-    "INVALID_DT": FusionAltitudeInsStatusInvalidDt,
-    "INVALID_SETTINGS": FusionAltitudeInsStatusInvalidSettings,
-}
-
-_FIELDS = _ins_glue.INS_SETTINGS_NAMES
+include "_ins_fields.pxi"
 
 
-def c_default_settings():
-    """FusionAltitudeInsSettingsDefault() as a dict, for checking the Python defaults against the header's."""
-    cdef FusionAltitudeInsSettings c = FusionAltitudeInsSettingsDefault()
-    cdef float *values = <float *>&c
-    return {name: values[i] for i, name in enumerate(_FIELDS)}
-
-
-def ins_status_message(int status):
-    """The C header's message for a status code (FusionAltitudeInsStatusMessage)."""
-    return FusionAltitudeInsStatusMessage(<FusionAltitudeInsStatus>status).decode("utf-8")
-
-
-cdef class InsSettings:
-    """Settings of the inertial navigation filter, float32, physical units. Keyword arguments only.
-
-    Parameters (defaults: a MEMS IMU at 100–500 Hz on a multirotor)
-    ----------------------------------------------------------------
-    gyro_noise : 3e-4 rad/s/√Hz
-        Gyro white-noise density.
-    gyro_bias_random_walk : 1e-5 rad/s²/√Hz
-        Gyro bias random walk.
-    accel_noise : 0.05 m/s²/√Hz
-        Vertical acceleration noise density (vibration included).
-    accel_attitude_noise : 0.05 rad
-        1σ of the gravity direction per sample (> 0).
-    accel_norm_rejection : 2.0 m/s²
-        The accelerometer is not used for attitude while ||accel| − g| exceeds it.
-    accel_rejection : 0.17 rad
-        ... nor while its direction is further than this from the prediction.
-    recovery_trigger_period : 5.0 s
-        Rejected for longer lifts the direction gate (the Fusion AHRS recovery).
-    baro_noise : 0.3 m
-        Baro 1σ per sample (> 0).
-    stationary_gyro_threshold, stationary_accel_threshold, stationary_window : 0.05 rad/s, 0.5 m/s², 1.0 s
-        Stationary once |gyro| and ||accel| − g| stayed below the thresholds on every sample for the window.
-    zero_rate_noise, zero_velocity_noise : 0.01 rad/s, 0.05 m/s
-        1σ of the zero-rate and zero-velocity updates while stationary (> 0).
-    baro_bias_time_constant, accel_bias_time_constant : 5.0 s, 2.0 s
-        Complementary filters of the baro bias and the accel z bias while stationary (> 0).
-    mag_time_constant : 2.0 s
-        Local-to-global yaw filter (> 0).
-    initial_attitude_sigma, initial_gyro_bias_sigma, initial_velocity_sigma : 0.05 rad, 0.01 rad/s, 0.5 m/s
-    gap_period : 0.1 s
-        A dt above it is a gap: not integrated, counted in ``gap_count`` (> 0).
-
-    Raises
-    ------
-    ValueError
-        A setting out of range, naming it. TypeError for an unknown name.
-    """
-
-    cdef FusionAltitudeInsSettings _c
-
-    def __init__(self, **kwargs):
-        values = _ins_glue.convert_ins_settings(kwargs)
-        cdef float *fields = <float *>&self._c
-        for i, name in enumerate(_FIELDS):
-            fields[i] = values[name]
-
-    def __getattr__(self, name):
-        if name in _FIELDS:
-            return float((<float *>&self._c)[_FIELDS.index(name)])
-        raise AttributeError(name)
-
-    def as_dict(self):
-        """Every setting by name (Python floats of the float32 values)."""
-        cdef float *fields = <float *>&self._c
-        return {name: float(fields[i]) for i, name in enumerate(_FIELDS)}
-
-    def replace(self, **changes):
-        """A copy with some settings changed."""
-        return InsSettings(**{**self.as_dict(), **changes})
-
-    def __eq__(self, other):
-        return isinstance(other, InsSettings) and self.as_dict() == other.as_dict()
-
-    def __hash__(self):
-        return hash(tuple(self.as_dict().items()))
-
-    def __repr__(self):
-        return "InsSettings(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
-
-
-def _settings_from_dict(values):
-    return InsSettings(**values)
+def _checked_settings(values):
+    return InsSettings(**values).as_dict()
 
 
 cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsVector *out) except -1:
@@ -180,7 +88,7 @@ cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, co
     return -1
 
 
-cdef class InsEstimator:
+cdef class InsEstimator(_InsEstimatorGetters):
     """Inertial navigation filter: attitude, gyro bias, height and vertical velocity from a raw IMU and a baro.
 
     An error-state EKF (csrc/fusion_altitude_ins.h). Body axes: any
@@ -207,28 +115,31 @@ cdef class InsEstimator:
     a zero-velocity update) and the accel z bias is learned.
     """
 
-    cdef FusionAltitudeIns _c
     cdef double _gyro_scale
     cdef double _accel_scale
     cdef tuple _units
 
     def __init__(self, settings=None, *, gyro_units="rad/s", accel_units="m/s^2"):
-        cdef InsSettings s = _as_settings(settings)
+        cdef FusionAltitudeInsSettings c = _settings_to_c(
+            (InsSettings() if settings is None else InsSettings.coerce(settings)).as_dict())
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(gyro_units, accel_units)
         self._units = (gyro_units, accel_units)
-        FusionAltitudeInsInitialiseWith(&self._c, &s._c)  # settings already checked
+        FusionAltitudeInsInitialiseWith(&self._c, &c)  # settings already checked by InsSettings
 
     @property
     def settings(self):
         """The settings (InsSettings); assigning one keeps the state."""
-        cdef InsSettings s = InsSettings.__new__(InsSettings)
-        s._c = FusionAltitudeInsGetSettings(&self._c)
-        return s
+        return InsSettings(**_settings_from_c(&self._c.settings))
 
     @settings.setter
     def settings(self, value):
-        cdef InsSettings s = _as_settings(value)
-        FusionAltitudeInsSetSettings(&self._c, &s._c)
+        cdef FusionAltitudeInsSettings c = _settings_to_c(InsSettings.coerce(value).as_dict())
+        FusionAltitudeInsSetSettings(&self._c, &c)  # checked by InsSettings
+
+    def reset(self):
+        """Back to the start state (not aligned, FusionAltitudeInsInitialiseWith), keeping the settings and units."""
+        cdef FusionAltitudeInsSettings c = self._c.settings
+        FusionAltitudeInsInitialiseWith(&self._c, &c)
 
     def update(self, gyro, accel, dt, baro_altitude=math.nan, mag=None):
         """One IMU step.
@@ -329,16 +240,6 @@ cdef class InsEstimator:
         return result
 
     @property
-    def altitude(self):
-        """Height above the reference d, m, +up (the baro reads altitude + baro_bias)."""
-        return FusionAltitudeInsGetAltitude(&self._c)
-
-    @property
-    def vertical_velocity(self):
-        """Vertical velocity, m/s, +up."""
-        return FusionAltitudeInsGetVerticalVelocity(&self._c)
-
-    @property
     def quaternion(self):
         """Local attitude (w, x, y, z), body → local NWU earth (yaw integrated from 0), float32."""
         cdef FusionAltitudeInsQuaternion q = FusionAltitudeInsGetQuaternion(&self._c)
@@ -373,31 +274,6 @@ cdef class InsEstimator:
         return np.array([b.x, b.y, b.z], dtype=np.float32)
 
     @property
-    def accel_z_bias(self):
-        """Accelerometer z bias, m/s², body z (learned while stationary)."""
-        return FusionAltitudeInsGetAccelZBias(&self._c)
-
-    @property
-    def baro_bias(self):
-        """Baro bias, m: the baro altitude at altitude 0."""
-        return FusionAltitudeInsGetBaroBias(&self._c)
-
-    @property
-    def is_stationary(self):
-        """True while stationary (still for the whole window)."""
-        return bool(FusionAltitudeInsIsStationary(&self._c))
-
-    @property
-    def is_accel_rejected(self):
-        """True if the latest step did not use the accelerometer for attitude."""
-        return bool(FusionAltitudeInsIsAccelRejected(&self._c))
-
-    @property
-    def gap_count(self):
-        """Steps with dt > gap_period, not integrated."""
-        return FusionAltitudeInsGetGapCount(&self._c)
-
-    @property
     def covariance(self):
         """Error covariance P (8 × 8: attitude error, gyro bias, d, v), float32 copy."""
         return np.array(self._c.P, dtype=np.float32).reshape(8, 8)
@@ -419,43 +295,20 @@ cdef class InsEstimator:
         }
 
     def _get_state(self):
-        return (bytes((<char *>&self._c)[:sizeof(FusionAltitudeIns)]), self._units)
+        """(the fields of FusionAltitudeIns in order, arrays as lists, P row-major; the input units)."""
+        return (_state_get(&self._c, dict), self._units)
 
-    def __copy__(self):
-        cdef InsEstimator clone = InsEstimator.__new__(InsEstimator)
-        clone._c = self._c
-        clone._gyro_scale = self._gyro_scale
-        clone._accel_scale = self._accel_scale
-        clone._units = self._units
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
-
-    def __reduce__(self):
-        return (_restore, self._get_state())
+    def _set_state(self, state):
+        fields, units = state
+        self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
+        self._units = tuple(units)
+        _state_set(&self._c, tuple(fields), _checked_settings)
 
     def __repr__(self):
         return (f"InsEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"is_stationary={self.is_stationary!r})")
 
 
-def _restore(bytes raw, tuple units):
-    """Unpickle: the C struct's bytes (same platform layout) and the input units."""
-    cdef InsEstimator estimator = InsEstimator.__new__(InsEstimator)
-    if len(raw) != sizeof(FusionAltitudeIns):
-        raise ValueError(f"pickled INS state has {len(raw)} bytes, this build expects {sizeof(FusionAltitudeIns)}")
-    memcpy(&estimator._c, <const char *>raw, sizeof(FusionAltitudeIns))
-    estimator._gyro_scale, estimator._accel_scale = _ins_glue.units_tuple(*units)
-    estimator._units = units
-    return estimator
-
-
-cdef InsSettings _as_settings(object settings):
-    if settings is None:
-        return InsSettings()
-    if isinstance(settings, InsSettings):
-        return settings
-    if hasattr(settings, "as_dict") and hasattr(settings, "gap_period"):
-        return InsSettings(**settings.as_dict())
-    raise TypeError(f"settings must be InsSettings, got {type(settings).__name__}")
+def _restore(state):
+    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(InsEstimator, state)

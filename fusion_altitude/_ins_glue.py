@@ -1,60 +1,36 @@
 """Glue of the inertial navigation filter shared by its binding (``_ins.pyx``)
-and its reference (``reference/ins.py``): statuses, the settings table, unit
+and its reference (``reference/ins.py``): the settings rules (the table and the
+status enum are generated from the header into ``_c_tables``), unit
 conversion, input checks with messages that name the argument (and the first
 bad index), and the batch result type. No algorithm here.
 """
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass
 from typing import Dict, Optional, Tuple
 
 import numpy as np
 
+from . import _c_tables
+from ._c_tables import InsStatus
 from ._common import GRAVITY, as_float
 
 #: Largest accepted setting and input magnitude (FUSION_ALTITUDE_INS_MAXIMUM).
-MAXIMUM = np.float32(1e6)
+MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 
 
-class InsStatus(enum.IntEnum):
-    """Status codes, equal to the C enum ``FusionAltitudeInsStatus``."""
+#: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.
+POSITIVE_SETTINGS = frozenset({"accel_attitude_noise", "baro_noise", "zero_rate_noise", "zero_velocity_noise",
+                               "baro_bias_time_constant", "accel_bias_time_constant", "mag_time_constant",
+                               "gap_period"})
 
-    OK = 0
-    INVALID_GYRO = 1
-    INVALID_ACCEL = 2
-    INVALID_MAG = 3
-    INVALID_BARO_ALTITUDE = 4
-    INVALID_DT = 5
-    INVALID_SETTINGS = 6
-
-
-#: INS settings: (Python name, C name, default, rule), in the order of the C
-#: struct FusionAltitudeInsSettings. Rules: ">=0" finite in [0, 1e6], ">0" in (0, 1e6].
-INS_SETTINGS = (
-    ("gyro_noise", "gyroNoise", 3e-4, ">=0"),
-    ("gyro_bias_random_walk", "gyroBiasRandomWalk", 1e-5, ">=0"),
-    ("accel_noise", "accelNoise", 0.05, ">=0"),
-    ("accel_attitude_noise", "accelAttitudeNoise", 0.05, ">0"),
-    ("accel_norm_rejection", "accelNormRejection", 2.0, ">=0"),
-    ("accel_rejection", "accelRejection", 0.17, ">=0"),
-    ("recovery_trigger_period", "recoveryTriggerPeriod", 5.0, ">=0"),
-    ("baro_noise", "baroNoise", 0.3, ">0"),
-    ("stationary_gyro_threshold", "stationaryGyroThreshold", 0.05, ">=0"),
-    ("stationary_accel_threshold", "stationaryAccelThreshold", 0.5, ">=0"),
-    ("stationary_window", "stationaryWindow", 1.0, ">=0"),
-    ("zero_rate_noise", "zeroRateNoise", 0.01, ">0"),
-    ("zero_velocity_noise", "zeroVelocityNoise", 0.05, ">0"),
-    ("baro_bias_time_constant", "baroBiasTimeConstant", 5.0, ">0"),
-    ("accel_bias_time_constant", "accelBiasTimeConstant", 2.0, ">0"),
-    ("mag_time_constant", "magTimeConstant", 2.0, ">0"),
-    ("initial_attitude_sigma", "initialAttitudeSigma", 0.05, ">=0"),
-    ("initial_gyro_bias_sigma", "initialGyroBiasSigma", 0.01, ">=0"),
-    ("initial_velocity_sigma", "initialVelocitySigma", 0.5, ">=0"),
-    ("gap_period", "gapPeriod", 0.1, ">0"),
-)
+#: INS settings: (Python name, C name, default, rule), in the order of the C struct FusionAltitudeInsSettings,
+#: the defaults read from the header (:mod:`fusion_altitude._c_tables`). Rules: ">=0" finite in [0, 1e6],
+#: ">0" in (0, 1e6].
+INS_SETTINGS = tuple((name, c_name, default, ">0" if name in POSITIVE_SETTINGS else ">=0")
+                     for name, c_name, _, default, _ in _c_tables.INS_SETTINGS)
 
 INS_SETTINGS_NAMES = tuple(row[0] for row in INS_SETTINGS)
 
@@ -127,10 +103,10 @@ _MESSAGES = {
 
 
 def raise_step_error(status: InsStatus, values: Dict[str, object], index: Optional[int] = None) -> None:
-    """ValueError naming the argument (and the step index in a batch); the state is unchanged."""
+    """ValueError naming the argument (``name[index]`` of the first bad step in a batch); the state is unchanged."""
     name, rule = _MESSAGES[InsStatus(status)]
-    where = f" at index {index}" if index is not None else ""
-    raise ValueError(f"{name}{where} {rule}; got {values[name]!r} (state unchanged)")
+    where = f"{name}[{index}]" if index is not None else name
+    raise ValueError(f"{where} {rule}; got {values[name]!r} (state unchanged)")
 
 
 def step_inputs(gyro, accel, dt, baro_altitude, mag, gyro_scale, accel_scale):
@@ -204,6 +180,11 @@ class InsBatch:
     accel_z_bias: np.ndarray
     baro_bias: np.ndarray
     is_stationary: np.ndarray
+
+    def __iter__(self):
+        """The arrays in field order, as for the other estimators' batch results (``tuple(batch)``)."""
+        return iter((self.altitude, self.vertical_velocity, self.quaternion, self.global_quaternion, self.gyro_bias,
+                     self.accel_z_bias, self.baro_bias, self.is_stationary))
 
     @classmethod
     def empty(cls, n: int) -> "InsBatch":
@@ -281,17 +262,6 @@ def quaternion_to_euler(quaternion) -> np.ndarray:
     pitch = np.arcsin(np.clip(2.0 * (w * y - z * x), -1.0, 1.0))
     yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
     return np.degrees(np.stack([roll, pitch, yaw], axis=-1))
-
-
-def status_message(status: int) -> str:
-    """English message for a status, as FusionAltitudeInsStatusMessage."""
-    status = InsStatus(status)
-    if status == InsStatus.OK:
-        return "ok"
-    if status == InsStatus.INVALID_SETTINGS:
-        return "settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)"
-    name, rule = _MESSAGES[status]
-    return f"{name} {rule}"
 
 
 def units_tuple(gyro_units: str, accel_units: str) -> Tuple[float, float]:

@@ -25,8 +25,8 @@ import numpy as np
 
 from ._common import GRAVITY, as_float
 from ._flight import RocketEstimator
-from ._flight_glue import (EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketSettings,
-                           RocketStatus)
+from ._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
+from .reference.flight import RocketSettings
 
 #: Observer gains of the rocket preset (Kh 1/s, Kv 1/s², Kb 1/s³): ω = 1 rad/s,
 #: ζ = 0.7 and no in-flight bias learning (the bias comes from the pad).

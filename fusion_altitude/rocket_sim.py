@@ -308,6 +308,7 @@ def kalman_comparison(seeds: int = 5) -> str:
     settings (accel as given, baro above the pad) and the rocket flight layer
     (``python -m fusion_altitude.rocket_sim --kalman``)."""
     from . import KalmanEstimator, KalmanSettings
+    from .metrics import error_statistics
     from .rocket import rocket_kalman_settings, run_rocket
 
     lines = ["| seed | Kalman, default settings | Kalman, rocket settings | RocketEstimator |", "|---|---|---|---|"]
@@ -317,10 +318,10 @@ def kalman_comparison(seeds: int = 5) -> str:
         baro = flight.baro_altitude - flight.model.pad_altitude
         rms = []
         for settings in (KalmanSettings(), rocket_kalman_settings()):
-            result = KalmanEstimator(settings).update_batch(flight.accel, flight.dt, baro_altitude=baro)
-            rms.append(float(np.sqrt(np.mean((result.altitude - truth) ** 2))))
+            result = KalmanEstimator(settings).update_batch(flight.accel, baro_altitude=baro, dt=flight.dt)
+            rms.append(error_statistics(flight.time, result.altitude - truth, transient=-np.inf).rms)  # whole flight
         batch, _ = run_rocket(flight.time, flight.accel, flight.baro_altitude)
-        rms.append(float(np.sqrt(np.mean((batch.height - truth) ** 2))))
+        rms.append(error_statistics(flight.time, batch.height - truth, transient=-np.inf).rms)
         lines.append(f"| {seed} | " + " | ".join(f"{value:.1f}" for value in rms) + " |")
     return "\n".join(lines)
 

@@ -185,7 +185,7 @@ def _specs() -> Dict[str, ScenarioSpec]:
             sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, accel_range=16.0,
                          gyro_noise=0.1, mag_noise=0.05),
             sim.BaroModel(noise=0.5, lag=0.02), preset="racing", transient=2.0),
-        # -- issue 7: the estimator comparison's scenarios ------------------------------------------
+        # -- the estimator comparison's scenarios ---------------------------------------------------
         "fixed-wing": ScenarioSpec(
             "180 s fixed wing: climb at 4 m/s to 100 m, cruise, descend; 25 Hz lagged drifting baro, 5 Hz GPS; "
             "fixed-wing gains",

@@ -1,4 +1,4 @@
-"""The INS and the rocket flight layer where they are used (issues 13 and 14): ``run --estimator ins``,
+"""The INS and the rocket flight layer where they are used: ``run --estimator ins``,
 ``compare`` INS rows, ``run`` on rocket logs with ``--events-csv`` and the events next to the flight
 computer's own, the plot's event marks."""
 

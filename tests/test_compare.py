@@ -1,4 +1,4 @@
-"""The comparison (issue 7): one short scenario through the library and the CLI."""
+"""The estimator comparison: one short scenario through the library and the CLI."""
 
 import math
 

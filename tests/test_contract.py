@@ -21,7 +21,7 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 
 import fusion_altitude
 import fusion_altitude.reference
-from fusion_altitude import _alphabeta, _c_tables, _complementary, _kalman, _observer
+from fusion_altitude import _alphabeta, _c_tables, _complementary, _flight, _ins, _kalman, _observer
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,6 +47,25 @@ def _alphabeta_inputs(rng, n):
     return {**inputs, "lidar_altitude": lidar, "sonar_altitude": lidar * 0.98}
 
 
+def _rocket_inputs(rng, n):
+    inputs = _altitude_inputs(rng, n)
+    inputs["accel"][n // 3:n // 3 + n // 10] += 40.0  # a boost after the pad, so the phases move on
+    return inputs
+
+
+def _ins_inputs(rng, n):
+    baro = 50 + np.cumsum(rng.normal(0.0, 0.05, n))
+    baro[rng.random(n) < 0.5] = np.nan
+    mag = np.tile([0.2, 0.0, -0.4], (n, 1)) + rng.normal(0.0, 0.01, (n, 3))
+    mag[rng.random(n) < 0.7] = np.nan
+    return {"gyro": rng.normal(0.0, 0.02, (n, 3)), "accel": np.tile([0.0, 0.0, 9.81], (n, 1)) + rng.normal(0.0, 0.3, (n, 3)),
+            "dt": rng.uniform(0.005, 0.02, n), "baro_altitude": baro, "mag": mag}
+
+
+#: The update argument order of the contract: (accel, baro_altitude, dt, *, other sensors).
+CONTRACT_ORDER = ("accel", "baro_altitude", "dt")
+
+
 @dataclass
 class Row:
     """One estimator: its class name, settings class name, binding module, inputs and a settings change."""
@@ -57,15 +76,30 @@ class Row:
     inputs: Callable
     change: Dict[str, object]  # keyword arguments of settings.replace that change something
     status: str  # the status enum in fusion_altitude._c_tables
+    enums: Tuple[Tuple[str, str], ...] = ()  # other enums: (name in _c_tables, C_<name>_VALUES of the binding)
+    #: The positional parameters of update/update_batch (the rest keyword-only, or ``out``). Exceptions to
+    #: CONTRACT_ORDER are written here, with the reason.
+    positional: Tuple[str, ...] = CONTRACT_ORDER
+    retune: bool = True  # ``estimator.settings = ...`` mid-run (the rocket layer's settings are fixed at start)
+    gil_samples: int = 400_000  # a batch long enough to see the GIL released
 
 
 ESTIMATORS = [
-    Row("AltitudeEstimator", "AltitudeSettings", _observer, _altitude_inputs, {"bias_gain": 0.5}, "Status"),
-    Row("KalmanEstimator", "KalmanSettings", _kalman, _kalman_inputs, {"gate": 3.0}, "KalmanStatus"),
+    Row("AltitudeEstimator", "AltitudeSettings", _observer, _altitude_inputs, {"bias_gain": 0.5}, "Status",
+        enums=(("Preset", "C_PRESET_VALUES"),)),
+    Row("KalmanEstimator", "KalmanSettings", _kalman, _kalman_inputs, {"gate": 3.0}, "KalmanStatus",
+        enums=(("KalmanResult", "C_RESULT_VALUES"),)),
     Row("ComplementaryFilter", "ComplementarySettings", _complementary, _altitude_inputs,
         {"velocity_time_constant": 5.0}, "ComplementaryStatus"),
     Row("AlphaBetaFusion", "AlphaBetaSettings", _alphabeta, _alphabeta_inputs, {"gps": {"gap_max": 30.0}},
         "AlphaBetaStatus"),
+    # Exception: the INS takes a raw IMU, so its update is (gyro, accel, dt, baro_altitude=NaN, mag=None) with
+    # 3-vectors, as imufusion users call an AHRS; baro and mag are optional and positional.
+    Row("InsEstimator", "InsSettings", _ins, _ins_inputs, {"baro_noise": 0.5}, "InsStatus",
+        positional=("gyro", "accel", "dt", "baro_altitude", "mag"), gil_samples=50_000),
+    Row("RocketEstimator", "RocketSettings", _flight, _rocket_inputs, {"launch_accel": 30.0}, "RocketStatus",
+        enums=(("Phase", "C_PHASE_VALUES"), ("BaroFate", "C_BARO_VALUES"), ("RocketEventId", "C_EVENTID_VALUES")),
+        retune=False),
 ]
 IMPLEMENTATIONS = {"c": fusion_altitude, "reference": fusion_altitude.reference}
 
@@ -90,10 +124,15 @@ def state(estimator):
     return bits(estimator._get_state())
 
 
+def sample(values, i):
+    """Sample i of a batch input: a float, or a list for a vector input (the INS's gyro, accel, mag)."""
+    return values[i].tolist() if np.ndim(values) > 1 else float(values[i])
+
+
 def run_per_sample(estimator, inputs):
     n = len(inputs["accel"])
     for i in range(n):
-        estimator.update(**{name: float(values[i]) for name, values in inputs.items()})
+        estimator.update(**{name: sample(values, i) for name, values in inputs.items()})
 
 
 def warmed_up(impl, row, n=300, seed=1):
@@ -125,6 +164,14 @@ def test_default_settings_equal_the_header(row):
 def test_status_enum_equals_the_header(row):
     status = getattr(_c_tables, row.status)
     assert {member.name: int(member) for member in status} == row.module.C_STATUS_VALUES
+
+
+ENUM_ROWS = [(row, name, values) for row in ESTIMATORS for name, values in row.enums]
+
+
+@pytest.mark.parametrize("row, name, values", ENUM_ROWS, ids=[name for _, name, _ in ENUM_ROWS])
+def test_other_enums_equal_the_header(row, name, values):
+    assert {member.name: int(member) for member in getattr(_c_tables, name)} == getattr(row.module, values)
 
 
 @by_row
@@ -165,8 +212,9 @@ def test_binding_has_the_references_public_methods_with_the_same_parameters(row)
 @pytest.mark.parametrize("method", ["update", "update_batch"])
 def test_updates_take_accel_baro_altitude_dt_then_keywords(impl, row, method):
     parameters = list(inspect.signature(getattr(getattr(impl, row.estimator), method)).parameters.values())
-    assert [p.name for p in parameters[1:4]] == ["accel", "baro_altitude", "dt"]
-    assert all(p.kind is p.KEYWORD_ONLY or p.name == "out" for p in parameters[4:])
+    count = len(row.positional)
+    assert tuple(p.name for p in parameters[1:1 + count]) == row.positional
+    assert all(p.kind is p.KEYWORD_ONLY or p.name == "out" for p in parameters[1 + count:])
 
 
 LEGACY = [row for row in ESTIMATORS if row.estimator in ("KalmanEstimator", "AlphaBetaFusion")]
@@ -216,9 +264,10 @@ def test_a_reference_checkpoint_restores_in_the_binding_and_back(row):
 def test_a_bad_update_names_the_argument_and_leaves_the_state(impl, row, name, value):
     estimator = warmed_up(impl, row)
     before = state(estimator)
-    sample = {key: float(values[0]) for key, values in row.inputs(np.random.default_rng(3), 1).items()}
+    arguments = {key: sample(values, 0) for key, values in row.inputs(np.random.default_rng(3), 1).items()}
+    bad = [value, *arguments[name][1:]] if isinstance(arguments[name], list) else value  # a vector: one component
     with pytest.raises(ValueError, match=rf"^{name} "):
-        estimator.update(**{**sample, name: value})
+        estimator.update(**{**arguments, name: bad})
     assert state(estimator) == before
 
 
@@ -261,8 +310,12 @@ def test_a_batch_writes_into_out_and_returns_it(impl, row):
 @by_impl
 def test_reset_keeps_the_settings(impl, row):
     settings = getattr(impl, row.settings)().replace(**row.change)
-    estimator = warmed_up(impl, row)
-    estimator.settings = settings
+    if row.retune:
+        estimator = warmed_up(impl, row)
+        estimator.settings = settings
+    else:
+        estimator = getattr(impl, row.estimator)(settings)
+        estimator.update_batch(**row.inputs(np.random.default_rng(1), 300))
     estimator.reset(*([12.5] if "baro_altitude" in inspect.signature(estimator.reset).parameters else []))
     assert estimator.settings == settings
 
@@ -278,8 +331,9 @@ def test_reset_agrees_between_implementations(row):
 
 @by_row
 def test_a_c_batch_releases_the_gil(row):
-    n = 400_000
-    inputs = {name: np.zeros(n, np.float32) for name in row.inputs(np.random.default_rng(0), 1)}
+    n = row.gil_samples
+    inputs = {name: np.zeros((n, *np.shape(values)[1:]), np.float32)
+              for name, values in row.inputs(np.random.default_rng(0), 1).items()}
     inputs["dt"] = 0.01
     estimator = getattr(fusion_altitude, row.estimator)()
     out = estimator.update_batch(**inputs)  # allocates the outputs once (and warms up)

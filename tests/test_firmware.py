@@ -1,4 +1,4 @@
-"""Firmware fitness of csrc/fusion_altitude.h (issue 3), of
+"""Firmware fitness of csrc/fusion_altitude.h, of
 csrc/fusion_altitude_kalman.h, of the hobby estimators
 csrc/fusion_altitude_complementary.h and csrc/fusion_altitude_alphabeta.h
 (all but fuzzing), of the rocket flight layer csrc/fusion_altitude_flight.h

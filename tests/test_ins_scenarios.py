@@ -1,5 +1,5 @@
 """The INS against the truth on simulated raw-IMU flights (fusion_altitude.imu_sim):
-the pass/fail properties of issue 13. The figures themselves are printed by
+the pass/fail properties asked of the INS. The figures themselves are printed by
 examples/ins_scenarios.py and quoted in docs/ins.md."""
 
 import numpy as np

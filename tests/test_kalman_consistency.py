@@ -1,4 +1,4 @@
-"""Consistency of the Kalman filter's covariance with its actual errors (issue 5, item 5e).
+"""Consistency of the Kalman filter's covariance with its actual errors.
 
 A Monte Carlo of 50 flights whose truth follows the filter's own model with
 its default settings: accelerometer white noise of density N_a entering

@@ -1,4 +1,4 @@
-"""Simulated flights with known truth for the Kalman filter (issue 5, item 5).
+"""Simulated flights with known truth for the Kalman filter.
 
 The truth + sensor generator is here (small, seeded): cosine-blended altitude
 legs with analytic velocity and acceleration, terrain under the vehicle, a

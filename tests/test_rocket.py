@@ -125,19 +125,8 @@ def test_unstable_observer_gains_are_rejected():
         rocket.RocketSettings(observer=(0.0, 1.0, 0.0))
 
 
-def test_python_defaults_equal_the_c_defaults():
-    from fusion_altitude import _flight
-    c = _flight.c_default_settings()
-    python = rocket.RocketSettings().as_dict()
-    assert c.pop("observer") == pytest.approx(python.pop("observer"), abs=0)
-    assert {k: float(np.float32(v)) for k, v in python.items()} == c
-
-
-def test_python_status_enum_matches_the_c_header():
-    from fusion_altitude import _flight
-    assert max(rocket.RocketStatus) == _flight.C_LAST_STATUS
-    for status in rocket.RocketStatus:
-        assert _flight.status_message(status) != "unknown status"
+# The defaults, the enums, the #define constants and the status messages are generated from the header
+# (tools/generate_bindings.py --check) and held by tests/test_contract.py, as for every estimator.
 
 
 def test_a_bad_batch_sample_names_its_index_and_leaves_the_state_unchanged():

@@ -54,11 +54,13 @@ MODULES = {
                       "FusionAltitudeComplementarySettings", "FusionAltitudeComplementary"),
     "alphabeta": ("fusion_altitude_alphabeta.h", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaSettings",
                   "FusionAltitudeAlphaBeta"),
+    "ins": ("fusion_altitude_ins.h", "FusionAltitudeIns", "FusionAltitudeInsSettings", "FusionAltitudeIns"),
+    "flight": ("fusion_altitude_flight.h", "FusionAltitudeRocket", "FusionAltitudeRocketSettings", "FusionAltitudeRocket"),
 }
 
 #: module name → the Python estimator class (binding and reference alike).
 ESTIMATORS = {"observer": "AltitudeEstimator", "kalman": "KalmanEstimator", "complementary": "ComplementaryFilter",
-              "alphabeta": "AlphaBetaFusion"}
+              "alphabeta": "AlphaBetaFusion", "ins": "InsEstimator", "flight": "RocketEstimator"}
 
 #: Python enum name of each C enum, and the prefix its members drop.
 ENUM_NAMES = {
@@ -71,6 +73,11 @@ ENUM_NAMES = {
     "FusionAltitudeComplementaryStatus": "ComplementaryStatus",
     "FusionAltitudeAlphaBetaStatus": "AlphaBetaStatus",
     "FusionAltitudeAlphaBetaSensorIndex": "AlphaBetaSensorIndex",
+    "FusionAltitudeInsStatus": "InsStatus",
+    "FusionAltitudeRocketStatus": "RocketStatus",
+    "FusionAltitudeRocketPhase": "Phase",
+    "FusionAltitudeRocketEventId": "RocketEventId",
+    "FusionAltitudeRocketBaro": "BaroFate",
 }
 
 #: Python names that are not the snake_case of the C name (kept for compatibility).
@@ -78,6 +85,13 @@ PYTHON_NAMES = {
     "rangeMinimum": "range_min",
     "rangeMaximum": "range_max",
     "gpsMinimumSatellites": "gps_min_satellites",
+}
+
+#: Python property names of getters that are not the snake_case of the part after ``Get``/``Is``.
+GETTER_NAMES = {
+    "FusionAltitudeInsIsStationary": "is_stationary",
+    "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
+    "FusionAltitudeInsGetAccelZBias": "accel_z_bias",
 }
 
 #: C scalar type → kind: "f" float32, "b" bool, "i" signed int, "u" unsigned int, "e" enum (as int).
@@ -168,7 +182,8 @@ def parse_header(path: Path, known: Optional[Header] = None) -> Header:
         if argument in header.structs:
             doc = " ".join(line.strip(" *") for line in doc.strip().splitlines()).strip()
             doc = re.sub(r"^@brief\s*|^@return\s*", "", doc).replace("^2", "²").replace("^3", "³")
-            header.getters.append(Getter(ctype, cname, snake(short), (doc[:1].upper() + doc[1:]) or f"{cname}."))
+            header.getters.append(Getter(ctype, cname, GETTER_NAMES.get(cname, snake(short)),
+                                         (doc[:1].upper() + doc[1:]) or f"{cname}."))
     return header
 
 
@@ -251,8 +266,17 @@ def _python_value(text: str, kind: str) -> str:
 
 # -- _c_tables.py -------------------------------------------------------------------------------------------------
 
+def enum_prefix(enum: Enum) -> str:
+    """What every member name starts with: the enum's name, else (``FusionAltitudeRocketEventId`` with members
+    ``FusionAltitudeRocketEventLaunch`` …) the name without its last word."""
+    if all(m.startswith(enum.cname) for m, _ in enum.members):
+        return enum.cname
+    shorter = re.sub(r"[A-Z][a-z0-9]*$", "", enum.cname)
+    return shorter if all(m.startswith(shorter) for m, _ in enum.members) else enum.cname
+
+
 def enum_python(header: Header, enum: Enum) -> List[str]:
-    prefix = enum.cname
+    prefix = enum_prefix(enum)
     name = ENUM_NAMES[enum.cname]
     lines = [f"class {name}(enum.IntEnum):", f'    """C ``{enum.cname}`` ({header.path.name})."""', ""]
     for value, (member, comment) in enumerate(enum.members):
@@ -266,7 +290,7 @@ def settings_table(module: str, header: Header, struct: str, defaults: Dict[Tupl
     upper = module.upper()
     lines = []
     fields = header.structs[struct]
-    if fields[0].ctype in header.structs:  # an array of per-sensor structs, then scalar fields
+    if fields[0].ctype in header.structs and fields[0].dims:  # an array of per-sensor structs, then scalar fields
         inner = fields[0]
         sensor_enum = [e for e in header.enums.values() if e.cname.endswith("SensorIndex")][0]
         names = [upper_snake(m[len(sensor_enum.cname.replace("Index", "")):]).lower() for m, _ in sensor_enum.members]
@@ -297,9 +321,15 @@ def settings_table(module: str, header: Header, struct: str, defaults: Dict[Tupl
         lines.append(")")
         return lines + ["", ""]
     lines.append(f"#: ``{struct}``: (python name, C name, kind, default, comment) per field, in the struct's order;")
-    lines.append(f"#: kind f float32, i int32, b bool; the defaults are ``{struct}Default()``, read from C.")
+    lines.append(f"#: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the")
+    lines.append(f"#: defaults are ``{struct}Default()``, read from C.")
     lines.append(f"{upper}_SETTINGS = (")
     for f in fields:
+        if f.ctype in header.structs:
+            default = "(" + "".join(f"{_python_value(defaults[(f.python, g.python)], SCALAR_KINDS[g.ctype])}, "
+                                    for g in header.structs[f.ctype]).rstrip() + ")"
+            lines.append(f"    ({f.python!r}, {f.name!r}, 's', {default}, {f.comment!r}),")
+            continue
         kind = SCALAR_KINDS[f.ctype]
         lines.append(f"    ({f.python!r}, {f.name!r}, {kind!r}, {_python_value(defaults[(f.python,)], kind)}, "
                      f"{f.comment!r}),")
@@ -319,10 +349,16 @@ def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
         for enum in header.enums.values():
             if enum.cname in seen or enum.cname not in ENUM_NAMES:
                 continue
-            if not any(m.startswith(enum.cname) for m, _ in enum.members):
+            if not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members):
                 continue
             seen.add(enum.cname)
             out += enum_python(header, enum)
+        constants = re.findall(r"^#define\s+(FUSION_ALTITUDE_\w+)\s+\(([-\d.e]+)f?\)\s*$", header.path.read_text(),
+                               flags=re.M)
+        if constants:
+            out.append(f"#: The numeric ``#define`` constants of {header_name} (floats are float32 in C).")
+            out += [f"{name} = {value}" for name, value in constants]
+            out += ["", ""]
         out.append(f"#: ``{prefix}StatusMessage`` of each status, read from C.")
         out.append(f"{module.upper()}_STATUS_MESSAGES = (")
         out += [f"    {message!r}," for message in messages[module]]
@@ -348,22 +384,22 @@ def generate_pxi(module: str, header: Header) -> str:
     for enum in header.enums.values():
         if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix):
             continue
-        if not any(m.startswith(enum.cname) for m, _ in enum.members):
+        if not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members):
             continue
         suffix = enum.cname[len(prefix):]
-        if suffix not in ("Status", "Result", "Preset"):
+        if suffix not in ("Status", "Result", "Preset", "Phase", "Baro", "EventId"):
             continue
         variable = "C_STATUS_VALUES" if suffix == "Status" else f"C_{suffix.upper()}_VALUES"
         out.append(f"#: The C enum {enum.cname}, as the compiler sees it (the generated Python enum must equal it).")
         out.append(f"{variable} = {{")
         for member, _ in enum.members:
-            out.append(f"    {upper_snake(member[len(enum.cname):])!r}: {member},")
+            out.append(f"    {upper_snake(member[len(enum_prefix(enum)):])!r}: {member},")
         out += ["}", "", ""]
     out += [f"def c_status_message(int status):",
             f'    """{prefix}StatusMessage(status), from C."""',
             f"    return {prefix}StatusMessage(<{prefix}Status>status).decode(\"ascii\")", "", ""]
     fields = header.structs[settings]
-    nested = fields[0].ctype in header.structs
+    nested = fields[0].ctype in header.structs and bool(fields[0].dims)
     if nested:
         inner = fields[0]
         sub = header.structs[inner.ctype]
@@ -388,11 +424,16 @@ def generate_pxi(module: str, header: Header) -> str:
         out += [f"cdef {settings} _settings_to_c(object values) except *:",
                 f'    """{{name: value}} (checked Python values) → {settings}."""',
                 f"    cdef {settings} c"]
-        out += [f"    c.{f.name} = values[{f.python!r}]" for f in fields]
+        for f in fields:
+            if f.ctype in header.structs:  # a struct: the tuple of its fields in order
+                out += [f"    c.{f.name}.{g.name} = values[{f.python!r}][{k}]"
+                        for k, g in enumerate(header.structs[f.ctype])]
+            else:
+                out.append(f"    c.{f.name} = values[{f.python!r}]")
         out += ["    return c", "", ""]
         out += [f"cdef dict _settings_from_c(const {settings} *c):",
                 f'    """{settings} → {{name: value}} in the struct\'s order."""', "    return {"]
-        out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], 'c.' + f.name)}," for f in fields]
+        out += [f"        {f.python!r}: {_struct_get(header, f.ctype, 'c.' + f.name)}," for f in fields]
         out += ["    }", "", ""]
     out += [f"def {'_c_default_settings' if nested else 'c_default_settings'}():",
             f'    """{settings}Default(), from C, in the form :func:`_settings_from_c` gives."""',
@@ -405,6 +446,25 @@ def generate_pxi(module: str, header: Header) -> str:
     out += state_functions(header, state, settings)
     out += getter_class(module, header, state)
     return "\n".join(out).rstrip() + "\n"
+
+
+def _struct_get(header: Header, ctype: str, access: str) -> str:
+    """Python expression of a C value: a scalar, or a struct as the tuple of its fields in order (recursively)."""
+    if ctype in header.structs:
+        return "(" + "".join(f"{_struct_get(header, g.ctype, f'{access}.{g.name}')}, "
+                             for g in header.structs[ctype]).rstrip() + ")"
+    return _py_of(_kind(header, ctype), access)
+
+
+def _struct_set(header: Header, ctype: str, access: str, value: str) -> List[str]:
+    """Statements assigning the Python value (a tuple for a struct, recursively) to the C lvalue ``access``."""
+    if ctype in header.structs:
+        lines = []
+        for k, g in enumerate(header.structs[ctype]):
+            lines += _struct_set(header, g.ctype, f"{access}.{g.name}", f"{value}[{k}]")
+        return lines
+    cast = f"<{ctype}><int>" if ctype in header.enums else ""
+    return [f"    {access} = {cast}{value}"]
 
 
 def _kind(header: Header, ctype: str) -> str:
@@ -429,6 +489,9 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
         if f.ctype == settings:
             get.append(f"        settings_out(_settings_from_c(&c.{f.name})),")
             put.append(f"    c.{f.name} = _settings_to_c(settings_in({var}))")
+        elif f.ctype in header.structs and not f.dims:  # a struct: the tuple of its fields, recursively
+            get.append(f"        {_struct_get(header, f.ctype, 'c.' + f.name)},")
+            put += _struct_set(header, f.ctype, "c." + f.name, var)
         elif f.ctype in header.structs:
             sub = header.structs[f.ctype]
             count = header.defines.get(f.dims[0], f.dims[0])
@@ -461,7 +524,7 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
 
 #: The .pxd of each module's header.
 PXD_NAMES = {"observer": "cobserver.pxd", "kalman": "ckalman.pxd", "complementary": "ccomplementary.pxd",
-             "alphabeta": "calphabeta.pxd"}
+             "alphabeta": "calphabeta.pxd", "ins": "cins.pxd", "flight": "cflight.pxd"}
 
 
 def _cython_type(ctype: str) -> str:
@@ -479,8 +542,12 @@ def generate_pxd(module: str, header: Header, pxi: str) -> str:
     code = _strip_comments(text)
     out = [GENERATED.rstrip(), "# cython: language_level=3",
            f'"""Declarations of csrc/{header.path.name}, and nothing else."""', "",
-           "from libc.stdint cimport int32_t, uint8_t, uint32_t", "", "",
-           f'cdef extern from "{header.path.name}" nogil:']
+           "from libc.stdint cimport int32_t, uint8_t, uint32_t", ""]
+    foreign = sorted({f.ctype for fields in own.structs.values() for f in fields
+                      if f.ctype in header.structs and f.ctype not in own.structs})
+    if foreign:  # structs of fusion_altitude.h that this header's structs hold
+        out += [f"from fusion_altitude.cobserver cimport {', '.join(foreign)}", ""]
+    out += ["", f'cdef extern from "{header.path.name}" nogil:']
     for name, value in re.findall(r"^#define\s+(FUSION_ALTITUDE_\w+)\s+\(([-\d.e]+f?)\)\s*$", text, flags=re.M):
         out.append(f"    {'float' if value.endswith('f') else 'int'} {name}")
     for match in re.finditer(r"typedef (enum|struct) \{(.*?)\} (\w+);", code, flags=re.S):
@@ -537,6 +604,8 @@ EXTRA_STUBS = {
     "alphabeta": ["C_SENSOR_COUNT: int", "C_MAX_QUALITY: int", "def status_message(status: int) -> str: ...",
                   "def gains(quality: int) -> Tuple[float, float]: ...",
                   "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ..."],
+    "ins": [],
+    "flight": ["C_MACH_LOCKOUT: float", "C_NUMBER_OF_EVENTS: int", "def status_message(status: int) -> str: ..."],
 }
 
 

@@ -11,13 +11,19 @@ from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatu
 from .._observer_glue import AltitudeBatch, DiscretisationWarning, Status
 from .._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
 from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
+from .._flight_glue import RocketBatch, RocketStatus
+from .._ins_glue import InsBatch, InsStatus
 from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from .complementary import ComplementaryFilter, ComplementarySettings
+from .flight import RocketEstimator, RocketSettings
+from .ins import InsEstimator, InsSettings
 from .kalman import KalmanEstimator, KalmanSettings
 from .observer import AltitudeEstimator, AltitudeSettings
 from .sweep import sweep
 
 __all__ = ["AlphaBetaBatch", "AlphaBetaFusion", "AlphaBetaSensorSettings", "AlphaBetaSensors", "AlphaBetaSettings",
            "AlphaBetaStatus", "ComplementaryBatch", "ComplementaryFilter", "ComplementarySettings", "ComplementaryStatus",
-           "GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "KalmanBatch",
-           "KalmanEstimator", "KalmanResult", "KalmanSensors", "KalmanSettings", "KalmanStatus", "Status", "sweep"]
+           "GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "InsBatch",
+           "InsEstimator", "InsSettings", "InsStatus", "KalmanBatch", "KalmanEstimator", "KalmanResult", "KalmanSensors",
+           "KalmanSettings", "KalmanStatus", "RocketBatch", "RocketEstimator", "RocketSettings", "RocketStatus",
+           "Status", "sweep"]

@@ -15,16 +15,17 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from .. import _common
-from .._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketSettings, RocketStatus, events_from_tuples,
+from .. import _common, _flight_glue
+from .._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
                             prepare_batch, raise_update_error)
 from ._checkpoint import Checkpointable
-from .observer import AltitudeEstimator, AltitudeSettings, check_inputs
+from ._settings import KeywordSettings
+from .observer import AltitudeEstimator, AltitudeSettings, Status, _check_gains, check_inputs
 
 f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
-MACH_LOCKOUT = f32(236.0)
+MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
 CALIBRATION_WINDOWS = 8
 
@@ -35,6 +36,78 @@ LAUNCH, BURNOUT, MAX_SPEED, APOGEE, MAIN, LANDED = range(6)
 def _event() -> list:
     """[occurred, sample, time, height, velocity]"""
     return [False, 0, _ZERO, _ZERO, _ZERO]
+
+
+class RocketSettings(KeywordSettings):
+    """Settings of the rocket flight layer (``FusionAltitudeRocketSettings``), float32.
+
+    Parameters
+    ----------
+    observer : AltitudeSettings, 3 gains or 4 values, optional
+        Observer settings in flight: gains (Kh 1/s, Kv 1/s², Kb 1/s³) and the
+        observer's gap period (s, 0.5 unless given); the rocket gains
+        (1.4, 1.0, 0: ω 1 rad/s, ζ 0.7, no in-flight bias learning) if omitted.
+        The bias gain is forced to 0 from apogee on. ``as_dict()["observer"]``
+        holds the 4 values.
+    stationary_accel : float, default 5.0
+        m/s²: a pad sample within this of its window's first sample is stationary.
+    calibration_window : float, default 0.5
+        s: pad calibration window; only all-stationary windows are learned.
+    launch_accel : float, default 20.0
+        m/s²: accel − bias above this ...
+    launch_time : float, default 0.05
+        s: ... for this long declares launch.
+    burnout_accel : float, default 0.0
+        m/s²: accel − bias below this ...
+    burnout_time : float, default 0.1
+        s: ... for this long declares burnout.
+    apogee_margin : float, default 1.0
+        m/s: apogee when the velocity estimate falls below −apogee_margin.
+    lockout_speed : float, default 100.0
+        m/s: the baro is not fused while |v| exceeds this (and always above 236 m/s, Mach 0.8).
+    spike_threshold : float, default 20.0
+        m: a baro sample this far from the baro's own prediction is a spike.
+    spike_time : float, default 0.2
+        s: longest run of spike rejections; then the new level is accepted.
+    offset_rate : float, default 0.9
+        The output height absorbs the baro offset found at re-admission at up
+        to ``offset_rate·|v|`` m/s (0 < offset_rate ≤ 1).
+    main_altitude : float, default 250.0
+        m above the pad: main deployment on the way down.
+    landed_speed : float, default 3.0
+        m/s: |v| below this ...
+    landed_time : float, default 2.0
+        s: ... for this long declares landing.
+    gap_period : float, default 0.5
+        s: an update with a longer dt is a gap (counted; extrapolated in flight).
+
+    The defaults are the header's (``FusionAltitudeRocketSettingsDefault``).
+
+    Raises
+    ------
+    ValueError
+        A value breaks its rule (named in the message); TypeError for an
+        unknown name or a non-real value.
+    """
+
+    __slots__ = ()
+    _DISTINCT = "launch_accel"
+
+    def __init__(self, observer: object = None, **kwargs: object) -> None:
+        observer_values = _flight_glue.observer_settings(observer)
+        values = _flight_glue.convert_settings(kwargs)
+        kh, kv, kb, gap = (f32(v) for v in observer_values)
+        if _check_gains(kh, kv, kb) != Status.OK or not gap > 0:  # FusionAltitudeSettingsCheck
+            _flight_glue.raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": observer_values})
+        status = _flight_glue.check_settings_values(values)
+        if status != RocketStatus.OK:
+            _flight_glue.raise_settings_error(status, values)
+        self._values = {"observer": observer_values, **values}
+
+    @property
+    def gains(self) -> tuple:
+        """The observer gains (Kh 1/s, Kv 1/s², Kb 1/s³)."""
+        return self._values["observer"][:3]
 
 
 class RocketEstimator(Checkpointable):
@@ -60,12 +133,8 @@ class RocketEstimator(Checkpointable):
 
     def __init__(self, settings: Optional[RocketSettings] = None) -> None:
         # FusionAltitudeRocketInitialise
-        settings = RocketSettings() if settings is None else settings
-        if not isinstance(settings, RocketSettings):
-            raise TypeError(f"settings must be RocketSettings, got {type(settings).__name__}")
-        self._settings = settings
-        self._s = {name: f32(value) for name, value in settings.values.items()}
-        self._obs = AltitudeEstimator(AltitudeSettings(*settings.gains))
+        self._use_settings(RocketSettings() if settings is None else RocketSettings.coerce(settings))
+        self._obs = AltitudeEstimator(AltitudeSettings(*self._settings.observer))
         self._obs._b = _ZERO
         self._obs._reset(_ZERO)
         self._phase = Phase.PAD
@@ -315,7 +384,7 @@ class RocketEstimator(Checkpointable):
 
     # -- public API --------------------------------------------------------
 
-    def update(self, accel: float, baro_altitude: float, dt: float, accel_is_vertical: bool = False) -> None:
+    def update(self, accel: float, baro_altitude: float, dt: float, *, accel_is_vertical: bool = False) -> None:
         """Process one step.
 
         Parameters
@@ -346,7 +415,7 @@ class RocketEstimator(Checkpointable):
         if status != RocketStatus.OK:
             raise_update_error(status, float(accel), float(baro_altitude), float(dt))
 
-    def update_batch(self, accel, baro_altitude, dt, accel_is_vertical: bool = False,
+    def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical: bool = False,
                      out: Optional[Sequence[np.ndarray]] = None) -> RocketBatch:
         """Process arrays, continuing from the current state; equal bit for bit to :meth:`update` per sample.
 
@@ -423,19 +492,41 @@ class RocketEstimator(Checkpointable):
 
     # -- checkpoint --------------------------------------------------------
 
+    def _use_settings(self, settings: RocketSettings) -> None:
+        self._settings = settings
+        self._s = {name: f32(value) for name, value in settings.as_dict().items() if name != "observer"}
+
     def _get_state(self) -> tuple:
-        obs = self._obs
-        return (self._settings, (obs._settings, obs._h, obs._v, obs._b, obs._r, obs._reference_set),
-                {name: copy.copy(getattr(self, name)) for name in self.__slots__
-                 if name not in ("_settings", "_obs", "_s")})
+        """The fields of FusionAltitudeRocket in order (structs as tuples, the settings as ``as_dict()``)."""
+        def event(e: list) -> tuple:
+            return (bool(e[0]), int(e[1]), float(e[2]), float(e[3]), float(e[4]))
+
+        return (self._settings.as_dict(), self._obs._get_state(), int(self._phase), int(self._baro),
+                tuple(event(e) for e in self._events), event(self._candidate), self._sample, self._gap_count,
+                self._windows, self._window_samples, self._window_baro_samples,
+                *(float(x) for x in (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time,
+                                     self._window_accel_first, self._window_accel_sum, self._window_baro_first,
+                                     self._window_baro_sum, self._run_time, self._spike_time, self._last_baro,
+                                     self._last_baro_age, self._baro_offset, self._offset_applied)),
+                self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted,
+                self._lockout, self._accel_trusted)
 
     def _set_state(self, state: tuple) -> None:
-        settings, (osettings, h, v, b, r, reference_set), fields = state
-        self._settings = settings
-        self._s = {name: f32(value) for name, value in settings.values.items()}
-        self._obs = AltitudeEstimator(AltitudeSettings(*settings.gains))
-        self._obs._settings = osettings
-        self._obs._h, self._obs._v, self._obs._b, self._obs._r = h, v, b, r
-        self._obs._reference_set = reference_set
-        for name, value in fields.items():
-            setattr(self, name, copy.deepcopy(value))
+        (settings, observer, phase, baro, events, candidate, self._sample, self._gap_count, self._windows,
+         self._window_samples, self._window_baro_samples, *rest) = state
+        floats, flags = rest[:15], rest[15:]
+        self._use_settings(RocketSettings(**settings))
+        self._obs = AltitudeEstimator(AltitudeSettings(*self._settings.observer))
+        self._obs._set_state(tuple(observer))
+        self._phase, self._baro = Phase(phase), BaroFate(baro)
+
+        def event(e) -> list:
+            return [bool(e[0]), int(e[1]), f32(e[2]), f32(e[3]), f32(e[4])]
+
+        self._events = [event(e) for e in events]
+        self._candidate = event(candidate)
+        (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time, self._window_accel_first,
+         self._window_accel_sum, self._window_baro_first, self._window_baro_sum, self._run_time, self._spike_time,
+         self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied) = (f32(x) for x in floats)
+        (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
+         self._accel_trusted) = (bool(x) for x in flags)

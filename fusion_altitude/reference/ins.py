@@ -27,14 +27,15 @@ Corrections (sequential scalar, accumulated in dx, injected at the end):
 
 from __future__ import annotations
 
-import copy
 import math
-from typing import Dict, Optional
+from typing import Optional
 
 import numpy as np
 
 from .. import _ins_glue
 from .._ins_glue import InsBatch, InsStatus
+from ._checkpoint import Checkpointable
+from ._settings import KeywordSettings
 
 f32 = np.float32
 N_STATES = 8
@@ -49,7 +50,7 @@ _TWO = f32(2)
 _UPPER = np.triu(np.ones((N_STATES, N_STATES), dtype=bool))
 
 
-class InsSettings:
+class InsSettings(KeywordSettings):
     """Settings of the INS, float32, in physical units (keyword arguments only).
 
     Parameters (defaults: a MEMS IMU at 100–500 Hz on a multirotor)
@@ -93,42 +94,15 @@ class InsSettings:
         A setting out of range, naming it. TypeError for an unknown name.
     """
 
-    def __init__(self, **kwargs):
-        for name, value in _ins_glue.convert_ins_settings(kwargs).items():
-            object.__setattr__(self, "_" + name, value)
+    __slots__ = ()
+    _DISTINCT = "gyro_bias_random_walk"
 
-    def __getattr__(self, name):
-        if name in _ins_glue.INS_SETTINGS_NAMES:
-            return float(object.__getattribute__(self, "_" + name))
-        raise AttributeError(name)
-
-    def __setattr__(self, name, value):
-        raise AttributeError("InsSettings are immutable; use replace(**changes)")
+    def __init__(self, **kwargs) -> None:
+        self._values = {name: float(value) for name, value in _ins_glue.convert_ins_settings(kwargs).items()}
 
     def f32(self, name: str) -> np.float32:
         """A setting as the float32 the C sees."""
-        return object.__getattribute__(self, "_" + name)
-
-    def as_dict(self) -> Dict[str, float]:
-        """Every setting by name (Python floats of the float32 values)."""
-        return {name: float(self.f32(name)) for name in _ins_glue.INS_SETTINGS_NAMES}
-
-    def replace(self, **changes) -> "InsSettings":
-        """A copy with some settings changed."""
-        return InsSettings(**{**self.as_dict(), **changes})
-
-    def __eq__(self, other):
-        return isinstance(other, InsSettings) and self.as_dict() == other.as_dict()
-
-    def __repr__(self):
-        return "InsSettings(" + ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items()) + ")"
-
-    def __reduce__(self):
-        return (_settings_from_dict, (self.as_dict(),))
-
-
-def _settings_from_dict(values):
-    return InsSettings(**values)
+        return f32(self._values[name])
 
 
 def _normalise(q: np.ndarray) -> np.ndarray:
@@ -153,7 +127,7 @@ def _up_in_body(q: np.ndarray):
     return (_TWO * (x * z - w * y), _TWO * (y * z + w * x), _ONE - _TWO * (x * x + y * y))
 
 
-class InsEstimator:
+class InsEstimator(Checkpointable):
     """Reference twin of :class:`fusion_altitude.InsEstimator` (same API, bit-identical results).
 
     Parameters
@@ -172,9 +146,7 @@ class InsEstimator:
 
     # -- FusionAltitudeInsInitialiseWith -------------------------------------------------------
     def _initialise(self, settings: InsSettings) -> None:
-        if not isinstance(settings, InsSettings):
-            settings = InsSettings(**settings.as_dict())
-        self._s = settings
+        self._s = InsSettings.coerce(settings)
         self.q = np.array([1, 0, 0, 0], dtype=f32)
         self.gyro_bias_ = np.zeros(3, dtype=f32)
         self.distance = _ZERO
@@ -214,9 +186,11 @@ class InsEstimator:
     @settings.setter
     def settings(self, settings: InsSettings) -> None:
         """FusionAltitudeInsSetSettings: state kept."""
-        if not isinstance(settings, InsSettings):
-            raise TypeError(f"settings must be InsSettings, got {type(settings).__name__}")
-        self._s = settings
+        self._s = InsSettings.coerce(settings)
+
+    def reset(self) -> None:
+        """Back to the start state (not aligned, FusionAltitudeInsInitialiseWith), keeping the settings and units."""
+        self._initialise(self._s)
 
     # -- FusionAltitudeInsAlign ----------------------------------------------------------------
     def _align(self, f: np.ndarray) -> None:
@@ -560,8 +534,36 @@ class InsEstimator:
             "accel_rejected": self.accel_rejected,
         }
 
-    def __copy__(self):
-        return copy.deepcopy(self)
+    # -- checkpoint: (the fields of FusionAltitudeIns in order, arrays as lists, P row-major; the input units) ------
+    def _get_state(self) -> tuple:
+        fields = (self._s.as_dict(), [float(x) for x in self.q], [float(x) for x in self.gyro_bias_],
+                  float(self.distance), float(self.velocity), [float(x) for x in self.P.ravel()],
+                  float(self.accel_z_bias_), float(self.baro_bias_), float(self.yaw_cos), float(self.yaw_sin),
+                  float(self.stationary_time), float(self.rejection_time), float(self.baro_elapsed),
+                  float(self.mag_elapsed), int(self.gap_count_), bool(self.aligned), bool(self.baro_initialised),
+                  bool(self.mag_initialised), bool(self.stationary), bool(self.accel_rejected))
+        return fields, self._units
+
+    def _set_state(self, state: tuple) -> None:
+        fields, units = state
+        (settings, q, gyro_bias, distance, velocity, P, accel_z_bias, baro_bias, yaw_cos, yaw_sin, stationary_time,
+         rejection_time, baro_elapsed, mag_elapsed, gap_count, aligned, baro_initialised, mag_initialised, stationary,
+         accel_rejected) = fields
+        self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
+        self._units = tuple(units)
+        self._s = InsSettings(**settings)
+        self.q = np.array(q, dtype=f32)
+        self.gyro_bias_ = np.array(gyro_bias, dtype=f32)
+        self.distance, self.velocity = f32(distance), f32(velocity)
+        self.P = np.array(P, dtype=f32).reshape(N_STATES, N_STATES)
+        self.accel_z_bias_, self.baro_bias_ = f32(accel_z_bias), f32(baro_bias)
+        self.yaw_cos, self.yaw_sin = f32(yaw_cos), f32(yaw_sin)
+        self.stationary_time, self.rejection_time = f32(stationary_time), f32(rejection_time)
+        self.baro_elapsed, self.mag_elapsed = f32(baro_elapsed), f32(mag_elapsed)
+        self.gap_count_ = int(gap_count)
+        self.aligned, self.baro_initialised, self.mag_initialised = bool(aligned), bool(baro_initialised), \
+            bool(mag_initialised)
+        self.stationary, self.accel_rejected = bool(stationary), bool(accel_rejected)
 
     def __repr__(self):
         return (f"InsEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "

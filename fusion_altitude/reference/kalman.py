@@ -27,6 +27,7 @@ from typing import List, Optional
 import numpy as np
 
 from .. import _common, _kalman_glue
+from .._c_tables import KalmanStateIndex
 from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 from ._checkpoint import Checkpointable
@@ -36,6 +37,8 @@ f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
 N_STATES = 5
+#: Indices of x and P (the C's FusionAltitudeKalmanState), as plain ints: h m, v m/s, ob m, og m, b m/s².
+HEIGHT, VELOCITY, BARO_OFFSET, GPS_OFFSET, ACCEL_BIAS = (int(index) for index in KalmanStateIndex)
 #: FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA, m/s.
 RESTART_VELOCITY_SIGMA = f32(10)
 MAX_SATELLITES = 64
@@ -219,9 +222,10 @@ class KalmanEstimator(Checkpointable):
         s = self._s = _Settings32(self._settings)
         self._x: List[np.float32] = [_ZERO] * N_STATES
         P = self._P = [[_ZERO] * N_STATES for _ in range(N_STATES)]
-        P[0][0] = s.initial_height_sigma * s.initial_height_sigma
-        P[1][1] = s.initial_velocity_sigma * s.initial_velocity_sigma
-        P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma if s.estimate_accel_bias else _ZERO
+        P[HEIGHT][HEIGHT] = s.initial_height_sigma * s.initial_height_sigma
+        P[VELOCITY][VELOCITY] = s.initial_velocity_sigma * s.initial_velocity_sigma
+        P[ACCEL_BIAS][ACCEL_BIAS] = (s.accel_bias_initial_sigma * s.accel_bias_initial_sigma if s.estimate_accel_bias
+                                     else _ZERO)
         self._sensors = [_Sensor() for _ in range(3)]
         self._since_fused = _ZERO
         self._gap_count = 0
@@ -234,24 +238,24 @@ class KalmanEstimator(Checkpointable):
         """FusionAltitudeKalmanPredict."""
         P, x, s = self._P, self._x, self._s
         half_dt2 = f32(0.5) * dt * dt
-        u = accel - x[4]
-        x[0] = x[0] + x[1] * dt + u * half_dt2
-        x[1] = x[1] + u * dt
-        A = [P[0][j] + dt * P[1][j] - half_dt2 * P[4][j] for j in range(N_STATES)]
-        Bv = [P[1][j] - dt * P[4][j] for j in range(N_STATES)]
+        u = accel - x[ACCEL_BIAS]
+        x[HEIGHT] = x[HEIGHT] + x[VELOCITY] * dt + u * half_dt2
+        x[VELOCITY] = x[VELOCITY] + u * dt
+        A = [P[HEIGHT][j] + dt * P[VELOCITY][j] - half_dt2 * P[ACCEL_BIAS][j] for j in range(N_STATES)]
+        Bv = [P[VELOCITY][j] - dt * P[ACCEL_BIAS][j] for j in range(N_STATES)]
         q = s.accel_noise * s.accel_noise
         qvv = q * dt
         qhv = qvv * (f32(0.5) * dt)
         qhh = qhv * (f32(0.5) * dt)
-        phh = A[0] + dt * A[1] - half_dt2 * A[4] + qhh
-        phv = A[1] - dt * A[4] + qhv
-        pvv = Bv[1] - dt * Bv[4] + qvv
-        P[0][0] = phh
-        P[0][1] = P[1][0] = phv
-        P[1][1] = pvv
+        phh = A[HEIGHT] + dt * A[VELOCITY] - half_dt2 * A[ACCEL_BIAS] + qhh
+        phv = A[VELOCITY] - dt * A[ACCEL_BIAS] + qhv
+        pvv = Bv[VELOCITY] - dt * Bv[ACCEL_BIAS] + qvv
+        P[HEIGHT][HEIGHT] = phh
+        P[HEIGHT][VELOCITY] = P[VELOCITY][HEIGHT] = phv
+        P[VELOCITY][VELOCITY] = pvv
         for j in range(2, N_STATES):
-            P[0][j] = P[j][0] = A[j]
-            P[1][j] = P[j][1] = Bv[j]
+            P[HEIGHT][j] = P[j][HEIGHT] = A[j]
+            P[VELOCITY][j] = P[j][VELOCITY] = Bv[j]
         self._random_walks(dt)
         for sensor in self._sensors:
             if sensor.rejecting:
@@ -262,17 +266,17 @@ class KalmanEstimator(Checkpointable):
         """FusionAltitudeKalmanRandomWalks: offsets once they exist, the bias if estimated."""
         P, s = self._P, self._s
         if self._baro_initialised:
-            P[2][2] += (s.baro_offset_random_walk * s.baro_offset_random_walk) * dt
+            P[BARO_OFFSET][BARO_OFFSET] += (s.baro_offset_random_walk * s.baro_offset_random_walk) * dt
         if self._gps_initialised:
-            P[3][3] += (s.gps_offset_random_walk * s.gps_offset_random_walk) * dt
+            P[GPS_OFFSET][GPS_OFFSET] += (s.gps_offset_random_walk * s.gps_offset_random_walk) * dt
         if s.estimate_accel_bias:
-            P[4][4] += (s.accel_bias_random_walk * s.accel_bias_random_walk) * dt
+            P[ACCEL_BIAS][ACCEL_BIAS] += (s.accel_bias_random_walk * s.accel_bias_random_walk) * dt
 
     def _inflate(self, T: np.float32) -> None:
         """FusionAltitudeKalmanInflate: P_hh += (V·T)², P_vv += V² for V = RESTART_VELOCITY_SIGMA."""
         height_sigma = RESTART_VELOCITY_SIGMA * T
-        self._P[0][0] += height_sigma * height_sigma
-        self._P[1][1] += RESTART_VELOCITY_SIGMA * RESTART_VELOCITY_SIGMA
+        self._P[HEIGHT][HEIGHT] += height_sigma * height_sigma
+        self._P[VELOCITY][VELOCITY] += RESTART_VELOCITY_SIGMA * RESTART_VELOCITY_SIGMA
 
     def _gap(self, dt: np.float32) -> None:
         """FusionAltitudeKalmanGap: x kept, P inflated, random walks over dt, streaks ended, gap counted."""
@@ -299,23 +303,23 @@ class KalmanEstimator(Checkpointable):
     def _set_offset(self, o: int, z: np.float32, R: np.float32) -> None:
         """FusionAltitudeKalmanSetOffset: o = z − h, P_oo = P_hh + R, P_oj = −P_hj."""
         P, x = self._P, self._x
-        x[o] = z - x[0]
+        x[o] = z - x[HEIGHT]
         for j in range(N_STATES):
             if j != o:
-                P[o][j] = P[j][o] = -P[0][j]
-        P[o][o] = P[0][0] + R
+                P[o][j] = P[j][o] = -P[HEIGHT][j]
+        P[o][o] = P[HEIGHT][HEIGHT] + R
 
     def _reset_ground(self, z: np.float32, R: np.float32) -> None:
         """FusionAltitudeKalmanResetGround: h = z, offsets absorb the difference."""
         P, x = self._P, self._x
         m = [False, False, self._baro_initialised, self._gps_initialised, False]
-        d = z - x[0]
-        x[0] = z
-        for i in (2, 3):
+        d = z - x[HEIGHT]
+        x[HEIGHT] = z
+        for i in (BARO_OFFSET, GPS_OFFSET):
             if m[i]:
                 x[i] = x[i] - d
-        ph = list(P[0])
-        for i in range(1, N_STATES):
+        ph = list(P[HEIGHT])
+        for i in range(HEIGHT + 1, N_STATES):
             for j in range(i, N_STATES):
                 value = P[i][j]
                 if m[i]:
@@ -323,17 +327,17 @@ class KalmanEstimator(Checkpointable):
                 if m[j]:
                     value = value + ph[i]
                 if m[i] and m[j]:
-                    value = value + ph[0] + R
+                    value = value + ph[HEIGHT] + R
                 P[i][j] = P[j][i] = value
-        P[0][0] = R
-        for j in range(1, N_STATES):
-            P[0][j] = P[j][0] = -R if m[j] else _ZERO
+        P[HEIGHT][HEIGHT] = R
+        for j in range(HEIGHT + 1, N_STATES):
+            P[HEIGHT][j] = P[j][HEIGHT] = -R if m[j] else _ZERO
 
     def _process(self, sensor: _Sensor, o: int, z: np.float32, y: np.float32, R: np.float32) -> None:
         """FusionAltitudeKalmanProcess: gate, then fuse, reject or reset."""
         P = self._P
-        c = [P[i][0] if o < 0 else P[i][0] + P[i][o] for i in range(N_STATES)]
-        S = (c[0] if o < 0 else c[0] + c[o]) + R
+        c = [P[i][HEIGHT] if o < 0 else P[i][HEIGHT] + P[i][o] for i in range(N_STATES)]
+        S = (c[HEIGHT] if o < 0 else c[HEIGHT] + c[o]) + R
         nis = (y * y) / S
         sensor.innovation, sensor.innovation_variance, sensor.nis = y, S, nis
         gate = self._s.gate
@@ -352,7 +356,8 @@ class KalmanEstimator(Checkpointable):
             if self._since_fused >= sensor.rejecting_for:  # nothing fused during the streak: the state is suspect
                 self._inflate(sensor.rejecting_for)
                 if self._s.estimate_accel_bias:
-                    self._P[4][4] += self._s.accel_bias_initial_sigma * self._s.accel_bias_initial_sigma
+                    sigma = self._s.accel_bias_initial_sigma
+                    self._P[ACCEL_BIAS][ACCEL_BIAS] += sigma * sigma
             if o < 0:
                 self._reset_ground(z, R)
             else:
@@ -401,15 +406,15 @@ class KalmanEstimator(Checkpointable):
             sigma = s.baro_noise * s.ground_effect_noise_scale if ground_effect else s.baro_noise
             R = sigma * sigma
             if not self._baro_initialised:
-                self._set_offset(2, baro, R)
+                self._set_offset(BARO_OFFSET, baro, R)
                 self._baro_initialised = True
                 sensor.no_sample(KalmanResult.INITIALISED)
             else:
-                y = baro - (x[0] + x[2])
+                y = baro - (x[HEIGHT] + x[BARO_OFFSET])
                 if ground_effect and y < 0:
                     shifted = y + s.ground_effect_dead_zone
                     y = shifted if shifted < 0 else _ZERO
-                self._process(sensor, 2, baro, y, R)
+                self._process(sensor, BARO_OFFSET, baro, y, R)
 
         # Rangefinder: z = h
         sensor = self._sensors[1]
@@ -419,7 +424,7 @@ class KalmanEstimator(Checkpointable):
             sensor.no_sample(KalmanResult.UNUSABLE)
         else:
             R = s.range_noise * s.range_noise
-            self._process(sensor, -1, rng, rng - x[0], R)
+            self._process(sensor, -1, rng, rng - x[HEIGHT], R)
 
         # GPS: z = h + og
         sensor = self._sensors[2]
@@ -431,12 +436,12 @@ class KalmanEstimator(Checkpointable):
             sigma = self._gps_sigma(accuracy, satellites)
             R = sigma * sigma
             if not self._gps_initialised:
-                self._set_offset(3, gps, R)
+                self._set_offset(GPS_OFFSET, gps, R)
                 self._gps_initialised = True
                 sensor.no_sample(KalmanResult.INITIALISED)
             else:
-                y = gps - (x[0] + x[3])
-                self._process(sensor, 3, gps, y, R)
+                y = gps - (x[HEIGHT] + x[GPS_OFFSET])
+                self._process(sensor, GPS_OFFSET, gps, y, R)
         return KalmanStatus.OK
 
     # -- public API -----------------------------------------------------------------
@@ -518,12 +523,12 @@ class KalmanEstimator(Checkpointable):
 
     def _record(self, result: KalmanBatch, i: int) -> None:
         x, P = self._x, self._P
-        result.height_above_ground[i] = x[0]
-        result.altitude[i] = x[0] + x[2]
-        result.vertical_velocity[i] = x[1]
-        result.accel_bias[i] = x[4]
-        result.baro_offset[i] = x[2]
-        result.gps_offset[i] = x[3]
+        result.height_above_ground[i] = x[HEIGHT]
+        result.altitude[i] = x[HEIGHT] + x[BARO_OFFSET]
+        result.vertical_velocity[i] = x[VELOCITY]
+        result.accel_bias[i] = x[ACCEL_BIAS]
+        result.baro_offset[i] = x[BARO_OFFSET]
+        result.gps_offset[i] = x[GPS_OFFSET]
         for j in range(N_STATES):
             result.covariance_diagonal[i, j] = P[j][j]
         for k, sensor in enumerate(self._sensors):
@@ -534,38 +539,38 @@ class KalmanEstimator(Checkpointable):
     @property
     def height_above_ground(self) -> float:
         """Height above ground h, m."""
-        return float(self._x[0])
+        return float(self._x[HEIGHT])
 
     @property
     def altitude(self) -> float:
         """Baro-referenced altitude h + baro_offset, m (equals h before the first baro sample)."""
-        return float(self._x[0] + self._x[2])
+        return float(self._x[HEIGHT] + self._x[BARO_OFFSET])
 
     @property
     def altitude_variance(self) -> float:
         """Variance of the altitude, m²: P_hh + 2·P_h,ob + P_ob,ob."""
         P = self._P
-        return float(P[0][0] + f32(2) * P[0][2] + P[2][2])
+        return float(P[HEIGHT][HEIGHT] + f32(2) * P[HEIGHT][BARO_OFFSET] + P[BARO_OFFSET][BARO_OFFSET])
 
     @property
     def vertical_velocity(self) -> float:
         """Vertical velocity v, m/s, +up."""
-        return float(self._x[1])
+        return float(self._x[VELOCITY])
 
     @property
     def accel_bias(self) -> float:
         """Accelerometer bias b, m/s², +up (subtracted from the input)."""
-        return float(self._x[4])
+        return float(self._x[ACCEL_BIAS])
 
     @property
     def baro_offset(self) -> float:
         """Baro offset (baro reads h + offset), m; 0 before the first baro sample."""
-        return float(self._x[2])
+        return float(self._x[BARO_OFFSET])
 
     @property
     def gps_offset(self) -> float:
         """GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample."""
-        return float(self._x[3])
+        return float(self._x[GPS_OFFSET])
 
     @property
     def state(self) -> np.ndarray:
@@ -628,11 +633,11 @@ class KalmanEstimator(Checkpointable):
         new = KalmanSettings.coerce(settings)
         s = _Settings32(new)
         if s.estimate_accel_bias != self._s.estimate_accel_bias:
-            self._x[4] = _ZERO
+            self._x[ACCEL_BIAS] = _ZERO
             for i in range(N_STATES):
-                self._P[i][4] = self._P[4][i] = _ZERO
+                self._P[i][ACCEL_BIAS] = self._P[ACCEL_BIAS][i] = _ZERO
             if s.estimate_accel_bias:
-                self._P[4][4] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma
+                self._P[ACCEL_BIAS][ACCEL_BIAS] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma
         self._settings, self._s = new, s
 
     @property

@@ -27,7 +27,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import vector_common as vc  # noqa: E402
 
-from fusion_altitude._flight_glue import FIELD_NAMES, RocketSettings, RocketStatus  # noqa: E402
+from fusion_altitude._flight_glue import FIELD_NAMES, RocketStatus  # noqa: E402
+from fusion_altitude.reference.flight import RocketSettings  # noqa: E402
 from fusion_altitude.reference import flight as _flight  # noqa: E402
 from fusion_altitude.rocket_sim import RocketFlightModel, simulate_rocket_flight  # noqa: E402
 
@@ -57,7 +58,7 @@ FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
 
 
 def settings_words(settings: RocketSettings) -> tuple:
-    return tuple(vc.bits(g) for g in settings.gains) + tuple(vc.bits(settings.values[name]) for name in FIELD_NAMES)
+    return tuple(vc.bits(g) for g in settings.gains) + tuple(vc.bits(getattr(settings, name)) for name in FIELD_NAMES)
 
 
 class Recorder(vc.Recorder):

@@ -125,6 +125,14 @@ extern "C" {
 #define FUSION_ALTITUDE_INS_NO_CONTRACT
 #endif
 
+/* Small fixed loops of the covariance code fully unrolled by gcc and clang when optimising for speed (a loop of
+ * 8 rows costs as much in counting and branching as in arithmetic); left as loops under -Os. */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define FUSION_ALTITUDE_INS_UNROLL _Pragma("GCC unroll 8")
+#else
+#define FUSION_ALTITUDE_INS_UNROLL
+#endif
+
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
@@ -480,13 +488,14 @@ static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_
     /* Whether any covariance needs the clip: whole rows, no branch (vectorises on a PC). The diagonal never
        does (P_ii * P_ii > P_ii * P_ii is false), and clipping one entry changes no bound: the same set of
        entries as the loop below, which runs only then (rarely: only while P is ill-conditioned). */
-    int32_t clip[FUSION_ALTITUDE_INS_STATES] = {0, 0, 0, 0, 0, 0, 0, 0};
+    int32_t clip[4] = {0, 0, 0, 0};
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            clip[j] |= (P[i][j] * P[i][j] > d[i] * d[j]) ? 1 : 0;
+        for (int j = 0; j < 4; j++) {
+            clip[j] |= ((P[i][j] * P[i][j] > d[i] * d[j]) ? 1 : 0) | ((P[i][4 + j] * P[i][4 + j] > d[i] * d[4 + j]) ? 1 : 0);
         }
     }
-    if ((clip[0] | clip[1] | clip[2] | clip[3] | clip[4] | clip[5] | clip[6] | clip[7]) == 0) {
+    if ((clip[0] | clip[1] | clip[2] | clip[3]) == 0) {
         return;
     }
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
@@ -518,6 +527,7 @@ static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float
     }
     /* every entry; the grouping is symmetric in i and j (a*b = b*a, a + b = b + a exactly), so P stays
        bit-symmetric. Each row in two halves of four (one vector operation each on a PC, no inner loop). */
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         float *const row = P[i];
         const float k = K[i], ci = c[i];
@@ -631,27 +641,33 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     }
     /* P = G F^T, the upper triangle only (j >= i), mirrored: entry (i, j) is row j of F applied to row i of G.
        Rows 3..5 of F are those of I (copies); column by column, from the last (every row) to the first (row 0). */
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         const float m = G[i][7] + vx * G[i][0] + vy * G[i][1] + vz * G[i][2];
         P[i][7] = m;
         P[7][i] = m;
     }
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < 7; i++) {
         const float m = G[i][6] + dt * G[i][7] + hx * G[i][0] + hy * G[i][1] + hz * G[i][2];
         P[i][6] = m;
         P[6][i] = m;
     }
+    FUSION_ALTITUDE_INS_UNROLL
     for (int j = 5; j >= 3; j--) {
+        FUSION_ALTITUDE_INS_UNROLL
         for (int i = 0; i <= j; i++) {
             P[i][j] = G[i][j];
             P[j][i] = G[i][j];
         }
     }
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < 3; i++) {
         const float m = G[i][2] + ay * G[i][0] - ax * G[i][1] - dt * G[i][5];
         P[i][2] = m;
         P[2][i] = m;
     }
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < 2; i++) {
         const float m = G[i][1] - az * G[i][0] + ax * G[i][2] - dt * G[i][4];
         P[i][1] = m;
@@ -943,6 +959,8 @@ static inline uint32_t FusionAltitudeInsGetGapCount(const FusionAltitudeIns *con
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
 #endif
+
+#undef FUSION_ALTITUDE_INS_UNROLL
 
 #ifdef __cplusplus
 }

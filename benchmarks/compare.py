@@ -13,7 +13,7 @@ Inputs: 100 Hz IMU with a baro sample every 4th step (NaN between;
 ``--baro-every``), seeded noise, scalar dt = 0.01 s unless the case says
 otherwise. Exit status 1 if a target check fails.
 
-The last table (benchmarks/targets.py) is issue 16's: each target with its
+The last table (benchmarks/targets.py) is issue 16's and issue 13's (INS): each target with its
 measured wall and CPU time and PASS/FAIL (``--no-targets`` skips it).
 """
 
@@ -134,7 +134,7 @@ def main(argv=None) -> int:
                         help="skip the complementary filter and alpha-beta fusion table")
     parser.add_argument("--sweep-samples", type=int, default=100_000, help="samples for the sweep cases (default 1e5)")
     parser.add_argument("--no-targets", dest="targets", action="store_false",
-                        help="skip the table of issue 16's targets (benchmarks/targets.py)")
+                        help="skip the table of issue 16's and issue 13's targets (benchmarks/targets.py)")
     args = parser.parse_args(argv)
     n = args.samples
     repeat = max(1, args.repeat)

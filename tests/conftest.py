@@ -32,13 +32,19 @@ def state_bits():
 
 
 #: What takes minutes: cross builds and QEMU, fuzzing and cppcheck (test_firmware.py), the compiler and
-#: sanitizer matrix and the 10^7-step run (test_c_core.py), the Kalman Monte Carlo. ``pytest -m "not slow"``
+#: sanitizer matrix and the 10^7-step run (test_c_core.py; the INS's in test_ins_c.py, with its QEMU cycle count
+#: and libFuzzer run), the Kalman Monte Carlo. ``pytest -m "not slow"``
 #: leaves them out for a quick run; CI (``pytest``) runs everything. A whole file, or ``file::test``.
 SLOW = {
     "test_firmware.py",
     "test_c_core.py::test_c_unit_tests_pass_warning_free",
     "test_c_core.py::test_kalman_covariance_stays_symmetric_psd_over_ten_million_steps_at_1khz",
     "test_kalman_consistency.py",
+    # the INS (tests/test_ins_c.py): compiler and ASan/UBSan matrix, 2 x 10^7-step run, QEMU cycles, libFuzzer
+    "test_ins_c.py::test_ins_c_unit_tests_pass_warning_free",
+    "test_ins_c.py::test_ins_covariance_stays_symmetric_psd_over_ten_million_steps_at_1khz",
+    "test_ins_c.py::test_ins_m4f_imu_step_costs_under_12000_cycles",
+    "test_ins_c.py::test_ins_fuzzer_finds_nothing_in_30000_inputs",
 }
 
 

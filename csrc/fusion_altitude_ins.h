@@ -125,9 +125,10 @@ extern "C" {
 #define FUSION_ALTITUDE_INS_NO_CONTRACT
 #endif
 
-/* Small fixed loops of the covariance code fully unrolled by gcc and clang when optimising for speed (a loop of
- * 8 rows costs as much in counting and branching as in arithmetic); left as loops under -Os. */
-#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+/* Small fixed loops of the covariance code fully unrolled by gcc and clang on PCs with SIMD (SSE2, NEON), where
+ * each row is two vector operations and a loop of 8 rows costs as much in counting and branching as in
+ * arithmetic; not under -Os, and not on microcontrollers (M4F -O2: the update grew to 16.3 kB of code). */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__) && (defined(__SSE2__) || defined(__ARM_NEON))
 #define FUSION_ALTITUDE_INS_UNROLL _Pragma("GCC unroll 8")
 #else
 #define FUSION_ALTITUDE_INS_UNROLL

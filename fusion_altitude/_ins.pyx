@@ -295,7 +295,8 @@ cdef class InsEstimator:
         ------
         ValueError
             A bad step (as for :meth:`update`), naming the argument and its
-            first bad index; nothing is applied.
+            first bad index; the state is left as it was (``out``'s rows
+            before that index may have been written).
 
         Notes
         -----

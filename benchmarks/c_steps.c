@@ -12,7 +12,10 @@
  *
  * Cases: alphabeta (IMU, baro, lidar, GPS every step), kalman (baro,
  * rangefinder, GPS every step), complementary (baro every step), observer
- * (baro every step).
+ * (baro every step), ins (raw IMU rocking +-10 deg about x and y, the
+ * accelerometer correction on every step, a magnetometer sample on every
+ * step and a baro sample on every 7th: benchmarks/ins_bench.py's inputs, the
+ * seed's 500 Hz / 71.4 Hz ratio).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -22,6 +25,7 @@
 #include "fusion_altitude.h"
 #include "fusion_altitude_alphabeta.h"
 #include "fusion_altitude_complementary.h"
+#include "fusion_altitude_ins.h"
 #include "fusion_altitude_kalman.h"
 
 /* Deterministic noise in [-1, 1) without libm: a 32-bit LCG. */
@@ -110,9 +114,53 @@ static C_STEPS_NOINLINE float runObserver(const long n, const float dt, uint32_t
     return checksum;
 }
 
+/* sin and cos of a small angle (|x| <= 0.2 rad) without libm: Taylor series to x^5 and x^6. */
+static float smallSin(const float x) {
+    const float x2 = x * x;
+    return x * (1.0f - x2 / 6.0f * (1.0f - x2 / 20.0f));
+}
+
+static float smallCos(const float x) {
+    const float x2 = x * x;
+    return 1.0f - x2 / 2.0f * (1.0f - x2 / 12.0f * (1.0f - x2 / 30.0f));
+}
+
+/* Triangle wave of amplitude 1 and the given period in steps, and its slope per step. */
+static float triangle(const long i, const long period, float *slope) {
+    const float t = (float) (i % period) / (float) period;
+    *slope = ((t < 0.5f) ? 4.0f : -4.0f) / (float) period;
+    return (t < 0.5f) ? (4.0f * t - 1.0f) : (3.0f - 4.0f * t);
+}
+
+static C_STEPS_NOINLINE float runIns(const long n, const float dt, uint32_t seed) {
+    float checksum = 0.0f;
+    FusionAltitudeIns ins;
+    FusionAltitudeInsInitialise(&ins);
+    const float amplitude = 0.17f; /* rad, +-10 deg */
+    for (long i = 0; i < n; i++) {
+        float rollSlope, pitchSlope;
+        const float roll = amplitude * triangle(i, 400, &rollSlope);
+        const float pitch = amplitude * triangle(i + 130, 700, &pitchSlope);
+        const float g = FUSION_ALTITUDE_GRAVITY;
+        const FusionAltitudeInsVector gyro = {amplitude * rollSlope / dt + 0.002f + 0.003f * noise(&seed),
+                                              amplitude * pitchSlope / dt - 0.001f + 0.003f * noise(&seed),
+                                              0.003f * noise(&seed)};
+        const FusionAltitudeInsVector accel = {-g * smallSin(pitch) + 0.05f * noise(&seed),
+                                               g * smallSin(roll) * smallCos(pitch) + 0.05f * noise(&seed),
+                                               g * smallCos(roll) * smallCos(pitch) + 0.05f * noise(&seed)};
+        const FusionAltitudeInsVector mag = {0.2f + 0.01f * noise(&seed), 0.01f * noise(&seed), -0.4f + 0.01f * noise(&seed)};
+        const float baro = (i % 7 == 0) ? truth(i) + 0.3f * noise(&seed) : FUSION_ALTITUDE_NO_BARO;
+        if (FusionAltitudeInsUpdate(&ins, gyro, accel, mag, baro, dt) != FusionAltitudeInsStatusOk) {
+            exit(1);
+        }
+        checksum += FusionAltitudeInsGetAltitude(&ins);
+    }
+    return checksum;
+}
+
 int main(int argc, char **argv) {
     if (argc != 3) {
-        fprintf(stderr, "usage: %s alphabeta|kalman|complementary|observer N\n", argv[0]);
+        fprintf(stderr, "usage: %s alphabeta|kalman|complementary|observer|ins N\n", argv[0]);
         return 2;
     }
     const char *const name = argv[1];
@@ -128,6 +176,8 @@ int main(int argc, char **argv) {
         checksum = runComplementary(n, dt, seed);
     } else if (strcmp(name, "observer") == 0) {
         checksum = runObserver(n, dt, seed);
+    } else if (strcmp(name, "ins") == 0) {
+        checksum = runIns(n, dt, seed);
     } else {
         fprintf(stderr, "unknown case %s\n", name);
         return 2;

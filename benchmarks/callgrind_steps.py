@@ -21,8 +21,8 @@ import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-CASES = ("alphabeta", "kalman", "complementary", "observer")
-CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
+CASES = ("alphabeta", "kalman", "complementary", "observer", "ins")
+CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-math-errno"]  # setup.py's
 
 
 def instructions(executable: Path, case: str, steps: int) -> int:
@@ -38,7 +38,7 @@ def per_step(csrc: Path, cases, steps: int, cc: str = "gcc"):
     """{case: instructions per step}."""
     with tempfile.TemporaryDirectory(prefix="c_steps_") as tmp:
         executable = Path(tmp) / "c_steps"
-        subprocess.run([cc, *CFLAGS, f"-I{csrc}", str(HERE / "c_steps.c"), "-o", str(executable)], check=True)
+        subprocess.run([cc, *CFLAGS, f"-I{csrc}", str(HERE / "c_steps.c"), "-o", str(executable), "-lm"], check=True)
         return {case: (instructions(executable, case, steps) - instructions(executable, case, 0)) / steps
                 for case in cases}
 

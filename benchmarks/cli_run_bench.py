@@ -1,4 +1,4 @@
-"""Time ``fusion-altitude run LOG -o OUT.csv --plot OUT.png`` on a 1-million-row CSV, stage by stage (issue 12).
+"""Time ``fusion-altitude run LOG -o OUT.csv --plot OUT.png`` on a 1-million-row CSV, stage by stage.
 
 Run::
 

@@ -102,6 +102,18 @@
 extern "C" {
 #endif
 
+/* gcc contracts a*b + c into a fused multiply-add by default in its GNU modes
+ * (-std=gnu99/gnu11/gnu17, what vendor IDEs use) and for C++: the functions of
+ * this header are compiled with contraction off, so they give the same bits
+ * whatever the caller's flags. ISO C modes (-std=c99, -std=c11) already have
+ * it off and are left alone, so that the functions still inline there; in
+ * GNU modes they inline into callers built with -ffp-contract=off. */
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__cplusplus) || !defined(__STRICT_ANSI__))
+#define FUSION_ALTITUDE_ROCKET_GCC_NO_CONTRACT
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #if defined(__clang__)
 #define FUSION_ALTITUDE_ROCKET_NO_CONTRACT _Pragma("clang fp contract(off)")
 #else
@@ -815,6 +827,11 @@ static inline float FusionAltitudeRocketGetTime(const FusionAltitudeRocket *cons
 }
 
 #undef FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+
+#ifdef FUSION_ALTITUDE_ROCKET_GCC_NO_CONTRACT
+#pragma GCC pop_options
+#undef FUSION_ALTITUDE_ROCKET_GCC_NO_CONTRACT
+#endif
 
 #ifdef __cplusplus
 }

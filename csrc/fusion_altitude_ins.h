@@ -125,6 +125,15 @@ extern "C" {
 #define FUSION_ALTITUDE_INS_NO_CONTRACT
 #endif
 
+/* Small fixed loops of the covariance code fully unrolled by gcc and clang on PCs with SIMD (SSE2, NEON), where
+ * each row is two vector operations and a loop of 8 rows costs as much in counting and branching as in
+ * arithmetic; not under -Os, and not on microcontrollers (M4F -O2: the update grew to 16.3 kB of code). */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__) && (defined(__SSE2__) || defined(__ARM_NEON))
+#define FUSION_ALTITUDE_INS_UNROLL _Pragma("GCC unroll 8")
+#else
+#define FUSION_ALTITUDE_INS_UNROLL
+#endif
+
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
@@ -470,10 +479,25 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
  */
 static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
+    float d[FUSION_ALTITUDE_INS_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         if (P[i][i] < 0.0f) {
             P[i][i] = 0.0f;
         }
+        d[i] = P[i][i];
+    }
+    /* Whether any covariance needs the clip: whole rows, no branch (vectorises on a PC). The diagonal never
+       does (P_ii * P_ii > P_ii * P_ii is false), and clipping one entry changes no bound: the same set of
+       entries as the loop below, which runs only then (rarely: only while P is ill-conditioned). */
+    int32_t clip[4] = {0, 0, 0, 0};
+    FUSION_ALTITUDE_INS_UNROLL
+    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+        for (int j = 0; j < 4; j++) {
+            clip[j] |= ((P[i][j] * P[i][j] > d[i] * d[j]) ? 1 : 0) | ((P[i][4 + j] * P[i][4 + j] > d[i] * d[4 + j]) ? 1 : 0);
+        }
+    }
+    if ((clip[0] | clip[1] | clip[2] | clip[3]) == 0) {
+        return;
     }
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         for (int j = i + 1; j < FUSION_ALTITUDE_INS_STATES; j++) {
@@ -502,10 +526,17 @@ static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float
         K[i] = c[i] / S;
         dx[i] = dx[i] + K[i] * innovation;
     }
-    /* every entry; the grouping is symmetric in i and j (a*b = b*a, a + b = b + a exactly), so P stays bit-symmetric */
+    /* every entry; the grouping is symmetric in i and j (a*b = b*a, a + b = b + a exactly), so P stays
+       bit-symmetric. Each row in two halves of four (one vector operation each on a PC, no inner loop). */
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            P[i][j] = (P[i][j] - (K[i] * c[j] + c[i] * K[j])) + (K[i] * K[j]) * S;
+        float *const row = P[i];
+        const float k = K[i], ci = c[i];
+        for (int j = 0; j < 4; j++) {
+            row[j] = (row[j] - (k * c[j] + ci * K[j])) + (k * K[j]) * S;
+        }
+        for (int j = 4; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            row[j] = (row[j] - (k * c[j] + ci * K[j])) + (k * K[j]) * S;
         }
     }
 }
@@ -520,9 +551,16 @@ static inline void FusionAltitudeInsFuse(FusionAltitudeIns *const ins, float dx[
                                          const int i1, const float h1, const float y, const float R) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    /* c = P h^T; column i0 of P read as row i0 (P is exactly symmetric: the same bits, contiguous) */
     float c[FUSION_ALTITUDE_INS_STATES];
-    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        c[i] = (i1 < 0) ? (P[i][i0] * h0) : (P[i][i0] * h0 + P[i][i1] * h1);
+    if (i1 < 0) {
+        for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+            c[i] = P[i0][i] * h0;
+        }
+    } else {
+        for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+            c[i] = P[i0][i] * h0 + P[i1][i] * h1;
+        }
     }
     const float hc = (i1 < 0) ? (h0 * c[i0]) : (h0 * c[i0] + h1 * c[i1]);
     const float hdx = (i1 < 0) ? (h0 * dx[i0]) : (h0 * dx[i0] + h1 * dx[i1]);
@@ -535,7 +573,7 @@ static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float
     float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
     float c[FUSION_ALTITUDE_INS_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        c[i] = P[i][0] * r[0] + P[i][1] * r[1] + P[i][2] * r[2];
+        c[i] = P[0][i] * r[0] + P[1][i] * r[1] + P[2][i] * r[2]; /* rows 0..2 = columns 0..2 (P symmetric) */
     }
     const float hc = r[0] * c[0] + r[1] * c[1] + r[2] * c[2];
     if (hc > FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT) {
@@ -589,7 +627,8 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     const float cz = f[0] * r[1] - f[1] * r[0];
     const float vx = dt * cx, vy = dt * cy, vz = dt * cz;             /* row v of F on dtheta */
     const float hx = halfDt2 * cx, hy = halfDt2 * cy, hz = halfDt2 * cz; /* row d of F on dtheta */
-    /* G = F P: rows theta, d and v change; rows b are those of P */
+    /* G = F P: rows theta, d and v change; rows b are those of P (copied: P is overwritten below). Whole rows,
+       combined element-wise over the columns (vectorises on a PC). */
     float G[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
     for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
         G[0][j] = P[0][j] + az * P[1][j] - ay * P[2][j] - dt * P[3][j];
@@ -601,31 +640,41 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
         G[6][j] = P[6][j] + dt * P[7][j] + hx * P[0][j] + hy * P[1][j] + hz * P[2][j];
         G[7][j] = P[7][j] + vx * P[0][j] + vy * P[1][j] + vz * P[2][j];
     }
-    /* P = G F^T. Entry (i, j) = row j of F applied to row i of G; computed as
-       H = F G^T (rows combined element-wise, like G above, so it vectorises):
-       H[j][i] = (G F^T)[i][j]. The entries j >= i are kept and mirrored. */
-    float T[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
+    /* P = G F^T, the upper triangle only (j >= i), mirrored: entry (i, j) is row j of F applied to row i of G.
+       Rows 3..5 of F are those of I (copies); column by column, from the last (every row) to the first (row 0). */
+    FUSION_ALTITUDE_INS_UNROLL
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            T[j][i] = G[i][j];
+        const float m = G[i][7] + vx * G[i][0] + vy * G[i][1] + vz * G[i][2];
+        P[i][7] = m;
+        P[7][i] = m;
+    }
+    FUSION_ALTITUDE_INS_UNROLL
+    for (int i = 0; i < 7; i++) {
+        const float m = G[i][6] + dt * G[i][7] + hx * G[i][0] + hy * G[i][1] + hz * G[i][2];
+        P[i][6] = m;
+        P[6][i] = m;
+    }
+    FUSION_ALTITUDE_INS_UNROLL
+    for (int j = 5; j >= 3; j--) {
+        FUSION_ALTITUDE_INS_UNROLL
+        for (int i = 0; i <= j; i++) {
+            P[i][j] = G[i][j];
+            P[j][i] = G[i][j];
         }
     }
-    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        G[0][i] = T[0][i] + az * T[1][i] - ay * T[2][i] - dt * T[3][i];
-        G[1][i] = T[1][i] - az * T[0][i] + ax * T[2][i] - dt * T[4][i];
-        G[2][i] = T[2][i] + ay * T[0][i] - ax * T[1][i] - dt * T[5][i];
-        G[3][i] = T[3][i];
-        G[4][i] = T[4][i];
-        G[5][i] = T[5][i];
-        G[6][i] = T[6][i] + dt * T[7][i] + hx * T[0][i] + hy * T[1][i] + hz * T[2][i];
-        G[7][i] = T[7][i] + vx * T[0][i] + vy * T[1][i] + vz * T[2][i];
+    FUSION_ALTITUDE_INS_UNROLL
+    for (int i = 0; i < 3; i++) {
+        const float m = G[i][2] + ay * G[i][0] - ax * G[i][1] - dt * G[i][5];
+        P[i][2] = m;
+        P[2][i] = m;
     }
-    for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
-        for (int j = i; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            P[i][j] = G[j][i];
-            P[j][i] = G[j][i];
-        }
+    FUSION_ALTITUDE_INS_UNROLL
+    for (int i = 0; i < 2; i++) {
+        const float m = G[i][1] - az * G[i][0] + ax * G[i][2] - dt * G[i][4];
+        P[i][1] = m;
+        P[1][i] = m;
     }
+    P[0][0] = G[0][0] + az * G[0][1] - ay * G[0][2] - dt * G[0][3];
     /* Q */
     const float qTheta = s->gyroNoise * s->gyroNoise * dt;
     const float qBias = s->gyroBiasRandomWalk * s->gyroBiasRandomWalk * dt;
@@ -911,6 +960,8 @@ static inline uint32_t FusionAltitudeInsGetGapCount(const FusionAltitudeIns *con
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
 #endif
+
+#undef FUSION_ALTITUDE_INS_UNROLL
 
 #ifdef __cplusplus
 }

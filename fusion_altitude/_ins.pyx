@@ -49,8 +49,9 @@ cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsV
 cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, const float *accel, const float *mag,
                      const float *baro, const float *dt, float *altitude, float *velocity, float *quaternion,
                      float *global_quaternion, float *gyro_bias, float *accel_z_bias, float *baro_bias,
-                     uint8_t *stationary) noexcept nogil:
-    """The batch loop: one FusionAltitudeInsUpdate per row; returns the first rejected row or -1."""
+                     uint8_t *stationary, FusionAltitudeInsStatus *status) noexcept nogil:
+    """The batch loop: one FusionAltitudeInsUpdate per row; returns the first rejected row (its status in *status)
+    or -1."""
     cdef Py_ssize_t i
     cdef FusionAltitudeInsVector g, a, m, b
     cdef FusionAltitudeInsQuaternion q
@@ -64,7 +65,8 @@ cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, co
         m.x = mag[3 * i]
         m.y = mag[3 * i + 1]
         m.z = mag[3 * i + 2]
-        if FusionAltitudeInsUpdate(ins, g, a, m, baro[i], dt[i]) != FusionAltitudeInsStatusOk:
+        status[0] = FusionAltitudeInsUpdate(ins, g, a, m, baro[i], dt[i])
+        if status[0] != FusionAltitudeInsStatusOk:
             return i
         altitude[i] = FusionAltitudeInsGetAltitude(ins)
         velocity[i] = FusionAltitudeInsGetVerticalVelocity(ins)
@@ -204,7 +206,8 @@ cdef class InsEstimator(_InsEstimatorGetters):
         ------
         ValueError
             A bad step (as for :meth:`update`), naming the argument and its
-            first bad index; nothing is applied.
+            first bad index; the state is left as it was (``out``'s rows
+            before that index may have been written).
 
         Notes
         -----
@@ -212,7 +215,7 @@ cdef class InsEstimator(_InsEstimatorGetters):
         runs with the GIL released.
         """
         n, inputs, result = _ins_glue.prepare_batch(gyro, accel, dt, baro_altitude, mag, out, self._gyro_scale,
-                                                    self._accel_scale)
+                                                    self._accel_scale, check=False)
         if n == 0:
             return result
         cdef const float[:, ::1] g = inputs["gyro"]
@@ -231,12 +234,13 @@ cdef class InsEstimator(_InsEstimatorGetters):
         cdef FusionAltitudeIns saved = self._c
         cdef Py_ssize_t count = n
         cdef Py_ssize_t bad
+        cdef FusionAltitudeInsStatus status = FusionAltitudeInsStatusOk
         with nogil:
             bad = _run(&self._c, count, &g[0, 0], &a[0, 0], &m[0, 0], &b[0], &t[0], &h[0], &v[0], &q[0, 0], &qg[0, 0],
-                       &bias[0, 0], &bz[0], &bb[0], &still[0])
-        if bad >= 0:  # cannot happen: every row was checked first; keep nothing half-applied anyway
+                       &bias[0, 0], &bz[0], &bb[0], &still[0], &status)
+        if bad >= 0:  # the C checks of each step (no separate pass over the inputs): nothing applied, the first bad step
             self._c = saved
-            raise RuntimeError(f"FusionAltitudeInsUpdate rejected row {bad} that passed the checks")
+            _ins_glue.batch_step_error(status, inputs, bad)
         return result
 
     @property

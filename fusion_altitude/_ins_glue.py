@@ -130,6 +130,8 @@ def _matrix(value: object, n: Optional[int], scale: float, name: str) -> np.ndar
     if array.ndim != 2 or array.shape[1] != 3 or (n is not None and array.shape[0] != n):
         expected = f"({n}, 3)" if n is not None else "(N, 3)"
         raise ValueError(f"{name} must have shape {expected}, got {array.shape}")
+    if scale == 1.0 and array.dtype == np.float32:  # x * 1.0 in double, back to float32: the same bits
+        return np.ascontiguousarray(array)
     with np.errstate(over="ignore", invalid="ignore"):
         return np.ascontiguousarray(array.astype(np.float64) * scale, dtype=np.float32)
 
@@ -209,11 +211,13 @@ _SHAPES = {"altitude": ((), np.float32), "vertical_velocity": ((), np.float32), 
            "baro_bias": ((), np.float32), "is_stationary": ((), np.bool_)}
 
 
-def prepare_batch(gyro, accel, dt, baro_altitude, mag, out, gyro_scale, accel_scale):
+def prepare_batch(gyro, accel, dt, baro_altitude, mag, out, gyro_scale, accel_scale, check=True):
     """Convert and check a batch; returns (n, inputs dict of contiguous float32 arrays, InsBatch).
 
     Every step is checked before any is applied, so a bad one raises naming
-    the argument and its first bad index with the state untouched.
+    the argument and its first bad index with the state untouched. check=False
+    (the compiled estimator) leaves the per-step checks to the C loop, which
+    makes the same ones in the same order (see step_error).
     """
     g = _matrix(gyro, None, gyro_scale, "gyro")
     n = g.shape[0]
@@ -221,6 +225,8 @@ def prepare_batch(gyro, accel, dt, baro_altitude, mag, out, gyro_scale, accel_sc
     m = np.full((n, 3), np.nan, dtype=np.float32) if mag is None else _matrix(mag, n, 1.0, "mag")
     b = _column(baro_altitude, n, "baro_altitude", np.nan)
     t = _column(dt, n, "dt", np.nan)
+    if not check:
+        return n, {"gyro": g, "accel": a, "mag": m, "baro_altitude": b, "dt": t}, _check_out(out, n)
     bad = {
         "gyro": ~_bounded(g).all(axis=1),
         "accel": ~_bounded(a).all(axis=1),
@@ -240,18 +246,31 @@ def prepare_batch(gyro, accel, dt, baro_altitude, mag, out, gyro_scale, accel_sc
                 values = {"gyro": g[index].tolist(), "accel": a[index].tolist(), "mag": m[index].tolist(),
                           "baro_altitude": float(b[index]), "dt": float(t[index])}
                 raise_step_error(statuses[name], values, index)
+    return n, {"gyro": g, "accel": a, "mag": m, "baro_altitude": b, "dt": t}, _check_out(out, n)
+
+
+def _check_out(out, n: int) -> "InsBatch":
+    """out, checked (shapes, dtypes, C-contiguous, writeable), or new arrays when None."""
     if out is None:
-        out = InsBatch.empty(n)
-    elif not isinstance(out, InsBatch):
+        return InsBatch.empty(n)
+    if not isinstance(out, InsBatch):
         raise TypeError(f"out must be an InsBatch, got {type(out).__name__}")
-    else:
-        for field, (tail, dtype) in _SHAPES.items():
-            array = getattr(out, field)
-            if not (isinstance(array, np.ndarray) and array.shape == (n, *tail) and array.dtype == dtype
-                    and array.flags.c_contiguous and array.flags.writeable):
-                raise ValueError(f"out.{field} must be a writeable C-contiguous {np.dtype(dtype).name} array of shape "
-                                 f"{(n, *tail)}")
-    return n, {"gyro": g, "accel": a, "mag": m, "baro_altitude": b, "dt": t}, out
+    for field, (tail, dtype) in _SHAPES.items():
+        array = getattr(out, field)
+        if not (isinstance(array, np.ndarray) and array.shape == (n, *tail) and array.dtype == dtype
+                and array.flags.c_contiguous and array.flags.writeable):
+            raise ValueError(f"out.{field} must be a writeable C-contiguous {np.dtype(dtype).name} array of shape "
+                             f"{(n, *tail)}")
+    return out
+
+
+def batch_step_error(status: int, inputs: Dict[str, np.ndarray], index: int) -> None:
+    """The ValueError of prepare_batch for step index rejected with status by the C loop (its first bad step: the
+    loop stops there, and the C check order gyro, accel, mag, baro, dt is prepare_batch's)."""
+    values = {"gyro": inputs["gyro"][index].tolist(), "accel": inputs["accel"][index].tolist(),
+              "mag": inputs["mag"][index].tolist(), "baro_altitude": float(inputs["baro_altitude"][index]),
+              "dt": float(inputs["dt"][index])}
+    raise_step_error(InsStatus(status), values, index)
 
 
 def quaternion_to_euler(quaternion) -> np.ndarray:

@@ -147,3 +147,48 @@ def test_header_links_without_libm(header, tmp_path):
                              "-nodefaultlibs", "-lc"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert subprocess.run([str(binary)]).returncode == 0
+
+
+#: every header, the INS included: each turns contraction off for its own functions under gcc's GNU modes
+ALL_HEADERS = sorted(path.name for path in CSRC.glob("fusion_altitude*.h"))
+#: x86 fused multiply-add mnemonics (vfmadd132ss, vfnmsub231ps, vfmaddsub..., and the FMA4 forms vfmaddss)
+FMA = re.compile(r"\bvfn?m(?:add|sub)\w*")
+
+
+def fma_functions(source: str, tmp_path: Path) -> tuple:
+    """Compile source as vendor IDEs do (gcc -std=gnu11 -O2, FMA contraction on by default) with -mfma, keeping every
+    static inline function, and return (functions emitted, {function: FMA mnemonics found in it})."""
+    (tmp_path / "fma.c").write_text(source)
+    subprocess.run([compiler("gcc"), "-std=gnu11", "-O2", "-mfma", "-fkeep-inline-functions", f"-I{CSRC}", "-c",
+                    str(tmp_path / "fma.c"), "-o", str(tmp_path / "fma.o")], check=True)
+    listing = subprocess.run(["objdump", "-d", "--no-show-raw-insn", str(tmp_path / "fma.o")], check=True,
+                             capture_output=True, text=True).stdout
+    functions, found, name = [], {}, None
+    for line in listing.splitlines():
+        header = re.match(r"^[0-9a-f]+ <(.+)>:$", line)
+        if header:
+            name = header.group(1)
+            functions.append(name)
+        elif name is not None and FMA.search(line):
+            found.setdefault(name, []).append(FMA.search(line).group(0))
+    return functions, found
+
+
+def test_fma_check_finds_a_contracted_multiply_add(tmp_path):
+    """The check below can fail: a plain a * b + c outside the headers' pragmas is contracted under these flags."""
+    functions, found = fma_functions("float madd(float a, float b, float c);\n"
+                                     "float madd(float a, float b, float c) { return a * b + c; }\n", tmp_path)
+    assert functions == ["madd"] and list(found) == ["madd"], (functions, found)
+
+
+@pytest.mark.parametrize("header", ALL_HEADERS)
+def test_header_functions_have_no_fma_under_gcc_gnu11_mfma(header, tmp_path):
+    """gcc -std=gnu11 -O2 -mfma on x86: no function of the header contains a fused multiply-add instruction (the
+    header's #pragma GCC optimize("fp-contract=off") block), so the bits do not depend on the caller's -std. A
+    function defined after the header must still be contracted: the pragma does not leak into user code."""
+    functions, found = fma_functions(f'#include "{header}"\n'
+                                     "float user_madd(float a, float b, float c);\n"
+                                     "float user_madd(float a, float b, float c) { return a * b + c; }\n", tmp_path)
+    ours = [name for name in functions if name.startswith("FusionAltitude")]
+    assert len(ours) >= 5, functions
+    assert list(found) == ["user_madd"], f"{header}: FMA in {found}"

@@ -195,6 +195,49 @@ def test_batch_bad_row_names_the_argument_and_first_index_and_applies_nothing(im
     assert same_state(estimator, before)
 
 
+BAD_BATCHES = {  # (argument, row, column or None, value), the one that must be named last
+    "gyro inf": [("gyro", 12, 2, np.inf)],
+    "accel beyond 1e6": [("accel", 3, 0, 2e6)],
+    "mag partly NaN": [("mag", 40, 1, np.nan)],
+    "mag inf": [("mag", 8, 2, -np.inf)],
+    "baro inf": [("baro", 21, None, np.inf)],
+    "dt zero": [("dt", 33, None, 0.0)],
+    "dt NaN": [("dt", 0, None, np.nan)],
+    "last row": [("dt", 49, None, -0.01)],
+    "two in one row: gyro first": [("dt", 25, None, -1.0), ("gyro", 25, 0, np.nan)],
+    "two in one row: mag before baro": [("baro", 9, None, -np.inf), ("mag", 9, 0, np.inf)],
+    "earlier row wins": [("accel", 30, 1, np.nan), ("dt", 29, None, np.inf)],
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_BATCHES))
+def test_batch_rejection_by_the_c_loop_equals_the_reference(case):
+    """update_batch leaves the per-step checks to the C update inside its loop (no numpy pass first): the error
+    (argument, first bad index, values) equals the reference's, which checks every step before the loop, and the
+    state is left as it was, also mid-flight."""
+    gyro, accel, dt, baro, mag = flight(50)
+    arrays = {"gyro": gyro, "accel": accel, "mag": mag, "baro": baro, "dt": dt}
+    warm = flight(50)
+    messages, states = [], []
+    for impl in (fa, reference):
+        estimator = impl.InsEstimator()
+        estimator.update_batch(*warm)
+        batch = {name: array.copy() for name, array in arrays.items()}
+        for name, row, column, value in BAD_BATCHES[case]:
+            if column is None:
+                batch[name][row] = value
+            else:
+                batch[name][row, column] = value
+        before = copy.deepcopy(estimator)
+        with pytest.raises(ValueError) as error:
+            estimator.update_batch(batch["gyro"], batch["accel"], batch["dt"], batch["baro"], batch["mag"])
+        assert same_state(estimator, before)
+        messages.append(str(error.value))
+    assert messages[0] == messages[1]
+    name, row = BAD_BATCHES[case][-1][:2]  # each case lists its expected error last
+    assert messages[0].startswith(f"{'baro_altitude' if name == 'baro' else name} at index {row} "), messages[0]
+
+
 def test_wrong_shapes_are_named():
     with pytest.raises(ValueError, match=r"accel must have shape \(5, 3\)"):
         fa.InsEstimator().update_batch(np.zeros((5, 3)), np.zeros((4, 3)), 0.01)

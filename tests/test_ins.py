@@ -235,7 +235,7 @@ def test_batch_rejection_by_the_c_loop_equals_the_reference(case):
         messages.append(str(error.value))
     assert messages[0] == messages[1]
     name, row = BAD_BATCHES[case][-1][:2]  # each case lists its expected error last
-    assert messages[0].startswith(f"{'baro_altitude' if name == 'baro' else name} at index {row} "), messages[0]
+    assert messages[0].startswith(f"{'baro_altitude' if name == 'baro' else name}[{row}] "), messages[0]
 
 
 def test_wrong_shapes_are_named():

@@ -3,12 +3,16 @@
     python benchmarks/callgrind_calls.py [--calls N] [CASE ...]
 
 For each case, runs a Python loop of N and of 2N ``update()`` calls (on
-Python floats from lists, loop included, after the same imports and set-up)
+Python floats from lists, loop included, in a function with the names as locals, the garbage
+collector off, after the same imports and set-up)
 under ``valgrind --tool=callgrind`` and prints the difference / N: the
 instructions one iteration costs, free of start-up and of the machine's load
 (wall time on this shared 2-core machine is not). The ``empty`` case is the
 bare ``for`` loop over the same lists (every loop zips a ``range(n)`` in, so
-that both runs build the same lists). Needs valgrind (fails without it).
+that both runs build the same lists); ``empty6`` the bare loop of the Kalman case's six lists. The
+Kalman filter and the alpha-beta fusion are called by keyword after accel (the contract's fast path);
+the ``-legacy`` cases call them in the deprecated positional order (accel, dt, baro_altitude, ...),
+which goes through the deprecation shim (warning filtered to "ignore"). Needs valgrind (fails without it).
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ import subprocess
 import sys
 
 SETUP = """
-import sys, numpy as np, fusion_altitude
+import gc, sys, numpy as np, fusion_altitude
 n = int(sys.argv[2])
 size = int(sys.argv[3])  # the lists are as long in both runs: only the loop's length differs
 rng = np.random.default_rng(1)
@@ -29,26 +33,51 @@ z = (4 + 0.4 * rng.standard_normal(size)).tolist()
 l = (4 + 0.04 * rng.standard_normal(size)).tolist()
 g = (4 + 1.5 * rng.standard_normal(size)).tolist()
 s = [9] * size
+zb = [250 + x for x in z]
+zg = [290 + x for x in g]
 dt = 0.01
 case = sys.argv[1]
+
+
+def loop(n=n, a=a, z=z, l=l, g=g, s=s, zb=zb, zg=zg, dt=dt, fusion_altitude=fusion_altitude):  # names are locals
+"""
+
+RUN = """
+gc.disable()  # a collection in one run and not the other would count as some 300 instructions per iteration
+loop()
 """
 
 LOOPS = {
     "empty": "for i, x, y in zip(range(n), a, z):\n    pass\n",
+    "empty6": "for i, x, y, w, v, k in zip(range(n), a, zb, l, zg, s):\n    pass\n",
     "observer": "update = fusion_altitude.AltitudeEstimator().update\nfor i, x, y in zip(range(n), a, z):\n    update(x, y, dt)\n",
     "complementary": "update = fusion_altitude.ComplementaryFilter().update\nfor i, x, y in zip(range(n), a, z):\n    update(x, y, dt)\n",
     "alphabeta": ("update = fusion_altitude.AlphaBetaFusion().update\n"
-                  "for i, x, y, w, v in zip(range(n), a, z, l, g):\n    update(x, dt, y, w, gps_altitude=v)\n"),
+                  "for i, x, y, w, v in zip(range(n), a, z, l, g):\n"
+                  "    update(x, dt=dt, baro_altitude=y, lidar_altitude=w, gps_altitude=v)\n"),
     "kalman": ("update = fusion_altitude.KalmanEstimator().update\n"
-               "for i in range(n):\n    update(a[i], dt, 250 + z[i], l[i], 290 + g[i], s[i])\n"),
+               "for i, x, y, w, v, k in zip(range(n), a, zb, l, zg, s):\n"
+               "    update(x, dt=dt, baro_altitude=y, range_distance=w, gps_altitude=v, gps_satellites=k)\n"),
+    # the deprecated positional order (accel, dt, baro_altitude, ...): warns on every call
+    "alphabeta-legacy": ("import warnings\nwarnings.simplefilter('ignore')\n"
+                         "update = fusion_altitude.AlphaBetaFusion().update\n"
+                         "for i, x, y, w, v in zip(range(n), a, z, l, g):\n    update(x, dt, y, w, gps_altitude=v)\n"),
+    "kalman-legacy": ("import warnings\nwarnings.simplefilter('ignore')\n"
+                      "update = fusion_altitude.KalmanEstimator().update\n"
+                      "for i, x, y, w, v, k in zip(range(n), a, zb, l, zg, s):\n    update(x, dt, y, w, v, k)\n"),
 }
 
 
+# The same start-up in both runs: fixed hashing, and no BLAS worker threads (numpy's OpenBLAS threads
+# spin for a varying number of instructions, some thousands per iteration of noise at small N).
+SAME_START = {"PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def instructions(case: str, calls: int, size: int) -> int:
-    code = SETUP + LOOPS[case]
+    code = SETUP + "".join(f"    {line}\n" for line in LOOPS[case].splitlines()) + RUN
     result = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable, "-c", code,
                              case, str(calls), str(size)], capture_output=True, text=True,
-                            env={**os.environ, "PYTHONHASHSEED": "0"})  # the same start-up in both runs
+                            env={**os.environ, **SAME_START})
     if result.returncode != 0:
         raise RuntimeError(result.stderr[-2000:])
     return int(re.search(r"Collected : (\d+)", result.stderr).group(1))
@@ -63,7 +92,9 @@ def main(argv=None) -> int:
     unknown = [case for case in cases if case not in LOOPS]
     if unknown:
         parser.error(f"unknown case {unknown[0]!r}; choose from {', '.join(LOOPS)}")
-    print(f"Python {sys.version.split()[0]}, {args.calls} vs {2 * args.calls} calls")
+    where = subprocess.run([sys.executable, "-c", "import fusion_altitude; print(fusion_altitude._observer.__file__)"],
+                           capture_output=True, text=True, check=True).stdout.strip()
+    print(f"Python {sys.version.split()[0]}, {args.calls} vs {2 * args.calls} calls, bindings: {where}")
     print("| case | instructions per iteration (loop included) |")
     print("|---|---:|")
     for case in cases:

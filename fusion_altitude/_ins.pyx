@@ -303,7 +303,7 @@ cdef class InsEstimator:
         n, inputs, result = _ins_glue.prepare_batch(gyro, accel, dt, baro_altitude, mag, out, self._gyro_scale,
                                                     self._accel_scale)
         if n == 0:
-            return result
+            return result if out is None else out  # out=: the caller's object itself
         cdef const float[:, ::1] g = inputs["gyro"]
         cdef const float[:, ::1] a = inputs["accel"]
         cdef const float[:, ::1] m = inputs["mag"]
@@ -326,7 +326,7 @@ cdef class InsEstimator:
         if bad >= 0:  # cannot happen: every row was checked first; keep nothing half-applied anyway
             self._c = saved
             raise RuntimeError(f"FusionAltitudeInsUpdate rejected row {bad} that passed the checks")
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def altitude(self):

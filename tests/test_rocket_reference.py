@@ -135,3 +135,13 @@ def test_copy_and_pickle_resume_bit_identically(make):
     for clone in clones:
         assert same_batch(clone.update_batch(flight.accel[half:], flight.baro_altitude[half:], flight.dt), rest)
         assert clone.events == estimator.events
+
+
+@pytest.mark.parametrize("estimator", [CRocket, RefRocket], ids=["c", "reference"])
+def test_a_batch_writes_into_out_and_returns_it(estimator):
+    accel = np.linspace(-1.0, 30.0, 200)
+    baro = np.linspace(300.0, 420.0, 200)
+    expected = estimator().update_batch(accel, baro, 0.01)
+    out = [np.full_like(array, 7) for array in expected]
+    assert estimator().update_batch(accel, baro, 0.01, out=out) is out
+    assert same_batch(out, expected)

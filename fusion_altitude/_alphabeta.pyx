@@ -35,6 +35,10 @@ _UPDATE_KEYWORDS = ("baro_altitude", "dt", "lidar_altitude", "sonar_altitude", "
 _BATCH_KEYWORDS = _UPDATE_KEYWORDS + ("out",)
 
 
+cdef object _float_or_nan(object value):
+    return math.nan if value is _UNSET else float(value)
+
+
 def gains(int quality):
     """(alpha, beta) of the least-squares alpha-beta filter of depth ``quality`` (C FusionAltitudeAlphaBetaGains)."""
     cdef float alpha, beta
@@ -145,20 +149,11 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         """
         # Parsed here, not by a Python wrapper: keywords after accel (the contract) are the fast path;
         # update(accel, baro_altitude, dt=...) is the contract too; other positional arguments after accel
-        # are the deprecated old order (_common.legacy_arguments warns and maps them).
+        # are the deprecated old order (_common.positional_after_accel: the same rules as the reference).
         if args:
-            if len(args) == 1 and dt is not _UNSET:
-                if baro_altitude is not _UNSET:
-                    raise TypeError("update() got multiple values for keyword argument 'baro_altitude'")
-                baro_altitude = args[0]
-            else:
-                given = _common.legacy_arguments(
-                    type(self).__name__, "update", _alphabeta_glue.ALPHABETA_INPUTS[1:], args,
-                    {name: value for name, value in zip(_UPDATE_KEYWORDS, (
-                        baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude)) if value is not _UNSET},
-                    _UNSET)
-                baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude = (
-                    given.get(name, _UNSET) for name in _UPDATE_KEYWORDS)
+            baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude = _common.positional_after_accel(
+                type(self).__name__, "update", _UPDATE_KEYWORDS, _alphabeta_glue.ALPHABETA_INPUTS[1:], args,
+                (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude), _UNSET)
         self._update(accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude)
 
     cdef int _update(self, accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude) except -1:
@@ -173,9 +168,9 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaUpdate(&self._c, <float>a, <float>t, &m)
         if status != FusionAltitudeAlphaBetaStatusOk:
             _alphabeta_glue.raise_alphabeta_update_error(status, {
-                "accel": float(a), "dt": float(t), **{name: math.nan if value is _UNSET else float(value)
-                for name, value in (("baro_altitude", baro_altitude), ("lidar_altitude", lidar_altitude),
-                                    ("sonar_altitude", sonar_altitude), ("gps_altitude", gps_altitude))}})
+                "accel": float(a), "dt": float(t), "baro_altitude": _float_or_nan(baro_altitude),
+                "lidar_altitude": _float_or_nan(lidar_altitude), "sonar_altitude": _float_or_nan(sonar_altitude),
+                "gps_altitude": _float_or_nan(gps_altitude)})
         return 0
 
     def update_batch(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET,
@@ -210,18 +205,12 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         runs with the GIL released.
         """
         values = (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out)
-        if args:  # as in update; left out is None here (no samples)
-            if len(args) == 1 and dt is not _UNSET:
-                if baro_altitude is not _UNSET:
-                    raise TypeError("update_batch() got multiple values for keyword argument 'baro_altitude'")
-                values = (args[0],) + values[1:]
-            else:
-                given = _common.legacy_arguments(
-                    type(self).__name__, "update_batch", _alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",), args,
-                    {name: value for name, value in zip(_BATCH_KEYWORDS, values) if value is not _UNSET}, None)
-                values = tuple(given.get(name, _UNSET) for name in _BATCH_KEYWORDS)
-        baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out = (
-            None if value is _UNSET else value for value in values)
+        if args:  # as in update
+            values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
+                                                    _alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",), args, values,
+                                                    _UNSET)
+        baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out = [
+            None if value is _UNSET else value for value in values]  # left out: None (no samples)
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
                                                                     sonar_altitude, gps_altitude, out)
         cdef const float[::1] a = inputs["accel"]

@@ -166,6 +166,27 @@ def legacy_arguments(owner: str, method: str, legacy: Tuple[str, ...], args: Seq
     return kwargs
 
 
+def positional_after_accel(owner: str, method: str, names: Tuple[str, ...], legacy: Tuple[str, ...],
+                           args: Sequence[object], values: Sequence[object], unset: object) -> tuple:
+    """The argument values of a binding's ``method(accel, *args, **keywords)`` called with positional
+    arguments after accel (``args`` not empty; the keyword path never comes here).
+
+    ``names`` are the keyword arguments in order, ``baro_altitude`` and ``dt`` first; ``values`` what the
+    call gave them (``unset``: left out). One positional argument with ``dt=`` is the contract order
+    ``(accel, baro_altitude, dt=...)``; anything else is the deprecated old order ``(accel, *legacy)``
+    (:func:`legacy_arguments`: a DeprecationWarning at the caller's line). Returns the values in the order
+    of ``names``, ``unset`` where left out. The same rules as :func:`argument_order`, which the reference
+    uses.
+    """
+    if len(args) == 1 and values[1] is not unset:
+        if values[0] is not unset:
+            raise TypeError(f"{method}() got multiple values for keyword argument 'baro_altitude'")
+        return (args[0], *values[1:])
+    given = {name: value for name, value in zip(names, values) if value is not unset}
+    given = legacy_arguments(owner, method, legacy, args, given, unset, frames=2)
+    return tuple(given.get(name, unset) for name in names)
+
+
 def argument_order(legacy: Tuple[str, ...]):
     """Decorator: the contract order ``(accel, baro_altitude, dt, *, other sensors...)`` for an estimator whose
     old order was ``(accel, *legacy)``: for one release, positional arguments after ``accel`` keep their old

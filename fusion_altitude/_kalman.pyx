@@ -128,20 +128,13 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
                gps_satellites=_UNSET, gps_vertical_accuracy=_UNSET, ground_effect=_UNSET):
         # Parsed here, not by a Python wrapper: keywords after accel (the contract) are the fast path;
         # update(accel, baro_altitude, dt=...) is the contract too; other positional arguments after accel
-        # are the deprecated old order (_common.legacy_arguments warns and maps them).
+        # are the deprecated old order (_common.positional_after_accel: the same rules as the reference).
         if args:
-            if len(args) == 1 and dt is not _UNSET:
-                if baro_altitude is not _UNSET:
-                    raise TypeError("update() got multiple values for keyword argument 'baro_altitude'")
-                baro_altitude = args[0]
-            else:
-                given = {name: value for name, value in zip(_UPDATE_KEYWORDS, (
-                    baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
-                    ground_effect)) if value is not _UNSET}
-                given = _common.legacy_arguments(type(self).__name__, "update", _kalman_glue.KALMAN_LEGACY_ORDER,
-                                                 args, given, _UNSET)
-                baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy, \
-                    ground_effect = (given.get(name, _UNSET) for name in _UPDATE_KEYWORDS)
+            baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy, ground_effect = \
+                _common.positional_after_accel(
+                    type(self).__name__, "update", _UPDATE_KEYWORDS, _kalman_glue.KALMAN_LEGACY_ORDER, args,
+                    (baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
+                     ground_effect), _UNSET)
         self._update(accel, baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
                      ground_effect)
 
@@ -207,18 +200,11 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         """
         values = (baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
                   ground_effect, out)
-        if args:  # as in update; left out is None here (no samples)
-            if len(args) == 1 and dt is not _UNSET:
-                if baro_altitude is not _UNSET:
-                    raise TypeError("update_batch() got multiple values for keyword argument 'baro_altitude'")
-                values = (args[0],) + values[1:]
-            else:
-                given = _common.legacy_arguments(
-                    type(self).__name__, "update_batch", _kalman_glue.KALMAN_LEGACY_ORDER + ("out",), args,
-                    {name: value for name, value in zip(_BATCH_KEYWORDS, values) if value is not _UNSET}, None)
-                values = tuple(given.get(name, _UNSET) for name in _BATCH_KEYWORDS)
+        if args:  # as in update
+            values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
+                                                    _kalman_glue.KALMAN_LEGACY_ORDER + ("out",), args, values, _UNSET)
         baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy, ground_effect, \
-            out = (None if value is _UNSET else value for value in values)
+            out = [None if value is _UNSET else value for value in values]  # left out: None (no samples)
         n, inputs, steps, result = _kalman_glue.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
             ground_effect, out)

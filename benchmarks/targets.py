@@ -1,6 +1,6 @@
 """The speed targets (docs/performance.md), each measured and checked in one run.
 
-    python benchmarks/targets.py [--samples N] [--repeat K]
+    python benchmarks/targets.py [--samples N] [--repeat K] [--per-sample]
 
 Every case is timed ``repeat`` times (after a warm-up) and reports two
 minima: wall time (``time.perf_counter_ns``) and this process's CPU time
@@ -85,19 +85,21 @@ def best_wall_and_cpu(run: Callable[[], object], repeat: int):
     return wall, cpu
 
 
-def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000) -> List[Target]:
+def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000,
+        per_sample_only: bool = False) -> List[Target]:
     rows: List[Target] = []
     per_sample_n = max(200, samples // 20)
 
     # Kalman
     accel, baro, rangefinder, gps, satellites = kalman_bench.make_inputs(samples)
-    out = fusion_altitude._kalman_glue.new_kalman_batch(samples)
-    wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.KalmanEstimator().update_batch(
-        accel, dt=DT, baro_altitude=baro, range_distance=rangefinder, gps_altitude=gps, gps_satellites=satellites,
-        out=out), repeat)
-    rows.append(Target("Kalman C batch, baro + rangefinder + GPS every step", "ns/step", 124, 60,
-                       wall / samples, cpu / samples, "cpu"))
-    del out
+    if not per_sample_only:
+        out = fusion_altitude._kalman_glue.new_kalman_batch(samples)
+        wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.KalmanEstimator().update_batch(
+            accel, dt=DT, baro_altitude=baro, range_distance=rangefinder, gps_altitude=gps,
+            gps_satellites=satellites, out=out), repeat)
+        rows.append(Target("Kalman C batch, baro + rangefinder + GPS every step", "ns/step", 124, 60,
+                           wall / samples, cpu / samples, "cpu"))
+        del out
     k = per_sample_n
     a_l, b_l, r_l, g_l, s_l = (x[:k].tolist() for x in (accel, baro, rangefinder, gps, satellites))
 
@@ -127,10 +129,11 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
     wall, cpu = best_wall_and_cpu(alphabeta_per_sample, repeat)
     rows.append(Target("alpha-beta update() per sample", "ns", 409, 100, wall / k, cpu / k, "cpu"))
 
-    wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.AlphaBetaFusion().update_batch(
-        accel, dt=DT, baro_altitude=baro, lidar_altitude=lidar, gps_altitude=gps), repeat)
-    rows.append(Target("alpha-beta C batch (IMU, baro, lidar, GPS every step)", "ns/step", 66, 15,
-                       wall / samples, cpu / samples, "cpu"))
+    if not per_sample_only:
+        wall, cpu = best_wall_and_cpu(lambda: fusion_altitude.AlphaBetaFusion().update_batch(
+            accel, dt=DT, baro_altitude=baro, lidar_altitude=lidar, gps_altitude=gps), repeat)
+        rows.append(Target("alpha-beta C batch (IMU, baro, lidar, GPS every step)", "ns/step", 66, 15,
+                           wall / samples, cpu / samples, "cpu"))
 
     # Observer per sample (compare.py's per_sample case)
     signals = make_signals(samples)
@@ -142,6 +145,8 @@ def run(samples: int = 1_000_000, repeat: int = 7, sweep_samples: int = 100_000)
             update(a, z, DT)
     wall, cpu = best_wall_and_cpu(observer_per_sample, repeat)
     rows.append(Target("observer update() per sample (incl. loop)", "ns", 61, 50, wall / k, cpu / k, "cpu"))
+    if per_sample_only:
+        return rows
 
     # Sweep (sweep_bench's cases, baro every sample)
     signals = make_signals(sweep_samples, baro_every=1)
@@ -223,8 +228,10 @@ def main(argv=None) -> int:
     parser.add_argument("--samples", type=int, default=1_000_000)
     parser.add_argument("--repeat", type=int, default=7)
     parser.add_argument("--sweep-samples", type=int, default=100_000)
+    parser.add_argument("--per-sample", action="store_true",
+                        help="only the per-sample update() cases (samples // 20 calls each)")
     args = parser.parse_args(argv)
-    rows = run(args.samples, args.repeat, args.sweep_samples)
+    rows = run(args.samples, args.repeat, args.sweep_samples, args.per_sample)
     print_table(rows)
     return 0 if all(r.passed for r in rows) else 1
 

@@ -12,21 +12,31 @@ import math
 
 from fusion_altitude._convert cimport as_double as _as_double
 from fusion_altitude._estimator cimport Estimator
+from libc.math cimport NAN
 from libc.stdint cimport int32_t
 
 from fusion_altitude.calphabeta cimport *
 
-from fusion_altitude import _alphabeta_glue
-from fusion_altitude._common import argument_order
+from fusion_altitude import _alphabeta_glue, _common
 from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.alphabeta import AlphaBetaSettings
+from fusion_altitude.reference.alphabeta import AlphaBetaFusion as _reference_AlphaBetaFusion, AlphaBetaSettings
 
 include "_alphabeta_fields.pxi"
 
 C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
 C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
 status_message = c_status_message
+
+#: An argument left out (update's keywords default to it, so that a name given twice in the deprecated
+#: positional order is caught).
+cdef object _UNSET = _common.UNSET
+_UPDATE_KEYWORDS = ("baro_altitude", "dt", "lidar_altitude", "sonar_altitude", "gps_altitude")
+_BATCH_KEYWORDS = _UPDATE_KEYWORDS + ("out",)
+
+
+cdef object _float_or_nan(object value):
+    return math.nan if value is _UNSET else float(value)
 
 
 def gains(int quality):
@@ -119,9 +129,8 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
             c = _settings_to_c(_c_values(settings))
             FusionAltitudeAlphaBetaInitialiseWith(&self._c, &c)
 
-    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:])
-    def update(self, accel, baro_altitude, dt, *, lidar_altitude=math.nan, sonar_altitude=math.nan,
-               gps_altitude=math.nan):
+    def update(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET, sonar_altitude=_UNSET,
+               gps_altitude=_UNSET):
         """Process one step.
 
         Parameters
@@ -138,23 +147,34 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         ValueError
             An infinite input or dt not finite and > 0, naming it; the state is unchanged.
         """
+        # Parsed here, not by a Python wrapper: keywords after accel (the contract) are the fast path;
+        # update(accel, baro_altitude, dt=...) is the contract too; other positional arguments after accel
+        # are the deprecated old order (_common.positional_after_accel: the same rules as the reference).
+        if args:
+            baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude = _common.positional_after_accel(
+                type(self).__name__, "update", _UPDATE_KEYWORDS, _alphabeta_glue.ALPHABETA_INPUTS[1:], args,
+                (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude), _UNSET)
+        self._update(accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude)
+
+    cdef int _update(self, accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude) except -1:
+        """update() after argument parsing: _UNSET is an argument left out (NaN: no sample; dt: None)."""
         cdef double a = _as_double(accel, "accel")
-        cdef double t = _as_double(dt, "dt")
+        cdef double t = _as_double(None if dt is _UNSET else dt, "dt")
         cdef FusionAltitudeAlphaBetaMeasurements m
-        m.baroAltitude = <float>_as_double(baro_altitude, "baro_altitude")
-        m.lidarAltitude = <float>_as_double(lidar_altitude, "lidar_altitude")
-        m.sonarAltitude = <float>_as_double(sonar_altitude, "sonar_altitude")
-        m.gpsAltitude = <float>_as_double(gps_altitude, "gps_altitude")
+        m.baroAltitude = NAN if baro_altitude is _UNSET else <float>_as_double(baro_altitude, "baro_altitude")
+        m.lidarAltitude = NAN if lidar_altitude is _UNSET else <float>_as_double(lidar_altitude, "lidar_altitude")
+        m.sonarAltitude = NAN if sonar_altitude is _UNSET else <float>_as_double(sonar_altitude, "sonar_altitude")
+        m.gpsAltitude = NAN if gps_altitude is _UNSET else <float>_as_double(gps_altitude, "gps_altitude")
         cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaUpdate(&self._c, <float>a, <float>t, &m)
         if status != FusionAltitudeAlphaBetaStatusOk:
             _alphabeta_glue.raise_alphabeta_update_error(status, {
-                "accel": float(a), "dt": float(t), "baro_altitude": float(baro_altitude),
-                "lidar_altitude": float(lidar_altitude), "sonar_altitude": float(sonar_altitude),
-                "gps_altitude": float(gps_altitude)})
+                "accel": float(a), "dt": float(t), "baro_altitude": _float_or_nan(baro_altitude),
+                "lidar_altitude": _float_or_nan(lidar_altitude), "sonar_altitude": _float_or_nan(sonar_altitude),
+                "gps_altitude": _float_or_nan(gps_altitude)})
+        return 0
 
-    @argument_order(_alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",))
-    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
-                     gps_altitude=None, out=None):
+    def update_batch(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET,
+                     sonar_altitude=_UNSET, gps_altitude=_UNSET, out=_UNSET):
         """Process arrays of steps, continuing from the current state.
 
         Parameters
@@ -184,6 +204,13 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         Equal, bit for bit, to calling :meth:`update` for each step. The loop
         runs with the GIL released.
         """
+        values = (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out)
+        if args:  # as in update
+            values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
+                                                    _alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",), args, values,
+                                                    _UNSET)
+        baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out = [
+            None if value is _UNSET else value for value in values]  # left out: None (no samples)
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
                                                                     sonar_altitude, gps_altitude, out)
         cdef const float[::1] a = inputs["accel"]
@@ -201,6 +228,8 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         cdef Py_ssize_t sa = steps["accel"], sd = steps["dt"], sb = steps["baro_altitude"]
         cdef Py_ssize_t sl = steps["lidar_altitude"], ss = steps["sonar_altitude"], sg = steps["gps_altitude"]
         cdef FusionAltitudeAlphaBetaMeasurements m
+        if out is not None:
+            result = out  # the caller's object itself, filled
         if count == 0:
             return result
         with nogil:
@@ -262,6 +291,9 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
     def __repr__(self):
         return (f"AlphaBetaFusion(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"weights={tuple(self.weights)!r})")
+
+
+_common.share_signatures(AlphaBetaFusion, _reference_AlphaBetaFusion, ("update", "update_batch"))
 
 
 def _restore(state):

@@ -126,12 +126,78 @@ def optional_inputs(arguments: Mapping[str, object]) -> Tuple[int, dict, dict]:
     return n, inputs, steps
 
 
+class _Unset:
+    """The default of a binding argument left out: the bindings tell it from any value a caller passes."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "<unset>"
+
+
+UNSET = _Unset()
+
+
+#: Whether this module runs compiled (setup.py compiles it with Cython): compiled functions have no Python
+#: frame, which decides the stacklevel that makes a warning point at the caller's line.
+_COMPILED = not __file__.endswith((".py", ".pyc"))
+
+
+def legacy_arguments(owner: str, method: str, legacy: Tuple[str, ...], args: Sequence[object], kwargs: dict,
+                     no_sample: object, frames: int = 1) -> dict:
+    """The keyword arguments of a call ``method(accel, *args, **kwargs)`` whose positional arguments after
+    accel are in the old order ``legacy``: warns (DeprecationWarning, at the caller's line), then adds
+    ``args`` to ``kwargs`` under their old names; TypeError for too many or a name given twice. A left-out
+    ``baro_altitude`` is ``no_sample``. ``frames``: Python frames between the caller and this function
+    when it runs uncompiled (the Cython bindings have none; :func:`argument_order`'s wrapper is one).
+    """
+    name = f"{owner}.{method}"
+    warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
+                  f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
+                  "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning,
+                  stacklevel=1 if _COMPILED else frames + 1)
+    if len(args) > len(legacy):
+        raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
+    for key, value in zip(legacy, args):
+        if key in kwargs:
+            raise TypeError(f"{name}() got multiple values for argument {key!r}")
+        kwargs[key] = value
+    kwargs.setdefault("baro_altitude", no_sample)
+    return kwargs
+
+
+def positional_after_accel(owner: str, method: str, names: Tuple[str, ...], legacy: Tuple[str, ...],
+                           args: Sequence[object], values: Sequence[object], unset: object) -> tuple:
+    """The argument values of a binding's ``method(accel, *args, **keywords)`` called with positional
+    arguments after accel (``args`` not empty; the keyword path never comes here).
+
+    ``names`` are the keyword arguments in order, ``baro_altitude`` and ``dt`` first; ``values`` what the
+    call gave them (``unset``: left out). One positional argument with ``dt=`` is the contract order
+    ``(accel, baro_altitude, dt=...)``; anything else is the deprecated old order ``(accel, *legacy)``
+    (:func:`legacy_arguments`: a DeprecationWarning at the caller's line). Returns the values in the order
+    of ``names``, ``unset`` where left out. The same rules as :func:`argument_order`, which the reference
+    uses.
+    """
+    if len(args) == 1 and values[1] is not unset:
+        if values[0] is not unset:
+            raise TypeError(f"{method}() got multiple values for keyword argument 'baro_altitude'")
+        return (args[0], *values[1:])
+    given = {name: value for name, value in zip(names, values) if value is not unset}
+    given = legacy_arguments(owner, method, legacy, args, given, unset, frames=2)
+    return tuple(given.get(name, unset) for name in names)
+
+
 def argument_order(legacy: Tuple[str, ...]):
     """Decorator: the contract order ``(accel, baro_altitude, dt, *, other sensors...)`` for an estimator whose
     old order was ``(accel, *legacy)``: for one release, positional arguments after ``accel`` keep their old
     meaning, with a DeprecationWarning (pass baro_altitude= and dt= by keyword; in the next release the
     positional order is the new one). Keywords work throughout; ``baro_altitude`` may be left out, as
-    before: no sample (NaN per sample, None in a batch).
+    before: no sample (NaN per sample, None in a batch). ``update(accel, baro_altitude, dt=dt)`` (one
+    positional after accel, dt by keyword) is the contract order too, without a warning.
+
+    The pure-Python reference uses this decorator; the Cython bindings do the same in their own argument
+    parsing (``*args`` after accel, keyword-only sensors), calling :func:`legacy_arguments` only when
+    positional arguments follow accel, so that the keyword path costs nothing.
     """
     def decorate(method):
         no_sample = None if method.__name__ == "update_batch" else math.nan
@@ -145,20 +211,19 @@ def argument_order(legacy: Tuple[str, ...]):
                 return method(self, accel, baro_altitude, dt)
             if len(args) == 1 and "dt" in kwargs:
                 return method(self, accel, args[0], kwargs.pop("dt"), **kwargs)
-            name = f"{type(self).__name__}.{method.__name__}"
-            warnings.warn(f"{name}: positional arguments after accel are read in the old order (accel, "
-                          f"{', '.join(legacy[:len(args)])}); from the next release the order is (accel, "
-                          "baro_altitude, dt, ...): pass them by keyword", DeprecationWarning, stacklevel=2)
-            if len(args) > len(legacy):
-                raise TypeError(f"{name}() takes at most {len(legacy) + 1} positional arguments after self")
-            for key, value in zip(legacy, args):
-                if key in kwargs:
-                    raise TypeError(f"{name}() got multiple values for argument {key!r}")
-                kwargs[key] = value
-            kwargs.setdefault("baro_altitude", no_sample)
-            return method(self, accel, **kwargs)
+            return method(self, accel, **legacy_arguments(type(self).__name__, method.__name__, legacy, args, kwargs,
+                                                          no_sample, frames=2))
         return wrapper
     return decorate
+
+
+def share_signatures(binding: type, reference: type, names: Sequence[str]) -> None:
+    """Give the binding's methods ``names`` the reference's signature (what ``inspect.signature`` and ``help``
+    show): the bindings parse ``(accel, *args, baro_altitude=, dt=, ...)`` to keep the deprecated positional
+    order for one release, but their contract is the reference's ``(accel, baro_altitude, dt, *, ...)``."""
+    import inspect
+    for name in names:
+        getattr(binding, name).__signature__ = inspect.signature(getattr(reference, name))
 
 
 def share_docstrings(binding: type, reference: type) -> None:

@@ -9,9 +9,19 @@ from cpython.float cimport PyFloat_AS_DOUBLE, PyFloat_AsDouble, PyFloat_CheckExa
 
 
 cdef inline double as_double(object value, str name) except? -1.0:
-    """A Python real number as a C double, or TypeError naming the argument (fast path for float)."""
+    """A Python real number as a C double, or TypeError naming the argument.
+
+    An exact ``float`` (the per-sample hot path) is read in place, inlined at the
+    call site; anything else goes through :func:`_as_double_other`, which holds the
+    ``try`` and so stays out of the caller's code.
+    """
     if PyFloat_CheckExact(value):
         return PyFloat_AS_DOUBLE(value)
+    return _as_double_other(value, name)
+
+
+cdef inline double _as_double_other(object value, str name) except? -1.0:
+    """``float(value)`` as CPython's PyFloat_AsDouble does it (``__float__``, ``__index__``), or TypeError naming it."""
     try:
         return PyFloat_AsDouble(value)
     except (TypeError, ValueError):

@@ -158,13 +158,13 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         cdef Py_ssize_t bad = -1
         cdef bint vertical = bool(accel_is_vertical)
         if n == 0:
-            return result
+            return result if out is None else out  # out=: the caller's object itself
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, vertical, &h[0], &v[0], &b[0], &p[0], &f[0])
         if bad >= 0:
             _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                                             a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def settings(self):

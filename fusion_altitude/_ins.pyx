@@ -217,7 +217,7 @@ cdef class InsEstimator(_InsEstimatorGetters):
         n, inputs, result = _ins_glue.prepare_batch(gyro, accel, dt, baro_altitude, mag, out, self._gyro_scale,
                                                     self._accel_scale, check=False)
         if n == 0:
-            return result
+            return result if out is None else out  # out=: the caller's object itself
         cdef const float[:, ::1] g = inputs["gyro"]
         cdef const float[:, ::1] a = inputs["accel"]
         cdef const float[:, ::1] m = inputs["mag"]
@@ -241,7 +241,7 @@ cdef class InsEstimator(_InsEstimatorGetters):
         if bad >= 0:  # the C checks of each step (no separate pass over the inputs): nothing applied, the first bad step
             self._c = saved
             _ins_glue.batch_step_error(status, inputs, bad)
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def quaternion(self):

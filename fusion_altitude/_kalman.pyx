@@ -12,6 +12,8 @@ import math
 
 from fusion_altitude._convert cimport as_double as _as_double
 from fusion_altitude._estimator cimport Estimator
+from cpython.long cimport PyLong_AsLongLongAndOverflow, PyLong_CheckExact
+from libc.math cimport NAN
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 from fusion_altitude.ckalman cimport *
@@ -19,7 +21,6 @@ from fusion_altitude.ckalman cimport *
 import numpy as np
 
 from fusion_altitude import _common, _kalman_glue
-from fusion_altitude._common import argument_order
 from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.kalman import KalmanEstimator as _reference_KalmanEstimator, KalmanSettings
@@ -27,6 +28,26 @@ from fusion_altitude.reference.kalman import KalmanEstimator as _reference_Kalma
 include "_kalman_fields.pxi"
 
 kalman_status_message = c_status_message
+
+
+#: An argument left out (update's keywords default to it, so that a name given twice in the deprecated
+#: positional order is caught).
+cdef object _UNSET = _common.UNSET
+_UPDATE_KEYWORDS = ("baro_altitude", "dt", "range_distance", "gps_altitude", "gps_satellites",
+                    "gps_vertical_accuracy", "ground_effect")
+_BATCH_KEYWORDS = _UPDATE_KEYWORDS + ("out",)
+
+
+cdef int32_t _satellites(object value) except? -2:
+    """gps_satellites as a C int32 (as _kalman_glue.kalman_satellites; a plain int without a Python call)."""
+    cdef int overflow = 0
+    cdef long long count
+    if PyLong_CheckExact(value):
+        count = PyLong_AsLongLongAndOverflow(value, &overflow)
+        if overflow > 0 or count > 2147483647:
+            return 2147483647
+        return -1 if overflow < 0 or count < -1 else <int32_t>count
+    return _kalman_glue.kalman_satellites(value)
 
 
 def _checked_settings(values):
@@ -103,28 +124,44 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
             c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
             FusionAltitudeKalmanInitialiseWith(&self._c, &c)
 
-    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER)
-    def update(self, accel, baro_altitude, dt, *, range_distance=math.nan, gps_altitude=math.nan,
-               gps_satellites=None, gps_vertical_accuracy=None, ground_effect=False):
+    def update(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, range_distance=_UNSET, gps_altitude=_UNSET,
+               gps_satellites=_UNSET, gps_vertical_accuracy=_UNSET, ground_effect=_UNSET):
+        # Parsed here, not by a Python wrapper: keywords after accel (the contract) are the fast path;
+        # update(accel, baro_altitude, dt=...) is the contract too; other positional arguments after accel
+        # are the deprecated old order (_common.positional_after_accel: the same rules as the reference).
+        if args:
+            baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy, ground_effect = \
+                _common.positional_after_accel(
+                    type(self).__name__, "update", _UPDATE_KEYWORDS, _kalman_glue.KALMAN_LEGACY_ORDER, args,
+                    (baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
+                     ground_effect), _UNSET)
+        self._update(accel, baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
+                     ground_effect)
+
+    cdef int _update(self, accel, baro_altitude, dt, range_distance, gps_altitude, gps_satellites,
+                     gps_vertical_accuracy, ground_effect) except -1:
+        """update() after argument parsing: _UNSET is an argument left out (its default)."""
         cdef FusionAltitudeKalmanMeasurements m
         cdef double a = _as_double(accel, "accel")
-        cdef double t = _as_double(dt, "dt")
-        m.baroAltitude = <float>_as_double(baro_altitude, "baro_altitude")
-        m.rangeDistance = <float>_as_double(range_distance, "range_distance")
-        m.gpsAltitude = <float>_as_double(gps_altitude, "gps_altitude")
-        m.gpsVerticalAccuracy = math.nan if gps_vertical_accuracy is None else \
+        cdef double t = _as_double(None if dt is _UNSET else dt, "dt")
+        m.baroAltitude = NAN if baro_altitude is _UNSET else <float>_as_double(baro_altitude, "baro_altitude")
+        m.rangeDistance = NAN if range_distance is _UNSET else <float>_as_double(range_distance, "range_distance")
+        m.gpsAltitude = NAN if gps_altitude is _UNSET else <float>_as_double(gps_altitude, "gps_altitude")
+        m.gpsVerticalAccuracy = NAN if gps_vertical_accuracy is _UNSET or gps_vertical_accuracy is None else \
             <float>_as_double(gps_vertical_accuracy, "gps_vertical_accuracy")
-        m.gpsSatellites = _kalman_glue.kalman_satellites(gps_satellites)
-        m.groundEffect = bool(ground_effect)
+        m.gpsSatellites = -1 if gps_satellites is _UNSET or gps_satellites is None else _satellites(gps_satellites)
+        m.groundEffect = False if ground_effect is _UNSET else <bint>ground_effect
         cdef FusionAltitudeKalmanStatus status = FusionAltitudeKalmanUpdate(&self._c, <float>a, <float>t, &m)
         if status != FusionAltitudeKalmanStatusOk:
             _kalman_glue.raise_kalman_update_error(status, {
-                "accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
-                "gps_vertical_accuracy": gps_vertical_accuracy})
+                "accel": accel, "dt": dt, "baro_altitude": math.nan if baro_altitude is _UNSET else baro_altitude,
+                "gps_altitude": math.nan if gps_altitude is _UNSET else gps_altitude,
+                "gps_vertical_accuracy": None if gps_vertical_accuracy is _UNSET else gps_vertical_accuracy})
+        return 0
 
-    @argument_order(_kalman_glue.KALMAN_LEGACY_ORDER + ("out",))
-    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
-                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None):
+    def update_batch(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, range_distance=_UNSET,
+                     gps_altitude=_UNSET, gps_satellites=_UNSET, gps_vertical_accuracy=_UNSET, ground_effect=_UNSET,
+                     out=_UNSET):
         """Process arrays of steps, continuing from the current state.
 
         Parameters
@@ -161,6 +198,13 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         Equal, bit for bit, to calling :meth:`update` for each step. The loop
         runs with the GIL released.
         """
+        values = (baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
+                  ground_effect, out)
+        if args:  # as in update
+            values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
+                                                    _kalman_glue.KALMAN_LEGACY_ORDER + ("out",), args, values, _UNSET)
+        baro_altitude, dt, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy, ground_effect, \
+            out = [None if value is _UNSET else value for value in values]  # left out: None (no samples)
         n, inputs, steps, result = _kalman_glue.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
             ground_effect, out)
@@ -188,6 +232,8 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         cdef Py_ssize_t sr = steps["range_distance"], sg = steps["gps_altitude"]
         cdef Py_ssize_t sacc = steps["gps_vertical_accuracy"], ss = steps["gps_satellites"]
         cdef Py_ssize_t se = steps["ground_effect"]
+        if out is not None:
+            result = out  # the caller's object itself, filled
         if count == 0:
             return result
         with nogil:
@@ -293,6 +339,7 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
 
 
 _common.share_docstrings(KalmanEstimator, _reference_KalmanEstimator)
+_common.share_signatures(KalmanEstimator, _reference_KalmanEstimator, ("update", "update_batch"))
 
 
 def _restore(state):

@@ -173,13 +173,13 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
         cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
         cdef Py_ssize_t bad = -1
         if n == 0:
-            return result
+            return result if out is None else out  # out=: the caller's object itself
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &b[0], &r[0])
         if bad >= 0:
             _observer_glue.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                                               a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def settings(self):

@@ -7,10 +7,12 @@ import copy
 import inspect
 import math
 import pickle
+import re
 import subprocess
 import sys
 import threading
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Dict, Tuple
@@ -235,6 +237,61 @@ def test_the_old_positional_order_still_works_for_one_release_with_a_deprecation
     assert state(old) == state(new)
 
 
+# Call patterns of update(accel, ...): (positional arguments after accel, keyword arguments).
+CALLS = [
+    ((), {"baro_altitude": 12.0, "dt": 0.01}),  # the contract, by keyword: no warning
+    ((12.0,), {"dt": 0.01}),  # the contract with baro_altitude positional: no warning
+    ((), {"dt": 0.01}),  # baro_altitude left out: no sample
+    ((), {}),  # dt left out: TypeError naming dt
+    ((12.0,), {"dt": None}),
+    ((12.0,), {"dt": 0.01, "baro_altitude": 3.0}),  # given twice
+    ((0.01,), {}),  # the old order (accel, dt): warns
+    ((0.01, 12.0), {}),  # (accel, dt, baro_altitude): warns
+    ((0.01, 12.0, 3.0), {}),
+    ((0.01, 12.0), {"baro_altitude": 3.0}),  # old order, a name given twice: warns, then TypeError
+    ((0.01, 12.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0), {}),  # too many
+    ((0.01,), {"dt": 0.02, "baro_altitude": 3.0}),
+    ((), {"baro_altitude": 12.0, "dt": -1.0}),  # rejected by the C check: ValueError naming dt
+    ((), {"baro_altitude": "x", "dt": 0.01}),  # not a number: TypeError naming it
+]
+
+
+def _outcome(call):
+    """(result or exception type and message, [(category, message, file name)] of the warnings)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = ("ok", call())
+        except (TypeError, ValueError) as error:
+            # CPython and Cython word their own argument errors apart ("C.f() got multiple values for argument
+            # 'x'" / "f() got multiple values for keyword argument 'x'"): compare them without the difference
+            message = re.sub(r"^\w+\.(?=\w+\(\))", "", str(error)).replace("keyword argument", "argument")
+            result = (type(error).__name__, message)
+    return result, [(w.category.__name__, str(w.message), Path(w.filename).name) for w in caught]
+
+
+@pytest.mark.parametrize("row", LEGACY, ids=[row.estimator for row in LEGACY])
+@pytest.mark.parametrize("method", ["update", "update_batch"])
+def test_binding_and_reference_parse_update_arguments_alike(row, method):
+    """The bindings parse (accel, *args, **keywords) in Cython, the reference through _common.argument_order:
+    the same results, errors, warnings (pointing at the caller's line) and states for every call pattern."""
+    estimators = {name: getattr(impl, row.estimator)() for name, impl in IMPLEMENTATIONS.items()}
+    for args, kwargs in CALLS:
+        if method == "update_batch":  # the same pattern, one step long
+            args = tuple(np.array([value]) if isinstance(value, float) else value for value in args)
+            kwargs = {key: np.array([value]) if isinstance(value, float) and key != "dt" else value
+                      for key, value in kwargs.items()}
+        outcomes = {}
+        for name, estimator in estimators.items():
+            (kind, value), caught = _outcome(lambda: getattr(estimator, method)(0.1, *args, **kwargs))
+            outcomes[name] = ((kind, bits(tuple(value)) if kind == "ok" and value is not None else value), caught,
+                              state(estimator))
+        assert outcomes["c"] == outcomes["reference"], (args, kwargs)
+        (kind, _), caught, _ = outcomes["c"]
+        assert all(file == Path(__file__).name for _, _, file in caught), (args, kwargs)
+        assert bool(caught) == (len(args) > 1 or (len(args) == 1 and "dt" not in kwargs)), (args, kwargs)
+
+
 @by_row
 @by_impl
 @pytest.mark.parametrize("clone", [copy.copy, copy.deepcopy, lambda e: pickle.loads(pickle.dumps(e))],
@@ -302,8 +359,11 @@ def test_a_batch_writes_into_out_and_returns_it(impl, row):
     expected = getattr(impl, row.estimator)().update_batch(**inputs)
     out = type(expected)(*(np.full_like(array, 7) for array in expected))
     result = getattr(impl, row.estimator)().update_batch(**inputs, out=out)
-    assert all(a is b for a, b in zip(result, out))
+    assert result is out
     assert bits(tuple(result)) == bits(tuple(expected))
+    listed = [np.full_like(array, 7) for array in expected]  # any sequence of the arrays: that object comes back
+    assert getattr(impl, row.estimator)().update_batch(**inputs, out=listed) is listed
+    assert bits(tuple(listed)) == bits(tuple(expected))
 
 
 @by_row

@@ -332,3 +332,28 @@ def test_batch_writes_into_preallocated_out_arrays(impl):
     with pytest.raises(ValueError, match=r"out.covariance_diagonal must be a writeable contiguous float32 array"):
         impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro,
                                             out=out._replace(covariance_diagonal=np.empty((n, 4), np.float32)))
+
+
+SATELLITE_VALUES = [None, 0, 3, 9, 12, -1, -5, 2**31 - 1, 2**31, 2**40, -2**40, 9.0, 9.5, math.nan, True,
+                    np.int64(8), np.int32(5), np.float32(7.0), np.bool_(True), "9", 9 + 0j]
+ACCURACY_VALUES = [None, 1.5, 0.0, -1.0, math.nan, math.inf, 2, np.float32(2.5), "x"]
+
+
+def _per_sample_outcome(estimator, **keywords):
+    try:
+        estimator.update(0.1, baro_altitude=300.0, dt=DT, gps_altitude=320.0, **keywords)
+        outcome = "ok"
+    except (TypeError, ValueError) as error:
+        outcome = (type(error).__name__, str(error))
+    return outcome, estimator_bits(estimator)
+
+
+@pytest.mark.parametrize("keyword, values", [("gps_satellites", SATELLITE_VALUES),
+                                             ("gps_vertical_accuracy", ACCURACY_VALUES),
+                                             ("ground_effect", [False, True, None, 0, 1, "", "x", np.bool_(True)])])
+def test_per_sample_gps_and_ground_effect_arguments_match_the_reference(keyword, values):
+    """The binding converts these in Cython (a plain int, None and float without a Python call), the
+    reference in Python: the same state, or the same error naming the argument, for every kind of value."""
+    c, reference = fusion_altitude.KalmanEstimator(), fusion_altitude.reference.KalmanEstimator()
+    for value in values:
+        assert _per_sample_outcome(c, **{keyword: value}) == _per_sample_outcome(reference, **{keyword: value}), value

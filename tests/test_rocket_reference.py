@@ -220,3 +220,13 @@ def test_the_height_does_not_drop_more_than_1_m_in_the_ascent_with_drawn_bad_bar
     assert same_batch(c.update_batch(flight.accel, baro, flight.dt), r.update_batch(flight.accel, baro, flight.dt))
     assert c.events == r.events
     assert ascent_drop(CRocket, flight, baro) <= 1.0
+
+
+@pytest.mark.parametrize("estimator", [CRocket, RefRocket], ids=["c", "reference"])
+def test_a_batch_writes_into_out_and_returns_it(estimator):
+    accel = np.linspace(-1.0, 30.0, 200)
+    baro = np.linspace(300.0, 420.0, 200)
+    expected = estimator().update_batch(accel, baro, 0.01)
+    out = [np.full_like(array, 7) for array in expected]
+    assert estimator().update_batch(accel, baro, 0.01, out=out) is out
+    assert same_batch(out, expected)

@@ -315,7 +315,7 @@ class AlphaBetaFusion(Checkpointable):
                     result.weight[i, j] = f.weight
                     result.quality[i, j] = f.quality
         self._set_state(trial._get_state())
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def altitude(self) -> float:

@@ -220,7 +220,7 @@ class ComplementaryFilter(Checkpointable):
                 result.baro_filtered[i] = trial._zf
                 result.baro_velocity[i] = trial._vb
         self._set_state(trial._get_state())
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def altitude(self) -> float:

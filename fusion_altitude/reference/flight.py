@@ -434,7 +434,7 @@ class RocketEstimator(Checkpointable):
             result.phase[i] = trial._phase
             result.baro[i] = trial._baro
         self._set_state(trial._get_state())
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def settings(self) -> RocketSettings:

@@ -519,7 +519,7 @@ class KalmanEstimator(Checkpointable):
                 _kalman_glue.raise_kalman_update_error(status, values, i, {k: bool(v) for k, v in steps.items()})
             trial._record(result, i)
         self._set_state(trial._get_state())
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     def _record(self, result: KalmanBatch, i: int) -> None:
         x, P = self._x, self._P

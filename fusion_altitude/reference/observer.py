@@ -409,7 +409,7 @@ class AltitudeEstimator(Checkpointable):
         self._gap_time, self._gap_count = trial._gap_time, trial._gap_count
         self._since_restart = trial._since_restart
         self._reference_set = trial._reference_set
-        return result
+        return result if out is None else out  # out=: the caller's object itself
 
     @property
     def altitude(self) -> float:

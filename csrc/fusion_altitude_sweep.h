@@ -370,6 +370,39 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep
     return samplesInBlock;
 }
 
+/* true if FusionAltitudeCheckInputs accepts every sample: accel finite, baro
+ * finite or NaN, dt finite and > 0. A branch-free pass (it vectorizes), so
+ * that small sweeps do not pay a per-sample test; the per-sample tests run
+ * only to find the first rejected sample. */
+FUSION_ALTITUDE_SWEEP_INLINE bool FusionAltitudeSweepInputsValid(const float *const accel, const float *const baroAltitude,
+                                                                 const float *const dt, const size_t dtStride, const size_t samples) {
+    uint32_t invalid = 0u;
+    size_t t = 0u;
+    /* blocks of a constant 16 samples, so that gcc -O2 vectorizes them */
+    for (; (t + 16u) <= samples; t += 16u) {
+        uint32_t block[16];
+        for (size_t j = 0; j < 16u; j++) {
+            const uint32_t a = FusionAltitudeFloatBits(accel[t + j]);
+            const uint32_t z = FusionAltitudeFloatBits(baroAltitude[t + j]);
+            block[j] = (uint32_t) ((a & 0x7F800000u) == 0x7F800000u) | (uint32_t) ((z & 0x7FFFFFFFu) == 0x7F800000u);
+        }
+        for (size_t j = 0; j < 16u; j++) {
+            invalid |= block[j];
+        }
+    }
+    for (; t < samples; t++) {
+        const uint32_t a = FusionAltitudeFloatBits(accel[t]);
+        const uint32_t z = FusionAltitudeFloatBits(baroAltitude[t]);
+        invalid |= (uint32_t) ((a & 0x7F800000u) == 0x7F800000u) | (uint32_t) ((z & 0x7FFFFFFFu) == 0x7F800000u);
+    }
+    const size_t dtCount = (dtStride == 0u) ? ((samples > 0u) ? 1u : 0u) : samples;
+    for (size_t i = 0; i < dtCount; i++) {
+        const float step = dt[i * dtStride];
+        invalid |= (uint32_t) !FusionAltitudeIsFinite(step) | (uint32_t) !(step > 0.0f);
+    }
+    return invalid == 0u;
+}
+
 /**
  * @brief Runs every setting over samples inputs (the rules of
  * FusionAltitudeUpdate: baroAltitude NaN = no baro this step).
@@ -387,11 +420,13 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
                                                              const size_t dtStride, const size_t samples,
                                                              const FusionAltitudeSweepOutputs *const outputs,
                                                              FusionAltitudeSweepMetrics *const metrics, size_t *const badIndex) {
-    for (size_t t = 0; t < samples; t++) {
-        const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
-        if (status != FusionAltitudeStatusOk) {
-            *badIndex = t;
-            return status;
+    if (!FusionAltitudeSweepInputsValid(accel, baroAltitude, dt, dtStride, samples)) {
+        for (size_t t = 0; t < samples; t++) {
+            const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
+            if (status != FusionAltitudeStatusOk) {
+                *badIndex = t;
+                return status;
+            }
         }
     }
     if ((samples == 0u) || (sweep->count == 0u)) {
@@ -448,11 +483,17 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
         sweep->gapCount = shared.gapCount;
         sweep->referenceSet = shared.referenceSet;
         if (metrics != NULL) {
-            for (size_t t = start; t < start + length; t++) {
-                if (((metrics->mask == NULL) || (metrics->mask[t] != 0u)) && FusionAltitudeIsFinite(metrics->reference[t])) {
-                    metrics->metricSamples++;
+            size_t counted = 0u;
+            if (metrics->mask == NULL) {
+                for (size_t t = start; t < start + length; t++) {
+                    counted += (size_t) FusionAltitudeIsFinite(metrics->reference[t]);
+                }
+            } else {
+                for (size_t t = start; t < start + length; t++) {
+                    counted += (size_t) ((metrics->mask[t] != 0u) && FusionAltitudeIsFinite(metrics->reference[t]));
                 }
             }
+            metrics->metricSamples += counted;
             metrics->samplesInBlock = samplesInBlock;
         }
     }

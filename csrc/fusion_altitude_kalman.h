@@ -158,9 +158,9 @@ extern "C" {
 #if FUSION_ALTITUDE_KALMAN_VECTOR
 typedef float FusionAltitudeKalmanVector4 __attribute__((vector_size(16)));
 /* inlined into each of its three calls, so that the sensor's offset index is a constant there */
-#define FUSION_ALTITUDE_KALMAN_PROCESS_INLINE static inline __attribute__((always_inline))
+#define FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE __attribute__((always_inline))
 #else
-#define FUSION_ALTITUDE_KALMAN_PROCESS_INLINE static inline
+#define FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE
 #endif
 
 /** Number of altitude sensors (baro, rangefinder, GPS). */
@@ -744,7 +744,7 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
  * after inflating h and v (FusionAltitudeKalmanInflate over the streak) and b
  * (its initial variance) if no sensor was fused during the streak.
  */
-FUSION_ALTITUDE_KALMAN_PROCESS_INLINE void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
+static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
                                                const float z, const float y, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float c[FUSION_ALTITUDE_KALMAN_STATES];

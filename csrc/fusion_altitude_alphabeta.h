@@ -431,7 +431,7 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSetSettings(F
     return FusionAltitudeAlphaBetaStatusOk;
 }
 
-/** @return |value| (NaN stays NaN), without libm: one instruction (andps, vabs.f32, fabs.s) with gcc and clang. */
+/** Internal: @return |value| (NaN stays NaN), without libm: one instruction (andps, vabs.f32, fabs.s) with gcc and clang. */
 static inline float FusionAltitudeAlphaBetaAbs(const float value) {
 #if defined(__GNUC__) || defined(__clang__)
     return __builtin_fabsf(value);

@@ -156,6 +156,25 @@ static inline void FusionAltitudeSweepFlushMetrics(const FusionAltitudeSweep *co
  */
 #define FUSION_ALTITUDE_SWEEP_LANES (32)
 
+/*
+ * 1 (the default with gcc and clang compiling C): sweeps of up to 8 settings
+ * keep their states in 8-float vector registers (FusionAltitudeSweepChunk8);
+ * 0: the lane arrays, as wider chunks. Both give the same bits.
+ */
+#ifndef FUSION_ALTITUDE_SWEEP_VECTOR
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__cplusplus)
+#define FUSION_ALTITUDE_SWEEP_VECTOR 1
+#else
+#define FUSION_ALTITUDE_SWEEP_VECTOR 0
+#endif
+#endif
+
+#if FUSION_ALTITUDE_SWEEP_VECTOR
+typedef float FusionAltitudeSweepVector8 __attribute__((vector_size(32)));
+typedef float FusionAltitudeSweepUnaligned8 __attribute__((vector_size(32), aligned(4))); /* 8 floats anywhere in memory */
+typedef int32_t FusionAltitudeSweepMask8 __attribute__((vector_size(32)));
+#endif
+
 /* Copies width lanes into output row data[offset...] (nothing if data is NULL);
  * a full chunk copies a constant number of lanes, which compiles to vector stores. */
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCopyRow(float *const data, const size_t offset, const float *const values,
@@ -370,6 +389,179 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep
     return samplesInBlock;
 }
 
+#if FUSION_ALTITUDE_SWEEP_VECTOR
+/* FusionAltitudeSweepChunk for 8 lanes with the states in vector registers
+ * (gcc/clang vector extensions) instead of the lane arrays: with few settings
+ * the time step is a chain of dependent operations per lane, and keeping h, v
+ * and b in memory between steps lengthened it by a store and a reload. Each
+ * lane does the operations of FusionAltitudeSweepStep and
+ * FusionAltitudeSweepAccumulate in their order, so the same bits. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSweep *const sweep, const size_t first, const size_t width,
+                                                             const float *const accel, const float *const baroAltitude, const float *const dt,
+                                                             const size_t dtStride, const size_t samples,
+                                                             const FusionAltitudeSweepOutputs *const outputs,
+                                                             FusionAltitudeSweepMetrics *const metrics, FusionAltitudeSweepShared *const shared) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    typedef FusionAltitudeSweepMask8 M;
+    typedef FusionAltitudeSweepUnaligned8 U;
+    FusionAltitudeSweepLanes x;
+    FusionAltitudeSweepLoad(sweep, metrics, first, width, 8u, &x);
+    V kh, kv, kb, h, v, b, r, sum, sumSquared, maxAbs;
+    kh = *(const U *) x.kh;
+    kv = *(const U *) x.kv;
+    kb = *(const U *) x.kb;
+    h = *(const U *) x.h;
+    v = *(const U *) x.v;
+    b = *(const U *) x.b;
+    r = *(const U *) x.r;
+    sum = *(const U *) x.sum;
+    sumSquared = *(const U *) x.sumSquared;
+    maxAbs = *(const U *) x.maxAbs;
+    const float nanValue = FusionAltitudeNaN();
+    const V zeros = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    const V nans = {nanValue, nanValue, nanValue, nanValue, nanValue, nanValue, nanValue, nanValue};
+    const V hold = {FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD,
+                    FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD};
+    size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
+    for (size_t t = 0; t < samples; t++) {
+        const float step = dt[t * dtStride];
+        const float z = baroAltitude[t];
+        FusionAltitudeSweepTiming(shared, step, sweep->gapPeriod);
+        const V steps = {step, step, step, step, step, step, step, step};
+        const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};
+        const V zs = {z, z, z, z, z, z, z, z};
+        if (FusionAltitudeIsNaN(z)) {
+            if (shared->referenceSet) {
+                v += (as - b) * steps;
+                h += v * steps;
+            }
+            r = nans;
+        } else if (!shared->referenceSet) {
+            const float gapTime = shared->gapTime;
+            if (gapTime > 0.0f) {
+                shared->sinceRestart = 0.0f;
+                const V gapTimes = {gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime};
+                v = (zs - h) / gapTimes;
+            } else {
+                v = zeros;
+            }
+            h = zs;
+            r = zeros;
+            shared->gapTime = 0.0f;
+            shared->referenceSet = true;
+        } else {
+            const V residual = zs - h;
+            v += ((as - b) + kv * residual) * steps;
+            h += (v + kh * residual) * steps;
+            const V corrected = b - (kb * residual) * steps;
+            if (shared->sinceRestart < 0.0f) {
+                b = corrected;
+            } else {
+                const float since = shared->sinceRestart;
+                const V sinces = {since, since, since, since, since, since, since, since};
+                const M held = (M) (sinces * kh < hold); /* lanes still holding their bias: all ones */
+                b = (V) (((M) b & held) | ((M) corrected & ~held));
+            }
+            r = residual;
+        }
+        if (outputs != NULL) {
+            const size_t offset = t * outputs->stride + first;
+            if (width == 8u) {
+                if (outputs->altitude != NULL) {
+                    *(U *) &outputs->altitude[offset] = h;
+                }
+                if (outputs->verticalVelocity != NULL) {
+                    *(U *) &outputs->verticalVelocity[offset] = v;
+                }
+                if (outputs->accelBias != NULL) {
+                    *(U *) &outputs->accelBias[offset] = b;
+                }
+                if (outputs->baroResidual != NULL) {
+                    *(U *) &outputs->baroResidual[offset] = r;
+                }
+            } else {
+                float lanes[4][8];
+                *(U *) lanes[0] = h;
+                *(U *) lanes[1] = v;
+                *(U *) lanes[2] = b;
+                *(U *) lanes[3] = r;
+                FusionAltitudeSweepCopyRow(outputs->altitude, offset, lanes[0], width, 8u);
+                FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, lanes[1], width, 8u);
+                FusionAltitudeSweepCopyRow(outputs->accelBias, offset, lanes[2], width, 8u);
+                FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, lanes[3], width, 8u);
+            }
+        }
+        if ((metrics != NULL) && ((metrics->mask == NULL) || (metrics->mask[t] != 0u)) &&
+            FusionAltitudeIsFinite(metrics->reference[t])) {
+            const float reference = metrics->reference[t];
+            const V references = {reference, reference, reference, reference, reference, reference, reference, reference};
+            const V error = h - references;
+            const M negative = (M) (error < zeros);
+            const V absolute = (V) (((M) (-error) & negative) | ((M) error & ~negative));
+            sum += error;
+            sumSquared += error * error;
+            const M larger = (M) (absolute > maxAbs);
+            maxAbs = (V) (((M) absolute & larger) | ((M) maxAbs & ~larger));
+            if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
+                float sums[2][8];
+                *(U *) sums[0] = sum;
+                *(U *) sums[1] = sumSquared;
+                for (size_t j = 0; j < width; j++) {
+                    metrics->sumError[first + j] += sums[0][j];
+                    metrics->sumSquaredError[first + j] += sums[1][j];
+                }
+                sum = zeros;
+                sumSquared = zeros;
+                samplesInBlock = 0;
+            }
+        }
+    }
+    *(U *) x.h = h;
+    *(U *) x.v = v;
+    *(U *) x.b = b;
+    *(U *) x.r = r;
+    *(U *) x.sum = sum;
+    *(U *) x.sumSquared = sumSquared;
+    *(U *) x.maxAbs = maxAbs;
+    FusionAltitudeSweepStore(sweep, metrics, first, width, &x);
+    return samplesInBlock;
+}
+#endif
+
+/* true if FusionAltitudeCheckInputs accepts every sample: accel finite, baro
+ * finite or NaN, dt finite and > 0. A branch-free pass (it vectorizes), so
+ * that small sweeps do not pay a per-sample test; the per-sample tests run
+ * only to find the first rejected sample. */
+FUSION_ALTITUDE_SWEEP_INLINE bool FusionAltitudeSweepInputsValid(const float *const accel, const float *const baroAltitude,
+                                                                 const float *const dt, const size_t dtStride, const size_t samples) {
+    uint32_t invalid = 0u;
+    size_t t = 0u;
+    /* blocks of a constant 16 samples, so that gcc -O2 vectorizes them */
+    for (; (t + 16u) <= samples; t += 16u) {
+        uint32_t block[16];
+        for (size_t j = 0; j < 16u; j++) {
+            const uint32_t a = FusionAltitudeFloatBits(accel[t + j]);
+            const uint32_t z = FusionAltitudeFloatBits(baroAltitude[t + j]);
+            block[j] = (uint32_t) ((a & 0x7F800000u) == 0x7F800000u) | (uint32_t) ((z & 0x7FFFFFFFu) == 0x7F800000u);
+        }
+        for (size_t j = 0; j < 16u; j++) {
+            invalid |= block[j];
+        }
+    }
+    for (; t < samples; t++) {
+        const uint32_t a = FusionAltitudeFloatBits(accel[t]);
+        const uint32_t z = FusionAltitudeFloatBits(baroAltitude[t]);
+        invalid |= (uint32_t) ((a & 0x7F800000u) == 0x7F800000u) | (uint32_t) ((z & 0x7FFFFFFFu) == 0x7F800000u);
+    }
+    const size_t dtCount = (dtStride == 0u) ? ((samples > 0u) ? 1u : 0u) : samples;
+    for (size_t i = 0; i < dtCount; i++) {
+        const float step = dt[i * dtStride];
+        invalid |= (uint32_t) !FusionAltitudeIsFinite(step) | (uint32_t) !(step > 0.0f);
+    }
+    return invalid == 0u;
+}
+
 /**
  * @brief Runs every setting over samples inputs (the rules of
  * FusionAltitudeUpdate: baroAltitude NaN = no baro this step).
@@ -387,11 +579,13 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
                                                              const size_t dtStride, const size_t samples,
                                                              const FusionAltitudeSweepOutputs *const outputs,
                                                              FusionAltitudeSweepMetrics *const metrics, size_t *const badIndex) {
-    for (size_t t = 0; t < samples; t++) {
-        const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
-        if (status != FusionAltitudeStatusOk) {
-            *badIndex = t;
-            return status;
+    if (!FusionAltitudeSweepInputsValid(accel, baroAltitude, dt, dtStride, samples)) {
+        for (size_t t = 0; t < samples; t++) {
+            const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
+            if (status != FusionAltitudeStatusOk) {
+                *badIndex = t;
+                return status;
+            }
         }
     }
     if ((samples == 0u) || (sweep->count == 0u)) {
@@ -435,8 +629,13 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             shared.referenceSet = sweep->referenceSet;
             /* constant lane counts, so that each call compiles to fixed-width vector code */
             if (width <= 8u) {
+#if FUSION_ALTITUDE_SWEEP_VECTOR
+                samplesInBlock = FusionAltitudeSweepChunk8(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
+                                                           dtStride, length, chunkOutputs, chunkMetrics, &shared);
+#else
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
                                                           dtStride, length, chunkOutputs, chunkMetrics, 8u, &shared);
+#endif
             } else {
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
                                                           dtStride, length, chunkOutputs, chunkMetrics, (size_t) FUSION_ALTITUDE_SWEEP_LANES,
@@ -448,11 +647,17 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
         sweep->gapCount = shared.gapCount;
         sweep->referenceSet = shared.referenceSet;
         if (metrics != NULL) {
-            for (size_t t = start; t < start + length; t++) {
-                if (((metrics->mask == NULL) || (metrics->mask[t] != 0u)) && FusionAltitudeIsFinite(metrics->reference[t])) {
-                    metrics->metricSamples++;
+            size_t counted = 0u;
+            if (metrics->mask == NULL) {
+                for (size_t t = start; t < start + length; t++) {
+                    counted += (size_t) FusionAltitudeIsFinite(metrics->reference[t]);
+                }
+            } else {
+                for (size_t t = start; t < start + length; t++) {
+                    counted += (size_t) ((metrics->mask[t] != 0u) && FusionAltitudeIsFinite(metrics->reference[t]));
                 }
             }
+            metrics->metricSamples += counted;
             metrics->samplesInBlock = samplesInBlock;
         }
     }

@@ -207,7 +207,7 @@ HOBBY_ESTIMATORS = {
         "FusionAltitudeComplementaryRestart"}),
     "alphabeta": ("FusionAltitudeAlphaBeta", "ALPHABETA_FUNCTIONS", {
         "FusionAltitudeAlphaBetaSensor", "FusionAltitudeAlphaBetaInfinity", "FusionAltitudeAlphaBetaClear",
-        "FusionAltitudeAlphaBetaIsInfinite", "FusionAltitudeAlphaBetaStart", "FusionAltitudeAlphaBetaFilterStep",
+        "FusionAltitudeAlphaBetaIsInfinite", "FusionAltitudeAlphaBetaAbs", "FusionAltitudeAlphaBetaStart", "FusionAltitudeAlphaBetaFilterStep",
         "FusionAltitudeAlphaBetaStep"}),
 }
 

@@ -253,8 +253,15 @@ def _check_out(out, n: int) -> "InsBatch":
     """out, checked (shapes, dtypes, C-contiguous, writeable), or new arrays when None."""
     if out is None:
         return InsBatch.empty(n)
-    if not isinstance(out, InsBatch):
-        raise TypeError(f"out must be an InsBatch, got {type(out).__name__}")
+    if not isinstance(out, InsBatch):  # any sequence of the eight arrays, in InsBatch's order, as for every batch
+        try:
+            fields = list(out)
+        except TypeError:
+            raise TypeError(f"out must be an InsBatch or a sequence of its 8 arrays, got {type(out).__name__}") \
+                from None
+        if len(fields) != 8:
+            raise TypeError(f"out must be an InsBatch or a sequence of its 8 arrays, got {len(fields)} items")
+        out = InsBatch(*fields)
     for field, (tail, dtype) in _SHAPES.items():
         array = getattr(out, field)
         if not (isinstance(array, np.ndarray) and array.shape == (n, *tail) and array.dtype == dtype

@@ -177,3 +177,13 @@ def test_run_turns_body_accelerometer_columns_and_a_quaternion_into_vertical_acc
                  "--attitude-columns", "qw,qx,qy,qz", "--baro", "alt", "-o", str(out)]) == 0
     table = np.genfromtxt(out, delimiter=",", names=True)
     np.testing.assert_allclose(table["vertical_acceleration"], up, atol=1e-4)
+
+
+@pytest.mark.parametrize("command", ["run", "fit", "compare"])
+def test_ground_temperature_log_on_cats_is_refused_in_one_line(shared_data, command, capsys):
+    argv = [command, str(shared_data / "hedy_baro.csv"), "--ground-temperature", "log"]
+    assert main(argv + (["--repeat", "0"] if command == "compare" else [])) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert "board temperature" in err and "column 'T'" in err
+

@@ -670,7 +670,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     scored_until = split if split is not None else float(time[-1])
     scored = scored_until - (time[0] + skip)
     if split is not None and scored <= 0:
-        raise CliError(f"--train-until {args.train_until} is within the first --skip {skip:g} s: nothing to train on")
+        given = "" if args.skip is not None or not args.file else " (the default on a log; give a shorter --skip)"
+        raise CliError(f"--train-until {args.train_until} is within the first --skip {skip:g} s{given}: nothing to "
+                       "train on")
     slowest = 1.0 / (0.3 * 0.7)  # s: time constant of the default bias loop (ω_b = 0.3 rad/s)
     if scored < 3 * slowest:
         print(f"warning: the fit is scored over only {scored:.1f} s of data, less than 3 time constants of the "

@@ -503,12 +503,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     data = _load(args, progress)
     estimator = _run_estimator(args, data)
     if estimator == "observer":
-        _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
+        if args.preset is None:
+            args.preset = _default_preset(data)
+        else:
+            _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
     options = {"long_axis": LONG_AXES[args.long_axis]} if args.long_axis else {}
     with progress.stage("estimating") as bar:
         try:
-            run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=estimator,
-                                 agl=args.agl, **options)
+            run = runner.run_log(data, AltitudeSettings.preset(args.preset) if args.preset else None, progress=bar,
+                                 estimator=estimator, agl=args.agl, **options)
         except ValueError as error:  # e.g. an INS input out of range, named by the binding
             raise CliError(f"{data.source}: {error}") from None
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
@@ -537,6 +540,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     print(format_table([""] + [name for name, _ in columns], rows))
     if hasattr(run.estimate, "accel_bias"):
         print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
+    if getattr(run, "gap_count", None) is not None:
+        period = f" (dt > {run.gap_period:.3g} s)" if getattr(run, "gap_period", None) is not None else ""
+        print(f"gaps met by the estimator{period}: {run.gap_count}")
     if estimator == "ins":
         e = run.estimate
         print(f"final INS state: roll {float(e.roll[-1]):+.2f}°, pitch {float(e.pitch[-1]):+.2f}°, "
@@ -579,17 +585,42 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _default_preset(data) -> str:
+    """The observer preset ``run`` uses without ``--preset`` (:func:`fusion_altitude.runner.default_preset`); a
+    change from vtol is said on stderr."""
+    from . import runner, tuning
+    from ._observer import AltitudeSettings
+
+    name = runner.default_preset(data)
+    steps = tuning.steps_per_baro(data.baro_altitude)
+    if name != "vtol":
+        print(f"note: the default preset vtol is unstable at this log's rate (nominal period "
+              f"{runner.nominal_period(data.time):g} s, baro on 1 of {steps:.2f} steps): running preset {name}, the "
+              "fastest one stable there", file=sys.stderr)
+    elif not tuning._stable_at(AltitudeSettings.preset(name), runner.nominal_period(data.time) * steps):
+        _warn_if_unstable(AltitudeSettings.preset(name), data, "the default preset vtol")
+    return name
+
+
 def _warn_if_unstable(settings, data, what: str) -> None:
     """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
-    period (the estimate would diverge)."""
+    period. The gap period follows the log's rate (:func:`fusion_altitude.tuning.gap_period_for`), so the
+    observer integrates every step of a slow log and unstable gains really diverge; the warning names the
+    presets that are stable at this rate."""
     from . import runner, tuning
+    from ._observer import AltitudeSettings
 
     steps = tuning.steps_per_baro(data.baro_altitude)
-    period = runner.nominal_period(data.time) * steps
+    nominal = runner.nominal_period(data.time)
+    period = nominal * steps
     if not tuning._stable_at(settings, period):
-        print(f"warning: {what} is unstable with the baro on 1 of {steps:.2f} steps of "
-              f"{runner.nominal_period(data.time):g} s (Jury's test at {period:g} s): the estimate will diverge; "
-              "choose a slower preset (balloon, fixed_wing) or fit the gains", file=sys.stderr)
+        stable = [name for name in ("balloon", "fixed_wing", "vtol", "racing", "rocket")
+                  if tuning._stable_at(AltitudeSettings.preset(name), period)]
+        advice = (f"presets stable at this rate: {', '.join(stable)}; or fit the gains" if stable
+                  else "no preset is stable at this rate: fit the gains")
+        print(f"warning: {what} is unstable at this log's rate (nominal period {nominal:g} s, baro on 1 of "
+              f"{steps:.2f} steps: Jury's test at {period:g} s fails): the estimate diverges; {advice}",
+              file=sys.stderr)
 
 
 # ----------------------------------------------------------------------------
@@ -870,8 +901,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--long-axis", choices=list(LONG_AXES), metavar="{+X,-X,+Y,-Y,+Z,-Z}",
                      help="rocket: accelerometer axis pointing to the nose (default: the axis carrying gravity in "
                           "the first second of the log)")
-    run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing", "rocket"),
-                     help="observer gains (default vtol)")
+    run.add_argument("--preset", default=None, choices=("balloon", "fixed_wing", "vtol", "racing", "rocket"),
+                     help="observer gains (default vtol; on a log too slow for vtol the fastest preset stable at "
+                          "its rate, said on stderr)")
     run.add_argument("-o", "--output", metavar="OUT.csv",
                      help="write the estimates per sample (full precision; never the input file)")
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")

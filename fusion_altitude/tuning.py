@@ -28,8 +28,38 @@ from ._observer import AltitudeSettings
 MIN_SETTINGS_PER_THREAD = 64
 
 
+#: A log's update longer than this many nominal (median) periods is a gap (:func:`gap_period_for`).
+GAP_PERIODS = 10.0
+
+#: The observer's default gap period, s (C FUSION_ALTITUDE_DEFAULT_GAP_PERIOD).
+DEFAULT_GAP_PERIOD = 0.5
+
+
+def nominal_dt(dt) -> float:
+    """The nominal sample period of per-sample periods ``dt`` (s): the median of the finite positive ones
+    (a scalar is its own), taken from their float32 values as the C cores see them; 0 when there is none.
+    Gaps do not move it."""
+    values = np.asarray(dt, dtype=np.float32).astype(np.float64).reshape(-1)  # as the cores see it
+    values = values[np.isfinite(values) & (values > 0)]
+    return float(np.median(values)) if values.size else 0.0
+
+
+def gap_period_for(dt, default: float = DEFAULT_GAP_PERIOD) -> float:
+    """The gap period for a log, s: ``max(default, GAP_PERIODS × nominal dt)``.
+
+    An estimator's default gap period (0.5 s; 1.5 s for the alpha-beta fusion)
+    is made for 50–1000 Hz updates. On a slow log (a 1 Hz CSV) every step
+    would exceed it, every step would be a gap and the estimate would silently
+    be the raw baro; ten nominal periods keep a real logging gap a gap at any
+    rate. ``run``, ``compare``, ``fit`` (and the fleet fit, through
+    :func:`sweep`) all use this one rule.
+    """
+    return max(float(default), GAP_PERIODS * nominal_dt(dt))
+
+
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
-          threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None) -> SweepResult:
+          threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None,
+          gap_period: Optional[float] = None) -> SweepResult:
     """Run K observer settings over one input stream.
 
     Parameters
@@ -56,6 +86,10 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     out : AltitudeBatch or sequence of 4 arrays, optional
         Preallocated C-contiguous float32 (T, K) arrays for the outputs (implies
         ``outputs=True``); reusing them avoids page faults on large sweeps.
+    gap_period : float, optional
+        s, shared by every setting: a step whose dt exceeds it is a gap (as
+        ``AltitudeSettings.gap_period``); default :func:`gap_period_for` of
+        ``dt`` (0.5 s, or ten nominal periods on a log slower than 20 Hz).
 
     Returns
     -------
@@ -79,6 +113,9 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         except ValueError as error:
             raise ValueError(f"settings[{k}]: {error}") from None
     n, count = accel32.shape[0], gains.shape[0]
+    gap_period = gap_period_for(dt32 if dt_is_array else dt32[:1]) if gap_period is None else float(gap_period)
+    if not gap_period > 0:
+        raise ValueError(f"gap_period must be > 0 (s; +inf: never a gap), got {gap_period!r}")
     gains_by_row = np.ascontiguousarray(gains.T)
     state = np.empty((4, count), np.float32)
     output_arrays = _observer_glue.output_arrays((n, count), out) if outputs else None
@@ -92,7 +129,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
 
     def run(part: int) -> Tuple[int, int, int]:
         return _sweep.run(accel32, baro32, dt32, dt_is_array, gains_by_row, int(bounds[part]), int(bounds[part + 1]),
-                          state, output_arrays, metric_arrays, reference32, mask8)
+                          state, output_arrays, metric_arrays, reference32, mask8, gap_period)
 
     if threads == 1:
         results = [run(0)]

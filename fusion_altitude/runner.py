@@ -219,9 +219,8 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
     # dt, ...) argument order alike
     settings = options.get("kalman_settings")
     if settings is None and getattr(data, "vehicle", None) == "rocket":
-        # The general defaults are fragile on a rocket: a saturated boost and a baro hundreds of metres low near
-        # Mach 1 drive long rejection streaks (on the Hedy flight 15.9 m or 476.6 m RMS, depending on a 1 cm
-        # shift of the baro datum); the rocket settings follow the flight (14.1 m either way).
+        # The rocket settings follow a rocket flight a little better than the general defaults (on the Hedy
+        # flight 14.36 m against 15.88 m RMS; docs/kalman.md, "Real rocket log").
         from .rocket import rocket_kalman_settings
         settings = rocket_kalman_settings()
     if settings is None:

@@ -722,12 +722,16 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 result = held_out.fit
         except ValueError as error:
             raise CliError(str(error)) from None
-    counted = (time > time[0] + skip) & (time < scored_until)
+    counted = tuning.without_gap_transients(_sample_periods(time), (time > time[0] + skip) & (time < scored_until))
+    gaps = int(np.count_nonzero(_sample_periods(time) > tuning.gap_period_for(_sample_periods(time))))
     baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
         if np.isfinite((baro - reference)[counted]).any() else math.nan
     gains = result.settings
     print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
           + (f", trained before {split - time[0]:.2f} s" if split is not None else ""))
+    if gaps:
+        print(f"{gaps} logging gap(s): the {tuning.GAP_SETTLING:.2f} s after each are left out of every RMS below "
+              "(every candidate restarts there)")
     if steps > 1.0:
         print(f"baro on 1 of {steps:.2f} steps: gains compensated for the baro rate, as `run` and `compare` do")
     print(f"best of {len(result.landscape)} stable candidates (checked at the nominal period): "

@@ -653,6 +653,7 @@ class _FitMeta(NamedTuple):
     error: str
     samples: int
     max_dt: float
+    nominal_dt: float = math.nan
 
 
 def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_FitInputs, _FitMeta]:
@@ -667,9 +668,10 @@ def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_Fi
         if data.reference_altitude is None:
             raise ValueError(f"{data.source} has no reference altitude")
         time = np.asarray(data.time, dtype=float)
-        mask = time >= time[0] + skip
-        inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude,
-                            adapter.sample_periods(time), data.reference_altitude, mask)
+        dt = adapter.sample_periods(time)
+        mask = adapter.without_gap_transients(dt, time >= time[0] + skip)  # as tuning.fit scores
+        inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude, dt,
+                            data.reference_altitude, mask)
         adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [adapter.default_settings()],
                       inputs.reference, inputs.mask)  # checks the inputs once, naming the problem
         return inputs
@@ -681,7 +683,9 @@ def _fit_meta(inputs: Union[_FitInputs, _FitMeta]) -> _FitMeta:
     if isinstance(inputs, _FitMeta):
         return inputs
     dt = np.asarray(inputs.dt, dtype=np.float64)
-    return _FitMeta(inputs.log_id, inputs.path, "", int(dt.size), float(np.max(dt)) if dt.size else 0.0)
+    positive = dt[np.isfinite(dt) & (dt > 0)]
+    return _FitMeta(inputs.log_id, inputs.path, "", int(dt.size), float(np.max(dt)) if dt.size else 0.0,
+                    float(np.median(positive)) if positive.size else 0.0)  # the nominal dt as tuning.fit takes it
 
 
 def _sweep_sums(inputs: _FitInputs, gains: np.ndarray) -> Tuple[int, np.ndarray]:
@@ -844,7 +848,7 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
         if not usable:
             raise ValueError("paths_or_globs: no usable training log"
                              + (f"; first: {excluded[0][0]}: {excluded[0][1]}" if excluded else ""))
-        dt_check = max(meta.max_dt for _, meta in usable)
+        dt_check = max(meta.nominal_dt for _, meta in usable)  # tuning.fit: Jury at the nominal period, not a gap's
         samples_seen = {}
 
         def evaluate_rms(gains: np.ndarray) -> np.ndarray:

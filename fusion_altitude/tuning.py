@@ -57,6 +57,50 @@ def gap_period_for(dt, default: float = DEFAULT_GAP_PERIOD) -> float:
     return max(float(default), GAP_PERIODS * nominal_dt(dt))
 
 
+#: s after each logging gap left out of every fit metric (:func:`without_gap_transients`): one time constant of
+#: the default gains' bias loop, 1/(ζ·ω_b) = 1/(0.7 × 0.3 rad/s) ≈ 4.76 s.
+GAP_SETTLING = 1.0 / (0.7 * 0.3)
+
+
+def without_gap_transients(dt, mask=None, window: float = GAP_SETTLING):
+    """``mask`` with the samples of each logging gap's transient cleared: from the first sample after a gap
+    (a dt above :func:`gap_period_for` of ``dt``) to ``window`` s after it.
+
+    Every candidate restarts after a gap, and its restart transient (fast
+    gains settle sooner) would otherwise rank the gains: on the simulated
+    ``realistic`` flight with one 2 s gap in the training part the fit
+    chose ω = 4.9 rad/s (held-out RMS 0.035 m against the default's 0.028 m);
+    with the window it chooses ω = 1.43 rad/s as on the log without a gap
+    (0.0271 m). :func:`fit`, :func:`fit_held_out` and the fleet fit all
+    score through it.
+
+    Parameters
+    ----------
+    dt : float or array_like
+        Per-sample periods, s (a scalar: no gap).
+    mask : array_like of bool, optional
+        Samples that count; None: all.
+    window : float
+        s after the first sample after each gap.
+
+    Returns
+    -------
+    numpy.ndarray of bool or None
+        The mask (a new array), or ``mask`` unchanged (None stays None) when there is no gap.
+    """
+    values = np.asarray(dt, dtype=np.float64)
+    if values.ndim == 0:
+        return mask
+    gaps = np.flatnonzero(values.astype(np.float32) > np.float32(gap_period_for(values)))
+    if gaps.size == 0:
+        return mask
+    time = np.cumsum(values)
+    keep = np.ones(values.size, dtype=bool) if mask is None else np.array(mask, dtype=bool, copy=True)
+    for index in gaps:
+        keep[(time >= time[index]) & (time < time[index] + window)] = False
+    return keep
+
+
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
           threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None,
           gap_period: Optional[float] = None) -> SweepResult:
@@ -210,7 +254,8 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     point. Every candidate must pass Routh–Hurwitz and Jury's test at the
     log's nominal period (``stability_dt``, default the median ``dt``, so a
     logging gap does not rule out every useful gain); the metric is the RMS
-    of altitude − reference over ``mask``.
+    of altitude − reference over ``mask``, without the transient after each
+    logging gap (:func:`without_gap_transients`).
 
     Parameters
     ----------
@@ -252,6 +297,7 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     low, high = (float(v) for v in omega_range)
     if not (0 < low < high and math.isfinite(high)):
         raise ValueError(f"omega_range must be 0 < low < high, got ({low:g}, {high:g})")
+    mask = without_gap_transients(dt, mask)
     evaluated = {}
     total = refinements + 2
     done = [0]
@@ -333,7 +379,8 @@ def fit_held_out(time, accel, baro_altitude, reference, train_until: float, skip
         As for :func:`fit` (m/s², m, m).
     train_until : float
         Absolute time, s: samples before it (and after ``skip``) train, the
-        samples from it on are held out. The whole log is run in both cases
+        samples from it on are held out (both without the transient after
+        each logging gap, :func:`without_gap_transients`). The whole log is run in both cases
         (the held-out part starts from the state the training part left).
     skip : float, default 0
         Seconds after the first sample left out of the training metric.
@@ -362,7 +409,7 @@ def fit_held_out(time, accel, baro_altitude, reference, train_until: float, skip
     result = fit(accel, baro_altitude, dt, reference, mask=train, **fit_options)
     factor = max(float(fit_options.get("steps_per_baro", 1.0)), 1.0)
     scores = sweep(accel, baro_altitude, dt, np.array([result.settings.as_tuple(), AltitudeSettings().as_tuple()])
-                   * factor, reference=reference, mask=held_out)
+                   * factor, reference=reference, mask=without_gap_transients(dt, held_out))
     fitted_rms, default_rms = (float(v) for v in scores.rms_error)
     generalises = bool(fitted_rms <= default_rms)
     return HeldOutFit(result, result.settings if generalises else AltitudeSettings(), fitted_rms, default_rms,

@@ -675,64 +675,64 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
                                                const float z, const float y, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float c[FUSION_ALTITUDE_KALMAN_STATES];
-    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-        c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
-    }
-    const float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
-    const float nis = (y * y) / S;
-    sensor->innovation = y;
-    sensor->innovationVariance = S;
-    sensor->nis = nis;
-    const float gate = k->settings.gate;
-    if (!(nis > gate * gate)) {
-        FusionAltitudeKalmanFuse(k, c, S, y);
-        k->sinceFused = 0.0f;
-        sensor->rejecting = false;
-        sensor->rejectingFor = 0.0f;
-        sensor->result = FusionAltitudeKalmanResultFused;
-        return;
-    }
-    sensor->rejections++;
-    if (!sensor->rejecting) {
-        sensor->rejecting = true;
-        sensor->rejectingFor = 0.0f;
-    }
-    if (sensor->rejectingFor > k->settings.rejectionTimeout) {
-        if (k->sinceFused >= sensor->rejectingFor) { /* nothing fused during the streak: the state is suspect */
+    float S = R;
+    FusionAltitudeKalmanResult result = FusionAltitudeKalmanResultFused;
+    /* Pass 0 gates the sample; pass 1 (only after a suspect streak, baro or GPS) recomputes c and S with the
+     * inflated P. One fusion call for both, so FusionAltitudeKalmanFuse is inlined once. */
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+            c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
+        }
+        S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
+        const float nis = (y * y) / S;
+        sensor->innovation = y;
+        sensor->innovationVariance = S;
+        sensor->nis = nis;
+        const float gate = k->settings.gate;
+        if ((pass == 1) || !(nis > gate * gate)) {
+            break; /* fuse */
+        }
+        sensor->rejections++;
+        if (!sensor->rejecting) {
+            sensor->rejecting = true;
+            sensor->rejectingFor = 0.0f;
+        }
+        if (!(sensor->rejectingFor > k->settings.rejectionTimeout)) {
+            sensor->result = FusionAltitudeKalmanResultRejected;
+            return;
+        }
+        result = FusionAltitudeKalmanResultReset;
+        const bool suspect = k->sinceFused >= sensor->rejectingFor; /* nothing fused during the streak */
+        if (suspect) {
             FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
             if (k->settings.estimateAccelBias) {
                 k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] +=
                     k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
             }
-            if (o >= 0) { /* the sample is fused with the inflated P: it corrects h (and, from the next samples, v);
-                           * re-basing the offset instead would keep the wrong h and v (see the file comment) */
-                for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-                    c[i] = k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o];
-                }
-                const float inflatedS = (c[FusionAltitudeKalmanStateHeight] + c[o]) + R;
-                sensor->innovationVariance = inflatedS;
-                sensor->nis = (y * y) / inflatedS;
-                FusionAltitudeKalmanFuse(k, c, inflatedS, y);
-                k->sinceFused = 0.0f;
-                sensor->resets++;
-                sensor->rejecting = false;
-                sensor->rejectingFor = 0.0f;
-                sensor->result = FusionAltitudeKalmanResultReset;
-                return;
+        }
+        if (!suspect || (o < 0)) { /* the sensor's own streak (or the rangefinder): reset it */
+            if (o < 0) {
+                FusionAltitudeKalmanResetGround(k, z, R);
+            } else {
+                FusionAltitudeKalmanSetOffset(k, o, z, R);
             }
+            sensor->resets++;
+            sensor->rejecting = false;
+            sensor->rejectingFor = 0.0f;
+            sensor->result = FusionAltitudeKalmanResultReset;
+            return;
         }
-        if (o < 0) {
-            FusionAltitudeKalmanResetGround(k, z, R);
-        } else {
-            FusionAltitudeKalmanSetOffset(k, o, z, R);
-        }
-        sensor->resets++;
-        sensor->rejecting = false;
-        sensor->rejectingFor = 0.0f;
-        sensor->result = FusionAltitudeKalmanResultReset;
-        return;
+        /* suspect, baro or GPS: fused with the inflated P (pass 1) rather than re-basing the offset, which would
+         * keep the wrong h and v (see the file comment) */
     }
-    sensor->result = FusionAltitudeKalmanResultRejected;
+    FusionAltitudeKalmanFuse(k, c, S, y);
+    k->sinceFused = 0.0f;
+    if (result == FusionAltitudeKalmanResultReset) {
+        sensor->resets++;
+    }
+    sensor->rejecting = false;
+    sensor->rejectingFor = 0.0f;
+    sensor->result = result;
 }
 
 /** Marks a sensor as having no tested sample this step. */

@@ -265,7 +265,8 @@ class AlphaBetaFusion(Checkpointable):
             for i in range(1, len(self._filters)):
                 f, s = self._filters[i], self._sensor(i)
                 disagreement = -f.gap if f.gap < 0 else f.gap
-                if f.started and not f.since > f32(s.timeout) and self._coasting * disagreement > gap_period * f32(s.gap_max):
+                current = f.started and not f.since > f32(s.timeout)
+                if current and self._coasting * disagreement > gap_period * f32(s.gap_max):
                     stop = True
                     break
         if stop:

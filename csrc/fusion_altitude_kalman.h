@@ -675,23 +675,18 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
                                                const float z, const float y, const float R) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     float c[FUSION_ALTITUDE_KALMAN_STATES];
-    float S = R;
+    for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
+        c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
+    }
+    float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
+    const float nis = (y * y) / S;
+    sensor->innovation = y;
+    sensor->innovationVariance = S;
+    sensor->nis = nis;
     FusionAltitudeKalmanResult result = FusionAltitudeKalmanResultFused;
-    /* Pass 0 gates the sample; pass 1 (only after a suspect streak, baro or GPS) recomputes c and S with the
-     * inflated P. One fusion call for both, so FusionAltitudeKalmanFuse is inlined once. */
-    for (int pass = 0; pass < 2; pass++) {
-        for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-            c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
-        }
-        S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
-        const float nis = (y * y) / S;
-        sensor->innovation = y;
-        sensor->innovationVariance = S;
-        sensor->nis = nis;
-        const float gate = k->settings.gate;
-        if ((pass == 1) || !(nis > gate * gate)) {
-            break; /* fuse */
-        }
+    bool fuse = true;
+    const float gate = k->settings.gate;
+    if (nis > gate * gate) {
         sensor->rejections++;
         if (!sensor->rejecting) {
             sensor->rejecting = true;
@@ -702,6 +697,7 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
             return;
         }
         result = FusionAltitudeKalmanResultReset;
+        sensor->resets++;
         const bool suspect = k->sinceFused >= sensor->rejectingFor; /* nothing fused during the streak */
         if (suspect) {
             FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
@@ -710,25 +706,27 @@ static inline void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, Fu
                     k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
             }
         }
-        if (!suspect || (o < 0)) { /* the sensor's own streak (or the rangefinder): reset it */
+        if (!suspect || (o < 0)) { /* the sensor's own streak (or the rangefinder): reset it, no fusion */
             if (o < 0) {
                 FusionAltitudeKalmanResetGround(k, z, R);
             } else {
                 FusionAltitudeKalmanSetOffset(k, o, z, R);
             }
-            sensor->resets++;
-            sensor->rejecting = false;
-            sensor->rejectingFor = 0.0f;
-            sensor->result = FusionAltitudeKalmanResultReset;
-            return;
+            fuse = false;
+        } else {
+            /* Suspect, baro or GPS: fused with the inflated P rather than re-basing the offset, which would keep
+             * the wrong h and v (see the file comment). The inflation changed P_hh, P_vv and P_bb only, so of c
+             * only c_h = P_hh + P_ho changes; c and S are then exactly what a recomputation from P gives. */
+            c[FusionAltitudeKalmanStateHeight] = k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] +
+                                                 k->P[FusionAltitudeKalmanStateHeight][o];
+            S = (c[FusionAltitudeKalmanStateHeight] + c[o]) + R;
+            sensor->innovationVariance = S;
+            sensor->nis = (y * y) / S;
         }
-        /* suspect, baro or GPS: fused with the inflated P (pass 1) rather than re-basing the offset, which would
-         * keep the wrong h and v (see the file comment) */
     }
-    FusionAltitudeKalmanFuse(k, c, S, y);
-    k->sinceFused = 0.0f;
-    if (result == FusionAltitudeKalmanResultReset) {
-        sensor->resets++;
+    if (fuse) {
+        FusionAltitudeKalmanFuse(k, c, S, y);
+        k->sinceFused = 0.0f;
     }
     sensor->rejecting = false;
     sensor->rejectingFor = 0.0f;

@@ -53,8 +53,15 @@
  * length of the streak, and the bias variance (when estimated) by
  * accelBiasInitialSigma^2: a streak that nothing else contradicts means the
  * state, not only the sensor, is likely wrong (a velocity error after a gap,
- * a glitch burst the bias partly absorbed, a start in motion), and resetting
- * the offset alone would keep re-basing it around the wrong velocity. While
+ * a glitch burst the bias partly absorbed, a start in motion). A baro or GPS
+ * sample is then fused with the inflated covariance (result Reset, counted
+ * in resets) instead of re-basing its offset: a re-based offset absorbs the
+ * height error and keeps the wrong velocity, so the next streak starts at
+ * once, and on the Hedy rocket log (baro only, a gyro-integrated attitude
+ * that is wrong under the drogue) such streaks chained into a velocity of
+ * -4 km/s and a 4.1 km error in the descent, depending chaotically on a
+ * 1 cm shift of the baro; fused, the same log gives 15.9 m RMS whatever the
+ * shift (docs/kalman.md). The rangefinder resets its ground as before. While
  * another sensor is being fused the state is vouched for, and the streak is
  * the sensor's own (a GPS jump, a terrain step): only it is reset.
  *
@@ -197,7 +204,7 @@ typedef enum {
     FusionAltitudeKalmanResultNoSample = 0, /**< no sample this step (NaN) */
     FusionAltitudeKalmanResultFused,        /**< passed the gate and fused */
     FusionAltitudeKalmanResultRejected,     /**< failed the gate, not fused */
-    FusionAltitudeKalmanResultReset,        /**< failed the gate for longer than the timeout: offset (range: ground) reset */
+    FusionAltitudeKalmanResultReset,        /**< failed the gate for longer than the timeout: offset (range: ground) reset, or with nothing fused during the streak h, v inflated and the sample fused */
     FusionAltitudeKalmanResultInitialised,  /**< first sample: offset set from it */
     FusionAltitudeKalmanResultUnusable,     /**< range outside [min, max] or too few GPS satellites */
 } FusionAltitudeKalmanResult;
@@ -739,10 +746,12 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
 
 /**
  * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
- * -1 for the rangefinder), innovation y, noise variance R. Rejected if
- * y^2/S > gate^2; a rejection streak older than the timeout resets instead,
- * after inflating h and v (FusionAltitudeKalmanInflate over the streak) and b
- * (its initial variance) if no sensor was fused during the streak.
+ * -1 for the rangefinder), innovation y (m), noise variance R (m^2). Rejected
+ * if y^2/S > gate^2; a rejection streak older than the timeout resets
+ * instead. If no sensor was fused during the streak, h and v are inflated
+ * first (FusionAltitudeKalmanInflate over the streak) and b (its initial
+ * variance), and a baro or GPS sample is then fused with that covariance
+ * rather than re-basing its offset (result Reset all the same).
  */
 static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProcess(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const int o,
                                                const float z, const float y, const float R) {
@@ -754,45 +763,59 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
         c[i] = (o < 0) ? k->P[i][FusionAltitudeKalmanStateHeight] : (k->P[i][FusionAltitudeKalmanStateHeight] + k->P[i][o]);
     }
-    const float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
+    float S = ((o < 0) ? c[FusionAltitudeKalmanStateHeight] : (c[FusionAltitudeKalmanStateHeight] + c[o])) + R;
     const float nis = (y * y) / S;
     sensor->innovation = y;
     sensor->innovationVariance = S;
     sensor->nis = nis;
+    FusionAltitudeKalmanResult result = FusionAltitudeKalmanResultFused;
+    bool fuse = true;
     const float gate = k->settings.gate;
-    if (!(nis > gate * gate)) {
-        FusionAltitudeKalmanFuse(k, c, S, y);
-        k->sinceFused = 0.0f;
-        sensor->rejecting = false;
-        sensor->rejectingFor = 0.0f;
-        sensor->result = FusionAltitudeKalmanResultFused;
-        return;
-    }
-    sensor->rejections++;
-    if (!sensor->rejecting) {
-        sensor->rejecting = true;
-        sensor->rejectingFor = 0.0f;
-    }
-    if (sensor->rejectingFor > k->settings.rejectionTimeout) {
-        if (k->sinceFused >= sensor->rejectingFor) { /* nothing fused during the streak: the state is suspect */
+    if (nis > gate * gate) {
+        sensor->rejections++;
+        if (!sensor->rejecting) {
+            sensor->rejecting = true;
+            sensor->rejectingFor = 0.0f;
+        }
+        if (!(sensor->rejectingFor > k->settings.rejectionTimeout)) {
+            sensor->result = FusionAltitudeKalmanResultRejected;
+            return;
+        }
+        result = FusionAltitudeKalmanResultReset;
+        sensor->resets++;
+        const bool suspect = k->sinceFused >= sensor->rejectingFor; /* nothing fused during the streak */
+        if (suspect) {
             FusionAltitudeKalmanInflate(k, sensor->rejectingFor);
             if (k->settings.estimateAccelBias) {
                 k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] +=
                     k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
             }
         }
-        if (o < 0) {
-            FusionAltitudeKalmanResetGround(k, z, R);
+        if (!suspect || (o < 0)) { /* the sensor's own streak (or the rangefinder): reset it, no fusion */
+            if (o < 0) {
+                FusionAltitudeKalmanResetGround(k, z, R);
+            } else {
+                FusionAltitudeKalmanSetOffset(k, o, z, R);
+            }
+            fuse = false;
         } else {
-            FusionAltitudeKalmanSetOffset(k, o, z, R);
+            /* Suspect, baro or GPS: fused with the inflated P rather than re-basing the offset, which would keep
+             * the wrong h and v (see the file comment). The inflation changed P_hh, P_vv and P_bb only, so of c
+             * only c_h = P_hh + P_ho changes; c and S are then exactly what a recomputation from P gives. */
+            c[FusionAltitudeKalmanStateHeight] = k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] +
+                                                 k->P[FusionAltitudeKalmanStateHeight][o];
+            S = (c[FusionAltitudeKalmanStateHeight] + c[o]) + R;
+            sensor->innovationVariance = S;
+            sensor->nis = (y * y) / S;
         }
-        sensor->resets++;
-        sensor->rejecting = false;
-        sensor->rejectingFor = 0.0f;
-        sensor->result = FusionAltitudeKalmanResultReset;
-        return;
     }
-    sensor->result = FusionAltitudeKalmanResultRejected;
+    if (fuse) {
+        FusionAltitudeKalmanFuse(k, c, S, y);
+        k->sinceFused = 0.0f;
+    }
+    sensor->rejecting = false;
+    sensor->rejectingFor = 0.0f;
+    sensor->result = result;
 }
 
 /** Marks a sensor as having no tested sample this step. */

@@ -95,7 +95,7 @@ class KalmanResult(enum.IntEnum):
     NO_SAMPLE = 0  #: no sample this step (NaN)
     FUSED = 1  #: passed the gate and fused
     REJECTED = 2  #: failed the gate, not fused
-    RESET = 3  #: failed the gate for longer than the timeout: offset (range: ground) reset
+    RESET = 3  #: failed the gate for longer than the timeout: offset (range: ground) reset, or with nothing fused during the streak h, v inflated and the sample fused
     INITIALISED = 4  #: first sample: offset set from it
     UNUSABLE = 5  #: range outside [min, max] or too few GPS satellites
 

@@ -20,7 +20,8 @@ import numpy as np
 
 __all__ = ["LOG_ERRORS", "estimator_names", "resolve_settings", "settings_key", "read_log", "run_log",
            "run_columns", "write_csv", "compare", "sweep", "fit", "sample_periods", "fit_mask", "steps_per_baro",
-           "stability_period", "fit_score", "fit_search", "default_settings", "settings_from_bandwidth", "fit_landscape_dtype"]
+           "stability_period", "fit_score", "fit_search", "without_gap_transients", "default_settings",
+           "settings_from_bandwidth", "fit_landscape_dtype"]
 
 
 def _logs():
@@ -179,6 +180,12 @@ def fit(accel, baro_altitude, dt, reference, mask, **options):
     """:func:`fusion_altitude.tuning.fit` (the single-machine fit the fleet fit must equal)."""
     from . import tuning
     return tuning.fit(accel, baro_altitude, dt, reference, mask=mask, **options)
+
+
+def without_gap_transients(dt, mask):
+    """:func:`fusion_altitude.tuning.without_gap_transients`: the fit metric's mask without each gap's transient."""
+    from . import tuning
+    return tuning.without_gap_transients(dt, mask)
 
 
 def fit_mask(time, skip: float) -> np.ndarray:

@@ -515,12 +515,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     data = _load(args, progress)
     estimator = _run_estimator(args, data)
     if estimator == "observer":
-        _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
+        if args.preset is None:
+            args.preset = _default_preset(data)
+        else:
+            _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
     options = {"long_axis": LONG_AXES[args.long_axis]} if args.long_axis else {}
     with progress.stage("estimating") as bar:
         try:
-            run = runner.run_log(data, AltitudeSettings.preset(args.preset), progress=bar, estimator=estimator,
-                                 agl=args.agl, **options)
+            run = runner.run_log(data, AltitudeSettings.preset(args.preset) if args.preset else None, progress=bar,
+                                 estimator=estimator, agl=args.agl, **options)
         except ValueError as error:  # e.g. an INS input out of range, named by the binding
             raise CliError(f"{data.source}: {error}") from None
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
@@ -556,6 +559,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     print(format_table([""] + [name for name, _ in columns], rows))
     if hasattr(run.estimate, "accel_bias"):
         print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
+    if getattr(run, "gap_count", None) is not None:
+        period = f" (dt > {run.gap_period:.3g} s)" if getattr(run, "gap_period", None) is not None else ""
+        print(f"gaps met by the estimator{period}: {run.gap_count}")
     if estimator == "ins":
         e = run.estimate
         print(f"final INS state: roll {float(e.roll[-1]):+.2f}°, pitch {float(e.pitch[-1]):+.2f}°, "
@@ -598,17 +604,42 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _default_preset(data) -> str:
+    """The observer preset ``run`` uses without ``--preset`` (:func:`fusion_altitude.runner.default_preset`); a
+    change from vtol is said on stderr."""
+    from . import runner, tuning
+    from ._observer import AltitudeSettings
+
+    name = runner.default_preset(data)
+    steps = tuning.steps_per_baro(data.baro_altitude)
+    if name != "vtol":
+        print(f"note: the default preset vtol is unstable at this log's rate (nominal period "
+              f"{runner.nominal_period(data.time):g} s, baro on 1 of {steps:.2f} steps): running preset {name}, the "
+              "fastest one stable there", file=sys.stderr)
+    elif not tuning._stable_at(AltitudeSettings.preset(name), runner.nominal_period(data.time) * steps):
+        _warn_if_unstable(AltitudeSettings.preset(name), data, "the default preset vtol")
+    return name
+
+
 def _warn_if_unstable(settings, data, what: str) -> None:
     """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
-    period (the estimate would diverge)."""
+    period. The gap period follows the log's rate (:func:`fusion_altitude.tuning.gap_period_for`), so the
+    observer integrates every step of a slow log and unstable gains really diverge; the warning names the
+    presets that are stable at this rate."""
     from . import runner, tuning
+    from ._observer import AltitudeSettings
 
     steps = tuning.steps_per_baro(data.baro_altitude)
-    period = runner.nominal_period(data.time) * steps
+    nominal = runner.nominal_period(data.time)
+    period = nominal * steps
     if not tuning._stable_at(settings, period):
-        print(f"warning: {what} is unstable with the baro on 1 of {steps:.2f} steps of "
-              f"{runner.nominal_period(data.time):g} s (Jury's test at {period:g} s): the estimate will diverge; "
-              "choose a slower preset (balloon, fixed_wing) or fit the gains", file=sys.stderr)
+        stable = [name for name in ("balloon", "fixed_wing", "vtol", "racing", "rocket")
+                  if tuning._stable_at(AltitudeSettings.preset(name), period)]
+        advice = (f"presets stable at this rate: {', '.join(stable)}; or fit the gains" if stable
+                  else "no preset is stable at this rate: fit the gains")
+        print(f"warning: {what} is unstable at this log's rate (nominal period {nominal:g} s, baro on 1 of "
+              f"{steps:.2f} steps: Jury's test at {period:g} s fails): the estimate diverges; {advice}",
+              file=sys.stderr)
 
 
 # ----------------------------------------------------------------------------
@@ -708,7 +739,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     scored_until = split if split is not None else float(time[-1])
     scored = scored_until - (time[0] + skip)
     if split is not None and scored <= 0:
-        raise CliError(f"--train-until {args.train_until} is within the first --skip {skip:g} s: nothing to train on")
+        given = "" if args.skip is not None or not args.file else " (the default on a log; give a shorter --skip)"
+        raise CliError(f"--train-until {args.train_until} is within the first --skip {skip:g} s{given}: nothing to "
+                       "train on")
     slowest = 1.0 / (0.3 * 0.7)  # s: time constant of the default bias loop (ω_b = 0.3 rad/s)
     if scored < 3 * slowest:
         print(f"warning: the fit is scored over only {scored:.1f} s of data, less than 3 time constants of the "
@@ -727,12 +760,16 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 result = held_out.fit
         except ValueError as error:  # the library's keyword → our flags
             raise CliError(str(error).replace("omega_range", "--omega-min/--omega-max")) from None
-    counted = (time > time[0] + skip) & (time < scored_until)
+    counted = tuning.without_gap_transients(_sample_periods(time), (time > time[0] + skip) & (time < scored_until))
+    gaps = int(np.count_nonzero(_sample_periods(time) > tuning.gap_period_for(_sample_periods(time))))
     baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
         if np.isfinite((baro - reference)[counted]).any() else math.nan
     gains = result.settings
     print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
           + (f", trained before {split - time[0]:.2f} s" if split is not None else ""))
+    if gaps:
+        print(f"{gaps} logging gap(s): the {tuning.GAP_SETTLING:.2f} s after each are left out of every RMS below "
+              "(every candidate restarts there)")
     if steps > 1.0:
         print(f"baro on 1 of {steps:.2f} steps: gains compensated for the baro rate, as `run` and `compare` do")
     print(f"best of {len(result.landscape)} stable candidates (checked at the nominal period): "
@@ -924,8 +961,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--long-axis", choices=list(LONG_AXES), metavar="{+X,-X,+Y,-Y,+Z,-Z}",
                      help="rocket: accelerometer axis pointing to the nose (default: the axis carrying gravity in "
                           "the first second of the log)")
-    run.add_argument("--preset", default="vtol", choices=("balloon", "fixed_wing", "vtol", "racing", "rocket"),
-                     help="observer gains (default vtol)")
+    run.add_argument("--preset", default=None, choices=("balloon", "fixed_wing", "vtol", "racing", "rocket"),
+                     help="observer gains (default vtol; on a log too slow for vtol the fastest preset stable at "
+                          "its rate, said on stderr)")
     run.add_argument("-o", "--output", metavar="OUT.csv",
                      help="write the estimates per sample (full precision; never the input file)")
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")

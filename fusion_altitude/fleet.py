@@ -672,7 +672,7 @@ def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_Fi
         dt = adapter.sample_periods(time)
         steps = adapter.steps_per_baro(data.baro_altitude)
         inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude, dt,
-                            data.reference_altitude, adapter.fit_mask(time, skip), steps,
+                            data.reference_altitude, adapter.without_gap_transients(dt, adapter.fit_mask(time, skip)), steps,
                             adapter.stability_period(dt, steps))
         adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [adapter.default_settings()],
                       inputs.reference, inputs.mask)  # checks the inputs once, naming the problem

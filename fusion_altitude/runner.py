@@ -25,6 +25,15 @@ The observer's gains are scaled by :func:`fusion_altitude.tuning.settings_for_ba
 when the baro is slower than the accelerometer grid; ``run``, ``fit`` and
 ``compare`` all go through :func:`fusion_altitude.tuning.steps_per_baro`, so
 the three agree on what a setting scores.
+
+Gap period
+----------
+Every estimator with a gap period (observer, Kalman, complementary,
+alpha-beta) runs with ``max(its default, 10 × the log's nominal period)``
+(:func:`fusion_altitude.tuning.gap_period_for`), so a slow log (a 1 Hz CSV)
+is integrated rather than treated as one gap per step, and a real logging
+gap stays a gap at any rate. ``LogRun.gap_period`` and ``LogRun.gap_count``
+say what was used and how many gaps the estimator met.
 """
 
 from __future__ import annotations
@@ -42,10 +51,10 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from ._observer_glue import AltitudeBatch
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
-from .tuning import _bandwidth_of, _other_fields, settings_for_baro_rate, steps_per_baro
+from .tuning import _bandwidth_of, _other_fields, gap_period_for, settings_for_baro_rate, steps_per_baro
 
 __all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "applicable_estimators",
-           "missing_inputs", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
+           "missing_inputs", "default_preset", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
            "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
            "csv_columns"]
 
@@ -67,12 +76,20 @@ class LogRun(LogData):
     events : fusion_altitude.rocket.FlightEvents or None
         The flight events of the ``rocket`` estimator (times in the log's
         seconds, heights m above the pad); None for the other estimators.
+    gap_period : float or None
+        s: the gap period the estimator ran with (see the module's "Gap
+        period"); None for an estimator that does not report it.
+    gap_count : int or None
+        Updates the estimator treated as gaps (dt > its gap period); None
+        for an estimator without a gap counter.
     """
 
     estimate: Optional[object] = None
     estimator: str = "observer"
     datum: float = 0.0
     events: Optional[object] = None
+    gap_period: Optional[float] = None
+    gap_count: Optional[int] = None
 
     def comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
         """Statistics of estimate − reference altitude (m) after ``transient`` s; None without a reference."""
@@ -164,9 +181,31 @@ def _optional(data: LogData, name: str) -> Optional[np.ndarray]:
     return value if value.ndim == 1 and value.size == data.time.size else None
 
 
+def _gaps(options: dict, estimator, gap_period: float) -> None:
+    """Put the gap period used (s) and the estimator's gap counter into ``options`` (they land in the LogRun)."""
+    options["gap_period"] = float(np.float32(gap_period))
+    options["gap_count"] = int(estimator.gap_count)
+
+
+def default_preset(data: LogData) -> str:
+    """The observer preset used when none is given: ``"vtol"``, or on a log too slow for it (Jury's test at the
+    log's nominal period × grid steps per baro sample fails) the fastest of fixed_wing, balloon that is stable
+    there (vtol again if neither is: it will diverge)."""
+    from .tuning import _stable_at
+
+    period = nominal_period(data.time) * steps_per_baro(data.baro_altitude)
+    for name in ("vtol", "fixed_wing", "balloon"):
+        if _stable_at(AltitudeSettings.preset(name), period):
+            return name
+    return "vtol"
+
+
 def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
-    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, options.get("settings"),
-                        clipped=data.clipped, progress=options.get("progress"), dt=dt)
+    settings = options.get("settings")
+    if settings is None:
+        settings = AltitudeSettings.preset(default_preset(data))
+    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
+                        clipped=data.clipped, progress=options.get("progress"), dt=dt, info=options)
 
 
 def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
@@ -181,24 +220,33 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
     # dt, ...) argument order alike
     settings = options.get("kalman_settings")
     if settings is None and getattr(data, "vehicle", None) == "rocket":
-        # The general defaults are fragile on a rocket: a saturated boost and a baro hundreds of metres low near
-        # Mach 1 drive long rejection streaks (on the Hedy flight 15.9 m or 476.6 m RMS, depending on a 1 cm
-        # shift of the baro datum); the rocket settings follow the flight (14.1 m either way).
+        # The rocket settings follow a rocket flight a little better than the general defaults (on the Hedy
+        # flight 14.36 m against 15.88 m RMS; docs/kalman.md, "Real rocket log").
         from .rocket import rocket_kalman_settings
         settings = rocket_kalman_settings()
-    result = KalmanEstimator(settings).update_batch(
+    if settings is None:
+        from ._kalman import KalmanSettings
+        settings = KalmanSettings()
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    estimator = KalmanEstimator(settings)
+    result = estimator.update_batch(
         data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
         range_distance=_optional(data, "rangefinder"), gps_altitude=gps,
         gps_satellites=satellites if gps is not None else None,
         gps_vertical_accuracy=accuracy if gps is not None else None)
+    _gaps(options, estimator, settings.gap_period)
     _done(options, data.time.size)
     return result
 
 
 def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
-    from ._complementary import ComplementaryFilter
+    from ._complementary import ComplementaryFilter, ComplementarySettings
 
-    result = ComplementaryFilter().update_batch(data.vertical_acceleration, data.baro_altitude, dt)
+    settings = ComplementarySettings()
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    estimator = ComplementaryFilter(settings)
+    result = estimator.update_batch(data.vertical_acceleration, data.baro_altitude, dt)
+    _gaps(options, estimator, settings.gap_period)
     _done(options, data.time.size)
     return result
 
@@ -212,9 +260,16 @@ def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
     # the defaults (made for heights above a take-off point) are opened for the imu, baro and GPS
     settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf, "altitude_max": math.inf}
                                     for s in ("imu", "baro", "gps")})
-    result = AlphaBetaFusion(settings).update_batch(data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
+    gap_period = gap_period_for(dt, settings.gap_period)
+    if gap_period > settings.gap_period:  # a slow log: each sensor's timeout at least the gap period too
+        settings = settings.replace(gap_period=gap_period, **{
+            name: {"timeout": max(getattr(settings, name).timeout, gap_period)}
+            for name in ("imu", "baro", "lidar", "sonar", "gps")})
+    fusion = AlphaBetaFusion(settings)
+    result = fusion.update_batch(data.vertical_acceleration, dt=dt, baro_altitude=data.baro_altitude,
                                                     lidar_altitude=_optional(data, "rangefinder"),
                                                     gps_altitude=_gps_on_baro_datum(data))
+    _gaps(options, fusion, settings.gap_period)
     _done(options, data.time.size)
     return result
 
@@ -295,7 +350,9 @@ def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
     if data.imu_frame == "FRD":  # to FLU (x forward, y left, z up): a level vehicle then reads roll 0, not ±180°
         flip = np.array([1.0, -1.0, -1.0])
         gyro, accel = gyro * flip, accel * flip
-    batch = InsEstimator(options.get("ins_settings")).update_batch(gyro, accel, dt, data.baro_altitude)
+    ins = InsEstimator(options.get("ins_settings"))
+    batch = ins.update_batch(gyro, accel, dt, data.baro_altitude)
+    _gaps(options, ins, ins.settings.gap_period)
     _done(options, data.time.size)
     euler = batch.euler.astype(np.float32)
     return InsLogBatch(batch.altitude + batch.baro_bias, batch.vertical_velocity, batch.altitude,
@@ -369,6 +426,7 @@ def _run_rocket(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
         accel = np.asarray(data.vertical_acceleration, float)
     estimator = RocketEstimator(options.get("rocket_settings"))
     result = estimator.update_batch(accel, data.baro_altitude, dt)
+    options["gap_count"] = int(estimator.gap_count)
     _done(options, data.time.size)
     options["events"] = estimator.events.with_times(data.time)
     pad = float(estimator.pad_altitude)
@@ -403,7 +461,7 @@ for _entry in (
 def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[AltitudeSettings] = None,
                  clipped=None, clipped_settings: Optional[AltitudeSettings] = None,
                  progress: Optional[Callable[[int, int], None]] = None, chunk: int = 50_000,
-                 compensate_baro_rate: bool = True, dt=None) -> AltitudeBatch:
+                 compensate_baro_rate: bool = True, dt=None, info: Optional[dict] = None) -> AltitudeBatch:
     """Run the observer over a log with irregular timestamps and missing baro samples.
 
     Parameters
@@ -430,6 +488,10 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         so ``settings`` keeps its designed bandwidth.
     dt : array_like, optional
         Per-sample periods, s; default :func:`sample_periods` of ``time``.
+        The gap period used is ``max(settings.gap_period, 10 × nominal dt)``
+        (:func:`fusion_altitude.tuning.gap_period_for`).
+    info : dict, optional
+        Receives ``gap_period`` (s, as float32 holds it) and ``gap_count``.
 
     Returns
     -------
@@ -452,6 +514,7 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     n = time.size
     dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
     settings = settings or AltitudeSettings()
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
     if compensate_baro_rate:
         settings = settings_for_baro_rate(settings, steps_per_baro(baro))
     estimator = AltitudeEstimator(settings)
@@ -472,6 +535,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         estimator.update_batch(accel[start:stop], baro[start:stop], dt[start:stop], out=views)
         if progress is not None:
             progress(int(stop), n)
+    if info is not None:
+        _gaps(info, estimator, normal.gap_period)
     return out
 
 
@@ -527,7 +592,8 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
     data : LogData
         The log.
     settings : AltitudeSettings, optional
-        Observer gains (ignored by the other estimators); default VTOL,
+        Observer gains (ignored by the other estimators); default
+        :func:`default_preset` (VTOL unless the log is too slow for it),
         compensated for the baro rate. Clipped samples are handled as in
         :func:`run_observer`.
     progress : callable(done, total), optional
@@ -569,7 +635,8 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
         data = type(data)(**fields)
     options = dict(options, settings=settings, progress=progress)
     estimate = ESTIMATORS[estimator].run(data, sample_periods(data.time), options)
-    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum, events=options.get("events"))
+    return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum, events=options.get("events"),
+                  gap_period=options.get("gap_period"), gap_count=options.get("gap_count"))
 
 
 # ----------------------------------------------------------------------------

@@ -152,7 +152,12 @@ def test_run_warns_when_the_preset_is_unstable_at_the_logs_baro_rate(tmp_path, c
     rows = ["t,az,alt"] + [f"{0.1 * i:.1f},0,{'5' if i % 10 == 0 else ''}" for i in range(600)]  # 1 Hz baro, 10 Hz
     (tmp_path / "log.csv").write_text("\n".join(rows) + "\n")
     assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel", "az", "--baro", "alt"]) == 0
-    assert "warning: --preset vtol is unstable with the baro on 1 of 10.00 steps" in capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert "the default preset vtol is unstable at this log's rate" in captured.err  # so run picks a stable one
+    assert "baro on 1 of 10.00 steps" in captured.err and "preset fixed_wing" in captured.out
+    assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel", "az", "--baro", "alt",
+                 "--preset", "vtol"]) == 0
+    assert "warning: --preset vtol is unstable at this log's rate" in capsys.readouterr().err
     assert main(["run", str(tmp_path / "log.csv"), "--time", "t", "--accel", "az", "--baro", "alt",
                  "--preset", "balloon"]) == 0
     assert "unstable" not in capsys.readouterr().err

@@ -15,7 +15,9 @@ start a Dask cluster, which the test replaces by an exception that counts as
 
 import os
 import re
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +25,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from fusion_altitude.cli import main
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
+import logfixtures as fx  # noqa: E402
 
 NUMBERS = ["0", "-1", "-5", "1e308", "nan", "inf", "-inf", "0.5", "3", "abc", "", "1e-30", "100000", "1e30",
            "1000"]
@@ -65,6 +70,15 @@ def make_file(folder, kind, seed):
         return os.path.join(folder, "missing.csv")
     if kind == "folder":
         return folder
+    if kind == "altos":  # sniffed formats: the option combinations must fail (or run) in one line too
+        fx.write_altos_csv(os.path.join(folder, f"altos{seed}.csv"), duration=3.0, rate=10.0, pad_time=1.0)
+        return os.path.join(folder, f"altos{seed}.csv")
+    if kind == "cats":
+        fx.write_cats_set(folder, prefix=f"c{seed}_", duration=2.0, rate=20.0, pad_time=1.0)
+        return os.path.join(folder, f"c{seed}_baro.csv")
+    if kind == "dataflash":
+        fx.write_dataflash(os.path.join(folder, f"df{seed}.bin"), duration=3.0)
+        return os.path.join(folder, f"df{seed}.bin")
     if kind == "empty":
         open(path, "w").close()
     elif kind == "garbage":
@@ -161,7 +175,7 @@ def argv_and_file(draw, folder):
     argv = [command]
     if command in ("run", "fit", "compare"):
         kind = draw(st.sampled_from(["missing", "folder", "empty", "garbage", "header", "truncated", "valid", "valid",
-                                     "ulg", "bin"]))
+                                     "ulg", "bin", "altos", "cats", "dataflash"]))
         argv.append(make_file(folder, kind, draw(st.integers(0, 10_000))))
         if draw(st.booleans()):
             argv += ["--time", "t", "--accel", "az", "--baro", "alt"]
@@ -294,3 +308,29 @@ def test_tune_anywhere_in_its_bounds_prints_no_warning(omega, zeta, ratio, rate,
     assert not caught, [str(w.message) for w in caught]
     assert status in (0, 1) or (status == 2 and len(err.strip().splitlines()) == 1), err
     assert "Traceback" not in err and "Warning" not in err
+
+
+SNIFFED_FLAGS = ["--ground-temperature", "--instance", "--estimator", "--agl", "--accel-units", "--sea-level-pa"]
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_option_combinations_on_sniffed_formats_never_print_a_traceback(data, tmp_path_factory, capsys):
+    """A recognised log (AltOS, CATS, DataFlash) with the reader options that apply to some formats only."""
+    folder = str(tmp_path_factory.mktemp("sniffed"))
+    command = data.draw(st.sampled_from(["run", "fit", "compare"]))
+    kind = data.draw(st.sampled_from(["altos", "cats", "dataflash"]))
+    argv = [command, make_file(folder, kind, data.draw(st.integers(0, 10_000)))]
+    if command == "compare":
+        argv += ["--repeat", "0"]
+    for flag in data.draw(st.lists(st.sampled_from(SNIFFED_FLAGS), min_size=1, max_size=3, unique=True)):
+        if command == "fit" and flag in ("--estimator", "--agl"):
+            continue
+        argv.append(flag)
+        if flag == "--ground-temperature":
+            argv.append(data.draw(st.sampled_from(["log", "Log", "20", "-300", "nan", "abc"])))
+        elif flag == "--instance":
+            argv.append(data.draw(st.sampled_from(["0", "1", "7", "-1"])))
+        elif flag not in SWITCHES:
+            argv.append(value_for(flag, data.draw, folder))
+    check(argv, lambda: capsys.readouterr().err)

@@ -177,3 +177,70 @@ def test_run_turns_body_accelerometer_columns_and_a_quaternion_into_vertical_acc
                  "--attitude-columns", "qw,qx,qy,qz", "--baro", "alt", "-o", str(out)]) == 0
     table = np.genfromtxt(out, delimiter=",", names=True)
     np.testing.assert_allclose(table["vertical_acceleration"], up, atol=1e-4)
+
+
+@pytest.mark.parametrize("command", ["run", "fit", "compare"])
+def test_ground_temperature_log_on_cats_is_refused_in_one_line(shared_data, command, capsys):
+    argv = [command, str(shared_data / "hedy_baro.csv"), "--ground-temperature", "log"]
+    assert main(argv + (["--repeat", "0"] if command == "compare" else [])) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert "board temperature" in err and "column 'T'" in err
+
+
+
+def slow_log(gap_at=None, gap=30.0):
+    """A 1 Hz log (a slow CSV): baro and accel every second, optionally a ``gap`` s hole after sample ``gap_at``."""
+    rng = np.random.default_rng(4)
+    time = np.arange(300.0)
+    if gap_at is not None:
+        time[gap_at:] += gap
+    truth = 50 + 20 * np.sin(2 * np.pi * time / 120)
+    accel = -20 * (2 * np.pi / 120) ** 2 * np.sin(2 * np.pi * time / 120) + rng.normal(0, 0.02, time.size)
+    return LogData("slow", time, accel, truth + rng.normal(0, 0.3, time.size), reference_altitude=truth,
+                   reference_name="truth")
+
+
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_a_1hz_log_is_integrated_not_one_gap_per_step(estimator):
+    run = runner.run_log(slow_log(), estimator=estimator)
+    assert run.gap_count == 0
+    assert run.gap_period == pytest.approx(10.0)  # ten nominal periods, above every default
+    assert not np.array_equal(np.asarray(run.estimate.altitude, float), run.baro_altitude)  # not the raw baro
+    assert run.comparison(transient=30.0).max < 5.0
+
+
+@pytest.mark.parametrize("estimator", ESTIMATORS)
+def test_a_real_gap_in_a_1hz_log_is_still_counted(estimator):
+    assert runner.run_log(slow_log(gap_at=150), estimator=estimator).gap_count == 1
+
+
+def test_the_fast_log_keeps_the_default_gap_period():
+    assert runner.run_log(simulated_log(dt=0.02), estimator="observer").gap_period == pytest.approx(0.5)
+    assert runner.run_log(simulated_log(dt=0.02), estimator="alphabeta").gap_period == pytest.approx(1.5)
+
+
+def test_the_fit_sweep_uses_the_same_gap_period_as_run():
+    from fusion_altitude import AltitudeSettings, tuning
+
+    data = slow_log(gap_at=150)
+    settings = AltitudeSettings.preset("balloon").replace(gap_period=0.5)
+    ran = runner.run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings)
+    swept = tuning.sweep(data.vertical_acceleration, data.baro_altitude, runner.sample_periods(data.time),
+                         [settings], outputs=True)
+    assert np.array_equal(swept.outputs.altitude[:, 0], ran.altitude)
+
+
+def test_run_on_a_1hz_csv_prints_the_gap_count_and_a_stable_default_preset(tmp_path, capsys):
+    data = slow_log()
+    rows = ["t,az,alt"] + [f"{t:g},{a:.5f},{b:.3f}" for t, a, b in zip(data.time, data.vertical_acceleration,
+                                                                         data.baro_altitude)]
+    (tmp_path / "slow.csv").write_text("\n".join(rows) + "\n")
+    argv = ["run", str(tmp_path / "slow.csv"), "--time", "t", "--accel", "az", "--baro", "alt"]
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert "gaps met by the estimator (dt > 10 s): 0" in captured.out
+    assert "preset fixed_wing" in captured.out and "vtol is unstable" in captured.err
+    assert main(argv + ["--preset", "vtol"]) == 0
+    err = capsys.readouterr().err
+    assert "the estimate diverges" in err and "fixed_wing" in err

@@ -618,3 +618,13 @@ def test_reader_warnings_point_at_the_callers_line(tmp_path):
         warnings.simplefilter("always", LogWarning)
         read(tmp_path / "log.csv")
     assert caught and all(Path(w.filename).name == "test_logs.py" for w in caught)
+
+
+def test_ground_temperature_in_celsius_on_cats_gives_a_hypsometric_height(tmp_path):
+    fx.write_cats_set(tmp_path)
+    warm = logs.load_log(str(tmp_path / "flight_baro.csv"), ground_temperature_k=308.15)
+    isa = logs.load_log(str(tmp_path / "flight_baro.csv"))
+    top = np.nanargmax(isa.baro_altitude)
+    assert warm.baro_altitude[top] > isa.baro_altitude[top] * 1.02  # 35 °C air is thinner than ISA's 15 °C
+    with pytest.raises(LogError, match="board temperature"):
+        logs.read_cats(str(tmp_path / "flight_baro.csv"), ground_temperature_k="log")

@@ -141,7 +141,9 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
         Sensor instance (``IMU<n>``/``BARO<n>`` in the ``id`` column);
         default the first one present (the primary).
     ground_temperature_k : float, optional
-        Air temperature on the pad, K.
+        Air temperature on the pad, K. ``"log"`` is refused with a
+        :class:`LogError`: the ``T`` column is the board's temperature
+        (about 45 °C on the pad in the Hedy logs), not the air's.
     accel_range : float
         Accelerometer full scale, m/s², for clip detection.
     progress : callable(done, total), optional
@@ -180,6 +182,16 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
     if not good.any():
         raise LogError(f"{files['baro']}: column 'P': no pressure before launch to take as the pad's")
     ground_pa = float(np.median(baro["P"][good]))
+    if isinstance(ground_temperature_k, str):
+        if ground_temperature_k.strip().lower() == "log":
+            board = baro["T"][baro_rest & np.isfinite(baro["T"])]
+            on_pad = f" (median {_fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
+            raise LogError(f"{files['baro']}: column 'T' is the flight computer's board temperature{on_pad}, "
+                           f"not the air's: give --ground-temperature in °C instead of 'log'")
+        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
+    if ground_temperature_k is not None and not (isinstance(ground_temperature_k, (int, float))
+                                                 and np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
+        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
     baro_altitude = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
              f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]

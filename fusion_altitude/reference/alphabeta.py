@@ -257,7 +257,19 @@ class AlphaBetaFusion(Checkpointable):
         self._total = sum_weight
         # Bounded coasting: after gap_period s without a non-IMU weight, re-acquire from the next samples.
         self._coasting = f32(0) if referenced else self._coasting + dt
-        if self._coasting > f32(self._settings._values["gap_period"]):
+        gap_period = f32(self._settings._values["gap_period"])
+        stop = self._coasting > gap_period
+        # ... and by the disagreement: a non-IMU channel with a current sample beyond its gap maximum ends it once
+        # coasting * |g| > gap_period * gap_max (FusionAltitudeAlphaBetaStep)
+        if not stop and self._coasting > 0:
+            for i in range(1, len(self._filters)):
+                f, s = self._filters[i], self._sensor(i)
+                disagreement = -f.gap if f.gap < 0 else f.gap
+                current = f.started and not f.since > f32(s.timeout)
+                if current and self._coasting * disagreement > gap_period * f32(s.gap_max):
+                    stop = True
+                    break
+        if stop:
             self._started = False
 
     # FusionAltitudeAlphaBetaUpdate

@@ -358,6 +358,17 @@ class KalmanEstimator(Checkpointable):
                 if self._s.estimate_accel_bias:
                     sigma = self._s.accel_bias_initial_sigma
                     self._P[ACCEL_BIAS][ACCEL_BIAS] += sigma * sigma
+                if o >= 0:  # fused with the inflated P, not re-based (see FusionAltitudeKalmanProcess)
+                    c = [P[i][HEIGHT] + P[i][o] for i in range(N_STATES)]
+                    inflated_s = (c[HEIGHT] + c[o]) + R
+                    sensor.innovation_variance, sensor.nis = inflated_s, (y * y) / inflated_s
+                    self._fuse(c, inflated_s, y)
+                    self._since_fused = _ZERO
+                    sensor.resets = (sensor.resets + 1) & 0xFFFFFFFF
+                    sensor.rejecting = False
+                    sensor.rejecting_for = _ZERO
+                    sensor.result = KalmanResult.RESET
+                    return
             if o < 0:
                 self._reset_ground(z, R)
             else:

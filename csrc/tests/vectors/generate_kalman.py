@@ -392,6 +392,15 @@ def build() -> Recorder:
     for _ in range(40):
         r.update(25.0, 0.01, 120.0 + flight.h)
     flight.fly(500, "hover")
+    r.section("a streak past the timeout with nothing else fused (baro only, then GPS only): h, v and b inflated "
+              "and the sample fused with that covariance, not its offset re-based")
+    for _ in range(150):
+        r.update(8.0, 0.01, 120.0 + flight.h)
+    flight.fly(300, "hover", gps_every=0, range_every=0)
+    flight.gps_origin += 25.0
+    for _ in range(60):
+        r.update(-6.0, 0.05, NAN, NAN, flight.gps_origin + flight.h, NAN, 9, False)
+    flight.fly(300, "hover")
     r.set_settings(settings(gap_period=INF))
     r.update(0.0, 30.0, 120.0 + flight.h)
     flight.fly(100, "hover")

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import stat
 import tempfile
 from dataclasses import dataclass
@@ -662,20 +663,41 @@ def atomic_output(path: str) -> Iterator[str]:
     """
     directory = os.path.dirname(os.path.abspath(path))
     base, extension = os.path.splitext(os.path.basename(path))
-    handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
+    # SIGTERM/SIGINT are held back from the file's creation until the cleanup below is in place: a signal
+    # that arrived in between (the CLI turns SIGTERM into an exception) would otherwise leave the file behind
+    held = _hold_signals()
     try:
-        # mkstemp creates the file with mode 0600: give it the mode open() would (0666 less the umask), or
-        # the mode of the file it replaces
-        os.fchmod(handle, _output_mode(path))
+        handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
+        try:
+            try:
+                # mkstemp creates the file with mode 0600: give it the mode open() would (0666 less the umask),
+                # or the mode of the file it replaces
+                os.fchmod(handle, _output_mode(path))
+            finally:
+                os.close(handle)
+            _release_signals(held)  # a signal held back is delivered here, inside the cleanup
+            held = None
+            yield temporary
+            os.replace(temporary, path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(temporary)
+            raise
     finally:
-        os.close(handle)
-    try:
-        yield temporary
-        os.replace(temporary, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise
+        _release_signals(held)
+
+
+def _hold_signals():
+    """Block SIGTERM and SIGINT for this thread (POSIX); the previous mask, or None where not possible."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
+
+
+def _release_signals(previous) -> None:
+    """Restore the signal mask :func:`_hold_signals` returned (pending signals are then delivered)."""
+    if previous is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:

@@ -118,6 +118,30 @@ def test_unstable_setting_is_named_with_its_index():
         fusion_altitude.sweep(accel, baro, dt, [(2.4, 2.88, 0.675), (1.0, 1.0, 5.0)], reference=reference)
 
 
+GAIN_VALUES = [0.0, 1e-30, 0.3, 1.0, 2.4, 3.0, 1e20, 3.4e38, 1e39, -0.0, -1.0, np.nan, np.inf, -np.inf]
+
+
+@hypothesis_settings(max_examples=200, deadline=None)
+@given(rows=st.lists(st.tuples(*[st.sampled_from(GAIN_VALUES) | st.floats(-1, 50)] * 3), min_size=1, max_size=6))
+def test_accepts_exactly_the_gains_altitude_settings_accepts(rows):
+    """The sweep checks all K rows at once (vectorised); it must accept and reject exactly as AltitudeSettings,
+    naming the first bad row with the same message."""
+    accel, baro, _, _ = log(n=20)
+    first_bad, message = None, None
+    for k, row in enumerate(rows):
+        try:
+            AltitudeSettings(*row)
+        except ValueError as error:
+            first_bad, message = k, str(error)
+            break
+    if first_bad is None:
+        fusion_altitude.sweep(accel, baro, 0.01, np.array(rows), outputs=True)
+    else:
+        with pytest.raises(ValueError) as error:
+            fusion_altitude.sweep(accel, baro, 0.01, np.array(rows), outputs=True)
+        assert str(error.value) == f"settings[{first_bad}]: {message}"
+
+
 def test_needs_a_reference_or_outputs():
     accel, baro, dt, _ = log(n=100)
     with pytest.raises(ValueError, match="nothing to compute"):

@@ -908,14 +908,24 @@ def _compare_log(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``fusion-altitude``."""
-    from .runner import ESTIMATORS
-    from .scenarios import scenario_names
-
     parser = argparse.ArgumentParser(
         prog="fusion-altitude",
         description="Altitude and vertical-velocity estimation: barometer + accelerometer fusion.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    _add_demo_parser(commands)
+    _add_tune_parser(commands)
+    _add_run_parser(commands)
+    _add_fit_parser(commands)
+    _add_compare_parser(commands)
+    from .fleet_cli import add_fleet_parser
+    add_fleet_parser(commands)
+    return parser
+
+
+def _add_demo_parser(commands) -> None:
+    """The ``demo`` subcommand: simulate a scenario and print the error table."""
+    from .scenarios import scenario_names
 
     demo = commands.add_parser("demo", help="simulate a flight and print the error table",
                                description="Simulate a scenario, run the observer, print raw-baro vs fused errors.")
@@ -930,6 +940,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "baro_altitude, true_altitude)")
     demo.set_defaults(handler=_cmd_demo)
 
+
+def _add_tune_parser(commands) -> None:
+    """The ``tune`` subcommand: gains, poles, settling and noise of ω (rad/s), ζ, ω_b (rad/s) at a rate (Hz)."""
     tune = commands.add_parser("tune", help="gains, poles, settling and noise for a bandwidth choice",
                                description="Gains from ω, ζ, ω_b and what they do at a sample rate.")
     tune.add_argument("--omega", type=float, default=1.5,
@@ -942,6 +955,11 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--rate", type=float, default=100.0,
                       help=f"sample rate, Hz, >= {MIN_TUNE_RATE:g} and <= {MAX_TUNE_RATE:g} (default 100)")
     tune.set_defaults(handler=_cmd_tune)
+
+
+def _add_run_parser(commands) -> None:
+    """The ``run`` subcommand: an estimator on a recorded log."""
+    from .runner import ESTIMATORS
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
                               description="Run an estimator on a log and compare it with the log's own estimate. "
@@ -969,6 +987,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
     run.set_defaults(handler=_cmd_run)
 
+
+def _add_fit_parser(commands) -> None:
+    """The ``fit`` subcommand: fit the observer's gains to a reference altitude."""
+    from .scenarios import scenario_names
+
     fit = commands.add_parser("fit", help="fit the gains to a reference altitude (a log or a scenario)",
                               description="Search omega, zeta, omega_b for the gains whose altitude best matches a "
                                           "reference: a log's reference column or autopilot estimate, or a "
@@ -989,7 +1012,12 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
     fit.set_defaults(handler=_cmd_fit)
 
+
+def _add_compare_parser(commands) -> None:
+    """The ``compare`` subcommand: every estimator on the simulator's scenarios or on one log."""
     from .comparison import SCENARIOS
+    from .scenarios import scenario_names
+
     comparison = commands.add_parser(
         "compare", help="every estimator on the simulator's scenarios, or on one log: one table",
         description="Without FILE: observer (preset and fitted gains), Kalman filter, two-stage complementary "
@@ -1014,10 +1042,6 @@ def build_parser() -> argparse.ArgumentParser:
     comparison.add_argument("--plot-scenario", choices=scenario_names(), metavar="NAME",
                             help="scenario of the plot (default: the first one compared)")
     comparison.set_defaults(handler=_cmd_compare)
-
-    from .fleet_cli import add_fleet_parser
-    add_fleet_parser(commands)
-    return parser
 
 
 def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> None:

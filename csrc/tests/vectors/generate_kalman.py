@@ -515,13 +515,8 @@ def word(pattern: int) -> str:
     return str(pattern) if pattern < 10 else f"0x{pattern:08x}"
 
 
-def render() -> str:
-    """The text of kalman_vectors.h."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        recorder = build()
-    records = recorder.records
-    check_representable(records)
-    checkpoints = [i for i in range(len(records)) if i % CHECKPOINT_EVERY == 0 or i == len(records) - 1]
+def _file_comment(recorder: Recorder) -> list:
+    """The opening comment of kalman_vectors.h, up to the coverage counts (without its closing line)."""
     counts = ", ".join(f"{key} {value}" for key, value in sorted(recorder.counts.items()))
     lines = [
         "/**",
@@ -549,6 +544,17 @@ def render() -> str:
             text = ""
         text += item + ", "
     lines.append(f" *   {text.rstrip(', ')}")
+    return lines
+
+
+def render() -> str:
+    """The text of kalman_vectors.h."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        recorder = build()
+    records = recorder.records
+    check_representable(records)
+    checkpoints = [i for i in range(len(records)) if i % CHECKPOINT_EVERY == 0 or i == len(records) - 1]
+    lines = _file_comment(recorder)
     lines += [
         " */",
         "",

@@ -337,33 +337,11 @@ def _log_format(path: str) -> str:
 
 def _load(args: argparse.Namespace, progress: _Progress):
     """Read ``args.file`` with the CSV flags the user gave; LogError → CliError."""
-    from . import logs
-
     if not os.path.exists(args.file):
         raise CliError(f"{args.file}: no such file")
     _number("--sea-level-pa", args.sea_level_pa, 0.0)
-    ground_temperature_k = None
-    if args.ground_temperature is not None:
-        if args.ground_temperature.strip().lower() == "log":
-            ground_temperature_k = "log"
-        else:
-            try:
-                celsius = float(args.ground_temperature)
-            except ValueError:
-                raise CliError(f"--ground-temperature must be a temperature in °C or 'log', "
-                               f"got {args.ground_temperature!r}") from None
-            _number("--ground-temperature", celsius, -273.15, maximum=100.0)
-            ground_temperature_k = celsius + 273.15
-    column_lists = {}
-    for flag, attribute, count in (("--accel-body", "accel_body", (3,)),
-                                   ("--attitude-columns", "attitude_columns", (3, 4))):
-        text = getattr(args, attribute, None)
-        if text is not None:
-            names = [name.strip() for name in text.split(",")]
-            if len(names) not in count or not all(names):
-                raise CliError(f"{flag} takes {' or '.join(str(c) for c in count)} comma-separated column names, "
-                               f"got {text!r}")
-            column_lists[attribute] = tuple(names)
+    ground_temperature_k = _ground_temperature_k(args.ground_temperature)
+    column_lists = _column_lists(args)
     if args.instance is not None and args.instance < 0:
         raise CliError(f"--instance must be >= 0, got {args.instance}")
     fmt = _log_format(args.file)
@@ -375,31 +353,88 @@ def _load(args: argparse.Namespace, progress: _Progress):
                 value = ground_temperature_k
             value = column_lists.get(attribute, value)
             given[flag] = (keyword, value)
+    options = _csv_options(given) if fmt == "csv" else _other_format_options(given, args.file, fmt)
+    data = _read_log(args, options, progress)
+    if data.time.size < 2:
+        raise CliError(f"{data.source}: {data.time.size} sample(s); a log needs at least 2")
+    if not (data.baro_altitude == data.baro_altitude).any():  # no finite baro sample at all
+        raise CliError(f"{data.source}: no baro sample (the baro column is empty)")
+    return data
+
+
+def _ground_temperature_k(text: Optional[str]):
+    """``--ground-temperature`` (°C or "log") as the readers take it: K, "log" or None."""
+    if text is None:
+        return None
+    if text.strip().lower() == "log":
+        return "log"
+    try:
+        celsius = float(text)
+    except ValueError:
+        raise CliError(f"--ground-temperature must be a temperature in °C or 'log', got {text!r}") from None
+    _number("--ground-temperature", celsius, -273.15, maximum=100.0)
+    return celsius + 273.15
+
+
+def _column_lists(args: argparse.Namespace) -> dict:
+    """``--accel-body`` and ``--attitude-columns`` split into column names (attribute → tuple); CliError on a
+    wrong count or an empty name."""
+    column_lists = {}
+    for flag, attribute, count in (("--accel-body", "accel_body", (3,)),
+                                   ("--attitude-columns", "attitude_columns", (3, 4))):
+        text = getattr(args, attribute, None)
+        if text is not None:
+            names = [name.strip() for name in text.split(",")]
+            if len(names) not in count or not all(names):
+                raise CliError(f"{flag} takes {' or '.join(str(c) for c in count)} comma-separated column names, "
+                               f"got {text!r}")
+            column_lists[attribute] = tuple(names)
+    return column_lists
+
+
+def _csv_options(given: dict) -> dict:
+    """The keywords of :func:`fusion_altitude.logs.read_csv_log` from the flags ``given`` (flag → (keyword,
+    value)); CliError when a needed flag is missing, two exclude each other, or the reader lacks one."""
+    from . import logs
+
+    parameters = inspect.signature(logs.read_csv_log).parameters
+    missing = [flag for flag, keyword in (("--time", "time_column"), ("--accel", "accel_column"))
+               if flag not in given and keyword in parameters
+               and parameters[keyword].default is inspect.Parameter.empty]
+    if "--accel" not in given and "--accel-body" not in given:
+        missing.append("--accel (or --accel-body with --attitude-columns)")
+    if "--baro" not in given and "--pressure" not in given:
+        missing.append("--baro or --pressure")
+    if missing:
+        raise CliError(f"a CSV log needs {', '.join(missing)}")
+    if "--baro" in given and "--pressure" in given:
+        raise CliError("give --baro or --pressure, not both")
     options = {}
-    if fmt == "csv":
-        parameters = inspect.signature(logs.read_csv_log).parameters
-        missing = [flag for flag, keyword in (("--time", "time_column"), ("--accel", "accel_column"))
-                   if flag not in given and keyword in parameters
-                   and parameters[keyword].default is inspect.Parameter.empty]
-        if "--accel" not in given and "--accel-body" not in given:
-            missing.append("--accel (or --accel-body with --attitude-columns)")
-        if "--baro" not in given and "--pressure" not in given:
-            missing.append("--baro or --pressure")
-        if missing:
-            raise CliError(f"a CSV log needs {', '.join(missing)}")
-        if "--baro" in given and "--pressure" in given:
-            raise CliError("give --baro or --pressure, not both")
-        for flag, (keyword, value) in given.items():
-            if keyword not in parameters:
-                raise CliError(f"{flag} is not supported by this version's CSV reader")
-            options[keyword] = value
-    else:
-        csv_only = [flag for flag in given if flag != "--ground-temperature"]
-        if csv_only:
-            raise CliError(f"{', '.join(csv_only)}: CSV column flags do not apply to {args.file} ({fmt})")
-        if "--ground-temperature" in given:  # the reader says whether its format takes it
-            keyword, value = given["--ground-temperature"]
-            options[keyword] = value
+    for flag, (keyword, value) in given.items():
+        if keyword not in parameters:
+            raise CliError(f"{flag} is not supported by this version's CSV reader")
+        options[keyword] = value
+    return options
+
+
+def _other_format_options(given: dict, path: str, fmt: str) -> dict:
+    """The reader keywords for a recognised (not generic CSV) log: only ``--ground-temperature``; CliError for
+    any CSV column flag."""
+    csv_only = [flag for flag in given if flag != "--ground-temperature"]
+    if csv_only:
+        raise CliError(f"{', '.join(csv_only)}: CSV column flags do not apply to {path} ({fmt})")
+    options = {}
+    if "--ground-temperature" in given:  # the reader says whether its format takes it
+        keyword, value = given["--ground-temperature"]
+        options[keyword] = value
+    return options
+
+
+def _read_log(args: argparse.Namespace, options: dict, progress: _Progress):
+    """:func:`fusion_altitude.logs.load_log` with ``options`` (and ``--instance``) under a progress bar; its
+    LogError → CliError naming our flags instead of the reader's keywords."""
+    from . import logs
+
     load_parameters = inspect.signature(logs.load_log).parameters
     if args.instance is not None:
         if "instance" not in load_parameters:
@@ -412,7 +447,7 @@ def _load(args: argparse.Namespace, progress: _Progress):
             with warnings.catch_warnings():
                 # the reader's LogWarnings are also in data.warnings, printed with the summary
                 warnings.simplefilter("ignore", getattr(logs, "LogWarning", UserWarning))
-                data = logs.load_log(args.file, **options)
+                return logs.load_log(args.file, **options)
         except ImportError as error:
             raise CliError(f"{args.file}: {error}") from None
         except logs.LogError as error:  # name our flags, not the reader's keywords
@@ -420,11 +455,6 @@ def _load(args: argparse.Namespace, progress: _Progress):
             for flag, _, keyword, _ in _CSV_FLAGS:
                 message = message.replace(keyword, flag)
             raise CliError(message) from None
-    if data.time.size < 2:
-        raise CliError(f"{data.source}: {data.time.size} sample(s); a log needs at least 2")
-    if not (data.baro_altitude == data.baro_altitude).any():  # no finite baro sample at all
-        raise CliError(f"{data.source}: no baro sample (the baro column is empty)")
-    return data
 
 
 def _print_log_summary(data, what: str, notes=None) -> None:
@@ -503,15 +533,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ._observer import AltitudeSettings
 
     progress = _Progress()
-    _check_output(args.output, "-o", [args.file])
-    _check_output(args.events_csv, "--events-csv", [args.file])
-    _check_plot(args.plot, [args.file])
-    outputs = [(flag, path) for flag, path in (("-o", args.output), ("--plot", args.plot),
-                                               ("--events-csv", args.events_csv)) if path]
-    for i, (flag_a, a) in enumerate(outputs):
-        for flag_b, b in outputs[i + 1:]:
-            if _same_file_name(a, b):
-                raise CliError(f"{flag_a} and {flag_b} name the same file")
+    _check_run_outputs(args)
     data = _load(args, progress)
     estimator = _run_estimator(args, data)
     if estimator == "observer":
@@ -526,6 +548,35 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                  estimator=estimator, agl=args.agl, **options)
         except ValueError as error:  # e.g. an INS input out of range, named by the binding
             raise CliError(f"{data.source}: {error}") from None
+    what, notes = _run_description(args, data, run, estimator)
+    _print_log_summary(data, what, notes)
+    print()
+    _print_run_results(run, estimator)
+    if run.reference_altitude is not None and np.isfinite(run.reference_altitude).any():
+        _print_run_comparison(run, args.agl)
+    if run.events is not None:
+        _print_events(run, data)
+    _write_run_outputs(args, run, progress)
+    return 0
+
+
+def _check_run_outputs(args: argparse.Namespace) -> None:
+    """CliError when an output of ``run`` (-o, --events-csv, --plot) is the input or two outputs name one file."""
+    _check_output(args.output, "-o", [args.file])
+    _check_output(args.events_csv, "--events-csv", [args.file])
+    _check_plot(args.plot, [args.file])
+    outputs = [(flag, path) for flag, path in (("-o", args.output), ("--plot", args.plot),
+                                               ("--events-csv", args.events_csv)) if path]
+    for i, (flag_a, a) in enumerate(outputs):
+        for flag_b, b in outputs[i + 1:]:
+            if _same_file_name(a, b):
+                raise CliError(f"{flag_a} and {flag_b} name the same file")
+
+
+def _run_description(args: argparse.Namespace, data, run, estimator: str):
+    """What ``run`` ran (estimator, preset, rocket long axis, datum) and the notes to print (None: the log's)."""
+    from . import runner
+
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
     if estimator == "rocket" and not args.estimator:
         what += " (rocket log)" if not args.rocket else " (--rocket)"
@@ -541,19 +592,27 @@ def _cmd_run(args: argparse.Namespace) -> int:
                  if note == ATTITUDE_NOTE else note for note in data.notes]
     if args.agl:
         what += f"; heights above the start ({run.datum:.2f} m)"
-    _print_log_summary(data, what, notes)
-    print()
+    return what, notes
+
+
+def _last_finite(values) -> float:
+    """The last finite value of ``values``; NaN if none is."""
+    import numpy as np
+
+    finite = values[np.isfinite(values)]
+    return float(finite[-1]) if finite.size else math.nan
+
+
+def _print_run_results(run, estimator: str) -> None:
+    """Final, max and min altitude (m) of the estimate, baro and reference; final bias, gaps, INS state."""
+    import numpy as np
+
     altitude = np.asarray(run.estimate.altitude, float)
     baro = run.baro_altitude
     columns = [("estimate", altitude), ("baro", baro)]
     if run.reference_altitude is not None:
         columns.append((run.reference_name or "reference", run.reference_altitude))
-
-    def last(values):
-        finite = values[np.isfinite(values)]
-        return float(finite[-1]) if finite.size else math.nan
-
-    rows = [["final altitude (m)"] + [last(v) for _, v in columns],
+    rows = [["final altitude (m)"] + [_last_finite(v) for _, v in columns],
             ["max altitude (m)"] + [float(np.nanmax(v)) if np.isfinite(v).any() else math.nan for _, v in columns],
             ["min altitude (m)"] + [float(np.nanmin(v)) if np.isfinite(v).any() else math.nan for _, v in columns]]
     print(format_table([""] + [name for name, _ in columns], rows))
@@ -569,24 +628,33 @@ def _cmd_run(args: argparse.Namespace) -> int:
               f"{float(e.gyro_bias_z[-1]):+.5f}) rad/s, accel z bias {float(e.accel_z_bias[-1]):+.4f} m/s², "
               f"baro bias {float(e.baro_bias[-1]):+.3f} m; stationary on {int(np.count_nonzero(e.is_stationary))} "
               "samples")
-    if run.reference_altitude is not None and np.isfinite(run.reference_altitude).any():
-        estimate = run.comparison()
-        raw = run.baro_comparison()
-        print()
-        datum = "above the start" if args.agl else "on the baro datum"
-        print(f"against the log's own estimate, {run.reference_name} ({datum}):")
-        rows = [["mean (m)", estimate.mean, raw.mean], ["RMS (m)", estimate.rms, raw.rms],
-                ["max |·| (m)", estimate.max, raw.max]]
-        reference_velocity = run.reference_velocity
-        if reference_velocity is not None and np.isfinite(reference_velocity).any():
-            from .metrics import error_statistics
 
-            velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
-                                        - reference_velocity, 0.0)
-            rows.append(["velocity RMS (m/s)", velocity.rms, math.nan])
-        print(format_table(["", "estimate − ref", "baro − ref"], rows))
-    if run.events is not None:
-        _print_events(run, data)
+
+def _print_run_comparison(run, agl: bool) -> None:
+    """Estimate and raw baro against the log's own estimate: mean, RMS, max (m); velocity RMS (m/s)."""
+    import numpy as np
+
+    estimate = run.comparison()
+    raw = run.baro_comparison()
+    print()
+    datum = "above the start" if agl else "on the baro datum"
+    print(f"against the log's own estimate, {run.reference_name} ({datum}):")
+    rows = [["mean (m)", estimate.mean, raw.mean], ["RMS (m)", estimate.rms, raw.rms],
+            ["max |·| (m)", estimate.max, raw.max]]
+    reference_velocity = run.reference_velocity
+    if reference_velocity is not None and np.isfinite(reference_velocity).any():
+        from .metrics import error_statistics
+
+        velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
+                                    - reference_velocity, 0.0)
+        rows.append(["velocity RMS (m/s)", velocity.rms, math.nan])
+    print(format_table(["", "estimate − ref", "baro − ref"], rows))
+
+
+def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress) -> None:
+    """Write what ``run`` was asked for: the events CSV, the estimates CSV, the plot."""
+    from . import runner
+
     if args.events_csv:
         with runner.atomic_output(args.events_csv) as temporary:
             run.events.to_csv(temporary)
@@ -601,7 +669,6 @@ def _cmd_run(args: argparse.Namespace) -> int:
         with progress.stage("plotting"):
             plot_log_run(run, args.plot)
         print(f"plot written to {args.plot}")
-    return 0
 
 
 def _default_preset(data) -> str:
@@ -714,9 +781,44 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import metrics, tuning
+    from . import tuning
 
     progress = _Progress()
+    _check_fit_arguments(args)
+    source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args, progress)
+    time = np.asarray(time, float)
+    split, scored_until = _fit_split(args, time, skip)
+    steps = tuning.steps_per_baro(baro)
+    result, held_out = _fit(args, time, accel, baro, reference, split, skip, steps, progress)
+    gaps, baro_rms = _fit_gaps_and_baro_rms(time, baro, reference, skip, scored_until)
+    gains = result.settings
+    print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
+          + (f", trained before {split - time[0]:.2f} s" if split is not None else ""))
+    if gaps:
+        print(f"{gaps} logging gap(s): the {tuning.GAP_SETTLING:.2f} s after each are left out of every RMS below "
+              "(every candidate restarts there)")
+    if steps > 1.0:
+        print(f"baro on 1 of {steps:.2f} steps: gains compensated for the baro rate, as `run` and `compare` do")
+    print(f"best of {len(result.landscape)} stable candidates (checked at the nominal period): "
+          f"omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, omega_b {result.omega_b:.4g} rad/s")
+    print(f"  position_gain {gains.position_gain:.6g} 1/s, velocity_gain {gains.velocity_gain:.6g} 1/s², "
+          f"bias_gain {gains.bias_gain:.6g} 1/s³")
+    print()
+    _print_fit_scores(result, held_out, preset_row, baro_rms, split, steps)
+    print()
+    print("runners-up:")
+    print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"], _runners_up(result.landscape)))
+    if args.plot:
+        from .plotting import plot_fit_landscape
+
+        with progress.stage("plotting"):
+            plot_fit_landscape(result, args.plot, title=source)
+        print(f"plot written to {args.plot}")
+    return 0
+
+
+def _check_fit_arguments(args: argparse.Namespace) -> None:
+    """CliError for ``fit`` flags out of range or contradicting each other (before any file is read)."""
     if args.scenario is None and args.file is None:
         raise CliError("give a log FILE (with a reference) or --scenario NAME")
     if args.scenario is not None and args.file is not None:
@@ -730,8 +832,11 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         raise CliError(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
     _check_plot(args.plot, [args.file] if args.file else [])
     _parse_train_until(args.train_until)
-    source, time, accel, baro, reference, preset_row, skip = _fit_inputs(args, progress)
-    time = np.asarray(time, float)
+
+
+def _fit_split(args: argparse.Namespace, time, skip: float):
+    """The ``--train-until`` time (s, or None) and the end of the scored part (s); CliError when ``--skip`` (s)
+    leaves nothing; a warning on stderr when the scored part is short for the default bias loop."""
     duration = float(time[-1] - time[0])
     if skip >= duration:
         raise CliError(f"--skip {skip:g} s leaves no sample of a {duration:.2f} s log")
@@ -746,7 +851,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if scored < 3 * slowest:
         print(f"warning: the fit is scored over only {scored:.1f} s of data, less than 3 time constants of the "
               f"default bias loop ({3 * slowest:.0f} s): the fitted gains may not generalise", file=sys.stderr)
-    steps = tuning.steps_per_baro(baro)
+    return split, scored_until
+
+
+def _fit(args: argparse.Namespace, time, accel, baro, reference, split, skip: float, steps: float, progress):
+    """The fit over the whole log (after ``skip`` s) or, with a ``split`` time (s), on the part before it scored
+    on the rest: (fit result, held-out result or None). The library's ValueError → CliError naming our flags."""
+    from . import tuning
+
     options = dict(omega_range=(args.omega_min, args.omega_max), steps_per_baro=steps)
     held_out = None
     with progress.stage("fitting") as bar:
@@ -760,31 +872,34 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 result = held_out.fit
         except ValueError as error:  # the library's keyword → our flags
             raise CliError(str(error).replace("omega_range", "--omega-min/--omega-max")) from None
+    return result, held_out
+
+
+def _fit_gaps_and_baro_rms(time, baro, reference, skip: float, scored_until: float):
+    """The number of logging gaps, and the raw baro's RMS error (m) against the reference over the scored part
+    (after ``skip`` s, before ``scored_until`` s, without the gaps' transients)."""
+    import numpy as np
+
+    from . import metrics, tuning
+
     counted = tuning.without_gap_transients(_sample_periods(time), (time > time[0] + skip) & (time < scored_until))
     gaps = int(np.count_nonzero(_sample_periods(time) > tuning.gap_period_for(_sample_periods(time))))
     baro_rms = metrics.error_statistics(time[counted], (baro - reference)[counted], 0.0).rms \
         if np.isfinite((baro - reference)[counted]).any() else math.nan
-    gains = result.settings
-    print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
-          + (f", trained before {split - time[0]:.2f} s" if split is not None else ""))
-    if gaps:
-        print(f"{gaps} logging gap(s): the {tuning.GAP_SETTLING:.2f} s after each are left out of every RMS below "
-              "(every candidate restarts there)")
-    if steps > 1.0:
-        print(f"baro on 1 of {steps:.2f} steps: gains compensated for the baro rate, as `run` and `compare` do")
-    print(f"best of {len(result.landscape)} stable candidates (checked at the nominal period): "
-          f"omega {result.omega:.4g} rad/s, zeta {result.zeta:.3g}, omega_b {result.omega_b:.4g} rad/s")
-    print(f"  position_gain {gains.position_gain:.6g} 1/s, velocity_gain {gains.velocity_gain:.6g} 1/s², "
-          f"bias_gain {gains.bias_gain:.6g} 1/s³")
-    print()
+    return gaps, baro_rms
 
-    def improvement(fitted: float, other: float) -> str:
-        return f"{100 * (1 - fitted / other):+.0f}%" if other > 0 and math.isfinite(other) else ""
 
+def _improvement(fitted: float, other: float) -> str:
+    """How much lower ``fitted`` is than ``other`` (RMS, m), in %; "" when ``other`` is no score."""
+    return f"{100 * (1 - fitted / other):+.0f}%" if other > 0 and math.isfinite(other) else ""
+
+
+def _print_fit_scores(result, held_out, preset_row, baro_rms: float, split, steps: float) -> None:
+    """The RMS table (m) of the fitted, default and preset gains and the raw baro; the held-out table."""
     rows = [["fitted gains", result.rms_error, ""],
-            ["VTOL default gains", result.default_rms_error, improvement(result.rms_error, result.default_rms_error)]]
+            ["VTOL default gains", result.default_rms_error, _improvement(result.rms_error, result.default_rms_error)]]
     if preset_row is not None:
-        rows.append([preset_row[0], preset_row[1], improvement(result.rms_error, preset_row[1])])
+        rows.append([preset_row[0], preset_row[1], _improvement(result.rms_error, preset_row[1])])
     rows.append(["raw baro", baro_rms, ""])
     title = "training part: altitude − reference" if split is not None else "altitude − reference"
     print(format_table([title, "RMS (m)", "fit improves by"], rows))
@@ -795,23 +910,13 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         print(format_table(["held-out part (after the split)", "RMS (m)", "fit improves by"],
                            [["fitted gains", held_out.fitted_rms_error, ""],
                             ["VTOL default gains", held_out.default_rms_error,
-                             improvement(held_out.fitted_rms_error, held_out.default_rms_error)]]))
+                             _improvement(held_out.fitted_rms_error, held_out.default_rms_error)]]))
         if held_out.generalises:
             print("the fitted gains generalise: use them")
         else:
             print("the fitted gains do worse than the default on the held-out part: keep the default "
                   f"(position_gain {held_out.settings.position_gain:g}, velocity_gain "
                   f"{held_out.settings.velocity_gain:g}, bias_gain {held_out.settings.bias_gain:g})")
-    print()
-    print("runners-up:")
-    print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"], _runners_up(result.landscape)))
-    if args.plot:
-        from .plotting import plot_fit_landscape
-
-        with progress.stage("plotting"):
-            plot_fit_landscape(result, args.plot, title=source)
-        print(f"plot written to {args.plot}")
-    return 0
 
 
 def _runners_up(landscape, count: int = 5) -> list:
@@ -908,14 +1013,24 @@ def _compare_log(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``fusion-altitude``."""
-    from .runner import ESTIMATORS
-    from .scenarios import scenario_names
-
     parser = argparse.ArgumentParser(
         prog="fusion-altitude",
         description="Altitude and vertical-velocity estimation: barometer + accelerometer fusion.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    _add_demo_parser(commands)
+    _add_tune_parser(commands)
+    _add_run_parser(commands)
+    _add_fit_parser(commands)
+    _add_compare_parser(commands)
+    from .fleet_cli import add_fleet_parser
+    add_fleet_parser(commands)
+    return parser
+
+
+def _add_demo_parser(commands) -> None:
+    """The ``demo`` subcommand: simulate a scenario and print the error table."""
+    from .scenarios import scenario_names
 
     demo = commands.add_parser("demo", help="simulate a flight and print the error table",
                                description="Simulate a scenario, run the observer, print raw-baro vs fused errors.")
@@ -930,6 +1045,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "baro_altitude, true_altitude)")
     demo.set_defaults(handler=_cmd_demo)
 
+
+def _add_tune_parser(commands) -> None:
+    """The ``tune`` subcommand: gains, poles, settling and noise of ω (rad/s), ζ, ω_b (rad/s) at a rate (Hz)."""
     tune = commands.add_parser("tune", help="gains, poles, settling and noise for a bandwidth choice",
                                description="Gains from ω, ζ, ω_b and what they do at a sample rate.")
     tune.add_argument("--omega", type=float, default=1.5,
@@ -942,6 +1060,11 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--rate", type=float, default=100.0,
                       help=f"sample rate, Hz, >= {MIN_TUNE_RATE:g} and <= {MAX_TUNE_RATE:g} (default 100)")
     tune.set_defaults(handler=_cmd_tune)
+
+
+def _add_run_parser(commands) -> None:
+    """The ``run`` subcommand: an estimator on a recorded log."""
+    from .runner import ESTIMATORS
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
                               description="Run an estimator on a log and compare it with the log's own estimate. "
@@ -969,6 +1092,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", metavar="OUT.png", help="write a plot (needs the [plot] extra)")
     run.set_defaults(handler=_cmd_run)
 
+
+def _add_fit_parser(commands) -> None:
+    """The ``fit`` subcommand: fit the observer's gains to a reference altitude."""
+    from .scenarios import scenario_names
+
     fit = commands.add_parser("fit", help="fit the gains to a reference altitude (a log or a scenario)",
                               description="Search omega, zeta, omega_b for the gains whose altitude best matches a "
                                           "reference: a log's reference column or autopilot estimate, or a "
@@ -989,7 +1117,12 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--plot", metavar="OUT.png", help="contour plot of RMS over (omega, omega_b) ([plot] extra)")
     fit.set_defaults(handler=_cmd_fit)
 
+
+def _add_compare_parser(commands) -> None:
+    """The ``compare`` subcommand: every estimator on the simulator's scenarios or on one log."""
     from .comparison import SCENARIOS
+    from .scenarios import scenario_names
+
     comparison = commands.add_parser(
         "compare", help="every estimator on the simulator's scenarios, or on one log: one table",
         description="Without FILE: observer (preset and fitted gains), Kalman filter, two-stage complementary "
@@ -1014,10 +1147,6 @@ def build_parser() -> argparse.ArgumentParser:
     comparison.add_argument("--plot-scenario", choices=scenario_names(), metavar="NAME",
                             help="scenario of the plot (default: the first one compared)")
     comparison.set_defaults(handler=_cmd_compare)
-
-    from .fleet_cli import add_fleet_parser
-    add_fleet_parser(commands)
-    return parser
 
 
 def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> None:

@@ -68,11 +68,55 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
         Not an AltOS header, a missing column, a bad cell (file line and
         column), time going backwards.
     """
+    source = f"{os.path.basename(path)} (AltOS CSV)"
+    time, column, dropped, repeated = _read_columns(path, progress)
+    pressure = column["pressure"]
+    pad = time < 0
+    if not pad.any():
+        pad = time <= time[0] + 1.0
+    notes = ["time, acceleration, altitude (first), pressure"]
+    temperature = column["temperature"] + 273.15 if "temperature" in column else None
+    if ground_temperature_k is not None:
+        baro = _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, notes)
+        altitude_reference, ground_altitude = "pad", 0.0
+    else:
+        baro = column["altitude"]
+        altitude_reference = "sea level"
+        ground_altitude = None
+    reference = velocity = None
+    if "height" in column:
+        if altitude_reference == "sea level":
+            ground_altitude = _ground_altitude(column["altitude"], column["height"], pad)
+        reference = column["height"] + (ground_altitude or 0.0)
+        velocity = column.get("speed")
+    imu = [column.get(f"accel_{axis}") for axis in "xyz"]
+    gyro = [column.get(f"gyro_{axis}") for axis in "xyz"]
+    log = LogData(
+        source, time, column["acceleration"], baro, reference_altitude=reference, reference_velocity=velocity,
+        reference_name="AltOS flight computer (height, speed)" if reference is not None else "",
+        notes=notes, gps_altitude=column.get("gps_altitude"), gps_satellites=column.get("nsat"),
+        accel=np.column_stack(imu) if all(a is not None for a in imu) else None,
+        gyro=np.radians(np.column_stack(gyro)) if all(g is not None for g in gyro) else None,
+        imu_frame="sensor" if all(a is not None for a in imu) else "",
+        pressure=pressure, temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
+        altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
+    if dropped is not None:
+        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
+    return finish(log)
+
+
+def _read_columns(path: str, progress):
+    """Read the columns of an AltOS CSV that :func:`read_altos_csv` uses.
+
+    Returns time (s, repeated stamps merged), role → column (units as in the
+    file; ``gps_altitude`` NaN where there is no new locked fix; ``state``
+    the ``state_name`` text), the line number of a cut-short last line (or
+    None) and the count of repeated time stamps.
+    """
     text = read_text(path, "AltOS CSV")
     if not looks_like_altos(text[:4096]):
         raise LogError(f"{path}: not an AltOS CSV (its first line does not start with {HEADER_START!r})")
     table = split_header(path, text, header_prefix="#")
-    source = f"{os.path.basename(path)} (AltOS CSV)"
     roles = {"time": table.index("time"), "acceleration": table.index("acceleration"),
              "pressure": table.index("pressure"), "altitude": table.index("altitude")}
     optional = {"height": ("height", 0), "speed": ("speed", 0), "temperature": ("temperature", 0),
@@ -91,65 +135,48 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     for role in ("time", "acceleration"):
         check_finite(path, role, column[role], lines)
     if "gps_altitude" in column:
-        fix = np.isfinite(column["gps_altitude"])
-        if "locked" in column:
-            fix &= column["locked"] == 1
-        elif "nsat" in column:
-            fix &= column["nsat"] >= 4
-        moved = np.ones(fix.shape, dtype=bool)
-        keys = [column[k] for k in ("gps_altitude", "latitude", "longitude") if k in column]
-        same = np.all([np.concatenate([[False], key[1:] == key[:-1]]) for key in keys], axis=0)
-        moved &= ~same
-        column["gps_altitude"] = np.where(fix & moved, column["gps_altitude"], np.nan)
+        column["gps_altitude"] = _new_gps_fixes(column)
     if "state_name" in table.header:
         column["state"] = text_column(table, table.index("state_name"), lines)
     time, column, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, "time")
+    return time, column, dropped, repeated
 
-    pressure = column["pressure"]
-    pad = time < 0
-    if not pad.any():
-        pad = time <= time[0] + 1.0
-    notes = ["time, acceleration, altitude (first), pressure"]
-    temperature = column["temperature"] + 273.15 if "temperature" in column else None
-    if ground_temperature_k is not None:
-        good = pad & np.isfinite(pressure)
-        if not good.any():
-            raise LogError(f"{path}: column 'pressure': no value on the pad to start the hypsometric height from")
-        ground_pa = float(np.median(pressure[good]))
-        if ground_temperature_k == "log":
-            warm = pad & np.isfinite(temperature) if temperature is not None else pad & False
-            if not warm.any():
-                raise LogError(f"{path}: column 'temperature': no value on the pad for the ground temperature")
-            ground_temperature_k = float(np.median(temperature[warm]))
-        elif not (isinstance(ground_temperature_k, (int, float)) and ground_temperature_k > 0):
-            raise LogError(f"ground temperature must be a positive number of K or 'log', got {ground_temperature_k!r}")
-        baro = height_above_ground(pressure, ground_pa, float(ground_temperature_k))
-        altitude_reference, ground_altitude = "pad", 0.0
-        notes.append(f"height above {_fmt(ground_pa)} Pa at {_fmt(ground_temperature_k)} K (hypsometric)")
-    else:
-        baro = column["altitude"]
-        altitude_reference = "sea level"
-        ground_altitude = None
-    reference = velocity = None
-    if "height" in column:
-        both = np.isfinite(column["height"]) & np.isfinite(column["altitude"])
-        if altitude_reference == "sea level":
-            early = both & pad if (both & pad).any() else both
-            ground_altitude = float(np.median(column["altitude"][early] - column["height"][early])) \
-                if early.any() else None
-        reference = column["height"] + (ground_altitude or 0.0)
-        velocity = column.get("speed")
-    imu = [column.get(f"accel_{axis}") for axis in "xyz"]
-    gyro = [column.get(f"gyro_{axis}") for axis in "xyz"]
-    log = LogData(
-        source, time, column["acceleration"], baro, reference_altitude=reference, reference_velocity=velocity,
-        reference_name="AltOS flight computer (height, speed)" if reference is not None else "",
-        notes=notes, gps_altitude=column.get("gps_altitude"), gps_satellites=column.get("nsat"),
-        accel=np.column_stack(imu) if all(a is not None for a in imu) else None,
-        gyro=np.radians(np.column_stack(gyro)) if all(g is not None for g in gyro) else None,
-        imu_frame="sensor" if all(a is not None for a in imu) else "",
-        pressure=pressure, temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
-        altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
-    if dropped is not None:
-        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
-    return finish(log)
+
+def _new_gps_fixes(column: dict) -> np.ndarray:
+    """GPS altitude (m) where the fix is locked and new (AltOS repeats the last fix on every row), else NaN."""
+    fix = np.isfinite(column["gps_altitude"])
+    if "locked" in column:
+        fix &= column["locked"] == 1
+    elif "nsat" in column:
+        fix &= column["nsat"] >= 4
+    moved = np.ones(fix.shape, dtype=bool)
+    keys = [column[k] for k in ("gps_altitude", "latitude", "longitude") if k in column]
+    same = np.all([np.concatenate([[False], key[1:] == key[:-1]]) for key in keys], axis=0)
+    moved &= ~same
+    return np.where(fix & moved, column["gps_altitude"], np.nan)
+
+
+def _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, notes) -> np.ndarray:
+    """Height above the pad, m, from pressure (Pa) and the ground temperature (K, or "log": the median
+    ``temperature``, K, on the pad); appends a note."""
+    good = pad & np.isfinite(pressure)
+    if not good.any():
+        raise LogError(f"{path}: column 'pressure': no value on the pad to start the hypsometric height from")
+    ground_pa = float(np.median(pressure[good]))
+    if ground_temperature_k == "log":
+        warm = pad & np.isfinite(temperature) if temperature is not None else pad & False
+        if not warm.any():
+            raise LogError(f"{path}: column 'temperature': no value on the pad for the ground temperature")
+        ground_temperature_k = float(np.median(temperature[warm]))
+    elif not (isinstance(ground_temperature_k, (int, float)) and ground_temperature_k > 0):
+        raise LogError(f"ground temperature must be a positive number of K or 'log', got {ground_temperature_k!r}")
+    baro = height_above_ground(pressure, ground_pa, float(ground_temperature_k))
+    notes.append(f"height above {_fmt(ground_pa)} Pa at {_fmt(ground_temperature_k)} K (hypsometric)")
+    return baro
+
+
+def _ground_altitude(altitude: np.ndarray, height: np.ndarray, pad: np.ndarray) -> Optional[float]:
+    """The pad's altitude, m: median(altitude − height) on the pad (or anywhere), None if never both known."""
+    both = np.isfinite(height) & np.isfinite(altitude)
+    early = both & pad if (both & pad).any() else both
+    return float(np.median(altitude[early] - height[early])) if early.any() else None

@@ -160,38 +160,10 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
     baro_time, baro, baro_repeats, baro_note, dropped_baro = _read(files["baro"], ["ts", "P", "T"], progress,
                                                                      "BARO", instance)
     time = imu_time
-    rest = time < (0.0 - REST_MARGIN) if (time < -REST_MARGIN).sum() >= 10 else time <= time[0] + 1.0
-    accel_body = np.column_stack([imu["Ax"], imu["Ay"], imu["Az"]])
-    gyro_dps = np.column_stack([imu["Gx"], imu["Gy"], imu["Gz"]])
-    for name in ("Ax", "Ay", "Az", "Gx", "Gy", "Gz"):
-        bad = np.flatnonzero(~np.isfinite(imu[name]))
-        if bad.size:
-            raise LogError(f"{files['imu']}: column {name!r}: empty at ts {_fmt(time[bad[0]])} s")
-    at_rest = accel_body[rest].mean(axis=0)
-    if not 0.5 * GRAVITY < float(np.linalg.norm(at_rest)) < 1.5 * GRAVITY:
-        raise LogError(f"{files['imu']}: the mean specific force before launch is "
-                       f"{_fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
-    dt = np.diff(time, prepend=time[0] - (time[1] - time[0]))
-    attitude = gyro_attitude(gyro_dps, dt, at_rest, gyro_dps[rest].mean(axis=0))
-    accel = vertical_acceleration(accel_body, attitude, frame="ENU")
-    clipped = np.any(np.abs(accel_body) >= accel_range, axis=1)
+    accel_body, gyro_dps, accel, clipped = _imu_vertical(files["imu"], time, imu, accel_range)
     pressure = _align(time, baro_time, baro["P"])
     temperature = _align(time, baro_time, baro["T"] + 273.15)
-    baro_rest = baro_time < -REST_MARGIN if (baro_time < -REST_MARGIN).any() else baro_time <= baro_time[0] + 1.0
-    good = baro_rest & np.isfinite(baro["P"])
-    if not good.any():
-        raise LogError(f"{files['baro']}: column 'P': no pressure before launch to take as the pad's")
-    ground_pa = float(np.median(baro["P"][good]))
-    if isinstance(ground_temperature_k, str):
-        if ground_temperature_k.strip().lower() == "log":
-            board = baro["T"][baro_rest & np.isfinite(baro["T"])]
-            on_pad = f" (median {_fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
-            raise LogError(f"{files['baro']}: column 'T' is the flight computer's board temperature{on_pad}, "
-                           f"not the air's: give --ground-temperature in °C instead of 'log'")
-        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
-    if ground_temperature_k is not None and not (isinstance(ground_temperature_k, (int, float))
-                                                 and np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
-        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
+    ground_pa = _pad_pressure(files["baro"], baro_time, baro, ground_temperature_k)
     baro_altitude = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
              f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
@@ -205,20 +177,69 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
         if dropped is not None:
             log.warn(f"{file}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if "info" in files:
-        table = split_header(files["info"], read_text(files["info"], "CATS CSV"))
-        names = ["ts"] + [name for name in ("height", "velocity") if table.has(name)]
-        data, lines, _ = numeric_columns(table, [table.index(name) for name in names], progress)
-        info = {name: data[:, i] for i, name in enumerate(names)}
-        check_finite(files["info"], "ts", info["ts"], lines)
-        if "state" in table.header:
-            info["state"] = text_column(table, table.index("state"), lines)
-        info_time, info, _ = merge_repeated_timestamps(info.pop("ts"), info, files["info"], lines, "ts")
-        if "height" in info and info_time.size >= 2:
-            log.reference_altitude = np.interp(time, info_time, info["height"], left=np.nan, right=np.nan)
-            if "velocity" in info:
-                log.reference_velocity = np.interp(time, info_time, info["velocity"], left=np.nan, right=np.nan)
-            log.reference_name = "CATS flight computer (flight info)"
-        if "state" in info:
-            index = np.clip(np.searchsorted(info_time, time, side="right") - 1, 0, info_time.size - 1)
-            log.flight_state = info["state"][index]
+        _add_flight_info(log, files["info"], time, progress)
     return finish(log)
+
+
+def _imu_vertical(file: str, time: np.ndarray, imu: Dict[str, np.ndarray], accel_range: float):
+    """Accelerometer (m/s², n×3 sensor axes), gyro (°/s, n×3), vertical acceleration (m/s², +up, gravity
+    removed; attitude integrated from the levelled at-rest attitude) and clip flags (any axis ≥
+    ``accel_range``, m/s²) of a CATS IMU file."""
+    rest = time < (0.0 - REST_MARGIN) if (time < -REST_MARGIN).sum() >= 10 else time <= time[0] + 1.0
+    accel_body = np.column_stack([imu["Ax"], imu["Ay"], imu["Az"]])
+    gyro_dps = np.column_stack([imu["Gx"], imu["Gy"], imu["Gz"]])
+    for name in ("Ax", "Ay", "Az", "Gx", "Gy", "Gz"):
+        bad = np.flatnonzero(~np.isfinite(imu[name]))
+        if bad.size:
+            raise LogError(f"{file}: column {name!r}: empty at ts {_fmt(time[bad[0]])} s")
+    at_rest = accel_body[rest].mean(axis=0)
+    if not 0.5 * GRAVITY < float(np.linalg.norm(at_rest)) < 1.5 * GRAVITY:
+        raise LogError(f"{file}: the mean specific force before launch is "
+                       f"{_fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
+    dt = np.diff(time, prepend=time[0] - (time[1] - time[0]))
+    attitude = gyro_attitude(gyro_dps, dt, at_rest, gyro_dps[rest].mean(axis=0))
+    accel = vertical_acceleration(accel_body, attitude, frame="ENU")
+    clipped = np.any(np.abs(accel_body) >= accel_range, axis=1)
+    return accel_body, gyro_dps, accel, clipped
+
+
+def _pad_pressure(file: str, baro_time: np.ndarray, baro: Dict[str, np.ndarray], ground_temperature_k) -> float:
+    """The pad's pressure, Pa: the median ``P`` before launch (or over the first second). Also refuses a
+    ground temperature (K) that is not a positive number ("log" with its own message: ``T`` is the board's)."""
+    baro_rest = baro_time < -REST_MARGIN if (baro_time < -REST_MARGIN).any() else baro_time <= baro_time[0] + 1.0
+    good = baro_rest & np.isfinite(baro["P"])
+    if not good.any():
+        raise LogError(f"{file}: column 'P': no pressure before launch to take as the pad's")
+    ground_pa = float(np.median(baro["P"][good]))
+    if isinstance(ground_temperature_k, str):
+        if ground_temperature_k.strip().lower() == "log":
+            board = baro["T"][baro_rest & np.isfinite(baro["T"])]
+            on_pad = f" (median {_fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
+            raise LogError(f"{file}: column 'T' is the flight computer's board temperature{on_pad}, "
+                           f"not the air's: give --ground-temperature in °C instead of 'log'")
+        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
+    if ground_temperature_k is not None and not (isinstance(ground_temperature_k, (int, float))
+                                                 and np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
+        raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
+    return ground_pa
+
+
+def _add_flight_info(log: LogData, file: str, time: np.ndarray, progress) -> None:
+    """The reference (``height``, m above the pad; ``velocity``, m/s) and ``state`` of a CATS flight-info file,
+    on the grid ``time`` (s)."""
+    table = split_header(file, read_text(file, "CATS CSV"))
+    names = ["ts"] + [name for name in ("height", "velocity") if table.has(name)]
+    data, lines, _ = numeric_columns(table, [table.index(name) for name in names], progress)
+    info = {name: data[:, i] for i, name in enumerate(names)}
+    check_finite(file, "ts", info["ts"], lines)
+    if "state" in table.header:
+        info["state"] = text_column(table, table.index("state"), lines)
+    info_time, info, _ = merge_repeated_timestamps(info.pop("ts"), info, file, lines, "ts")
+    if "height" in info and info_time.size >= 2:
+        log.reference_altitude = np.interp(time, info_time, info["height"], left=np.nan, right=np.nan)
+        if "velocity" in info:
+            log.reference_velocity = np.interp(time, info_time, info["velocity"], left=np.nan, right=np.nan)
+        log.reference_name = "CATS flight computer (flight info)"
+    if "state" in info:
+        index = np.clip(np.searchsorted(info_time, time, side="right") - 1, 0, info_time.size - 1)
+        log.flight_state = info["state"][index]

@@ -174,53 +174,54 @@ def read_dataflash(path: str, instance: Optional[int] = None,
         raise LogError(f"{path}: unexpected DataFlash content: {type(error).__name__}: {error}") from None
 
 
+class _Messages:
+    """The parsed messages of one log by kind, read as float arrays; bad content → LogError naming the file."""
+
+    def __init__(self, path: str, rows) -> None:
+        self.path, self.rows = path, rows
+
+    def times(self, kind: str) -> np.ndarray:
+        """The time stamps of the ``kind`` messages, in the log's unit (µs or ms)."""
+        try:
+            values = np.array([_time_of(r) for r in self.rows[kind]], dtype=float)
+        except (TypeError, ValueError):
+            raise LogError(f"{self.path}: {kind} messages with a time stamp that is not a number") from None
+        if not np.all(np.isfinite(values)):
+            raise LogError(f"{self.path}: {kind} messages without a TimeUS or TimeMS field")
+        return values
+
+    def column(self, kind: str, *names: str) -> np.ndarray:
+        """The first of the fields ``names`` that the ``kind`` messages have, as float64."""
+        rows = self.rows[kind]
+        for name in names:
+            if name in rows[0]:
+                try:
+                    return np.array([r.get(name, np.nan) for r in rows], dtype=float)
+                except (TypeError, ValueError):
+                    raise LogError(f"{self.path}: {kind}.{name}: not a number in every message") from None
+        raise LogError(f"{self.path}: {kind} messages have no field {' or '.join(names)}; "
+                       f"fields are {', '.join(rows[0])}")
+
+
 def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
     """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
         if not rows[needed]:
             raise LogError(f"{path}: no {needed} messages" + (f" for instance {want}" if want else "") + " in the log")
-
-    def times(kind):
-        try:
-            values = np.array([_time_of(r) for r in rows[kind]], dtype=float)
-        except (TypeError, ValueError):
-            raise LogError(f"{path}: {kind} messages with a time stamp that is not a number") from None
-        if not np.all(np.isfinite(values)):
-            raise LogError(f"{path}: {kind} messages without a TimeUS or TimeMS field")
-        return values
-
-    def column(kind, *names):
-        for name in names:
-            if name in rows[kind][0]:
-                try:
-                    return np.array([r.get(name, np.nan) for r in rows[kind]], dtype=float)
-                except (TypeError, ValueError):
-                    raise LogError(f"{path}: {kind}.{name}: not a number in every message") from None
-        raise LogError(f"{path}: {kind} messages have no field {' or '.join(names)}; "
-                       f"fields are {', '.join(rows[kind][0])}")
-
-    imu_time_raw = times("IMU")
+    messages = _Messages(path, rows)
     stamp = "TimeUS" if "TimeUS" in rows["IMU"][0] else "TimeMS"
-    spikes = _time_spikes(imu_time_raw)
-    if spikes.size:
-        keep = np.ones(imu_time_raw.size, dtype=bool)
-        keep[spikes] = False
-        rows["IMU"] = [r for r, k in zip(rows["IMU"], keep) if k]
-        imu_time_raw = imu_time_raw[keep]
-        damaged = spikes.size
-    else:
-        damaged = 0
+    imu_time_raw, damaged = _imu_times_without_spikes(messages)
     t0 = float(imu_time_raw[0])
-    imu = {"accel": np.column_stack([column("IMU", f"Acc{a}") for a in "XYZ"]),
-           "gyro": np.column_stack([column("IMU", f"Gyr{a}") for a in "XYZ"])}
+    imu = {"accel": np.column_stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"]),
+           "gyro": np.column_stack([messages.column("IMU", f"Gyr{a}") for a in "XYZ"])}
     order = np.arange(imu_time_raw.size) + 1
     time, imu, repeated = merge_repeated_timestamps(imu_time_raw - t0, imu, path, order, stamp,
                                                     row_word="IMU message")
-    att_time = times("ATT") - t0
-    euler = np.radians(np.column_stack([column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
+    att_time = messages.times("ATT") - t0
+    euler = np.radians(np.column_stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
     accel = vertical_acceleration(imu["accel"], _previous(time, att_time, euler), frame="NED")
-    baro_time = times("BARO") - t0
-    baro = _align(time, baro_time, column("BARO", "Alt"))
+    baro_time = messages.times("BARO") - t0
+    baro = _align(time, baro_time, messages.column("BARO", "Alt"))
     vehicle = ""
     for word, kind in (("copter", "copter"), ("plane", "plane"), ("rover", "rover"), ("sub", "sub")):
         if word in firmware.lower():
@@ -237,40 +238,73 @@ def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if "Press" in rows["BARO"][0]:
-        data.pressure = _align(time, baro_time, column("BARO", "Press"))
+        data.pressure = _align(time, baro_time, messages.column("BARO", "Press"))
     if "Temp" in rows["BARO"][0]:
-        data.temperature = _align(time, baro_time, column("BARO", "Temp") + 273.15)
-    if rows["GPS"]:
-        gps_time = times("GPS") - t0
-        status = column("GPS", "Status")
-        altitude = np.where(status >= GPS_3D_FIX, column("GPS", "Alt"), np.nan)
-        data.gps_altitude = _align(time, gps_time, altitude)
-        if "NSats" in rows["GPS"][0]:
-            data.gps_satellites = _align(time, gps_time, np.where(status >= GPS_3D_FIX, column("GPS", "NSats"),
-                                                                  np.nan))
-        if rows["GPA"] and "VAcc" in rows["GPA"][0]:
-            data.gps_accuracy = _align(time, times("GPA") - t0, column("GPA", "VAcc"))
-        data.notes.append("GPS.Alt where Status ≥ 3")
+        data.temperature = _align(time, baro_time, messages.column("BARO", "Temp") + 273.15)
+    _add_gps(data, messages, time, t0)
+    _add_rangefinder_and_arming(data, messages, time, t0)
+    _add_ekf_reference(data, messages, time, t0, baro)
+    if progress is not None:
+        progress(size, size)
+    return finish(data)
+
+
+def _imu_times_without_spikes(messages: _Messages):
+    """The IMU time stamps without isolated spikes (those messages dropped from ``messages``) and the count
+    dropped."""
+    imu_time_raw = messages.times("IMU")
+    spikes = _time_spikes(imu_time_raw)
+    if not spikes.size:
+        return imu_time_raw, 0
+    keep = np.ones(imu_time_raw.size, dtype=bool)
+    keep[spikes] = False
+    messages.rows["IMU"] = [r for r, k in zip(messages.rows["IMU"], keep) if k]
+    return imu_time_raw[keep], spikes.size
+
+
+def _add_gps(data: LogData, messages: _Messages, time: np.ndarray, t0: float) -> None:
+    """GPS altitude (m) and satellites where Status ≥ 3D fix, and GPA vertical accuracy (m), on the grid."""
+    rows = messages.rows
+    if not rows["GPS"]:
+        return
+    gps_time = messages.times("GPS") - t0
+    status = messages.column("GPS", "Status")
+    altitude = np.where(status >= GPS_3D_FIX, messages.column("GPS", "Alt"), np.nan)
+    data.gps_altitude = _align(time, gps_time, altitude)
+    if "NSats" in rows["GPS"][0]:
+        data.gps_satellites = _align(time, gps_time, np.where(status >= GPS_3D_FIX, messages.column("GPS", "NSats"),
+                                                              np.nan))
+    if rows["GPA"] and "VAcc" in rows["GPA"][0]:
+        data.gps_accuracy = _align(time, messages.times("GPA") - t0, messages.column("GPA", "VAcc"))
+    data.notes.append("GPS.Alt where Status ≥ 3")
+
+
+def _add_rangefinder_and_arming(data: LogData, messages: _Messages, time: np.ndarray, t0: float) -> None:
+    """Rangefinder distance (m, where Stat is 4 = good) and the armed/disarmed state, on the grid."""
+    rows = messages.rows
     if rows["RFND"]:
-        distance = column("RFND", "Dist", "Dist1")
+        distance = messages.column("RFND", "Dist", "Dist1")
         if "Stat" in rows["RFND"][0]:
-            distance = np.where(column("RFND", "Stat") == 4, distance, np.nan)
-        data.rangefinder = _align(time, times("RFND") - t0, distance)
+            distance = np.where(messages.column("RFND", "Stat") == 4, distance, np.nan)
+        data.rangefinder = _align(time, messages.times("RFND") - t0, distance)
     if rows["ARM"] and "ArmState" in rows["ARM"][0]:
         states = np.array(["armed" if r.get("ArmState") else "disarmed" for r in rows["ARM"]], dtype=object)
-        arm_time = times("ARM") - t0
+        arm_time = messages.times("ARM") - t0
         index = np.searchsorted(arm_time, time, side="right") - 1
         data.flight_state = np.where(index >= 0, states[np.clip(index, 0, None)], "disarmed").astype(object)
+
+
+def _add_ekf_reference(data: LogData, messages: _Messages, time: np.ndarray, t0: float, baro: np.ndarray) -> None:
+    """The EKF's altitude (m, −PD) and vertical velocity (m/s, −VD) as the reference, from the first of XKF1,
+    NKF1, EKF1 present."""
+    rows = messages.rows
     for kind in ("XKF1", "NKF1", "EKF1"):
         if rows[kind]:
-            ref_time = times(kind) - t0
-            down = column(kind, "PD")
-            velocity = -column(kind, "VD") if "VD" in rows[kind][0] else np.gradient(-down, ref_time)
+            ref_time = messages.times(kind) - t0
+            down = messages.column(kind, "PD")
+            velocity = -messages.column(kind, "VD") if "VD" in rows[kind][0] else np.gradient(-down, ref_time)
             if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
                 data.reference_altitude, data.reference_velocity = _reference_on_grid(
                     time, baro, ref_time, -down, velocity)
                 data.reference_name = f"ArduPilot EKF ({kind})"
             break
-    if progress is not None:
-        progress(size, size)
-    return finish(data)

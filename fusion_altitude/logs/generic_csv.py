@@ -150,69 +150,13 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         Missing file or column, a bad cell (naming file line and column),
         time going backwards, gravity left in the acceleration, bad options.
     """
-    if (baro_column is None) == (pressure_column is None):
-        raise LogError("give exactly one of a baro altitude column or a pressure column")
-    if (accel_column is None) == (accel_body_columns is None):
-        raise LogError("give exactly one of a vertical acceleration column or body accelerometer columns")
-    if accel_units not in ACCEL_UNITS:
-        raise LogError(f"accel units must be 'm/s^2' or 'g', got {accel_units!r}")
-    if altitude_units not in ALTITUDE_UNITS:
-        raise LogError(f"altitude units must be 'm' or 'ft', got {altitude_units!r}")
-    if temperature_units not in TEMPERATURE_UNITS:
-        raise LogError(f"temperature units must be 'C' or 'K', got {temperature_units!r}")
-    if not (np.isfinite(sea_level_pa) and sea_level_pa > 0):
-        raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
-    if accel_body_columns is not None:
-        if len(accel_body_columns) != 3:
-            raise LogError(f"body accelerometer columns: give 3 (x, y, z), got {len(accel_body_columns)}")
-        if attitude_columns is None:
-            raise LogError("body accelerometer columns need attitude columns (quaternion or Euler angles)")
-        if attitude_convention not in ATTITUDE_CONVENTIONS:
-            raise LogError(f"attitude convention must be one of {', '.join(ATTITUDE_CONVENTIONS)}, "
-                           f"got {attitude_convention!r}")
-        wanted_count = 4 if attitude_convention == "quaternion" else 3
-        if len(attitude_columns) != wanted_count:
-            raise LogError(f"attitude convention {attitude_convention!r} needs {wanted_count} attitude columns, "
-                           f"got {len(attitude_columns)}")
-        if frame not in FRAMES:
-            raise LogError(f"frame must be one of {', '.join(FRAMES)}, got {frame!r}")
-    if ground_temperature_k is not None:
-        if pressure_column is None:
-            raise LogError("a ground temperature needs a pressure column")
-        if isinstance(ground_temperature_k, str):
-            if ground_temperature_k != "log" or temperature_column is None:
-                raise LogError("ground temperature 'log' needs a temperature column")
-        elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
-            raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
-
-    table = split_header(path, read_text(path))
+    _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
+                   temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
+                   ground_temperature_k, temperature_column)
     source = f"{os.path.basename(path)} (CSV)"
-    roles = {"time": time_column, "baro": baro_column or pressure_column}
-    if accel_column is not None:
-        roles["accel"] = accel_column
-    else:
-        roles.update({f"body{i}": name for i, name in enumerate(accel_body_columns)})
-        roles.update({f"att{i}": name for i, name in enumerate(attitude_columns)})
-    for role, name in (("reference", reference_column), ("gps", gps_column), ("rangefinder", rangefinder_column),
-                       ("temperature", temperature_column)):
-        if name is not None:
-            roles[role] = name
-    positions = {role: table.index(name) for role, name in roles.items()}
-    unique = sorted(set(positions.values()))
-    data, lines, dropped = numeric_columns(table, unique, progress)
-    column = {role: data[:, unique.index(position)] for role, position in positions.items()}
-    if data.shape[0] < 2:
-        raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
-    check_finite(path, time_column, column["time"], lines)
-    required = ["accel"] if accel_column is not None else [f"body{i}" for i in range(3)]
-    if accel_body_columns is not None:
-        required += [f"att{i}" for i in range(len(attitude_columns))]
-    for role in required:
-        check_finite(path, roles[role], column[role], lines)
-
-    time, merged, repeated = merge_repeated_timestamps(
-        column.pop("time"), column, path, lines, time_column)
-    column = merged
+    roles = _column_roles(time_column, accel_column, baro_column or pressure_column, accel_body_columns,
+                          attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column)
+    time, column, lines, dropped, repeated = _read_columns(path, roles, progress)
     notes = [f"time {time_column!r}"]
     scale = ACCEL_UNITS[accel_units]
     accel_body = None
@@ -220,24 +164,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         accel = gravity_check(source, accel_column, column["accel"] * scale, time, remove_gravity)
         notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
     else:
-        accel_body = np.column_stack([column[f"body{i}"] for i in range(3)]) * scale
-        attitude = np.column_stack([column[f"att{i}"] for i in range(len(attitude_columns))])
-        if attitude_convention == "euler_deg":
-            attitude = np.radians(attitude)
-        if attitude_convention == "quaternion":
-            norm = np.linalg.norm(attitude, axis=1)
-            bad = np.flatnonzero(~(norm > 0.5) | ~(norm < 1.5))
-            if bad.size:
-                raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
-                               f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
-        accel = vertical_acceleration(accel_body, attitude, frame=frame)
-        rest = _rest(time)
-        mean = float(np.mean(accel[rest]))
-        if abs(mean) > 0.5 * GRAVITY:
-            raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
-                           f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
-                           f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
-                           f"ENU/NWU +1 g) or the attitude is not body → earth")
+        accel, accel_body = _body_to_vertical(path, source, column, time, scale, accel_body_columns,
+                                              attitude_columns, attitude_convention, frame)
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
     altitude_scale = ALTITUDE_UNITS[altitude_units]
@@ -249,33 +177,10 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     ground_altitude = None
     if pressure_column is not None:
         pressure = column["baro"]
-        finite = np.isfinite(pressure)
-        median = float(np.median(pressure[finite])) if finite.any() else np.nan
-        if finite.any() and not PRESSURE_RANGE[0] <= median <= PRESSURE_RANGE[1]:
-            warning = (f"column {pressure_column!r}: median {_fmt(median)} is far outside "
-                       f"{_fmt(PRESSURE_RANGE[0])}–{_fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
-        else:
-            warning = None
-        if ground_temperature_k is not None:
-            early = finite & _rest(time)
-            if not early.any():
-                raise LogError(f"{path}: column {pressure_column!r}: no pressure in the first "
-                               f"{_fmt(REST_SECONDS)} s to take as the ground pressure")
-            ground_pa = float(np.median(pressure[early]))
-            if ground_temperature_k == "log":
-                warm = np.isfinite(temperature) & _rest(time)
-                if not warm.any():
-                    raise LogError(f"{path}: column {temperature_column!r}: no temperature in the first "
-                                   f"{_fmt(REST_SECONDS)} s to take as the ground temperature")
-                ground_temperature_k = float(np.median(temperature[warm]))
-            baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
-            altitude_reference, ground_altitude = "pad", 0.0
-            notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
-                         f"{_fmt(ground_temperature_k)} K (hypsometric)")
-        else:
-            baro = pressure_to_altitude(pressure, sea_level_pa)
-            altitude_reference = "sea level" if sea_level_pa == 101325.0 else ""
-            notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
+        warning = _pressure_warning(pressure_column, pressure)
+        baro, altitude_reference, ground_altitude = _pressure_altitude(
+            path, pressure_column, pressure, time, sea_level_pa, ground_temperature_k, temperature_column,
+            temperature, notes)
     else:
         baro = column["baro"] * altitude_scale
         warning = None
@@ -296,3 +201,156 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     if warning is not None:
         log.warn(f"{path}: {warning}")
     return finish(log)
+
+
+def _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
+                   temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
+                   ground_temperature_k, temperature_column) -> None:
+    """Refuse a bad combination of :func:`read_csv_log` options (LogError), before the file is read."""
+    if (baro_column is None) == (pressure_column is None):
+        raise LogError("give exactly one of a baro altitude column or a pressure column")
+    if (accel_column is None) == (accel_body_columns is None):
+        raise LogError("give exactly one of a vertical acceleration column or body accelerometer columns")
+    if accel_units not in ACCEL_UNITS:
+        raise LogError(f"accel units must be 'm/s^2' or 'g', got {accel_units!r}")
+    if altitude_units not in ALTITUDE_UNITS:
+        raise LogError(f"altitude units must be 'm' or 'ft', got {altitude_units!r}")
+    if temperature_units not in TEMPERATURE_UNITS:
+        raise LogError(f"temperature units must be 'C' or 'K', got {temperature_units!r}")
+    if not (np.isfinite(sea_level_pa) and sea_level_pa > 0):
+        raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
+    if accel_body_columns is not None:
+        _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame)
+    if ground_temperature_k is not None:
+        if pressure_column is None:
+            raise LogError("a ground temperature needs a pressure column")
+        if isinstance(ground_temperature_k, str):
+            if ground_temperature_k != "log" or temperature_column is None:
+                raise LogError("ground temperature 'log' needs a temperature column")
+        elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
+            raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
+
+
+def _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame) -> None:
+    """Refuse bad body-accelerometer / attitude options of :func:`read_csv_log` (LogError)."""
+    if len(accel_body_columns) != 3:
+        raise LogError(f"body accelerometer columns: give 3 (x, y, z), got {len(accel_body_columns)}")
+    if attitude_columns is None:
+        raise LogError("body accelerometer columns need attitude columns (quaternion or Euler angles)")
+    if attitude_convention not in ATTITUDE_CONVENTIONS:
+        raise LogError(f"attitude convention must be one of {', '.join(ATTITUDE_CONVENTIONS)}, "
+                       f"got {attitude_convention!r}")
+    wanted_count = 4 if attitude_convention == "quaternion" else 3
+    if len(attitude_columns) != wanted_count:
+        raise LogError(f"attitude convention {attitude_convention!r} needs {wanted_count} attitude columns, "
+                       f"got {len(attitude_columns)}")
+    if frame not in FRAMES:
+        raise LogError(f"frame must be one of {', '.join(FRAMES)}, got {frame!r}")
+
+
+def _column_roles(time_column, accel_column, baro_column, accel_body_columns, attitude_columns,
+                  reference_column, gps_column, rangefinder_column, temperature_column) -> dict:
+    """Role ("time", "accel", "body0", "att0", "baro", …) → column name, for the columns asked for."""
+    roles = {"time": time_column, "baro": baro_column}
+    if accel_column is not None:
+        roles["accel"] = accel_column
+    else:
+        roles.update({f"body{i}": name for i, name in enumerate(accel_body_columns)})
+        roles.update({f"att{i}": name for i, name in enumerate(attitude_columns)})
+    for role, name in (("reference", reference_column), ("gps", gps_column), ("rangefinder", rangefinder_column),
+                       ("temperature", temperature_column)):
+        if name is not None:
+            roles[role] = name
+    return roles
+
+
+def _read_columns(path: str, roles: dict, progress):
+    """Read the columns of ``roles`` (role → name) from the CSV at ``path``.
+
+    Returns time (s, repeated stamps merged), role → column, the file line of
+    each row, the line number of a cut-short last line (or None) and the
+    count of repeated time stamps. The time and acceleration/attitude columns
+    must be finite on every row (LogError naming the line).
+    """
+    table = split_header(path, read_text(path))
+    positions = {role: table.index(name) for role, name in roles.items()}
+    unique = sorted(set(positions.values()))
+    data, lines, dropped = numeric_columns(table, unique, progress)
+    column = {role: data[:, unique.index(position)] for role, position in positions.items()}
+    if data.shape[0] < 2:
+        raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
+    check_finite(path, roles["time"], column["time"], lines)
+    required = ["accel"] if "accel" in roles else [f"body{i}" for i in range(3)]
+    if "accel" not in roles:
+        required += [role for role in roles if role.startswith("att")]
+    for role in required:
+        check_finite(path, roles[role], column[role], lines)
+    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, roles["time"])
+    return time, merged, lines, dropped, repeated
+
+
+def _body_to_vertical(path, source, column, time, scale, accel_body_columns, attitude_columns,
+                      attitude_convention, frame):
+    """Vertical acceleration (m/s², +up) and the body accelerometer (m/s², n×3) from body and attitude columns.
+
+    A quaternion far from unit norm, or a result averaging more than ½ g over
+    the first second (wrong frame or attitude), is a LogError.
+    """
+    accel_body = np.column_stack([column[f"body{i}"] for i in range(3)]) * scale
+    attitude = np.column_stack([column[f"att{i}"] for i in range(len(attitude_columns))])
+    if attitude_convention == "euler_deg":
+        attitude = np.radians(attitude)
+    if attitude_convention == "quaternion":
+        norm = np.linalg.norm(attitude, axis=1)
+        bad = np.flatnonzero(~(norm > 0.5) | ~(norm < 1.5))
+        if bad.size:
+            raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
+                           f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
+    accel = vertical_acceleration(accel_body, attitude, frame=frame)
+    rest = _rest(time)
+    mean = float(np.mean(accel[rest]))
+    if abs(mean) > 0.5 * GRAVITY:
+        raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
+                       f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
+                       f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
+                       f"ENU/NWU +1 g) or the attitude is not body → earth")
+    return accel, accel_body
+
+
+def _pressure_warning(pressure_column: str, pressure: np.ndarray) -> Optional[str]:
+    """A warning if the median of a pressure column (Pa) is outside :data:`PRESSURE_RANGE`, else None."""
+    finite = np.isfinite(pressure)
+    median = float(np.median(pressure[finite])) if finite.any() else np.nan
+    if finite.any() and not PRESSURE_RANGE[0] <= median <= PRESSURE_RANGE[1]:
+        return (f"column {pressure_column!r}: median {_fmt(median)} is far outside "
+                f"{_fmt(PRESSURE_RANGE[0])}–{_fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
+    return None
+
+
+def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, ground_temperature_k,
+                       temperature_column, temperature, notes):
+    """Baro altitude (m) from pressure (Pa), its datum and the ground altitude (m); appends a note.
+
+    With ``ground_temperature_k`` (K or "log"): height above the median
+    pressure of the first second, datum "pad"; else the ISA altitude
+    relative to ``sea_level_pa``.
+    """
+    if ground_temperature_k is None:
+        baro = pressure_to_altitude(pressure, sea_level_pa)
+        notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
+        return baro, ("sea level" if sea_level_pa == 101325.0 else ""), None
+    early = np.isfinite(pressure) & _rest(time)
+    if not early.any():
+        raise LogError(f"{path}: column {pressure_column!r}: no pressure in the first "
+                       f"{_fmt(REST_SECONDS)} s to take as the ground pressure")
+    ground_pa = float(np.median(pressure[early]))
+    if ground_temperature_k == "log":
+        warm = np.isfinite(temperature) & _rest(time)
+        if not warm.any():
+            raise LogError(f"{path}: column {temperature_column!r}: no temperature in the first "
+                           f"{_fmt(REST_SECONDS)} s to take as the ground temperature")
+        ground_temperature_k = float(np.median(temperature[warm]))
+    baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
+    notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
+                 f"{_fmt(ground_temperature_k)} K (hypsometric)")
+    return baro, "pad", 0.0

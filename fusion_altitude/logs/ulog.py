@@ -106,34 +106,16 @@ def read_ulog(path: str, instance: Optional[int] = None,
 
 
 def _build(path, want, topic, progress) -> LogData:
+    """Assemble the LogData of a ULog from ``topic(name, instance=0, needed=True)`` (see :func:`read_ulog`)."""
     notes = []
     accel_instance = want > 0 and topic("sensor_accel", want, needed=False) is not None
     baro_instance = want > 0 and topic("sensor_baro", want, needed=False) is not None
     if want > 0 and not (accel_instance or baro_instance):
         raise LogError(f"{path}: no sensor_accel or sensor_baro instance {want} in the log")
     if not accel_instance:
-        imu = topic("sensor_combined")
-        stamp = imu["timestamp"].astype(float)
-        accel_body = np.column_stack([_first(imu, f"accelerometer_m_s2[{i}]", f"acc[{i}]") for i in range(3)]) \
-            if _first(imu, "accelerometer_m_s2[0]", "acc[0]") is not None else None
-        if accel_body is None:
-            raise LogError(f"{path}: topic 'sensor_combined' has no accelerometer_m_s2 field")
-        gyro = np.column_stack([_first(imu, f"gyro_rad[{i}]", f"gyro_rad_s[{i}]") for i in range(3)]) \
-            if _first(imu, "gyro_rad[0]", "gyro_rad_s[0]") is not None else None
-        clipped = np.asarray(imu["accelerometer_clipping"]) != 0 if "accelerometer_clipping" in imu else None
-        notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q"
-                     + (f" (no sensor_accel instance {want}: the primary IMU)" if want else ""))
+        stamp, accel_body, gyro, clipped = _imu_combined(path, want, topic, notes)
     else:
-        accel_topic = topic("sensor_accel", want)
-        stamp = _first(accel_topic, "timestamp_sample", "timestamp")
-        accel_body = np.column_stack([accel_topic[a].astype(float) for a in "xyz"])
-        gyro_topic = topic("sensor_gyro", want, needed=False)
-        gyro = None
-        if gyro_topic is not None:
-            gyro = np.column_stack([np.interp(stamp, _first(gyro_topic, "timestamp_sample", "timestamp"),
-                                              gyro_topic[a].astype(float)) for a in "xyz"])
-        clipped = None
-        notes.append(f"sensor_accel instance {want}, vehicle_attitude.q")
+        stamp, accel_body, gyro, clipped = _imu_instance(want, topic, notes)
     t0 = float(stamp[0])  # µs; float before subtracting (uint64 would wrap)
     columns = {"accel": accel_body}
     if gyro is not None:
@@ -146,65 +128,133 @@ def _build(path, want, topic, progress) -> LogData:
     q = np.column_stack([att[f"q[{i}]"] for i in range(4)]).astype(float)
     q_grid = _previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
     accel = vertical_acceleration(columns["accel"], q_grid, frame="NED")
-    pressure = temperature = None
     if not baro_instance:
-        if want:
-            notes.append(f"no sensor_baro instance {want}: the primary baro")
-        air = topic("vehicle_air_data", needed=False)
-        if air is not None and "baro_alt_meter" in air:
-            air_time = (_first(air, "timestamp_sample", "timestamp") - t0) * 1e-6
-            baro = _align(time, air_time, air["baro_alt_meter"].astype(float))
-            if "baro_pressure_pa" in air:
-                pressure = _align(time, air_time, air["baro_pressure_pa"].astype(float))
-            if "baro_temp_celcius" in air:
-                temperature = _align(time, air_time, air["baro_temp_celcius"].astype(float) + 273.15)
-            notes.append("vehicle_air_data.baro_alt_meter")
-        elif "baro_alt_meter" in topic("sensor_combined"):  # PX4 < 1.8: baro inside sensor_combined
-            combined = topic("sensor_combined")
-            relative = _first(combined, "baro_timestamp_relative")
-            baro_stamp = combined["timestamp"].astype(float) + (relative if relative is not None else 0.0)
-            baro = _align(time, (baro_stamp - t0) * 1e-6, combined["baro_alt_meter"].astype(float))
-            if "baro_temp_celcius" in combined:
-                temperature = _align(time, (baro_stamp - t0) * 1e-6,
-                                     combined["baro_temp_celcius"].astype(float) + 273.15)
-            notes.append("sensor_combined.baro_alt_meter (PX4 < 1.8)")
-        else:
-            raise LogError(f"{path}: no baro: neither vehicle_air_data.baro_alt_meter nor "
-                           f"sensor_combined.baro_alt_meter in the log")
+        baro, pressure, temperature = _baro_primary(path, want, topic, time, t0, notes)
     else:
-        sensor = topic("sensor_baro", want)
-        baro_time = (_first(sensor, "timestamp_sample", "timestamp") - t0) * 1e-6
-        pressure_raw = _first(sensor, "pressure")
-        if pressure_raw is None:
-            raise LogError(f"{path}: topic 'sensor_baro' instance {want} has no pressure field")
-        if np.nanmedian(pressure_raw) < 2000.0:  # PX4 < 1.12 logged mbar
-            pressure_raw = pressure_raw * 100.0
-        pressure = _align(time, baro_time, pressure_raw)
-        baro = pressure_to_altitude(pressure)
-        if "temperature" in sensor:
-            temperature = _align(time, baro_time, sensor["temperature"].astype(float) + 273.15)
-        notes.append(f"sensor_baro instance {want} pressure (ISA)")
+        baro, pressure, temperature = _baro_instance(path, want, topic, time, t0, notes)
     data = LogData(f"{os.path.basename(path)} (PX4 ULog)", time, accel, baro, clipped=columns.get("clipped"),
                    notes=notes, accel=columns["accel"], gyro=columns.get("gyro"), imu_frame="FRD",
                    pressure=pressure, temperature=temperature, altitude_reference="sea level",
                    repeated_timestamps=repeated)
+    _add_gps(data, topic, time, t0)
+    _add_rangefinder(data, topic, time, t0)
+    _add_status(data, topic, time, t0)
+    position = topic("vehicle_local_position", needed=False)
+    if position is not None:
+        data.reference_altitude, data.reference_velocity = _reference_on_grid(
+            time, baro, (position["timestamp"].astype(float) - t0) * 1e-6, -position["z"].astype(float),
+            -position["vz"].astype(float))
+        data.reference_name = "PX4 EKF (vehicle_local_position)"
+    if progress is not None:
+        progress(2, 2)
+    return finish(data)
+
+
+def _imu_combined(path, want, topic, notes):
+    """The primary IMU from ``sensor_combined``: stamps (µs), accelerometer (m/s², n×3 FRD), gyro (rad/s, n×3, or
+    None) and clipping flags (or None); appends a note."""
+    imu = topic("sensor_combined")
+    stamp = imu["timestamp"].astype(float)
+    accel_body = np.column_stack([_first(imu, f"accelerometer_m_s2[{i}]", f"acc[{i}]") for i in range(3)]) \
+        if _first(imu, "accelerometer_m_s2[0]", "acc[0]") is not None else None
+    if accel_body is None:
+        raise LogError(f"{path}: topic 'sensor_combined' has no accelerometer_m_s2 field")
+    gyro = np.column_stack([_first(imu, f"gyro_rad[{i}]", f"gyro_rad_s[{i}]") for i in range(3)]) \
+        if _first(imu, "gyro_rad[0]", "gyro_rad_s[0]") is not None else None
+    clipped = np.asarray(imu["accelerometer_clipping"]) != 0 if "accelerometer_clipping" in imu else None
+    notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q"
+                 + (f" (no sensor_accel instance {want}: the primary IMU)" if want else ""))
+    return stamp, accel_body, gyro, clipped
+
+
+def _imu_instance(want, topic, notes):
+    """IMU instance ``want`` from ``sensor_accel``/``sensor_gyro``: stamps (µs), accelerometer (m/s², n×3),
+    gyro (rad/s, n×3, on the accelerometer's stamps, or None) and None for clipping; appends a note."""
+    accel_topic = topic("sensor_accel", want)
+    stamp = _first(accel_topic, "timestamp_sample", "timestamp")
+    accel_body = np.column_stack([accel_topic[a].astype(float) for a in "xyz"])
+    gyro_topic = topic("sensor_gyro", want, needed=False)
+    gyro = None
+    if gyro_topic is not None:
+        gyro = np.column_stack([np.interp(stamp, _first(gyro_topic, "timestamp_sample", "timestamp"),
+                                          gyro_topic[a].astype(float)) for a in "xyz"])
+    notes.append(f"sensor_accel instance {want}, vehicle_attitude.q")
+    return stamp, accel_body, gyro, None
+
+
+def _baro_primary(path, want, topic, time, t0, notes):
+    """The primary baro on the grid ``time`` (s): altitude (m), pressure (Pa, or None), temperature (K, or
+    None), from ``vehicle_air_data`` or (PX4 < 1.8) ``sensor_combined``; appends a note."""
+    pressure = temperature = None
+    if want:
+        notes.append(f"no sensor_baro instance {want}: the primary baro")
+    air = topic("vehicle_air_data", needed=False)
+    if air is not None and "baro_alt_meter" in air:
+        air_time = (_first(air, "timestamp_sample", "timestamp") - t0) * 1e-6
+        baro = _align(time, air_time, air["baro_alt_meter"].astype(float))
+        if "baro_pressure_pa" in air:
+            pressure = _align(time, air_time, air["baro_pressure_pa"].astype(float))
+        if "baro_temp_celcius" in air:
+            temperature = _align(time, air_time, air["baro_temp_celcius"].astype(float) + 273.15)
+        notes.append("vehicle_air_data.baro_alt_meter")
+    elif "baro_alt_meter" in topic("sensor_combined"):  # PX4 < 1.8: baro inside sensor_combined
+        combined = topic("sensor_combined")
+        relative = _first(combined, "baro_timestamp_relative")
+        baro_stamp = combined["timestamp"].astype(float) + (relative if relative is not None else 0.0)
+        baro = _align(time, (baro_stamp - t0) * 1e-6, combined["baro_alt_meter"].astype(float))
+        if "baro_temp_celcius" in combined:
+            temperature = _align(time, (baro_stamp - t0) * 1e-6,
+                                 combined["baro_temp_celcius"].astype(float) + 273.15)
+        notes.append("sensor_combined.baro_alt_meter (PX4 < 1.8)")
+    else:
+        raise LogError(f"{path}: no baro: neither vehicle_air_data.baro_alt_meter nor "
+                       f"sensor_combined.baro_alt_meter in the log")
+    return baro, pressure, temperature
+
+
+def _baro_instance(path, want, topic, time, t0, notes):
+    """Baro instance ``want`` of ``sensor_baro`` on the grid ``time`` (s): ISA altitude (m), pressure (Pa;
+    mbar of PX4 < 1.12 converted) and temperature (K, or None); appends a note."""
+    temperature = None
+    sensor = topic("sensor_baro", want)
+    baro_time = (_first(sensor, "timestamp_sample", "timestamp") - t0) * 1e-6
+    pressure_raw = _first(sensor, "pressure")
+    if pressure_raw is None:
+        raise LogError(f"{path}: topic 'sensor_baro' instance {want} has no pressure field")
+    if np.nanmedian(pressure_raw) < 2000.0:  # PX4 < 1.12 logged mbar
+        pressure_raw = pressure_raw * 100.0
+    pressure = _align(time, baro_time, pressure_raw)
+    baro = pressure_to_altitude(pressure)
+    if "temperature" in sensor:
+        temperature = _align(time, baro_time, sensor["temperature"].astype(float) + 273.15)
+    notes.append(f"sensor_baro instance {want} pressure (ISA)")
+    return baro, pressure, temperature
+
+
+def _add_gps(data: LogData, topic, time, t0) -> None:
+    """GPS altitude (m), vertical accuracy (m) and satellites of fixes ≥ 3D, on the grid ``time`` (s)."""
     gps = topic("vehicle_gps_position", needed=False)
     if gps is None:
         gps = topic("sensor_gps", needed=False)
-    if gps is not None:
-        gps_time = (gps["timestamp"].astype(float) - t0) * 1e-6
-        altitude = _first(gps, "altitude_msl_m")
-        if altitude is None and "alt" in gps:
-            altitude = gps["alt"].astype(float) * 1e-3
-        if altitude is not None:
-            fix = _first(gps, "fix_type")
-            good = fix >= 3 if fix is not None else np.ones(altitude.shape, dtype=bool)
-            data.gps_altitude = _align(time, gps_time, np.where(good, altitude, np.nan))
-            if "epv" in gps:
-                data.gps_accuracy = _align(time, gps_time, np.where(good, gps["epv"].astype(float), np.nan))
-            if "satellites_used" in gps:
-                data.gps_satellites = _align(time, gps_time,
-                                             np.where(good, gps["satellites_used"].astype(float), np.nan))
+    if gps is None:
+        return
+    gps_time = (gps["timestamp"].astype(float) - t0) * 1e-6
+    altitude = _first(gps, "altitude_msl_m")
+    if altitude is None and "alt" in gps:
+        altitude = gps["alt"].astype(float) * 1e-3
+    if altitude is None:
+        return
+    fix = _first(gps, "fix_type")
+    good = fix >= 3 if fix is not None else np.ones(altitude.shape, dtype=bool)
+    data.gps_altitude = _align(time, gps_time, np.where(good, altitude, np.nan))
+    if "epv" in gps:
+        data.gps_accuracy = _align(time, gps_time, np.where(good, gps["epv"].astype(float), np.nan))
+    if "satellites_used" in gps:
+        data.gps_satellites = _align(time, gps_time, np.where(good, gps["satellites_used"].astype(float), np.nan))
+
+
+def _add_rangefinder(data: LogData, topic, time, t0) -> None:
+    """Downward (orientation 25) rangefinder distance, m, with a non-zero signal quality, on the grid ``time``."""
     ranger = topic("distance_sensor", needed=False)
     if ranger is not None and "current_distance" in ranger:
         distance = ranger["current_distance"].astype(float)
@@ -216,6 +266,10 @@ def _build(path, want, topic, progress) -> LogData:
         if keep.any():
             data.rangefinder = _align(time, (ranger["timestamp"].astype(float) - t0) * 1e-6,
                                       np.where(keep, distance, np.nan))
+
+
+def _add_status(data: LogData, topic, time, t0) -> None:
+    """Vehicle type and armed/disarmed state (on the grid ``time``, s) from ``vehicle_status``."""
     status = topic("vehicle_status", needed=False)
     if status is not None:
         status_time = (status["timestamp"].astype(float) - t0) * 1e-6
@@ -224,12 +278,3 @@ def _build(path, want, topic, progress) -> LogData:
         if "arming_state" in status:
             states = np.where(status["arming_state"] == _ARMED, "armed", "disarmed").astype(object)
             data.flight_state = _previous(time, status_time, states)
-    position = topic("vehicle_local_position", needed=False)
-    if position is not None:
-        data.reference_altitude, data.reference_velocity = _reference_on_grid(
-            time, baro, (position["timestamp"].astype(float) - t0) * 1e-6, -position["z"].astype(float),
-            -position["vz"].astype(float))
-        data.reference_name = "PX4 EKF (vehicle_local_position)"
-    if progress is not None:
-        progress(2, 2)
-    return finish(data)

@@ -188,7 +188,20 @@ def build() -> Recorder:
     r = Recorder()
     rng = random.Random(20261125)
     default = settings()
+    flight = _start_and_climb(r, rng)
+    slow = dict(baro_every=2, lidar_every=2, sonar_every=5, gps_every=10)
+    _drops_and_disagreement(r, flight, slow)
+    _rejected_updates(r, flight, slow)
+    _retunes(r, flight, slow, default)
+    bad = _rejected_settings(r)
+    _time_gaps(r, rng, default)
+    flight = _initialise_with(r, rng, default)
+    _random_steps(r, rng, flight, default, bad)
+    return r
 
+
+def _start_and_climb(r: Recorder, rng: random.Random) -> Flight:
+    """Initialise, wait, start; 100 Hz hover with every sensor; a 25 Hz climb and descent through the bands."""
     r.section("initialise; waiting (accel only, all NaN), then the start on the first baro sample")
     r.initialise()
     r.update(0.1, 0.01)
@@ -204,10 +217,13 @@ def build() -> Recorder:
     flight.fly(400, "climb", rate=5.5, **fast)
     flight.fly(400, "descend", rate=5.5, **fast)
     flight.dt = 0.02
+    return flight
 
+
+def _drops_and_disagreement(r: Recorder, flight: Flight, slow: dict) -> None:
+    """Sensors dropping out and recovering, a baro offset, spikes, dead reckoning (50 Hz steps)."""
     r.section("50 Hz steps; sensor drop and recovery: lidar silent 2 s (beyond its 1.5 s timeout: weight 0, "
               "restart), GPS silent 1 s (within it), baro and sonar silent together, IMU (accel NaN) missing 0.5 s")
-    slow = dict(baro_every=2, lidar_every=2, sonar_every=5, gps_every=10)
     flight.fly(100, "hover", **{**slow, "lidar_every": 0})
     flight.fly(50, "hover", **slow)
     flight.fly(50, "hover", **{**slow, "gps_every": 0})
@@ -227,6 +243,9 @@ def build() -> Recorder:
     flight.fly(10, "hover", imu=False, baro_every=0, lidar_every=0, sonar_every=0, gps_every=0)
     flight.fly(100, "hover", **slow)
 
+
+def _rejected_updates(r: Recorder, flight: Flight, slow: dict) -> None:
+    """Updates the C refuses (state unchanged) and the oddities it accepts (NaN payloads, subnormal dt, -0)."""
     r.section("rejected updates (state unchanged): accel +-inf, dt 0/-0/negative/NaN/inf/negative subnormal, "
               "each sensor +-inf; precedence")
     for accel in (INF, -INF):
@@ -250,6 +269,9 @@ def build() -> Recorder:
     r.update(vc.from_bits(0x00000001), 0.01, -0.0, -0.0, NAN, NAN)
     flight.fly(30, "hover", **slow)
 
+
+def _retunes(r: Recorder, flight: Flight, slow: dict, default: dict) -> None:
+    """Settings changed mid-flight: clamped qualities, narrow thresholds, bands excluding everything."""
     r.section("settings: retuned mid-flight (qualities clamped into the new ranges), narrow thresholds, "
               "no confidence in the baro, short timeouts, altitude bands excluding everything")
     r.set_settings(settings(baro={"quality_min": 2, "quality_max": 5}, gps={"quality_min": 50, "quality_max": 60},
@@ -266,6 +288,9 @@ def build() -> Recorder:
     r.set_settings(default)
     flight.fly(60, "hover", **slow)
 
+
+def _rejected_settings(r: Recorder) -> list:
+    """Every invalid setting by SetSettings and InitialiseWith (state unchanged); returns the bad settings."""
     r.section("rejected settings (state unchanged), every status, by SetSettings and InitialiseWith; the "
               "first failing sensor wins")
     bad = [settings(imu={"threshold": 0.0}), settings(baro={"threshold": NAN}), settings(gps={"threshold": INF}),
@@ -281,6 +306,11 @@ def build() -> Recorder:
     for values in bad:
         r.set_settings(values)
         r.initialise_with(values)
+    return bad
+
+
+def _time_gaps(r: Recorder, rng: random.Random, default: dict) -> None:
+    """dt above the gap period with and without samples, bounded dead reckoning, an infinite gap period."""
     r.section("time gaps: dt above the gap period with samples (restart on them, mean velocity), without "
               "(held until the next samples); bounded dead reckoning: the IMU alone for longer than the gap period "
               "stops the fusion until the next samples; gap period +infinity")
@@ -301,6 +331,9 @@ def build() -> Recorder:
     flight.fly(50, "hover")
     r.set_settings(default)
 
+
+def _initialise_with(r: Recorder, rng: random.Random, default: dict) -> Flight:
+    """A balloon (1 Hz baro, 3 s timeouts) initialised with settings, then the defaults; returns the flight."""
     r.section("initialise with settings: a balloon (1 Hz baro, 3 s timeouts), then the defaults")
     r.initialise_with(settings(**{s: {"timeout": 3.0} for s in ALPHABETA_SENSORS}))
     flight = Flight(r, rng, dt=0.1, baro_origin=500.0, gps_origin=480.0)
@@ -311,7 +344,11 @@ def build() -> Recorder:
     flight = Flight(r, rng)
     flight.h = 2.0
     flight.fly(50, "hover")
+    return flight
 
+
+def _random_steps(r: Recorder, rng: random.Random, flight: Flight, default: dict, bad: list) -> None:
+    """700 random-ish steps: jittered dt, random sensors and spikes, rejected inputs, retunes, re-initialisations."""
     r.section("random-ish steps: jittered dt, random sensor presence and spikes, rejected inputs, retunes and "
               "re-initialisations")
     tunings = [default, settings(lidar={"threshold": 0.1}, baro={"quality_max": 20}),
@@ -345,7 +382,6 @@ def build() -> Recorder:
             flight.fly(1, rng.choice(("hover", "climb", "sine", "descend")), imu=rng.random() < 0.95,
                        baro_every=rng.choice((1, 0, 2)), lidar_every=rng.choice((1, 0, 0)),
                        sonar_every=rng.choice((1, 0, 0, 0)), gps_every=rng.choice((0, 0, 0, 1)))
-    return r
 
 
 def render() -> str:

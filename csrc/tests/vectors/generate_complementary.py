@@ -141,7 +141,19 @@ def build() -> Recorder:
     r = Recorder()
     rng = random.Random(20261124)
     default = settings()
+    flight = _start_and_fly(r, rng)
+    _rejected_updates(r, flight)
+    _resets(r, flight)
+    _retunes_and_baro_faults(r, flight, default)
+    bad = _rejected_settings(r, flight, default)
+    _time_gaps(r, flight, default)
+    flight = _reinitialise(r, rng)
+    _random_steps(r, rng, flight, default, bad)
+    return r
 
+
+def _start_and_fly(r: Recorder, rng: random.Random) -> Flight:
+    """Initialise, steps before the reference, then 100 Hz flights with 25 Hz, 100 Hz and 10 Hz baro."""
     r.section("initialise; steps before the reference (no baro: only the baro velocity changes), "
               "then the first baro sample sets it")
     r.initialise()
@@ -155,7 +167,11 @@ def build() -> Recorder:
     r.section("baro every step, then every 10th, sine")
     flight.fly(200, "sine", baro_every=1)
     flight.fly(300, "sine", baro_every=10)
+    return flight
 
+
+def _rejected_updates(r: Recorder, flight: Flight) -> None:
+    """Updates the C refuses (state unchanged) and the oddities it accepts (NaN payloads, subnormals, -0)."""
     r.section("rejected updates (state unchanged): accel inf/NaN, baro +-inf, dt 0/-0/negative/NaN/inf/negative "
               "subnormal; precedence")
     for accel in (INF, -INF, NAN, vc.from_bits(0x7F800001), vc.from_bits(0xFFC00000)):
@@ -175,6 +191,9 @@ def build() -> Recorder:
     r.update(0.0, -0.0, 0.01)
     flight.fly(100, "hover")
 
+
+def _resets(r: Recorder, flight: Flight) -> None:
+    """Accepted and rejected resets (altitude, m), with updates in between."""
     r.section("resets: accepted (any finite altitude, -0) and rejected (inf, NaN); updates in between")
     for baro in (130.0, -0.0, INF, -INF, NAN, vc.from_bits(0xFFC00000), -25.5, 1e5):
         r.reset(baro)
@@ -184,6 +203,9 @@ def build() -> Recorder:
     flight.origin = 120.0
     r.reset(120.0)
 
+
+def _retunes_and_baro_faults(r: Recorder, flight: Flight, default: dict) -> None:
+    """Settings changed mid-flight (coefficients, time constants, 50 Hz); a baro spike, step and 2 s dropout."""
     r.section("settings: per-sample coefficients (the write-up's 0.999/0.998, then 0 and 1), no low-pass "
               "(time constants 0), long and zero blend time constants, at 100 and 50 Hz")
     r.set_settings(settings(per_sample_coefficients=True))
@@ -208,6 +230,9 @@ def build() -> Recorder:
     flight.fly(200, "hover", baro_every=0)
     flight.fly(100, "hover", baro_shift=5.0)
 
+
+def _rejected_settings(r: Recorder, flight: Flight, default: dict) -> list:
+    """Every invalid setting (state unchanged) and the edge values accepted; returns the bad settings."""
     r.section("rejected settings (state unchanged): every time constant and coefficient, NaN/inf/negative/> 1; "
               "edge values accepted")
     bad = [settings(accel_time_constant=-0.1), settings(baro_time_constant=NAN), settings(velocity_time_constant=INF),
@@ -221,7 +246,11 @@ def build() -> Recorder:
                             altitude_coefficient=1.0))
     flight.fly(40, "hover")
     r.set_settings(default)
+    return bad
 
+
+def _time_gaps(r: Recorder, flight: Flight, default: dict) -> None:
+    """dt at and above the gap period (s) with and without baro, a reset while pending, the gap period's limits."""
     r.section("time gaps: dt at the gap period (integrated), above it without baro (frozen; the next baro sample "
               "restarts with the mean velocity), with baro (restarts on it), a reset while one is pending; "
               "gap period rejected (0, negative, NaN), +infinity accepted")
@@ -244,13 +273,20 @@ def build() -> Recorder:
     r.set_settings(default)
     flight.fly(50, "hover")
 
+
+def _reinitialise(r: Recorder, rng: random.Random) -> Flight:
+    """Re-initialise: steps before the reference, the first sample after a gap; returns the new flight."""
     r.section("re-initialise: steps before the reference, first sample after a gap")
     r.initialise()
     r.update(0.5, NAN, 0.01)
     r.update(0.5, NAN, 0.02)
     flight = Flight(r, rng, origin=-40.0)
     flight.fly(100, "climb")
+    return flight
 
+
+def _random_steps(r: Recorder, rng: random.Random, flight: Flight, default: dict, bad: list) -> None:
+    """1100 random-ish steps: jittered dt, random baro, spikes, rejected inputs, resets, retunes, re-initialisations."""
     r.section("random-ish steps: jittered dt, random baro presence, spikes, rejected inputs, resets, retunes "
               "and re-initialisations")
     tunings = [default, settings(per_sample_coefficients=True), settings(accel_time_constant=0.0),
@@ -282,7 +318,6 @@ def build() -> Recorder:
             r.update(flight.noise(0.1), flight.origin + flight.h + rng.uniform(-20.0, 20.0), dt)
         else:
             flight.fly(1, rng.choice(("hover", "climb", "sine")), baro_every=rng.choice((1, 0, 0, 2)))
-    return r
 
 
 def render() -> str:

@@ -42,6 +42,8 @@ from fusion_altitude.reference import ins as _ins  # noqa: E402
 HEADER_PATH = Path(__file__).resolve().with_name("ins_vectors.h")
 NAN = float("nan")
 INF = float("inf")
+#: Specific force of a level body at rest, m/s² (z up).
+LEVEL = (0.0, 0.0, 9.80665)
 f32 = np.float32
 
 OPS = ("INITIALISE_WITH", "SET_SETTINGS", "UPDATE")
@@ -171,17 +173,27 @@ def flight(r: Recorder, seed: int, rest: float, duration: float, rng: random.Ran
 
 
 def build() -> Recorder:
+    """All scenarios, in order, on one filter (state carries over between sections)."""
     r = Recorder()
     rng = random.Random(20261123)
-    level = (0.0, 0.0, 9.80665)
+    _alignment(r, rng)
+    _rejected_inputs(r, rng)
+    _accel_rejection_and_gaps(r)
+    _magnetometer(r)
+    _settings_changes(r, rng)
+    _random_steps(r, rng)
+    return r
 
+
+def _alignment(r: Recorder, rng: random.Random) -> None:
+    """Alignment (upright, tilted, upside down), then seed 0: 1.5 s at rest and rocking motion with faults."""
     r.section("defaults; before alignment: accel norm far from g (ignored), then an upright alignment")
     r.initialise_with()
     for accel in ((0.0, 0.0, 0.0), (0.0, 0.0, 20.0), (30.0, 0.0, 0.0), (0.0, 0.0, -3.0)):
         r.update((0.1, 0.0, 0.0), accel, 0.01, 100.0, (0.3, 0.0, 0.4))
-    r.update((0.0, 0.0, 0.0), level, 0.01, 100.0, (0.3, 0.0, 0.4))
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01, 100.0, (0.3, 0.0, 0.4))
     for k in range(30):
-        r.update((0.0, 0.0, 0.0), level, 0.01, 100.0 if k % 4 == 0 else NAN, (0.3, 0.0, 0.4) if k % 10 == 0 else None)
+        r.update((0.0, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 4 == 0 else NAN, (0.3, 0.0, 0.4) if k % 10 == 0 else None)
 
     r.section("alignment tilted and upside down (accel along -z)")
     r.initialise_with()
@@ -195,6 +207,9 @@ def build() -> Recorder:
     r.initialise_with()
     flight(r, 0, rest=1.5, duration=6.0, rng=rng)
 
+
+def _rejected_inputs(r: Recorder, rng: random.Random) -> None:
+    """Inputs the C refuses and their precedence (state unchanged); NaN payloads as no sample."""
     r.section("rejected inputs and their precedence (state unchanged)")
     good = ((0.01, -0.02, 0.03), (0.1, 0.2, 9.7), (0.3, 0.1, -0.4), 101.0, 0.01)
     bad_values = (NAN, INF, -INF, 2e6, -1.5e6)
@@ -214,8 +229,8 @@ def build() -> Recorder:
         r.update(good[0], good[1], dt, good[3], good[2])
     r.update((NAN, 0.0, 0.0), (INF, 0.0, 0.0), -1.0, INF, (0.0, NAN, 0.0))  # gyro first
     r.update((0.0, 0.0, 0.0), (INF, 0.0, 0.0), -1.0, INF, (0.0, NAN, 0.0))  # then accel
-    r.update((0.0, 0.0, 0.0), level, -1.0, INF, (0.0, NAN, 0.0))  # then mag (partly NaN)
-    r.update((0.0, 0.0, 0.0), level, -1.0, INF, None)  # then baro
+    r.update((0.0, 0.0, 0.0), LEVEL, -1.0, INF, (0.0, NAN, 0.0))  # then mag (partly NaN)
+    r.update((0.0, 0.0, 0.0), LEVEL, -1.0, INF, None)  # then baro
     r.update((1e6, -1e6, 1e6), (0.0, 0.0, 1e6), 0.01)  # at the bound: accepted
     r.section("NaN payloads are 'no sample' for baro and mag")
     for payload in (0x7FC00001, 0xFFC00000, 0x7F800001, 0xFFFFFFFF):
@@ -223,9 +238,12 @@ def build() -> Recorder:
         r.update(good[0], good[1], 0.01, nan, (nan, nan, nan))
     r.update(good[0], good[1], 0.01, NAN, (vc.from_bits(0x7FC00001), NAN, vc.from_bits(0xFFC00000)))
 
+
+def _accel_rejection_and_gaps(r: Recorder) -> None:
+    """Acceleration rejection by norm and direction, the recovery; time gaps (dt above gapPeriod, s)."""
     r.section("acceleration rejection: by norm, by direction, recovery after recoveryTriggerPeriod 0.2 s")
     r.initialise_with(recovery_trigger_period=0.2, accel_rejection=0.1)
-    r.update((0.0, 0.0, 0.0), level, 0.01)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
     for k in range(10):
         r.update((0.0, 0.0, 0.0), (0.0, 0.0, 14.0), 0.01, 100.0 if k % 4 == 0 else NAN)  # norm
     for k in range(40):  # 30 degrees off (direction gate 0.1 rad) for 0.4 s: rejected, then the recovery fuses
@@ -235,50 +253,59 @@ def build() -> Recorder:
 
     r.section("gaps (dt above gapPeriod), a gap with baro and mag, a gap while stationary")
     for dt in (0.1000001, 0.5, 40.0):
-        r.update((0.0, 0.0, 0.0), level, dt)
-    r.update((0.0, 0.0, 0.0), level, 0.2, 100.5, (0.3, 0.0, 0.4))
+        r.update((0.0, 0.0, 0.0), LEVEL, dt)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.2, 100.5, (0.3, 0.0, 0.4))
     r.initialise_with(stationary_window=0.05)
     for k in range(12):
-        r.update((0.001, 0.0, 0.0), level, 0.01, 100.0 if k % 2 == 0 else NAN)
-    r.update((0.001, 0.0, 0.0), level, 0.3, 100.0)
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
+    r.update((0.001, 0.0, 0.0), LEVEL, 0.3, 100.0)
     for k in range(8):
-        r.update((0.001, 0.0, 0.0), level, 0.01, 100.0 if k % 2 == 0 else NAN)
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
 
+
+def _magnetometer(r: Recorder) -> None:
+    """Magnetometer: a field along up (no horizontal part), the filter cancelling to zero."""
     r.section("magnetometer: field along up (no horizontal part), filter cancelling to zero (k = 0.5)")
     r.initialise_with(mag_time_constant=0.01)
-    r.update((0.0, 0.0, 0.0), level, 0.01)
-    r.update((0.0, 0.0, 0.0), level, 0.01, NAN, (0.0, 0.0, 0.5))  # horizontal 0: ignored
-    r.update((0.0, 0.0, 0.0), level, 0.01, NAN, (0.4, 0.0, 0.3))  # first: yaw offset (1, 0)
-    r.update((0.0, 0.0, 0.0), level, 0.01, NAN, (-0.4, 0.0, 0.3))  # opposite, k = 0.01/0.02: cancels
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01, NAN, (0.0, 0.0, 0.5))  # horizontal 0: ignored
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01, NAN, (0.4, 0.0, 0.3))  # first: yaw offset (1, 0)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01, NAN, (-0.4, 0.0, 0.3))  # opposite, k = 0.01/0.02: cancels
     for k in range(6):
-        r.update((0.0, 0.0, 0.2), level, 0.01, NAN, (0.4, 0.1 * k, 0.3))
+        r.update((0.0, 0.0, 0.2), LEVEL, 0.01, NAN, (0.4, 0.1 * k, 0.3))
 
+
+def _settings_changes(r: Recorder, rng: random.Random) -> None:
+    """Settings changed mid-flight; every rejected setting through both entry points."""
     r.section("settings changes mid-flight, every rejected setting through both entry points")
     r.initialise_with(gyro_noise=1e-3, accel_noise=0.2, baro_noise=1.0, initial_velocity_sigma=0.0)
     for k in range(20):
         r.update((0.05, -0.02, 0.1), (0.3, -0.2, 9.9), 0.005, 100.0 + 0.01 * k if k % 3 == 0 else NAN)
     r.set_settings(baro_noise=0.05, accel_norm_rejection=0.0, stationary_window=0.0)
     for k in range(10):
-        r.update((0.0, 0.0, 0.0), level, 0.005, 100.0 if k % 3 == 0 else NAN)
+        r.update((0.0, 0.0, 0.0), LEVEL, 0.005, 100.0 if k % 3 == 0 else NAN)
     for name, _, _, rule in INS_SETTINGS:
         for bad in (NAN, INF, -1.0, 2e6) + ((0.0, -0.0) if rule == ">0" else ()):
             if rng.random() < 0.5:
                 r.set_settings(**{name: bad})
             else:
                 r.initialise_with(**{name: bad})
-        r.update((0.0, 0.01, 0.0), level, 0.005, 100.0)
+        r.update((0.0, 0.01, 0.0), LEVEL, 0.005, 100.0)
     r.set_settings(gyro_noise=0.0, gyro_bias_random_walk=0.0, accel_noise=0.0, initial_attitude_sigma=0.0,
                    initial_gyro_bias_sigma=0.0, recovery_trigger_period=0.0, stationary_accel_threshold=0.0)
     for k in range(10):
-        r.update((0.0, 0.01, 0.0), level, 0.005, 100.0 if k % 3 == 0 else NAN)
+        r.update((0.0, 0.01, 0.0), LEVEL, 0.005, 100.0 if k % 3 == 0 else NAN)
 
+
+def _random_steps(r: Recorder, rng: random.Random) -> None:
+    """Seed 1 (no rest, no mag, no faults), then 800 random steps: jittered dt, random rates and sensors."""
     r.section("seed 1: no rest, defaults, no mag, no faults")
     r.initialise_with()
     flight(r, 1, rest=0.0, duration=3.0, rng=rng, mag_every=10 ** 9, faults=False)
 
     r.section("random steps: jittered dt, random rates, accel, baro and mag presence")
     r.initialise_with(stationary_window=0.1, recovery_trigger_period=0.5)
-    r.update((0.0, 0.0, 0.0), level, 0.01)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
     for k in range(800):
         if rng.random() < 0.1:
             gyro = (rng.gauss(0, 0.003), rng.gauss(0, 0.003), rng.gauss(0, 0.003))
@@ -290,7 +317,6 @@ def build() -> Recorder:
         baro = rng.gauss(100.0, 2.0) if rng.random() < 0.3 else NAN
         mag = (rng.gauss(0.3, 0.1), rng.gauss(0.0, 0.1), rng.gauss(-0.4, 0.1)) if rng.random() < 0.1 else None
         r.update(gyro, accel, dt, baro, mag)
-    return r
 
 
 def render() -> str:

@@ -240,7 +240,22 @@ def build() -> Recorder:
     r = Recorder()
     rng = random.Random(20261123)
     default = settings()
+    flight = _start_and_climb(r, rng)
+    _rejected_updates(r, flight)
+    _gps_model(r, flight, default)
+    _gating(r, flight)
+    _resets(r, flight)
+    _terrain_reset_without_offsets(r, rng)
+    flight = _ground_effect(r, rng)
+    flight = _bias_estimation(r, rng, flight)
+    bad = _rejected_settings(r, flight)
+    _time_gaps(r, flight, default)
+    _random_steps(r, rng, default, bad)
+    return r
 
+
+def _start_and_climb(r: Recorder, rng: random.Random) -> Flight:
+    """Predict-only steps, initialise with NULL settings, then all three sensors in a climb; returns the flight."""
     r.section("initialise; predict-only steps (NULL measurements, then all-NaN measurements)")
     r.initialise()
     for _ in range(3):
@@ -253,7 +268,11 @@ def build() -> Recorder:
     flight.fly(300, "hover", baro_every=4, range_every=5, gps_every=20)
     r.section("all three sensors, 100 Hz, 25 Hz baro, 20 Hz range, 5 Hz GPS, climbing out of range (8 m)")
     flight.fly(900, "climb")
+    return flight
 
+
+def _rejected_updates(r: Recorder, flight: Flight) -> None:
+    """Updates the C refuses (state unchanged, precedence) and the oddities it accepts."""
     r.section("rejected updates (state unchanged): accel inf/NaN, dt 0/-0/negative/NaN/inf/negative subnormal, "
               "baro +-inf, GPS +-inf, GPS accuracy 0/negative/inf/-0 with a GPS sample; precedence")
     for accel in (INF, -INF, NAN, from_bits(0x7F800001), from_bits(0xFFC00000)):
@@ -286,6 +305,9 @@ def build() -> Recorder:
     r.update(from_bits(0x00000001), from_bits(0x00000001))
     r.update(from_bits(0x807FFFFF), 0.01, 120.0)
 
+
+def _gps_model(r: Recorder, flight: Flight, default: dict) -> None:
+    """GPS satellites (too few, unknown, 0, > 64) and reported accuracy (m)."""
     r.section("GPS model: too few satellites (unusable), unknown (-1: the minimum), 0 and > 64 with minimum 0, "
               "reported accuracy")
     for satellites in (3, 0, -1, -7, 4, 12, 64, 65, 1000, 2**31 - 1):
@@ -297,6 +319,9 @@ def build() -> Recorder:
         flight.fly(10, "hover", gps_every=5, satellites=satellites)
     r.set_settings(default)
 
+
+def _gating(r: Recorder, flight: Flight) -> None:
+    """Short baro, range and GPS spikes (m) rejected by the gate, then fused again."""
     r.section("gating: short baro, range and GPS spikes rejected, then fused again")
     flight.fly(100, "hover")
     for spike in (30.0, -30.0):
@@ -308,6 +333,9 @@ def build() -> Recorder:
     r.update(0.0, 0.01, rng=flight.h - 0.5)
     flight.fly(40, "hover")
 
+
+def _resets(r: Recorder, flight: Flight) -> None:
+    """Resets after the rejection timeout (0.2 s): baro step, GPS jump, terrain steps (m)."""
     r.section("resets after the rejection timeout (0.2 s): baro step +20 m, GPS jump -15 m, terrain step +1.5 m "
               "(range: ground reset, offsets take up the difference)")
     r.set_settings(settings(rejection_timeout=0.2))
@@ -320,6 +348,9 @@ def build() -> Recorder:
     flight.terrain -= 3.0
     flight.fly(150, "sine")
 
+
+def _terrain_reset_without_offsets(r: Recorder, rng: random.Random) -> None:
+    """Terrain resets before the GPS offset exists, and before the baro offset (timeout 0 s)."""
     r.section("terrain reset before the GPS offset exists (baro and range only), and before the baro offset "
               "(range only), timeout 0")
     r.initialise_with(settings(rejection_timeout=0.0))
@@ -333,6 +364,9 @@ def build() -> Recorder:
     flight.fly(60, "hover", baro_every=0, gps_every=0)
     flight.fly(100, "hover")
 
+
+def _ground_effect(r: Recorder, rng: random.Random) -> Flight:
+    """Landing with the baro reading low (dead zone 0.5 m), take-off; returns the flight."""
     r.section("ground effect: landing with the baro reading low (dead zone 0.5 m: inside and beyond), "
               "take-off with a wider baro sigma")
     r.initialise_with(settings(ground_effect_noise_scale=2.0, ground_effect_dead_zone=0.5))
@@ -342,7 +376,11 @@ def build() -> Recorder:
     flight.fly(100, "hover", ground_effect=True, baro_drop=1.2)
     flight.fly(60, "hover", ground_effect=True, baro_drop=-0.4)
     flight.fly(60, "hover")
+    return flight
 
+
+def _bias_estimation(r: Recorder, rng: random.Random, flight: Flight) -> Flight:
+    """Bias estimation off and on mid-flight, and a filter initialised with it off; returns that flight."""
     r.section("bias estimation off mid-flight (b = 0, row cleared), flown, on again (initial sigma), "
               "and a filter initialised with it off")
     r.set_settings(settings(estimate_accel_bias=False))
@@ -355,7 +393,11 @@ def build() -> Recorder:
     r.initialise_with(settings(estimate_accel_bias=False, accel_bias_random_walk=0.0))
     flight = Flight(r, rng, bias=0.2)
     flight.fly(150, "sine")
+    return flight
 
+
+def _rejected_settings(r: Recorder, flight: Flight) -> list:
+    """Every invalid setting (state unchanged) and edge settings accepted; returns the bad settings."""
     r.section("rejected settings (state unchanged), every status group, by SetSettings and InitialiseWith")
     bad = [settings(accel_noise=-0.1), settings(accel_bias_random_walk=NAN), settings(accel_bias_initial_sigma=INF),
            settings(baro_noise=0.0), settings(baro_offset_random_walk=-1e-9), settings(range_noise=-0.0),
@@ -377,7 +419,11 @@ def build() -> Recorder:
     flight.fly(60, "sine")
     r.set_settings(settings(gps_noise_satellite=0.0, gate=1.0, initial_height_sigma=0.0))
     flight.fly(60, "sine")
+    return bad
 
+
+def _time_gaps(r: Recorder, flight: Flight, default: dict) -> None:
+    """dt at and above the gap period (s), an accel glitch burst, streaks past the timeout, gap period +inf."""
     r.section("time gaps: dt at the gap period (predicted), above it (no prediction: h and v inflated, streaks "
               "ended) with and without samples, in a climb; an accel glitch burst recovered through the timeout "
               "(h, v and b inflated with the reset); gap period +infinity")
@@ -405,6 +451,9 @@ def build() -> Recorder:
     r.update(0.0, 30.0, 120.0 + flight.h)
     flight.fly(100, "hover")
 
+
+def _random_steps(r: Recorder, rng: random.Random, default: dict, bad: list) -> None:
+    """1500 random-ish steps: jittered dt, sensors, spikes, ground effect, rejected inputs, retunes."""
     r.section("random-ish steps: jittered dt, random sensor presence, spikes, ground effect, rejected inputs, "
               "retunes and re-initialisations")
     r.initialise()
@@ -446,7 +495,6 @@ def build() -> Recorder:
                        gps_every=rng.choice((0, 0, 0, 1)), satellites=rng.randint(-1, 15),
                        accuracy=NAN if rng.random() < 0.8 else rng.uniform(0.2, 5.0),
                        ground_effect=rng.random() < 0.1)
-    return r
 
 
 def check_representable(records) -> None:
@@ -467,13 +515,8 @@ def word(pattern: int) -> str:
     return str(pattern) if pattern < 10 else f"0x{pattern:08x}"
 
 
-def render() -> str:
-    """The text of kalman_vectors.h."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        recorder = build()
-    records = recorder.records
-    check_representable(records)
-    checkpoints = [i for i in range(len(records)) if i % CHECKPOINT_EVERY == 0 or i == len(records) - 1]
+def _file_comment(recorder: Recorder) -> list:
+    """The opening comment of kalman_vectors.h, up to the coverage counts (without its closing line)."""
     counts = ", ".join(f"{key} {value}" for key, value in sorted(recorder.counts.items()))
     lines = [
         "/**",
@@ -501,6 +544,17 @@ def render() -> str:
             text = ""
         text += item + ", "
     lines.append(f" *   {text.rstrip(', ')}")
+    return lines
+
+
+def render() -> str:
+    """The text of kalman_vectors.h."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        recorder = build()
+    records = recorder.records
+    check_representable(records)
+    checkpoints = [i for i in range(len(records)) if i % CHECKPOINT_EVERY == 0 or i == len(records) - 1]
+    lines = _file_comment(recorder)
     lines += [
         " */",
         "",

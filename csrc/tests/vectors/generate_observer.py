@@ -38,6 +38,8 @@ OPS = ("INITIALISE", "UPDATE", "RESET", "RESET_WITH_BIAS", "SET_SETTINGS", "SET_
        "VALIDATE", "SET_GAP_PERIOD")
 OP = {name: index for index, name in enumerate(OPS)}
 QUIET_NAN_BITS = 0x7FC00000
+NAN = float("nan")
+INF = float("inf")
 
 
 def bits(value: np.float32) -> int:
@@ -179,56 +181,75 @@ def build() -> Recorder:
     """All scenarios, in order, on one estimator (state carries over between sections)."""
     r = Recorder()
     rng = random.Random(20261122)
-    nan = float("nan")
-    inf = float("inf")
+    _start(r, rng)
+    _rejected_updates(r)
+    _resets(r, rng)
+    _settings_and_presets(r, rng)
+    _bandwidth(r, rng)
+    _gaps(r, rng)
+    _reinitialise(r)
+    _random_steps(r, rng)
+    return r
 
+
+def _start(r: Recorder, rng: random.Random) -> None:
+    """Initialise, steps before the reference, the first baro sample, a hover with accel bias 0.3 m/s^2."""
     r.section("initialise; steps without baro before the reference leave h, v, b alone")
     r.initialise()
     for _ in range(3):
-        r.update(0.5, nan, 0.01)
+        r.update(0.5, NAN, 0.01)
     r.section("the first baro sample sets the reference (auto-zero), accel and dt unused")
     r.update(0.5, 100.0, 0.01)
     r.section("default (VTOL) gains, 100 Hz, 25 Hz baro, hover with accel bias 0.3 m/s^2")
     flight(r, rng, 400, 0.01, 4, 0.3, 0.05, "hover")
 
+
+def _rejected_updates(r: Recorder) -> None:
+    """Updates the C refuses (state unchanged, precedence), NaN payloads as no sample, subnormals."""
     r.section("rejected updates: accel inf/-inf/NaN, baro inf/-inf, dt 0/-0/negative/NaN/inf")
-    for accel in (inf, -inf, nan, from_bits(0x7F800001), from_bits(0xFFC00000)):
+    for accel in (INF, -INF, NAN, from_bits(0x7F800001), from_bits(0xFFC00000)):
         r.update(accel, 100.0, 0.01)
-        r.update(accel, nan, 0.01)
-    for baro in (inf, -inf):
+        r.update(accel, NAN, 0.01)
+    for baro in (INF, -INF):
         r.update(0.1, baro, 0.01)
-    for dt in (0.0, -0.0, -0.01, nan, inf, -inf, from_bits(0x80000001)):
+    for dt in (0.0, -0.0, -0.01, NAN, INF, -INF, from_bits(0x80000001)):
         r.update(0.1, 100.0, dt)
-        r.update(0.1, nan, dt)
+        r.update(0.1, NAN, dt)
     r.section("precedence: accel is checked before baro, baro before dt")
-    r.update(inf, inf, 0.0)
-    r.update(0.1, inf, nan)
+    r.update(INF, INF, 0.0)
+    r.update(0.1, INF, NAN)
     r.section("NaN baro with other payloads is 'no sample'; the stored residual is 0x7FC00000")
     for pattern in (0x7FC00000, 0xFFC00000, 0x7F800001, 0x7FFFFFFF, 0xFFFFFFFF, 0x7FC12345):
         r.update(0.2, from_bits(pattern), 0.01)
     r.section("subnormal dt and accel are valid inputs")
     r.update(from_bits(0x00000001), 100.0, from_bits(0x00000001))
-    r.update(from_bits(0x807FFFFF), nan, 0.01)
+    r.update(from_bits(0x807FFFFF), NAN, 0.01)
 
+
+def _resets(r: Recorder, rng: random.Random) -> None:
+    """Resets and warm starts (ResetWithBias): rejected inputs, then accepted ones, flown."""
     r.section("resets: rejected (NaN, inf), accepted (keeps bias), signed zero")
-    for baro in (nan, inf, -inf):
+    for baro in (NAN, INF, -INF):
         r.reset(baro)
     r.reset(250.0)
-    r.update(0.0, nan, 0.01)
+    r.update(0.0, NAN, 0.01)
     r.reset(-0.0)
     flight(r, rng, 80, 0.01, 4, 0.3, 0.05, "hover")
 
     r.section("warm start (ResetWithBias): rejected inputs, then a ground calibration")
-    r.reset_with_bias(nan, 0.1)
-    r.reset_with_bias(inf, 0.1)
-    r.reset_with_bias(10.0, nan)
-    r.reset_with_bias(10.0, -inf)
-    r.reset_with_bias(nan, nan)
+    r.reset_with_bias(NAN, 0.1)
+    r.reset_with_bias(INF, 0.1)
+    r.reset_with_bias(10.0, NAN)
+    r.reset_with_bias(10.0, -INF)
+    r.reset_with_bias(NAN, NAN)
     r.reset_with_bias(120.0, 0.3)
     flight(r, rng, 500, 0.01, 4, 0.3, 0.05, "climb")
 
+
+def _settings_and_presets(r: Recorder, rng: random.Random) -> None:
+    """Rejected and accepted gains; every preset (and an unknown one) validated at several dt, then flown."""
     r.section("settings: rejected gains (negative, NaN, inf, Routh-Hurwitz), then accepted")
-    for gains in ((-1.0, 1.0, 0.1), (1.0, -0.0001, 0.0), (1.0, 1.0, -0.1), (nan, 1.0, 0.1), (1.0, inf, 0.1),
+    for gains in ((-1.0, 1.0, 0.1), (1.0, -0.0001, 0.0), (1.0, 1.0, -0.1), (NAN, 1.0, 0.1), (1.0, INF, 0.1),
                   (1.0, 1.0, 1.0), (1.0, 1.0, 2.0), (0.0, 1.0, 0.0), (0.0, 1.0, 0.5)):
         r.set_settings(*gains)
     r.set_settings(-0.0, 0.0, 0.0)
@@ -244,40 +265,46 @@ def build() -> Recorder:
     r.set_preset(0x7FFFFFFF)
     for preset, dt, baro_every in ((0, 0.1, 1), (1, 0.02, 5), (3, 0.005, 8), (2, 0.01, 4)):
         r.set_preset(preset)
-        for validate_dt in (dt, 0.5, 0.0, nan, 1e30, 2.0):
+        for validate_dt in (dt, 0.5, 0.0, NAN, 1e30, 2.0):
             r.validate(validate_dt)
         r.reset(float(rng.randint(-400, 3000)))
         flight(r, rng, 250, dt, baro_every, 0.1 * (preset - 1), 0.08, "sine")
 
+
+def _bandwidth(r: Recorder, rng: random.Random) -> None:
+    """Rejected bandwidths (omega, zeta, omega_b), then accepted ones mid-flight."""
     r.section("bandwidth: rejected (omega/zeta <= 0, NaN, omega_b < 0, overflow), accepted mid-flight")
-    for args in ((0.0, 0.7, 0.1), (-1.0, 0.7, 0.1), (1.0, 0.0, 0.1), (1.0, nan, 0.1), (1.0, 0.7, -0.1),
-                 (inf, 0.7, 0.1), (1e20, 0.7, 1e19), (1.0, 0.7, nan)):
+    for args in ((0.0, 0.7, 0.1), (-1.0, 0.7, 0.1), (1.0, 0.0, 0.1), (1.0, NAN, 0.1), (1.0, 0.7, -0.1),
+                 (INF, 0.7, 0.1), (1e20, 0.7, 1e19), (1.0, 0.7, NAN)):
         r.set_bandwidth(*args)
     r.set_bandwidth(2.0, 0.7, 0.4)
     flight(r, rng, 100, 0.01, 4, 0.25, 0.05, "climb")
     r.set_bandwidth(0.8, 1.0, 0.0)
     flight(r, rng, 100, 0.01, 4, 0.25, 0.05, "sine")
 
+
+def _gaps(r: Recorder, rng: random.Random) -> None:
+    """The gap period (s): rejected and accepted values; dt at and above it with and without baro."""
     r.section("gap period: rejected (0, -0, negative, NaN), +infinity accepted (no gap ever), back to 0.5 s")
-    for period in (0.0, -0.0, -1.0, nan, from_bits(0xFFC00000)):
+    for period in (0.0, -0.0, -1.0, NAN, from_bits(0xFFC00000)):
         r.set_gap_period(period)
-    r.set_gap_period(inf)
-    r.update(0.1, nan, 100.0)
+    r.set_gap_period(INF)
+    r.update(0.1, NAN, 100.0)
     r.update(0.1, 120.0, 3.0)
     r.set_gap_period(0.5)
     r.section("gaps: dt at the gap period (integrated), above it without baro (held, then the next baro restarts "
               "with the mean velocity), with baro (restarts on it), gap right after a restart, reset while pending")
     flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "sine")
-    r.update(1.0, nan, 0.5)
-    r.update(25.0, nan, 2.0)
+    r.update(1.0, NAN, 0.5)
+    r.update(25.0, NAN, 2.0)
     for _ in range(3):
-        r.update(0.3, nan, 0.01)
+        r.update(0.3, NAN, 0.01)
     r.update(0.3, 131.5, 0.01)
     flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "climb")
     r.update(-3.0, 118.25, 1.25)
-    r.update(0.0, nan, 0.75)
+    r.update(0.0, NAN, 0.75)
     r.update(0.0, 117.0, 0.01)
-    r.update(0.0, nan, 4.0)
+    r.update(0.0, NAN, 4.0)
     r.reset(90.0)
     r.update(0.0, 90.5, 0.01)
     r.set_preset(0)
@@ -286,26 +313,32 @@ def build() -> Recorder:
     r.set_preset(2)
     flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "hover")
 
+
+def _reinitialise(r: Recorder) -> None:
+    """Initialise again mid-run (state and gains back to the defaults)."""
     r.section("initialise again mid-run (state and gains back to the defaults)")
     r.initialise()
-    r.update(0.0, nan, 0.01)
+    r.update(0.0, NAN, 0.01)
     r.update(0.0, -35.5, 0.01)
 
+
+def _random_steps(r: Recorder, rng: random.Random) -> None:
+    """1500 random-ish steps: jittered dt, random gaps, occasional rejected inputs, resets and retunes."""
     r.section("random-ish steps: jittered dt, random gaps, occasional rejected inputs, resets and retunes")
-    bad_floats = (inf, -inf, nan, from_bits(0xFFC00000))
+    bad_floats = (INF, -INF, NAN, from_bits(0xFFC00000))
     for _ in range(1500):
         choice = rng.random()
         accel = f32(20.0 * (2.0 * rng.random() - 1.0))
-        baro = f32(rng.uniform(-500.0, 5000.0)) if rng.random() < 0.3 else f32(nan)
+        baro = f32(rng.uniform(-500.0, 5000.0)) if rng.random() < 0.3 else f32(NAN)
         dt = f32(0.01 * (0.5 + rng.random()))
         if choice > 0.995:
             dt = f32(rng.uniform(0.3, 3.0))  # sometimes a gap
         if choice < 0.02:
             r.update(rng.choice(bad_floats), baro, dt)
         elif choice < 0.03:
-            r.update(accel, rng.choice((inf, -inf)), dt)
+            r.update(accel, rng.choice((INF, -INF)), dt)
         elif choice < 0.04:
-            r.update(accel, baro, rng.choice((0.0, -dt, nan, inf)))
+            r.update(accel, baro, rng.choice((0.0, -dt, NAN, INF)))
         elif choice < 0.045:
             r.reset(rng.uniform(-100.0, 1000.0))
         elif choice < 0.05:
@@ -316,7 +349,6 @@ def build() -> Recorder:
             r.set_preset(rng.randint(0, 4))
         else:
             r.update(accel, baro, dt)
-    return r
 
 
 def check_representable(records) -> None:

@@ -448,6 +448,17 @@ def test_csv_pressure_with_ground_temperature_gives_height_above_start(tmp_path)
     assert data.baro_altitude[-1] == pytest.approx(100.0, abs=0.5)
 
 
+def test_csv_zero_ground_pressure_with_ground_temperature_is_a_log_error(tmp_path):
+    """A pressure column that reads 0 Pa over the first second cannot be a ground pressure: a LogError naming the
+    column (the CLI's one-line error), not the ValueError of sensors.height_above_ground."""
+    time = np.arange(0, 4, 0.1)
+    pressure = np.where(time < 1.5, 0.0, 95000.0)
+    path = tmp_path / "log.csv"
+    path.write_text("time,accel,p\n" + "".join(f"{t},0,{p}\n" for t, p in zip(time, pressure)))
+    with pytest.raises(logs.LogError, match=r"column 'p': the ground pressure .* is 0 Pa"):
+        logs.read_csv_log(str(path), "time", "accel", pressure_column="p", ground_temperature_k=280.0)
+
+
 def test_csv_body_accelerometer_with_quaternion_gives_vertical_acceleration(tmp_path):
     time = np.arange(0, 4, 0.01)
     half = np.radians(30.0) / 2  # rolled 30°, climbing at 2 m/s² (earth frame)

@@ -344,12 +344,18 @@ def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, grou
         raise LogError(f"{path}: column {pressure_column!r}: no pressure in the first "
                        f"{_fmt(REST_SECONDS)} s to take as the ground pressure")
     ground_pa = float(np.median(pressure[early]))
+    if not ground_pa > 0:
+        raise LogError(f"{path}: column {pressure_column!r}: the ground pressure (median of the first "
+                       f"{_fmt(REST_SECONDS)} s) is {_fmt(ground_pa)} Pa; a pressure must be > 0")
     if ground_temperature_k == "log":
         warm = np.isfinite(temperature) & _rest(time)
         if not warm.any():
             raise LogError(f"{path}: column {temperature_column!r}: no temperature in the first "
                            f"{_fmt(REST_SECONDS)} s to take as the ground temperature")
         ground_temperature_k = float(np.median(temperature[warm]))
+        if not ground_temperature_k > 0:
+            raise LogError(f"{path}: column {temperature_column!r}: the ground temperature (median of the first "
+                           f"{_fmt(REST_SECONDS)} s) is {_fmt(ground_temperature_k)} K; it must be > 0 K")
     baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
                  f"{_fmt(ground_temperature_k)} K (hypsometric)")

@@ -50,7 +50,9 @@ def apply(module, fusion, operation):
     kind = operation[0]
     try:
         if kind == "update":
-            fusion.update(*operation[1:])
+            accel, dt, baro, lidar, sonar, gps = operation[1:]
+            fusion.update(accel, baro_altitude=baro, dt=dt, lidar_altitude=lidar, sonar_altitude=sonar,
+                          gps_altitude=gps)
         elif kind == "settings":
             sensor, threshold, qmin, extra, confidence, gap, timeout = operation[1:]
             fusion.settings = module.AlphaBetaSettings(**{sensor: {
@@ -91,21 +93,27 @@ def flight(n=3000, seed=2):
 def test_batch_on_a_flight_agrees_bit_for_bit_and_equals_per_sample_updates():
     accel, baro, lidar, sonar, gps, *_ = flight(1500)
     fast, slow, single = c.AlphaBetaFusion(), ref.AlphaBetaFusion(), c.AlphaBetaFusion()
-    a = fast.update_batch(accel, 0.01, baro, lidar, sonar, gps)
-    b = slow.update_batch(accel, np.full(accel.size, 0.01), baro, lidar, sonar, gps)
+    a = fast.update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar, sonar_altitude=sonar,
+                          gps_altitude=gps)
+    b = slow.update_batch(accel, baro_altitude=baro, dt=np.full(accel.size, 0.01), lidar_altitude=lidar,
+                          sonar_altitude=sonar, gps_altitude=gps)
     for field in a._fields:
         assert np.array_equal(getattr(a, field).view(np.uint32), getattr(b, field).view(np.uint32)), field
     for i in range(accel.size):
-        single.update(accel[i], 0.01, baro[i], lidar[i], sonar[i], gps[i])
+        single.update(accel[i], baro_altitude=baro[i], dt=0.01, lidar_altitude=lidar[i], sonar_altitude=sonar[i],
+                      gps_altitude=gps[i])
     assert state_bits(single) == state_bits(fast) == state_bits(slow)
 
 
 def test_batch_splits_anywhere(impl):
     accel, baro, lidar, sonar, gps, *_ = flight(600)
     whole, parts = impl.AlphaBetaFusion(), impl.AlphaBetaFusion()
-    expected = whole.update_batch(accel, 0.01, baro, lidar, sonar, gps)
-    first = parts.update_batch(accel[:250], 0.01, baro[:250], lidar[:250], sonar[:250], gps[:250])
-    second = parts.update_batch(accel[250:], 0.01, baro[250:], lidar[250:], sonar[250:], gps[250:])
+    expected = whole.update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar, sonar_altitude=sonar,
+                                  gps_altitude=gps)
+    first = parts.update_batch(accel[:250], baro_altitude=baro[:250], dt=0.01, lidar_altitude=lidar[:250],
+                               sonar_altitude=sonar[:250], gps_altitude=gps[:250])
+    second = parts.update_batch(accel[250:], baro_altitude=baro[250:], dt=0.01, lidar_altitude=lidar[250:],
+                                sonar_altitude=sonar[250:], gps_altitude=gps[250:])
     assert np.array_equal(np.concatenate([first.altitude, second.altitude]), expected.altitude)
 
 
@@ -143,7 +151,7 @@ def test_a_sensor_beyond_its_gap_maximum_is_dropped_and_recovered(impl):
     lidar = np.full(3 * n, 5.0)
     lidar[n:2 * n] = 15.0
     fusion = impl.AlphaBetaFusion()
-    out = fusion.update_batch(np.zeros(3 * n), 0.01, baro_altitude=5.0, lidar_altitude=lidar)
+    out = fusion.update_batch(np.zeros(3 * n), dt=0.01, baro_altitude=5.0, lidar_altitude=lidar)
     lidar_weight = out.weight[:, 2]
     assert lidar_weight[n - 1] == 80.0  # Q 8 · confidence 10
     dropped = np.flatnonzero(lidar_weight[n:2 * n] == 0.0)
@@ -157,7 +165,7 @@ def test_a_sensor_beyond_its_gap_maximum_is_dropped_and_recovered(impl):
 
 def test_quality_rises_while_agreeing_and_falls_otherwise(impl):
     fusion = impl.AlphaBetaFusion()
-    out = fusion.update_batch(np.zeros(100), 0.01, baro_altitude=np.r_[np.zeros(80), np.full(20, 3.0)])
+    out = fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=np.r_[np.zeros(80), np.full(20, 3.0)])
     baro_quality = out.quality[:, 1]
     assert baro_quality[0] == 10 and baro_quality[50] == 60  # +1 per agreeing sample, capped at Q max
     assert baro_quality[80] == 59 and baro_quality[81] == 58  # -1 per disagreeing one
@@ -166,16 +174,17 @@ def test_quality_rises_while_agreeing_and_falls_otherwise(impl):
 
 def test_sensors_outside_their_altitude_band_get_no_weight(impl):
     fusion = impl.AlphaBetaFusion()
-    out = fusion.update_batch(np.zeros(50), 0.01, baro_altitude=8.0, sonar_altitude=8.0, lidar_altitude=8.0)
+    out = fusion.update_batch(np.zeros(50), dt=0.01, baro_altitude=8.0, sonar_altitude=8.0, lidar_altitude=8.0)
     assert out.weight[-1, 3] == 0.0 and out.weight[-1, 2] > 0  # sonar band 0..5 m, lidar 0..40 m
     fusion = impl.AlphaBetaFusion(impl.AlphaBetaSettings(sonar={"altitude_max": 10.0}))
-    out = fusion.update_batch(np.zeros(50), 0.01, baro_altitude=8.0, sonar_altitude=8.0)
+    out = fusion.update_batch(np.zeros(50), dt=0.01, baro_altitude=8.0, sonar_altitude=8.0)
     assert out.weight[-1, 3] > 0
 
 
 def test_tracks_a_multi_sensor_flight_and_rides_out_a_gps_jump():
     accel, baro, lidar, sonar, gps, h, t = flight()
-    out = c.AlphaBetaFusion().update_batch(accel, 0.01, baro, lidar, sonar, gps)
+    out = c.AlphaBetaFusion().update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar,
+                                           sonar_altitude=sonar, gps_altitude=gps)
     error = out.altitude - h
     assert np.sqrt(np.mean(error[t > 2] ** 2)) < 0.3
     jump = (t > 12.5) & (t < 16)
@@ -184,22 +193,25 @@ def test_tracks_a_multi_sensor_flight_and_rides_out_a_gps_jump():
 
 def test_nan_is_no_sample_for_every_sensor_including_the_imu(impl):
     fusion = impl.AlphaBetaFusion()
-    fusion.update(NAN, 0.01)
+    fusion.update(NAN, dt=0.01)
     assert not fusion.started
-    fusion.update(NAN, 0.01, gps_altitude=12.0)
+    fusion.update(NAN, dt=0.01, gps_altitude=12.0)
     assert fusion.started and fusion.altitude == 12.0
-    fusion.update(NAN, 0.01)
+    fusion.update(NAN, dt=0.01)
     assert fusion.weights.imu == 0.0 and fusion.weights.gps > 0
 
 
 def test_copy_and_pickle_round_trip(impl):
     accel, baro, lidar, sonar, gps, *_ = flight(600)
     fusion = impl.AlphaBetaFusion(impl.AlphaBetaSettings(gps={"gap_max": 30.0}))
-    fusion.update_batch(accel[:300], 0.01, baro[:300], lidar[:300], sonar[:300], gps[:300])
+    fusion.update_batch(accel[:300], baro_altitude=baro[:300], dt=0.01, lidar_altitude=lidar[:300],
+                        sonar_altitude=sonar[:300], gps_altitude=gps[:300])
     for clone in (copy.copy(fusion), copy.deepcopy(fusion), pickle.loads(pickle.dumps(fusion))):
         assert state_bits(clone) == state_bits(fusion)
-        a = clone.update_batch(accel[300:], 0.01, baro[300:], lidar[300:], sonar[300:], gps[300:])
-    b = fusion.update_batch(accel[300:], 0.01, baro[300:], lidar[300:], sonar[300:], gps[300:])
+        a = clone.update_batch(accel[300:], baro_altitude=baro[300:], dt=0.01, lidar_altitude=lidar[300:],
+                               sonar_altitude=sonar[300:], gps_altitude=gps[300:])
+    b = fusion.update_batch(accel[300:], baro_altitude=baro[300:], dt=0.01, lidar_altitude=lidar[300:],
+                            sonar_altitude=sonar[300:], gps_altitude=gps[300:])
     assert np.array_equal(a.altitude, b.altitude)
     assert pickle.loads(pickle.dumps(fusion.settings)) == fusion.settings
 
@@ -215,7 +227,9 @@ def test_copy_and_pickle_round_trip(impl):
 ])
 def test_bad_update_raises_naming_the_argument_and_leaves_the_state(impl, kwargs, message):
     fusion = impl.AlphaBetaFusion()
-    fusion.update_batch(*flight(200)[:1], 0.01, *flight(200)[1:5])
+    accel, baro, lidar, sonar, gps = flight(200)[:5]
+    fusion.update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar, sonar_altitude=sonar,
+                        gps_altitude=gps)
     before = state_bits(fusion)
     with pytest.raises(ValueError, match="^" + re.escape(message)):
         fusion.update(**kwargs)
@@ -225,26 +239,29 @@ def test_bad_update_raises_naming_the_argument_and_leaves_the_state(impl, kwargs
 def test_bad_batch_names_the_first_bad_index_and_applies_nothing(impl):
     accel, baro, lidar, sonar, gps, *_ = flight(300)
     fusion = impl.AlphaBetaFusion()
-    fusion.update_batch(accel[:100], 0.01, baro[:100], lidar[:100], sonar[:100], gps[:100])
+    fusion.update_batch(accel[:100], baro_altitude=baro[:100], dt=0.01, lidar_altitude=lidar[:100],
+                        sonar_altitude=sonar[:100], gps_altitude=gps[:100])
     before = state_bits(fusion)
     bad = gps.copy()
     bad[[77, 99]] = np.inf
     with pytest.raises(ValueError, match=r"^gps_altitude\[77\] must be finite"):
-        fusion.update_batch(accel, 0.01, baro, lidar, sonar, bad)
+        fusion.update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar, sonar_altitude=sonar,
+                            gps_altitude=bad)
     bad = accel.copy()
     bad[5] = -np.inf
     with pytest.raises(ValueError, match=r"^accel\[5\] must be finite"):
-        fusion.update_batch(bad, 0.01, baro, lidar, sonar, gps)
+        fusion.update_batch(bad, baro_altitude=baro, dt=0.01, lidar_altitude=lidar, sonar_altitude=sonar,
+                            gps_altitude=gps)
     with pytest.raises(ValueError, match=r"^baro_altitude must be finite"):
-        fusion.update_batch(accel, 0.01, np.inf)
+        fusion.update_batch(accel, baro_altitude=np.inf, dt=0.01)
     with pytest.raises(ValueError, match=r"^dt must be finite and > 0"):
-        fusion.update_batch(accel, 0.0, baro)
+        fusion.update_batch(accel, baro_altitude=baro, dt=0.0)
     with pytest.raises(ValueError, match="lidar_altitude has 299 samples but accel has 300"):
-        fusion.update_batch(accel, 0.01, baro, lidar[:-1])
+        fusion.update_batch(accel, baro_altitude=baro, dt=0.01, lidar_altitude=lidar[:-1])
     with pytest.raises(TypeError, match="dt must be a real number or an array"):
-        fusion.update_batch(accel, None, baro)
+        fusion.update_batch(accel, baro_altitude=baro, dt=None)
     with pytest.raises(TypeError, match="gps_altitude must be a real number"):
-        fusion.update(0.0, 0.01, gps_altitude="high")
+        fusion.update(0.0, dt=0.01, gps_altitude="high")
     assert state_bits(fusion) == before
 
 
@@ -272,6 +289,6 @@ def test_settings_types(impl):
     s = impl.AlphaBetaSettings(gps=AlphaBetaSensorSettings(5.0, 3, 9, 2.0, -math.inf, math.inf, math.inf, 2.0))
     assert s.gps.gap_max == math.inf and s.replace(gps={"threshold": 7.0}).gps.threshold == 7.0
     fusion = impl.AlphaBetaFusion()
-    fusion.update_batch(np.zeros(100), 0.01, baro_altitude=0.0)
+    fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=0.0)
     fusion.settings = impl.AlphaBetaSettings(baro={"quality_max": 20})
     assert fusion.qualities.baro == 20

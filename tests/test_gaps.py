@@ -62,7 +62,7 @@ def run_batch(estimator_object, estimator: str, accel, baro, dt):
     """update_batch with the baro only, in each estimator's argument order."""
     if estimator in ("observer", "complementary"):
         return estimator_object.update_batch(accel, baro, dt)
-    return estimator_object.update_batch(accel, dt, baro)
+    return estimator_object.update_batch(accel, baro_altitude=baro, dt=dt)
 
 
 def stream(n: int = 600, seed: int = 3, gaps=((150, 2.0), (300, 0.75), (301, 0.6), (450, 4.0))):
@@ -137,7 +137,7 @@ def test_per_sample_updates_equal_the_batch_through_gaps(estimator):
         if estimator in ("observer", "complementary"):
             single.update(accel[i], baro[i], dt[i])
         else:
-            single.update(accel[i], dt[i], baro[i])
+            single.update(accel[i], baro_altitude=baro[i], dt=dt[i])
     assert f32(single.altitude).tobytes() == expected.altitude[-1].tobytes()
     assert single.gap_count == batch.gap_count == 2
 
@@ -315,7 +315,7 @@ def test_kalman_recovers_from_an_accel_glitch_burst_after_the_rejection_timeout(
     accel[500:550] = 20.0  # 0.5 s glitch: the velocity is thrown 10 m/s off while the vehicle hovers
     baro = (80.0 + 0.1 * rng.standard_normal(n)).astype(np.float32)
     e = estimator_class()
-    out = e.update_batch(accel, f32(0.01), baro)
+    out = e.update_batch(accel, baro_altitude=baro, dt=f32(0.01))
     t = np.arange(n) * 0.01
     assert e.resets.baro >= 1
     assert np.abs(out.altitude[t >= 7.5] - 80.0).max() < 0.5  # 2 s after the burst
@@ -329,10 +329,10 @@ def test_kalman_baro_only_streak_fuses_the_sample_instead_of_re_basing_the_offse
     estimator_class, _ = classes(implementation, "kalman")
     e = estimator_class()
     for _ in range(300):
-        e.update(f32(0.0), f32(0.01), baro_altitude=f32(80.0))
+        e.update(f32(0.0), dt=f32(0.01), baro_altitude=f32(80.0))
     offset = float(e.baro_offset)
     for _ in range(300):
-        e.update(f32(20.0), f32(0.01), baro_altitude=f32(80.0))
+        e.update(f32(20.0), dt=f32(0.01), baro_altitude=f32(80.0))
         if int(e.results.baro) == int(fa.KalmanResult.RESET):
             break
     assert int(e.results.baro) == int(fa.KalmanResult.RESET) and e.resets.baro == 1
@@ -367,8 +367,8 @@ def test_kalman_general_defaults_follow_the_hedy_rocket_descent_whatever_the_bar
     dt = sample_periods(hedy_log.time).astype(np.float32)
     for shift in (0.0, 0.01, -2.0):
         out = estimator_class(settings_class()).update_batch(
-            hedy_log.vertical_acceleration.astype(np.float32), dt,
-            (hedy_log.baro_altitude + shift).astype(np.float32))
+            hedy_log.vertical_acceleration.astype(np.float32),
+            baro_altitude=(hedy_log.baro_altitude + shift).astype(np.float32), dt=dt)
         error = np.asarray(out.altitude, float) - shift - hedy_log.reference_altitude
         descent = np.isfinite(error) & (hedy_log.time >= 120.0)
         assert np.sqrt(np.nanmean(error ** 2)) < 20.0, shift
@@ -383,7 +383,7 @@ def test_kalman_recovers_from_a_start_in_fast_motion(implementation):
     truth = 200.0 + 8.0 * t  # started while climbing at 8 m/s (its prior: at rest, 1 m/s sigma)
     rng = np.random.default_rng(6)
     baro = (truth + 0.1 * rng.standard_normal(n)).astype(np.float32)
-    out = estimator_class().update_batch(np.zeros(n, np.float32), f32(0.01), baro)
+    out = estimator_class().update_batch(np.zeros(n, np.float32), baro_altitude=baro, dt=f32(0.01))
     assert np.abs(out.altitude[t >= 4.0] - truth[t >= 4.0]).max() < 0.5
     assert np.abs(out.vertical_velocity[t >= 4.0] - 8.0).max() < 0.5
 
@@ -397,7 +397,7 @@ def test_alphabeta_dead_reckoning_is_bounded_and_the_baro_reacquires(implementat
     baro = np.full(n, 20.0, np.float32)
     baro[500:1500] = np.nan  # a 10 s baro dropout
     e = estimator_class()
-    out = e.update_batch(accel, f32(0.01), baro)
+    out = e.update_batch(accel, baro_altitude=baro, dt=f32(0.01))
     error = np.abs(out.altitude - 20.0)
     assert error[500:1500].max() < 0.5 * 1.0 * 3.1 ** 2  # at most the 1.5 s timeout + the 1.5 s gap period
     assert error[1500] == 0.0  # the first baro sample back restarts the fusion on it

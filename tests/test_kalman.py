@@ -67,7 +67,9 @@ def test_c_and_reference_agree_bit_for_bit_through_every_fault(seed):
     estimators = []
     for module in (fusion_altitude, fusion_altitude.reference):
         estimator = module.KalmanEstimator(module.KalmanSettings(**settings))
-        outputs.append(estimator.update_batch(accel, DT, baro, rangefinder, gps, satellites, accuracy, ground))
+        outputs.append(estimator.update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder,
+                                              gps_altitude=gps, gps_satellites=satellites,
+                                              gps_vertical_accuracy=accuracy, ground_effect=ground))
         estimators.append(estimator)
     for field in outputs[0]._fields:
         assert np.array_equal(bits(getattr(outputs[0], field)), bits(getattr(outputs[1], field))), field
@@ -81,11 +83,15 @@ def test_c_and_reference_agree_bit_for_bit_through_every_fault(seed):
 def test_batch_equals_per_sample_updates(impl):
     accel, baro, rangefinder, gps, satellites, accuracy, ground = faulty_flight(400, 3)
     batch_estimator = impl.KalmanEstimator()
-    result = batch_estimator.update_batch(accel, DT, baro, rangefinder, gps, satellites, accuracy, ground)
+    result = batch_estimator.update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder,
+                                          gps_altitude=gps, gps_satellites=satellites, gps_vertical_accuracy=accuracy,
+                                          ground_effect=ground)
     estimator = impl.KalmanEstimator()
     for i in range(accel.size):
-        estimator.update(accel[i], DT, baro[i], rangefinder[i], gps[i], int(satellites[i]),
-                         None if np.isnan(accuracy[i]) else accuracy[i], bool(ground[i]))
+        estimator.update(accel[i], baro_altitude=baro[i], dt=DT, range_distance=rangefinder[i], gps_altitude=gps[i],
+                         gps_satellites=int(satellites[i]),
+                         gps_vertical_accuracy=None if np.isnan(accuracy[i]) else accuracy[i],
+                         ground_effect=bool(ground[i]))
         assert bits(np.float32(estimator.altitude)) == bits(result.altitude[i])
     assert estimator_bits(estimator) == estimator_bits(batch_estimator)
 
@@ -93,11 +99,14 @@ def test_batch_equals_per_sample_updates(impl):
 def test_batch_continues_from_the_state_and_splits_anywhere(impl):
     accel, baro, rangefinder, gps, satellites, accuracy, ground = faulty_flight(300, 4)
     whole = impl.KalmanEstimator()
-    whole.update_batch(accel, DT, baro, rangefinder, gps, satellites, accuracy, ground)
+    whole.update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder, gps_altitude=gps,
+                       gps_satellites=satellites, gps_vertical_accuracy=accuracy, ground_effect=ground)
     parts = impl.KalmanEstimator()
     for start, stop in ((0, 17), (17, 200), (200, 300)):
-        parts.update_batch(accel[start:stop], DT, baro[start:stop], rangefinder[start:stop], gps[start:stop],
-                           satellites[start:stop], accuracy[start:stop], ground[start:stop])
+        parts.update_batch(accel[start:stop], baro_altitude=baro[start:stop], dt=DT,
+                           range_distance=rangefinder[start:stop], gps_altitude=gps[start:stop],
+                           gps_satellites=satellites[start:stop], gps_vertical_accuracy=accuracy[start:stop],
+                           ground_effect=ground[start:stop])
     assert estimator_bits(parts) == estimator_bits(whole)
 
 
@@ -120,7 +129,7 @@ def test_starts_on_the_ground_at_rest_with_unknown_offsets(impl):
     assert estimator.height_above_ground == 0.0 and estimator.vertical_velocity == 0.0
     assert not estimator.baro_initialised and not estimator.gps_initialised
     assert all(math.isnan(v) for v in estimator.innovations)
-    estimator.update(0.0, DT, baro_altitude=523.25, gps_altitude=561.5, gps_satellites=12)
+    estimator.update(0.0, dt=DT, baro_altitude=523.25, gps_altitude=561.5, gps_satellites=12)
     assert estimator.altitude == 523.25 and estimator.baro_offset == 523.25 and estimator.gps_offset == 561.5
     assert estimator.height_above_ground == 0.0
     assert estimator.results == (KalmanResult.INITIALISED, KalmanResult.NO_SAMPLE, KalmanResult.INITIALISED)
@@ -128,7 +137,7 @@ def test_starts_on_the_ground_at_rest_with_unknown_offsets(impl):
 
 def test_covariance_is_a_symmetric_copy(impl):
     estimator = impl.KalmanEstimator()
-    estimator.update(0.1, DT, baro_altitude=10.0, range_distance=1.0)
+    estimator.update(0.1, dt=DT, baro_altitude=10.0, range_distance=1.0)
     P = estimator.covariance
     assert P.dtype == np.float32 and P.shape == (5, 5)
     assert np.array_equal(bits(P), bits(P.T))
@@ -141,12 +150,12 @@ def test_covariance_is_a_symmetric_copy(impl):
 
 def test_gps_satellites_and_accuracy_set_the_gps_noise(impl):
     estimator = impl.KalmanEstimator()
-    estimator.update(0.0, DT, baro_altitude=0.0, gps_altitude=0.0, gps_satellites=16)
-    estimator.update(0.0, DT, gps_altitude=0.0, gps_satellites=16)
+    estimator.update(0.0, dt=DT, baro_altitude=0.0, gps_altitude=0.0, gps_satellites=16)
+    estimator.update(0.0, dt=DT, gps_altitude=0.0, gps_satellites=16)
     s16 = estimator.innovation_variances.gps
-    estimator.update(0.0, DT, gps_altitude=0.0, gps_satellites=16, gps_vertical_accuracy=4.0)
+    estimator.update(0.0, dt=DT, gps_altitude=0.0, gps_satellites=16, gps_vertical_accuracy=4.0)
     assert estimator.innovation_variances.gps > 16.0
-    estimator.update(0.0, DT, gps_altitude=0.0, gps_satellites=3)
+    estimator.update(0.0, dt=DT, gps_altitude=0.0, gps_satellites=3)
     assert estimator.results.gps == KalmanResult.UNUSABLE
     assert 2 * 1.25 ** 2 < s16 < 2 * 1.25 ** 2 + 0.1  # S = P_hh + P_og + R with P_og = P_hh + R just after the first sample
 
@@ -155,7 +164,7 @@ def test_bias_estimation_can_be_turned_off(impl):
     settings = impl.KalmanSettings(estimate_accel_bias=False)
     estimator = impl.KalmanEstimator(settings)
     for _ in range(500):
-        estimator.update(0.2, DT, baro_altitude=5.0, range_distance=1.0)
+        estimator.update(0.2, dt=DT, baro_altitude=5.0, range_distance=1.0)
     assert estimator.accel_bias == 0.0
     assert not estimator.covariance[4].any()
     estimator.settings = settings.replace(estimate_accel_bias=True)
@@ -165,14 +174,17 @@ def test_bias_estimation_can_be_turned_off(impl):
 def test_copy_and_pickle_round_trip(impl):
     accel, baro, rangefinder, gps, satellites, accuracy, ground = faulty_flight(300, 5)
     estimator = impl.KalmanEstimator(impl.KalmanSettings(gate=4.0))
-    estimator.update_batch(accel[:150], DT, baro[:150], rangefinder[:150], gps[:150], satellites[:150])
+    estimator.update_batch(accel[:150], baro_altitude=baro[:150], dt=DT, range_distance=rangefinder[:150],
+                           gps_altitude=gps[:150], gps_satellites=satellites[:150])
     clones = [copy.copy(estimator), copy.deepcopy(estimator), pickle.loads(pickle.dumps(estimator))]
     for clone in clones:
         assert estimator_bits(clone) == estimator_bits(estimator)
         assert clone.settings == estimator.settings
-    estimator.update_batch(accel[150:], DT, baro[150:], rangefinder[150:], gps[150:], satellites[150:])
+    estimator.update_batch(accel[150:], baro_altitude=baro[150:], dt=DT, range_distance=rangefinder[150:],
+                           gps_altitude=gps[150:], gps_satellites=satellites[150:])
     for clone in clones:
-        clone.update_batch(accel[150:], DT, baro[150:], rangefinder[150:], gps[150:], satellites[150:])
+        clone.update_batch(accel[150:], baro_altitude=baro[150:], dt=DT, range_distance=rangefinder[150:],
+                           gps_altitude=gps[150:], gps_satellites=satellites[150:])
         assert estimator_bits(clone) == estimator_bits(estimator)
     settings = pickle.loads(pickle.dumps(estimator.settings))
     assert settings == estimator.settings and hash(settings) == hash(estimator.settings)
@@ -190,7 +202,9 @@ def test_copy_and_pickle_round_trip(impl):
 ])
 def test_bad_update_raises_naming_the_argument_and_leaves_the_state(impl, kwargs, message):
     estimator = impl.KalmanEstimator()
-    estimator.update_batch(*faulty_flight(200, 6)[:1], DT, *faulty_flight(200, 6)[1:])
+    accel, baro, rangefinder, gps, satellites, accuracy, ground = faulty_flight(200, 6)
+    estimator.update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder, gps_altitude=gps,
+                           gps_satellites=satellites, gps_vertical_accuracy=accuracy, ground_effect=ground)
     before = estimator_bits(estimator)
     arguments = dict(accel=0.0, dt=DT, baro_altitude=1.0)
     arguments.update(kwargs)
@@ -205,18 +219,19 @@ def test_bad_batch_names_the_first_bad_index_and_applies_nothing(impl):
     before = estimator_bits(estimator)
     gps[250] = np.inf
     with pytest.raises(ValueError, match=r"^gps_altitude\[250\] must be finite"):
-        estimator.update_batch(accel, DT, baro, rangefinder, gps, satellites, accuracy, ground)
+        estimator.update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder, gps_altitude=gps,
+                               gps_satellites=satellites, gps_vertical_accuracy=accuracy, ground_effect=ground)
     assert estimator_bits(estimator) == before
     dt = np.full(300, DT, dtype=np.float32)
     dt[7] = 0.0
     with pytest.raises(ValueError, match=r"^dt\[7\] must be finite"):
-        estimator.update_batch(accel, dt)
+        estimator.update_batch(accel, dt=dt)
     with pytest.raises(ValueError, match=r"^dt must be finite"):
-        estimator.update_batch(accel, -1.0)
+        estimator.update_batch(accel, dt=-1.0)
     with pytest.raises(ValueError, match="baro_altitude has 3 samples but accel has 300"):
-        estimator.update_batch(accel, DT, baro_altitude=[1.0, 2.0, 3.0])
+        estimator.update_batch(accel, dt=DT, baro_altitude=[1.0, 2.0, 3.0])
     with pytest.raises(TypeError, match="accel"):
-        estimator.update_batch(["a"] * 3, DT)
+        estimator.update_batch(["a"] * 3, dt=DT)
     assert estimator_bits(estimator) == before
 
 
@@ -243,7 +258,7 @@ def test_unknown_or_mistyped_settings_raise_type_error(impl):
     with pytest.raises(TypeError, match="estimate_accel_bias must be a bool"):
         impl.KalmanSettings(estimate_accel_bias=1)
     with pytest.raises(TypeError, match="accel must be a real number"):
-        impl.KalmanEstimator().update("x", DT)
+        impl.KalmanEstimator().update("x", dt=DT)
 
 
 # -- against FilterPy ------------------------------------------------------------------
@@ -307,7 +322,8 @@ def test_c_and_reference_match_filterpy_on_the_same_model(impl):
     n = 2000 if impl is fusion_altitude else 600
     accel, baro, rangefinder, gps, satellites = clean_flight(n, 8)
     settings = impl.KalmanSettings(gate=1e3)
-    result = impl.KalmanEstimator(settings).update_batch(accel, DT, baro, rangefinder, gps, satellites)
+    result = impl.KalmanEstimator(settings).update_batch(accel, baro_altitude=baro, dt=DT, range_distance=rangefinder,
+                                                         gps_altitude=gps, gps_satellites=satellites)
     states, variances = run_filterpy(settings, accel.astype(np.float64), baro.astype(np.float64),
                                      rangefinder.astype(np.float64), gps.astype(np.float64), satellites)
     ours = np.stack([result.height_above_ground, result.vertical_velocity, result.baro_offset, result.gps_offset,
@@ -324,13 +340,13 @@ def test_batch_writes_into_preallocated_out_arrays(impl):
     n = 300
     accel, baro = rng.normal(0, 0.5, n), 100 + rng.normal(0, 0.3, n)
     out = fusion_altitude._kalman_glue.new_kalman_batch(n)
-    result = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro, out=out)
+    result = impl.KalmanEstimator().update_batch(accel, dt=0.01, baro_altitude=baro, out=out)
     assert all(r is o for r, o in zip(result, out))
-    fresh = impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro)
+    fresh = impl.KalmanEstimator().update_batch(accel, dt=0.01, baro_altitude=baro)
     for field in fresh._fields:
         assert np.array_equal(getattr(fresh, field).view(np.uint8), getattr(out, field).view(np.uint8)), field
     with pytest.raises(ValueError, match=r"out.covariance_diagonal must be a writeable contiguous float32 array"):
-        impl.KalmanEstimator().update_batch(accel, 0.01, baro_altitude=baro,
+        impl.KalmanEstimator().update_batch(accel, dt=0.01, baro_altitude=baro,
                                             out=out._replace(covariance_diagonal=np.empty((n, 4), np.float32)))
 
 

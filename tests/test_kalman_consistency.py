@@ -74,7 +74,7 @@ def monte_carlo():
         covariances = []
         start = 0
         for stop in checkpoints + 1:
-            result = estimator.update_batch(accel[start:stop], DT, baro_altitude=baro[start:stop],
+            result = estimator.update_batch(accel[start:stop], dt=DT, baro_altitude=baro[start:stop],
                                             range_distance=rangefinder[start:stop], gps_altitude=gps[start:stop],
                                             gps_satellites=9)
             nis.append(result.nis)

@@ -80,7 +80,7 @@ def scenario_a():
     for seed in range(20):
         t, truth, accel, baro = flight_a(seed)
         observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
-        result = kalman().update_batch(accel, DT, baro_altitude=baro)
+        result = kalman().update_batch(accel, dt=DT, baro_altitude=baro)
         rows.append((rms(observer - truth, t), rms(result.altitude - truth, t), rms(baro - truth, t),
                      float(result.accel_bias[-1]) / GRAVITY))
     return np.array(rows)
@@ -116,7 +116,7 @@ def scenario_b():
     t, altitude, height, accel, baro, rangefinder = flight_b(0)
     observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
     estimator = kalman()
-    result = estimator.update_batch(accel, DT, baro_altitude=baro, range_distance=rangefinder)
+    result = estimator.update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder)
     drift = 0.3 * t / 100.0
     return t, altitude + BARO_REFERENCE + drift, height, observer, result, estimator
 
@@ -169,7 +169,7 @@ def scenario_c():
     t, altitude, accel, baro, gps, satellites = flight_c(0)
     observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
     estimator = kalman()
-    result = estimator.update_batch(accel, DT, baro_altitude=baro, gps_altitude=gps, gps_satellites=satellites)
+    result = estimator.update_batch(accel, dt=DT, baro_altitude=baro, gps_altitude=gps, gps_satellites=satellites)
     return t, altitude, observer, result, estimator
 
 
@@ -220,7 +220,7 @@ def test_d_baro_dropout_is_bridged_by_the_rangefinder():
     truth = BARO_REFERENCE + altitude
     observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
     estimator = kalman()
-    result = estimator.update_batch(accel, DT, baro_altitude=baro, range_distance=rangefinder)
+    result = estimator.update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder)
     dropout = (t >= 20.0) & (t < 30.0)
     print(f"\n(d) 10 s baro dropout: altitude RMS observer {rms(observer - truth, t):.4f} m "
           f"(worst in dropout {np.max(np.abs(observer - truth)[dropout]):.3f} m), Kalman {rms(result.altitude - truth, t):.4f} m "

@@ -215,7 +215,7 @@ def test_rocket_kalman_settings_follow_a_simulated_flight_at_least_as_well_as_th
     baro = flight.baro_altitude - flight.model.pad_altitude
     rms = {}
     for name, settings in (("default", KalmanSettings()), ("rocket", rocket.rocket_kalman_settings())):
-        result = KalmanEstimator(settings).update_batch(flight.accel, flight.dt, baro_altitude=baro)
+        result = KalmanEstimator(settings).update_batch(flight.accel, dt=flight.dt, baro_altitude=baro)
         rms[name] = float(np.sqrt(np.mean((result.altitude - flight.trajectory.altitude) ** 2)))
     assert rms["rocket"] < 30.0
     assert rms["rocket"] <= rms["default"]

@@ -98,7 +98,7 @@ ESTIMATORS = [
     # Exception: the INS takes a raw IMU, so its update is (gyro, accel, dt, baro_altitude=NaN, mag=None) with
     # 3-vectors, as imufusion users call an AHRS; baro and mag are optional and positional.
     Row("InsEstimator", "InsSettings", _ins, _ins_inputs, {"baro_noise": 0.5}, "InsStatus",
-        positional=("gyro", "accel", "dt", "baro_altitude", "mag"), gil_samples=50_000),
+        positional=("gyro", "accel", "dt", "baro_altitude", "mag"), gil_samples=200_000),
     Row("RocketEstimator", "RocketSettings", _flight, _rocket_inputs, {"launch_accel": 30.0}, "RocketStatus",
         enums=(("Phase", "C_PHASE_VALUES"), ("BaroFate", "C_BARO_VALUES"), ("RocketEventId", "C_EVENTID_VALUES")),
         retune=False),

@@ -134,6 +134,16 @@ extern "C" {
 #define FUSION_ALTITUDE_INS_UNROLL
 #endif
 
+/* The helpers that FusionAltitudeInsUpdate and FusionAltitudeInsPredict call once (split for reading, one job
+ * each) are forced inline where the compiler allows it, so that the update compiles as the single function it was
+ * before the split: gcc -Os and -O2 for Cortex-M and RISC-V otherwise keep some out of line (more instructions per
+ * step, and the size tables of docs/embedded.md would miss them). */
+#if defined(__GNUC__) || defined(__clang__)
+#define FUSION_ALTITUDE_INS_ONCE __attribute__((always_inline))
+#else
+#define FUSION_ALTITUDE_INS_ONCE
+#endif
+
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
@@ -609,12 +619,11 @@ static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const Fu
  * dtheta v = dt (f x r) (m/s per rad), row d of F on dtheta h = dt^2/2 (f x r)
  * (m per rad); dt: s.
  */
-static inline void FusionAltitudeInsPredictCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const float a[3],
-                                                      const float v[3], const float h[3], const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsPredictCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES],
+                                                                               const float ax, const float ay, const float az, const float vx,
+                                                                               const float vy, const float vz, const float hx, const float hy,
+                                                                               const float hz, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
-    const float ax = a[0], ay = a[1], az = a[2];
-    const float vx = v[0], vy = v[1], vz = v[2];
-    const float hx = h[0], hy = h[1], hz = h[2];
     /* G = F P: rows theta, d and v change; rows b are those of P (copied: P is overwritten below). Whole rows,
        combined element-wise over the columns (vectorises on a PC). */
     float G[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
@@ -672,7 +681,7 @@ static inline void FusionAltitudeInsPredictCovariance(float P[FUSION_ALTITUDE_IN
  * unobserved for long (no baro, never at rest): a variance above
  * FUSION_ALTITUDE_INS_VARIANCE_LIMIT is decorrelated and held at the limit.
  */
-static inline void FusionAltitudeInsAddProcessNoise(FusionAltitudeIns *const ins, const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsAddProcessNoise(FusionAltitudeIns *const ins, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
     const FusionAltitudeInsSettings *const s = &ins->settings;
@@ -717,13 +726,13 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     ins->velocity = ins->velocity + accel * dt;
     FusionAltitudeInsRotate(ins->q, w[0] * halfDt, w[1] * halfDt, w[2] * halfDt);
     /* Jacobian pieces: A = I - [w dt]x, c = f x r */
-    const float a[3] = {w[0] * dt, w[1] * dt, w[2] * dt};
+    const float ax = w[0] * dt, ay = w[1] * dt, az = w[2] * dt;
     const float cx = f[1] * r[2] - f[2] * r[1];
     const float cy = f[2] * r[0] - f[0] * r[2];
     const float cz = f[0] * r[1] - f[1] * r[0];
-    const float v[3] = {dt * cx, dt * cy, dt * cz};                /* row v of F on dtheta */
-    const float h[3] = {halfDt2 * cx, halfDt2 * cy, halfDt2 * cz}; /* row d of F on dtheta */
-    FusionAltitudeInsPredictCovariance(ins->P, a, v, h, dt);
+    const float vx = dt * cx, vy = dt * cy, vz = dt * cz;             /* row v of F on dtheta */
+    const float hx = halfDt2 * cx, hy = halfDt2 * cy, hz = halfDt2 * cz; /* row d of F on dtheta */
+    FusionAltitudeInsPredictCovariance(ins->P, ax, ay, az, vx, vy, vz, hx, hy, hz, dt);
     FusionAltitudeInsAddProcessNoise(ins, dt);
 }
 
@@ -733,7 +742,7 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
  * variance ((m/s)^2) to at least initialVelocitySigma^2, and stationary
  * detection restarts (stationaryTime = 0 s).
  */
-static inline void FusionAltitudeInsGap(FusionAltitudeIns *const ins) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeIns *const ins) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     ins->gapCount++;
@@ -752,8 +761,8 @@ static inline void FusionAltitudeInsGap(FusionAltitudeIns *const ins) {
  * ||accel| - g| < stationaryAccelThreshold (m/s^2); stationaryTime (s) grows by
  * dt (s) while still, held at stationaryWindow (s), and is 0 s otherwise.
  */
-static inline void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro, const float normError,
-                                                     const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                                              const float normError, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float gyroSquared = gyro.x * gyro.x + gyro.y * gyro.y + gyro.z * gyro.z;
@@ -773,8 +782,8 @@ static inline void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const in
  * (rad/s) and specific force f = accel - (0, 0, b_az) (m/s^2) followed by
  * stationary detection. @return false while not aligned (the step ends).
  */
-static inline bool FusionAltitudeInsPropagate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel,
-                                              const float normError, const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                                       const FusionAltitudeInsVector accel, const float normError, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (!ins->aligned) {
@@ -802,8 +811,9 @@ static inline bool FusionAltitudeInsPropagate(FusionAltitudeIns *const ins, cons
  * (unless recovering: rejectionTime > recoveryTriggerPeriod, s);
  * rejectionTime (s) grows by dt (s) while rejected.
  */
-static inline void FusionAltitudeInsFuseGravity(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const FusionAltitudeInsVector accel,
-                                                const float r[3], const float normError, const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseGravity(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                         const FusionAltitudeInsVector accel, const float r[3], const float normError,
+                                                                         const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float fz = accel.z - ins->accelZBias;
@@ -844,8 +854,9 @@ static inline void FusionAltitudeInsFuseGravity(FusionAltitudeIns *const ins, fl
  * zeroVelocityNoise^2), and the accel z bias low-passed towards
  * accel.z - g r_z (m/s^2) with k = dt / (accelBiasTimeConstant + dt) (dt, s).
  */
-static inline void FusionAltitudeInsFuseStationary(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const FusionAltitudeInsVector gyro,
-                                                   const FusionAltitudeInsVector accel, const float r[3], const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseStationary(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                            const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel,
+                                                                            const float r[3], const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float R = s->zeroRateNoise * s->zeroRateNoise;
@@ -864,7 +875,8 @@ static inline void FusionAltitudeInsFuseStationary(FusionAltitudeIns *const ins,
  * since the previous reading, s); otherwise d is fused with residual
  * (baroAltitude - b) - d (m), noise baroNoise^2 (m^2).
  */
-static inline void FusionAltitudeInsFuseBaro(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const float baroAltitude) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                      const float baroAltitude) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (FusionAltitudeIsNaN(baroAltitude)) {
@@ -889,7 +901,7 @@ static inline void FusionAltitudeInsFuseBaro(FusionAltitudeIns *const ins, float
  * (dtheta = dx[0..2], rad), gyro bias += dx[3..5] (rad/s), d += dx[6] (m),
  * v += dx[7] (m/s).
  */
-static inline void FusionAltitudeInsInject(FusionAltitudeIns *const ins, const float dx[FUSION_ALTITUDE_INS_STATES]) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsInject(FusionAltitudeIns *const ins, const float dx[FUSION_ALTITUDE_INS_STATES]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     FusionAltitudeInsRotate(ins->q, 0.5f * dx[0], 0.5f * dx[1], 0.5f * dx[2]);
     ins->gyroBias[0] = ins->gyroBias[0] + dx[3];
@@ -906,7 +918,7 @@ static inline void FusionAltitudeInsInject(FusionAltitudeIns *const ins, const f
  * offset, low-passed with k = t / (magTimeConstant + t) (t: time since the
  * previous reading, s) and renormalised.
  */
-static inline void FusionAltitudeInsFuseMag(FusionAltitudeIns *const ins, const FusionAltitudeInsVector mag) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseMag(FusionAltitudeIns *const ins, const FusionAltitudeInsVector mag) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (FusionAltitudeInsIsNoMag(mag)) {

@@ -888,44 +888,17 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
 }
 
 /**
- * @brief Checks a step's inputs (see FusionAltitudeKalmanUpdate): accel (m/s^2)
- * and dt (s, > 0) finite, baro and GPS altitude (m) NaN or finite, GPS
- * vertical accuracy (m, with a GPS sample) NaN or finite > 0.
- * @return FusionAltitudeKalmanStatusOk or the first bad input's status.
- */
-static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanCheckInputs(const float accel, const float dt,
-                                                                         const FusionAltitudeKalmanMeasurements *const m) {
-    if (!FusionAltitudeIsFinite(accel)) {
-        return FusionAltitudeKalmanStatusInvalidAccel;
-    }
-    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
-        return FusionAltitudeKalmanStatusInvalidDt;
-    }
-    if (!FusionAltitudeIsNaN(m->baroAltitude) && !FusionAltitudeIsFinite(m->baroAltitude)) {
-        return FusionAltitudeKalmanStatusInvalidBaroAltitude;
-    }
-    const bool gpsPresent = !FusionAltitudeIsNaN(m->gpsAltitude);
-    if (gpsPresent && !FusionAltitudeIsFinite(m->gpsAltitude)) {
-        return FusionAltitudeKalmanStatusInvalidGpsAltitude;
-    }
-    if (gpsPresent && !FusionAltitudeIsNaN(m->gpsVerticalAccuracy) &&
-        !(FusionAltitudeIsFinite(m->gpsVerticalAccuracy) && (m->gpsVerticalAccuracy > 0.0f))) {
-        return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
-    }
-    return FusionAltitudeKalmanStatusOk;
-}
-
-/**
  * @brief Barometer, z = h + ob (m): R = baroNoise^2 (m^2), times
  * groundEffectNoiseScale^2 with the ground-effect flag, which also replaces a
  * negative innovation y (m) by min(y + groundEffectDeadZone, 0). The first
- * sample sets ob.
+ * sample sets ob. baroPresent: m->baroAltitude is not NaN.
  */
-static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m) {
+static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m,
+                                                   const bool baroPresent) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
-    if (FusionAltitudeIsNaN(m->baroAltitude)) {
+    if (!baroPresent) {
         FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultNoSample);
         return;
     }
@@ -966,13 +939,14 @@ static inline void FusionAltitudeKalmanProcessRange(FusionAltitudeKalman *const 
 /**
  * @brief GPS, z = h + og (m): fewer than gpsMinimumSatellites (when known) is
  * not fused; R = sigma^2 (m^2, FusionAltitudeKalmanGpsSigma). The first
- * sample sets og.
+ * sample sets og. gpsPresent: m->gpsAltitude is not NaN.
  */
-static inline void FusionAltitudeKalmanProcessGps(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m) {
+static inline void FusionAltitudeKalmanProcessGps(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m,
+                                                  const bool gpsPresent) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
-    if (FusionAltitudeIsNaN(m->gpsAltitude)) {
+    if (!gpsPresent) {
         FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultNoSample);
     } else if ((m->gpsSatellites >= 0) && (m->gpsSatellites < s->gpsMinimumSatellites)) {
         FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultUnusable);
@@ -1018,18 +992,32 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
                                                                     const FusionAltitudeKalmanMeasurements *const measurements) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanMeasurements m = (measurements == NULL) ? FusionAltitudeKalmanMeasurementsNone() : *measurements;
-    const FusionAltitudeKalmanStatus status = FusionAltitudeKalmanCheckInputs(accel, dt, &m);
-    if (status != FusionAltitudeKalmanStatusOk) {
-        return status;
+    if (!FusionAltitudeIsFinite(accel)) {
+        return FusionAltitudeKalmanStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
+        return FusionAltitudeKalmanStatusInvalidDt;
+    }
+    const bool baroPresent = !FusionAltitudeIsNaN(m.baroAltitude);
+    if (baroPresent && !FusionAltitudeIsFinite(m.baroAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidBaroAltitude;
+    }
+    const bool gpsPresent = !FusionAltitudeIsNaN(m.gpsAltitude);
+    if (gpsPresent && !FusionAltitudeIsFinite(m.gpsAltitude)) {
+        return FusionAltitudeKalmanStatusInvalidGpsAltitude;
+    }
+    if (gpsPresent && !FusionAltitudeIsNaN(m.gpsVerticalAccuracy) &&
+        !(FusionAltitudeIsFinite(m.gpsVerticalAccuracy) && (m.gpsVerticalAccuracy > 0.0f))) {
+        return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
     }
     if (dt > kalman->settings.gapPeriod) {
         FusionAltitudeKalmanGap(kalman, dt);
     } else {
         FusionAltitudeKalmanPredict(kalman, accel, dt);
     }
-    FusionAltitudeKalmanProcessBaro(kalman, &m);
+    FusionAltitudeKalmanProcessBaro(kalman, &m, baroPresent);
     FusionAltitudeKalmanProcessRange(kalman, &m);
-    FusionAltitudeKalmanProcessGps(kalman, &m);
+    FusionAltitudeKalmanProcessGps(kalman, &m, gpsPresent);
     return FusionAltitudeKalmanStatusOk;
 }
 

@@ -181,7 +181,7 @@ KALMAN_INTERNAL = {"FusionAltitudeKalmanIsNonNegative", "FusionAltitudeKalmanIsP
                    "FusionAltitudeKalmanProcess", "FusionAltitudeKalmanNoSample", "FusionAltitudeKalmanInverseSqrt",
                    "FusionAltitudeKalmanGpsSigma", "FusionAltitudeKalmanRandomWalks", "FusionAltitudeKalmanInflate",
                    "FusionAltitudeKalmanGap", "FusionAltitudeKalmanFuseVector", "FusionAltitudeKalmanFuseScalar",
-                   "FusionAltitudeKalmanCheckInputs", "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
+                   "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
                    "FusionAltitudeKalmanProcessGps"}
 
 

@@ -475,6 +475,53 @@ static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const 
     event->velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
 }
 
+/**
+ * Calibration window on the pad (no gap, no launch candidate): sums of accel
+ * (m/s^2) and baro altitude (m; hasBaro: a reading) relative to the window's
+ * first samples; a window is stationary while accel stays within
+ * +-stationaryAccel (m/s^2) of its first sample. After calibrationWindow s
+ * (dt, s) a stationary window moves accelBias and padAltitude to its means
+ * with weight 1 / windows (windows <= FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS).
+ */
+static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
+                                                       const bool hasBaro, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    if (rocket->windowSamples == 0u) {
+        rocket->windowAccelFirst = accel;
+    }
+    const float deviation = accel - rocket->windowAccelFirst;
+    if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
+        rocket->windowStationary = false;
+    }
+    rocket->windowAccelSum += deviation;
+    rocket->windowSamples++;
+    if (hasBaro) {
+        if (rocket->windowBaroSamples == 0u) {
+            rocket->windowBaroFirst = baroAltitude;
+        }
+        rocket->windowBaroSum += baroAltitude - rocket->windowBaroFirst;
+        rocket->windowBaroSamples++;
+    }
+    rocket->windowTime += dt;
+    if (rocket->windowTime >= settings->calibrationWindow) {
+        if (rocket->windowStationary) {
+            if (rocket->windows < FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS) {
+                rocket->windows++;
+            }
+            const float weight = 1.0f / (float) rocket->windows;
+            const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
+            rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            if (rocket->windowBaroSamples > 0u) {
+                const float meanBaro = rocket->windowBaroFirst + rocket->windowBaroSum / (float) rocket->windowBaroSamples;
+                rocket->padAltitude += (meanBaro - rocket->padAltitude) * weight;
+            }
+            (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
+        }
+        FusionAltitudeRocketClearWindow(rocket);
+    }
+}
+
 /** Pad step: calibration windows and the launch detector. */
 static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                const float dt, const bool gap) {
@@ -516,39 +563,7 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
         FusionAltitudeRocketClearWindow(rocket);
         return;
     }
-    if (rocket->windowSamples == 0u) {
-        rocket->windowAccelFirst = accel;
-    }
-    const float deviation = accel - rocket->windowAccelFirst;
-    if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
-        rocket->windowStationary = false;
-    }
-    rocket->windowAccelSum += deviation;
-    rocket->windowSamples++;
-    if (hasBaro) {
-        if (rocket->windowBaroSamples == 0u) {
-            rocket->windowBaroFirst = baroAltitude;
-        }
-        rocket->windowBaroSum += baroAltitude - rocket->windowBaroFirst;
-        rocket->windowBaroSamples++;
-    }
-    rocket->windowTime += dt;
-    if (rocket->windowTime >= settings->calibrationWindow) {
-        if (rocket->windowStationary) {
-            if (rocket->windows < FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS) {
-                rocket->windows++;
-            }
-            const float weight = 1.0f / (float) rocket->windows;
-            const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
-            rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
-            if (rocket->windowBaroSamples > 0u) {
-                const float meanBaro = rocket->windowBaroFirst + rocket->windowBaroSum / (float) rocket->windowBaroSamples;
-                rocket->padAltitude += (meanBaro - rocket->padAltitude) * weight;
-            }
-            (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
-        }
-        FusionAltitudeRocketClearWindow(rocket);
-    }
+    FusionAltitudeRocketCalibrationStep(rocket, accel, baroAltitude, hasBaro, dt);
 }
 
 /** Baro gate after launch: returns the baro value to fuse (height above the pad minus the baro offset) or NaN. */
@@ -612,40 +627,43 @@ static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const ro
     }
 }
 
-/** Flight step (boost and later). */
-static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
-                                                  const float dt, const bool gap, const bool accelVertical) {
+/**
+ * Gap in flight (dt > gapPeriod, s): constant-velocity extrapolation over dt in
+ * 2^n equal sub-steps no longer than gapPeriod (at most
+ * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS), the accel input being the observer's
+ * bias (m/s^2, no net acceleration); the accel is no longer trusted and the
+ * next baro sample is re-admitted through the offset.
+ */
+static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocket, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
-    if (gap) {
-        /* Constant-velocity extrapolation in sub-steps no longer than gapPeriod. */
-        uint32_t steps = 1u;
-        float step = dt;
-        while ((step > settings->gapPeriod) && (steps < FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS)) {
-            steps *= 2u;
-            step = dt / (float) steps;
-        }
-        for (uint32_t index = 0u; index < steps; index++) {
-            (void) FusionAltitudeUpdate(&rocket->observer, FusionAltitudeGetAccelBias(&rocket->observer), FUSION_ALTITUDE_NO_BARO, step);
-        }
-        rocket->lastBaroAge += dt;
-        rocket->runTime = 0.0f;
-        rocket->baro = FusionAltitudeRocketBaroNone;
-        rocket->accelTrusted = false;
-        rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
-        return;
+    uint32_t steps = 1u;
+    float step = dt;
+    while ((step > settings->gapPeriod) && (steps < FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS)) {
+        steps *= 2u;
+        step = dt / (float) steps;
     }
-    const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
-    rocket->accelTrusted = !descending || accelVertical;
-    const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
-    const float heightBefore = FusionAltitudeGetAltitude(&rocket->observer);
-    (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
+    for (uint32_t index = 0u; index < steps; index++) {
+        (void) FusionAltitudeUpdate(&rocket->observer, FusionAltitudeGetAccelBias(&rocket->observer), FUSION_ALTITUDE_NO_BARO, step);
+    }
+    rocket->lastBaroAge += dt;
+    rocket->runTime = 0.0f;
+    rocket->baro = FusionAltitudeRocketBaroNone;
+    rocket->accelTrusted = false;
+    rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
+}
 
-    const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
-    /* offsetApplied -> baroOffset while climbing: up by at most offsetRate * |v| * dt (m), down by at most
-     * offsetRate times the observer's rise in this step (m; none if it did not rise), so the output height
-     * never falls by absorbing the offset; at once in the descent */
+/**
+ * offsetApplied (m) -> baroOffset (m) while climbing: up by at most
+ * offsetRate * |v| * dt (v: velocity, m/s; dt, s), down by at most offsetRate
+ * times the observer's rise in this step (height - heightBefore, m; none if it
+ * did not rise), so the output height never falls by absorbing the offset; at
+ * once in the descent.
+ */
+static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const rocket, const float velocity, const float heightBefore,
+                                                   const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float speed = (velocity < 0.0f) ? -velocity : velocity;
     const float offsetStep = settings->offsetRate * speed * dt;
     const float rise = FusionAltitudeGetAltitude(&rocket->observer) - heightBefore;
@@ -660,23 +678,41 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
     } else {
         rocket->offsetApplied = rocket->baroOffset;
     }
-    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+}
+
+/** Burnout detector (boost): accel - bias < burnoutAccel (m/s^2) for burnoutTime s (dt, s). */
+static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const rocket, const float accel, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float netAccel = accel - rocket->accelBias;
+    if (netAccel < settings->burnoutAccel) {
+        if (rocket->runTime == 0.0f) {
+            FusionAltitudeRocketRecord(rocket, &rocket->candidate);
+        }
+        rocket->runTime += dt;
+        if (rocket->runTime >= settings->burnoutTime) {
+            rocket->events[FusionAltitudeRocketEventBurnout] = rocket->candidate;
+            rocket->phase = FusionAltitudeRocketPhaseCoast;
+            rocket->runTime = 0.0f;
+        }
+    } else {
+        rocket->runTime = 0.0f;
+    }
+}
+
+/**
+ * Phase transitions after the observer step: burnout (boost), apogee at
+ * v < -apogeeMargin (coast; v: velocity, m/s; the observer's bias is frozen
+ * from then on), main deployment at output height <= mainAltitude (m, above
+ * the pad; drogue) and landing (drogue and main). accel: m/s^2; dt: s.
+ */
+static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const rocket, const float accel, const float velocity, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
     switch (rocket->phase) {
         case FusionAltitudeRocketPhaseBoost:
-            if (netAccel < settings->burnoutAccel) {
-                if (rocket->runTime == 0.0f) {
-                    FusionAltitudeRocketRecord(rocket, &rocket->candidate);
-                }
-                rocket->runTime += dt;
-                if (rocket->runTime >= settings->burnoutTime) {
-                    rocket->events[FusionAltitudeRocketEventBurnout] = rocket->candidate;
-                    rocket->phase = FusionAltitudeRocketPhaseCoast;
-                    rocket->runTime = 0.0f;
-                }
-            } else {
-                rocket->runTime = 0.0f;
-            }
+            FusionAltitudeRocketBurnoutStep(rocket, accel, dt);
             break;
         case FusionAltitudeRocketPhaseCoast:
             if (!rocket->lockout && (velocity < -settings->apogeeMargin)) {
@@ -702,6 +738,26 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
         default:
             break;
     }
+}
+
+/** Flight step (boost and later). accel: m/s^2; baroAltitude: m (NaN: none); dt: s. */
+static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
+                                                  const float dt, const bool gap, const bool accelVertical) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    if (gap) {
+        FusionAltitudeRocketGapStep(rocket, dt);
+        return;
+    }
+    const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
+    rocket->accelTrusted = !descending || accelVertical;
+    const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
+    const float heightBefore = FusionAltitudeGetAltitude(&rocket->observer);
+    (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
+    const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
+    FusionAltitudeRocketApplyOffset(rocket, velocity, heightBefore, dt);
+    FusionAltitudeRocketPhaseStep(rocket, accel, velocity, dt);
+    /* maximum speed: the largest v (m/s) of boost and coast */
     if (((rocket->phase == FusionAltitudeRocketPhaseBoost) || (rocket->phase == FusionAltitudeRocketPhaseCoast)) &&
         (!rocket->events[FusionAltitudeRocketEventMaxSpeed].occurred ||
          (velocity > rocket->events[FusionAltitudeRocketEventMaxSpeed].velocity))) {

@@ -134,6 +134,16 @@ extern "C" {
 #define FUSION_ALTITUDE_INS_UNROLL
 #endif
 
+/* The helpers that FusionAltitudeInsUpdate and FusionAltitudeInsPredict call once (split for reading, one job
+ * each) are forced inline where the compiler allows it, so that the update compiles as the single function it was
+ * before the split: gcc -Os and -O2 for Cortex-M and RISC-V otherwise keep some out of line (more instructions per
+ * step, and the size tables of docs/embedded.md would miss them). */
+#if defined(__GNUC__) || defined(__clang__)
+#define FUSION_ALTITUDE_INS_ONCE __attribute__((always_inline))
+#else
+#define FUSION_ALTITUDE_INS_ONCE
+#endif
+
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
@@ -604,29 +614,16 @@ static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const Fu
 }
 
 /**
- * Prediction over dt (see the file comment). Internal: inputs checked.
- * w: bias-corrected rate (rad/s); f: bias-corrected specific force (m/s^2).
+ * Covariance prediction P = F P F^T (Q added by the caller) with the Jacobian
+ * pieces of the file comment: A = I - [w dt]x (a = w dt, rad), row v of F on
+ * dtheta v = dt (f x r) (m/s per rad), row d of F on dtheta h = dt^2/2 (f x r)
+ * (m per rad); dt: s.
  */
-static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const float w[3], const float f[3], const float dt) {
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsPredictCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES],
+                                                                               const float ax, const float ay, const float az, const float vx,
+                                                                               const float vy, const float vz, const float hx, const float hy,
+                                                                               const float hz, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
-    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
-    const FusionAltitudeInsSettings *const s = &ins->settings;
-    const float halfDt = 0.5f * dt;
-    const float halfDt2 = halfDt * dt;
-    /* vertical acceleration with the attitude at the start of the step */
-    float r[3];
-    FusionAltitudeInsUpInBody(ins->q, r);
-    const float accel = (r[0] * f[0] + r[1] * f[1] + r[2] * f[2]) - FUSION_ALTITUDE_GRAVITY;
-    ins->distance = ins->distance + ins->velocity * dt + accel * halfDt2;
-    ins->velocity = ins->velocity + accel * dt;
-    FusionAltitudeInsRotate(ins->q, w[0] * halfDt, w[1] * halfDt, w[2] * halfDt);
-    /* Jacobian pieces: A = I - [w dt]x, c = f x r */
-    const float ax = w[0] * dt, ay = w[1] * dt, az = w[2] * dt;
-    const float cx = f[1] * r[2] - f[2] * r[1];
-    const float cy = f[2] * r[0] - f[0] * r[2];
-    const float cz = f[0] * r[1] - f[1] * r[0];
-    const float vx = dt * cx, vy = dt * cy, vz = dt * cz;             /* row v of F on dtheta */
-    const float hx = halfDt2 * cx, hy = halfDt2 * cy, hz = halfDt2 * cz; /* row d of F on dtheta */
     /* G = F P: rows theta, d and v change; rows b are those of P (copied: P is overwritten below). Whole rows,
        combined element-wise over the columns (vectorises on a PC). */
     float G[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES];
@@ -675,7 +672,20 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
         P[1][i] = m;
     }
     P[0][0] = G[0][0] + az * G[0][1] - ay * G[0][2] - dt * G[0][3];
-    /* Q */
+}
+
+/**
+ * Process noise over dt (s): gyroNoise^2 dt (rad^2) on the attitude,
+ * gyroBiasRandomWalk^2 dt ((rad/s)^2) on the gyro bias, and accelNoise^2 dt
+ * times [dt^2/4, dt/2; dt/2, 1] on (d, v) (m^2, m^2/s, m^2/s^2). d and v
+ * unobserved for long (no baro, never at rest): a variance above
+ * FUSION_ALTITUDE_INS_VARIANCE_LIMIT is decorrelated and held at the limit.
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsAddProcessNoise(FusionAltitudeIns *const ins, const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float halfDt = 0.5f * dt;
     const float qTheta = s->gyroNoise * s->gyroNoise * dt;
     const float qBias = s->gyroBiasRandomWalk * s->gyroBiasRandomWalk * dt;
     const float qAccel = s->accelNoise * s->accelNoise * dt;
@@ -687,7 +697,6 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     P[6][7] = P[6][7] + qAccel * halfDt;
     P[7][6] = P[6][7];
     P[7][7] = P[7][7] + qAccel;
-    /* d and v unobserved for long (no baro, never at rest): decorrelate and hold at the limit */
     for (int k = 6; k < FUSION_ALTITUDE_INS_STATES; k++) {
         if (P[k][k] > FUSION_ALTITUDE_INS_VARIANCE_LIMIT) {
             for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
@@ -700,62 +709,114 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
 }
 
 /**
- * @brief One IMU step: gyro (rad/s) and accel (m/s^2) in the body frame, mag
- * (any unit, body; FusionAltitudeInsNoMag() for none), baro altitude (m;
- * FUSION_ALTITUDE_NO_BARO for none), dt (s) since the previous step. Bad
- * input: returns its status and leaves the INS bit-identical.
+ * Prediction over dt (see the file comment). Internal: inputs checked.
+ * w: bias-corrected rate (rad/s); f: bias-corrected specific force (m/s^2).
+ * d += v dt + a dt^2/2, v += a dt with a = r . f - g (m/s^2, r: up in the body
+ * at the start of the step); q = q (x) [1, w dt/2]; then P = F P F^T + Q.
  */
-static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
-                                                              const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
-                                                              const float baroAltitude, const float dt) {
+static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const float w[3], const float f[3], const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
-    const FusionAltitudeInsStatus status = FusionAltitudeInsCheckInputs(gyro, accel, mag, baroAltitude, dt);
-    if (status != FusionAltitudeInsStatusOk) {
-        return status;
-    }
+    const float halfDt = 0.5f * dt;
+    const float halfDt2 = halfDt * dt;
+    /* vertical acceleration with the attitude at the start of the step */
+    float r[3];
+    FusionAltitudeInsUpInBody(ins->q, r);
+    const float accel = (r[0] * f[0] + r[1] * f[1] + r[2] * f[2]) - FUSION_ALTITUDE_GRAVITY;
+    ins->distance = ins->distance + ins->velocity * dt + accel * halfDt2;
+    ins->velocity = ins->velocity + accel * dt;
+    FusionAltitudeInsRotate(ins->q, w[0] * halfDt, w[1] * halfDt, w[2] * halfDt);
+    /* Jacobian pieces: A = I - [w dt]x, c = f x r */
+    const float ax = w[0] * dt, ay = w[1] * dt, az = w[2] * dt;
+    const float cx = f[1] * r[2] - f[2] * r[1];
+    const float cy = f[2] * r[0] - f[0] * r[2];
+    const float cz = f[0] * r[1] - f[1] * r[0];
+    const float vx = dt * cx, vy = dt * cy, vz = dt * cz;             /* row v of F on dtheta */
+    const float hx = halfDt2 * cx, hy = halfDt2 * cy, hz = halfDt2 * cz; /* row d of F on dtheta */
+    FusionAltitudeInsPredictCovariance(ins->P, ax, ay, az, vx, vy, vz, hx, hy, hz, dt);
+    FusionAltitudeInsAddProcessNoise(ins, dt);
+}
+
+/**
+ * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
+ * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
+ * variance ((m/s)^2) to at least initialVelocitySigma^2, and stationary
+ * detection restarts (stationaryTime = 0 s).
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeIns *const ins) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
-    const float g = FUSION_ALTITUDE_GRAVITY;
-    const float accelNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + accel.z * accel.z);
-    const float normError = (accelNorm > g) ? (accelNorm - g) : (g - accelNorm);
+    ins->gapCount++;
+    const float attitude = s->initialAttitudeSigma * s->initialAttitudeSigma;
+    const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
+    for (int i = 0; i < 3; i++) {
+        ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
+    }
+    ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
+    ins->stationaryTime = 0.0f;
+}
+
+/**
+ * Stationary detection on the raw samples: still when |gyro|^2 <
+ * stationaryGyroThreshold^2 ((rad/s)^2) and the accel norm error
+ * ||accel| - g| < stationaryAccelThreshold (m/s^2); stationaryTime (s) grows by
+ * dt (s) while still, held at stationaryWindow (s), and is 0 s otherwise.
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                                              const float normError, const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float gyroSquared = gyro.x * gyro.x + gyro.y * gyro.y + gyro.z * gyro.z;
+    const bool still = (gyroSquared < s->stationaryGyroThreshold * s->stationaryGyroThreshold) && (normError < s->stationaryAccelThreshold);
+    if (still) {
+        const float time = ins->stationaryTime + dt;
+        ins->stationaryTime = (time < s->stationaryWindow) ? time : s->stationaryWindow;
+    } else {
+        ins->stationaryTime = 0.0f;
+    }
+}
+
+/**
+ * Time step of the nominal state: alignment on the first usable gravity
+ * direction (normError = ||accel| - g| <= accelNormRejection, m/s^2), a gap,
+ * or the prediction over dt (s) with the bias-corrected rate w = gyro - b_g
+ * (rad/s) and specific force f = accel - (0, 0, b_az) (m/s^2) followed by
+ * stationary detection. @return false while not aligned (the step ends).
+ */
+static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                                       const FusionAltitudeInsVector accel, const float normError, const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
     if (!ins->aligned) {
         if (!(normError <= s->accelNormRejection)) {
-            return FusionAltitudeInsStatusOk; /* wait for a usable gravity direction */
+            return false; /* wait for a usable gravity direction */
         }
         FusionAltitudeInsAlign(ins, accel);
     } else if (dt > s->gapPeriod) {
-        /* gap: not integrated; widen attitude and velocity, restart stationary detection */
-        ins->gapCount++;
-        const float attitude = s->initialAttitudeSigma * s->initialAttitudeSigma;
-        const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
-        for (int i = 0; i < 3; i++) {
-            ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
-        }
-        ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
-        ins->stationaryTime = 0.0f;
+        FusionAltitudeInsGap(ins);
     } else {
         const float w[3] = {gyro.x - ins->gyroBias[0], gyro.y - ins->gyroBias[1], gyro.z - ins->gyroBias[2]};
         const float f[3] = {accel.x, accel.y, accel.z - ins->accelZBias};
         FusionAltitudeInsPredict(ins, w, f, dt);
-        /* stationary detection on the raw samples */
-        const float gyroSquared = gyro.x * gyro.x + gyro.y * gyro.y + gyro.z * gyro.z;
-        const bool still = (gyroSquared < s->stationaryGyroThreshold * s->stationaryGyroThreshold) && (normError < s->stationaryAccelThreshold);
-        if (still) {
-            const float time = ins->stationaryTime + dt;
-            ins->stationaryTime = (time < s->stationaryWindow) ? time : s->stationaryWindow;
-        } else {
-            ins->stationaryTime = 0.0f;
-        }
+        FusionAltitudeInsDetectStationary(ins, gyro, normError, dt);
     }
-    ins->stationary = ins->stationaryTime >= s->stationaryWindow;
-    ins->baroElapsed = ins->baroElapsed + dt;
-    ins->magElapsed = ins->magElapsed + dt;
+    return true;
+}
 
-    float dx[FUSION_ALTITUDE_INS_STATES] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    float r[3];
-    FusionAltitudeInsUpInBody(ins->q, r);
+/**
+ * Accel update of the gravity direction: u = f / |f| with f = accel - (0, 0,
+ * b_az) (m/s^2) against the predicted up direction r (body, unit); residual
+ * e = u - r (chord, unitless), measurement rows those of [r]x but the one of
+ * the largest |r_k|, noise R = accelAttitudeNoise^2. Rejected when the norm
+ * error ||accel| - g| > accelNormRejection (m/s^2) or |e| > accelRejection
+ * (unless recovering: rejectionTime > recoveryTriggerPeriod, s);
+ * rejectionTime (s) grows by dt (s) while rejected.
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseGravity(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                         const FusionAltitudeInsVector accel, const float r[3], const float normError,
+                                                                         const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
     const float fz = accel.z - ins->accelZBias;
-
-    /* accel: gravity direction, with acceleration rejection */
     bool rejected = !(normError <= s->accelNormRejection);
     if (!rejected) {
         const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
@@ -785,77 +846,152 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
     }
     ins->rejectionTime = rejected ? (ins->rejectionTime + dt) : 0.0f;
     ins->accelRejected = rejected;
+}
 
-    FusionAltitudeInsLimitYaw(ins, dx, r);
+/**
+ * Stationary updates: zero rate (residual gyro - b_g, rad/s; noise
+ * zeroRateNoise^2), zero velocity (residual -v, m/s; noise
+ * zeroVelocityNoise^2), and the accel z bias low-passed towards
+ * accel.z - g r_z (m/s^2) with k = dt / (accelBiasTimeConstant + dt) (dt, s).
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseStationary(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                            const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel,
+                                                                            const float r[3], const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float R = s->zeroRateNoise * s->zeroRateNoise;
+    FusionAltitudeInsFuse(ins, dx, 3, 1.0f, -1, 0.0f, gyro.x - ins->gyroBias[0], R);
+    FusionAltitudeInsFuse(ins, dx, 4, 1.0f, -1, 0.0f, gyro.y - ins->gyroBias[1], R);
+    FusionAltitudeInsFuse(ins, dx, 5, 1.0f, -1, 0.0f, gyro.z - ins->gyroBias[2], R);
+    FusionAltitudeInsFuse(ins, dx, 7, 1.0f, -1, 0.0f, -ins->velocity, s->zeroVelocityNoise * s->zeroVelocityNoise);
+    const float k = dt / (s->accelBiasTimeConstant + dt);
+    ins->accelZBias = ins->accelZBias + k * ((accel.z - FUSION_ALTITUDE_GRAVITY * r[2]) - ins->accelZBias);
+}
 
-    /* stationary: zero rate, zero velocity, accel z bias */
-    if (ins->stationary) {
-        const float R = s->zeroRateNoise * s->zeroRateNoise;
-        FusionAltitudeInsFuse(ins, dx, 3, 1.0f, -1, 0.0f, gyro.x - ins->gyroBias[0], R);
-        FusionAltitudeInsFuse(ins, dx, 4, 1.0f, -1, 0.0f, gyro.y - ins->gyroBias[1], R);
-        FusionAltitudeInsFuse(ins, dx, 5, 1.0f, -1, 0.0f, gyro.z - ins->gyroBias[2], R);
-        FusionAltitudeInsFuse(ins, dx, 7, 1.0f, -1, 0.0f, -ins->velocity, s->zeroVelocityNoise * s->zeroVelocityNoise);
-        const float k = dt / (s->accelBiasTimeConstant + dt);
-        ins->accelZBias = ins->accelZBias + k * ((accel.z - g * r[2]) - ins->accelZBias);
+/**
+ * Baro update (baroAltitude, m; NaN: none): the first reading sets the baro
+ * bias b = baroAltitude - d (m); while stationary the bias is low-passed
+ * towards baroAltitude - d with k = t / (baroBiasTimeConstant + t) (t: time
+ * since the previous reading, s); otherwise d is fused with residual
+ * (baroAltitude - b) - d (m), noise baroNoise^2 (m^2).
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
+                                                                      const float baroAltitude) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    if (FusionAltitudeIsNaN(baroAltitude)) {
+        return;
     }
-
-    /* baro */
-    if (!FusionAltitudeIsNaN(baroAltitude)) {
-        if (!ins->baroInitialised) {
-            ins->baroBias = baroAltitude - ins->distance;
-            ins->baroInitialised = true;
+    if (!ins->baroInitialised) {
+        ins->baroBias = baroAltitude - ins->distance;
+        ins->baroInitialised = true;
+    } else {
+        if (ins->stationary) { /* every reading is bias: d is held by the zero-velocity update */
+            const float k = ins->baroElapsed / (s->baroBiasTimeConstant + ins->baroElapsed);
+            ins->baroBias = ins->baroBias + k * ((baroAltitude - ins->distance) - ins->baroBias);
         } else {
-            if (ins->stationary) { /* every reading is bias: d is held by the zero-velocity update */
-                const float k = ins->baroElapsed / (s->baroBiasTimeConstant + ins->baroElapsed);
-                ins->baroBias = ins->baroBias + k * ((baroAltitude - ins->distance) - ins->baroBias);
-            } else {
-                FusionAltitudeInsFuse(ins, dx, 6, 1.0f, -1, 0.0f, (baroAltitude - ins->baroBias) - ins->distance, s->baroNoise * s->baroNoise);
-            }
+            FusionAltitudeInsFuse(ins, dx, 6, 1.0f, -1, 0.0f, (baroAltitude - ins->baroBias) - ins->distance, s->baroNoise * s->baroNoise);
         }
-        ins->baroElapsed = 0.0f;
     }
+    ins->baroElapsed = 0.0f;
+}
 
-    /* once per step, after the prediction and every correction */
-    FusionAltitudeInsConditionCovariance(ins->P);
-
-    /* inject the error state */
+/**
+ * Injects the error state dx into the nominal state: q = q (x) [1, dtheta/2]
+ * (dtheta = dx[0..2], rad), gyro bias += dx[3..5] (rad/s), d += dx[6] (m),
+ * v += dx[7] (m/s).
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsInject(FusionAltitudeIns *const ins, const float dx[FUSION_ALTITUDE_INS_STATES]) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
     FusionAltitudeInsRotate(ins->q, 0.5f * dx[0], 0.5f * dx[1], 0.5f * dx[2]);
     ins->gyroBias[0] = ins->gyroBias[0] + dx[3];
     ins->gyroBias[1] = ins->gyroBias[1] + dx[4];
     ins->gyroBias[2] = ins->gyroBias[2] + dx[5];
     ins->distance = ins->distance + dx[6];
     ins->velocity = ins->velocity + dx[7];
+}
 
-    /* magnetometer: local -> global yaw offset only */
-    if (!FusionAltitudeInsIsNoMag(mag)) {
-        const float w = ins->q[0], x = ins->q[1], y = ins->q[2], z = ins->q[3];
-        /* first two rows of R(q) times m */
-        const float mx = (1.0f - 2.0f * (y * y + z * z)) * mag.x + 2.0f * (x * y - w * z) * mag.y + 2.0f * (x * z + w * y) * mag.z;
-        const float my = 2.0f * (x * y + w * z) * mag.x + (1.0f - 2.0f * (x * x + z * z)) * mag.y + 2.0f * (y * z - w * x) * mag.z;
-        const float horizontal = sqrtf(mx * mx + my * my);
-        if (horizontal > 0.0f) {
-            const float targetCos = mx / horizontal;
-            const float targetSin = -my / horizontal;
-            if (!ins->magInitialised) {
-                ins->yawCos = targetCos;
-                ins->yawSin = targetSin;
-                ins->magInitialised = true;
-            } else {
-                const float k = ins->magElapsed / (s->magTimeConstant + ins->magElapsed);
-                const float c = ins->yawCos + k * (targetCos - ins->yawCos);
-                const float sn = ins->yawSin + k * (targetSin - ins->yawSin);
-                const float norm = sqrtf(c * c + sn * sn);
-                if (norm > 1e-3f) {
-                    ins->yawCos = c / norm;
-                    ins->yawSin = sn / norm;
-                } else {
-                    ins->yawCos = targetCos;
-                    ins->yawSin = targetSin;
-                }
-            }
-            ins->magElapsed = 0.0f;
+/**
+ * Magnetometer (any unit, body; FusionAltitudeInsNoMag(): none): the local ->
+ * global yaw offset only. m is rotated to the local frame, its horizontal
+ * direction (mx, -my) / |(mx, my)| (unit) is the target (cos, sin) of the
+ * offset, low-passed with k = t / (magTimeConstant + t) (t: time since the
+ * previous reading, s) and renormalised.
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseMag(FusionAltitudeIns *const ins, const FusionAltitudeInsVector mag) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    if (FusionAltitudeInsIsNoMag(mag)) {
+        return;
+    }
+    const float w = ins->q[0], x = ins->q[1], y = ins->q[2], z = ins->q[3];
+    /* first two rows of R(q) times m */
+    const float mx = (1.0f - 2.0f * (y * y + z * z)) * mag.x + 2.0f * (x * y - w * z) * mag.y + 2.0f * (x * z + w * y) * mag.z;
+    const float my = 2.0f * (x * y + w * z) * mag.x + (1.0f - 2.0f * (x * x + z * z)) * mag.y + 2.0f * (y * z - w * x) * mag.z;
+    const float horizontal = sqrtf(mx * mx + my * my);
+    if (!(horizontal > 0.0f)) {
+        return;
+    }
+    const float targetCos = mx / horizontal;
+    const float targetSin = -my / horizontal;
+    if (!ins->magInitialised) {
+        ins->yawCos = targetCos;
+        ins->yawSin = targetSin;
+        ins->magInitialised = true;
+    } else {
+        const float k = ins->magElapsed / (s->magTimeConstant + ins->magElapsed);
+        const float c = ins->yawCos + k * (targetCos - ins->yawCos);
+        const float sn = ins->yawSin + k * (targetSin - ins->yawSin);
+        const float norm = sqrtf(c * c + sn * sn);
+        if (norm > 1e-3f) {
+            ins->yawCos = c / norm;
+            ins->yawSin = sn / norm;
+        } else {
+            ins->yawCos = targetCos;
+            ins->yawSin = targetSin;
         }
     }
+    ins->magElapsed = 0.0f;
+}
+
+/**
+ * @brief One IMU step: gyro (rad/s) and accel (m/s^2) in the body frame, mag
+ * (any unit, body; FusionAltitudeInsNoMag() for none), baro altitude (m;
+ * FUSION_ALTITUDE_NO_BARO for none), dt (s) since the previous step. Bad
+ * input: returns its status and leaves the INS bit-identical.
+ */
+static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
+                                                              const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
+                                                              const float baroAltitude, const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsStatus status = FusionAltitudeInsCheckInputs(gyro, accel, mag, baroAltitude, dt);
+    if (status != FusionAltitudeInsStatusOk) {
+        return status;
+    }
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float g = FUSION_ALTITUDE_GRAVITY;
+    const float accelNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + accel.z * accel.z);
+    const float normError = (accelNorm > g) ? (accelNorm - g) : (g - accelNorm);
+    if (!FusionAltitudeInsPropagate(ins, gyro, accel, normError, dt)) {
+        return FusionAltitudeInsStatusOk;
+    }
+    ins->stationary = ins->stationaryTime >= s->stationaryWindow;
+    ins->baroElapsed = ins->baroElapsed + dt;
+    ins->magElapsed = ins->magElapsed + dt;
+
+    float dx[FUSION_ALTITUDE_INS_STATES] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    float r[3];
+    FusionAltitudeInsUpInBody(ins->q, r);
+    FusionAltitudeInsFuseGravity(ins, dx, accel, r, normError, dt);
+    FusionAltitudeInsLimitYaw(ins, dx, r);
+    if (ins->stationary) {
+        FusionAltitudeInsFuseStationary(ins, dx, gyro, accel, r, dt);
+    }
+    FusionAltitudeInsFuseBaro(ins, dx, baroAltitude);
+    /* once per step, after the prediction and every correction */
+    FusionAltitudeInsConditionCovariance(ins->P);
+    FusionAltitudeInsInject(ins, dx);
+    FusionAltitudeInsFuseMag(ins, mag);
     return FusionAltitudeInsStatusOk;
 }
 

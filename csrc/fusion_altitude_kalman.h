@@ -572,16 +572,16 @@ static inline void FusionAltitudeKalmanGap(FusionAltitudeKalman *const k, const 
     k->gapCount++;
 }
 
+#if FUSION_ALTITUDE_KALMAN_VECTOR
 /**
- * @brief Scalar update with H = e_h + e_offset (offset = 2 or 3) or H = e_h
- * (offset < 0), innovation y, noise variance R, in Joseph form (see the file
- * comment). c and S are passed in (already computed for the gate).
+ * @brief FusionAltitudeKalmanFuse on 4-float vectors (FUSION_ALTITUDE_KALMAN_VECTOR):
+ * K = c / S (as c * (1/S)), x += K y (m, m/s, m/s^2, m, m), P = P - K c^T - c K^T
+ * + (S K) K^T, the bits of FusionAltitudeKalmanFuseScalar.
  */
-static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const float c[FUSION_ALTITUDE_KALMAN_STATES],
-                                            const float S, const float y) {
+static inline void FusionAltitudeKalmanFuseVector(FusionAltitudeKalman *const k, const float c[FUSION_ALTITUDE_KALMAN_STATES],
+                                                  const float S, const float y) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const float inverseS = 1.0f / S;
-#if FUSION_ALTITUDE_KALMAN_VECTOR
     /* K_i = c_i / S (as c_i * (1/S)), S K_i and x_i += K_i y lane by lane,
      * then P row by row: rows i = 0..4, columns 1..4 as one 4-float vector
      * each, lane j holding P_ij - K_i c_j - c_i K_j + (S K_i) K_j, the
@@ -631,7 +631,16 @@ static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const
     k->P[3][2] = rows[2][2];
     k->P[4][2] = rows[2][3];
     k->P[4][3] = rows[3][3];
+}
 #else
+/**
+ * @brief FusionAltitudeKalmanFuse element by element: K = c / S (as c * (1/S)),
+ * x += K y (m, m/s, m/s^2, m, m), P = P - K c^T - c K^T + (S K) K^T.
+ */
+static inline void FusionAltitudeKalmanFuseScalar(FusionAltitudeKalman *const k, const float c[FUSION_ALTITUDE_KALMAN_STATES],
+                                                  const float S, const float y) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const float inverseS = 1.0f / S;
     float K[FUSION_ALTITUDE_KALMAN_STATES];
     float sK[FUSION_ALTITUDE_KALMAN_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
@@ -676,6 +685,21 @@ static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const
     FUSION_ALTITUDE_KALMAN_JOSEPH(4, 4);
 #undef FUSION_ALTITUDE_KALMAN_JOSEPH
 #endif
+}
+#endif
+
+/**
+ * @brief Scalar update with H = e_h + e_offset (offset = 2 or 3) or H = e_h
+ * (offset < 0), innovation y, noise variance R, in Joseph form (see the file
+ * comment). c and S are passed in (already computed for the gate).
+ */
+static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const float c[FUSION_ALTITUDE_KALMAN_STATES],
+                                            const float S, const float y) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+#if FUSION_ALTITUDE_KALMAN_VECTOR
+    FusionAltitudeKalmanFuseVector(k, c, S, y);
+#else
+    FusionAltitudeKalmanFuseScalar(k, c, S, y);
 #endif
 }
 
@@ -864,6 +888,83 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
 }
 
 /**
+ * @brief Barometer, z = h + ob (m): R = baroNoise^2 (m^2), times
+ * groundEffectNoiseScale^2 with the ground-effect flag, which also replaces a
+ * negative innovation y (m) by min(y + groundEffectDeadZone, 0). The first
+ * sample sets ob. baroPresent: m->baroAltitude is not NaN.
+ */
+static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m,
+                                                   const bool baroPresent) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanSettings *const s = &kalman->settings;
+    FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
+    if (!baroPresent) {
+        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultNoSample);
+        return;
+    }
+    const float sigma = m->groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
+    const float R = sigma * sigma;
+    if (!kalman->baroInitialised) {
+        FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateBaroOffset, m->baroAltitude, R);
+        kalman->baroInitialised = true;
+        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
+    } else {
+        float y = m->baroAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset]);
+        if (m->groundEffect && (y < 0.0f)) {
+            const float shifted = y + s->groundEffectDeadZone;
+            y = (shifted < 0.0f) ? shifted : 0.0f;
+        }
+        FusionAltitudeKalmanProcess(kalman, baro, FusionAltitudeKalmanStateBaroOffset, m->baroAltitude, y, R);
+    }
+}
+
+/**
+ * @brief Rangefinder, z = h (m): NaN or outside [rangeMinimum, rangeMaximum]
+ * (m) is not fused; R = rangeNoise^2 (m^2).
+ */
+static inline void FusionAltitudeKalmanProcessRange(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanSettings *const s = &kalman->settings;
+    FusionAltitudeKalmanSensor *const range = &kalman->sensors[FusionAltitudeKalmanSensorRange];
+    if (FusionAltitudeIsNaN(m->rangeDistance)) {
+        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultNoSample);
+    } else if (!(m->rangeDistance >= s->rangeMinimum) || !(m->rangeDistance <= s->rangeMaximum)) {
+        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
+    } else {
+        const float R = s->rangeNoise * s->rangeNoise;
+        FusionAltitudeKalmanProcess(kalman, range, -1, m->rangeDistance, m->rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
+    }
+}
+
+/**
+ * @brief GPS, z = h + og (m): fewer than gpsMinimumSatellites (when known) is
+ * not fused; R = sigma^2 (m^2, FusionAltitudeKalmanGpsSigma). The first
+ * sample sets og. gpsPresent: m->gpsAltitude is not NaN.
+ */
+static inline void FusionAltitudeKalmanProcessGps(FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanMeasurements *const m,
+                                                  const bool gpsPresent) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const FusionAltitudeKalmanSettings *const s = &kalman->settings;
+    FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
+    if (!gpsPresent) {
+        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultNoSample);
+    } else if ((m->gpsSatellites >= 0) && (m->gpsSatellites < s->gpsMinimumSatellites)) {
+        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultUnusable);
+    } else {
+        const float sigma = FusionAltitudeKalmanGpsSigma(s, m->gpsVerticalAccuracy, m->gpsSatellites);
+        const float R = sigma * sigma;
+        if (!kalman->gpsInitialised) {
+            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateGpsOffset, m->gpsAltitude, R);
+            kalman->gpsInitialised = true;
+            FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
+        } else {
+            const float y = m->gpsAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateGpsOffset]);
+            FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m->gpsAltitude, y, R);
+        }
+    }
+}
+
+/**
  * @brief One filter step: predict over dt with accel, then the baro,
  * rangefinder and GPS samples in m (each NaN: none) as sequential scalar
  * updates.
@@ -909,63 +1010,14 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanUpdate(FusionAltitu
         !(FusionAltitudeIsFinite(m.gpsVerticalAccuracy) && (m.gpsVerticalAccuracy > 0.0f))) {
         return FusionAltitudeKalmanStatusInvalidGpsAccuracy;
     }
-    const FusionAltitudeKalmanSettings *const s = &kalman->settings;
-    if (dt > s->gapPeriod) {
+    if (dt > kalman->settings.gapPeriod) {
         FusionAltitudeKalmanGap(kalman, dt);
     } else {
         FusionAltitudeKalmanPredict(kalman, accel, dt);
     }
-
-    // Barometer: z = h + ob
-    FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
-    if (!baroPresent) {
-        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultNoSample);
-    } else {
-        const float sigma = m.groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
-        const float R = sigma * sigma;
-        if (!kalman->baroInitialised) {
-            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateBaroOffset, m.baroAltitude, R);
-            kalman->baroInitialised = true;
-            FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
-        } else {
-            float y = m.baroAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset]);
-            if (m.groundEffect && (y < 0.0f)) {
-                const float shifted = y + s->groundEffectDeadZone;
-                y = (shifted < 0.0f) ? shifted : 0.0f;
-            }
-            FusionAltitudeKalmanProcess(kalman, baro, FusionAltitudeKalmanStateBaroOffset, m.baroAltitude, y, R);
-        }
-    }
-
-    // Rangefinder: z = h
-    FusionAltitudeKalmanSensor *const range = &kalman->sensors[FusionAltitudeKalmanSensorRange];
-    if (FusionAltitudeIsNaN(m.rangeDistance)) {
-        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultNoSample);
-    } else if (!(m.rangeDistance >= s->rangeMinimum) || !(m.rangeDistance <= s->rangeMaximum)) {
-        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
-    } else {
-        const float R = s->rangeNoise * s->rangeNoise;
-        FusionAltitudeKalmanProcess(kalman, range, -1, m.rangeDistance, m.rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
-    }
-
-    // GPS: z = h + og
-    FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
-    if (!gpsPresent) {
-        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultNoSample);
-    } else if ((m.gpsSatellites >= 0) && (m.gpsSatellites < s->gpsMinimumSatellites)) {
-        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultUnusable);
-    } else {
-        const float sigma = FusionAltitudeKalmanGpsSigma(s, m.gpsVerticalAccuracy, m.gpsSatellites);
-        const float R = sigma * sigma;
-        if (!kalman->gpsInitialised) {
-            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, R);
-            kalman->gpsInitialised = true;
-            FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
-        } else {
-            const float y = m.gpsAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateGpsOffset]);
-            FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m.gpsAltitude, y, R);
-        }
-    }
+    FusionAltitudeKalmanProcessBaro(kalman, &m, baroPresent);
+    FusionAltitudeKalmanProcessRange(kalman, &m);
+    FusionAltitudeKalmanProcessGps(kalman, &m, gpsPresent);
     return FusionAltitudeKalmanStatusOk;
 }
 

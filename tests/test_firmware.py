@@ -180,7 +180,9 @@ KALMAN_INTERNAL = {"FusionAltitudeKalmanIsNonNegative", "FusionAltitudeKalmanIsP
                    "FusionAltitudeKalmanFuse", "FusionAltitudeKalmanSetOffset", "FusionAltitudeKalmanResetGround",
                    "FusionAltitudeKalmanProcess", "FusionAltitudeKalmanNoSample", "FusionAltitudeKalmanInverseSqrt",
                    "FusionAltitudeKalmanGpsSigma", "FusionAltitudeKalmanRandomWalks", "FusionAltitudeKalmanInflate",
-                   "FusionAltitudeKalmanGap"}
+                   "FusionAltitudeKalmanGap", "FusionAltitudeKalmanFuseVector", "FusionAltitudeKalmanFuseScalar",
+                   "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
+                   "FusionAltitudeKalmanProcessGps"}
 
 
 def test_every_public_kalman_function_is_built_and_sized():
@@ -236,7 +238,10 @@ INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive",
                 "FusionAltitudeInsIsBounded", "FusionAltitudeInsIsBoundedVector", "FusionAltitudeInsNormalise",
                 "FusionAltitudeInsRotate", "FusionAltitudeInsUpInBody", "FusionAltitudeInsFuseGain", "FusionAltitudeInsFuse",
                 "FusionAltitudeInsLimitYaw", "FusionAltitudeInsAlign", "FusionAltitudeInsPredict",
-                "FusionAltitudeInsConditionCovariance"}
+                "FusionAltitudeInsConditionCovariance", "FusionAltitudeInsPredictCovariance", "FusionAltitudeInsAddProcessNoise",
+                "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
+                "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
+                "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag"}
 
 
 def test_every_public_ins_function_is_built_and_sized():

@@ -327,6 +327,20 @@ def _pressure_warning(pressure_column: str, pressure: np.ndarray) -> Optional[st
     return None
 
 
+def _ground_median(path, column, values, time, quantity: str, unit: str) -> float:
+    """The median of ``values`` over the first REST_SECONDS s (the ground pressure in Pa or temperature in K);
+    a LogError naming the column when there is none or it is not > 0."""
+    rest = np.isfinite(values) & _rest(time)
+    if not rest.any():
+        raise LogError(f"{path}: column {column!r}: no {quantity} in the first "
+                       f"{_fmt(REST_SECONDS)} s to take as the ground {quantity}")
+    median = float(np.median(values[rest]))
+    if not median > 0:
+        raise LogError(f"{path}: column {column!r}: the ground {quantity} (median of the first "
+                       f"{_fmt(REST_SECONDS)} s) is {_fmt(median)} {unit}; it must be > 0 {unit}")
+    return median
+
+
 def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, ground_temperature_k,
                        temperature_column, temperature, notes):
     """Baro altitude (m) from pressure (Pa), its datum and the ground altitude (m); appends a note.
@@ -339,23 +353,9 @@ def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, grou
         baro = pressure_to_altitude(pressure, sea_level_pa)
         notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
         return baro, ("sea level" if sea_level_pa == 101325.0 else ""), None
-    early = np.isfinite(pressure) & _rest(time)
-    if not early.any():
-        raise LogError(f"{path}: column {pressure_column!r}: no pressure in the first "
-                       f"{_fmt(REST_SECONDS)} s to take as the ground pressure")
-    ground_pa = float(np.median(pressure[early]))
-    if not ground_pa > 0:
-        raise LogError(f"{path}: column {pressure_column!r}: the ground pressure (median of the first "
-                       f"{_fmt(REST_SECONDS)} s) is {_fmt(ground_pa)} Pa; a pressure must be > 0")
+    ground_pa = _ground_median(path, pressure_column, pressure, time, "pressure", "Pa")
     if ground_temperature_k == "log":
-        warm = np.isfinite(temperature) & _rest(time)
-        if not warm.any():
-            raise LogError(f"{path}: column {temperature_column!r}: no temperature in the first "
-                           f"{_fmt(REST_SECONDS)} s to take as the ground temperature")
-        ground_temperature_k = float(np.median(temperature[warm]))
-        if not ground_temperature_k > 0:
-            raise LogError(f"{path}: column {temperature_column!r}: the ground temperature (median of the first "
-                           f"{_fmt(REST_SECONDS)} s) is {_fmt(ground_temperature_k)} K; it must be > 0 K")
+        ground_temperature_k = _ground_median(path, temperature_column, temperature, time, "temperature", "K")
     baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
                  f"{_fmt(ground_temperature_k)} K (hypsometric)")

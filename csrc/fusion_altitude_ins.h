@@ -62,7 +62,8 @@
  *   (I-Kh)P(I-Kh)^T + K R K^T expanded; grouped so that entry (i, j) and
  *   entry (j, i) round identically: P stays exactly symmetric).
  *   Once per step, after the prediction and the corrections, P is conditioned:
- *   negative variances are floored at 0 and covariances clipped to
+ *   an attitude variance above FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT is
+ *   decorrelated and held there, negative variances are floored at 0 and covariances clipped to
  *   |P_ij| <= sqrt(P_ii P_jj) (see FusionAltitudeInsConditionCovariance).
  *   At the end of the step dx is injected: q <- normalise(q (x) (1, dtheta/2)),
  *   b += db, d += dd, v += dv (reset Jacobian I - [dtheta/2]x taken as I).
@@ -165,6 +166,19 @@ extern "C" {
  * (a decorrelated row leaves a principal submatrix and a positive diagonal).
  */
 #define FUSION_ALTITUDE_INS_VARIANCE_LIMIT (1e4f)
+
+/**
+ * Largest variance of each attitude error component (rad^2, 10 rad sigma: an
+ * attitude known that poorly is not known at all). Applied at the end of
+ * every step (FusionAltitudeInsConditionCovariance): a larger one has its row
+ * and column zeroed and is held at the limit. Never reached in normal
+ * operation; it bounds the float32 failure the fuzzer found
+ * (csrc/fuzz/findings/ins_attitude_variance_growth.bin): once round-off makes
+ * the attitude block indefinite, each correction deepens the negative
+ * direction and P grows about 100-fold per step to infinity; decorrelating
+ * the row leaves a positive diagonal from which P recovers.
+ */
+#define FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (1e2f)
 
 /**
  * Largest variance of the local yaw error r.dtheta (rad^2, 0.57 deg sigma):
@@ -470,7 +484,9 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 /**
  * Internal. Keeps P a covariance in float32 (called once per step, after the prediction
  * and all the corrections: once per update rather than after each scalar
- * update keeps the M4F step under its cycle budget): a variance below 0 is set to 0 (the floor), and a
+ * update keeps the M4F step under its cycle budget): an attitude variance above
+ * FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (rad^2) is decorrelated and held
+ * there, a variance below 0 is set to 0 (the floor), and a
  * covariance beyond |P_ij| <= sqrt(P_ii P_jj) (|correlation| > 1) is clipped
  * to that bound with its sign kept (sqrtf only when clipping). Why: the
  * Joseph-form update keeps P symmetric but, in float32, not positive
@@ -489,6 +505,15 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
  */
 static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
+    for (int i = 0; i < 3; i++) {
+        if (P[i][i] > FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT) {
+            for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+                P[i][j] = 0.0f;
+                P[j][i] = 0.0f;
+            }
+            P[i][i] = FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT;
+        }
+    }
     float d[FUSION_ALTITUDE_INS_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
         if (P[i][i] < 0.0f) {

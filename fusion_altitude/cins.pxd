@@ -9,6 +9,7 @@ cdef extern from "fusion_altitude_ins.h" nogil:
     int FUSION_ALTITUDE_INS_STATES
     float FUSION_ALTITUDE_INS_MAXIMUM
     float FUSION_ALTITUDE_INS_VARIANCE_LIMIT
+    float FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT
     float FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT
 
     ctypedef struct FusionAltitudeInsVector:

@@ -1,34 +1,54 @@
-"""The INS covariance conditioning on the fuzzer's finding
-csrc/fuzz/findings/ins_negative_attitude_variance.bin (default settings):
-the reference equals the C bit for bit on it, and no variance goes negative."""
+"""The INS covariance conditioning on the fuzzer's findings (csrc/fuzz/findings/,
+decoded by decode_ins.py): the reference equals the C bit for bit on each, no
+variance goes negative, and the attitude variance stays finite and at most
+FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (rad^2).
+
+- ins_negative_attitude_variance.bin (default settings): 1e5 m baro jumps made
+  P[0][0] negative (-9.1e-6 at the 243rd accepted update) before the
+  conditioning.
+- ins_attitude_variance_growth.bin (default settings) and
+  ins_attitude_variance_growth_zero_rate_noise.bin (accel_rejection 0.1 rad,
+  recovery_trigger_period 0.2 s): once round-off made the attitude block
+  indefinite, P grew about 100-fold per step to infinity (167th and 208th
+  accepted update) before the attitude variance limit.
+"""
 
 import importlib.util
 from pathlib import Path
 
 import numpy as np
+import pytest
 
-from fusion_altitude import _ins
+from fusion_altitude import _c_tables, _ins
 from fusion_altitude.reference import ins as reference
 
 ROOT = Path(__file__).resolve().parents[1]
-FINDING = ROOT / "csrc" / "fuzz" / "findings" / "ins_negative_attitude_variance.bin"
+FINDINGS = ROOT / "csrc" / "fuzz" / "findings"
+FINDING_NAMES = ("ins_negative_attitude_variance.bin", "ins_attitude_variance_growth.bin",
+                 "ins_attitude_variance_growth_zero_rate_noise.bin")
+GROWTH = FINDING_NAMES[1:]
 
 
-def finding_updates():
-    """The fuzzer input's update calls, float32 as the fuzzer passes them (decode_ins.py)."""
-    spec = importlib.util.spec_from_file_location("decode_ins", ROOT / "csrc" / "fuzz" / "findings" / "decode_ins.py")
-    decode_ins = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(decode_ins)
-    calls = decode_ins.decode(FINDING.read_bytes())
-    decode_ins.header(calls, FINDING.name)  # raises if a settings call would change the run
-    return [call[1:] for call in calls if call[0] == "update"]
+def _decode_ins():
+    spec = importlib.util.spec_from_file_location("decode_ins", FINDINGS / "decode_ins.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def run(impl):
+def finding_run(name):
+    """The settings keywords in effect and the update calls of one finding, float32 as the fuzzer passes them."""
+    settings, updates = _decode_ins().run_in_effect(_decode_ins().decode((FINDINGS / name).read_bytes()))
+    keywords = {field[0]: float(value) for field, value in zip(_c_tables.INS_SETTINGS, settings)}
+    return keywords, [call[1:] for call in updates]
+
+
+def run(impl, name):
     """Every accepted update's covariance, in order (rejected updates raise and change nothing)."""
-    ins = impl.InsEstimator()
+    keywords, updates = finding_run(name)
+    ins = impl.InsEstimator(impl.InsSettings(**keywords))
     covariances = []
-    for gyro, accel, mag, baro, dt in finding_updates():
+    for gyro, accel, mag, baro, dt in updates:
         try:
             ins.update(gyro, accel, dt, baro_altitude=baro, mag=None if np.isnan(mag).all() else mag)
         except ValueError:
@@ -37,13 +57,36 @@ def run(impl):
     return covariances
 
 
-def test_reference_equals_the_c_bit_for_bit_on_the_fuzzer_finding():
-    c, python = run(_ins), run(reference)
-    assert len(c) == len(python) >= 243
+def test_the_growth_findings_run_with_the_settings_the_fuzzer_used():
+    assert finding_run(GROWTH[0])[0] == {field[0]: pytest.approx(field[3]) for field in _c_tables.INS_SETTINGS}
+    changed = {key: value for key, value in finding_run(GROWTH[1])[0].items()
+               if value != pytest.approx(dict((f[0], f[3]) for f in _c_tables.INS_SETTINGS)[key])}
+    assert changed == {"accel_rejection": pytest.approx(0.1), "recovery_trigger_period": pytest.approx(0.2)}
+
+
+@pytest.mark.parametrize("name", FINDING_NAMES)
+def test_reference_equals_the_c_bit_for_bit_on_the_fuzzer_finding(name):
+    c, python = run(_ins, name), run(reference, name)
+    assert len(c) == len(python) >= 160
     for step, (a, b) in enumerate(zip(c, python)):
         assert np.array_equal(a.view(np.uint32), b.view(np.uint32)), step
 
 
-def test_no_variance_goes_negative_on_the_fuzzer_finding():
-    worst = min(float(np.diagonal(P).min()) for P in run(reference))
+@pytest.mark.parametrize("name", FINDING_NAMES)
+def test_no_variance_goes_negative_on_the_fuzzer_finding(name):
+    worst = min(float(np.diagonal(P).min()) for P in run(_ins, name))
     assert worst >= 0.0, worst
+
+
+@pytest.mark.parametrize("name", GROWTH)
+def test_the_covariance_stays_finite_and_the_attitude_variance_bounded_on_the_growth_finding(name):
+    covariances = run(_ins, name)
+    assert all(np.isfinite(P).all() for P in covariances)
+    largest = max(float(np.diagonal(P)[:3].max()) for P in covariances)
+    assert largest <= _c_tables.FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT, largest
+    # the limit is what the run needed: it was reached (before it, P went to infinity)
+    assert largest == _c_tables.FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT
+
+
+def test_the_attitude_variance_limit_is_the_same_in_c_and_the_reference():
+    assert reference.ATTITUDE_VARIANCE_LIMIT == np.float32(_c_tables.FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT)

@@ -407,6 +407,46 @@ static void FuzzerFindingKeepsVariancesNonNegativeAndCorrelationsBounded(void) {
     CHECK(unboundedCorrelations == 0);
 }
 
+/* The update steps of the fuzzer's finding csrc/fuzz/findings/ins_attitude_variance_growth.bin (default settings). */
+#define NAN_ NAN
+#include "ins_attitude_variance_growth.h"
+#undef NAN_
+
+/* Replays the finding: before FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT, round-off made
+   the attitude block of P indefinite and P grew about 100-fold per step until
+   P[1][1] = inf (its 167th accepted update). Now P stays finite, the attitude
+   variances at most the limit (reached: the limit is what held it), the
+   quaternion a unit one. */
+static void AttitudeVarianceGrowthFindingStaysFiniteAndBounded(void) {
+    FusionAltitudeIns ins;
+    FusionAltitudeInsInitialise(&ins);
+    int accepted = 0;
+    int nonFinite = 0;
+    float largestAttitudeVariance = 0.0f;
+    for (int k = 0; k < INS_GROWTH_STEPS; k++) {
+        const float *const v = insGrowthSteps[k];
+        const FusionAltitudeInsStatus status =
+            FusionAltitudeInsUpdate(&ins, Vector(v[0], v[1], v[2]), Vector(v[3], v[4], v[5]), Vector(v[6], v[7], v[8]), v[9], v[10]);
+        if (status != FusionAltitudeInsStatusOk) {
+            continue;
+        }
+        accepted++;
+        for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
+            for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+                nonFinite += FusionAltitudeIsFinite(ins.P[i][j]) ? 0 : 1;
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            largestAttitudeVariance = (ins.P[i][i] > largestAttitudeVariance) ? ins.P[i][i] : largestAttitudeVariance;
+        }
+        const float norm = ins.q[0] * ins.q[0] + ins.q[1] * ins.q[1] + ins.q[2] * ins.q[2] + ins.q[3] * ins.q[3];
+        CHECK(norm > 0.998f && norm < 1.002f);
+    }
+    CHECK(accepted >= 167);
+    CHECK(nonFinite == 0);
+    CHECK(largestAttitudeVariance == FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT);
+}
+
 static bool LongRun(const char *const name, const bool withBaro) {
     FusionAltitudeIns ins;
     FusionAltitudeInsInitialise(&ins);
@@ -493,5 +533,6 @@ int main(int argc, char **argv) {
     RUN(GapIsCountedAndNotIntegrated);
     RUN(PredictionFollowsTheDocumentedEquations);
     RUN(FuzzerFindingKeepsVariancesNonNegativeAndCorrelationsBounded);
+    RUN(AttitudeVarianceGrowthFindingStaysFiniteAndBounded);
     return TestSummary();
 }

@@ -41,6 +41,7 @@ f32 = np.float32
 N_STATES = 8
 GRAVITY = f32(9.80665)
 VARIANCE_LIMIT = f32(1e4)
+ATTITUDE_VARIANCE_LIMIT = f32(1e2)
 YAW_VARIANCE_LIMIT = f32(1e-4)
 _ZERO = f32(0)
 _ONE = f32(1)
@@ -255,15 +256,21 @@ class InsEstimator(Checkpointable):
     # -- FusionAltitudeInsConditionCovariance ------------------------------------------------
     @staticmethod
     def _condition_covariance(P: np.ndarray) -> np.ndarray:
-        """Floor negative variances at 0 and clip |P_ij| to sqrt(P_ii P_jj), sign kept.
+        """Decorrelate an attitude variance (rad^2) above ATTITUDE_VARIANCE_LIMIT and hold
+        it there, floor negative variances at 0 and clip |P_ij| to sqrt(P_ii P_jj), sign kept.
 
         The C loop reads each P_ii after the floor and only off-diagonal
         entries change afterwards, so the element-wise form gives the same
         bits: P_ij * P_ij > P_ii * P_jj never holds on the diagonal.
         """
+        P = P.copy()
+        for i in range(3):
+            if P[i, i] > ATTITUDE_VARIANCE_LIMIT:
+                P[i, :] = 0
+                P[:, i] = 0
+                P[i, i] = ATTITUDE_VARIANCE_LIMIT
         diagonal = np.diagonal(P).copy()
         diagonal = np.where(diagonal < _ZERO, _ZERO, diagonal).astype(np.float32)
-        P = P.copy()
         np.fill_diagonal(P, diagonal)
         bound2 = np.outer(diagonal, diagonal)
         clip = (P * P) > bound2

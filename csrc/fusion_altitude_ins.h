@@ -69,7 +69,10 @@
  *   b += db, d += dd, v += dv (reset Jacobian I - [dtheta/2]x taken as I).
  * Stationary detection: stationary once |gyro| < stationaryGyroThreshold and
  *   | |accel| - g | < stationaryAccelThreshold have held on every sample for
- *   stationaryWindow s (a timer that restarts on any failing sample or gap).
+ *   stationaryWindow s (a timer that restarts on any failing sample or gap)
+ *   and the baro holds still: the means of its readings over consecutive half
+ *   windows differ by at most stationaryBaroRate * stationaryWindow / 2 (m)
+ *   (a constant-velocity climb is still to the IMU; no baro: no veto).
  *   While stationary: baroBias += k (baro - d - baroBias), k = e/(tau_b + e)
  *   with e the time since the previous baro sample; accelZBias += k (f_z -
  *   g r_z - accelZBias) with the raw accel z and k = dt/(tau_a + dt).
@@ -237,6 +240,7 @@ typedef struct {
     float initialGyroBiasSigma;    /**< rad/s: initial gyro bias uncertainty */
     float initialVelocitySigma;    /**< m/s: initial velocity uncertainty */
     float gapPeriod;               /**< s: a dt above it is a gap, not integrated (> 0) */
+    float stationaryBaroRate;      /**< m/s: the baro moving faster than this (half-window means) vetoes stationary */
 } FusionAltitudeInsSettings;
 
 /** Filter state. Read it through the Get functions. */
@@ -255,11 +259,18 @@ typedef struct {
     float rejectionTime;       /**< s of consecutive accel rejections */
     float baroElapsed;         /**< s since the previous baro sample */
     float magElapsed;          /**< s since the previous mag sample */
+    float stationaryHalfTime;  /**< s into the current half of the stationary window */
+    float stationaryBaroSum;   /**< m: sum of the baro readings of the current half window */
+    float stationaryBaroCount; /**< baro readings in the current half window */
+    float stationaryBaroPrevious; /**< m: mean baro of the previous half window */
     uint32_t gapCount;         /**< steps with dt > gapPeriod, not integrated */
     bool aligned;              /**< attitude set from the first usable accel sample */
     bool baroInitialised;      /**< baro bias set from the first baro sample */
     bool magInitialised;       /**< yaw offset set from the first usable mag sample */
     bool stationary;           /**< stationary detected this step */
+    bool stationaryHalfDone;   /**< a half window completed since still began */
+    bool stationaryHasPrevious; /**< the previous half window had a baro reading */
+    bool stationaryBaroStill;  /**< the latest half-window test found the baro still */
     bool accelRejected;        /**< the latest step did not use the accel for attitude */
 } FusionAltitudeIns;
 
@@ -298,7 +309,7 @@ static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeIns
  *   recoveryTriggerPeriod 5 s, baroNoise 0.3 m, stationary below 0.05 rad/s
  *   and 0.5 m/s^2 for 1 s, zeroRateNoise 0.01 rad/s, zeroVelocityNoise
  *   0.05 m/s, baroBiasTimeConstant 5 s, accelBiasTimeConstant 2 s, magTimeConstant 2 s, initial sigmas
- *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s.
+ *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s, stationaryBaroRate 0.5 m/s.
  */
 static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     FusionAltitudeInsSettings s;
@@ -322,6 +333,7 @@ static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     s.initialGyroBiasSigma = 0.01f;
     s.initialVelocitySigma = 0.5f;
     s.gapPeriod = 0.1f;
+    s.stationaryBaroRate = 0.5f;
     return s;
 }
 
@@ -348,7 +360,7 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const Fusio
                              FusionAltitudeInsIsNonNegative(s->stationaryGyroThreshold) &&
                              FusionAltitudeInsIsNonNegative(s->stationaryAccelThreshold) && FusionAltitudeInsIsNonNegative(s->stationaryWindow) &&
                              FusionAltitudeInsIsNonNegative(s->initialAttitudeSigma) && FusionAltitudeInsIsNonNegative(s->initialGyroBiasSigma) &&
-                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma);
+                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma) && FusionAltitudeInsIsNonNegative(s->stationaryBaroRate);
     const bool positive = FusionAltitudeInsIsPositive(s->accelAttitudeNoise) && FusionAltitudeInsIsPositive(s->baroNoise) &&
                           FusionAltitudeInsIsPositive(s->zeroRateNoise) && FusionAltitudeInsIsPositive(s->zeroVelocityNoise) &&
                           FusionAltitudeInsIsPositive(s->baroBiasTimeConstant) && FusionAltitudeInsIsPositive(s->accelBiasTimeConstant) &&
@@ -761,6 +773,18 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     FusionAltitudeInsAddProcessNoise(ins, dt);
 }
 
+/** Internal. Restarts stationary detection: the still timer (s) and the baro half-window test. */
+static inline void FusionAltitudeInsRestartStationary(FusionAltitudeIns *const ins) {
+    ins->stationaryTime = 0.0f;
+    ins->stationaryHalfTime = 0.0f;
+    ins->stationaryBaroSum = 0.0f;
+    ins->stationaryBaroCount = 0.0f;
+    ins->stationaryBaroPrevious = 0.0f;
+    ins->stationaryHalfDone = false;
+    ins->stationaryHasPrevious = false;
+    ins->stationaryBaroStill = false;
+}
+
 /**
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
@@ -777,26 +801,52 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
         ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
     }
     ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
-    ins->stationaryTime = 0.0f;
+    FusionAltitudeInsRestartStationary(ins);
 }
 
 /**
  * Stationary detection on the raw samples: still when |gyro|^2 <
  * stationaryGyroThreshold^2 ((rad/s)^2) and the accel norm error
  * ||accel| - g| < stationaryAccelThreshold (m/s^2); stationaryTime (s) grows by
- * dt (s) while still, held at stationaryWindow (s), and is 0 s otherwise.
+ * dt (s) while still, held at stationaryWindow (s), and restarts otherwise.
+ * A climb or descent at constant velocity is still to the IMU, so the baro
+ * (baroAltitude, m; NaN: none) may veto: while still, its readings are averaged
+ * over half windows (stationaryWindow / 2, s); at the end of each half after
+ * the first, the baro is still unless both halves have readings and their
+ * means differ by more than stationaryBaroRate * stationaryWindow / 2 (m).
  */
 static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
-                                                                              const float normError, const float dt) {
+                                                                              const float normError, const float baroAltitude, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float gyroSquared = gyro.x * gyro.x + gyro.y * gyro.y + gyro.z * gyro.z;
     const bool still = (gyroSquared < s->stationaryGyroThreshold * s->stationaryGyroThreshold) && (normError < s->stationaryAccelThreshold);
-    if (still) {
-        const float time = ins->stationaryTime + dt;
-        ins->stationaryTime = (time < s->stationaryWindow) ? time : s->stationaryWindow;
-    } else {
-        ins->stationaryTime = 0.0f;
+    if (!still) {
+        FusionAltitudeInsRestartStationary(ins);
+        return;
+    }
+    const float time = ins->stationaryTime + dt;
+    ins->stationaryTime = (time < s->stationaryWindow) ? time : s->stationaryWindow;
+    if (!FusionAltitudeIsNaN(baroAltitude)) {
+        ins->stationaryBaroSum = ins->stationaryBaroSum + baroAltitude;
+        ins->stationaryBaroCount = ins->stationaryBaroCount + 1.0f;
+    }
+    ins->stationaryHalfTime = ins->stationaryHalfTime + dt;
+    const float half = 0.5f * s->stationaryWindow;
+    if (ins->stationaryHalfTime >= half) {
+        const bool hasMean = ins->stationaryBaroCount > 0.0f;
+        const float mean = hasMean ? (ins->stationaryBaroSum / ins->stationaryBaroCount) : 0.0f;
+        if (ins->stationaryHalfDone) {
+            const float change = mean - ins->stationaryBaroPrevious;
+            const float magnitude = (change < 0.0f) ? -change : change;
+            ins->stationaryBaroStill = !(hasMean && ins->stationaryHasPrevious && (magnitude > s->stationaryBaroRate * half));
+        }
+        ins->stationaryHalfDone = true;
+        ins->stationaryHasPrevious = hasMean;
+        ins->stationaryBaroPrevious = mean;
+        ins->stationaryHalfTime = 0.0f;
+        ins->stationaryBaroSum = 0.0f;
+        ins->stationaryBaroCount = 0.0f;
     }
 }
 
@@ -805,10 +855,11 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(Fu
  * direction (normError = ||accel| - g| <= accelNormRejection, m/s^2), a gap,
  * or the prediction over dt (s) with the bias-corrected rate w = gyro - b_g
  * (rad/s) and specific force f = accel - (0, 0, b_az) (m/s^2) followed by
- * stationary detection. @return false while not aligned (the step ends).
+ * stationary detection (with the baro altitude, m, NaN: none). @return false while not aligned (the step ends).
  */
 static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
-                                                                       const FusionAltitudeInsVector accel, const float normError, const float dt) {
+                                                                       const FusionAltitudeInsVector accel, const float normError,
+                                                                       const float baroAltitude, const float dt) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (!ins->aligned) {
@@ -822,7 +873,7 @@ static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAlt
         const float w[3] = {gyro.x - ins->gyroBias[0], gyro.y - ins->gyroBias[1], gyro.z - ins->gyroBias[2]};
         const float f[3] = {accel.x, accel.y, accel.z - ins->accelZBias};
         FusionAltitudeInsPredict(ins, w, f, dt);
-        FusionAltitudeInsDetectStationary(ins, gyro, normError, dt);
+        FusionAltitudeInsDetectStationary(ins, gyro, normError, baroAltitude, dt);
     }
     return true;
 }
@@ -997,10 +1048,10 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
     const float g = FUSION_ALTITUDE_GRAVITY;
     const float accelNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + accel.z * accel.z);
     const float normError = (accelNorm > g) ? (accelNorm - g) : (g - accelNorm);
-    if (!FusionAltitudeInsPropagate(ins, gyro, accel, normError, dt)) {
+    if (!FusionAltitudeInsPropagate(ins, gyro, accel, normError, baroAltitude, dt)) {
         return FusionAltitudeInsStatusOk;
     }
-    ins->stationary = ins->stationaryTime >= s->stationaryWindow;
+    ins->stationary = (ins->stationaryTime >= s->stationaryWindow) && ins->stationaryBaroStill;
     ins->baroElapsed = ins->baroElapsed + dt;
     ins->magElapsed = ins->magElapsed + dt;
 

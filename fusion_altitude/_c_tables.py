@@ -353,6 +353,7 @@ INS_SETTINGS = (
     ('initial_gyro_bias_sigma', 'initialGyroBiasSigma', 'f', 0.01, 'rad/s: initial gyro bias uncertainty'),
     ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 0.5, 'm/s: initial velocity uncertainty'),
     ('gap_period', 'gapPeriod', 'f', 0.1, 's: a dt above it is a gap, not integrated (> 0)'),
+    ('stationary_baro_rate', 'stationaryBaroRate', 'f', 0.5, 'm/s: the baro moving faster than this (half-window means) vetoes stationary'),
 )
 
 

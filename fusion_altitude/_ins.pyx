@@ -293,9 +293,14 @@ cdef class InsEstimator(_InsEstimatorGetters):
             "yaw_cos": np.float32(c.yawCos), "yaw_sin": np.float32(c.yawSin),
             "stationary_time": np.float32(c.stationaryTime), "rejection_time": np.float32(c.rejectionTime),
             "baro_elapsed": np.float32(c.baroElapsed), "mag_elapsed": np.float32(c.magElapsed),
+            "stationary_half_time": np.float32(c.stationaryHalfTime),
+            "stationary_baro_sum": np.float32(c.stationaryBaroSum),
+            "stationary_baro_count": np.float32(c.stationaryBaroCount),
+            "stationary_baro_previous": np.float32(c.stationaryBaroPrevious),
             "gap_count": int(c.gapCount), "aligned": bool(c.aligned), "baro_initialised": bool(c.baroInitialised),
             "mag_initialised": bool(c.magInitialised), "stationary": bool(c.stationary),
-            "accel_rejected": bool(c.accelRejected),
+            "stationary_half_done": bool(c.stationaryHalfDone), "stationary_has_previous": bool(c.stationaryHasPrevious),
+            "stationary_baro_still": bool(c.stationaryBaroStill), "accel_rejected": bool(c.accelRejected),
         }
 
     def _get_state(self):

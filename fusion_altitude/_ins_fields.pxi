@@ -41,6 +41,7 @@ cdef FusionAltitudeInsSettings _settings_to_c(object values) except *:
     c.initialGyroBiasSigma = values['initial_gyro_bias_sigma']
     c.initialVelocitySigma = values['initial_velocity_sigma']
     c.gapPeriod = values['gap_period']
+    c.stationaryBaroRate = values['stationary_baro_rate']
     return c
 
 
@@ -67,6 +68,7 @@ cdef dict _settings_from_c(const FusionAltitudeInsSettings *c):
         'initial_gyro_bias_sigma': c.initialGyroBiasSigma,
         'initial_velocity_sigma': c.initialVelocitySigma,
         'gap_period': c.gapPeriod,
+        'stationary_baro_rate': c.stationaryBaroRate,
     }
 
 
@@ -101,11 +103,18 @@ cdef tuple _state_get(const FusionAltitudeIns *c, object settings_out):
         c.rejectionTime,
         c.baroElapsed,
         c.magElapsed,
+        c.stationaryHalfTime,
+        c.stationaryBaroSum,
+        c.stationaryBaroCount,
+        c.stationaryBaroPrevious,
         int(c.gapCount),
         bool(c.aligned),
         bool(c.baroInitialised),
         bool(c.magInitialised),
         bool(c.stationary),
+        bool(c.stationaryHalfDone),
+        bool(c.stationaryHasPrevious),
+        bool(c.stationaryBaroStill),
         bool(c.accelRejected),
     )
 
@@ -115,7 +124,7 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _gap_count, _aligned, _baro_initialised, _mag_initialised, _stationary, _accel_rejected,) = state
+    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _stationary_half_time, _stationary_baro_sum, _stationary_baro_count, _stationary_baro_previous, _gap_count, _aligned, _baro_initialised, _mag_initialised, _stationary, _stationary_half_done, _stationary_has_previous, _stationary_baro_still, _accel_rejected,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     for i in range(4):
         c.q[i] = _q[i]
@@ -134,11 +143,18 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     c.rejectionTime = _rejection_time
     c.baroElapsed = _baro_elapsed
     c.magElapsed = _mag_elapsed
+    c.stationaryHalfTime = _stationary_half_time
+    c.stationaryBaroSum = _stationary_baro_sum
+    c.stationaryBaroCount = _stationary_baro_count
+    c.stationaryBaroPrevious = _stationary_baro_previous
     c.gapCount = _gap_count
     c.aligned = _aligned
     c.baroInitialised = _baro_initialised
     c.magInitialised = _mag_initialised
     c.stationary = _stationary
+    c.stationaryHalfDone = _stationary_half_done
+    c.stationaryHasPrevious = _stationary_has_previous
+    c.stationaryBaroStill = _stationary_baro_still
     c.accelRejected = _accel_rejected
 
 

@@ -53,6 +53,7 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         float initialGyroBiasSigma
         float initialVelocitySigma
         float gapPeriod
+        float stationaryBaroRate
 
     ctypedef struct FusionAltitudeIns:
         FusionAltitudeInsSettings settings
@@ -69,11 +70,18 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         float rejectionTime
         float baroElapsed
         float magElapsed
+        float stationaryHalfTime
+        float stationaryBaroSum
+        float stationaryBaroCount
+        float stationaryBaroPrevious
         uint32_t gapCount
         bint aligned
         bint baroInitialised
         bint magInitialised
         bint stationary
+        bint stationaryHalfDone
+        bint stationaryHasPrevious
+        bint stationaryBaroStill
         bint accelRejected
 
     const char * FusionAltitudeInsStatusMessage(const FusionAltitudeInsStatus status)

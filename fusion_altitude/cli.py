@@ -486,11 +486,19 @@ LONG_AXES = {f"{sign}{axis}": (column, 1.0 if sign == "+" else -1.0)
 
 def _run_estimator(args: argparse.Namespace, data) -> str:
     """The estimator ``run`` uses: ``--estimator``, else ``rocket`` for a rocket log (or ``--rocket``), else the
+    INS when the log has a raw gyro and accelerometer (and no ``--preset``, which names observer gains), else the
     observer. CliError when the flags contradict each other or the log lacks what the estimator needs."""
     from . import runner
 
     rocket = args.rocket or getattr(data, "vehicle", "") == "rocket"
-    estimator = args.estimator or ("rocket" if rocket else "observer")
+    if args.estimator:
+        estimator = args.estimator
+    elif rocket:
+        estimator = "rocket"
+    elif args.preset is None and not runner.missing_inputs(data, "ins"):
+        estimator = "ins"
+    else:
+        estimator = "observer"
     if args.rocket and estimator != "rocket":
         raise CliError(f"--rocket runs the rocket flight layer; it cannot be combined with --estimator {estimator}")
     if args.events_csv and estimator != "rocket":
@@ -580,6 +588,8 @@ def _run_description(args: argparse.Namespace, data, run, estimator: str):
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
     if estimator == "rocket" and not args.estimator:
         what += " (rocket log)" if not args.rocket else " (--rocket)"
+    if estimator == "ins" and not args.estimator:
+        what += " (raw gyro and accelerometer in the log)"
     notes = None
     if estimator == "rocket" and data.accel is not None:
         from .logs.cats import ATTITUDE_NOTE
@@ -1074,8 +1084,8 @@ def _add_run_parser(commands) -> None:
     run.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
     _add_log_arguments(run)
     run.add_argument("--estimator", default=None, choices=list(ESTIMATORS),
-                     help="estimator (default: rocket on a rocket log (AltOS, CATS) or with --rocket, else "
-                          "observer): " + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
+                     help="estimator (default: rocket on a rocket log (AltOS, CATS) or with --rocket, else ins "
+                          "on a log with a raw gyro and accelerometer, else observer): " + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
     run.add_argument("--rocket", action="store_true",
                      help="run the rocket flight layer (pad calibration, baro lockout, flight events) on any log")
     run.add_argument("--events-csv", metavar="EVENTS.csv",

@@ -112,8 +112,20 @@ def test_run_ins_on_a_level_frd_log_reads_roll_and_pitch_near_zero(px4, tmp_path
     assert np.abs(table["roll"]).max() < 10 and np.abs(table["pitch"]).max() < 10
 
 
-def test_run_without_estimator_keeps_the_observer_on_a_log_with_raw_imu(px4, capsys):
+def test_run_without_estimator_picks_the_ins_on_a_log_with_raw_imu(px4, capsys):
     assert main(["run", px4]) == 0
+    assert "estimator ins (raw gyro and accelerometer in the log)" in capsys.readouterr().out
+
+
+def test_run_with_a_preset_and_no_estimator_runs_the_observer_on_a_log_with_raw_imu(px4, capsys):
+    assert main(["run", px4, "--preset", "fixed_wing"]) == 0
+    assert "estimator observer, preset fixed_wing" in capsys.readouterr().out
+
+
+def test_run_without_estimator_keeps_the_observer_on_a_log_without_raw_imu(tmp_path, capsys):
+    path = tmp_path / "flat.csv"
+    path.write_text("time,accel,baro\n" + "".join(f"{0.01 * k!r},0.0,100.0\n" for k in range(300)))
+    assert main(["run", str(path), "--time", "time", "--accel", "accel", "--baro", "baro"]) == 0
     assert "estimator observer" in capsys.readouterr().out
 
 

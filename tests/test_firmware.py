@@ -133,7 +133,7 @@ def test_ins_vectors_are_up_to_date_and_cover_every_path():
     for op in ("initialise_with", "set_settings"):  # settings accepted and rejected through both entry points
         assert counts.get(f"{op} status 0", 0) > 0 and counts.get(f"{op} status 6", 0) > 0, op
     for path in ("waiting for alignment", "aligned now", "gap", "accel fused", "accel rejected", "stationary",
-                 "baro bias learning", "baro fused", "mag initialised", "mag filtered"):
+                 "baro bias learning", "baro fused", "mag initialised", "mag filtered", "still, baro vetoes stationary"):
         assert counts.get(path, 0) > 0, path
     assert set(r[0] for r in recorder.records) == set(range(len(generator.OPS)))
 
@@ -241,7 +241,7 @@ INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive",
                 "FusionAltitudeInsConditionCovariance", "FusionAltitudeInsPredictCovariance", "FusionAltitudeInsAddProcessNoise",
                 "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
                 "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
-                "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag"}
+                "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary"}
 
 
 def test_every_public_ins_function_is_built_and_sized():
@@ -424,7 +424,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20
     # INS: regression bounds, and the per-step costs (tests/test_ins_c.py: under 12 000 cycles).
     ins = measured["ins"]
-    assert set(ins["ram"].values()) == {416}, ins["ram"]
+    assert set(ins["ram"].values()) == {436}, ins["ram"]  # 416 before the baro half-window test of stationary
     assert ins["size"]["FusionAltitudeInsUpdate/cortex-m4f/Os"] <= 6144
     assert all(size <= 1024 and qualifier == "static" for size, qualifier in ins["stack"].values()), ins["stack"]
     common, baro, mag, stationary, predict, rejected = ins["cycles"]

@@ -28,7 +28,7 @@ typedef FusionAltitudeInsReplayVector ReplayVector;
 #define N (FUSION_ALTITUDE_INS_STATES)
 #define TRIANGLE (N * (N + 1) / 2)
 
-typedef char stateWordsMatch[(SETTINGS_WORDS == 20) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 8 + 6 + 8) ? 1 : -1];
+typedef char stateWordsMatch[(SETTINGS_WORDS == 21) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 12 + 9 + 8) ? 1 : -1];
 
 /* The settings fields in struct order (the order of the settings words). */
 static float *SettingsField(FusionAltitudeInsSettings *const s, const int index) {
@@ -37,7 +37,7 @@ static float *SettingsField(FusionAltitudeInsSettings *const s, const int index)
                                            &s->stationaryGyroThreshold, &s->stationaryAccelThreshold, &s->stationaryWindow,
                                            &s->zeroRateNoise, &s->zeroVelocityNoise, &s->baroBiasTimeConstant,
                                            &s->accelBiasTimeConstant, &s->magTimeConstant, &s->initialAttitudeSigma,
-                                           &s->initialGyroBiasSigma, &s->initialVelocitySigma, &s->gapPeriod};
+                                           &s->initialGyroBiasSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->stationaryBaroRate};
     return fields[index];
 }
 
@@ -105,12 +105,15 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
         }
     }
     const float floats[] = {FusionAltitudeInsGetAccelZBias(filter), FusionAltitudeInsGetBaroBias(filter), filter->yawCos, filter->yawSin,
-                            filter->stationaryTime, filter->rejectionTime, filter->baroElapsed, filter->magElapsed};
+                            filter->stationaryTime, filter->rejectionTime, filter->baroElapsed, filter->magElapsed,
+                            filter->stationaryHalfTime, filter->stationaryBaroSum, filter->stationaryBaroCount,
+                            filter->stationaryBaroPrevious};
     for (size_t i = 0; i < sizeof(floats) / sizeof(floats[0]); i++) {
         words[n++] = ReplayBits(floats[i]);
     }
     words[n++] = FusionAltitudeInsGetGapCount(filter);
     const bool flags[] = {filter->aligned, filter->baroInitialised, filter->magInitialised, FusionAltitudeInsIsStationary(filter),
+                          filter->stationaryHalfDone, filter->stationaryHasPrevious, filter->stationaryBaroStill,
                           FusionAltitudeInsIsAccelRejected(filter)};
     for (size_t i = 0; i < sizeof(flags) / sizeof(flags[0]); i++) {
         words[n++] = flags[i] ? 1u : 0u;
@@ -161,12 +164,16 @@ static void ReplaySetStateWords(ReplayFilter *const filter, const uint32_t words
         }
     }
     float *const floats[] = {&filter->accelZBias, &filter->baroBias, &filter->yawCos, &filter->yawSin,
-                             &filter->stationaryTime, &filter->rejectionTime, &filter->baroElapsed, &filter->magElapsed};
+                             &filter->stationaryTime, &filter->rejectionTime, &filter->baroElapsed, &filter->magElapsed,
+                             &filter->stationaryHalfTime, &filter->stationaryBaroSum, &filter->stationaryBaroCount,
+                             &filter->stationaryBaroPrevious};
     for (size_t i = 0; i < sizeof(floats) / sizeof(floats[0]); i++) {
         *floats[i] = ReplayFloat(words[n++]);
     }
     filter->gapCount = words[n++];
-    bool *const flags[] = {&filter->aligned, &filter->baroInitialised, &filter->magInitialised, &filter->stationary, &filter->accelRejected};
+    bool *const flags[] = {&filter->aligned,           &filter->baroInitialised,       &filter->magInitialised,
+                           &filter->stationary,        &filter->stationaryHalfDone,    &filter->stationaryHasPrevious,
+                           &filter->stationaryBaroStill, &filter->accelRejected};
     for (size_t i = 0; i < sizeof(flags) / sizeof(flags[0]); i++) {
         *flags[i] = words[n++] != 0u;
     }

@@ -75,7 +75,8 @@ class InsSettings(KeywordSettings):
     stationary_gyro_threshold : 0.05 rad/s
     stationary_accel_threshold : 0.5 m/s²
     stationary_window : 1.0 s
-        Stationary once |gyro| and ||accel| − g| stayed below the thresholds on every sample for the window.
+        Stationary once |gyro| and ||accel| − g| stayed below the thresholds on every sample for the window
+        (and the baro holds still, ``stationary_baro_rate``).
     zero_rate_noise : 0.01 rad/s
     zero_velocity_noise : 0.05 m/s
         1σ of the zero-rate and zero-velocity updates while stationary (> 0).
@@ -88,6 +89,10 @@ class InsSettings(KeywordSettings):
     initial_velocity_sigma : 0.5 m/s
     gap_period : 0.1 s
         A dt above it is a gap: not integrated, counted (> 0).
+    stationary_baro_rate : 0.5 m/s
+        While the IMU is still, the means of the baro readings over consecutive half windows differing by more
+        than this rate × stationary_window / 2 (m) veto stationary: a climb at constant velocity is still to the
+        IMU. No baro readings: no veto.
 
     Raises
     ------
@@ -167,7 +172,52 @@ class InsEstimator(Checkpointable):
         self.mag_initialised = False
         self.stationary = False
         self.accel_rejected = False
+        self._restart_stationary()
         self._reset_covariance()
+
+    def _restart_stationary(self) -> None:
+        """FusionAltitudeInsRestartStationary: the still timer (s) and the baro half-window test."""
+        self.stationary_time = _ZERO
+        self.stationary_half_time = _ZERO
+        self.stationary_baro_sum = _ZERO
+        self.stationary_baro_count = _ZERO
+        self.stationary_baro_previous = _ZERO
+        self.stationary_half_done = False
+        self.stationary_has_previous = False
+        self.stationary_baro_still = False
+
+    def _detect_stationary(self, gyro: np.ndarray, norm_error: np.float32, baro: np.float32, dt: np.float32) -> None:
+        """FusionAltitudeInsDetectStationary: IMU still for the window, and the baro's half-window means
+        (m) not differing by more than stationary_baro_rate (m/s) × stationary_window / 2 (s)."""
+        s = self._s
+        gyro_squared = gyro[0] * gyro[0] + gyro[1] * gyro[1] + gyro[2] * gyro[2]
+        threshold = s.f32("stationary_gyro_threshold")
+        still = gyro_squared < threshold * threshold and norm_error < s.f32("stationary_accel_threshold")
+        if not still:
+            self._restart_stationary()
+            return
+        time = self.stationary_time + dt
+        window = s.f32("stationary_window")
+        self.stationary_time = time if time < window else window
+        if not np.isnan(baro):
+            self.stationary_baro_sum = self.stationary_baro_sum + baro
+            self.stationary_baro_count = self.stationary_baro_count + _ONE
+        self.stationary_half_time = self.stationary_half_time + dt
+        half = _HALF * window
+        if self.stationary_half_time >= half:
+            has_mean = bool(self.stationary_baro_count > _ZERO)
+            mean = self.stationary_baro_sum / self.stationary_baro_count if has_mean else _ZERO
+            if self.stationary_half_done:
+                change = mean - self.stationary_baro_previous
+                magnitude = -change if change < _ZERO else change
+                self.stationary_baro_still = not (has_mean and self.stationary_has_previous
+                                                  and magnitude > s.f32("stationary_baro_rate") * half)
+            self.stationary_half_done = True
+            self.stationary_has_previous = has_mean
+            self.stationary_baro_previous = f32(mean)
+            self.stationary_half_time = _ZERO
+            self.stationary_baro_sum = _ZERO
+            self.stationary_baro_count = _ZERO
 
     def _reset_covariance(self) -> None:
         """FusionAltitudeInsResetCovariance."""
@@ -322,21 +372,13 @@ class InsEstimator(Checkpointable):
             for i in range(3):
                 self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
             self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
-            self.stationary_time = _ZERO
+            self._restart_stationary()
         else:
             w = gyro - self.gyro_bias_
             f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
             self._predict(w, f, dt)
-            gyro_squared = gyro[0] * gyro[0] + gyro[1] * gyro[1] + gyro[2] * gyro[2]
-            threshold = s.f32("stationary_gyro_threshold")
-            still = gyro_squared < threshold * threshold and norm_error < s.f32("stationary_accel_threshold")
-            if still:
-                time = self.stationary_time + dt
-                window = s.f32("stationary_window")
-                self.stationary_time = time if time < window else window
-            else:
-                self.stationary_time = _ZERO
-        self.stationary = bool(self.stationary_time >= s.f32("stationary_window"))
+            self._detect_stationary(gyro, norm_error, baro, dt)
+        self.stationary = bool(self.stationary_time >= s.f32("stationary_window")) and self.stationary_baro_still
         self.baro_elapsed = self.baro_elapsed + dt
         self.mag_elapsed = self.mag_elapsed + dt
 
@@ -536,9 +578,13 @@ class InsEstimator(Checkpointable):
             "baro_bias": f32(self.baro_bias_), "yaw_cos": f32(self.yaw_cos), "yaw_sin": f32(self.yaw_sin),
             "stationary_time": f32(self.stationary_time), "rejection_time": f32(self.rejection_time),
             "baro_elapsed": f32(self.baro_elapsed), "mag_elapsed": f32(self.mag_elapsed),
+            "stationary_half_time": f32(self.stationary_half_time), "stationary_baro_sum": f32(self.stationary_baro_sum),
+            "stationary_baro_count": f32(self.stationary_baro_count),
+            "stationary_baro_previous": f32(self.stationary_baro_previous),
             "gap_count": int(self.gap_count_), "aligned": self.aligned, "baro_initialised": self.baro_initialised,
             "mag_initialised": self.mag_initialised, "stationary": self.stationary,
-            "accel_rejected": self.accel_rejected,
+            "stationary_half_done": self.stationary_half_done, "stationary_has_previous": self.stationary_has_previous,
+            "stationary_baro_still": self.stationary_baro_still, "accel_rejected": self.accel_rejected,
         }
 
     # -- checkpoint: (the fields of FusionAltitudeIns in order, arrays as lists, P row-major; the input units) ------
@@ -547,15 +593,18 @@ class InsEstimator(Checkpointable):
                   float(self.distance), float(self.velocity), [float(x) for x in self.P.ravel()],
                   float(self.accel_z_bias_), float(self.baro_bias_), float(self.yaw_cos), float(self.yaw_sin),
                   float(self.stationary_time), float(self.rejection_time), float(self.baro_elapsed),
-                  float(self.mag_elapsed), int(self.gap_count_), bool(self.aligned), bool(self.baro_initialised),
-                  bool(self.mag_initialised), bool(self.stationary), bool(self.accel_rejected))
+                  float(self.mag_elapsed), float(self.stationary_half_time), float(self.stationary_baro_sum),
+                  float(self.stationary_baro_count), float(self.stationary_baro_previous), int(self.gap_count_),
+                  bool(self.aligned), bool(self.baro_initialised), bool(self.mag_initialised), bool(self.stationary),
+                  bool(self.stationary_half_done), bool(self.stationary_has_previous), bool(self.stationary_baro_still),
+                  bool(self.accel_rejected))
         return fields, self._units
 
     def _set_state(self, state: tuple) -> None:
         fields, units = state
         (settings, q, gyro_bias, distance, velocity, P, accel_z_bias, baro_bias, yaw_cos, yaw_sin, stationary_time,
-         rejection_time, baro_elapsed, mag_elapsed, gap_count, aligned, baro_initialised, mag_initialised, stationary,
-         accel_rejected) = fields
+         rejection_time, baro_elapsed, mag_elapsed, half_time, baro_sum, baro_count, baro_previous, gap_count, aligned,
+         baro_initialised, mag_initialised, stationary, half_done, has_previous, baro_still, accel_rejected) = fields
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
         self._units = tuple(units)
         self._s = InsSettings(**settings)
@@ -567,6 +616,10 @@ class InsEstimator(Checkpointable):
         self.yaw_cos, self.yaw_sin = f32(yaw_cos), f32(yaw_sin)
         self.stationary_time, self.rejection_time = f32(stationary_time), f32(rejection_time)
         self.baro_elapsed, self.mag_elapsed = f32(baro_elapsed), f32(mag_elapsed)
+        self.stationary_half_time, self.stationary_baro_sum = f32(half_time), f32(baro_sum)
+        self.stationary_baro_count, self.stationary_baro_previous = f32(baro_count), f32(baro_previous)
+        self.stationary_half_done, self.stationary_has_previous = bool(half_done), bool(has_previous)
+        self.stationary_baro_still = bool(baro_still)
         self.gap_count_ = int(gap_count)
         self.aligned, self.baro_initialised, self.mag_initialised = bool(aligned), bool(baro_initialised), \
             bool(mag_initialised)

@@ -57,11 +57,13 @@ STATE_FIELDS = (tuple(f"settings.{name}" for name in C_SETTINGS)
                 + ("q.w", "q.x", "q.y", "q.z", "gyroBias.x", "gyroBias.y", "gyroBias.z", "distance", "velocity")
                 + tuple(f"P[{i}][{j}]" for i in range(N) for j in range(i, N))
                 + ("accelZBias", "baroBias", "yawCos", "yawSin", "stationaryTime", "rejectionTime", "baroElapsed",
-                   "magElapsed", "gapCount", "aligned", "baroInitialised", "magInitialised", "stationary",
-                   "accelRejected")
+                   "magElapsed", "stationaryHalfTime", "stationaryBaroSum", "stationaryBaroCount",
+                   "stationaryBaroPrevious", "gapCount", "aligned", "baroInitialised", "magInitialised", "stationary",
+                   "stationaryHalfDone", "stationaryHasPrevious", "stationaryBaroStill", "accelRejected")
                 + ("localToGlobal.w", "localToGlobal.x", "localToGlobal.y", "localToGlobal.z",
                    "globalQuaternion.w", "globalQuaternion.x", "globalQuaternion.y", "globalQuaternion.z"))
-INTEGER_FIELDS = ("gapCount", "aligned", "baroInitialised", "magInitialised", "stationary", "accelRejected")
+INTEGER_FIELDS = ("gapCount", "aligned", "baroInitialised", "magInitialised", "stationary", "stationaryHalfDone",
+                  "stationaryHasPrevious", "stationaryBaroStill", "accelRejected")
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS if name not in INTEGER_FIELDS)
 DEFAULTS = {name: f32(default) for name, _, default, _ in INS_SETTINGS}
 
@@ -95,9 +97,14 @@ class Recorder(vc.Recorder):
         words += (vc.bits(e.distance), vc.bits(e.velocity))
         words += tuple(vc.bits(e.P[i, j]) for i in range(N) for j in range(i, N))
         words += tuple(vc.bits(x) for x in (e.accel_z_bias_, e.baro_bias_, e.yaw_cos, e.yaw_sin, e.stationary_time,
-                                             e.rejection_time, e.baro_elapsed, e.mag_elapsed))
+                                             e.rejection_time, e.baro_elapsed, e.mag_elapsed,
+                                             e.stationary_half_time, e.stationary_baro_sum, e.stationary_baro_count,
+                                             e.stationary_baro_previous))
         words += (e.gap_count_ & 0xFFFFFFFF,) + tuple(int(x) for x in (e.aligned, e.baro_initialised,
                                                                          e.mag_initialised, e.stationary,
+                                                                         e.stationary_half_done,
+                                                                         e.stationary_has_previous,
+                                                                         e.stationary_baro_still,
                                                                          e.accel_rejected))
         with np.errstate(all="ignore"):
             words += tuple(vc.bits(x) for x in e.local_to_global) + tuple(vc.bits(x) for x in e.global_quaternion)
@@ -147,6 +154,8 @@ class Recorder(vc.Recorder):
         self.count("accel rejected" if e.accel_rejected else "accel fused")
         if e.stationary:
             self.count("stationary")
+        elif e.stationary_time >= e.settings.f32("stationary_window"):
+            self.count("still, baro vetoes stationary")
         if not np.isnan(b):
             self.count("baro " + ("bias learning" if e.stationary else "fused"))
         if not np.isnan(m).all():
@@ -179,6 +188,7 @@ def build() -> Recorder:
     _alignment(r, rng)
     _rejected_inputs(r, rng)
     _accel_rejection_and_gaps(r)
+    _stationary_baro(r)
     _magnetometer(r)
     _settings_changes(r, rng)
     _random_steps(r, rng)
@@ -263,6 +273,26 @@ def _accel_rejection_and_gaps(r: Recorder) -> None:
         r.update((0.001, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
 
 
+def _stationary_baro(r: Recorder) -> None:
+    """Stationary detection with the baro veto: still IMU, baro climbing at 2 m/s then holding, then no baro."""
+    r.section("stationary and the baro: a constant-velocity climb still to the IMU (the baro vetoes), "
+              "then the baro holds, then no baro (IMU only); stationaryBaroRate 0.5 m/s, window 0.2 s")
+    r.initialise_with(stationary_window=0.2, stationary_baro_rate=0.5)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
+    altitude = 100.0
+    for k in range(60):  # 2 m/s climb: half-window means 0.2 m apart, above 0.5 * 0.1 = 0.05 m
+        altitude += 2.0 * 0.01
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01, altitude if k % 2 == 0 else NAN)
+    for k in range(60):  # holding: stationary after the next half-window test
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01, altitude + (0.01 if k % 4 == 0 else -0.01) if k % 2 == 0 else NAN)
+    for k in range(30):  # climbing again while stationary: the veto ends it
+        altitude += 2.0 * 0.01
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01, altitude if k % 2 == 0 else NAN)
+    for k in range(40):  # no baro: the IMU alone
+        r.update((0.001, 0.0, 0.0), LEVEL, 0.01)
+    r.update((0.5, 0.0, 0.0), LEVEL, 0.01, altitude)  # moving: restarts detection
+
+
 def _magnetometer(r: Recorder) -> None:
     """Magnetometer: a field along up (no horizontal part), the filter cancelling to zero."""
     r.section("magnetometer: field along up (no horizontal part), filter cancelling to zero (k = 0.5)")
@@ -327,7 +357,7 @@ def render() -> str:
         "Each record is one call; floats are IEEE 754 binary32 bit patterns.",
         "input: update (gyro x, y, z rad/s; accel x, y, z m/s^2; mag x, y, z or",
         "all NaN; baro altitude m or NaN; dt s); initialise_with and set_settings",
-        "(index into fusionAltitudeInsReplayVectorSettings, the 20 settings in struct order).",
+        "(index into fusionAltitudeInsReplayVectorSettings, the 21 settings in struct order).",
     ]
     return vc.render(recorder, file="ins_vectors.h", header="fusion_altitude_ins.h",
                      generator="generate_ins.py", reference="fusion_altitude.reference.ins",

@@ -312,6 +312,8 @@ _CSV_FLAGS = (
     ("--gps", "gps", "gps_column", None),
     ("--rangefinder", "rangefinder", "rangefinder_column", None),
     ("--accel-body", "accel_body", "accel_body_columns", None),
+    ("--gyro-body", "gyro_body", "gyro_body_columns", None),
+    ("--gyro-units", "gyro_units", "gyro_units", "rad/s"),
     ("--attitude-columns", "attitude_columns", "attitude_columns", None),
     ("--attitude-convention", "attitude_convention", "attitude_convention", "quaternion"),
     ("--frame", "frame", "frame", "NED"),
@@ -377,10 +379,10 @@ def _ground_temperature_k(text: Optional[str]):
 
 
 def _column_lists(args: argparse.Namespace) -> dict:
-    """``--accel-body`` and ``--attitude-columns`` split into column names (attribute → tuple); CliError on a
+    """``--accel-body``, ``--gyro-body`` and ``--attitude-columns`` split into column names (attribute → tuple); CliError on a
     wrong count or an empty name."""
     column_lists = {}
-    for flag, attribute, count in (("--accel-body", "accel_body", (3,)),
+    for flag, attribute, count in (("--accel-body", "accel_body", (3,)), ("--gyro-body", "gyro_body", (3,)),
                                    ("--attitude-columns", "attitude_columns", (3, 4))):
         text = getattr(args, attribute, None)
         if text is not None:
@@ -1177,6 +1179,10 @@ def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> Non
     group.add_argument("--accel-body", metavar="X,Y,Z",
                        help="CSV: body-frame accelerometer columns (specific force), instead of --accel; needs "
                             "--attitude-columns")
+    group.add_argument("--gyro-body", metavar="X,Y,Z",
+                       help="CSV: body-frame gyroscope columns, the axes of --accel-body: with them the log has a "
+                            "raw IMU and run picks the INS")
+    group.add_argument("--gyro-units", default="rad/s", choices=("rad/s", "deg/s"), help="CSV: units of --gyro-body")
     group.add_argument("--attitude-columns", metavar="COLS",
                        help="CSV: attitude columns: W,X,Y,Z (quaternion, body → earth) or ROLL,PITCH,YAW (ZYX Euler)")
     group.add_argument("--attitude-convention", default="quaternion",

@@ -345,13 +345,16 @@ class InsLogBatch(NamedTuple):
 
 
 def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
-    from ._ins import InsEstimator
+    from ._ins import InsEstimator, InsSettings
 
     gyro, accel = np.asarray(data.gyro, float), np.asarray(data.accel, float)
     if data.imu_frame == "FRD":  # to FLU (x forward, y left, z up): a level vehicle then reads roll 0, not ±180°
         flip = np.array([1.0, -1.0, -1.0])
         gyro, accel = gyro * flip, accel * flip
-    ins = InsEstimator(options.get("ins_settings"))
+    settings = options.get("ins_settings") or InsSettings()
+    # the rule of every estimator (tuning.gap_period_for): on a slow log (an IMU at 10 Hz or less) each step would
+    # exceed the 0.1 s default and the INS would never integrate
+    ins = InsEstimator(settings.replace(gap_period=gap_period_for(dt, settings.gap_period)))
     batch = ins.update_batch(gyro, accel, dt, data.baro_altitude)
     _gaps(options, ins, ins.settings.gap_period)
     _done(options, data.time.size)

@@ -342,3 +342,78 @@ def test_kalman_on_a_rocket_log_runs_with_the_rocket_settings(hedy):
     error = run.estimate.altitude - data.reference_altitude
     rms = float(np.sqrt(np.nanmean(error ** 2)))
     assert rms < 30.0, rms  # the general defaults: 476.6 m on this flight
+
+
+def write_raw_imu_csv(path: Path, every: int = 1, degrees: bool = False) -> "imu_sim.RawImuFlight":
+    """The simulator's `realistic` flight from a raw IMU (5 s at rest first), body FLU = the NWU frame of the CSV
+    flags, gyro in rad/s (or deg/s), baro empty between samples, every ``every``-th IMU row."""
+    from fusion_altitude import imu_sim
+
+    flight = imu_sim.simulate_raw_imu("realistic", seed=2, rest_duration=5.0)
+    rows = range(0, int(round(20.0 / flight.dt)), every)
+    scale = 180.0 / np.pi if degrees else 1.0
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["t", "gx", "gy", "gz", "ax", "ay", "az", "qw", "qx", "qy", "qz", "alt"])
+        for k in rows:
+            baro = flight.baro_altitude[k]
+            writer.writerow([repr(float(flight.time[k])), *(repr(float(v) * scale) for v in flight.gyro[k]),
+                             *(repr(float(v)) for v in flight.accel[k]), "1", "0", "0", "0",
+                             "" if np.isnan(baro) else repr(float(baro))])
+    return flight
+
+
+RAW_IMU_FLAGS = ["--time", "t", "--accel-body", "ax,ay,az", "--gyro-body", "gx,gy,gz", "--attitude-columns",
+                 "qw,qx,qy,qz", "--frame", "NWU", "--baro", "alt"]
+
+
+def test_run_picks_the_ins_on_a_csv_with_gyro_and_accelerometer_columns(tmp_path, capsys):
+    path = tmp_path / "raw.csv"
+    write_raw_imu_csv(path)
+    assert main(["run", str(path), *RAW_IMU_FLAGS]) == 0
+    assert "estimator ins (raw gyro and accelerometer in the log)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("degrees", [False, True])
+def test_run_ins_on_a_raw_imu_csv_is_the_binding_on_its_columns(tmp_path, degrees):
+    path = tmp_path / "raw.csv"
+    write_raw_imu_csv(path, degrees=degrees)
+    data = logs.read_csv_log(str(path), "t", baro_column="alt", accel_body_columns=("ax", "ay", "az"),
+                             attitude_columns=("qw", "qx", "qy", "qz"), frame="NWU",
+                             gyro_body_columns=("gx", "gy", "gz"), gyro_units="deg/s" if degrees else "rad/s")
+    assert data.imu_frame == "FLU" and data.gyro.shape == data.accel.shape
+    run = runner.run_log(data, estimator="ins")
+    direct = InsEstimator().update_batch(data.gyro, data.accel, runner.sample_periods(data.time), data.baro_altitude)
+    assert np.array_equal(run.estimate.height, direct.altitude)
+    assert run.gap_count == 0
+
+
+def test_a_raw_imu_csv_in_degrees_reads_the_same_rates(tmp_path):
+    radians, degrees = tmp_path / "rad.csv", tmp_path / "deg.csv"
+    write_raw_imu_csv(radians)
+    write_raw_imu_csv(degrees, degrees=True)
+    common = dict(baro_column="alt", accel_body_columns=("ax", "ay", "az"), attitude_columns=("qw", "qx", "qy", "qz"),
+                  frame="NWU", gyro_body_columns=("gx", "gy", "gz"))
+    a = logs.read_csv_log(str(radians), "t", **common)
+    b = logs.read_csv_log(str(degrees), "t", gyro_units="deg/s", **common)
+    assert np.allclose(a.gyro, b.gyro, rtol=1e-12, atol=1e-15)
+
+
+def test_the_ins_integrates_a_slow_raw_imu_log_instead_of_calling_every_step_a_gap(tmp_path):
+    """5 Hz rows (dt 0.2 s, above the INS's 0.1 s default gap period): the gap period of every estimator is raised
+    to ten nominal periods on a slow log (tuning.gap_period_for), so no step is a gap."""
+    path = tmp_path / "slow.csv"
+    write_raw_imu_csv(path, every=20)  # the simulator's 100 Hz → 5 Hz
+    data = logs.read_csv_log(str(path), "t", baro_column="alt", accel_body_columns=("ax", "ay", "az"),
+                             attitude_columns=("qw", "qx", "qy", "qz"), frame="NWU", gyro_body_columns=("gx", "gy", "gz"))
+    run = runner.run_log(data, estimator="ins")
+    assert run.gap_count == 0 and run.gap_period > 0.2
+
+
+def test_gyro_columns_without_accelerometer_columns_are_one_line_exit_2(tmp_path, capsys):
+    path = tmp_path / "raw.csv"
+    write_raw_imu_csv(path)
+    flags = ["--time", "t", "--accel", "az", "--gyro-body", "gx,gy,gz", "--baro", "alt", "--remove-gravity"]
+    assert main(["run", str(path), *flags]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "gyroscope columns need body accelerometer columns" in err[0], err

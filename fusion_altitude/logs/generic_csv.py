@@ -13,6 +13,7 @@ from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header
 
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
+GYRO_UNITS = {"rad/s": 1.0, "deg/s": float(np.pi / 180.0)}
 ALTITUDE_UNITS = {"m": 1.0, "ft": 0.3048}
 ATTITUDE_CONVENTIONS = ("quaternion", "euler_deg", "euler_rad")
 FRAMES = {"NED": "FRD", "NWU": "FLU", "ENU": "RFU"}
@@ -67,7 +68,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                  frame: str = "NED", gps_column: Optional[str] = None, rangefinder_column: Optional[str] = None,
                  temperature_column: Optional[str] = None,
                  temperature_units: str = "C", ground_temperature_k: Union[None, float, str] = None,
-                 progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+                 progress: Optional[Callable[[int, int], None]] = None,
+                 gyro_body_columns: Optional[Sequence[str]] = None, gyro_units: str = "rad/s") -> LogData:
     """Read a CSV log with a header row; the caller names the columns.
 
     Parameters
@@ -136,6 +138,11 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         takes it from ``temperature_column`` over the first second.
     progress : callable(done, total), optional
         Called while reading (units: characters of the file).
+    gyro_body_columns : (str, str, str), optional
+        Body-frame gyroscope x, y, z columns in ``gyro_units``, the axes of
+        ``accel_body_columns`` (needs them): with both, the log has a raw
+        IMU (``LogData.gyro``, ``LogData.accel``) and ``run`` picks the INS.
+    gyro_units : {"rad/s", "deg/s"}
 
     Returns
     -------
@@ -153,9 +160,11 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
                    temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
                    ground_temperature_k, temperature_column)
+    _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns)
     source = f"{os.path.basename(path)} (CSV)"
     roles = _column_roles(time_column, accel_column, baro_column or pressure_column, accel_body_columns,
                           attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column)
+    roles.update({f"gyro{i}": name for i, name in enumerate(gyro_body_columns or ())})
     time, column, lines, dropped, repeated = _read_columns(path, roles, progress)
     notes = [f"time {time_column!r}"]
     scale = ACCEL_UNITS[accel_units]
@@ -168,6 +177,10 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                                               attitude_columns, attitude_convention, frame)
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
+    gyro = None
+    if gyro_body_columns is not None:
+        gyro = np.column_stack([column[f"gyro{i}"] for i in range(3)]) * GYRO_UNITS[gyro_units]
+        notes.append(f"gyro body {', '.join(gyro_body_columns)} ({gyro_units}, {frame})")
     altitude_scale = ALTITUDE_UNITS[altitude_units]
     temperature = None
     if temperature_column is not None:
@@ -192,7 +205,7 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
     log = LogData(source, time, accel, baro, reference_altitude=reference,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
-                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body,
+                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body, gyro=gyro,
                   imu_frame=FRAMES[frame] if accel_body is not None else "",
                   pressure=pressure, temperature=temperature, altitude_reference=altitude_reference,
                   ground_altitude=ground_altitude, repeated_timestamps=repeated)
@@ -229,6 +242,18 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
                 raise LogError("ground temperature 'log' needs a temperature column")
         elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
             raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
+
+
+def _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns) -> None:
+    """Refuse bad body-gyroscope options of :func:`read_csv_log` (LogError)."""
+    if gyro_body_columns is None:
+        return
+    if len(gyro_body_columns) != 3:
+        raise LogError(f"body gyroscope columns: give 3 (x, y, z), got {len(gyro_body_columns)}")
+    if accel_body_columns is None:
+        raise LogError("body gyroscope columns need body accelerometer columns (the raw IMU, same axes)")
+    if gyro_units not in GYRO_UNITS:
+        raise LogError(f"gyro units must be 'rad/s' or 'deg/s', got {gyro_units!r}")
 
 
 def _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame) -> None:
@@ -282,7 +307,7 @@ def _read_columns(path: str, roles: dict, progress):
     check_finite(path, roles["time"], column["time"], lines)
     required = ["accel"] if "accel" in roles else [f"body{i}" for i in range(3)]
     if "accel" not in roles:
-        required += [role for role in roles if role.startswith("att")]
+        required += [role for role in roles if role.startswith("att") or role.startswith("gyro")]
     for role in required:
         check_finite(path, roles[role], column[role], lines)
     time, merged, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, roles["time"])

@@ -270,7 +270,7 @@ typedef struct {
     bool stationary;           /**< stationary detected this step */
     bool stationaryHalfDone;   /**< a half window completed since still began */
     bool stationaryHasPrevious; /**< the previous half window had a baro reading */
-    bool stationaryBaroStill;  /**< the latest half-window test found the baro still */
+    bool stationaryBaroStill;  /**< no baro veto: the latest half-window test found the baro still (or no readings) */
     bool accelRejected;        /**< the latest step did not use the accel for attitude */
 } FusionAltitudeIns;
 
@@ -394,6 +394,18 @@ static inline void FusionAltitudeInsResetCovariance(FusionAltitudeIns *const ins
     ins->P[7][7] = s->initialVelocitySigma * s->initialVelocitySigma;
 }
 
+/** Internal. Restarts stationary detection: the still timer (s) and the baro half-window test. */
+static inline void FusionAltitudeInsRestartStationary(FusionAltitudeIns *const ins) {
+    ins->stationaryTime = 0.0f;
+    ins->stationaryHalfTime = 0.0f;
+    ins->stationaryBaroSum = 0.0f;
+    ins->stationaryBaroCount = 0.0f;
+    ins->stationaryBaroPrevious = 0.0f;
+    ins->stationaryHalfDone = false;
+    ins->stationaryHasPrevious = false;
+    ins->stationaryBaroStill = true; /* no baro reading yet: no veto */
+}
+
 /**
  * @brief Initialises the INS with the given settings (NULL: defaults;
  * rejected with the INS untouched if they fail the check): not aligned,
@@ -409,6 +421,7 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsInitialiseWith(FusionAlti
     ins->settings = s;
     ins->q[0] = 1.0f;
     ins->yawCos = 1.0f;
+    FusionAltitudeInsRestartStationary(ins);
     FusionAltitudeInsResetCovariance(ins);
     return FusionAltitudeInsStatusOk;
 }
@@ -773,18 +786,6 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     FusionAltitudeInsAddProcessNoise(ins, dt);
 }
 
-/** Internal. Restarts stationary detection: the still timer (s) and the baro half-window test. */
-static inline void FusionAltitudeInsRestartStationary(FusionAltitudeIns *const ins) {
-    ins->stationaryTime = 0.0f;
-    ins->stationaryHalfTime = 0.0f;
-    ins->stationaryBaroSum = 0.0f;
-    ins->stationaryBaroCount = 0.0f;
-    ins->stationaryBaroPrevious = 0.0f;
-    ins->stationaryHalfDone = false;
-    ins->stationaryHasPrevious = false;
-    ins->stationaryBaroStill = false;
-}
-
 /**
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
@@ -814,6 +815,8 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
  * over half windows (stationaryWindow / 2, s); at the end of each half after
  * the first, the baro is still unless both halves have readings and their
  * means differ by more than stationaryBaroRate * stationaryWindow / 2 (m).
+ * Readings in the first half veto until that first comparison; with no
+ * reading the IMU alone decides, as without this test.
  */
 static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(FusionAltitudeIns *const ins, const FusionAltitudeInsVector gyro,
                                                                               const float normError, const float baroAltitude, const float dt) {
@@ -840,6 +843,8 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(Fu
             const float change = mean - ins->stationaryBaroPrevious;
             const float magnitude = (change < 0.0f) ? -change : change;
             ins->stationaryBaroStill = !(hasMean && ins->stationaryHasPrevious && (magnitude > s->stationaryBaroRate * half));
+        } else {
+            ins->stationaryBaroStill = !hasMean; /* readings in the first half: wait for the comparison */
         }
         ins->stationaryHalfDone = true;
         ins->stationaryHasPrevious = hasMean;

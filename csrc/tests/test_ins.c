@@ -374,6 +374,12 @@ static double CorrelationPivot(const FusionAltitudeIns *const ins) {
 #include "ins_negative_attitude_variance.h"
 #undef NAN_
 
+/* One step of a finding's table (columns: gyro, accel, mag, baro, dt): true when the update accepted it. */
+static bool FindingStep(FusionAltitudeIns *const ins, const float v[11]) {
+    return FusionAltitudeInsUpdate(ins, Vector(v[0], v[1], v[2]), Vector(v[3], v[4], v[5]), Vector(v[6], v[7], v[8]), v[9], v[10]) ==
+           FusionAltitudeInsStatusOk;
+}
+
 /* Replays the finding: before the fix P[0][0] went to -9.1e-6 (its 243rd accepted
    update). Now every variance stays >= 0 and every |correlation| <= 1 (all 2x2
    principal minors >= 0). What is NOT claimed: the whole P stays positive
@@ -386,10 +392,7 @@ static void FuzzerFindingKeepsVariancesNonNegativeAndCorrelationsBounded(void) {
     int negativeVariances = 0;
     int unboundedCorrelations = 0;
     for (int k = 0; k < INS_FINDING_STEPS; k++) {
-        const float *const v = insFindingSteps[k];
-        const FusionAltitudeInsStatus status =
-            FusionAltitudeInsUpdate(&ins, Vector(v[0], v[1], v[2]), Vector(v[3], v[4], v[5]), Vector(v[6], v[7], v[8]), v[9], v[10]);
-        if (status != FusionAltitudeInsStatusOk) {
+        if (!FindingStep(&ins, insFindingSteps[k])) {
             continue;
         }
         accepted++;
@@ -424,10 +427,7 @@ static void AttitudeVarianceGrowthFindingStaysFiniteAndBounded(void) {
     int nonFinite = 0;
     float largestAttitudeVariance = 0.0f;
     for (int k = 0; k < INS_GROWTH_STEPS; k++) {
-        const float *const v = insGrowthSteps[k];
-        const FusionAltitudeInsStatus status =
-            FusionAltitudeInsUpdate(&ins, Vector(v[0], v[1], v[2]), Vector(v[3], v[4], v[5]), Vector(v[6], v[7], v[8]), v[9], v[10]);
-        if (status != FusionAltitudeInsStatusOk) {
+        if (!FindingStep(&ins, insGrowthSteps[k])) {
             continue;
         }
         accepted++;

@@ -184,7 +184,7 @@ class InsEstimator(Checkpointable):
         self.stationary_baro_previous = _ZERO
         self.stationary_half_done = False
         self.stationary_has_previous = False
-        self.stationary_baro_still = False
+        self.stationary_baro_still = True  # no baro reading yet: no veto
 
     def _detect_stationary(self, gyro: np.ndarray, norm_error: np.float32, baro: np.float32, dt: np.float32) -> None:
         """FusionAltitudeInsDetectStationary: IMU still for the window, and the baro's half-window means
@@ -212,6 +212,8 @@ class InsEstimator(Checkpointable):
                 magnitude = -change if change < _ZERO else change
                 self.stationary_baro_still = not (has_mean and self.stationary_has_previous
                                                   and magnitude > s.f32("stationary_baro_rate") * half)
+            else:
+                self.stationary_baro_still = not has_mean  # readings in the first half: wait for the comparison
             self.stationary_half_done = True
             self.stationary_has_previous = has_mean
             self.stationary_baro_previous = f32(mean)

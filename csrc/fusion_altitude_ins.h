@@ -507,6 +507,22 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 }
 
 /**
+ * Internal. A variance P[k][k] above limit: row and column k zeroed and the
+ * variance held at limit (state k decorrelated; a principal submatrix and a
+ * positive diagonal remain).
+ */
+static inline void FusionAltitudeInsHoldVariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const int k,
+                                                 const float limit) {
+    if (P[k][k] > limit) {
+        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+            P[k][j] = 0.0f;
+            P[j][k] = 0.0f;
+        }
+        P[k][k] = limit;
+    }
+}
+
+/**
  * Internal. Keeps P a covariance in float32 (called once per step, after the prediction
  * and all the corrections: once per update rather than after each scalar
  * update keeps the M4F step under its cycle budget): an attitude variance above
@@ -531,13 +547,7 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     for (int i = 0; i < 3; i++) {
-        if (P[i][i] > FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT) {
-            for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-                P[i][j] = 0.0f;
-                P[j][i] = 0.0f;
-            }
-            P[i][i] = FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT;
-        }
+        FusionAltitudeInsHoldVariance(P, i, FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT);
     }
     float d[FUSION_ALTITUDE_INS_STATES];
     for (int i = 0; i < FUSION_ALTITUDE_INS_STATES; i++) {
@@ -748,13 +758,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsAddProcessNoise(Fus
     P[7][6] = P[6][7];
     P[7][7] = P[7][7] + qAccel;
     for (int k = 6; k < FUSION_ALTITUDE_INS_STATES; k++) {
-        if (P[k][k] > FUSION_ALTITUDE_INS_VARIANCE_LIMIT) {
-            for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-                P[k][j] = 0.0f;
-                P[j][k] = 0.0f;
-            }
-            P[k][k] = FUSION_ALTITUDE_INS_VARIANCE_LIMIT;
-        }
+        FusionAltitudeInsHoldVariance(P, k, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
     }
 }
 

@@ -241,7 +241,8 @@ INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive",
                 "FusionAltitudeInsConditionCovariance", "FusionAltitudeInsPredictCovariance", "FusionAltitudeInsAddProcessNoise",
                 "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
                 "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
-                "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary"}
+                "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary",
+                "FusionAltitudeInsHoldVariance"}
 
 
 def test_every_public_ins_function_is_built_and_sized():

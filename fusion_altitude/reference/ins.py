@@ -111,6 +111,15 @@ class InsSettings(KeywordSettings):
         return f32(self._values[name])
 
 
+def _hold_variance(P: np.ndarray, k: int, limit: np.float32) -> None:
+    """FusionAltitudeInsHoldVariance: a variance P[k, k] above limit is decorrelated (row and column k zeroed)
+    and held at limit, in place."""
+    if P[k, k] > limit:
+        P[k, :] = 0
+        P[:, k] = 0
+        P[k, k] = limit
+
+
 def _normalise(q: np.ndarray) -> np.ndarray:
     """FusionAltitudeInsNormalise."""
     norm = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
@@ -299,10 +308,7 @@ class InsEstimator(Checkpointable):
         P[7, 6] = P[6, 7]
         P[7, 7] = P[7, 7] + q_accel
         for k in (6, 7):
-            if P[k, k] > VARIANCE_LIMIT:
-                P[k, :] = 0
-                P[:, k] = 0
-                P[k, k] = VARIANCE_LIMIT
+            _hold_variance(P, k, VARIANCE_LIMIT)
         self.P = P
 
     # -- FusionAltitudeInsConditionCovariance ------------------------------------------------
@@ -317,10 +323,7 @@ class InsEstimator(Checkpointable):
         """
         P = P.copy()
         for i in range(3):
-            if P[i, i] > ATTITUDE_VARIANCE_LIMIT:
-                P[i, :] = 0
-                P[:, i] = 0
-                P[i, i] = ATTITUDE_VARIANCE_LIMIT
+            _hold_variance(P, i, ATTITUDE_VARIANCE_LIMIT)
         diagonal = np.diagonal(P).copy()
         diagonal = np.where(diagonal < _ZERO, _ZERO, diagonal).astype(np.float32)
         np.fill_diagonal(P, diagonal)

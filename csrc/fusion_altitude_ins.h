@@ -84,9 +84,11 @@
  *   sets q to the shortest rotation taking accel to +z (yaw 0); samples
  *   before it are ignored (Ok, nothing changes).
  * Gaps: a dt > gapPeriod is not integrated: gapCount += 1, the prediction is
- *   skipped, the stationary timer restarts, and the attitude and velocity
+ *   skipped, the stationary timer restarts, the attitude and velocity
  *   variances are raised to at least their initial values (so the next
- *   corrections pull hard); the step's corrections still run.
+ *   corrections pull hard), and d is decorrelated with the variance
+ *   FUSION_ALTITUDE_INS_VARIANCE_LIMIT (the next baro reading sets the
+ *   height); the step's corrections still run.
  *
  * Bit-exact results across compilers and targets need IEEE float32 without
  * fused multiply-add contraction; the header turns contraction off for gcc
@@ -507,18 +509,23 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
 }
 
 /**
- * Internal. A variance P[k][k] above limit: row and column k zeroed and the
- * variance held at limit (state k decorrelated; a principal submatrix and a
- * positive diagonal remain).
+ * Internal. Decorrelates state k: row and column k of P zeroed, P[k][k] =
+ * variance (a principal submatrix and a positive diagonal remain).
  */
+static inline void FusionAltitudeInsDecorrelate(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const int k,
+                                                const float variance) {
+    for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
+        P[k][j] = 0.0f;
+        P[j][k] = 0.0f;
+    }
+    P[k][k] = variance;
+}
+
+/** Internal. A variance P[k][k] above limit: state k decorrelated and its variance held at limit. */
 static inline void FusionAltitudeInsHoldVariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const int k,
                                                  const float limit) {
     if (P[k][k] > limit) {
-        for (int j = 0; j < FUSION_ALTITUDE_INS_STATES; j++) {
-            P[k][j] = 0.0f;
-            P[j][k] = 0.0f;
-        }
-        P[k][k] = limit;
+        FusionAltitudeInsDecorrelate(P, k, limit);
     }
 }
 
@@ -793,8 +800,11 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
 /**
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
- * variance ((m/s)^2) to at least initialVelocitySigma^2, and stationary
- * detection restarts (stationaryTime = 0 s).
+ * variance ((m/s)^2) to at least initialVelocitySigma^2; the height is
+ * unknown (the vehicle moved during the gap): d is decorrelated with the
+ * variance FUSION_ALTITUDE_INS_VARIANCE_LIMIT (m^2), so the next baro reading
+ * sets it instead of pulling the velocity; and stationary detection restarts
+ * (stationaryTime = 0 s).
  */
 static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeIns *const ins) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
@@ -806,6 +816,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
         ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
     }
     ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
+    FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
     FusionAltitudeInsRestartStationary(ins);
 }
 

@@ -111,13 +111,17 @@ class InsSettings(KeywordSettings):
         return f32(self._values[name])
 
 
+def _decorrelate(P: np.ndarray, k: int, variance: np.float32) -> None:
+    """FusionAltitudeInsDecorrelate: row and column k of P zeroed, P[k, k] = variance, in place."""
+    P[k, :] = 0
+    P[:, k] = 0
+    P[k, k] = variance
+
+
 def _hold_variance(P: np.ndarray, k: int, limit: np.float32) -> None:
-    """FusionAltitudeInsHoldVariance: a variance P[k, k] above limit is decorrelated (row and column k zeroed)
-    and held at limit, in place."""
+    """FusionAltitudeInsHoldVariance: a variance P[k, k] above limit is decorrelated and held at limit, in place."""
     if P[k, k] > limit:
-        P[k, :] = 0
-        P[:, k] = 0
-        P[k, k] = limit
+        _decorrelate(P, k, limit)
 
 
 def _normalise(q: np.ndarray) -> np.ndarray:
@@ -377,6 +381,7 @@ class InsEstimator(Checkpointable):
             for i in range(3):
                 self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
             self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
+            _decorrelate(self.P, 6, VARIANCE_LIMIT)  # the height is unknown after a gap: the next baro sets it
             self._restart_stationary()
         else:
             w = gyro - self.gyro_bias_

@@ -379,8 +379,8 @@ def _ground_temperature_k(text: Optional[str]):
 
 
 def _column_lists(args: argparse.Namespace) -> dict:
-    """``--accel-body``, ``--gyro-body`` and ``--attitude-columns`` split into column names (attribute → tuple); CliError on a
-    wrong count or an empty name."""
+    """``--accel-body``, ``--gyro-body`` and ``--attitude-columns`` split into column names (attribute → tuple);
+    CliError on a wrong count or an empty name."""
     column_lists = {}
     for flag, attribute, count in (("--accel-body", "accel_body", (3,)), ("--gyro-body", "gyro_body", (3,)),
                                    ("--attitude-columns", "attitude_columns", (3, 4))):
@@ -1087,7 +1087,8 @@ def _add_run_parser(commands) -> None:
     _add_log_arguments(run)
     run.add_argument("--estimator", default=None, choices=list(ESTIMATORS),
                      help="estimator (default: rocket on a rocket log (AltOS, CATS) or with --rocket, else ins "
-                          "on a log with a raw gyro and accelerometer, else observer): " + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
+                          "on a log with a raw gyro and accelerometer, else observer): "
+                          + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
     run.add_argument("--rocket", action="store_true",
                      help="run the rocket flight layer (pad calibration, baro lockout, flight events) on any log")
     run.add_argument("--events-csv", metavar="EVENTS.csv",

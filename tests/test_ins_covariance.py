@@ -13,6 +13,7 @@ FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (rad^2).
   accepted update) before the attitude variance limit.
 """
 
+import functools
 import importlib.util
 from pathlib import Path
 
@@ -29,6 +30,7 @@ FINDING_NAMES = ("ins_negative_attitude_variance.bin", "ins_attitude_variance_gr
 GROWTH = FINDING_NAMES[1:]
 
 
+@functools.lru_cache(maxsize=None)
 def _decode_ins():
     spec = importlib.util.spec_from_file_location("decode_ins", FINDINGS / "decode_ins.py")
     module = importlib.util.module_from_spec(spec)
@@ -38,7 +40,8 @@ def _decode_ins():
 
 def finding_run(name):
     """The settings keywords in effect and the update calls of one finding, float32 as the fuzzer passes them."""
-    settings, updates = _decode_ins().run_in_effect(_decode_ins().decode((FINDINGS / name).read_bytes()))
+    decode_ins = _decode_ins()
+    settings, updates = decode_ins.run_in_effect(decode_ins.decode((FINDINGS / name).read_bytes()))
     keywords = {field[0]: float(value) for field, value in zip(_c_tables.INS_SETTINGS, settings)}
     return keywords, [call[1:] for call in updates]
 

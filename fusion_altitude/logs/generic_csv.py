@@ -159,12 +159,11 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     """
     _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
                    temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
-                   ground_temperature_k, temperature_column)
-    _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns)
+                   ground_temperature_k, temperature_column, gyro_body_columns, gyro_units)
     source = f"{os.path.basename(path)} (CSV)"
     roles = _column_roles(time_column, accel_column, baro_column or pressure_column, accel_body_columns,
-                          attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column)
-    roles.update({f"gyro{i}": name for i, name in enumerate(gyro_body_columns or ())})
+                          attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column,
+                          gyro_body_columns)
     time, column, lines, dropped, repeated = _read_columns(path, roles, progress)
     notes = [f"time {time_column!r}"]
     scale = ACCEL_UNITS[accel_units]
@@ -218,7 +217,7 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
 
 def _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
                    temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
-                   ground_temperature_k, temperature_column) -> None:
+                   ground_temperature_k, temperature_column, gyro_body_columns, gyro_units) -> None:
     """Refuse a bad combination of :func:`read_csv_log` options (LogError), before the file is read."""
     if (baro_column is None) == (pressure_column is None):
         raise LogError("give exactly one of a baro altitude column or a pressure column")
@@ -234,6 +233,7 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
         raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
     if accel_body_columns is not None:
         _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame)
+    _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns)
     if ground_temperature_k is not None:
         if pressure_column is None:
             raise LogError("a ground temperature needs a pressure column")
@@ -274,14 +274,16 @@ def _check_body_options(accel_body_columns, attitude_columns, attitude_conventio
 
 
 def _column_roles(time_column, accel_column, baro_column, accel_body_columns, attitude_columns,
-                  reference_column, gps_column, rangefinder_column, temperature_column) -> dict:
-    """Role ("time", "accel", "body0", "att0", "baro", …) → column name, for the columns asked for."""
+                  reference_column, gps_column, rangefinder_column, temperature_column,
+                  gyro_body_columns) -> dict:
+    """Role ("time", "accel", "body0", "att0", "gyro0", "baro", …) → column name, for the columns asked for."""
     roles = {"time": time_column, "baro": baro_column}
     if accel_column is not None:
         roles["accel"] = accel_column
     else:
         roles.update({f"body{i}": name for i, name in enumerate(accel_body_columns)})
         roles.update({f"att{i}": name for i, name in enumerate(attitude_columns)})
+    roles.update({f"gyro{i}": name for i, name in enumerate(gyro_body_columns or ())})
     for role, name in (("reference", reference_column), ("gps", gps_column), ("rangefinder", rangefinder_column),
                        ("temperature", temperature_column)):
         if name is not None:

@@ -18,6 +18,11 @@ else:
         # the gain sweep also gets an AVX2 clone, chosen at load time (same bits: no FMA)
         compile_args.append("-DFUSION_ALTITUDE_SWEEP_MULTIVERSION")
 
+# Per module: the INS step is a chain of short fixed-count loops over its 8x8 covariance; unrolled, its
+# batch runs 3 % faster on x86-64 (benchmarks/c_steps.c ins: 154 -> 150 ns/step). Unrolling does not
+# reorder floating-point operations: the same bits.
+EXTRA_ARGS = {} if sys.platform == "win32" else {"_ins": ["-funroll-loops"]}
+
 # One extension per binding module fusion_altitude/_NAME.pyx; each wraps
 # headers from csrc/ and holds no copy of an algorithm. The _NAME_fields.pxi
 # they include are generated from the headers: python tools/generate_bindings.py.
@@ -27,7 +32,7 @@ extensions = [
         [str(path)],
         include_dirs=["csrc"],
         depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude").glob("*.px[di]"))],
-        extra_compile_args=compile_args,
+        extra_compile_args=compile_args + EXTRA_ARGS.get(path.stem, []),
     )
     for path in sorted(Path("fusion_altitude").glob("_*.pyx"))
 ]

@@ -8,6 +8,7 @@ from libc.stdint cimport int32_t, uint8_t, uint32_t
 cdef extern from "fusion_altitude_ins.h" nogil:
     int FUSION_ALTITUDE_INS_STATES
     float FUSION_ALTITUDE_INS_MAXIMUM
+    float FUSION_ALTITUDE_INS_NEWTON_NORM
     float FUSION_ALTITUDE_INS_VARIANCE_LIMIT
     float FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT
     float FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT

@@ -43,6 +43,7 @@ GRAVITY = f32(9.80665)
 VARIANCE_LIMIT = f32(1e4)
 ATTITUDE_VARIANCE_LIMIT = f32(1e2)
 YAW_VARIANCE_LIMIT = f32(1e-4)
+NEWTON_NORM = f32(1e-4)  # FUSION_ALTITUDE_INS_NEWTON_NORM
 _ZERO = f32(0)
 _ONE = f32(1)
 _HALF = f32(0.5)
@@ -126,8 +127,12 @@ def _hold_variance(P: np.ndarray, k: int, limit: np.float32) -> None:
 
 def _normalise(q: np.ndarray) -> np.ndarray:
     """FusionAltitudeInsNormalise."""
-    norm = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-    inverse = _ONE / norm
+    norm2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
+    excess = norm2 - _ONE
+    if -NEWTON_NORM < excess < NEWTON_NORM:  # 1/|q| = 1 - e/2 + O(e²): error < 4e-9 (no square root)
+        inverse = _ONE - f32(0.5) * excess
+    else:
+        inverse = _ONE / np.sqrt(norm2)
     return np.array([q[0] * inverse, q[1] * inverse, q[2] * inverse, q[3] * inverse], dtype=f32)
 
 
@@ -340,9 +345,10 @@ class InsEstimator(Checkpointable):
 
     # -- FusionAltitudeInsFuseGain / Fuse / LimitYaw -------------------------------------------
     def _fuse_gain(self, dx: np.ndarray, c: np.ndarray, S: np.float32, innovation: np.float32) -> None:
-        K = c / S
-        dx += K * innovation
-        self.P = (self.P - (np.outer(K, c) + np.outer(c, K))) + np.outer(K, K) * S
+        # K = c/S as c times 1/S; P - c cᵀ/S entry by entry as (c_i c_j)(1/S): bit-symmetric
+        inverse_S = _ONE / S
+        dx += (c * inverse_S) * innovation
+        self.P = self.P - np.outer(c, c) * inverse_S
 
     def _fuse(self, dx, i0, h0, i1, h1, y, R) -> None:
         P = self.P

@@ -57,6 +57,14 @@
  *           (v = 0, sigma zeroVelocityNoise).
  *   baro    z = baro - baroBias measures d (sigma baroNoise); not while
  *           stationary, when every baro reading goes to the baro bias.
+ *           Innovation gate: rejected when y^2 > baroGate^2 * S (a glitch,
+ *           a pyro or transonic spike: the INS coasts on the IMU); a
+ *           rejection streak longer than baroRejectionTimeout (s) means the
+ *           INS height is what is wrong (it drifted, or the vehicle moved
+ *           during the streak): d is decorrelated with the variance
+ *           FUSION_ALTITUDE_INS_VARIANCE_LIMIT, the velocity variance raised
+ *           to at least initialVelocitySigma^2, and the reading fused (it
+ *           sets d; baroResets += 1). The streak's clock runs by dt; a gap ends it.
  *   Each: c = P h^T, S = h c + R, K = c/S, y = z - h (x_nominal + dx),
  *   dx += K y, P <- P - c c^T / S, entry by entry P_ij - (c_i c_j)(1/S), so
  *   that entry (i, j) and entry (j, i) round identically: P stays exactly
@@ -90,7 +98,7 @@
  *   variances are raised to at least their initial values (so the next
  *   corrections pull hard), and d is decorrelated with the variance
  *   FUSION_ALTITUDE_INS_VARIANCE_LIMIT (the next baro reading sets the
- *   height); the step's corrections still run.
+ *   height), a baro rejection streak ends; the step's corrections still run.
  *
  * Bit-exact results across compilers and targets need IEEE float32 without
  * fused multiply-add contraction; the header turns contraction off for gcc
@@ -251,6 +259,8 @@ typedef struct {
     float initialVelocitySigma;    /**< m/s: initial velocity uncertainty */
     float gapPeriod;               /**< s: a dt above it is a gap, not integrated (> 0) */
     float stationaryBaroRate;      /**< m/s: the baro moving faster than this (half-window means) vetoes stationary */
+    float baroGate;                /**< sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0) */
+    float baroRejectionTimeout;    /**< s: baro rejected for longer: d reset from the next reading */
 } FusionAltitudeInsSettings;
 
 /** Filter state. Read it through the Get functions. */
@@ -273,7 +283,10 @@ typedef struct {
     float stationaryBaroSum;   /**< m: sum of the baro readings of the current half window */
     float stationaryBaroCount; /**< baro readings in the current half window */
     float stationaryBaroPrevious; /**< m: mean baro of the previous half window */
+    float baroRejectingFor;    /**< s since the first reading of the current baro rejection streak; 0 when none */
     uint32_t gapCount;         /**< steps with dt > gapPeriod, not integrated */
+    uint32_t baroRejections;   /**< baro readings rejected by the gate, in total */
+    uint32_t baroResets;       /**< d reset from the baro after a rejection streak longer than the timeout, in total */
     bool aligned;              /**< attitude set from the first usable accel sample */
     bool baroInitialised;      /**< baro bias set from the first baro sample */
     bool magInitialised;       /**< yaw offset set from the first usable mag sample */
@@ -282,6 +295,7 @@ typedef struct {
     bool stationaryHasPrevious; /**< the previous half window had a baro reading */
     bool stationaryBaroStill;  /**< no baro veto: the latest half-window test found the baro still (or no readings) */
     bool accelRejected;        /**< the latest step did not use the accel for attitude */
+    bool baroRejecting;        /**< a baro rejection streak is in progress */
 } FusionAltitudeIns;
 
 //------------------------------------------------------------------------------
@@ -319,7 +333,8 @@ static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeIns
  *   recoveryTriggerPeriod 5 s, baroNoise 0.3 m, stationary below 0.05 rad/s
  *   and 0.5 m/s^2 for 1 s, zeroRateNoise 0.01 rad/s, zeroVelocityNoise
  *   0.05 m/s, baroBiasTimeConstant 5 s, accelBiasTimeConstant 2 s, magTimeConstant 2 s, initial sigmas
- *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s, stationaryBaroRate 0.5 m/s.
+ *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s, stationaryBaroRate 0.5 m/s,
+ *   baroGate 5 sigma, baroRejectionTimeout 1 s (as the Kalman filter's gate).
  */
 static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     FusionAltitudeInsSettings s;
@@ -344,6 +359,8 @@ static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     s.initialVelocitySigma = 0.5f;
     s.gapPeriod = 0.1f;
     s.stationaryBaroRate = 0.5f;
+    s.baroGate = 5.0f;
+    s.baroRejectionTimeout = 1.0f;
     return s;
 }
 
@@ -370,11 +387,13 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const Fusio
                              FusionAltitudeInsIsNonNegative(s->stationaryGyroThreshold) &&
                              FusionAltitudeInsIsNonNegative(s->stationaryAccelThreshold) && FusionAltitudeInsIsNonNegative(s->stationaryWindow) &&
                              FusionAltitudeInsIsNonNegative(s->initialAttitudeSigma) && FusionAltitudeInsIsNonNegative(s->initialGyroBiasSigma) &&
-                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma) && FusionAltitudeInsIsNonNegative(s->stationaryBaroRate);
+                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma) && FusionAltitudeInsIsNonNegative(s->stationaryBaroRate) &&
+                             FusionAltitudeInsIsNonNegative(s->baroRejectionTimeout);
     const bool positive = FusionAltitudeInsIsPositive(s->accelAttitudeNoise) && FusionAltitudeInsIsPositive(s->baroNoise) &&
                           FusionAltitudeInsIsPositive(s->zeroRateNoise) && FusionAltitudeInsIsPositive(s->zeroVelocityNoise) &&
                           FusionAltitudeInsIsPositive(s->baroBiasTimeConstant) && FusionAltitudeInsIsPositive(s->accelBiasTimeConstant) &&
-                          FusionAltitudeInsIsPositive(s->magTimeConstant) && FusionAltitudeInsIsPositive(s->gapPeriod);
+                          FusionAltitudeInsIsPositive(s->magTimeConstant) && FusionAltitudeInsIsPositive(s->gapPeriod) &&
+                          FusionAltitudeInsIsPositive(s->baroGate);
     return (nonNegative && positive) ? FusionAltitudeInsStatusOk : FusionAltitudeInsStatusInvalidSettings;
 }
 
@@ -841,6 +860,8 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
     ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
     FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
     FusionAltitudeInsRestartStationary(ins);
+    ins->baroRejecting = false; /* the gap ends a baro rejection streak */
+    ins->baroRejectingFor = 0.0f;
 }
 
 /**
@@ -992,7 +1013,11 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseStationary(Fusi
  * bias b = baroAltitude - d (m); while stationary the bias is low-passed
  * towards baroAltitude - d with k = t / (baroBiasTimeConstant + t) (t: time
  * since the previous reading, s); otherwise d is fused with residual
- * (baroAltitude - b) - d (m), noise baroNoise^2 (m^2).
+ * y = (baroAltitude - b) - (d + dd) (m), noise R = baroNoise^2 (m^2), through
+ * the innovation gate: rejected while y^2 > baroGate^2 (P_dd + R); once the
+ * rejection streak is older than baroRejectionTimeout (s), d is decorrelated
+ * (variance FUSION_ALTITUDE_INS_VARIANCE_LIMIT, m^2), the velocity variance
+ * raised to at least initialVelocitySigma^2 ((m/s)^2), and the reading fused.
  */
 static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES],
                                                                       const float baroAltitude) {
@@ -1004,13 +1029,33 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAlti
     if (!ins->baroInitialised) {
         ins->baroBias = baroAltitude - ins->distance;
         ins->baroInitialised = true;
+    } else if (ins->stationary) { /* every reading is bias: d is held by the zero-velocity update */
+        const float k = ins->baroElapsed / (s->baroBiasTimeConstant + ins->baroElapsed);
+        ins->baroBias = ins->baroBias + k * ((baroAltitude - ins->distance) - ins->baroBias);
     } else {
-        if (ins->stationary) { /* every reading is bias: d is held by the zero-velocity update */
-            const float k = ins->baroElapsed / (s->baroBiasTimeConstant + ins->baroElapsed);
-            ins->baroBias = ins->baroBias + k * ((baroAltitude - ins->distance) - ins->baroBias);
-        } else {
-            FusionAltitudeInsFuse(ins, dx, 6, 1.0f, -1, 0.0f, (baroAltitude - ins->baroBias) - ins->distance, s->baroNoise * s->baroNoise);
+        const float R = s->baroNoise * s->baroNoise;
+        const float y = (baroAltitude - ins->baroBias) - ins->distance;
+        const float innovation = y - dx[6];
+        const float S = ins->P[6][6] + R;
+        if (innovation * innovation > (s->baroGate * s->baroGate) * S) {
+            ins->baroRejections++;
+            if (!ins->baroRejecting) {
+                ins->baroRejecting = true;
+                ins->baroRejectingFor = 0.0f;
+            }
+            if (!(ins->baroRejectingFor > s->baroRejectionTimeout)) {
+                ins->baroElapsed = 0.0f;
+                return; /* rejected: the INS coasts on the IMU */
+            }
+            /* the streak outlasted the timeout: the INS height is what is wrong; the reading sets it */
+            ins->baroResets++;
+            const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
+            ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
+            FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
         }
+        ins->baroRejecting = false;
+        ins->baroRejectingFor = 0.0f;
+        FusionAltitudeInsFuse(ins, dx, 6, 1.0f, -1, 0.0f, y, R);
     }
     ins->baroElapsed = 0.0f;
 }
@@ -1097,6 +1142,9 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
     ins->stationary = (ins->stationaryTime >= s->stationaryWindow) && ins->stationaryBaroStill;
     ins->baroElapsed = ins->baroElapsed + dt;
     ins->magElapsed = ins->magElapsed + dt;
+    if (ins->baroRejecting) {
+        ins->baroRejectingFor = ins->baroRejectingFor + dt;
+    }
 
     float dx[FUSION_ALTITUDE_INS_STATES] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     float r[3];
@@ -1205,6 +1253,21 @@ static inline bool FusionAltitudeInsIsStationary(const FusionAltitudeIns *const 
 /** @return true if the latest step did not use the accelerometer for attitude. */
 static inline bool FusionAltitudeInsIsAccelRejected(const FusionAltitudeIns *const ins) {
     return ins->accelRejected;
+}
+
+/** @return the number of baro readings rejected by the innovation gate. */
+static inline uint32_t FusionAltitudeInsGetBaroRejections(const FusionAltitudeIns *const ins) {
+    return ins->baroRejections;
+}
+
+/** @return the number of height resets from the baro after a rejection streak longer than baroRejectionTimeout. */
+static inline uint32_t FusionAltitudeInsGetBaroResets(const FusionAltitudeIns *const ins) {
+    return ins->baroResets;
+}
+
+/** @return true while a baro rejection streak is in progress (the latest readings failed the gate). */
+static inline bool FusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns *const ins) {
+    return ins->baroRejecting;
 }
 
 /** @return the number of steps with dt > gapPeriod (not integrated). */

@@ -355,6 +355,8 @@ INS_SETTINGS = (
     ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 0.5, 'm/s: initial velocity uncertainty'),
     ('gap_period', 'gapPeriod', 'f', 0.1, 's: a dt above it is a gap, not integrated (> 0)'),
     ('stationary_baro_rate', 'stationaryBaroRate', 'f', 0.5, 'm/s: the baro moving faster than this (half-window means) vetoes stationary'),
+    ('baro_gate', 'baroGate', 'f', 5.0, 'sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0)'),
+    ('baro_rejection_timeout', 'baroRejectionTimeout', 'f', 1.0, 's: baro rejected for longer: d reset from the next reading'),
 )
 
 

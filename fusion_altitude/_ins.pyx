@@ -297,6 +297,8 @@ cdef class InsEstimator(_InsEstimatorGetters):
             "stationary_baro_sum": np.float32(c.stationaryBaroSum),
             "stationary_baro_count": np.float32(c.stationaryBaroCount),
             "stationary_baro_previous": np.float32(c.stationaryBaroPrevious),
+            "baro_rejecting_for": np.float32(c.baroRejectingFor), "baro_rejections": int(c.baroRejections),
+            "baro_resets": int(c.baroResets), "baro_rejecting": bool(c.baroRejecting),
             "gap_count": int(c.gapCount), "aligned": bool(c.aligned), "baro_initialised": bool(c.baroInitialised),
             "mag_initialised": bool(c.magInitialised), "stationary": bool(c.stationary),
             "stationary_half_done": bool(c.stationaryHalfDone), "stationary_has_previous": bool(c.stationaryHasPrevious),

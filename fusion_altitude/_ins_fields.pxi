@@ -42,6 +42,8 @@ cdef FusionAltitudeInsSettings _settings_to_c(object values) except *:
     c.initialVelocitySigma = values['initial_velocity_sigma']
     c.gapPeriod = values['gap_period']
     c.stationaryBaroRate = values['stationary_baro_rate']
+    c.baroGate = values['baro_gate']
+    c.baroRejectionTimeout = values['baro_rejection_timeout']
     return c
 
 
@@ -69,6 +71,8 @@ cdef dict _settings_from_c(const FusionAltitudeInsSettings *c):
         'initial_velocity_sigma': c.initialVelocitySigma,
         'gap_period': c.gapPeriod,
         'stationary_baro_rate': c.stationaryBaroRate,
+        'baro_gate': c.baroGate,
+        'baro_rejection_timeout': c.baroRejectionTimeout,
     }
 
 
@@ -107,7 +111,10 @@ cdef tuple _state_get(const FusionAltitudeIns *c, object settings_out):
         c.stationaryBaroSum,
         c.stationaryBaroCount,
         c.stationaryBaroPrevious,
+        c.baroRejectingFor,
         int(c.gapCount),
+        int(c.baroRejections),
+        int(c.baroResets),
         bool(c.aligned),
         bool(c.baroInitialised),
         bool(c.magInitialised),
@@ -116,6 +123,7 @@ cdef tuple _state_get(const FusionAltitudeIns *c, object settings_out):
         bool(c.stationaryHasPrevious),
         bool(c.stationaryBaroStill),
         bool(c.accelRejected),
+        bool(c.baroRejecting),
     )
 
 
@@ -124,7 +132,7 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _stationary_half_time, _stationary_baro_sum, _stationary_baro_count, _stationary_baro_previous, _gap_count, _aligned, _baro_initialised, _mag_initialised, _stationary, _stationary_half_done, _stationary_has_previous, _stationary_baro_still, _accel_rejected,) = state
+    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _stationary_half_time, _stationary_baro_sum, _stationary_baro_count, _stationary_baro_previous, _baro_rejecting_for, _gap_count, _baro_rejections, _baro_resets, _aligned, _baro_initialised, _mag_initialised, _stationary, _stationary_half_done, _stationary_has_previous, _stationary_baro_still, _accel_rejected, _baro_rejecting,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     for i in range(4):
         c.q[i] = _q[i]
@@ -147,7 +155,10 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     c.stationaryBaroSum = _stationary_baro_sum
     c.stationaryBaroCount = _stationary_baro_count
     c.stationaryBaroPrevious = _stationary_baro_previous
+    c.baroRejectingFor = _baro_rejecting_for
     c.gapCount = _gap_count
+    c.baroRejections = _baro_rejections
+    c.baroResets = _baro_resets
     c.aligned = _aligned
     c.baroInitialised = _baro_initialised
     c.magInitialised = _mag_initialised
@@ -156,6 +167,7 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     c.stationaryHasPrevious = _stationary_has_previous
     c.stationaryBaroStill = _stationary_baro_still
     c.accelRejected = _accel_rejected
+    c.baroRejecting = _baro_rejecting
 
 
 
@@ -193,6 +205,21 @@ cdef class _InsEstimatorGetters(Estimator):
     def is_accel_rejected(self):
         """True if the latest step did not use the accelerometer for attitude."""
         return FusionAltitudeInsIsAccelRejected(&self._c)
+
+    @property
+    def baro_rejections(self):
+        """The number of baro readings rejected by the innovation gate."""
+        return FusionAltitudeInsGetBaroRejections(&self._c)
+
+    @property
+    def baro_resets(self):
+        """The number of height resets from the baro after a rejection streak longer than baroRejectionTimeout."""
+        return FusionAltitudeInsGetBaroResets(&self._c)
+
+    @property
+    def is_baro_rejecting(self):
+        """True while a baro rejection streak is in progress (the latest readings failed the gate)."""
+        return FusionAltitudeInsIsBaroRejecting(&self._c)
 
     @property
     def gap_count(self):

@@ -55,6 +55,8 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         float initialVelocitySigma
         float gapPeriod
         float stationaryBaroRate
+        float baroGate
+        float baroRejectionTimeout
 
     ctypedef struct FusionAltitudeIns:
         FusionAltitudeInsSettings settings
@@ -75,7 +77,10 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         float stationaryBaroSum
         float stationaryBaroCount
         float stationaryBaroPrevious
+        float baroRejectingFor
         uint32_t gapCount
+        uint32_t baroRejections
+        uint32_t baroResets
         bint aligned
         bint baroInitialised
         bint magInitialised
@@ -84,6 +89,7 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         bint stationaryHasPrevious
         bint stationaryBaroStill
         bint accelRejected
+        bint baroRejecting
 
     const char * FusionAltitudeInsStatusMessage(const FusionAltitudeInsStatus status)
     FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault()
@@ -102,4 +108,7 @@ cdef extern from "fusion_altitude_ins.h" nogil:
     float FusionAltitudeInsGetBaroBias(const FusionAltitudeIns * ins)
     bint FusionAltitudeInsIsStationary(const FusionAltitudeIns * ins)
     bint FusionAltitudeInsIsAccelRejected(const FusionAltitudeIns * ins)
+    uint32_t FusionAltitudeInsGetBaroRejections(const FusionAltitudeIns * ins)
+    uint32_t FusionAltitudeInsGetBaroResets(const FusionAltitudeIns * ins)
+    bint FusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns * ins)
     uint32_t FusionAltitudeInsGetGapCount(const FusionAltitudeIns * ins)

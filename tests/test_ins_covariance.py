@@ -3,6 +3,8 @@ decoded by decode_ins.py): the reference equals the C bit for bit on each, no
 variance goes negative, and the attitude variance stays finite and at most
 FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (rad^2).
 
+They were found before the baro innovation gate existed and replay without it (AS_FOUND).
+
 - ins_negative_attitude_variance.bin (default settings): 1e5 m baro jumps made
   P[0][0] negative (-9.1e-6 at the 243rd accepted update) before the
   conditioning.
@@ -38,12 +40,18 @@ def _decode_ins():
     return module
 
 
+#: The findings were found before the INS had a baro innovation gate; they replay without one (a gate of 1e6
+#: sigma), so that their baro jumps drive the covariance as they did.
+AS_FOUND = {"baro_gate": 1e6}
+
+
 def finding_run(name):
-    """The settings keywords in effect and the update calls of one finding, float32 as the fuzzer passes them."""
+    """The settings keywords in effect (``AS_FOUND`` applied) and the update calls of one finding, float32 as the
+    fuzzer passes them."""
     decode_ins = _decode_ins()
     settings, updates = decode_ins.run_in_effect(decode_ins.decode((FINDINGS / name).read_bytes()))
     keywords = {field[0]: float(value) for field, value in zip(_c_tables.INS_SETTINGS, settings)}
-    return keywords, [call[1:] for call in updates]
+    return {**keywords, **AS_FOUND}, [call[1:] for call in updates]
 
 
 def run(impl, name):
@@ -61,10 +69,26 @@ def run(impl, name):
 
 
 def test_the_growth_findings_run_with_the_settings_the_fuzzer_used():
-    assert finding_run(GROWTH[0])[0] == {field[0]: pytest.approx(field[3]) for field in _c_tables.INS_SETTINGS}
+    defaults = {field[0]: field[3] for field in _c_tables.INS_SETTINGS}
+    assert finding_run(GROWTH[0])[0] == pytest.approx({**defaults, **AS_FOUND})
     changed = {key: value for key, value in finding_run(GROWTH[1])[0].items()
-               if value != pytest.approx(dict((f[0], f[3]) for f in _c_tables.INS_SETTINGS)[key])}
+               if value != pytest.approx({**defaults, **AS_FOUND}[key])}
     assert changed == {"accel_rejection": pytest.approx(0.1), "recovery_trigger_period": pytest.approx(0.2)}
+
+
+@pytest.mark.parametrize("name", FINDING_NAMES)
+def test_with_the_default_baro_gate_the_finding_keeps_p_finite_and_the_attitude_bounded(name):
+    keywords, updates = finding_run(name)
+    ins = _ins.InsEstimator(_ins.InsSettings(**{**keywords, "baro_gate": 5.0}))
+    for gyro, accel, mag, baro, dt in updates:
+        try:
+            ins.update(gyro, accel, dt, baro_altitude=baro, mag=None if np.isnan(mag).all() else mag)
+        except ValueError:
+            continue
+        P = np.asarray(ins.covariance)
+        assert np.isfinite(P).all() and (np.diagonal(P) >= 0).all()
+        assert np.diagonal(P)[:3].max() <= _c_tables.FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT
+    assert ins.baro_rejections > 0  # its 1e5 m baro jumps fail the gate
 
 
 @pytest.mark.parametrize("name", FINDING_NAMES)

@@ -173,3 +173,26 @@ def test_after_a_2_s_logging_gap_the_next_baro_sets_the_height_without_a_velocit
     velocity_error = np.abs(batch.vertical_velocity - np.gradient(truth, time))
     assert velocity_error[after].max() <= velocity_error[first_baro] + 0.5
     assert velocity_error[(time > 19.0) & (time < 20.0)].max() < 0.5
+
+
+def test_an_80_m_baro_glitch_burst_does_not_move_the_height():
+    """A 0.5 s burst of 80 m baro glitches (a pyro or transonic spike) in the realistic flight: the innovation gate
+    rejects every reading of it and the INS coasts on the IMU, within 0.3 m of the truth through the burst and
+    after it (without the gate: pulled tens of metres, seconds to come back)."""
+    from fusion_altitude import InsEstimator, InsSettings
+
+    flight = imu_sim.simulate_raw_imu("realistic", seed=4, rest_duration=5.0)
+    baro = flight.baro_altitude.copy()
+    burst = (flight.time >= 15.0) & (flight.time < 15.5) & ~np.isnan(baro)
+    baro[burst] += 80.0
+    truth = flight.trajectory.altitude + flight.baro_offset
+    window = (flight.time >= 14.0) & (flight.time < 25.0)
+    errors = {}
+    for gate in (5.0, 1e6):
+        ins = InsEstimator(InsSettings(baro_gate=gate))
+        batch = ins.update_batch(flight.gyro, flight.accel, flight.dt, baro)
+        errors[gate] = np.abs(batch.altitude + batch.baro_bias - truth)[window].max()
+        if gate == 5.0:
+            assert ins.baro_rejections >= int(burst.sum()) and ins.baro_resets == 0
+    assert errors[5.0] < 0.3, errors
+    assert errors[1e6] > 20.0, errors

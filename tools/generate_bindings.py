@@ -91,6 +91,7 @@ PYTHON_NAMES = {
 GETTER_NAMES = {
     "FusionAltitudeInsIsStationary": "is_stationary",
     "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
+    "FusionAltitudeInsIsBaroRejecting": "is_baro_rejecting",
     "FusionAltitudeInsGetAccelZBias": "accel_z_bias",
 }
 

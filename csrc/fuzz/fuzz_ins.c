@@ -8,7 +8,7 @@
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:
  *   0 initialise with the working settings
- *   1 edit the working settings: field index byte (mod 21), 4 raw bytes, then
+ *   1 edit the working settings: field index byte (mod 23), 4 raw bytes, then
  *     SetSettings
  *   2 update with every argument raw: gyro, accel, mag (3 floats each), baro, dt
  *   3 update with bytes scaled into a plausible range (sane): gyro, accel, mag,
@@ -37,7 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIELDS (21)
+#define FIELDS (23)
 #define MAX_STEPS (20000)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -104,7 +104,7 @@ static bool SaneSettings(const FusionAltitudeInsSettings *const s) {
            Within(s->stationaryGyroThreshold, 0.0f, 1e3f) && Within(s->stationaryAccelThreshold, 0.0f, 1e3f) &&
            Within(s->stationaryWindow, 0.0f, 1e3f) && Within(s->baroBiasTimeConstant, 1e-3f, 1e3f) &&
            Within(s->accelBiasTimeConstant, 1e-3f, 1e3f) && Within(s->magTimeConstant, 1e-3f, 1e3f) && Within(s->gapPeriod, 1e-3f, 1e3f) &&
-           Within(s->stationaryBaroRate, 0.0f, 1e3f);
+           Within(s->stationaryBaroRate, 0.0f, 1e3f) && Within(s->baroGate, 1e-3f, 1e6f) && Within(s->baroRejectionTimeout, 0.0f, 1e3f);
 }
 
 static FusionAltitudeInsStatus Expected(const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,

@@ -184,7 +184,11 @@ class InsEstimator(Checkpointable):
         self.rejection_time = _ZERO
         self.baro_elapsed = _ZERO
         self.mag_elapsed = _ZERO
+        self.baro_rejecting_for = _ZERO
         self.gap_count_ = 0
+        self.baro_rejections_ = 0
+        self.baro_resets_ = 0
+        self.baro_rejecting = False
         self.aligned = False
         self.baro_initialised = False
         self.mag_initialised = False
@@ -389,6 +393,7 @@ class InsEstimator(Checkpointable):
             self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
             _decorrelate(self.P, 6, VARIANCE_LIMIT)  # the height is unknown after a gap: the next baro sets it
             self._restart_stationary()
+            self.baro_rejecting, self.baro_rejecting_for = False, _ZERO  # the gap ends a baro rejection streak
         else:
             w = gyro - self.gyro_bias_
             f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
@@ -397,6 +402,8 @@ class InsEstimator(Checkpointable):
         self.stationary = bool(self.stationary_time >= s.f32("stationary_window")) and self.stationary_baro_still
         self.baro_elapsed = self.baro_elapsed + dt
         self.mag_elapsed = self.mag_elapsed + dt
+        if self.baro_rejecting:
+            self.baro_rejecting_for = self.baro_rejecting_for + dt
 
         dx = np.zeros(N_STATES, dtype=f32)
         r = _up_in_body(self.q)
@@ -440,16 +447,7 @@ class InsEstimator(Checkpointable):
 
         # baro
         if not np.isnan(baro):
-            if not self.baro_initialised:
-                self.baro_bias_ = baro - self.distance
-                self.baro_initialised = True
-            else:
-                if self.stationary:
-                    k = self.baro_elapsed / (s.f32("baro_bias_time_constant") + self.baro_elapsed)
-                    self.baro_bias_ = self.baro_bias_ + k * ((baro - self.distance) - self.baro_bias_)
-                else:
-                    self._fuse(dx, 6, _ONE, -1, _ZERO, (baro - self.baro_bias_) - self.distance,
-                               s.f32("baro_noise") * s.f32("baro_noise"))
+            self._fuse_baro(dx, baro)
             self.baro_elapsed = _ZERO
 
         # once per step, after the prediction and every correction
@@ -483,6 +481,34 @@ class InsEstimator(Checkpointable):
                     else:
                         self.yaw_cos, self.yaw_sin = target_cos, target_sin
                 self.mag_elapsed = _ZERO
+
+    def _fuse_baro(self, dx: np.ndarray, baro: np.float32) -> None:
+        """FusionAltitudeInsFuseBaro (a reading present): bias, stationary bias filter, or the gated d update."""
+        s = self._s
+        if not self.baro_initialised:
+            self.baro_bias_ = baro - self.distance
+            self.baro_initialised = True
+        elif self.stationary:
+            k = self.baro_elapsed / (s.f32("baro_bias_time_constant") + self.baro_elapsed)
+            self.baro_bias_ = self.baro_bias_ + k * ((baro - self.distance) - self.baro_bias_)
+        else:
+            R = s.f32("baro_noise") * s.f32("baro_noise")
+            y = (baro - self.baro_bias_) - self.distance
+            innovation = y - dx[6]
+            gate = s.f32("baro_gate")
+            if innovation * innovation > (gate * gate) * (self.P[6, 6] + R):
+                self.baro_rejections_ = (self.baro_rejections_ + 1) & 0xFFFFFFFF
+                if not self.baro_rejecting:
+                    self.baro_rejecting, self.baro_rejecting_for = True, _ZERO
+                if not (self.baro_rejecting_for > s.f32("baro_rejection_timeout")):
+                    return  # rejected: the INS coasts on the IMU
+                # the streak outlasted the timeout: the INS height is what is wrong; the reading sets it
+                self.baro_resets_ = (self.baro_resets_ + 1) & 0xFFFFFFFF
+                velocity = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
+                self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
+                _decorrelate(self.P, 6, VARIANCE_LIMIT)
+            self.baro_rejecting, self.baro_rejecting_for = False, _ZERO
+            self._fuse(dx, 6, _ONE, -1, _ZERO, y, R)
 
     def update(self, gyro, accel, dt, baro_altitude=float("nan"), mag=None) -> None:
         """One IMU step (see :meth:`fusion_altitude.InsEstimator.update`)."""
@@ -582,6 +608,21 @@ class InsEstimator(Checkpointable):
         return int(self.gap_count_)
 
     @property
+    def baro_rejections(self) -> int:
+        """Baro readings rejected by the innovation gate, in total."""
+        return int(self.baro_rejections_)
+
+    @property
+    def baro_resets(self) -> int:
+        """Height resets from the baro after a rejection streak longer than baro_rejection_timeout."""
+        return int(self.baro_resets_)
+
+    @property
+    def is_baro_rejecting(self) -> bool:
+        """A baro rejection streak is in progress."""
+        return bool(self.baro_rejecting)
+
+    @property
     def covariance(self) -> np.ndarray:
         """Error covariance P (8 × 8), float32 copy."""
         return self.P.copy()
@@ -597,6 +638,8 @@ class InsEstimator(Checkpointable):
             "stationary_half_time": f32(self.stationary_half_time), "stationary_baro_sum": f32(self.stationary_baro_sum),
             "stationary_baro_count": f32(self.stationary_baro_count),
             "stationary_baro_previous": f32(self.stationary_baro_previous),
+            "baro_rejecting_for": f32(self.baro_rejecting_for), "baro_rejections": int(self.baro_rejections_),
+            "baro_resets": int(self.baro_resets_), "baro_rejecting": self.baro_rejecting,
             "gap_count": int(self.gap_count_), "aligned": self.aligned, "baro_initialised": self.baro_initialised,
             "mag_initialised": self.mag_initialised, "stationary": self.stationary,
             "stationary_half_done": self.stationary_half_done, "stationary_has_previous": self.stationary_has_previous,
@@ -610,17 +653,19 @@ class InsEstimator(Checkpointable):
                   float(self.accel_z_bias_), float(self.baro_bias_), float(self.yaw_cos), float(self.yaw_sin),
                   float(self.stationary_time), float(self.rejection_time), float(self.baro_elapsed),
                   float(self.mag_elapsed), float(self.stationary_half_time), float(self.stationary_baro_sum),
-                  float(self.stationary_baro_count), float(self.stationary_baro_previous), int(self.gap_count_),
-                  bool(self.aligned), bool(self.baro_initialised), bool(self.mag_initialised), bool(self.stationary),
-                  bool(self.stationary_half_done), bool(self.stationary_has_previous), bool(self.stationary_baro_still),
-                  bool(self.accel_rejected))
+                  float(self.stationary_baro_count), float(self.stationary_baro_previous),
+                  float(self.baro_rejecting_for), int(self.gap_count_), int(self.baro_rejections_),
+                  int(self.baro_resets_), bool(self.aligned), bool(self.baro_initialised), bool(self.mag_initialised),
+                  bool(self.stationary), bool(self.stationary_half_done), bool(self.stationary_has_previous),
+                  bool(self.stationary_baro_still), bool(self.accel_rejected), bool(self.baro_rejecting))
         return fields, self._units
 
     def _set_state(self, state: tuple) -> None:
         fields, units = state
         (settings, q, gyro_bias, distance, velocity, P, accel_z_bias, baro_bias, yaw_cos, yaw_sin, stationary_time,
-         rejection_time, baro_elapsed, mag_elapsed, half_time, baro_sum, baro_count, baro_previous, gap_count, aligned,
-         baro_initialised, mag_initialised, stationary, half_done, has_previous, baro_still, accel_rejected) = fields
+         rejection_time, baro_elapsed, mag_elapsed, half_time, baro_sum, baro_count, baro_previous, rejecting_for,
+         gap_count, baro_rejections, baro_resets, aligned, baro_initialised, mag_initialised, stationary, half_done,
+         has_previous, baro_still, accel_rejected, baro_rejecting) = fields
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
         self._units = tuple(units)
         self._s = InsSettings(**settings)
@@ -637,6 +682,9 @@ class InsEstimator(Checkpointable):
         self.stationary_half_done, self.stationary_has_previous = bool(half_done), bool(has_previous)
         self.stationary_baro_still = bool(baro_still)
         self.gap_count_ = int(gap_count)
+        self.baro_rejecting_for = f32(rejecting_for)
+        self.baro_rejections_, self.baro_resets_ = int(baro_rejections), int(baro_resets)
+        self.baro_rejecting = bool(baro_rejecting)
         self.aligned, self.baro_initialised, self.mag_initialised = bool(aligned), bool(baro_initialised), \
             bool(mag_initialised)
         self.stationary, self.accel_rejected = bool(stationary), bool(accel_rejected)

@@ -58,12 +58,14 @@ STATE_FIELDS = (tuple(f"settings.{name}" for name in C_SETTINGS)
                 + tuple(f"P[{i}][{j}]" for i in range(N) for j in range(i, N))
                 + ("accelZBias", "baroBias", "yawCos", "yawSin", "stationaryTime", "rejectionTime", "baroElapsed",
                    "magElapsed", "stationaryHalfTime", "stationaryBaroSum", "stationaryBaroCount",
-                   "stationaryBaroPrevious", "gapCount", "aligned", "baroInitialised", "magInitialised", "stationary",
-                   "stationaryHalfDone", "stationaryHasPrevious", "stationaryBaroStill", "accelRejected")
+                   "stationaryBaroPrevious", "baroRejectingFor", "gapCount", "baroRejections", "baroResets", "aligned",
+                   "baroInitialised", "magInitialised", "stationary", "stationaryHalfDone", "stationaryHasPrevious",
+                   "stationaryBaroStill", "accelRejected", "baroRejecting")
                 + ("localToGlobal.w", "localToGlobal.x", "localToGlobal.y", "localToGlobal.z",
                    "globalQuaternion.w", "globalQuaternion.x", "globalQuaternion.y", "globalQuaternion.z"))
-INTEGER_FIELDS = ("gapCount", "aligned", "baroInitialised", "magInitialised", "stationary", "stationaryHalfDone",
-                  "stationaryHasPrevious", "stationaryBaroStill", "accelRejected")
+INTEGER_FIELDS = ("gapCount", "baroRejections", "baroResets", "aligned", "baroInitialised", "magInitialised",
+                  "stationary", "stationaryHalfDone", "stationaryHasPrevious", "stationaryBaroStill", "accelRejected",
+                  "baroRejecting")
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS if name not in INTEGER_FIELDS)
 DEFAULTS = {name: f32(default) for name, _, default, _ in INS_SETTINGS}
 
@@ -99,13 +101,11 @@ class Recorder(vc.Recorder):
         words += tuple(vc.bits(x) for x in (e.accel_z_bias_, e.baro_bias_, e.yaw_cos, e.yaw_sin, e.stationary_time,
                                              e.rejection_time, e.baro_elapsed, e.mag_elapsed,
                                              e.stationary_half_time, e.stationary_baro_sum, e.stationary_baro_count,
-                                             e.stationary_baro_previous))
-        words += (e.gap_count_ & 0xFFFFFFFF,) + tuple(int(x) for x in (e.aligned, e.baro_initialised,
-                                                                         e.mag_initialised, e.stationary,
-                                                                         e.stationary_half_done,
-                                                                         e.stationary_has_previous,
-                                                                         e.stationary_baro_still,
-                                                                         e.accel_rejected))
+                                             e.stationary_baro_previous, e.baro_rejecting_for))
+        words += tuple(x & 0xFFFFFFFF for x in (e.gap_count_, e.baro_rejections_, e.baro_resets_))
+        words += tuple(int(x) for x in (e.aligned, e.baro_initialised, e.mag_initialised, e.stationary,
+                                        e.stationary_half_done, e.stationary_has_previous, e.stationary_baro_still,
+                                        e.accel_rejected, e.baro_rejecting))
         with np.errstate(all="ignore"):
             words += tuple(vc.bits(x) for x in e.local_to_global) + tuple(vc.bits(x) for x in e.global_quaternion)
         return words
@@ -189,6 +189,7 @@ def build() -> Recorder:
     _rejected_inputs(r, rng)
     _accel_rejection_and_gaps(r)
     _stationary_baro(r)
+    _baro_gate(r)
     _magnetometer(r)
     _settings_changes(r, rng)
     _random_steps(r, rng)
@@ -293,6 +294,27 @@ def _stationary_baro(r: Recorder) -> None:
     r.update((0.5, 0.0, 0.0), LEVEL, 0.01, altitude)  # moving: restarts detection
 
 
+def _baro_gate(r: Recorder) -> None:
+    """The baro innovation gate: a glitch burst rejected, a lasting step reset after the timeout, a gap."""
+    r.section("baro innovation gate 3 sigma, timeout 0.2 s (never stationary): a 0.1 s 80 m burst rejected, "
+              "a 30 m step rejected for 0.2 s then the height reset from the baro, a streak ended by a gap")
+    r.initialise_with(baro_gate=3.0, baro_rejection_timeout=0.2, stationary_gyro_threshold=0.0)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
+    for k in range(40):  # the baro sets its bias, then agrees
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 + (0.05 if k % 4 == 0 else -0.05) if k % 2 == 0 else NAN)
+    for k in range(10):  # glitch burst: rejected, the INS coasts
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 180.0 if k % 2 == 0 else NAN)
+    for k in range(10):  # back: accepted, the streak ends
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
+    for k in range(50):  # a lasting 30 m step: rejected until the streak is older than 0.2 s, then reset and fused
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 130.0 if k % 2 == 0 else NAN)
+    for k in range(6):  # another streak (back to 100 m) ...
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
+    r.update((0.002, 0.0, 0.0), LEVEL, 0.5, 100.0)  # ... ended by a gap: d decorrelated, the reading sets it
+    for k in range(10):
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
+
+
 def _magnetometer(r: Recorder) -> None:
     """Magnetometer: a field along up (no horizontal part), the filter cancelling to zero."""
     r.section("magnetometer: field along up (no horizontal part), filter cancelling to zero (k = 0.5)")
@@ -357,7 +379,7 @@ def render() -> str:
         "Each record is one call; floats are IEEE 754 binary32 bit patterns.",
         "input: update (gyro x, y, z rad/s; accel x, y, z m/s^2; mag x, y, z or",
         "all NaN; baro altitude m or NaN; dt s); initialise_with and set_settings",
-        "(index into fusionAltitudeInsReplayVectorSettings, the 21 settings in struct order).",
+        "(index into fusionAltitudeInsReplayVectorSettings, the 23 settings in struct order).",
     ]
     return vc.render(recorder, file="ins_vectors.h", header="fusion_altitude_ins.h",
                      generator="generate_ins.py", reference="fusion_altitude.reference.ins",

@@ -640,6 +640,10 @@ def _print_run_results(run, estimator: str) -> None:
               f"{float(e.gyro_bias_z[-1]):+.5f}) rad/s, accel z bias {float(e.accel_z_bias[-1]):+.4f} m/s², "
               f"baro bias {float(e.baro_bias[-1]):+.3f} m; stationary on {int(np.count_nonzero(e.is_stationary))} "
               "samples")
+        if run.baro_rejections is not None:
+            readings = int(np.count_nonzero(np.isfinite(run.baro_altitude)))
+            print(f"baro innovation gate: {run.baro_rejections} of {readings} readings rejected, "
+                  f"{run.baro_resets} height resets after a rejection streak")
 
 
 def _print_run_comparison(run, agl: bool) -> None:

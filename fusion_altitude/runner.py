@@ -83,6 +83,10 @@ class LogRun(LogData):
     gap_count : int or None
         Updates the estimator treated as gaps (dt > its gap period); None
         for an estimator without a gap counter.
+    baro_rejections, baro_resets : int or None
+        The INS's baro innovation gate: readings rejected, and height resets
+        after a rejection streak longer than its timeout; None for the other
+        estimators.
     """
 
     estimate: Optional[object] = None
@@ -91,6 +95,8 @@ class LogRun(LogData):
     events: Optional[object] = None
     gap_period: Optional[float] = None
     gap_count: Optional[int] = None
+    baro_rejections: Optional[int] = None
+    baro_resets: Optional[int] = None
 
     def comparison(self, transient: float = 0.0) -> Optional[ErrorStatistics]:
         """Statistics of estimate − reference altitude (m) after ``transient`` s; None without a reference."""
@@ -357,6 +363,7 @@ def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
     ins = InsEstimator(settings.replace(gap_period=gap_period_for(dt, settings.gap_period)))
     batch = ins.update_batch(gyro, accel, dt, data.baro_altitude)
     _gaps(options, ins, ins.settings.gap_period)
+    options["baro_rejections"], options["baro_resets"] = int(ins.baro_rejections), int(ins.baro_resets)
     _done(options, data.time.size)
     euler = batch.euler.astype(np.float32)
     return InsLogBatch(batch.altitude + batch.baro_bias, batch.vertical_velocity, batch.altitude,
@@ -640,7 +647,8 @@ def run_log(data: LogData, settings: Optional[AltitudeSettings] = None,
     options = dict(options, settings=settings, progress=progress)
     estimate = ESTIMATORS[estimator].run(data, sample_periods(data.time), options)
     return LogRun(**fields, estimate=estimate, estimator=estimator, datum=datum, events=options.get("events"),
-                  gap_period=options.get("gap_period"), gap_count=options.get("gap_count"))
+                  gap_period=options.get("gap_period"), gap_count=options.get("gap_count"),
+                  baro_rejections=options.get("baro_rejections"), baro_resets=options.get("baro_resets"))
 
 
 # ----------------------------------------------------------------------------

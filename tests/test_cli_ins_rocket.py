@@ -344,9 +344,10 @@ def test_kalman_on_a_rocket_log_runs_with_the_rocket_settings(hedy):
     assert rms < 30.0, rms  # the general defaults: 476.6 m on this flight
 
 
-def write_raw_imu_csv(path: Path, every: int = 1, degrees: bool = False) -> "imu_sim.RawImuFlight":
+def write_raw_imu_csv(path: Path, every: int = 1, degrees: bool = False, glitch: float = 0.0) -> "imu_sim.RawImuFlight":
     """The simulator's `realistic` flight from a raw IMU (5 s at rest first), body FLU = the NWU frame of the CSV
-    flags, gyro in rad/s (or deg/s), baro empty between samples, every ``every``-th IMU row."""
+    flags, gyro in rad/s (or deg/s), baro empty between samples, every ``every``-th IMU row; ``glitch`` m added
+    to the baro readings from 12 to 12.5 s (a glitch burst)."""
     from fusion_altitude import imu_sim
 
     flight = imu_sim.simulate_raw_imu("realistic", seed=2, rest_duration=5.0)
@@ -356,7 +357,7 @@ def write_raw_imu_csv(path: Path, every: int = 1, degrees: bool = False) -> "imu
         writer = csv.writer(handle)
         writer.writerow(["t", "gx", "gy", "gz", "ax", "ay", "az", "qw", "qx", "qy", "qz", "alt"])
         for k in rows:
-            baro = flight.baro_altitude[k]
+            baro = flight.baro_altitude[k] + (glitch if 12.0 <= flight.time[k] < 12.5 else 0.0)
             writer.writerow([repr(float(flight.time[k])), *(repr(float(v) * scale) for v in flight.gyro[k]),
                              *(repr(float(v)) for v in flight.accel[k]), "1", "0", "0", "0",
                              "" if np.isnan(baro) else repr(float(baro))])
@@ -386,6 +387,22 @@ def test_run_ins_on_a_raw_imu_csv_is_the_binding_on_its_columns(tmp_path, degree
     direct = InsEstimator().update_batch(data.gyro, data.accel, runner.sample_periods(data.time), data.baro_altitude)
     assert np.array_equal(run.estimate.height, direct.altitude)
     assert run.gap_count == 0
+
+
+def test_run_ins_reports_the_baro_readings_its_gate_rejected(tmp_path, capsys):
+    path = tmp_path / "glitch.csv"
+    flight = write_raw_imu_csv(path, glitch=80.0)
+    burst = int(np.count_nonzero(~np.isnan(flight.baro_altitude) & (flight.time >= 12.0) & (flight.time < 12.5)))
+    assert main(["run", str(path), *RAW_IMU_FLAGS]) == 0
+    line = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("baro innovation gate"))
+    rejected = int(line.split(": ")[1].split(" of ")[0])
+    assert burst <= rejected <= burst + 2 and "0 height resets" in line, line
+    data = logs.read_csv_log(str(path), "t", baro_column="alt", accel_body_columns=("ax", "ay", "az"),
+                             attitude_columns=("qw", "qx", "qy", "qz"), frame="NWU", gyro_body_columns=("gx", "gy", "gz"))
+    run = runner.run_log(data, estimator="ins")
+    assert (run.baro_rejections, run.baro_resets) == (rejected, 0)
+    truth = flight.trajectory.altitude[:data.time.size] + flight.baro_offset
+    assert np.max(np.abs(run.estimate.altitude - truth)[(data.time > 11.0) & (data.time < 16.0)]) < 0.3
 
 
 def test_a_raw_imu_csv_in_degrees_reads_the_same_rates(tmp_path):

@@ -593,6 +593,11 @@ def _run_description(args: argparse.Namespace, data, run, estimator: str):
     if estimator == "ins" and not args.estimator:
         what += " (raw gyro and accelerometer in the log)"
     notes = None
+    if estimator == "ins":
+        # the reader's notes name what the observer would use (an attitude source); the INS makes its own attitude
+        frame = f", body {data.imu_frame}" if data.imu_frame else ""
+        notes = list(data.notes) + [f"INS inputs: the raw gyro and accelerometer{frame} and the baro; "
+                                    "any attitude source above is not used (the INS estimates its own)"]
     if estimator == "rocket" and data.accel is not None:
         from .logs.cats import ATTITUDE_NOTE
 

@@ -117,6 +117,13 @@ def test_run_without_estimator_picks_the_ins_on_a_log_with_raw_imu(px4, capsys):
     assert "estimator ins (raw gyro and accelerometer in the log)" in capsys.readouterr().out
 
 
+def test_run_ins_says_it_uses_the_raw_imu_and_not_the_logs_attitude(px4, capsys):
+    main(["run", str(px4)])
+    out = capsys.readouterr().out
+    assert "INS inputs: the raw gyro and accelerometer, body FRD and the baro" in out
+    assert "not used (the INS estimates its own)" in out
+
+
 def test_run_with_a_preset_and_no_estimator_runs_the_observer_on_a_log_with_raw_imu(px4, capsys):
     assert main(["run", px4, "--preset", "fixed_wing"]) == 0
     assert "estimator observer, preset fixed_wing" in capsys.readouterr().out

@@ -425,7 +425,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20
     # INS: regression bounds, and the per-step costs (tests/test_ins_c.py: under 12 000 cycles).
     ins = measured["ins"]
-    assert set(ins["ram"].values()) == {436}, ins["ram"]  # 416 before the baro half-window test of stationary
+    assert set(ins["ram"].values()) == {460}, ins["ram"]  # 416 before the baro half-window test of stationary, 436 before the baro gate
     assert ins["size"]["FusionAltitudeInsUpdate/cortex-m4f/Os"] <= 6144
     assert all(size <= 1024 and qualifier == "static" for size, qualifier in ins["stack"].values()), ins["stack"]
     common, baro, mag, stationary, predict, rejected = ins["cycles"]

@@ -27,6 +27,9 @@ volatile float firmwareInsBaroNoise;    /* m */
 volatile bool firmwareInsStationary;
 volatile bool firmwareInsAccelRejected;
 volatile uint32_t firmwareInsGaps;
+volatile uint32_t firmwareInsBaroRejections; /* baro readings the innovation gate rejected */
+volatile uint32_t firmwareInsBaroResets;     /* height resets after a rejection streak */
+volatile bool firmwareInsBaroRejecting;
 volatile uint32_t firmwareInsTick;
 const char *volatile firmwareInsError;
 
@@ -109,6 +112,9 @@ void FirmwareInsTask(void) {
     firmwareInsStationary = FusionAltitudeInsIsStationary(&firmwareIns);
     firmwareInsAccelRejected = FusionAltitudeInsIsAccelRejected(&firmwareIns);
     firmwareInsGaps = FusionAltitudeInsGetGapCount(&firmwareIns);
+    firmwareInsBaroRejections = FusionAltitudeInsGetBaroRejections(&firmwareIns);
+    firmwareInsBaroResets = FusionAltitudeInsGetBaroResets(&firmwareIns);
+    firmwareInsBaroRejecting = FusionAltitudeInsIsBaroRejecting(&firmwareIns);
     /* retune the baro noise in flight: a stationary vehicle trusts its baro less (ground effect) */
     FusionAltitudeInsSettings settings = FusionAltitudeInsGetSettings(&firmwareIns);
     const float baroNoise = firmwareInsStationary ? 1.0f : 0.5f;

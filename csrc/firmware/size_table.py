@@ -84,7 +84,8 @@ INS_FUNCTIONS = (
     "FusionAltitudeInsGetAltitude", "FusionAltitudeInsGetVerticalVelocity", "FusionAltitudeInsGetQuaternion",
     "FusionAltitudeInsGetLocalToGlobal", "FusionAltitudeInsGetGlobalQuaternion", "FusionAltitudeInsGetGyroBias",
     "FusionAltitudeInsGetAccelZBias", "FusionAltitudeInsGetBaroBias", "FusionAltitudeInsIsStationary",
-    "FusionAltitudeInsIsAccelRejected", "FusionAltitudeInsGetGapCount",
+    "FusionAltitudeInsIsAccelRejected", "FusionAltitudeInsGetGapCount", "FusionAltitudeInsGetBaroRejections",
+    "FusionAltitudeInsGetBaroResets", "FusionAltitudeInsIsBaroRejecting",
 )
 
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the

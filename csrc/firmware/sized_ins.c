@@ -151,3 +151,21 @@ uint32_t SizedFusionAltitudeInsGetGapCount(const FusionAltitudeIns *const ins);
 SIZED uint32_t SizedFusionAltitudeInsGetGapCount(const FusionAltitudeIns *const ins) {
     return FusionAltitudeInsGetGapCount(ins);
 }
+
+uint32_t SizedFusionAltitudeInsGetBaroRejections(const FusionAltitudeIns *const ins);
+
+SIZED uint32_t SizedFusionAltitudeInsGetBaroRejections(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsGetBaroRejections(ins);
+}
+
+uint32_t SizedFusionAltitudeInsGetBaroResets(const FusionAltitudeIns *const ins);
+
+SIZED uint32_t SizedFusionAltitudeInsGetBaroResets(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsGetBaroResets(ins);
+}
+
+bool SizedFusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns *const ins);
+
+SIZED bool SizedFusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsIsBaroRejecting(ins);
+}

@@ -130,3 +130,20 @@ def test_the_reference_equals_the_c_bit_for_bit_through_bursts_steps_and_a_gap()
         assert c.keys() == python.keys()
         for key in c:
             assert np.array_equal(np.asarray(c[key]), np.asarray(python[key])), key
+
+
+def test_a_log_that_starts_in_a_fast_climb_is_caught_by_the_first_reset():
+    """The INS starts with v = 0 (sigma initial_velocity_sigma = 0.5 m/s) while the vehicle already climbs at
+    10 m/s: the readings soon fail the gate, and the timeout's reset (with its velocity variance) catches up:
+    within 0.5 m by 2 s, and one reset only."""
+    steps = 2000
+    time = np.arange(steps) * DT
+    altitude = 100.0 + 10.0 * time
+    rng = np.random.default_rng(1)
+    baro = np.where(np.arange(steps) % 2 == 0, altitude + 0.3 * rng.standard_normal(steps), np.nan)
+    accel = np.tile(LEVEL, (steps, 1)) + 0.05 * rng.standard_normal((steps, 3))
+    ins = fa.InsEstimator()
+    batch = ins.update_batch(np.zeros((steps, 3)), accel, DT, baro)
+    error = np.abs(batch.altitude + batch.baro_bias - altitude)
+    assert ins.baro_resets == 1
+    assert error[time >= 2.0].max() < 0.5

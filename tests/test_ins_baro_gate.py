@@ -147,3 +147,20 @@ def test_a_log_that_starts_in_a_fast_climb_is_caught_by_the_first_reset():
     error = np.abs(batch.altitude + batch.baro_bias - altitude)
     assert ins.baro_resets == 1
     assert error[time >= 2.0].max() < 0.5
+
+
+def test_declaring_a_start_in_motion_with_the_initial_velocity_sigma_avoids_the_rejections():
+    """The same 10 m/s climb from the first sample with initial_velocity_sigma = 5 m/s (the start is not known to
+    be at rest): the gate's S includes the velocity's growing share of P_dd, nothing is rejected, and the height
+    is within 0.2 m throughout."""
+    steps = 2000
+    time = np.arange(steps) * DT
+    altitude = 100.0 + 10.0 * time
+    rng = np.random.default_rng(1)
+    baro = np.where(np.arange(steps) % 2 == 0, altitude + 0.3 * rng.standard_normal(steps), np.nan)
+    accel = np.tile(LEVEL, (steps, 1)) + 0.05 * rng.standard_normal((steps, 3))
+    ins = fa.InsEstimator(fa.InsSettings(initial_velocity_sigma=5.0))
+    batch = ins.update_batch(np.zeros((steps, 3)), accel, DT, baro)
+    error = np.abs(batch.altitude + batch.baro_bias - altitude)
+    assert (ins.baro_rejections, ins.baro_resets) == (0, 0)
+    assert error.max() < 0.2

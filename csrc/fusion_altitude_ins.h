@@ -840,6 +840,20 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
 }
 
 /**
+ * Internal. The height is unknown (after a gap, or a baro rejection streak
+ * longer than its timeout): the velocity variance ((m/s)^2) is raised to at
+ * least initialVelocitySigma^2 and d is decorrelated with the variance
+ * FUSION_ALTITUDE_INS_VARIANCE_LIMIT (m^2), so the next baro reading sets d
+ * instead of pulling the velocity.
+ */
+static inline void FusionAltitudeInsForgetHeight(FusionAltitudeIns *const ins) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const float velocity = ins->settings.initialVelocitySigma * ins->settings.initialVelocitySigma;
+    ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
+    FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
+}
+
+/**
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
  * variance ((m/s)^2) to at least initialVelocitySigma^2; the height is
@@ -853,12 +867,10 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
     const FusionAltitudeInsSettings *const s = &ins->settings;
     ins->gapCount++;
     const float attitude = s->initialAttitudeSigma * s->initialAttitudeSigma;
-    const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
     for (int i = 0; i < 3; i++) {
         ins->P[i][i] = (ins->P[i][i] > attitude) ? ins->P[i][i] : attitude;
     }
-    ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
-    FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
+    FusionAltitudeInsForgetHeight(ins);
     FusionAltitudeInsRestartStationary(ins);
     ins->baroRejecting = false; /* the gap ends a baro rejection streak */
     ins->baroRejectingFor = 0.0f;
@@ -1049,9 +1061,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAlti
             }
             /* the streak outlasted the timeout: the INS height is what is wrong; the reading sets it */
             ins->baroResets++;
-            const float velocity = s->initialVelocitySigma * s->initialVelocitySigma;
-            ins->P[7][7] = (ins->P[7][7] > velocity) ? ins->P[7][7] : velocity;
-            FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
+            FusionAltitudeInsForgetHeight(ins);
         }
         ins->baroRejecting = false;
         ins->baroRejectingFor = 0.0f;

@@ -242,7 +242,7 @@ INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive",
                 "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
                 "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
                 "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary",
-                "FusionAltitudeInsHoldVariance", "FusionAltitudeInsDecorrelate"}
+                "FusionAltitudeInsHoldVariance", "FusionAltitudeInsDecorrelate", "FusionAltitudeInsForgetHeight"}
 
 
 def test_every_public_ins_function_is_built_and_sized():

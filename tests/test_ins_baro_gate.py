@@ -132,19 +132,25 @@ def test_the_reference_equals_the_c_bit_for_bit_through_bursts_steps_and_a_gap()
             assert np.array_equal(np.asarray(c[key]), np.asarray(python[key])), key
 
 
-def test_a_log_that_starts_in_a_fast_climb_is_caught_by_the_first_reset():
-    """The INS starts with v = 0 (sigma initial_velocity_sigma = 0.5 m/s) while the vehicle already climbs at
-    10 m/s: the readings soon fail the gate, and the timeout's reset (with its velocity variance) catches up:
-    within 0.5 m by 2 s, and one reset only."""
+def _climbing_from_the_first_sample(**settings):
+    """20 s of a level, still IMU (0.05 m/s² noise) climbing at 10 m/s from its first sample, the baro (0.3 m
+    noise) on every 2nd step: the estimator, the times (s) and the |altitude error| (m) per step."""
     steps = 2000
     time = np.arange(steps) * DT
     altitude = 100.0 + 10.0 * time
     rng = np.random.default_rng(1)
     baro = np.where(np.arange(steps) % 2 == 0, altitude + 0.3 * rng.standard_normal(steps), np.nan)
     accel = np.tile(LEVEL, (steps, 1)) + 0.05 * rng.standard_normal((steps, 3))
-    ins = fa.InsEstimator()
+    ins = fa.InsEstimator(fa.InsSettings(**settings))
     batch = ins.update_batch(np.zeros((steps, 3)), accel, DT, baro)
-    error = np.abs(batch.altitude + batch.baro_bias - altitude)
+    return ins, time, np.abs(batch.altitude + batch.baro_bias - altitude)
+
+
+def test_a_log_that_starts_in_a_fast_climb_is_caught_by_the_first_reset():
+    """The INS starts with v = 0 (sigma initial_velocity_sigma = 0.5 m/s) while the vehicle already climbs at
+    10 m/s: the readings soon fail the gate, and the timeout's reset (with its velocity variance) catches up:
+    within 0.5 m by 2 s, and one reset only."""
+    ins, time, error = _climbing_from_the_first_sample()
     assert ins.baro_resets == 1
     assert error[time >= 2.0].max() < 0.5
 
@@ -153,15 +159,7 @@ def test_declaring_a_start_in_motion_with_the_initial_velocity_sigma_avoids_the_
     """The same 10 m/s climb from the first sample with initial_velocity_sigma = 5 m/s (the start is not known to
     be at rest): the gate's S includes the velocity's growing share of P_dd, nothing is rejected, and the height
     is within 0.3 m throughout (0.26 m at 0.25 s, while the velocity is learned) and 0.2 m after 0.5 s."""
-    steps = 2000
-    time = np.arange(steps) * DT
-    altitude = 100.0 + 10.0 * time
-    rng = np.random.default_rng(1)
-    baro = np.where(np.arange(steps) % 2 == 0, altitude + 0.3 * rng.standard_normal(steps), np.nan)
-    accel = np.tile(LEVEL, (steps, 1)) + 0.05 * rng.standard_normal((steps, 3))
-    ins = fa.InsEstimator(fa.InsSettings(initial_velocity_sigma=5.0))
-    batch = ins.update_batch(np.zeros((steps, 3)), accel, DT, baro)
-    error = np.abs(batch.altitude + batch.baro_bias - altitude)
+    ins, time, error = _climbing_from_the_first_sample(initial_velocity_sigma=5.0)
     assert (ins.baro_rejections, ins.baro_resets) == (0, 0)
     assert error.max() < 0.3
     assert error[time >= 0.5].max() < 0.2

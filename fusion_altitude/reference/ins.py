@@ -387,11 +387,9 @@ class InsEstimator(Checkpointable):
         elif dt > s.f32("gap_period"):
             self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
             attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
-            velocity = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
             for i in range(3):
                 self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
-            self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
-            _decorrelate(self.P, 6, VARIANCE_LIMIT)  # the height is unknown after a gap: the next baro sets it
+            self._forget_height()  # the vehicle moved during the gap: the next baro sets the height
             self._restart_stationary()
             self.baro_rejecting, self.baro_rejecting_for = False, _ZERO  # the gap ends a baro rejection streak
         else:
@@ -482,6 +480,13 @@ class InsEstimator(Checkpointable):
                         self.yaw_cos, self.yaw_sin = target_cos, target_sin
                 self.mag_elapsed = _ZERO
 
+    def _forget_height(self) -> None:
+        """FusionAltitudeInsForgetHeight: velocity variance raised to at least initial_velocity_sigma² ((m/s)²),
+        d decorrelated with VARIANCE_LIMIT (m²), so the next baro reading sets d."""
+        velocity = self._s.f32("initial_velocity_sigma") * self._s.f32("initial_velocity_sigma")
+        self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
+        _decorrelate(self.P, 6, VARIANCE_LIMIT)
+
     def _fuse_baro(self, dx: np.ndarray, baro: np.float32) -> None:
         """FusionAltitudeInsFuseBaro (a reading present): bias, stationary bias filter, or the gated d update."""
         s = self._s
@@ -504,9 +509,7 @@ class InsEstimator(Checkpointable):
                     return  # rejected: the INS coasts on the IMU
                 # the streak outlasted the timeout: the INS height is what is wrong; the reading sets it
                 self.baro_resets_ = (self.baro_resets_ + 1) & 0xFFFFFFFF
-                velocity = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
-                self.P[7, 7] = self.P[7, 7] if self.P[7, 7] > velocity else velocity
-                _decorrelate(self.P, 6, VARIANCE_LIMIT)
+                self._forget_height()
             self.baro_rejecting, self.baro_rejecting_for = False, _ZERO
             self._fuse(dx, 6, _ONE, -1, _ZERO, y, R)
 

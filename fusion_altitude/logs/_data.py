@@ -117,6 +117,16 @@ class LogData:
         Logging gaps, as (time of the last sample before the gap s, gap
         length s): grid steps longer than ``GAP_FACTOR`` (10) median steps
         and at least ``GAP_MIN_SECONDS`` (0.1 s).
+    axial_acceleration : numpy.ndarray or None
+        A rocket flight computer's own along-axis accelerometer (AltOS
+        ``acceleration``, Featherweight Raven ``Axial Accel``), specific force,
+        m/s², +nose (reads about +9.81 on the pad, nose up), on the steps it
+        was sampled (NaN elsewhere). Usually a high-range part that does not
+        saturate in boost: the rocket layer prefers it to a raw IMU axis.
+    baro_only : bool
+        True when the log has no accelerometer at all (e.g. a Missile Works
+        RRC3): ``vertical_acceleration`` is then zeros and every estimator
+        runs as a baro-only tracking filter; ``run`` says so.
     warnings : list of str
         One line per thing the reader noticed but accepted (repeated
         timestamps, gaps, pressure values out of range); each is also issued
@@ -147,6 +157,8 @@ class LogData:
     ground_altitude: Optional[float] = None
     repeated_timestamps: int = 0
     gaps: List[Tuple[float, float]] = field(default_factory=list)
+    axial_acceleration: Optional[np.ndarray] = None
+    baro_only: bool = False
     warnings: List[str] = field(default_factory=list)
 
     @property

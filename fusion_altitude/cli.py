@@ -62,6 +62,15 @@ STAGE_REPORT_SECONDS = 0.5
 class CliError(Exception):
     """An input problem to report to the user in one line (exit status 2)."""
 
+    status = 2
+
+
+class EstimateError(CliError):
+    """An estimate that cannot be printed (non-finite, or a runaway from every height source of the log): one
+    line, exit status 3. Never an exit 0 with an answer the program cannot stand behind."""
+
+    status = 3
+
 
 def format_table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     """Plain-text table: the first column left-aligned, the others right-aligned.
@@ -486,17 +495,26 @@ LONG_AXES = {f"{sign}{axis}": (column, 1.0 if sign == "+" else -1.0)
              for column, axis in enumerate("XYZ") for sign in "+-"}
 
 
-def _run_estimator(args: argparse.Namespace, data) -> str:
+#: Estimators that carry on with the GPS altitude when the baro stops.
+GPS_ESTIMATORS = ("kalman", "alphabeta")
+
+
+def _run_estimator(args: argparse.Namespace, data, health=()) -> str:
     """The estimator ``run`` uses: ``--estimator``, else ``rocket`` for a rocket log (or ``--rocket``), else the
-    INS when the log has a raw gyro and accelerometer (and no ``--preset``, which names observer gains), else the
-    observer. CliError when the flags contradict each other or the log lacks what the estimator needs."""
+    Kalman filter when the baro stops before the log's end and the log has GPS (it carries on with the GPS), else
+    the INS when the log has a raw gyro and accelerometer (and no ``--preset``, which names observer gains), else
+    the observer. CliError when the flags contradict each other or the log lacks what the estimator needs."""
     from . import runner
 
     rocket = args.rocket or getattr(data, "vehicle", "") == "rocket"
+    baro_stops = any(s.name == "baro" and s.stopped for s in health)
+    gps = any(s.name == "gps" and s.samples > 0 for s in health)
     if args.estimator:
         estimator = args.estimator
     elif rocket:
         estimator = "rocket"
+    elif baro_stops and gps and args.preset is None:
+        estimator = "kalman"
     elif args.preset is None and not runner.missing_inputs(data, "ins"):
         estimator = "ins"
     else:
@@ -513,6 +531,51 @@ def _run_estimator(args: argparse.Namespace, data) -> str:
         raise CliError(f"--estimator {estimator} needs raw {' and '.join(missing)} in the log; {data.source} has no "
                        f"{' or '.join(missing)} (PX4 sensor_combined, ArduPilot IMU, CSV --gyro-body/--accel-body)")
     return estimator
+
+
+def _print_health(data, health, run, estimator: str) -> None:
+    """The health report: per sensor (rate, first and last sample, longest outage, dead, saturated, stopped) and
+    per estimator (gaps, rejections, resets, time not baro-aided); warnings on stderr for a stream that stops and
+    for what the estimator cannot do about it."""
+    import numpy as np
+
+    from .health import format_health, not_baro_aided, stopped_streams
+
+    time = np.asarray(data.time, float)
+    print()
+    for line in format_health(health, float(time[0]), float(time[-1])):
+        print(f"  {line}")
+    if getattr(data, "repeated_timestamps", 0):
+        print(f"  rows merged (repeated time stamps): {data.repeated_timestamps}")
+    if getattr(data, "baro_only", False):
+        print("  no accelerometer in the log: every estimator runs as a baro-only tracking filter")
+    unaided = not_baro_aided(time, data.baro_altitude)
+    steps = np.diff(time, prepend=time[0])
+    seconds = float(np.sum(steps[unaided]))
+    parts = [f"estimator {estimator}:"]
+    if getattr(run, "gap_count", None) is not None:
+        parts.append(f"{run.gap_count} gaps")
+    if getattr(run, "baro_rejections", None) is not None:
+        parts.append(f"{run.baro_rejections} baro rejections, {run.baro_resets} resets")
+    parts.append(f"{seconds:.2f} s without a baro sample for longer than the baro timeout "
+                 f"({int(unaided.sum())} rows flagged not baro-aided in -o)")
+    print("  " + ", ".join(parts[1:]).join([parts[0] + " ", ""]))
+    sys.stdout.flush()
+    has_gps = any(s.name == "gps" and s.samples > 0 for s in health)
+    for stream in stopped_streams(health):
+        print(f"warning: the {stream.name} stops at {stream.last:.2f} s, {float(time[-1]) - stream.last:.2f} s before "
+              "the log's end", file=sys.stderr)
+        if stream.name == "baro":
+            if estimator in GPS_ESTIMATORS and has_gps:
+                print(f"warning: estimator {estimator} carries on with the GPS altitude after the baro stops",
+                      file=sys.stderr)
+            else:
+                print(f"warning: estimator {estimator} has no other height source: from {stream.last:.2f} s its "
+                      "altitude is not baro-aided (flags bit 1 in -o)"
+                      + ("; --estimator kalman uses the log's GPS" if has_gps else ""), file=sys.stderr)
+    if getattr(data, "vehicle", "") == "rocket" and estimator != "rocket":
+        print(f"warning: estimator {estimator} has no baro lockout for transonic flight or ejection charges; on a "
+              "rocket log the rocket flight layer (the default) has one", file=sys.stderr)
 
 
 def _print_events(run, data) -> None:
@@ -541,11 +604,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     from . import runner
     from ._observer import AltitudeSettings
+    from .health import check_estimate, sensor_health
 
     progress = _Progress()
     _check_run_outputs(args)
     data = _load(args, progress)
-    estimator = _run_estimator(args, data)
+    health = sensor_health(data)
+    estimator = _run_estimator(args, data, health)
     if estimator == "observer":
         if args.preset is None:
             args.preset = _default_preset(data)
@@ -560,6 +625,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
             raise CliError(f"{data.source}: {error}") from None
     what, notes = _run_description(args, data, run, estimator)
     _print_log_summary(data, what, notes)
+    _print_health(data, health, run, estimator)
+    problem = check_estimate(run, run.estimate.altitude, run.estimate.vertical_velocity)
+    if problem is not None:
+        raise EstimateError(f"{data.source}: estimator {estimator}: {problem}: no result printed or written "
+                            "(the estimate cannot be trusted; try another --estimator or --preset)")
     print()
     _print_run_results(run, estimator)
     if run.reference_altitude is not None and np.isfinite(run.reference_altitude).any():
@@ -1271,12 +1341,13 @@ def _main(argv: Optional[List[str]]) -> int:
         if getattr(args, "handler", None) is None:
             parser.print_help()
             return 2
+        status = 2
         try:
             status = int(args.handler(args) or 0)
             sys.stdout.flush()
             return status
         except CliError as error:
-            message = str(error)
+            message, status = str(error), error.status
         except ImportError as error:
             message = str(error)
         except ValueError as error:  # LogError and the library's argument checks
@@ -1286,7 +1357,7 @@ def _main(argv: Optional[List[str]]) -> int:
                 raise
             message = f"{error.filename}: {error.strerror}" if error.filename else str(error)
         print(f"fusion-altitude {args.command}: error: {message}", file=sys.stderr)
-        return 2
+        return status
     except BrokenPipeError:
         return _quiet_broken_pipe()
     except KeyboardInterrupt:

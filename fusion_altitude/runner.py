@@ -50,6 +50,7 @@ import numpy as np
 
 from ._observer import AltitudeEstimator, AltitudeSettings
 from ._observer_glue import AltitudeBatch
+from .health import row_flags
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
 from .tuning import _bandwidth_of, _other_fields, gap_period_for, settings_for_baro_rate, steps_per_baro
@@ -713,8 +714,9 @@ def _release_signals(previous) -> None:
 
 def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
     """The columns :func:`write_csv` writes, in order: ``time``, ``altitude``, ``vertical_velocity``, the
-    estimator's other 1-D outputs, ``baro_altitude``, ``vertical_acceleration`` and, if present,
-    ``reference_altitude``."""
+    estimator's other 1-D outputs, ``baro_altitude``, ``vertical_acceleration``, if present
+    ``reference_altitude``, and ``flags`` (:func:`fusion_altitude.health.row_flags`: bit 1 not baro-aided, 2 the
+    step before was a logging gap, 4 accelerometer clipped, 8 after the baro's last sample)."""
     columns: List[Tuple[str, np.ndarray]] = [("time", run.time)]
     estimate = run.estimate
     names = ["altitude", "vertical_velocity"] + [n for n in estimate._fields if n not in ("altitude", "vertical_velocity")]
@@ -726,6 +728,7 @@ def csv_columns(run: LogRun) -> List[Tuple[str, np.ndarray]]:
     columns.append(("vertical_acceleration", run.vertical_acceleration))
     if run.reference_altitude is not None:
         columns.append(("reference_altitude", run.reference_altitude))
+    columns.append(("flags", row_flags(run, run.gap_period)))
     return columns
 
 
@@ -743,7 +746,8 @@ def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], No
 
     Columns as :func:`csv_columns`: time s, altitude m, vertical_velocity m/s,
     the estimator's other outputs (observer: accel_bias m/s², baro_residual m),
-    baro_altitude m, vertical_acceleration m/s² and reference_altitude m.
+    baro_altitude m, vertical_acceleration m/s², reference_altitude m and
+    flags (the row's health bits, :data:`fusion_altitude.health.FLAG_BITS`).
     float64 columns (time, the log's inputs) are written as their shortest
     round-trip repr (≤ 17 significant digits) and float32 estimates with 9
     significant digits, so every value reads back bit for bit; a missing

@@ -119,7 +119,7 @@ def test_run_runs_every_estimator_on_the_shared_logs(shared_data, tmp_path, caps
     assert "against the log's own estimate" in text and f"estimator {estimator}" in text
     table = np.genfromtxt(out, delimiter=",", names=True)
     assert table.dtype.names[:3] == ("time", "altitude", "vertical_velocity")
-    assert table.dtype.names[-1] == "reference_altitude" and np.isfinite(table["altitude"]).all()
+    assert table.dtype.names[-2:] == ("reference_altitude", "flags") and np.isfinite(table["altitude"]).all()
 
 
 def test_compare_log_has_a_row_per_estimator_and_the_raw_baro(shared_data):
@@ -241,6 +241,7 @@ def test_run_on_a_1hz_csv_prints_the_gap_count_and_a_stable_default_preset(tmp_p
     captured = capsys.readouterr()
     assert "gaps met by the estimator (dt > 10 s): 0" in captured.out
     assert "preset fixed_wing" in captured.out and "vtol is unstable" in captured.err
-    assert main(argv + ["--preset", "vtol"]) == 0
-    err = capsys.readouterr().err
-    assert "the estimate diverges" in err and "fixed_wing" in err
+    assert main(argv + ["--preset", "vtol"]) == 3  # the gains diverge there: no result is printed, exit 3
+    captured = capsys.readouterr()
+    assert "the estimate diverges" in captured.err and "fixed_wing" in captured.err
+    assert "estimate cannot be trusted" in captured.err and "final altitude" not in captured.out

@@ -62,12 +62,12 @@ def test_estimates_at_30_km_round_trip_bit_for_bit(tmp_path, capsys):
     assert np.unique(table["altitude"]).size > n // 2  # not quantised to 0.1 m steps
 
 
-def test_output_columns_start_with_time_altitude_velocity_and_end_with_the_reference(tmp_path, capsys):
+def test_output_columns_start_with_time_altitude_velocity_and_end_with_the_reference_and_the_flags(tmp_path, capsys):
     n = 200
     log = write_log(tmp_path / "log.csv", 0.01 * np.arange(n), np.zeros(n), np.full(n, 3.0), np.full(n, 3.1))
     table = run_to_csv(tmp_path, log, "--reference", "ref")
     names = table.dtype.names
-    assert names[:3] == ("time", "altitude", "vertical_velocity") and names[-1] == "reference_altitude"
+    assert names[:3] == ("time", "altitude", "vertical_velocity") and names[-2:] == ("reference_altitude", "flags")
 
 
 @pytest.mark.parametrize("flag", ["-o", "--plot"])

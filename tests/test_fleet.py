@@ -108,6 +108,8 @@ def _single_log_columns(path):
 
 def _bits(values):
     values = np.ascontiguousarray(values)
+    if values.dtype.kind in "iub":  # integer columns (the flags) compare as they are
+        return values.astype(np.int64)
     return values.view(np.uint32 if values.dtype == np.float32 else np.uint64)
 
 

@@ -769,12 +769,21 @@ class LogFaultModel:
     timestamp_resolution : float
         Written timestamps are truncated to this step, s (0 = exact); rows
         faster than it share timestamps (e.g. 0.01 s for a 200 Hz log).
+    stops : dict of str → float
+        Streams that stop mid-log: column name → time (s) from which the
+        column is NaN (a baro that stops, a GPS that is unplugged). No random
+        draws.
+    dead_columns : tuple of str
+        Channels that are dead for the whole log: written as 0 on every row,
+        as real exports write a sensor that never answered. No random draws.
     """
 
     gap_start: Optional[float] = None
     gap_duration: float = 2.0
     repeat_probability: float = 0.0
     timestamp_resolution: float = 0.0
+    stops: Dict[str, float] = field(default_factory=dict)
+    dead_columns: Tuple[str, ...] = ()
 
 
 def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
@@ -821,6 +830,15 @@ def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
     for name, values in columns.items():
         if values.shape[:1] != time.shape:
             raise ValueError(f"column {name!r} has {values.shape[0] if values.ndim else 0} rows, time {time.size}")
+    for name in list(model.stops) + list(model.dead_columns):
+        if name not in columns:
+            raise ValueError(f"LogFaultModel names column {name!r}, not in the log ({', '.join(columns)})")
+    for name, stop in model.stops.items():
+        values = columns[name].astype(float)
+        values[time >= stop] = np.nan
+        columns[name] = values
+    for name in model.dead_columns:
+        columns[name] = np.zeros_like(columns[name], dtype=float)
     keep = np.ones(time.shape, dtype=bool)
     if model.gap_start is not None:
         keep &= ~((time >= model.gap_start) & (time < model.gap_start + model.gap_duration))

@@ -881,6 +881,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     split, scored_until = _fit_split(args, time, skip)
     steps = tuning.steps_per_baro(baro)
     result, held_out = _fit(args, time, accel, baro, reference, split, skip, steps, progress)
+    if not np.isfinite(result.rms_error):
+        raise EstimateError(f"{source}: no candidate gains give a finite RMS against the reference "
+                            f"(best: {result.rms_error}): nothing to recommend")
     gaps, baro_rms = _fit_gaps_and_baro_rms(time, baro, reference, skip, scored_until)
     gains = result.settings
     print(f"{source}: {len(time)} samples, metrics after {skip:g} s"
@@ -1060,7 +1063,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         comparison.plot_comparison(args.plot_scenario or scenarios[0], args.plot, seed=args.seed,
                                    fit_seed=args.fit_seed, attitude=args.attitude)
         print(f"plot written to {args.plot}")
-    return 0
+    return _refused_rows(rows)
 
 
 def _print_rows(args: argparse.Namespace, rows) -> None:
@@ -1070,6 +1073,15 @@ def _print_rows(args: argparse.Namespace, rows) -> None:
         print(comparison.format_markdown(rows))
     else:
         print(format_table(comparison.header(rows), comparison.table_cells(rows)))
+
+
+def _refused_rows(rows) -> int:
+    """One line on stderr per row whose estimate was refused (its cells are blank); exit status 3 if any, else 0."""
+    refused = [row for row in rows if getattr(row, "problem", None)]
+    for row in refused:
+        print(f"error: {row.scenario}: estimator {row.estimator}: {row.problem}: its row is left blank",
+              file=sys.stderr)
+    return EstimateError.status if refused else 0
 
 
 def _compare_log(args: argparse.Namespace) -> int:
@@ -1095,7 +1107,7 @@ def _compare_log(args: argparse.Namespace) -> int:
         with progress.stage("plotting"):
             comparison.plot_log_comparison(data, rows, args.plot, agl=args.agl)
         print(f"plot written to {args.plot}")
-    return 0
+    return _refused_rows(rows)
 
 
 # ----------------------------------------------------------------------------

@@ -45,6 +45,7 @@ from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from ._complementary import ComplementaryFilter
 from ._kalman import KalmanEstimator
 from ._observer import AltitudeEstimator, AltitudeSettings
+from .health import check_estimate
 from .metrics import error_statistics, settling_time
 from .scenarios import ScenarioResult, run_scenario
 
@@ -76,6 +77,9 @@ class Row:
     recovery: Optional[float]
     ns_per_sample: Optional[float]
     altitude: np.ndarray
+    #: Why the estimate was refused (:func:`fusion_altitude.health.check_estimate`: non-finite or a runaway); its
+    #: error cells are then NaN. None for an estimate that can be printed.
+    problem: Optional[str] = None
 
 
 def _best_ns(run, n: int, repeat: int) -> Optional[float]:
@@ -168,8 +172,23 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
             window = (result.time >= result.fault_end) & (result.time <= result.fault_end + RECOVERY_WINDOW)
             settle = settling_time(result.time[window], error[window], recovery_tolerance)
             recovery = settle if math.isfinite(settle) else math.inf
-        rows.append(Row(name, estimator, rms, worst, velocity_rms, recovery, ns, altitude))
+        problem = None if estimator == "raw baro" else check_estimate(
+            _Heights(result.time, baro, truth_h), altitude, velocity)
+        if problem is not None:  # never a figure from an estimate that cannot be trusted
+            rows.append(Row(name, estimator, math.nan, math.nan, math.nan, None, ns, altitude, str(problem)))
+        else:
+            rows.append(Row(name, estimator, rms, worst, velocity_rms, recovery, ns, altitude))
     return rows
+
+
+@dataclass(frozen=True)
+class _Heights:
+    """The height sources of a simulated scenario for :func:`fusion_altitude.health.check_estimate`: the baro and,
+    as the log's own estimate, the truth (m)."""
+
+    time: np.ndarray
+    baro_altitude: np.ndarray
+    reference_altitude: np.ndarray
 
 
 class _InsAltitude:
@@ -315,11 +334,15 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
         run = runner.run_log(data, estimator=name, agl=agl)
         altitude = np.asarray(run.estimate.altitude, float)
         velocity = np.asarray(run.estimate.vertical_velocity, float)
+        problem = check_estimate(run, altitude, velocity)
         statistics = error_statistics(run.time, altitude - run.reference_altitude, skip)
         velocity_rms = error_statistics(run.time, velocity - run.reference_velocity, skip).rms \
             if run.reference_velocity is not None and np.isfinite(run.reference_velocity).any() else math.nan
         ns = _best_ns(lambda: runner.run_log(data, estimator=name, agl=agl), data.time.size, int(repeat))
-        rows.append(Row(label, name, statistics.rms, statistics.max, velocity_rms, None, ns, altitude))
+        if problem is not None:  # never a figure from an estimate that cannot be trusted
+            rows.append(Row(label, name, math.nan, math.nan, math.nan, None, ns, altitude, str(problem)))
+        else:
+            rows.append(Row(label, name, statistics.rms, statistics.max, velocity_rms, None, ns, altitude))
         if progress is not None:
             progress(k + 1, len(names))
     if run is None:

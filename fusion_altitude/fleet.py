@@ -62,13 +62,14 @@ from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Se
 import numpy as np
 
 from . import _fleet_adapter as adapter
+from . import health
 from ._version import __version__
 
 __all__ = ["FORMAT_VERSION", "LOG_EXTENSIONS", "SUMMARY_FIELDS", "FleetRun", "FleetFit", "expand_paths", "log_id",
            "settings_hash", "run_many", "fit_many", "summary", "worst_logs", "open_client"]
 
 #: Version of the output layout; part of the settings hash.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: the health columns of the summary and the flags column of the estimates
 
 #: File name endings searched for in a directory (case-insensitive).
 LOG_EXTENSIONS = (".ulg", ".bin", ".csv")
@@ -103,6 +104,17 @@ SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
     ("baro_rms_error_m", "float64", "RMS of baro − reference, m"),
     ("final_altitude_m", "float64", "last altitude estimate, m"),
     ("final_accel_bias_m_s2", "float64", "last accelerometer-bias estimate, m/s²"),
+    # the health report of `run` (fusion_altitude.health), as columns
+    ("baro_first_s", "float64", "time of the first baro sample, s"),
+    ("baro_last_s", "float64", "time of the last baro sample, s"),
+    ("baro_longest_outage_s", "float64", "longest time without a baro sample, to the log's end included, s"),
+    ("stopped_streams", "string", "sensor streams that stop before the log's end (';'-separated; '' if none)"),
+    ("dead_channels", "string", "sensor streams that are constant or empty (';'-separated; '' if none)"),
+    ("gps_samples", "int64", "GPS altitude samples (0 without GPS)"),
+    ("rangefinder_samples", "int64", "rangefinder samples (0 without a rangefinder)"),
+    ("estimator_gaps", "int64", "updates the estimator treated as gaps (-1: it has no gap counter)"),
+    ("not_baro_aided_s", "float64", "time the baro was silent for longer than its timeout (rows flagged in -o), s"),
+    ("reader_warnings", "int64", "warnings the reader issued (see `run` on the log for their text)"),
 )
 # then, for estimators that report them, final_<name> of their other bias/offset outputs (e.g. the Kalman
 # filter's final_baro_offset, m)
@@ -271,11 +283,30 @@ def _describe(data, run) -> Dict[str, Any]:
         "p95_abs_error_m": fused.p95 if fused is not None and fused.count else math.nan,
         "baro_rms_error_m": raw.rms if raw is not None and raw.count else math.nan,
         "final_altitude_m": float(columns["altitude"][-1]) if time.size else math.nan,
+        **_health_fields(data, run),
     }
     for name, values in columns.items():  # every bias or offset the estimator reports
         if ("bias" in name or "offset" in name) and values.size:
             row["final_accel_bias_m_s2" if name == "accel_bias" else f"final_{name}"] = float(values[-1])
     return {key: float(value) if isinstance(value, np.floating) else value for key, value in row.items()}
+
+
+def _health_fields(data, run) -> Dict[str, Any]:
+    """The health columns of a good log's summary row (see :data:`SUMMARY_FIELDS`)."""
+    streams = {stream.name: stream for stream in health.sensor_health(data)}
+    baro = streams["baro"]
+    time = np.asarray(data.time, dtype=float)
+    unaided = health.not_baro_aided(time, data.baro_altitude)
+    return {
+        "baro_first_s": baro.first, "baro_last_s": baro.last, "baro_longest_outage_s": baro.longest_outage,
+        "stopped_streams": ";".join(s.name for s in health.stopped_streams(streams.values())),
+        "dead_channels": ";".join(s.name for s in streams.values() if s.dead),
+        "gps_samples": streams["gps"].samples if "gps" in streams else 0,
+        "rangefinder_samples": streams["rangefinder"].samples if "rangefinder" in streams else 0,
+        "estimator_gaps": int(run.gap_count) if getattr(run, "gap_count", None) is not None else -1,
+        "not_baro_aided_s": float(np.sum(np.diff(time, prepend=time[0])[unaided])),
+        "reader_warnings": len(getattr(data, "warnings", [])),
+    }
 
 
 def _estimates_table(identifier: str, columns: List[Tuple[str, np.ndarray]], metadata: Dict[str, Any]):
@@ -372,6 +403,9 @@ def _process_log(job: _Job) -> Dict[str, Any]:
         costs["read_s"] = _time.perf_counter() - tick
         tick = _time.perf_counter()
         run = adapter.run_log(data, job.estimator, job.settings)
+        problem = health.check_estimate(run, run.estimate.altitude, run.estimate.vertical_velocity)
+        if problem is not None:  # never an "ok" row with an estimate that cannot be trusted
+            raise ValueError(f"{data.source}: estimator {job.estimator}: {problem}: the estimate cannot be trusted")
         row.update(_describe(data, run))
         columns = adapter.run_columns(run)
         costs["estimate_s"] = _time.perf_counter() - tick

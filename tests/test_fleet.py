@@ -580,3 +580,33 @@ def test_cli_fleet_run_with_workers_starts_and_stops_its_own_cluster(fleet_dir, 
                              str(fleet_dir / "sim" / "sim12.csv"), "-o", str(tmp_path), "--workers", "1", *CSV_FLAGS])
     assert status == 0, err
     assert "Dask cluster: 1 worker" in err and "2 computed, 0 reused" in out
+
+
+def test_a_log_whose_estimate_is_not_finite_is_a_failed_row_never_ok(fleet_dir, client, tmp_path):
+    from typing import NamedTuple
+
+    from fusion_altitude import runner
+
+    class Batch(NamedTuple):
+        altitude: np.ndarray
+        vertical_velocity: np.ndarray
+
+    def diverging(data, dt, options):
+        altitude = np.zeros(data.time.size, np.float32)
+        altitude[data.time.size // 2:] = np.inf
+        return Batch(altitude, np.zeros(data.time.size, np.float32))
+
+    runner.register_estimator(runner.EstimatorEntry("diverging_test", "returns inf from mid-log", diverging))
+    try:
+        result = fleet.run_many([str(fleet_dir / "sim" / "sim10.csv")], estimator="diverging_test", client=client,
+                                output_dir=str(tmp_path), csv_options=CSV_OPTIONS)
+    finally:
+        del runner.ESTIMATORS["diverging_test"]
+    row = result.summary.to_pylist()[0]
+    assert row["status"] == "failed" and "non-finite altitude" in row["error"] and "cannot be trusted" in row["error"]
+
+
+def test_the_summary_has_the_health_columns_of_run(first_run):
+    row = next(r for r in first_run.summary.to_pylist() if r["status"] == "ok" and r["path"].endswith(".ulg"))
+    assert row["baro_first_s"] < row["baro_last_s"] and row["stopped_streams"] == ""
+    assert row["gps_samples"] > 0 and row["estimator_gaps"] >= 0 and row["not_baro_aided_s"] == 0.0

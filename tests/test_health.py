@@ -179,3 +179,47 @@ def test_run_keeps_the_estimator_asked_for_and_says_it_has_no_other_height_sourc
 def test_run_warns_that_a_non_rocket_estimator_has_no_baro_lockout_on_a_rocket_log(shared_data, capsys):
     assert main(["run", str(shared_data / "hedy_baro.csv"), "--estimator", "kalman"]) == 0
     assert "has no baro lockout" in capsys.readouterr().err
+
+
+@pytest.fixture
+def diverging_estimator():
+    """A registered estimator whose altitude is inf from mid-log (removed afterwards)."""
+    from typing import NamedTuple
+
+    from fusion_altitude import runner
+
+    class Batch(NamedTuple):
+        altitude: np.ndarray
+        vertical_velocity: np.ndarray
+
+    def diverging(data, dt, options):
+        altitude = np.asarray(data.baro_altitude, np.float32).copy()
+        altitude[:] = 100.0
+        altitude[data.time.size // 2:] = np.inf
+        return Batch(altitude, np.zeros(data.time.size, np.float32))
+
+    runner.register_estimator(runner.EstimatorEntry("diverging_test", "returns inf from mid-log", diverging))
+    yield "diverging_test"
+    del runner.ESTIMATORS["diverging_test"]
+
+
+def test_run_refuses_a_non_finite_estimate_with_exit_3_and_writes_nothing(tmp_path, capsys, diverging_estimator):
+    log = write_csv(tmp_path / "log.csv", climb_log())
+    out = tmp_path / "out.csv"
+    status = main(["run", log, "--time", "t", "--accel", "az", "--baro", "alt", "--estimator", diverging_estimator,
+                   "-o", str(out)])
+    captured = capsys.readouterr()
+    assert status == 3 and not out.exists() and "final altitude" not in captured.out
+    assert "non-finite altitude or vertical velocity from 30.000 s on" in captured.err
+    assert len(captured.err.strip().splitlines()) == 1
+
+
+def test_compare_leaves_the_row_of_a_refused_estimate_blank_and_exits_3(capsys, diverging_estimator):
+    from fusion_altitude import comparison
+
+    data = climb_log()
+    data.reference_altitude = 100.0 + 2.0 * data.time
+    rows = comparison.compare_log(data, estimators=["observer", diverging_estimator], repeat=0)
+    refused = next(row for row in rows if row.estimator == diverging_estimator)
+    assert np.isnan(refused.altitude_rms) and "non-finite" in refused.problem
+    assert next(row for row in rows if row.estimator == "observer").problem is None

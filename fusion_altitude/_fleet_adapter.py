@@ -121,7 +121,10 @@ def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
         if not getattr(logs.FORMATS[logs.sniff_format(path)], "needs_columns", False):
             options = {}
     try:
-        return logs.load_log(path, **options)
+        from .logs._data import quiet_warnings
+
+        with quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
+            return logs.load_log(path, **options)
     except TypeError as error:
         raise ValueError(f"{path}: this log needs csv_options ({error})") from None
 

@@ -117,16 +117,81 @@ def _same_file(a: str, b: str) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def _check_output(path: Optional[str], flag: str, inputs: Sequence[str] = ()) -> None:
-    """Before any work: ``path`` can be written (its folder exists and is writable, it is no folder) and is
-    none of the ``inputs``."""
+def _input_files(path: str) -> List[str]:
+    """Every file the reader of ``path`` opens: the file itself and, for a multi-file log (a CATS set: baro, IMU,
+    flight info), its siblings."""
+    from . import logs
+
+    files = [path]
+    with contextlib.suppress(OSError, ValueError):
+        if logs.sniff_format(path) == "cats":
+            files += list(logs.find_cats_files(path).values())
+    return files
+
+
+def _is_sibling_name(path: str, inputs: Sequence[str]) -> bool:
+    """``path`` (existing or not) is named as a member of the multi-file log in ``inputs`` (a CATS
+    ``<prefix>baro.csv``/``imu.csv``/``flight_info.csv`` beside them): the next read would take it for one."""
+    from .logs import cats
+
+    mine = cats._split_name(os.path.abspath(path))
+    if mine is None:
+        return False
+    for source in inputs:
+        theirs = cats._split_name(os.path.abspath(source)) if source and not os.path.isdir(source) else None
+        if theirs is not None and os.path.realpath(mine[0]) == os.path.realpath(theirs[0]) \
+                and mine[1].lower() == theirs[1].lower():
+            return True
+    return False
+
+
+#: File name endings of ``run -o`` (a device, a FIFO or ``-`` get CSV).
+RUN_OUTPUT_EXTENSIONS = (".csv", ".parquet")
+
+
+def _check_output(path: Optional[str], flag: str, inputs: Sequence[str] = (), stdout: bool = False,
+                  extensions: Optional[Sequence[str]] = None) -> None:
+    """Before any work: ``path`` can be written and touches no input.
+
+    Refused, each in one line: an empty name or a folder; any file the
+    reader opens (``inputs`` and, for a multi-file log, its siblings, after
+    symlinks and hard links: same device and inode) or a name the next read
+    would take for one; a folder that does not exist or where no file can be
+    created (tried: ``/proc``); an extension not in ``extensions`` (None:
+    any; ``.parquet`` needs pyarrow); ``-`` unless ``stdout``. An existing device or FIFO is accepted when writable: it is
+    written in place, never replaced.
+    """
     if path is None:
         return
     if not path or path.endswith(os.sep):
         raise CliError(f"{flag} needs a file name, got {path!r}")
-    for source in inputs:
-        if source and os.path.exists(path) and _same_file(path, source):
-            raise CliError(f"{flag} {path} is the input file: refusing to overwrite it")
+    if path == "-":
+        if stdout:
+            return
+        raise CliError(f"{flag} - (standard output) is not supported here: give a file name")
+    every = [f for source in inputs if source for f in _input_files(source)]
+    for source in every:
+        if os.path.exists(path) and _same_file(path, source):
+            what = "the input file" if any(_same_file(source, given) for given in inputs if given) else \
+                f"a file the reader opens with {inputs[0]}"
+            raise CliError(f"{flag} {path} is {what}: refusing to overwrite it")
+    if _is_sibling_name(path, every):
+        raise CliError(f"{flag} {path} is named as a file of the multi-file log {inputs[0]}: the next read would "
+                       "take it for one; choose another name")
+    from .runner import is_special_output
+
+    if is_special_output(path):
+        if not os.access(path, os.W_OK):
+            raise CliError(f"{flag} {path}: permission denied")
+        return
+    extension = os.path.splitext(path)[1].lower()
+    if extensions is not None and extension not in extensions:
+        raise CliError(f"{flag} {path}: writes {' or '.join(extensions)} files, not {extension or 'a name without an extension'}")
+    if extension == ".parquet":
+        try:
+            import pyarrow.parquet  # noqa: F401
+        except ImportError:
+            raise CliError(f"{flag} {path}: Parquet output needs pyarrow: pip install 'fusion-altitude[fleet]'") from None
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise CliError(f"{flag} {path}: folder {folder} does not exist")
@@ -134,6 +199,21 @@ def _check_output(path: Optional[str], flag: str, inputs: Sequence[str] = ()) ->
         raise CliError(f"{flag} {path} is a folder, not a file")
     if not os.access(folder, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
         raise CliError(f"{flag} {path}: permission denied")
+    _try_create(path, flag, folder)
+
+
+def _try_create(path: str, flag: str, folder: str) -> None:
+    """CliError naming ``path`` when no file can be created in its folder (a read-only or virtual file system
+    such as /proc, where the access check says yes): a temporary file is created there and removed."""
+    import tempfile
+
+    try:
+        handle, probe = tempfile.mkstemp(prefix=".fusion-altitude-probe.", dir=folder)
+    except OSError as error:
+        raise CliError(f"{flag} {path}: cannot create a file in {folder}: {error.strerror}") from None
+    os.close(handle)
+    with contextlib.suppress(OSError):
+        os.unlink(probe)
 
 
 def _check_plot(path: Optional[str], inputs: Sequence[str] = ()) -> None:
@@ -205,7 +285,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         raise CliError(f"--seed must be >= 0, got {args.seed}")
     _check_attitude(args.attitude)
     _check_plot(args.plot)
-    _check_output(args.export, "--export")
+    _check_output(args.export, "--export", extensions=(".csv",))
     if args.export and args.plot and _same_file_name(args.export, args.plot):
         raise CliError("--export and --plot name the same file")
     result = run_scenario(args.scenario, seed=args.seed, attitude=args.attitude)
@@ -600,14 +680,23 @@ def _print_events(run, data) -> None:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    progress = _Progress()
+    _check_run_outputs(args)
+    if args.output == "-":  # the CSV goes to standard output, the report to stderr
+        stdout = sys.stdout
+        with contextlib.redirect_stdout(sys.stderr):
+            return _run(args, progress, stdout)
+    return _run(args, progress, sys.stdout)
+
+
+def _run(args: argparse.Namespace, progress: "_Progress", stdout) -> int:
+    """``run`` after the output checks; ``stdout`` is where ``-o -`` writes the CSV."""
     import numpy as np
 
     from . import runner
     from ._observer import AltitudeSettings
     from .health import check_estimate, sensor_health
 
-    progress = _Progress()
-    _check_run_outputs(args)
     data = _load(args, progress)
     health = sensor_health(data)
     estimator = _run_estimator(args, data, health)
@@ -636,14 +725,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
         _print_run_comparison(run, args.agl)
     if run.events is not None:
         _print_events(run, data)
-    _write_run_outputs(args, run, progress)
+    _write_run_outputs(args, run, progress, stdout)
     return 0
 
 
 def _check_run_outputs(args: argparse.Namespace) -> None:
     """CliError when an output of ``run`` (-o, --events-csv, --plot) is the input or two outputs name one file."""
-    _check_output(args.output, "-o", [args.file])
-    _check_output(args.events_csv, "--events-csv", [args.file])
+    _check_output(args.output, "-o", [args.file], stdout=True, extensions=RUN_OUTPUT_EXTENSIONS)
+    _check_output(args.events_csv, "--events-csv", [args.file], extensions=(".csv",))
     _check_plot(args.plot, [args.file])
     outputs = [(flag, path) for flag, path in (("-o", args.output), ("--plot", args.plot),
                                                ("--events-csv", args.events_csv)) if path]
@@ -742,15 +831,18 @@ def _print_run_comparison(run, agl: bool) -> None:
     print(format_table(["", "estimate − ref", "baro − ref"], rows))
 
 
-def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress) -> None:
-    """Write what ``run`` was asked for: the events CSV, the estimates CSV, the plot."""
+def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress, stdout=None) -> None:
+    """Write what ``run`` was asked for: the events CSV, the estimates CSV (``-o -``: to ``stdout``), the plot."""
     from . import runner
 
     if args.events_csv:
         with runner.atomic_output(args.events_csv) as temporary:
             run.events.to_csv(temporary)
         print(f"events written to {args.events_csv}")
-    if args.output:
+    if args.output == "-":
+        with contextlib.redirect_stdout(stdout):
+            runner.write_csv(run, "-")
+    elif args.output:
         with progress.stage("writing") as bar:
             runner.write_csv(run, args.output, progress=bar)
         print(f"estimates written to {args.output}")

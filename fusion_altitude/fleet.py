@@ -114,7 +114,8 @@ SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
     ("rangefinder_samples", "int64", "rangefinder samples (0 without a rangefinder)"),
     ("estimator_gaps", "int64", "updates the estimator treated as gaps (-1: it has no gap counter)"),
     ("not_baro_aided_s", "float64", "time the baro was silent for longer than its timeout (rows flagged in -o), s"),
-    ("reader_warnings", "int64", "warnings the reader issued (see `run` on the log for their text)"),
+    ("reader_warnings", "int64", "warnings the reader issued"),
+    ("warnings", "string", "the reader's warnings, one line each, joined by ' | ' ('' if none)"),
 )
 # then, for estimators that report them, final_<name> of their other bias/offset outputs (e.g. the Kalman
 # filter's final_baro_offset, m)
@@ -169,7 +170,26 @@ def expand_paths(paths_or_globs: Union[str, Sequence[str]]) -> List[str]:
             found.update(name(p) for p in matches)
         else:
             found.add(name(path))
-    return sorted(found)
+    return _flights(sorted(found))
+
+
+def _flights(paths: List[str]) -> List[str]:
+    """``paths`` with one path per flight: the IMU and flight-info files of a CATS set whose baro file is in the
+    list are dropped (the reader opens them with it), so a flight is one row, never three."""
+    from .logs import cats
+
+    baro_sets = set()
+    for path in paths:
+        split = cats._split_name(path)
+        if split is not None and split[2] == "baro":
+            baro_sets.add((split[0], split[1].lower()))
+    kept = []
+    for path in paths:
+        split = cats._split_name(path)
+        if split is not None and split[2] != "baro" and (split[0], split[1].lower()) in baro_sets:
+            continue
+        kept.append(path)
+    return kept
 
 
 def log_id(path: str) -> str:
@@ -306,6 +326,7 @@ def _health_fields(data, run) -> Dict[str, Any]:
         "estimator_gaps": int(run.gap_count) if getattr(run, "gap_count", None) is not None else -1,
         "not_baro_aided_s": float(np.sum(np.diff(time, prepend=time[0])[unaided])),
         "reader_warnings": len(getattr(data, "warnings", [])),
+        "warnings": " | ".join(" ".join(str(w).split()) for w in getattr(data, "warnings", [])),
     }
 
 

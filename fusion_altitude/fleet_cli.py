@@ -243,6 +243,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
                                     retry_failed=args.retry_failed, progress=sys.stdout.isatty())
     except (ValueError, TypeError) as error:
         raise _cli_error(_flag_message(error)) from None
+    for row in result.summary.to_pylist():  # the readers' warnings, one line each (never a Python warning)
+        for warning in filter(None, (row.get("warnings") or "").split(" | ")):
+            print(f"warning: {row['log_id']}: {warning}", file=sys.stderr)
     costs = result.costs.to_pylist()
     computed = [row for row in costs if row["action"] == "computed"]
     print(f"{len(computed)} computed, {len(result.reused)} reused (same settings {result.settings_hash}), "
@@ -277,7 +280,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
     if args.omega_min >= args.omega_max:
         raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
-    _check_output(args.output, "-o")
+    _check_output(args.output, "-o", extensions=(".json",))
     every = _check_inputs("DIR_OR_GLOB", args.paths)
     if args.holdout:
         _check_inputs("--holdout", args.holdout)

@@ -58,6 +58,7 @@ from .tuning import _bandwidth_of, _other_fields, gap_period_for, settings_for_b
 __all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "applicable_estimators",
            "missing_inputs", "default_preset", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
            "sample_periods", "nominal_period", "run_log", "above_start", "write_csv", "atomic_output",
+           "is_special_output",
            "csv_columns"]
 
 
@@ -666,13 +667,51 @@ def _output_mode(path: str) -> int:
         return 0o666 & ~umask
 
 
+def is_special_output(path: str) -> bool:
+    """True for an output that must be opened and written in place, never replaced by a rename: an existing
+    character device (``/dev/null``, ``/dev/full``, a terminal), FIFO or socket, symlinks followed
+    (``/dev/stdout``)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not stat.S_ISREG(mode) and not stat.S_ISDIR(mode)
+
+
 @contextlib.contextmanager
 def atomic_output(path: str) -> Iterator[str]:
     """Yield a temporary path next to ``path`` (same extension); rename it onto ``path`` only on success.
 
     A crash or an exception while writing leaves ``path`` as it was and no
-    temporary file behind.
+    temporary file behind. A device or FIFO (:func:`is_special_output`) is
+    yielded as it is and written in place: a rename would replace it with a
+    regular file. An ``OSError`` about the temporary file names ``path``.
     """
+    if is_special_output(path):
+        try:
+            yield path
+        except OSError as error:
+            if error.filename is None:  # a write to the device failed (ENOSPC on /dev/full): name it
+                raise type(error)(error.errno, error.strerror, path) from None
+            raise
+        return
+    try:
+        with _atomic_output(path) as temporary:
+            try:
+                yield temporary
+            except OSError as error:
+                if error.filename == temporary:  # name the user's path, never a temporary one
+                    raise type(error)(error.errno, error.strerror, path) from None
+                raise
+    except OSError as error:
+        if error.filename is not None and os.path.basename(str(error.filename)).startswith("."):
+            if os.path.dirname(os.path.abspath(str(error.filename))) == os.path.dirname(os.path.abspath(path)):
+                raise type(error)(error.errno, error.strerror, path) from None
+        raise
+
+
+@contextlib.contextmanager
+def _atomic_output(path: str) -> Iterator[str]:
     directory = os.path.dirname(os.path.abspath(path))
     base, extension = os.path.splitext(os.path.basename(path))
     # SIGTERM/SIGINT are held back from the file's creation until the cleanup below is in place: a signal
@@ -744,6 +783,10 @@ def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], No
               chunk: int = 100_000) -> None:
     """Write the run per grid step at full precision, atomically (see :func:`atomic_output`).
 
+    ``path`` ``"-"`` writes to standard output; a ``.parquet`` path writes
+    the same columns as Parquet (needs pyarrow); a device or FIFO is written
+    in place.
+
     Columns as :func:`csv_columns`: time s, altitude m, vertical_velocity m/s,
     the estimator's other outputs (observer: accel_bias m/s², baro_residual m),
     baro_altitude m, vertical_acceleration m/s², reference_altitude m and
@@ -754,16 +797,41 @@ def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], No
     value is ``nan``.
     """
     columns = csv_columns(run)
+    if path == "-":  # standard output
+        import sys
+
+        _write_csv_stream(columns, sys.stdout, run.time.size, progress, chunk)
+        sys.stdout.flush()
+        return
+    if os.path.splitext(path)[1].lower() == ".parquet":
+        _write_parquet(columns, path)
+        if progress is not None:
+            progress(run.time.size, run.time.size)
+        return
+    with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:
+        _write_csv_stream(columns, stream, run.time.size, progress, chunk)
+
+
+def _write_csv_stream(columns: List[Tuple[str, np.ndarray]], stream, n: int,
+                      progress: Optional[Callable[[int, int], None]], chunk: int) -> None:
     arrays = [np.asarray(values) for _, values in columns]
     arrays = [a if a.dtype in (np.float32, np.float64) or a.dtype.kind in "iub" else a.astype(np.float64)
               for a in arrays]
     row_format = ",".join(_format(a) for a in arrays) + "\n"
-    n = run.time.size
-    with atomic_output(path) as temporary, open(temporary, "w", newline="") as stream:
-        stream.write(",".join(name for name, _ in columns) + "\n")
-        for start in range(0, n, chunk):
-            stop = min(start + chunk, n)
-            block = np.column_stack([a[start:stop].astype(np.float64) for a in arrays])
-            stream.write((row_format * (stop - start)) % tuple(block.ravel().tolist()))
-            if progress is not None:
-                progress(stop, n)
+    stream.write(",".join(name for name, _ in columns) + "\n")
+    for start in range(0, n, chunk):
+        stop = min(start + chunk, n)
+        block = np.column_stack([a[start:stop].astype(np.float64) for a in arrays])
+        stream.write((row_format * (stop - start)) % tuple(block.ravel().tolist()))
+        if progress is not None:
+            progress(stop, n)
+
+
+def _write_parquet(columns: List[Tuple[str, np.ndarray]], path: str) -> None:
+    """The same columns as a Parquet file (each in its native dtype), atomically; needs pyarrow."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.table({name: pa.array(np.asarray(values)) for name, values in columns})
+    with atomic_output(path) as temporary:
+        pq.write_table(table, temporary)

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
+import threading
 import warnings
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
@@ -167,12 +169,31 @@ class LogData:
         return len(self.gaps)
 
     def warn(self, message: str) -> None:
-        """Record a reader warning in ``warnings`` and issue it as a :class:`LogWarning`."""
+        """Record a reader warning in ``warnings`` and issue it as a :class:`LogWarning` (not inside
+        :func:`quiet_warnings`)."""
         self.warnings.append(message)
+        if getattr(_QUIET, "on", False):
+            return
         frame, level = sys._getframe(1), 2  # point the warning at the first caller outside the readers
         while frame is not None and frame.f_globals.get("__name__", "").startswith("fusion_altitude.logs"):
             frame, level = frame.f_back, level + 1
         warnings.warn(message, LogWarning, stacklevel=level)
+
+
+_QUIET = threading.local()
+
+
+@contextlib.contextmanager
+def quiet_warnings():
+    """Within this block, in this thread only, reader warnings are recorded in ``LogData.warnings`` but not
+    issued as Python warnings (the fleet's workers are threads: ``warnings.catch_warnings`` is not thread-safe).
+    The caller reports ``LogData.warnings`` itself."""
+    before = getattr(_QUIET, "on", False)
+    _QUIET.on = True
+    try:
+        yield
+    finally:
+        _QUIET.on = before
 
 
 def _fmt(value: float) -> str:

@@ -379,8 +379,12 @@ def _cmd_tune(args: argparse.Namespace) -> int:
     print(format_table(["check", "result", "value"], [[name, "ok" if ok else "FAIL", value]
                                                       for name, ok, value in result.checks]))
     print()
-    print(f"baro noise gain: {result.noise_gain:.4f} (altitude noise sd per m of white baro noise per sample)")
-    print(f"equivalent noise bandwidth of baro → altitude: {result.noise_bandwidth:.4f} Hz")
+    if result.stable:
+        print(f"baro noise gain: {result.noise_gain:.4f} (altitude noise sd per m of white baro noise per sample)")
+        print(f"equivalent noise bandwidth of baro → altitude: {result.noise_bandwidth:.4f} Hz")
+    else:  # the discrete filter diverges: its noise gain and bandwidth are infinite, not a number to print
+        print("baro noise gain: unstable (the discrete filter diverges at this rate: no finite noise gain)")
+        print("equivalent noise bandwidth of baro → altitude: unstable")
     return 0 if result.stable else 1
 
 
@@ -542,10 +546,21 @@ def _read_log(args: argparse.Namespace, options: dict, progress: _Progress):
         except ImportError as error:
             raise CliError(f"{args.file}: {error}") from None
         except logs.LogError as error:  # name our flags, not the reader's keywords
-            message = str(error)
-            for flag, _, keyword, _ in _CSV_FLAGS:
-                message = message.replace(keyword, flag)
-            raise CliError(message) from None
+            raise CliError(_with_flags(str(error))) from None
+
+
+def _with_flags(message: str) -> str:
+    """A reader's message with its keywords spelled as our flags, as the user would type them:
+    ``remove_gravity=True (--remove-gravity)`` → ``--remove-gravity``, ``accel_units='g'`` → ``--accel-units g``."""
+    import re
+
+    for flag, _, keyword, _ in _CSV_FLAGS:
+        message = re.sub(rf"\b{keyword}=True\b", flag, message)
+        message = re.sub(rf"\b{keyword}='([^']*)'", rf"{flag} \1", message)
+        message = re.sub(rf"\b{keyword}\b", flag, message)
+        message = message.replace(f"{flag} ({flag})", flag)
+        message = re.sub(rf"({re.escape(flag)} \S+) \({re.escape(flag)} \S+\)", r"\1", message)
+    return message
 
 
 def _print_log_summary(data, what: str, notes=None) -> None:
@@ -599,6 +614,8 @@ def _run_estimator(args: argparse.Namespace, data, health=()) -> str:
         estimator = "ins"
     else:
         estimator = "observer"
+    if args.preset is not None and estimator != "observer":
+        raise CliError(f"--preset names observer gains; it does not apply to --estimator {estimator}")
     if args.rocket and estimator != "rocket":
         raise CliError(f"--rocket runs the rocket flight layer; it cannot be combined with --estimator {estimator}")
     if args.events_csv and estimator != "rocket":

@@ -136,7 +136,7 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     vertical, axial, baro_only, accel_message = _axial(source, column.get("acceleration"), pad, notes)
     if accel_message is not None:
         messages.append(accel_message)
-    imu, clipped, imu_messages = _imu(source, time, [column.get(f"accel_{axis}") for axis in "xyz"], notes)
+    imu, clipped, imu_messages = _imu(source, time, [column.get(f"accel_{axis}") for axis in "xyz"], pad, notes)
     messages += imu_messages
     gyro = [column.get(f"gyro_{axis}") for axis in "xyz"]
     gyro = np.radians(np.column_stack(gyro)) if imu is not None and all(g is not None for g in gyro) else None
@@ -196,8 +196,9 @@ def _axial(source: str, acceleration: Optional[np.ndarray], pad: np.ndarray, not
     return _filled(vertical), axial, False, message
 
 
-def _imu(source: str, time: np.ndarray, axes: list, notes: list):
-    """(accel (N, 3) m/s² or None, clipped or None, warnings) from ``accel_x/y/z``: None when absent or dead."""
+def _imu(source: str, time: np.ndarray, axes: list, pad: np.ndarray, notes: list):
+    """(accel (N, 3) m/s² or None, clipped or None, warnings) from ``accel_x/y/z``: None when absent, dead or not
+    reading about 1 g on the pad (raw counts, another unit)."""
     if any(axis is None for axis in axes):
         return None, None, []
     accel = np.column_stack(axes)
@@ -206,6 +207,13 @@ def _imu(source: str, time: np.ndarray, axes: list, notes: list):
                                          "the along-axis 'acceleration' is used; no INS on this log")]
     messages = []
     silent = np.all(accel == 0, axis=1) | ~np.all(np.isfinite(accel), axis=1)
+    rest = pad & ~silent
+    if rest.any():
+        norm = float(np.median(np.linalg.norm(accel[rest], axis=1)))
+        if not 0.5 * GRAVITY < norm < 1.5 * GRAVITY:
+            return None, None, [f"{source}: the IMU (accel_x, accel_y, accel_z) reads {_fmt(norm)} on the pad, not "
+                                f"about 9.81 m/s² (raw counts or another unit?): not used; the along-axis "
+                                f"'acceleration' is used; no INS on this log"]
     if silent.any():
         live = np.flatnonzero(~silent)
         index = live[np.clip(np.searchsorted(live, np.arange(time.size)), 0, live.size - 1)]
@@ -267,10 +275,8 @@ def _read_columns(path: str, progress):
                     if line.lower().startswith("# software version")), None)
     if version:
         notes.append(f"AltOS {version}")
-    if "rssi" in table.header:
-        notes.append("ground-station telemetry recording (rssi, lqi): packets lost, the time steps are irregular")
     roles = {"time": table.index("time"), "pressure": table.index("pressure"), "altitude": table.index("altitude")}
-    optional = {"acceleration": ("acceleration", 0), "height": ("height", 0), "speed": ("speed", 0),
+    optional = {"rssi": ("rssi", 0), "acceleration": ("acceleration", 0), "height": ("height", 0), "speed": ("speed", 0),
                 "accel_speed": ("accel_speed", 0), "baro_speed": ("baro_speed", 0),
                 "temperature": ("temperature", 0),
                 "accel_x": ("accel_x", 0), "accel_y": ("accel_y", 0), "accel_z": ("accel_z", 0),
@@ -288,6 +294,9 @@ def _read_columns(path: str, progress):
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {role: data[:, order.index(position)] for role, position in roles.items()}
     check_finite(path, "time", column["time"], lines)
+    rssi = column.pop("rssi", None)
+    if rssi is not None and np.any(np.nan_to_num(rssi) != 0):  # flight-computer downloads write rssi 0
+        notes.append("ground-station telemetry recording (rssi, lqi): packets lost, the time steps are irregular")
     messages += absurd_columns(path, column, lines, [
         ("altitude", "altitude", *ALTITUDE_RANGE, "m", "baro altitude", True),
         ("height", "height", *ALTITUDE_RANGE, "m", "height", True),

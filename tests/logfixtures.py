@@ -666,9 +666,9 @@ def raven_csv(directory, duration: float = 30.0, accel_seconds: float = 4.5) -> 
     rows = max(accel_time.size, alt_time.size)
     lines = [RAVEN_HEADER]
     for i in range(rows):
-        left = (f"{accel_time[i]:g},{(accel[i] + G) / G:.2f},b{'1' if accel_time[i] >= 0.5 else '0'}000"
+        left = (f"{accel_time[i]:.4f},{(accel[i] + G) / G:.2f},b{'1' if accel_time[i] >= 0.5 else '0'}000"
                 if i < accel_time.size else ",,")
-        right = (f"{alt_time[i]:g},{height[i] / 0.3048:.5f},b{'1' if alt_time[i] >= 0.5 else '0'}000"
+        right = (f"{alt_time[i]:.5f},{height[i] / 0.3048:.5f},b{'1' if alt_time[i] >= 0.5 else '0'}000"
                  if i < alt_time.size else ",,")
         lines.append(f"{left},{right}")
     with open(path, "w", encoding="utf-8") as handle:

@@ -271,7 +271,7 @@ def _read_columns(path: str, progress):
     repair = _repair_header(path, table)
     if repair is not None:
         messages.append(repair)
-    version = next((line.split(":", 1)[1].strip() for line in table.preamble
+    version = next((line.partition(":")[2].strip() for line in table.preamble
                     if line.lower().startswith("# software version")), None)
     if version:
         notes.append(f"AltOS {version}")

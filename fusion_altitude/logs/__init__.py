@@ -56,7 +56,8 @@ from .rrc3 import looks_like_rrc3, read_rrc3
 from .ulog import ULOG_MAGIC, read_ulog
 
 __all__ = ["LogError", "LogWarning", "LogData", "Format", "FORMATS", "read_csv_log", "read_ulog",
-           "read_dataflash", "read_altos_csv", "read_cats", "read_raven", "read_rrc3", "find_cats_files", "sniff_format", "load_log",
+           "read_dataflash", "read_altos_csv", "read_cats", "read_raven", "read_rrc3", "find_cats_files",
+           "sniff_format", "load_log",
            "find_gaps", "merge_repeated_timestamps"]
 
 
@@ -170,7 +171,8 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         if unknown:
             raise LogError(f"unknown CSV option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
         if "time_column" not in options:
-            raise LogError(f"{path}: not a ULog, DataFlash, AltOS, Raven, RRC3 or CATS log; as a generic CSV it needs its "
+            raise LogError(f"{path}: not a ULog, DataFlash, AltOS, Raven, RRC3 or CATS log; as a generic CSV it "
+                           f"needs its "
                            f"columns named (time_column, accel_column, baro_column or pressure_column)")
     accepted = {"ulog": {"instance"}, "dataflash": {"instance"}, "altos": {"ground_temperature_k"},
                 "raven": set(), "rrc3": set(),

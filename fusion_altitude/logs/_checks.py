@@ -155,7 +155,7 @@ def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
     time : numpy.ndarray
         Sample times as read, meant to be s, increasing.
     fix : str
-        What the user can do, e.g. ``"say so with time_units='ms' (--time-units ms) or 'us'"``.
+        What the user can do, e.g. ``"set time_units to 'ms' or 'us'"`` (the CLI shows the flag: ``--time-units``).
     """
     time = np.asarray(time, dtype=float)
     finite = time[np.isfinite(time)]
@@ -213,7 +213,7 @@ def check_log(data) -> None:
 
 def _time_fix(data) -> str:
     if data.source.endswith("(CSV)"):
-        return "say so with time_units='ms' or 'us' (--time-units ms|us)"
+        return "set time_units to 'ms' or 'us'"
     return "this format's time is in seconds: the file is not what it claims to be"
 
 

@@ -276,7 +276,8 @@ def _read_columns(path: str, progress):
     if version:
         notes.append(f"AltOS {version}")
     roles = {"time": table.index("time"), "pressure": table.index("pressure"), "altitude": table.index("altitude")}
-    optional = {"rssi": ("rssi", 0), "acceleration": ("acceleration", 0), "height": ("height", 0), "speed": ("speed", 0),
+    optional = {"rssi": ("rssi", 0), "acceleration": ("acceleration", 0), "height": ("height", 0),
+                "speed": ("speed", 0),
                 "accel_speed": ("accel_speed", 0), "baro_speed": ("baro_speed", 0),
                 "temperature": ("temperature", 0),
                 "accel_x": ("accel_x", 0), "accel_y": ("accel_y", 0), "accel_z": ("accel_z", 0),

@@ -350,7 +350,7 @@ def _read_columns(path: str, roles: dict, progress, time_scale: float = 1.0, che
         check_finite(path, roles[role], column[role], lines)
     column["time"] = column["time"] * time_scale
     check_time_units(f"{os.path.basename(path)} (CSV)", column["time"],
-                     f"column {roles['time']!r}: say so with time_units='ms' or 'us' (--time-units ms|us)")
+                     f"column {roles['time']!r}: set time_units to 'ms' or 'us'")
     implausible = absurd_columns(path, column, lines, [c for c in checks if c[1] is not None])
     time, merged, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, roles["time"])
     return time, merged, lines, dropped, repeated, implausible

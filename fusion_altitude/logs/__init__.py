@@ -15,8 +15,10 @@ Formats (:data:`FORMATS`, tried by :func:`sniff_format` in this order)
 * ``dataflash`` — ArduPilot DataFlash, :func:`read_dataflash` (``[logs]``
   extra), every generation (``TimeUS`` and ArduCopter ≤ 3.3's ``TimeMS``):
   by its message header bytes or ``.bin``.
-* ``altos`` — AltOS CSV, :func:`read_altos_csv`: by its ``#version,serial,
-  flight,…`` header; no column options.
+* ``altos`` — AltOS CSV of every version (TeleMega, EasyMega, TeleMetrum,
+  EasyMini; flight-computer downloads and ground-station telemetry),
+  :func:`read_altos_csv`: by its ``#version,serial,flight,…`` header, after
+  any ``#`` comment lines; no column options.
 * ``raven`` — Featherweight Raven CSV export, :func:`read_raven`: by its
   ``Time…`` / ``Axial Accel (Gs)`` / ``Altitude (Ft-AGL)`` header; two
   time bases merged onto one grid.

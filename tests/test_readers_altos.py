@@ -168,6 +168,18 @@ def test_easymini_without_an_accelerometer_is_baro_only_with_one_warning(tmp_pat
     assert len([w for w in caught if "no accelerometer, as on an EasyMini" in w]) == 1
 
 
+def test_export_without_an_acceleration_column_is_baro_only_with_one_warning(tmp_path):
+    path = tmp_path / "easymini.csv"
+    fx.write_altos_rocket_csv(path, imu="none", acceleration=False)
+    lines = path.read_text().split("\n")
+    drop = lines[0].lstrip("#").split(",").index("acceleration")
+    path.write_text("\n".join(",".join(c for j, c in enumerate(line.split(",")) if j != drop) if line else line
+                              for line in lines))
+    data, caught = read(path)
+    assert data.baro_only and np.all(data.vertical_acceleration == 0.0)
+    assert len([w for w in caught if "no 'acceleration' column" in w]) == 1
+
+
 def test_easymini_baro_is_read(tmp_path):
     truth = fx.write_altos_rocket_csv(tmp_path / "easymini.csv", imu="none", acceleration=False)
     data, _ = read(tmp_path / "easymini.csv")

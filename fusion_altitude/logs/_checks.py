@@ -81,8 +81,8 @@ def drop_absurd(source: str, name: str, values: np.ndarray, lines: Optional[np.n
         A copy with the absurd cells NaN (the input itself if none).
     message : str or None
         ``"<source>: line 57, column 'baro': 1e+30 m is not a plausible baro
-        altitude (-1000…100000 m); dropped (no sample on that line), and 2
-        more lines (the last line 90)"``.
+        altitude (plausible: -1000…100000 m); dropped (no sample there), and
+        2 more lines (the last line 90)"``.
     """
     values = np.asarray(values, dtype=float)
     present = ~np.isnan(values)

@@ -394,6 +394,7 @@ def _cmd_tune(args: argparse.Namespace) -> int:
 #: CSV flags → (read_csv_log keyword, default): passed only when the user changed them.
 _CSV_FLAGS = (
     ("--time", "time", "time_column", None),
+    ("--time-units", "time_units", "time_units", "s"),
     ("--accel", "accel", "accel_column", None),
     ("--baro", "baro", "baro_column", None),
     ("--pressure", "pressure", "pressure_column", None),
@@ -1365,6 +1366,7 @@ def _add_compare_parser(commands) -> None:
 def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> None:
     group = parser.add_argument_group("log options (column flags: generic CSV only)")
     group.add_argument("--time", help="CSV: time column, s")
+    group.add_argument("--time-units", default="s", choices=("s", "ms", "us"), help="CSV: units of --time")
     group.add_argument("--accel", help="CSV: vertical acceleration column (earth frame, +up)")
     group.add_argument("--accel-units", default="m/s^2", choices=("m/s^2", "g"), help="CSV: units of --accel")
     group.add_argument("--remove-gravity", action="store_true",

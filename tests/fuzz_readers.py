@@ -5,7 +5,8 @@ Run for a while and report::
     python tests/fuzz_readers.py --seconds 60 [--seed 1] [--data ../shared/data]
 
 Seeds are fixtures written by tests/logfixtures.py (DataFlash TimeMS and
-TimeUS, PX4 ULog, AltOS CSV, CATS set, generic CSV) plus, if the shared data
+TimeUS, PX4 ULog, AltOS CSV — current, 1.4 and telemetry —, CATS set, generic
+CSV, Featherweight Raven, Missile Works RRC3) plus, if the shared data
 directory is there, the PX4 ULog sample. Every mutation is a truncation, bit flips,
 random bytes or deleted runs (:func:`logfixtures.mutations`). A finding is
 any exception other than LogError, or a read that takes longer than
@@ -61,6 +62,16 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
         "cats-imu": ((cats / "flight_imu.csv").read_bytes(), "flight_imu.csv", {},
                      {"flight_baro.csv": (cats / "flight_baro.csv").read_bytes()}),
     }
+    small = d / "small"
+    small.mkdir()
+    fx.write_altos_rocket_csv(small / "altos14.csv", style="1.4", duration=2.0, pad_time=0.5, rate=10.0)
+    fx.write_altos_rocket_csv(small / "telemetry.csv", style="v5", telemetry=True, duration=4.0, pad_time=0.5)
+    out.update({
+        "altos-1.4": ((small / "altos14.csv").read_bytes(), "altos.csv", {}, {}),
+        "altos-telemetry": ((small / "telemetry.csv").read_bytes(), "altos.csv", {}, {}),
+        "raven": (Path(fx.raven_csv(small, duration=2.0, accel_seconds=0.5)).read_bytes(), "raven.csv", {}, {}),
+        "rrc3": (Path(fx.rrc3_csv(small)).read_bytes(), "rrc3.csv", {}, {}),
+    })
     if data_dir and os.path.exists(os.path.join(data_dir, "px4_sample_log_small.ulg")):
         with open(os.path.join(data_dir, "px4_sample_log_small.ulg"), "rb") as handle:
             out["ulog-px4-sample"] = (handle.read(), "log.ulg", {}, {})

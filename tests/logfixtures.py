@@ -259,14 +259,16 @@ def write_generic_csv(path, duration: float = 20.0, rate: float = 100.0, baro_ev
                       accel_units: str = "m/s^2", altitude_units: str = "m", gravity: float = 0.0,
                       gap: Optional[Sequence[float]] = None, repeat_every: int = 0, bom: bool = False,
                       cut_tail: bool = False, bad_cell_row: Optional[int] = None, backwards_row: Optional[int] = None,
-                      extra_columns: Optional[Dict[str, np.ndarray]] = None) -> dict:
+                      extra_columns: Optional[Dict[str, np.ndarray]] = None, time_scale: float = 1.0,
+                      cells: Optional[Dict[int, Dict[str, str]]] = None) -> dict:
     """A generic CSV (``time,accel,baro,reference``) of :func:`profile` with the given oddities.
 
     ``gravity`` (m/s²) is added to the acceleration (9.80665: gravity left in).
     ``repeat_every`` > 0 repeats every n-th row's timestamp from the row before
     (the values are the truth at the true time). ``bad_cell_row`` writes
     ``oops`` in the accel column of that data row (file line = row + 2);
-    ``backwards_row`` writes that row's time 1 s before the previous one.
+    ``backwards_row`` writes that row's time 1 s before the previous one. ``time_scale`` multiplies the written
+    time (1000: milliseconds). ``cells`` = {row: {column: text}} overwrites cells (e.g. a ``1e30`` baro).
     """
     time = np.arange(0.0, duration, 1.0 / rate)
     keep = drop_gap(time, gap)
@@ -283,14 +285,16 @@ def write_generic_csv(path, duration: float = 20.0, rate: float = 100.0, baro_ev
     for i, t in enumerate(written):
         a = (accel[i] + gravity) / accel_scale
         baro = f"{altitude[i] / altitude_scale:.4f}" if i % baro_every == 0 else ""
-        cells = [repr(float(t)), f"{a:.6f}", baro, f"{altitude[i] / altitude_scale:.4f}"]
+        row = [repr(float(t * time_scale)), f"{a:.6f}", baro, f"{altitude[i] / altitude_scale:.4f}"]
         if extra_columns:
-            cells += [repr(float(values[i])) for values in extra_columns.values()]
+            row += [repr(float(values[i])) for values in extra_columns.values()]
         if bad_cell_row == i:
-            cells[1] = "oops"
+            row[1] = "oops"
         if backwards_row == i:
-            cells[0] = repr(float(written[i - 1] - 1.0))
-        lines.append(",".join(cells))
+            row[0] = repr(float(written[i - 1] - 1.0))
+        for name, text in (cells or {}).get(i, {}).items():
+            row[names.index(name)] = text
+        lines.append(",".join(row))
     text = "\n".join(lines) + "\n"
     if cut_tail:
         text = text + lines[-1][: len(lines[-1]) // 3]  # the logger died mid-line: no newline at the end
@@ -453,3 +457,255 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
         handle.write(w.bytes())
     altitude, velocity, _ = profile(imu_time[kept])
     return {"time": imu_time[kept], "altitude": altitude, "velocity": velocity}
+
+
+# --- rocket flight-computer exports (issue 20: "never silently wrong on a real log") -----------------------------
+#
+# Each ``*_csv(directory, …)`` function writes one file into ``directory`` (e.g. pytest's ``tmp_path``), written the
+# way the real export is, and returns its path as a str, for the reader tests and end-to-end checks.
+
+#: AltOS CSV version 5 header (AltosUI 1.4–1.6, ``altoslib/AltosCSV.java``): ``clock, rssi, lqi`` after ``time``,
+#: ``accel_speed, baro_speed`` instead of ``speed``, ``gyro_x/y/z``.
+ALTOS_V5_HEADER = ("#version,serial,flight,call,time,clock,rssi,lqi,state,state_name,acceleration,pressure,altitude,"
+                   "height,accel_speed,baro_speed,temperature,drogue_voltage,main_voltage,battery_voltage,accel_x,"
+                   "accel_y,accel_z,gyro_x,gyro_y,gyro_z,connected,locked,nsat,latitude,longitude,altitude,year,"
+                   "month,day,hour,minute,second,pad_dist,pad_range,pad_az,pad_el,pdop,hdop,vdop")
+#: AltOS 1.4.1's header as written: the advanced-sensor names follow ``main_voltage`` without a comma
+#: (25 names; the rows have 26 cells).
+ALTOS_14_HEADER = ("#version,serial,flight,call,time,clock,rssi,lqi,state,state_name,acceleration,pressure,altitude,"
+                   "height,accel_speed,baro_speed,temperature,battery_voltage,drogue_voltage,main_voltageaccel_x,"
+                   "accel_y,accel_z,gyro_x,gyro_y,gyro_z")
+ALTOS_14_PREAMBLE = ("# Config version: 1.18", "# Serial number: 2718", "# Flight number: 7",
+                     "# Software version: 1.4.1")
+#: TeleMega IMU accelerometer full scale, m/s² (±16 g).
+IMU_FULL_SCALE = 16 * G
+#: Net boost acceleration of :func:`rocket_profile`, m/s² (the along-axis accelerometer reads this + g).
+BOOST = 12 * G
+BOOST_HIGH = 18 * G
+BURN_TIME = 1.0
+DESCENT_RATE = 20.0
+
+
+def rocket_profile(time: np.ndarray, boost: float = BOOST, burn: float = BURN_TIME):
+    """A vertical rocket flight: height (m above the pad), velocity (m/s), acceleration (m/s², +up, gravity removed).
+
+    On the pad before t = 0; ``boost`` m/s² net for ``burn`` s; then ballistic (−g, no drag) until falling at
+    ``DESCENT_RATE`` m/s, then a steady descent under the drogue."""
+    t = np.asarray(time, dtype=float)
+    vb, hb = boost * burn, 0.5 * boost * burn ** 2
+    tc = t - burn
+    t_drogue = (vb + DESCENT_RATE) / G  # coast time until −DESCENT_RATE
+    h_drogue = hb + vb * t_drogue - 0.5 * G * t_drogue ** 2
+    height = np.where(t < 0, 0.0, np.where(t < burn, 0.5 * boost * t ** 2, np.where(
+        tc < t_drogue, hb + vb * tc - 0.5 * G * tc ** 2, h_drogue - DESCENT_RATE * (tc - t_drogue))))
+    velocity = np.where(t < 0, 0.0, np.where(t < burn, boost * t, np.where(tc < t_drogue, vb - G * tc,
+                                                                           -DESCENT_RATE)))
+    accel = np.where(t < 0, 0.0, np.where(t < burn, boost, np.where(tc < t_drogue, -G, 0.0)))
+    return height, velocity, accel
+
+
+def _rocket_state(t: float, velocity: float):
+    if t < 0:
+        return 2, "pad"
+    if t < BURN_TIME:
+        return 3, "boost"
+    if velocity > 0:
+        return 5, "coast"
+    return 6, "drogue"
+
+
+def _isa_pressure(altitude):
+    return 101325.0 * (1 - 0.0065 * np.asarray(altitude, dtype=float) / 288.15) ** 5.2559
+
+
+def _telemetry_time(pad_time: float, duration: float, step: float = 0.1):
+    """Ground-station packet times: every ``step`` s, with packets lost in runs of 0.5–4 s (fixed pattern)."""
+    time = np.round(np.arange(-pad_time, duration, step), 6)
+    keep = np.ones(time.shape, dtype=bool)
+    for start, length in ((-1.5, 0.5), (3.0, 1.2), (6.0, 4.0), (12.0, 0.8), (16.0, 2.0)):
+        keep &= ~((time > start) & (time < start + length))
+    return time[keep]
+
+
+def write_altos_rocket_csv(path, style: str = "current", duration: float = 25.0, rate: float = 20.0,
+                           pad_time: float = 2.0, imu: str = "live", boost: float = BOOST, telemetry: bool = False,
+                           acceleration: bool = True) -> dict:
+    """An AltOS CSV of :func:`rocket_profile` (pad at ``PAD_ALTITUDE`` m), one row per time stamp.
+
+    ``style``: ``"current"`` (:data:`ALTOS_HEADER`), ``"v5"`` (:data:`ALTOS_V5_HEADER`: clock, rssi, lqi,
+    accel_speed, baro_speed) or ``"1.4"`` (:data:`ALTOS_14_PREAMBLE` comment lines, then the defective
+    :data:`ALTOS_14_HEADER`; no GPS). ``imu``: ``"live"`` (accel_x = the along-axis specific force, ±16 g
+    clipped), ``"dead"`` (accel_x/y/z all 0.00 on every row, as a TeleMega with a failed IMU writes) or
+    ``"none"`` (no IMU columns: TeleMetrum). ``telemetry``: packet times of :func:`_telemetry_time` (0.1 s with
+    0.5–4 s losses) instead of ``rate``. ``acceleration=False``: an EasyMini (the column holds AltOS's
+    "missing" value 2147483647.00). The ``acceleration`` column is gravity-removed (≈ 0 on the pad), as AltOS
+    writes it; it never saturates.
+    """
+    time = _telemetry_time(pad_time, duration) if telemetry else np.round(np.arange(-pad_time, duration, 1 / rate), 6)
+    height, velocity, accel = rocket_profile(time, boost=boost)
+    specific = accel + G  # along the axis, +nose: +1 g on the pad
+    imu_x = np.clip(specific, -IMU_FULL_SCALE, IMU_FULL_SCALE)
+    header = {"current": ALTOS_HEADER, "v5": ALTOS_V5_HEADER, "1.4": ALTOS_14_HEADER}[style]
+    lines = list(ALTOS_14_PREAMBLE) if style == "1.4" else []
+    lines.append(header)
+    for i, (t, h, v, a) in enumerate(zip(time, height, velocity, accel)):
+        number, name = _rocket_state(t, v)
+        altitude = h + PAD_ALTITUDE
+        pressure = float(_isa_pressure(altitude))
+        temperature = 15.0 - 0.0065 * altitude
+        acc = f"{a:.2f}" if acceleration else "2147483647.00"
+        if imu == "dead":
+            axes = ["0.00"] * 3
+        else:
+            axes = [f"{imu_x[i]:.2f}", f"{0.3 + 0.01 * np.sin(7 * t):.2f}", f"{-0.2 + 0.01 * np.cos(5 * t):.2f}"]
+        gyros = [f"{0.5 * np.sin(t):.2f}", f"{0.4 * np.cos(t):.2f}", f"{120.0 if 0 <= t < 5 else 3.0:.2f}"]
+        locked = 1 if t >= 1.0 else 0
+        gps = [1, locked, 9 if locked else 3, "47.0000000", "8.0000000", f"{altitude + 40.0:.1f}" if locked else "0.0",
+               2024, 6, 1, 12, 0, 0]
+        rssi, lqi = -70 - int(20 * abs(np.sin(t))), 40 + int(t) % 7
+        if style == "current":
+            cells = [1, 2718, 7, "N0CALL", f"{t:.2f}", number, name, acc, f"{pressure:.1f}", f"{altitude:.2f}",
+                     f"{h:.2f}", f"{v:.2f}", f"{temperature:.1f}", "3.9", "3.9", "3.8", *axes, *gyros, "0.1", "0.2",
+                     "0.3", "2", "0", *gps, "1.5", "0.9", "1.2", "N"]
+        elif style == "v5":
+            cells = [5, 2718, 7, "N0CALL", f"{t:.2f}", f"{t + 100.0:.2f}", rssi, lqi, number, name, acc,
+                     f"{pressure:.2f}", f"{altitude:.2f}", f"{h:.2f}", f"{v:.2f}", f"{v:.2f}", f"{temperature:.1f}",
+                     "3.9", "3.9", "3.8", *axes, *gyros, *gps, 0, 0, 0, 0, "1.5", "0.9", "1.2"]
+        else:
+            cells = [5, 2718, 7, "N0CALL", f"{t:.2f}", f"{t + 100.0:.2f}", 0, 0, number, name, acc,
+                     f"{pressure:.2f}", f"{altitude:.2f}", f"{h:.2f}", f"{v:.2f}", f"{v:.2f}", f"{temperature:.1f}",
+                     "3.8", "3.9", "3.9", *axes, *gyros]
+        if imu == "none":  # a TeleMetrum: no IMU cells
+            cells = [c for j, c in enumerate(cells) if header.lstrip("#").split(",")[j]
+                     not in _IMU_NAMES] if style != "1.4" else cells[:-6]
+        lines.append(",".join(str(c) for c in cells))
+    if imu == "none":
+        names = [n for n in lines[-len(time) - 1].lstrip("#").split(",") if n not in _IMU_NAMES]
+        if style == "1.4":
+            names = ALTOS_14_HEADER.lstrip("#").split(",")[:19] + ["main_voltage"]
+        lines[-len(time) - 1] = "#" + ",".join(names)
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write("\n".join(lines) + "\n")
+    return {"time": time, "height": height, "velocity": velocity, "accel": accel, "specific": specific,
+            "imu_x": imu_x, "altitude": height + PAD_ALTITUDE}
+
+
+_IMU_NAMES = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z", "gyro_roll", "gyro_pitch", "gyro_yaw",
+              "mag_x", "mag_y", "mag_z"}
+
+
+def altos_telemetry_csv(directory) -> str:
+    """A TeleMega ground-station telemetry export (AltOS CSV v5: clock, rssi, lqi, accel_speed, baro_speed):
+    packets every 0.1 s (median step) with losses of 0.5, 0.8, 1.2, 2 and 4 s."""
+    path = f"{directory}/telemetry.csv"
+    write_altos_rocket_csv(path, style="v5", telemetry=True)
+    return path
+
+
+def altos_14_csv(directory) -> str:
+    """An AltOS 1.4.1 export: ``# Config version`` / ``# Serial number`` / ``# Software version`` comment lines
+    before the header, and the header's missing comma (``main_voltageaccel_x``: 25 names for 26 cells)."""
+    path = f"{directory}/altos-1.4.csv"
+    write_altos_rocket_csv(path, style="1.4")
+    return path
+
+
+def telemega_dead_imu_csv(directory) -> str:
+    """A TeleMega export whose IMU is dead (accel_x/y/z 0.00 on every row) while ``acceleration`` is alive."""
+    path = f"{directory}/telemega-dead-imu.csv"
+    write_altos_rocket_csv(path, imu="dead")
+    return path
+
+
+def telemega_saturating_imu_csv(directory) -> str:
+    """A TeleMega export of an 18 g boost: the IMU's accel_x saturates at +16 g, ``acceleration`` does not."""
+    path = f"{directory}/telemega-saturating.csv"
+    write_altos_rocket_csv(path, boost=BOOST_HIGH)
+    return path
+
+
+def easymini_csv(directory) -> str:
+    """An EasyMini export: no accelerometer (``acceleration`` holds AltOS's missing value), no IMU columns."""
+    path = f"{directory}/easymini.csv"
+    write_altos_rocket_csv(path, imu="none", acceleration=False)
+    return path
+
+
+#: The data row (0-based) and so the file line (row + 2) of the 1e30 baro cell of :func:`csv_with_absurd_baro`.
+ABSURD_BARO_ROW = 700
+
+
+def csv_with_absurd_baro(directory) -> str:
+    """A generic CSV (:func:`write_generic_csv`: ``time,accel,baro,reference``) whose baro cell on data row
+    :data:`ABSURD_BARO_ROW` (file line ``ABSURD_BARO_ROW + 2``) reads ``1e30``."""
+    path = f"{directory}/absurd-baro.csv"
+    write_generic_csv(path, baro_every=5, cells={ABSURD_BARO_ROW: {"baro": "1e30"}})
+    return path
+
+
+def csv_with_millisecond_time(directory) -> str:
+    """A generic CSV (100 Hz, 20 s) whose time column is in milliseconds (0, 10, 20, …)."""
+    path = f"{directory}/ms-time.csv"
+    write_generic_csv(path, time_scale=1000.0)
+    return path
+
+
+RAVEN_HEADER = "Time-Axial Accel (Gs), Axial Accel (Gs), bILBA, Time (s), Altitude (Ft-AGL), bILBA"
+
+
+def raven_csv(directory, duration: float = 30.0, accel_seconds: float = 4.5) -> str:
+    """A Featherweight Raven export of :func:`rocket_profile` (pad at t = 0.5 s): ``Axial Accel (Gs)`` at 400 Hz
+    for the first ``accel_seconds`` s on its own time column, ``Altitude (Ft-AGL)`` at 20 Hz on ``Time (s)``
+    (starting at 0.04375 s, as the real export), ``bILBA`` status bits; the shorter channel's cells are empty on
+    the rows after its end."""
+    path = f"{directory}/raven.csv"
+    accel_time = np.round(np.arange(0.0, accel_seconds, 0.0025), 6)
+    alt_time = np.round(np.arange(0.04375, duration, 0.05), 6)
+    _, _, accel = rocket_profile(accel_time - 0.5)
+    height, _, _ = rocket_profile(alt_time - 0.5)
+    rows = max(accel_time.size, alt_time.size)
+    lines = [RAVEN_HEADER]
+    for i in range(rows):
+        left = (f"{accel_time[i]:.4f},{(accel[i] + G) / G:.2f},b{'1' if accel_time[i] >= 0.5 else '0'}000"
+                if i < accel_time.size else ",,")
+        right = (f"{alt_time[i]:.5f},{height[i] / 0.3048:.5f},b{'1' if alt_time[i] >= 0.5 else '0'}000"
+                 if i < alt_time.size else ",,")
+        lines.append(f"{left},{right}")
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write("\n".join(lines))  # the real export ends without a newline
+    return path
+
+
+RRC3_HEADER = "time,altitude,pressure,velocity,temperature,events,voltages"
+#: Data rows (0-based; file line = row + 2) of the RRC3 fixture's quirks.
+RRC3_SPIKE_ROW = 300
+RRC3_GARBAGE_ROWS = (451, 452)
+RRC3_SHIFT_FROM_ROW = 440
+
+
+def rrc3_csv(directory) -> str:
+    """A Missile Works RRC3 export of :func:`rocket_profile` (launch at 1 s), 20 Hz, 22.6 s, with the real
+    export's quirks: from data row :data:`RRC3_SHIFT_FROM_ROW` the temperature cell is missing (the events and
+    an empty voltage one column left), a +54 m one-sample spike on row :data:`RRC3_SPIKE_ROW`, and two garbage
+    rows (10.7 km, −2.5 km) on :data:`RRC3_GARBAGE_ROWS`, the first carrying the ``Drogue`` event."""
+    path = f"{directory}/rrc3.csv"
+    time = np.round(np.arange(0.0, 22.65, 0.05), 2)
+    height, velocity, _ = rocket_profile(time - 1.0)
+    lines = [RRC3_HEADER]
+    for i, (t, h, v) in enumerate(zip(time, height, velocity)):
+        if i == RRC3_SPIKE_ROW:
+            h = h + 54.0
+        pressure = float(_isa_pressure(h + 1400.0)) / 100.0
+        if i == RRC3_GARBAGE_ROWS[0]:
+            lines.append(f"{t:.2f},10700.59,191.25,7215.777, Drogue,,")
+            continue
+        if i == RRC3_GARBAGE_ROWS[1]:
+            lines.append(f"{t:.2f},-2490.543,1158.70,-5345.959, -,,")
+            continue
+        if i >= RRC3_SHIFT_FROM_ROW:
+            lines.append(f"{t:.2f},{h:.6g},{pressure:.2f},{v:.6g}, -,,")
+        else:
+            lines.append(f"{t:.2f},{h:.6g},{pressure:.2f},{v:.6g},31.9, -,3.811746")
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write("\n".join(lines) + "\n")
+    return path

@@ -10,9 +10,11 @@ from fusion_altitude.cli import main
 
 
 def csv_log(path, n=300, baro=True, reference=False):
+    """A still log with live sensors (a little noise: a constant channel is a dead sensor, and warned about)."""
     rows = ["t,az,alt,ref"]
     for i in range(n):
-        rows.append(f"{0.02 * i:.2f},0.0,{'5.0' if baro else ''},{'5.1' if reference else ''}")
+        noise = 0.01 * ((i * 7) % 5 - 2)
+        rows.append(f"{0.02 * i:.2f},{noise:.2f},{f'{5.0 + noise:.2f}' if baro else ''},{'5.1' if reference else ''}")
     path.write_text("\n".join(rows) + "\n")
     return str(path)
 

@@ -16,7 +16,9 @@ from fusion_altitude.cli import main
 
 
 def csv_log(path, n=300, reference=False, last_line_cut=False):
-    rows = ["t,az,alt,ref"] + [f"{0.02 * i:.2f},0.0,5.0,{'5.1' if reference else ''}" for i in range(n)]
+    # live sensors (a little noise): a constant channel is a dead sensor, and warned about
+    rows = ["t,az,alt,ref"] + [f"{0.02 * i:.2f},{0.01 * ((i * 7) % 5 - 2):.2f},{5.0 + 0.01 * ((i * 7) % 5 - 2):.2f},"
+                               f"{'5.1' if reference else ''}" for i in range(n)]
     text = "\n".join(rows) + "\n"
     if last_line_cut:
         text += "99.0,0."

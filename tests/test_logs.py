@@ -449,13 +449,14 @@ def test_csv_pressure_with_ground_temperature_gives_height_above_start(tmp_path)
 
 
 def test_csv_zero_ground_pressure_with_ground_temperature_is_a_log_error(tmp_path):
-    """A pressure column that reads 0 Pa over the first second cannot be a ground pressure: a LogError naming the
+    """A pressure column that reads 0 Pa over the first second cannot be a ground pressure: its 0 Pa cells are
+    dropped as implausible, and then there is no ground pressure: a LogError naming the
     column (the CLI's one-line error), not the ValueError of sensors.height_above_ground."""
     time = np.arange(0, 4, 0.1)
     pressure = np.where(time < 1.5, 0.0, 95000.0)
     path = tmp_path / "log.csv"
     path.write_text("time,accel,p\n" + "".join(f"{t},0,{p}\n" for t, p in zip(time, pressure)))
-    with pytest.raises(logs.LogError, match=r"column 'p': the ground pressure .* is 0 Pa"):
+    with pytest.raises(logs.LogError, match=r"column 'p': no pressure in the first 1 s"):
         logs.read_csv_log(str(path), "time", "accel", pressure_column="p", ground_temperature_k=280.0)
 
 

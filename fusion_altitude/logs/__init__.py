@@ -15,8 +15,15 @@ Formats (:data:`FORMATS`, tried by :func:`sniff_format` in this order)
 * ``dataflash`` — ArduPilot DataFlash, :func:`read_dataflash` (``[logs]``
   extra), every generation (``TimeUS`` and ArduCopter ≤ 3.3's ``TimeMS``):
   by its message header bytes or ``.bin``.
-* ``altos`` — AltOS CSV, :func:`read_altos_csv`: by its ``#version,serial,
-  flight,…`` header; no column options.
+* ``altos`` — AltOS CSV of every version (TeleMega, EasyMega, TeleMetrum,
+  EasyMini; flight-computer downloads and ground-station telemetry),
+  :func:`read_altos_csv`: by its ``#version,serial,flight,…`` header, after
+  any ``#`` comment lines; no column options.
+* ``raven`` — Featherweight Raven CSV export, :func:`read_raven`: by its
+  ``Time…`` / ``Axial Accel (Gs)`` / ``Altitude (Ft-AGL)`` header; two
+  time bases merged onto one grid.
+* ``rrc3`` — Missile Works RRC3 CSV export, :func:`read_rrc3`: by its
+  ``time,altitude,pressure,velocity,…,events`` header; baro only.
 * ``cats`` — CATS split CSVs, :func:`read_cats`: ``*baro.csv`` /
   ``*imu.csv`` / ``*flight_info.csv`` (with a ``ts`` column) or a
   directory holding them.
@@ -25,6 +32,11 @@ Formats (:data:`FORMATS`, tried by :func:`sniff_format` in this order)
 Repeated timestamps are merged (numeric columns averaged) and counted in
 ``LogData.repeated_timestamps`` and a warning; logging gaps are listed in
 ``LogData.gaps``; time that goes backwards is an error.
+
+Every reader's output goes through the plausibility checks of
+:mod:`fusion_altitude.logs._checks` (time in seconds, absurd cells dropped
+with a warning naming the line, dead channels never used), each reported in
+one line.
 
 Bad input raises :class:`LogError`: one line naming the file, the line (or
 message) and the column. Readers never raise anything else on a bad file.
@@ -41,10 +53,13 @@ from .altos import looks_like_altos, read_altos_csv
 from .cats import find_cats_files, looks_like_cats, read_cats
 from .dataflash import DATAFLASH_MAGIC, read_dataflash
 from .generic_csv import read_csv_log
+from .raven import looks_like_raven, read_raven
+from .rrc3 import looks_like_rrc3, read_rrc3
 from .ulog import ULOG_MAGIC, read_ulog
 
 __all__ = ["LogError", "LogWarning", "LogData", "Format", "FORMATS", "read_csv_log", "read_ulog",
-           "read_dataflash", "read_altos_csv", "read_cats", "find_cats_files", "sniff_format", "load_log",
+           "read_dataflash", "read_altos_csv", "read_cats", "read_raven", "read_rrc3", "find_cats_files",
+           "sniff_format", "load_log",
            "find_gaps", "merge_repeated_timestamps"]
 
 
@@ -85,6 +100,8 @@ FORMATS: Dict[str, Format] = {f.name: f for f in (
     Format("dataflash", "ArduPilot DataFlash", (".bin",),
            lambda path, head: head[:2] == DATAFLASH_MAGIC and len(head) > 2 and head[2] == 128, read_dataflash),
     Format("altos", "AltOS CSV", (), lambda path, head: looks_like_altos(_text(head)), read_altos_csv),
+    Format("raven", "Featherweight Raven CSV", (), lambda path, head: looks_like_raven(_text(head)), read_raven),
+    Format("rrc3", "Missile Works RRC3 CSV", (), lambda path, head: looks_like_rrc3(_text(head)), read_rrc3),
     Format("cats", "CATS CSV set", (), lambda path, head: looks_like_cats(path, _text(head)), read_cats),
     Format("csv", "CSV (columns named by the caller)", (".csv", ".txt"), lambda path, head: True, read_csv_log,
            needs_columns=True),
@@ -104,7 +121,7 @@ def sniff_format(path: str) -> str:
             head = handle.read(4096)
     except OSError as error:
         raise LogError(f"cannot open {path}: {error.strerror}") from None
-    for name in ("ulog", "dataflash", "altos", "cats"):
+    for name in ("ulog", "dataflash", "altos", "raven", "rrc3", "cats"):
         if FORMATS[name].sniff(path, head):
             return name
     suffix = os.path.splitext(path)[1].lower()
@@ -146,7 +163,7 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         raise LogError(f"unknown log format {name!r}; known: {', '.join(FORMATS)}")
     options = {key: value for key, value in options.items() if value is not None}
     if instance is not None:
-        if name in ("altos", "csv"):
+        if name in ("altos", "csv", "raven", "rrc3"):
             raise LogError(f"{path}: a {FORMATS[name].description} has one sensor instance; instance not supported")
         options["instance"] = instance
     if name == "csv":
@@ -156,9 +173,11 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         if unknown:
             raise LogError(f"unknown CSV option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
         if "time_column" not in options:
-            raise LogError(f"{path}: not a ULog, DataFlash, AltOS or CATS log; as a generic CSV it needs its "
+            raise LogError(f"{path}: not a ULog, DataFlash, AltOS, Raven, RRC3 or CATS log; as a generic CSV it "
+                           f"needs its "
                            f"columns named (time_column, accel_column, baro_column or pressure_column)")
     accepted = {"ulog": {"instance"}, "dataflash": {"instance"}, "altos": {"ground_temperature_k"},
+                "raven": set(), "rrc3": set(),
                 "cats": {"instance", "ground_temperature_k", "accel_range"}}
     if name in accepted:
         extra = sorted(set(options) - accepted[name])

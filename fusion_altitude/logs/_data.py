@@ -282,8 +282,12 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
 
 
 def finish(data: LogData) -> LogData:
-    """Common last step of every reader: check the grid, find gaps and warn about them and repeats."""
+    """Common last step of every reader: check the grid, its plausibility (:func:`._checks.check_log`: time in
+    seconds, absurd samples dropped, dead channels), find gaps and warn about them and repeats."""
+    from ._checks import check_log  # the checks import this module
+
     _check_grid(data.time, data.source)
+    check_log(data)
     if data.repeated_timestamps:
         data.warn(f"{data.source}: {data.repeated_timestamps} rows repeated the timestamp of the row before; "
                   f"merged (numeric columns averaged, states: last)")

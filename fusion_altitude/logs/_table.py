@@ -13,7 +13,7 @@ import csv
 import io
 import os
 from dataclasses import dataclass
-from typing import Callable, Dict, List, Optional, Sequence
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -63,12 +63,16 @@ class Table:
         The data lines, ``\\n``-separated.
     first_line : int
         File line number (1-based) of the body's first line.
+    preamble : tuple of str
+        Comment lines before the header (``split_header(…, header_start=…)``),
+        stripped.
     """
 
     path: str
     header: List[str]
     body: str
     first_line: int
+    preamble: Tuple[str, ...] = ()
 
     def index(self, name: str, occurrence: int = 0) -> int:
         """Position of column ``name`` (its ``occurrence``-th copy); LogError listing the columns if absent."""
@@ -81,14 +85,24 @@ class Table:
         return name in self.header
 
 
-def split_header(path: str, text: str, header_prefix: str = "") -> Table:
-    """The first non-empty line is the header (after ``header_prefix``, e.g. ``#``)."""
+def split_header(path: str, text: str, header_prefix: str = "", header_start: Optional[str] = None) -> Table:
+    """The first non-empty line is the header (after ``header_prefix``, e.g. ``#``).
+
+    With ``header_start`` (e.g. ``"#version,"``), comment lines starting with
+    ``header_prefix`` before the line that starts with it are skipped and kept
+    in ``Table.preamble`` (AltOS 1.4 writes ``# Config version: 1.18`` … there).
+    """
     position, line = 0, 1
+    preamble = []
     while True:
         end = text.find("\n", position)
         end = len(text) if end < 0 else end
-        if text[position:end].strip():
-            break
+        stripped = text[position:end].strip()
+        if stripped:
+            if header_start is None or stripped.startswith(header_start) or not (
+                    header_prefix and stripped.startswith(header_prefix)):
+                break
+            preamble.append(stripped)
         if end >= len(text):
             raise LogError(f"{path}: empty file (no header line)")
         position, line = end + 1, line + 1
@@ -96,7 +110,7 @@ def split_header(path: str, text: str, header_prefix: str = "") -> Table:
     if header_prefix and header_line.startswith(header_prefix):
         header_line = header_line[len(header_prefix):]
     header = [name.strip().strip('"').strip() for name in next(csv.reader([header_line]))]
-    return Table(path, header, text[end + 1:], line + 1)
+    return Table(path, header, text[end + 1:], line + 1, tuple(preamble))
 
 
 def _row_lines(table: Table) -> np.ndarray:

@@ -17,6 +17,7 @@ import numpy as np
 
 from .._common import GRAVITY
 from ..sensors import gyro_attitude, height_above_ground, vertical_acceleration
+from ._checks import PRESSURE_RANGE, absurd_columns
 from ._data import LogData, LogError, _align, _fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header, text_column
 
@@ -81,7 +82,9 @@ def looks_like_cats(path: str, head: str) -> bool:
     return _split_name(path) is not None and first.startswith("ts,")
 
 
-def _read(path: str, names, progress, instance_prefix: str, instance: Optional[int]):
+def _read(path: str, names, progress, instance_prefix: str, instance: Optional[int], checks=(), messages=None):
+    """One CATS file's ``names`` columns for one sensor instance, repeated stamps merged; ``checks`` (role,
+    name, low, high, unit, what, low_inclusive) drop absurd cells first, their warnings appended to ``messages``."""
     table = split_header(path, read_text(path, "CATS CSV"))
     positions = [table.index(name) for name in names]
     data, lines, dropped = numeric_columns(table, positions, progress)
@@ -101,6 +104,8 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
             lines = lines[keep]
             note = f"{wanted}" + (f" of {', '.join(present)}" if len(present) > 1 else "")
     check_finite(path, "ts", column["ts"], lines)
+    if checks and messages is not None:
+        messages += absurd_columns(path, column, lines, checks)
     time, column, repeated = merge_repeated_timestamps(column.pop("ts"), column, path, lines, "ts")
     if time.size < 2:
         raise LogError(f"{path}: need at least 2 distinct time stamps, got {time.size}")
@@ -157,8 +162,10 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
     files = find_cats_files(path)
     imu_time, imu, imu_repeats, imu_note, dropped_imu = _read(
         files["imu"], ["ts", "Ax", "Ay", "Az", "Gx", "Gy", "Gz"], progress, "IMU", instance)
-    baro_time, baro, baro_repeats, baro_note, dropped_baro = _read(files["baro"], ["ts", "P", "T"], progress,
-                                                                     "BARO", instance)
+    implausible = []
+    baro_time, baro, baro_repeats, baro_note, dropped_baro = _read(
+        files["baro"], ["ts", "P", "T"], progress, "BARO", instance,
+        [("P", "P", *PRESSURE_RANGE, "Pa", "pressure", False)], implausible)
     time = imu_time
     accel_body, gyro_dps, accel, clipped = _imu_vertical(files["imu"], time, imu, accel_range)
     pressure = _align(time, baro_time, baro["P"])
@@ -171,6 +178,8 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
                   baro_altitude, clipped=clipped, notes=notes, accel=accel_body, gyro=np.radians(gyro_dps),
                   imu_frame="sensor", pressure=pressure, temperature=temperature, vehicle="rocket",
                   altitude_reference="pad", ground_altitude=0.0, repeated_timestamps=imu_repeats)
+    for message in implausible:
+        log.warn(message)
     if baro_repeats:
         log.warn(f"{files['baro']}: {baro_repeats} rows repeated the timestamp of the row before; merged")
     for dropped, file in ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])):

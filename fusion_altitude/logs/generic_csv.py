@@ -9,6 +9,7 @@ import numpy as np
 
 from .._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
+from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header
 
@@ -18,6 +19,8 @@ ALTITUDE_UNITS = {"m": 1.0, "ft": 0.3048}
 ATTITUDE_CONVENTIONS = ("quaternion", "euler_deg", "euler_rad")
 FRAMES = {"NED": "FRD", "NWU": "FLU", "ENU": "RFU"}
 TEMPERATURE_UNITS = ("C", "K")
+#: Time units → seconds per unit.
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
 #: Seconds at the start of a log taken as "at rest" for the gravity check and ground values.
 REST_SECONDS = 1.0
 #: Plausible static pressure, Pa (1 kPa ≈ 31 km up; 120 kPa below the Dead Sea); a pressure column
@@ -69,7 +72,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                  temperature_column: Optional[str] = None,
                  temperature_units: str = "C", ground_temperature_k: Union[None, float, str] = None,
                  progress: Optional[Callable[[int, int], None]] = None,
-                 gyro_body_columns: Optional[Sequence[str]] = None, gyro_units: str = "rad/s") -> LogData:
+                 gyro_body_columns: Optional[Sequence[str]] = None, gyro_units: str = "rad/s",
+                 time_units: str = "s") -> LogData:
     """Read a CSV log with a header row; the caller names the columns.
 
     Parameters
@@ -143,6 +147,17 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         ``accel_body_columns`` (needs them): with both, the log has a raw
         IMU (``LogData.gyro``, ``LogData.accel``) and ``run`` picks the INS.
     gyro_units : {"rad/s", "deg/s"}
+    time_units : {"s", "ms", "us"}
+        Units of ``time_column`` (converted to s). A time column that does
+        not look like seconds (median step > 2 s, or ≥ 1 s over more than a
+        day; see :mod:`fusion_altitude.logs._checks`) is refused with a
+        LogError naming this option.
+
+    Plausibility (:mod:`fusion_altitude.logs._checks`): a baro, reference or
+    pressure cell that is infinite or absurd (altitude outside −1 km…100 km,
+    pressure ≤ 0 or > 120 kPa) is dropped (NaN: no sample) with one warning
+    naming its file line; a constant or all-zero acceleration is a dead
+    sensor: warned, and the log runs baro-only.
 
     Returns
     -------
@@ -160,17 +175,33 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
                    temperature_units, sea_level_pa, attitude_columns, attitude_convention, frame,
                    ground_temperature_k, temperature_column, gyro_body_columns, gyro_units)
+    if time_units not in TIME_UNITS:
+        raise LogError(f"time units must be 's', 'ms' or 'us', got {time_units!r}")
     source = f"{os.path.basename(path)} (CSV)"
     roles = _column_roles(time_column, accel_column, baro_column or pressure_column, accel_body_columns,
                           attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column,
                           gyro_body_columns)
-    time, column, lines, dropped, repeated = _read_columns(path, roles, progress)
+    altitude_scale = ALTITUDE_UNITS[altitude_units]
+    low, high = ALTITUDE_RANGE
+    altitude_check = (low / altitude_scale, high / altitude_scale, altitude_units)
+    checks = [("reference", reference_column, *altitude_check, "reference altitude", True)]
+    if pressure_column is not None:
+        checks.append(("baro", pressure_column, *PLAUSIBLE_PRESSURE, "Pa", "pressure", False))
+    else:
+        checks.append(("baro", baro_column, *altitude_check, "baro altitude", True))
+    time, column, lines, dropped, repeated, implausible = _read_columns(path, roles, progress, TIME_UNITS[time_units],
+                                                                        checks)
     notes = [f"time {time_column!r}"]
     scale = ACCEL_UNITS[accel_units]
-    accel_body = None
+    accel_body = dead = None
     if accel_column is not None:
         accel = gravity_check(source, accel_column, column["accel"] * scale, time, remove_gravity)
         notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
+        dead = column_dead(path, accel_column, accel, "m/s²",
+                           "the estimators track the baro alone (vertical acceleration 0 m/s²)")
+        if dead is not None:
+            implausible.append(dead)
+            accel = np.zeros(time.shape)
     else:
         accel, accel_body = _body_to_vertical(path, source, column, time, scale, accel_body_columns,
                                               attitude_columns, attitude_convention, frame)
@@ -180,7 +211,6 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     if gyro_body_columns is not None:
         gyro = np.column_stack([column[f"gyro{i}"] for i in range(3)]) * GYRO_UNITS[gyro_units]
         notes.append(f"gyro body {', '.join(gyro_body_columns)} ({gyro_units}, {frame})")
-    altitude_scale = ALTITUDE_UNITS[altitude_units]
     temperature = None
     if temperature_column is not None:
         temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
@@ -202,7 +232,7 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     reference = column["reference"] * altitude_scale if reference_column is not None else None
     gps = column["gps"] * altitude_scale if gps_column is not None else None
     rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
-    log = LogData(source, time, accel, baro, reference_altitude=reference,
+    log = LogData(source, time, accel, baro, reference_altitude=reference, baro_only=dead is not None,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
                   notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body, gyro=gyro,
                   imu_frame=FRAMES[frame] if accel_body is not None else "",
@@ -212,6 +242,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if warning is not None:
         log.warn(f"{path}: {warning}")
+    for message in implausible:
+        log.warn(message)
     return finish(log)
 
 
@@ -291,13 +323,17 @@ def _column_roles(time_column, accel_column, baro_column, accel_body_columns, at
     return roles
 
 
-def _read_columns(path: str, roles: dict, progress):
+def _read_columns(path: str, roles: dict, progress, time_scale: float = 1.0, checks=()):
     """Read the columns of ``roles`` (role → name) from the CSV at ``path``.
 
     Returns time (s, repeated stamps merged), role → column, the file line of
     each row, the line number of a cut-short last line (or None) and the
-    count of repeated time stamps. The time and acceleration/attitude columns
-    must be finite on every row (LogError naming the line).
+    count of repeated time stamps, and the plausibility warnings. The time
+    (× ``time_scale`` → s) and acceleration/attitude columns must be finite on
+    every row (LogError naming the line), and the time in seconds
+    (:func:`~fusion_altitude.logs._checks.check_time_units`); ``checks``
+    (role, name, low, high, unit, what, low_inclusive) drop absurd cells
+    before repeated time stamps are merged, so the warnings name file lines.
     """
     table = split_header(path, read_text(path))
     positions = {role: table.index(name) for role, name in roles.items()}
@@ -312,8 +348,12 @@ def _read_columns(path: str, roles: dict, progress):
         required += [role for role in roles if role.startswith("att") or role.startswith("gyro")]
     for role in required:
         check_finite(path, roles[role], column[role], lines)
+    column["time"] = column["time"] * time_scale
+    check_time_units(f"{os.path.basename(path)} (CSV)", column["time"],
+                     f"column {roles['time']!r}: set time_units to 'ms' or 'us'")
+    implausible = absurd_columns(path, column, lines, [c for c in checks if c[1] is not None])
     time, merged, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, roles["time"])
-    return time, merged, lines, dropped, repeated
+    return time, merged, lines, dropped, repeated, implausible
 
 
 def _body_to_vertical(path, source, column, time, scale, accel_body_columns, attitude_columns,

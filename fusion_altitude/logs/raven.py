@@ -1,0 +1,144 @@
+"""Featherweight Raven flight-computer CSV exports (Featherweight Interface Program "export").
+
+A Raven export holds several channels side by side, each with its own time
+column: ``Time-Axial Accel (Gs), Axial Accel (Gs), bILBA, Time (s),
+Altitude (Ft-AGL), bILBA``. A column whose name starts with ``Time`` is the
+time base (s) of the columns after it up to the next time column; ``bILBA``
+columns are status bits (launch detect, burnout, apogee…) as text such as
+``b1110``. The accelerometer is exported at 400 Hz for the boost only (about
+4.5 s), the baro altitude at 20 Hz for the whole flight.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Callable, List, Optional
+
+import numpy as np
+
+from .._common import GRAVITY
+from ._checks import ALTITUDE_RANGE, drop_absurd
+from ._data import LogData, LogError, _align, _fmt, finish
+from ._table import numeric_columns, read_text, split_header
+
+#: Header names of the two channels the reader uses.
+ACCEL_NAME = "Axial Accel (Gs)"
+ALTITUDE_NAMES = {"Altitude (Ft-AGL)": "pad", "Altitude (Ft-MSL)": "sea level"}
+FEET = 0.3048
+
+
+def looks_like_raven(head: str) -> bool:
+    """True if the first line of ``head`` is a Raven export header (a ``Time…`` column and a Raven channel)."""
+    first = head.lstrip("\ufeff").lstrip().split("\n", 1)[0]
+    names = [name.strip() for name in first.split(",")]
+    return bool(names) and names[0].startswith("Time") and (
+        ACCEL_NAME in names or any(name in names for name in ALTITUDE_NAMES))
+
+
+def _time_bases(header: List[str]) -> List[Optional[int]]:
+    """For every column, the position of its time column (the last ``Time…`` column before it), or None."""
+    bases, current = [], None
+    for position, name in enumerate(header):
+        if name.startswith("Time"):
+            current = position
+            bases.append(None)
+        else:
+            bases.append(current)
+    return bases
+
+
+def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+    """Read a Featherweight Raven CSV export, merging its two time bases onto one grid.
+
+    * ``Axial Accel (Gs)`` (specific force along the rocket's axis, g, +nose:
+      ≈ +1 on the pad) on its time column → ``axial_acceleration`` (× 9.80665
+      → m/s²) and ``vertical_acceleration`` = axial − g (the rocket taken as
+      vertical) on the steps where it was sampled;
+    * ``Altitude (Ft-AGL)`` on its time column → ``baro_altitude`` (ft → m,
+      datum "pad"; ``Altitude (Ft-MSL)``: "sea level");
+    * the grid is the union of both time columns (400 Hz during boost, 20 Hz
+      after); between accelerometer samples the last one is held, and after
+      the accelerometer's last sample ``vertical_acceleration`` is 0 m/s²
+      (the estimators track the baro alone) — said in one :class:`LogWarning`.
+
+    Absurd altitudes (outside −1 km…100 km) are dropped with a warning naming
+    the file line; the status bits are not used.
+
+    Raises
+    ------
+    LogError
+        Not a Raven header, no altitude column, a bad cell (file line and column).
+    """
+    source = f"{os.path.basename(path)} (Featherweight Raven CSV)"
+    text = read_text(path, "Raven CSV")
+    table = split_header(path, text)
+    if not looks_like_raven(",".join(table.header)):
+        raise LogError(f"{path}: not a Featherweight Raven export (no 'Time…' column with {ACCEL_NAME!r} or "
+                       f"'Altitude (Ft-AGL)')")
+    bases = _time_bases(table.header)
+    altitude_name = next((name for name in ALTITUDE_NAMES if name in table.header), None)
+    if altitude_name is None:
+        raise LogError(f"{path}: column 'Altitude (Ft-AGL)' not found; columns are {', '.join(table.header)}")
+    positions = {"altitude": table.index(altitude_name)}
+    positions["altitude_time"] = bases[positions["altitude"]]
+    if ACCEL_NAME in table.header:
+        positions["accel"] = table.index(ACCEL_NAME)
+        positions["accel_time"] = bases[positions["accel"]]
+    if any(position is None for position in positions.values()):
+        raise LogError(f"{path}: a Raven channel without a 'Time…' column before it; columns are "
+                       f"{', '.join(table.header)}")
+    order = sorted(set(positions.values()))
+    data, lines, dropped = numeric_columns(table, order, progress)
+    column = {role: data[:, order.index(position)] for role, position in positions.items()}
+    warnings_ = []
+    altitude, message = drop_absurd(path, altitude_name, column["altitude"] * FEET, lines, *ALTITUDE_RANGE, "m",
+                                    "baro altitude")
+    if message is not None:
+        warnings_.append(message)
+    baro_time, baro = _channel(path, table.header[positions["altitude_time"]], column["altitude_time"], altitude,
+                               lines)
+    if baro_time.size < 2:
+        raise LogError(f"{path}: column {altitude_name!r}: fewer than 2 altitude samples")
+    notes = [f"{altitude_name} (ft → m) on {table.header[positions['altitude_time']]!r}"]
+    if "accel" in column:
+        accel_time, accel = _channel(path, table.header[positions["accel_time"]], column["accel_time"],
+                                     column["accel"] * GRAVITY, lines)
+    else:
+        accel_time, accel = np.zeros(0), np.zeros(0)
+    time = np.union1d(baro_time, accel_time)
+    baro_altitude = _align(time, baro_time, baro)
+    axial = _align(time, accel_time, accel) if accel.size else None
+    vertical = np.zeros(time.shape)
+    if accel.size:
+        notes.append(f"{ACCEL_NAME} (g → m/s², +nose) on {table.header[positions['accel_time']]!r}; "
+                     f"vertical acceleration = axial − g (rocket taken as vertical)")
+        sampled = time <= accel_time[-1]
+        held = np.clip(np.searchsorted(accel_time, time, side="right") - 1, 0, accel_time.size - 1)
+        vertical[sampled] = accel[held[sampled]] - GRAVITY
+    log = LogData(source, time, vertical, baro_altitude, notes=notes, vehicle="rocket", altitude_reference=(
+        ALTITUDE_NAMES[altitude_name]), ground_altitude=0.0 if ALTITUDE_NAMES[altitude_name] == "pad" else None,
+        axial_acceleration=axial, baro_only=not accel.size)
+    if dropped is not None:
+        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
+    for message in warnings_:
+        log.warn(message)
+    if accel.size and accel_time[-1] < time[-1]:
+        log.warn(f"{source}: the accelerometer ends at {_fmt(accel_time[-1])} s (the Raven exports it for the boost "
+                 f"only) and the log at {_fmt(time[-1])} s: vertical acceleration is 0 m/s² after "
+                 f"{_fmt(accel_time[-1])} s, the estimators track the baro alone there")
+    elif not accel.size:
+        log.warn(f"{source}: no {ACCEL_NAME!r} column: baro only (vertical acceleration 0 m/s²)")
+    return finish(log)
+
+
+def _channel(path: str, time_name: str, time: np.ndarray, values: np.ndarray, lines: np.ndarray):
+    """One channel's own (time s, values) where both cells are present, time strictly increasing (LogError
+    naming the line otherwise)."""
+    present = np.isfinite(time) & ~np.isnan(values)
+    time, values, lines = time[present], values[present], lines[present]
+    back = np.flatnonzero(~(np.diff(time) > 0))
+    if back.size:
+        i = back[0] + 1
+        raise LogError(f"{path}: line {int(lines[i])}, column {time_name!r}: time does not increase "
+                       f"({_fmt(time[i])} s after {_fmt(time[i - 1])} s)")
+    return time, values

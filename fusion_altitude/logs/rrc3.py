@@ -1,0 +1,177 @@
+"""Missile Works RRC3 altimeter CSV exports (mDACS "export flight data"): baro only, no accelerometer.
+
+Header ``time,altitude,pressure,velocity,temperature,events,voltages``:
+time (s, 20 Hz), altitude (m above the pad), pressure (hPa), velocity (m/s,
++up, the altimeter's own baro-derived value), temperature (°C, the board's),
+events (text: ``-`` for none, ``Drogue``, ``Main``…), voltages (V).
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from typing import Callable, List, Optional
+
+import numpy as np
+
+from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
+from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._table import MISSING, read_text, split_header
+
+#: The header's columns (lower case).
+COLUMNS = ("time", "altitude", "pressure", "velocity", "temperature", "events", "voltages")
+#: A logged velocity faster than this (m/s, about Mach 3) is not a rocket's: the row is garbage.
+MAX_SPEED = 1_000.0
+#: hPa → Pa.
+HPA = 100.0
+
+
+def looks_like_rrc3(head: str) -> bool:
+    """True if the first line of ``head`` is an RRC3 export header."""
+    first = head.lstrip("\ufeff").lstrip().split("\n", 1)[0]
+    names = tuple(name.strip().lower() for name in first.split(","))
+    return names[:4] == COLUMNS[:4] and "events" in names
+
+
+def _number(cell: str) -> float:
+    cell = cell.strip()
+    if cell.lower() in MISSING:
+        return np.nan
+    return float(cell)
+
+
+def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+    """Read a Missile Works RRC3 CSV export.
+
+    * ``time`` → ``time`` (s); ``altitude`` (m AGL) → ``baro_altitude``
+      (datum "pad"); ``pressure`` (hPa → Pa) → ``pressure``; ``velocity``
+      (m/s) → ``reference_velocity`` (the altimeter's own, baro-derived);
+      ``temperature`` (°C → K) → ``temperature``.
+    * No accelerometer: ``baro_only`` is True and ``vertical_acceleration``
+      zeros (the estimators run as baro-only tracking filters).
+    * ``events`` → ``flight_state`` (the latest event at or before each step,
+      lower case: ``"pad"`` before the first, then e.g. ``"drogue"``,
+      ``"main"``) and a note listing them with their times.
+
+    Real-export quirks handled: rows whose temperature cell is missing (the
+    events and voltages then sit one column left: a text cell where the
+    temperature should be is taken as the event); garbage rows (an altitude
+    outside −1 km…100 km, a pressure ≤ 0 or > 120 kPa, or a logged velocity
+    beyond :data:`MAX_SPEED`) are dropped with one warning naming the file
+    lines — their event is kept. A one-sample baro spike is kept (it is baro
+    noise for the estimators).
+
+    Raises
+    ------
+    LogError
+        Not an RRC3 header, a bad number (file line and column), time going
+        backwards.
+    """
+    source = f"{os.path.basename(path)} (RRC3 CSV)"
+    text = read_text(path, "RRC3 CSV")
+    table = split_header(path, text)
+    if not looks_like_rrc3(",".join(table.header)):
+        raise LogError(f"{path}: not an RRC3 export (its header does not start with "
+                       f"{','.join(COLUMNS[:4])} and name 'events')")
+    position = {name.lower(): i for i, name in enumerate(table.header)}
+    rows, lines, events, shifted = [], [], [], 0
+    body = table.body.split("\n")
+    for i, line in enumerate(body):
+        if not line.strip():
+            continue
+        number = table.first_line + i
+        try:
+            cells = next(csv.reader([line]))
+        except csv.Error as error:
+            raise LogError(f"{path}: line {number}: not CSV ({error})") from None
+        values = []
+        for name in COLUMNS[:4]:
+            values.append(_cell(path, number, name, cells, position[name]))
+        event = ""
+        temperature = np.nan
+        if "temperature" in position and position["temperature"] < len(cells):
+            raw = cells[position["temperature"]].strip()
+            try:
+                temperature = float(raw) if raw else np.nan
+            except ValueError:  # text (an event, "-" for none): the temperature cell is missing, events moved left
+                event, shifted = raw, shifted + 1
+        if not event and "events" in position and position["events"] < len(cells):
+            event = cells[position["events"]].strip()
+        rows.append(values + [temperature])
+        lines.append(number)
+        events.append("" if event.lower() in MISSING else event)
+        if progress is not None and i % 10_000 == 0:
+            progress(i, len(body))
+    if len(rows) < 2:
+        raise LogError(f"{path}: need at least 2 data rows, got {len(rows)}")
+    data = np.array(rows, dtype=float)
+    lines = np.array(lines, dtype=np.int64)
+    events = np.array(events, dtype=object)
+    column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
+                                                          "temperature"))}
+    bad_time = np.flatnonzero(~np.isfinite(column["time"]))
+    if bad_time.size:
+        raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
+    garbage = _garbage_rows(column)
+    messages = []
+    if garbage.any():
+        where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
+        first = int(np.flatnonzero(garbage)[0])
+        messages.append(f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
+                        f"{'s' if garbage.sum() > 1 else ''} (altitude {_fmt(column['altitude'][first])} m, "
+                        f"pressure {_fmt(column['pressure'][first])} hPa, velocity {_fmt(column['velocity'][first])} "
+                        f"m/s: not a plausible flight); dropped, their events kept")
+        for name in ("altitude", "pressure", "velocity", "temperature"):
+            column[name] = np.where(garbage, np.nan, column[name])
+    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
+                                                       lines, "time")
+    state, notes_events = _states(time, merged["events"])
+    notes = ["time, altitude (m AGL), pressure (hPa), velocity (reference), temperature; no accelerometer: "
+             "baro only"]
+    if notes_events:
+        notes.append("RRC3 events: " + ", ".join(notes_events))
+    log = LogData(source, time, np.zeros(time.shape), merged["altitude"], reference_velocity=merged["velocity"],
+                  reference_name="RRC3 altimeter (baro-derived velocity)", notes=notes,
+                  pressure=merged["pressure"] * HPA, temperature=merged["temperature"] + 273.15,
+                  flight_state=state, vehicle="rocket", altitude_reference="pad", ground_altitude=0.0,
+                  repeated_timestamps=repeated, baro_only=True)
+    for message in messages:
+        log.warn(message)
+    if shifted:
+        log.notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
+                         f"column left): read as such")
+    return finish(log)
+
+
+def _cell(path: str, number: int, name: str, cells: List[str], position: int) -> float:
+    if position >= len(cells):
+        return np.nan
+    try:
+        return _number(cells[position])
+    except ValueError:
+        shown = cells[position].strip()[:40]
+        raise LogError(f"{path}: line {number}, column {name!r}: {shown!r} is not a number") from None
+
+
+def _garbage_rows(column: dict) -> np.ndarray:
+    """Rows whose altitude (m), pressure (hPa) or logged velocity (m/s) is not a flight's."""
+    altitude, _ = drop_absurd("", "altitude", column["altitude"], None, *ALTITUDE_RANGE, "m", "altitude")
+    pressure, _ = drop_absurd("", "pressure", column["pressure"] * HPA, None, *PRESSURE_RANGE, "Pa", "pressure",
+                              low_inclusive=False)
+    with np.errstate(invalid="ignore"):
+        fast = np.abs(column["velocity"]) > MAX_SPEED
+    return (np.isnan(altitude) & ~np.isnan(column["altitude"])) | (
+        np.isnan(pressure) & ~np.isnan(column["pressure"])) | fast
+
+
+def _states(time: np.ndarray, events: np.ndarray):
+    """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes."""
+    state = np.empty(time.size, dtype=object)
+    current = "pad"
+    notes = []
+    for i, event in enumerate(events):
+        if event:
+            current = str(event).lower()
+            notes.append(f"{event} at {_fmt(time[i])} s")
+        state[i] = current
+    return state, notes

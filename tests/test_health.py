@@ -31,7 +31,8 @@ def climb_log(duration=60.0, rate=50.0, baro_every=5, stop=None, gps=False, clim
         gps_altitude = np.full(time.size, np.nan)
         step = int(rate / 5)
         gps_altitude[::step] = altitude[::step] + 30.0  # GPS above the baro's datum, as MSL often is
-    return LogData("climb.csv (CSV)", time, np.zeros(time.size), baro, gps_altitude=gps_altitude)
+    accel = np.random.default_rng(1).normal(0.0, 0.02, time.size)  # a live accelerometer: a little noise
+    return LogData("climb.csv (CSV)", time, accel, baro, gps_altitude=gps_altitude)
 
 
 def write_csv(path, data):

@@ -114,6 +114,7 @@ SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
     ("rangefinder_samples", "int64", "rangefinder samples (0 without a rangefinder)"),
     ("estimator_gaps", "int64", "updates the estimator treated as gaps (-1: it has no gap counter)"),
     ("not_baro_aided_s", "float64", "time the baro was silent for longer than its timeout (rows flagged in -o), s"),
+    ("truncated", "bool_", "the file ends inside a message: cut short (warned)"),
     ("reader_warnings", "int64", "warnings the reader issued"),
     ("warnings", "string", "the reader's warnings, one line each, joined by ' | ' ('' if none)"),
 )
@@ -325,6 +326,7 @@ def _health_fields(data, run) -> Dict[str, Any]:
         "rangefinder_samples": streams["rangefinder"].samples if "rangefinder" in streams else 0,
         "estimator_gaps": int(run.gap_count) if getattr(run, "gap_count", None) is not None else -1,
         "not_baro_aided_s": float(np.sum(np.diff(time, prepend=time[0])[unaided])),
+        "truncated": bool(getattr(data, "truncated", False)),
         "reader_warnings": len(getattr(data, "warnings", [])),
         "warnings": " | ".join(" ".join(str(w).split()) for w in getattr(data, "warnings", [])),
     }

@@ -145,3 +145,41 @@ def test_reader_warnings_in_the_fleet_are_one_line_warnings_never_python_warning
     assert result.returncode == 0, result.stderr
     assert "LogWarning" not in result.stderr and ".py:" not in result.stderr
     assert any(line.startswith("warning: a.ulg-") and "logging gap" in line for line in result.stderr.splitlines())
+
+
+def test_a_truncated_ulog_is_read_flagged_and_warned(tmp_path, shared_data):
+    from fusion_altitude import logs
+
+    blob = (shared_data / "px4_sample_log_small.ulg").read_bytes()
+    (tmp_path / "cut.ulg").write_bytes(blob[:300000])
+    with pytest.warns(logs.LogWarning, match="ends inside a message"):
+        data = logs.load_log(str(tmp_path / "cut.ulg"))
+    assert data.truncated
+    assert not logs.load_log(str(shared_data / "px4_sample_log_small.ulg")).truncated
+
+
+def test_a_dataflash_log_cut_inside_a_message_is_flagged(tmp_path, shared_data):
+    from fusion_altitude.logs import _truncation
+
+    blob = (shared_data / "ardupilot_test.BIN").read_bytes()
+    (tmp_path / "cut.bin").write_bytes(blob[:40000])
+    assert _truncation.dataflash_missing_bytes(str(tmp_path / "cut.bin")) == 48
+    # the shared fixture is pymavlink's test.BIN, itself cut at 64 KiB inside a message
+    assert len(blob) == 65536 and _truncation.dataflash_missing_bytes(str(shared_data / "ardupilot_test.BIN")) == 21
+    ends = [i for i in range(len(blob) - 200, len(blob)) if blob[i:i + 2] == b"\xa3\x95"]
+    (tmp_path / "boundary.bin").write_bytes(blob[:ends[-1]])  # cut just before the last message start
+    assert _truncation.dataflash_missing_bytes(str(tmp_path / "boundary.bin")) is None
+
+
+def test_the_fleet_summary_flags_a_truncated_log(tmp_path, shared_data):
+    from fusion_altitude import fleet
+
+    folder = tmp_path / "logs"
+    folder.mkdir()
+    blob = (shared_data / "px4_sample_log_small.ulg").read_bytes()
+    (folder / "whole.ulg").write_bytes(blob)
+    (folder / "cut.ulg").write_bytes(blob[:300000])
+    result = fleet.run_many(str(folder), output_dir=str(tmp_path / "out"), workers=1)
+    rows = {row["path"].rsplit("/", 1)[-1]: row for row in result.summary.to_pylist()}
+    assert rows["cut.ulg"]["truncated"] and not rows["whole.ulg"]["truncated"]
+    assert "ends inside a message" in rows["cut.ulg"]["warnings"]

@@ -129,6 +129,9 @@ class LogData:
         True when the log has no accelerometer at all (e.g. a Missile Works
         RRC3): ``vertical_acceleration`` is then zeros and every estimator
         runs as a baro-only tracking filter; ``run`` says so.
+    truncated : bool
+        The file ends inside a message (a ULog or DataFlash log cut short by
+        a crash, a brown-out or an interrupted copy); warned.
     warnings : list of str
         One line per thing the reader noticed but accepted (repeated
         timestamps, gaps, pressure values out of range); each is also issued
@@ -161,6 +164,7 @@ class LogData:
     gaps: List[Tuple[float, float]] = field(default_factory=list)
     axial_acceleration: Optional[np.ndarray] = None
     baro_only: bool = False
+    truncated: bool = False
     warnings: List[str] = field(default_factory=list)
 
     @property

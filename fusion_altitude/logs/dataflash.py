@@ -11,6 +11,7 @@ import numpy as np
 
 from ..sensors import vertical_acceleration
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 
 #: First two bytes of every DataFlash message.
 DATAFLASH_MAGIC = b"\xa3\x95"
@@ -246,6 +247,7 @@ def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
     _add_ekf_reference(data, messages, time, t0, baro)
     if progress is not None:
         progress(size, size)
+    _warn_if_truncated(data, path, dataflash_missing_bytes)
     return finish(data)
 
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..sensors import pressure_to_altitude, vertical_acceleration
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+from ._truncation import ulog_missing_bytes, warn_if_truncated as _warn_if_truncated
 
 #: First bytes of every ULog file.
 ULOG_MAGIC = b"ULog\x01\x12\x35"
@@ -94,7 +95,8 @@ def read_ulog(path: str, instance: Optional[int] = None,
             return topics[(name, multi)]
         if needed:
             raise LogError(f"{path}: topic {name!r}" + (f" instance {multi}" if multi else "")
-                           + f" not in the log; topics are {', '.join(names)}")
+                           + (f" not in the log; topics are {', '.join(names)}" if names
+                              else " not in the log; the log has no topic with data"))
         return None
 
     try:
@@ -147,6 +149,7 @@ def _build(path, want, topic, progress) -> LogData:
         data.reference_name = "PX4 EKF (vehicle_local_position)"
     if progress is not None:
         progress(2, 2)
+    _warn_if_truncated(data, path, ulog_missing_bytes)
     return finish(data)
 
 

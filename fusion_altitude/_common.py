@@ -69,7 +69,19 @@ def output_arrays(batch_type: type, layout: Sequence[Tuple[Tuple[int, ...], obje
         if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != shape \
                 or not array.flags.c_contiguous or not array.flags.writeable:
             raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape {shape}")
+    check_no_overlap(dict(zip(batch_type._fields, out)))
     return batch_type(*out)
+
+
+def check_no_overlap(arrays: "dict[str, np.ndarray]", prefix: str = "out.") -> None:
+    """ValueError naming the first two of ``arrays`` that share memory (each output must have its own: one
+    array for every output would be written over by each in turn and return garbage)."""
+    names = list(arrays)
+    for i, first in enumerate(names):
+        for second in names[i + 1:]:
+            if np.may_share_memory(arrays[first], arrays[second]) and \
+                    np.shares_memory(arrays[first], arrays[second], max_work=10 ** 6):
+                raise ValueError(f"{prefix}{first} and {prefix}{second} share memory: give each output its own array")
 
 
 def prepare_inputs(accel: object, baro_altitude: object, dt: object) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:

@@ -1287,8 +1287,9 @@ def _add_run_parser(commands) -> None:
     run.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
     _add_log_arguments(run)
     run.add_argument("--estimator", default=None, choices=list(ESTIMATORS),
-                     help="estimator (default: rocket on a rocket log (AltOS, CATS) or with --rocket, else ins "
-                          "on a log with a raw gyro and accelerometer, else observer): "
+                     help="estimator (default: rocket on a rocket log (AltOS, CATS, Raven, RRC3) or with --rocket, "
+                          "else kalman when the baro stops before the log's end and the log has GPS, else ins on a "
+                          "log with a raw gyro and accelerometer, else observer): "
                           + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
     run.add_argument("--rocket", action="store_true",
                      help="run the rocket flight layer (pad calibration, baro lockout, flight events) on any log")
@@ -1340,7 +1341,8 @@ def _add_compare_parser(commands) -> None:
     comparison = commands.add_parser(
         "compare", help="every estimator on the simulator's scenarios, or on one log: one table",
         description="Without FILE: observer (preset and fitted gains), Kalman filter, two-stage complementary "
-                    "filter, quality-weighted alpha-beta fusion and raw baro on the same simulated data: altitude "
+                    "filter, quality-weighted alpha-beta fusion, inertial filter (INS, from the simulated raw IMU), "
+                    "the rocket layer (rocket scenario) and raw baro on the same simulated data: altitude "
                     "RMS and max error, velocity RMS, recovery time after a sensor fault, C batch ns/sample. "
                     "With a log FILE: every estimator of `run --estimator` against the log's own estimate.")
     comparison.add_argument("file", nargs="?", help="a recorded log with its own estimate (as for `run`)")

@@ -453,7 +453,7 @@ def _done(options: dict, n: int) -> None:
 
 
 for _entry in (
-        EstimatorEntry("observer", "3rd-order complementary observer (baro + accel; default)", _run_observer_entry),
+        EstimatorEntry("observer", "3rd-order complementary observer (baro + accel)", _run_observer_entry),
         EstimatorEntry("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)",
                        _run_kalman),
         EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", _run_complementary),

@@ -292,3 +292,74 @@ def test_settings_types(impl):
     fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=0.0)
     fusion.settings = impl.AlphaBetaSettings(baro={"quality_max": 20})
     assert fusion.qualities.baro == 20
+
+
+# --- On logs (fusion_altitude.runner): the baro filter's span and the GPS as fallback ---------------------------
+
+
+def _log(seconds=120.0, imu_rate=100.0, baro_rate=2.0, gps_wander=6.0, baro_stops=None, seed=3):
+    """A hover-climb-hover flight (m, +up) with a baro at ``baro_rate`` Hz (0.3 m noise) and a 5 Hz GPS that
+    wanders ``gps_wander`` m (a slow sine, as a 10 m-accuracy receiver does), the baro ending at ``baro_stops`` s."""
+    from fusion_altitude.logs import LogData
+
+    rng = np.random.default_rng(seed)
+    time = np.arange(0.0, seconds, 1.0 / imu_rate)
+    truth = 380.0 + 4.0 * np.clip((time - 20.0) / 10.0, 0.0, 1.0) - 4.0 * np.clip((time - 80.0) / 10.0, 0.0, 1.0)
+    accel = np.gradient(np.gradient(truth, time), time) + rng.normal(0.0, 0.1, time.size)
+    baro = np.full(time.size, np.nan)
+    every = int(round(imu_rate / baro_rate))
+    baro[::every] = truth[::every] + rng.normal(0.0, 0.3, baro[::every].size)
+    if baro_stops is not None:
+        baro[time >= baro_stops] = np.nan
+    gps = np.full(time.size, np.nan)
+    gps[::20] = truth[::20] + gps_wander * np.sin(2 * np.pi * time[::20] / 40.0)
+    return LogData("simulated", time, accel, baro, reference_altitude=truth, reference_velocity=None,
+                   reference_name="truth", gps_altitude=gps)
+
+
+def _rms(run):
+    return run.comparison(transient=5.0).rms
+
+
+def test_a_wandering_gps_does_not_make_the_fusion_worse_than_the_raw_baro_on_a_log():
+    from fusion_altitude import runner
+
+    run = runner.run_log(_log(), estimator="alphabeta")
+    assert _rms(run) <= run.baro_comparison(transient=5.0).rms
+
+
+def test_the_gps_carries_the_fusion_on_a_log_whose_baro_stops():
+    from fusion_altitude import runner
+
+    run = runner.run_log(_log(gps_wander=0.5, baro_stops=40.0), estimator="alphabeta")
+    late = run.time > 45.0
+    # 1.9 m at most, in the descent: the GPS filter fits its line to 120 samples (24 s at 5 Hz; the write-up's Qmax)
+    assert np.max(np.abs(run.estimate.altitude[late] - run.reference_altitude[late])) < 2.5
+
+
+def test_a_2hz_baro_filter_spans_3_s_not_60_samples_on_a_log():
+    from fusion_altitude import runner
+    from fusion_altitude._alphabeta import AlphaBetaSettings
+
+    changes = runner._alphabeta_log_sensors(_log(baro_rate=2.0), AlphaBetaSettings())
+    assert changes["baro"]["quality_max"] == 10  # round(3 s × 2 Hz) = 6, raised to Qmin = 10
+
+
+def test_a_20hz_baro_keeps_the_write_ups_depth_on_a_log():
+    from fusion_altitude import runner
+    from fusion_altitude._alphabeta import AlphaBetaSettings
+
+    changes = runner._alphabeta_log_sensors(_log(seconds=30.0, baro_rate=20.0), AlphaBetaSettings())
+    assert changes["baro"]["quality_max"] == AlphaBetaSettings().baro.quality_max
+
+
+def test_the_alphabeta_fusion_is_no_worse_than_the_raw_baro_on_the_2hz_baro_px4_log():
+    import os
+    from pathlib import Path
+
+    from fusion_altitude import logs, runner
+
+    data = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data.is_dir(), f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA"
+    run = runner.run_log(logs.load_log(str(data / "px4_octorotor_2hz_baro.ulg")), estimator="alphabeta")
+    assert run.comparison().rms <= run.baro_comparison().rms

@@ -33,6 +33,15 @@
  *      - weight w_i = Q_i * confidence_i, zeroed when the sensor is silent
  *        for longer than its timeout, when hPred is outside its altitude band
  *        [altitudeMin_i, altitudeMax_i], or when its gap |g_i| exceeds gapMax_i.
+ *      - timeout: once a started sensor has been silent for longer than its
+ *        timeout (T_i > timeout_i) its timedOut flag is set and its timeout
+ *        count goes up by one (once per silence, as a gap is counted); the
+ *        flag holds, through restarts, until the sensor's next sample. The
+ *        other channels carry on: when the baro times out, a GPS, lidar or
+ *        sonar with weight carries the fused altitude, and the flag says the
+ *        baro is not in it (PX4's EKF2 stops fusing a baro that has not been
+ *        sampled for 2 x 200 ms and falls back to another height source;
+ *        ArduPilot's EKF3 switches to GPS height when the baro is lost).
  *   3. Fused output h = sum(w_i x_i)/sum(w_i), v = sum(w_i v_i)/sum(w_i);
  *      with every weight zero: h = hPred, v += a*dt (dead reckoning).
  * Before the first step with a baro, lidar, sonar or GPS sample the filter
@@ -213,7 +222,9 @@ typedef struct {
     float gap;            /**< g = z - hPred of the latest sample, m */
     float weight;         /**< w of the latest step (0: not used) */
     int32_t quality;      /**< Q, samples */
+    uint32_t timeouts;    /**< times the sensor fell silent for longer than its timeout, in total (counted like gaps) */
     bool started;         /**< the filter has had a sample */
+    bool timedOut;        /**< silent for longer than its timeout since its latest sample (held until its next sample) */
 } FusionAltitudeAlphaBetaFilter;
 
 /** Fusion state. Read it through the Get functions. */
@@ -391,7 +402,9 @@ static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const f
         f->gap = 0.0f;
         f->weight = 0.0f;
         f->quality = fusion->settings.sensors[i].qualityMin;
+        f->timeouts = 0u;
         f->started = false;
+        f->timedOut = false;
     }
     fusion->altitude = 0.0f;
     fusion->verticalVelocity = 0.0f;
@@ -514,6 +527,7 @@ static inline bool FusionAltitudeAlphaBetaStart(FusionAltitudeAlphaBeta *const f
         f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
         f->quality = s->qualityMin;
         f->started = sampled;
+        f->timedOut = f->timedOut && !sampled; /* a silent sensor stays timed out through the restart */
         f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
         if (!sampled) {
             f->altitude = 0.0f;
@@ -561,6 +575,12 @@ static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFil
             f->velocity += (beta * residual) / f->sinceSample;
         }
         f->sinceSample = 0.0f;
+    }
+    if (FusionAltitudeIsFinite(z)) {
+        f->timedOut = false;
+    } else if (f->started && (f->sinceSample > s->timeout) && !f->timedOut) {
+        f->timedOut = true; /* this silence is counted once */
+        f->timeouts++;
     }
     float weight = 0.0f;
     if (f->started && !(f->sinceSample > s->timeout)) {
@@ -700,6 +720,17 @@ static inline float FusionAltitudeAlphaBetaGetWeight(const FusionAltitudeAlphaBe
 /** @return a sensor's quality Q (filter depth, samples). */
 static inline int32_t FusionAltitudeAlphaBetaGetQuality(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
     return fusion->filters[sensor].quality;
+}
+
+/** @return true while a sensor is timed out: it had samples, then none for longer than its timeout (until its next sample). */
+static inline bool FusionAltitudeAlphaBetaIsTimedOut(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].timedOut;
+}
+
+/** @return the number of times a sensor timed out so far (each silence longer than its timeout counts once). */
+static inline uint32_t FusionAltitudeAlphaBetaGetTimeoutCount(const FusionAltitudeAlphaBeta *const fusion,
+                                                              const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].timeouts;
 }
 
 /** @return the number of gaps so far: updates with dt > gapPeriod once started. */

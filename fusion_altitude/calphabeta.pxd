@@ -59,7 +59,9 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         float gap
         float weight
         int32_t quality
+        uint32_t timeouts
         bint started
+        bint timedOut
 
     ctypedef struct FusionAltitudeAlphaBeta:
         FusionAltitudeAlphaBetaSettings settings

@@ -27,7 +27,8 @@ def floats32(low, high):
 def state_bits(fusion):
     values, filters, h, v, total, coasting, gap_time, gap_count, started = fusion._get_state()
     bits = lambda x: int(np.float32(x).view(np.uint32))  # noqa: E731
-    return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, st_) for x, vi, s, g, w, q, st_ in filters),
+    return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, n, st_, to)
+                          for x, vi, s, g, w, q, n, st_, to in filters),
             bits(h), bits(v), bits(total), started, bits(coasting), bits(gap_time), gap_count)
 
 
@@ -363,3 +364,56 @@ def test_the_alphabeta_fusion_is_no_worse_than_the_raw_baro_on_the_2hz_baro_px4_
     assert data.is_dir(), f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA"
     run = runner.run_log(logs.load_log(str(data / "px4_octorotor_2hz_baro.ulg")), estimator="alphabeta")
     assert run.comparison().rms <= run.baro_comparison().rms
+
+
+# --- Sensor timeouts: flag, counter, fallback --------------------------------------------------------------------
+
+
+def _baro_then_gps_only(impl, seconds_after=3.0, gps=True):
+    """1 s of baro and GPS at 10.0 m, then the baro stops and the GPS (if any) goes on at 10.0 m; 100 Hz."""
+    fusion = impl.AlphaBetaFusion()
+    n, m = 100, int(round(100 * seconds_after))
+    baro = np.r_[np.full(n, 10.0), np.full(m, NAN)]
+    gps_altitude = np.full(n + m, 10.0 if gps else NAN)
+    fusion.update_batch(np.zeros(n + m), dt=0.01, baro_altitude=baro, gps_altitude=gps_altitude)
+    return fusion
+
+
+def test_a_sensor_silent_for_longer_than_its_timeout_is_flagged_timed_out(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=1.6)  # default timeout 1.5 s
+    assert fusion.timed_out.baro and not fusion.timed_out.gps
+
+
+def test_a_sensor_silent_for_less_than_its_timeout_is_not_flagged(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=1.4)
+    assert not fusion.timed_out.baro and fusion.timeout_counts.baro == 0
+
+
+def test_each_silence_longer_than_the_timeout_is_counted_once(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=5.0)
+    assert fusion.timeout_counts.baro == 1
+    fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=10.0, gps_altitude=10.0)  # back for 1 s
+    assert not fusion.timed_out.baro and fusion.timeout_counts.baro == 1
+    fusion.update_batch(np.zeros(200), dt=0.01, baro_altitude=NAN, gps_altitude=10.0)  # silent again for 2 s
+    assert fusion.timed_out.baro and fusion.timeout_counts.baro == 2
+
+
+def test_a_sensor_never_sampled_is_not_timed_out(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=5.0)
+    assert not fusion.timed_out.lidar and fusion.timeout_counts.lidar == 0
+
+
+def test_the_gps_carries_the_fused_altitude_when_the_baro_times_out(impl):
+    fusion = impl.AlphaBetaFusion()
+    n = 100
+    baro = np.r_[np.full(n, 10.0), np.full(5 * n, NAN)]
+    gps = np.r_[np.full(n, 10.0), np.linspace(10.0, 12.0, 5 * n)]  # the vehicle climbs 2 m after the baro stopped
+    out = fusion.update_batch(np.zeros(6 * n), dt=0.01, baro_altitude=baro, gps_altitude=gps)
+    assert fusion.timed_out.baro and out.weight[-1, 1] == 0.0 and out.weight[-1, 4] > 0.0
+    assert fusion.started and abs(out.altitude[-1] - 12.0) < 0.5
+
+
+def test_a_timed_out_sensor_stays_flagged_through_a_restart(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=2.0)
+    fusion.update(0.0, baro_altitude=NAN, dt=2.0, gps_altitude=10.0)  # a gap: the fusion restarts from the GPS
+    assert fusion.gap_count == 1 and fusion.timed_out.baro

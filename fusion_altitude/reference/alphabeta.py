@@ -115,7 +115,7 @@ def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus
 class _Filter:
     """FusionAltitudeAlphaBetaFilter: one sensor's alpha-beta filter."""
 
-    __slots__ = ("x", "v", "since", "gap", "weight", "quality", "started")
+    __slots__ = ("x", "v", "since", "gap", "weight", "quality", "timeouts", "started", "timed_out")
 
     def __init__(self, quality: int) -> None:
         self.x = f32(0)
@@ -124,11 +124,13 @@ class _Filter:
         self.gap = f32(0)
         self.weight = f32(0)
         self.quality = quality
+        self.timeouts = 0
         self.started = False
+        self.timed_out = False
 
     def state(self) -> tuple:
         return (float(self.x), float(self.v), float(self.since), float(self.gap), float(self.weight), self.quality,
-                self.started)
+                self.timeouts, self.started, self.timed_out)
 
 
 class AlphaBetaFusion(Checkpointable):
@@ -182,6 +184,7 @@ class AlphaBetaFusion(Checkpointable):
             f.gap = f.x - self._h if sampled else f32(0)
             f.quality = s.quality_min
             f.started = sampled
+            f.timed_out = f.timed_out and not sampled  # a silent sensor stays timed out through the restart
             f.weight = f32(s.quality_min) * f32(s.confidence) if (sampled and i != _IMU) else f32(0)
             if not sampled:
                 f.x = f32(0)
@@ -216,6 +219,13 @@ class AlphaBetaFusion(Checkpointable):
                 f.x += alpha * residual
                 f.v += (beta * residual) / f.since
             f.since = f32(0)
+        # FusionAltitudeAlphaBetaFilterStep: timed out once a started sensor is silent for longer than its timeout,
+        # counted once per silence, held until its next sample
+        if np.isfinite(z):
+            f.timed_out = False
+        elif f.started and f.since > timeout and not f.timed_out:
+            f.timed_out = True
+            f.timeouts = (f.timeouts + 1) & 0xFFFFFFFF
         weight = f32(0)
         if f.started and not f.since > timeout:
             in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
@@ -383,6 +393,17 @@ class AlphaBetaFusion(Checkpointable):
             f.quality = min(max(f.quality, s.quality_min), s.quality_max)
 
     @property
+    def timed_out(self) -> AlphaBetaSensors:
+        """Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next
+        sample (FusionAltitudeAlphaBetaIsTimedOut)."""
+        return AlphaBetaSensors(*[f.timed_out for f in self._filters])
+
+    @property
+    def timeout_counts(self) -> AlphaBetaSensors:
+        """Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once."""
+        return AlphaBetaSensors(*[f.timeouts for f in self._filters])
+
+    @property
     def gap_count(self) -> int:
         """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
         return self._gap_count
@@ -400,10 +421,13 @@ class AlphaBetaFusion(Checkpointable):
             values, filters, h, v, total, coasting, gap_time, gap_count, started = state
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
-        for x, vi, since, gap, weight, quality, filter_started in filters:
+        for row in filters:
+            if len(row) == 7:  # a checkpoint from before the timeout fields
+                row = (*row[:6], 0, row[6], False)
+            x, vi, since, gap, weight, quality, timeouts, filter_started, timed_out = row
             f = _Filter(int(quality))
             f.x, f.v, f.since, f.gap, f.weight = f32(x), f32(vi), f32(since), f32(gap), f32(weight)
-            f.started = bool(filter_started)
+            f.timeouts, f.started, f.timed_out = int(timeouts), bool(filter_started), bool(timed_out)
             self._filters.append(f)
         self._h, self._v, self._total = f32(h), f32(v), f32(total)
         self._started = bool(started)

@@ -115,6 +115,7 @@ class KalmanStatus(enum.IntEnum):
     INVALID_GATE = 9  #: gate not finite or <= 0, or timeout not finite or < 0
     INVALID_GROUND_EFFECT = 10  #: ground-effect noise scale not finite or < 1, dead zone not finite or < 0
     INVALID_GAP_PERIOD = 11  #: gap period NaN or <= 0 (+infinity: never a gap)
+    INVALID_TIMEOUT = 12  #: a sensor timeout not in (0, 1e6]
 
 
 #: The numeric ``#define`` constants of fusion_altitude_kalman.h (floats are float32 in C).
@@ -139,6 +140,7 @@ KALMAN_STATUS_MESSAGES = (
     'gate must be in (0, 1e6], rejection timeout in [0, 1e6]',
     'ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]',
     'gap period must be > 0 (+infinity: never a gap)',
+    'sensor timeouts must be in (0, 1e6] s',
 )
 
 
@@ -166,6 +168,9 @@ KALMAN_SETTINGS = (
     ('initial_height_sigma', 'initialHeightSigma', 'f', 0.1, 'm: initial height uncertainty (on the ground)'),
     ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 1.0, 'm/s: initial velocity uncertainty (at rest)'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default 0.5 s)'),
+    ('baro_timeout', 'baroTimeout', 'f', 1.5, 's, > 0: the baro is timed out after this long without a sample (default 1.5 s)'),
+    ('range_timeout', 'rangeTimeout', 'f', 0.5, 's, > 0: the rangefinder is timed out after this long without a usable reading (default 0.5 s)'),
+    ('gps_timeout', 'gpsTimeout', 'f', 2.0, 's, > 0: the GPS is timed out after this long without a usable fix (default 2 s)'),
 )
 
 

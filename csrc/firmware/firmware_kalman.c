@@ -95,7 +95,7 @@ void FirmwareKalmanTask(void) {
     firmwareKalmanGpsRejections = FusionAltitudeKalmanGetSensor(&firmwareKalman, FusionAltitudeKalmanSensorGps).rejections;
     const FusionAltitudeKalmanSensor baro = FusionAltitudeKalmanGetSensor(&firmwareKalman, FusionAltitudeKalmanSensorBaro);
     if (baro.result == FusionAltitudeKalmanResultFused) {
-        firmwareKalmanBaroNis = baro.nis;
+        firmwareKalmanBaroNis = FusionAltitudeKalmanGetNis(&firmwareKalman, FusionAltitudeKalmanSensorBaro);
     }
     /* Guard against a corrupted RAM image: back to the checked settings, or the defaults. */
     FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(&firmwareKalman);

@@ -164,7 +164,7 @@ static void CheckFinite(const FusionAltitudeKalman *const kalman) {
     }
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         const FusionAltitudeKalmanSensor sensor = FusionAltitudeKalmanGetSensor(kalman, (FusionAltitudeKalmanSensorIndex) i);
-        CHECK(FiniteOrNoSample(sensor.innovation) && FiniteOrNoSample(sensor.innovationVariance) && FiniteOrNoSample(sensor.nis));
+        CHECK(FiniteOrNoSample(sensor.innovation) && FiniteOrNoSample(sensor.innovationVariance) && FiniteOrNoSample(FusionAltitudeKalmanGetNis(kalman, (FusionAltitudeKalmanSensorIndex) i)));
         CHECK(FusionAltitudeIsFinite(sensor.rejectingFor));
     }
     CHECK(FusionAltitudeIsFinite(FusionAltitudeKalmanGetAltitude(kalman)));

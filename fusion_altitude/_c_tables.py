@@ -362,6 +362,8 @@ INS_SETTINGS = (
     ('stationary_baro_rate', 'stationaryBaroRate', 'f', 0.5, 'm/s: the baro moving faster than this (half-window means) vetoes stationary'),
     ('baro_gate', 'baroGate', 'f', 5.0, 'sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0)'),
     ('baro_rejection_timeout', 'baroRejectionTimeout', 'f', 1.0, 's: baro rejected for longer: d reset from the next reading'),
+    ('baro_timeout', 'baroTimeout', 'f', 1.5, 's: no baro reading for longer: not baro-aided (flag, counted) (> 0)'),
+    ('dead_reckoning_horizon', 'deadReckoningHorizon', 'f', 5.0, 's: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0)'),
 )
 
 

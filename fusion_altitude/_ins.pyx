@@ -298,7 +298,8 @@ cdef class InsEstimator(_InsEstimatorGetters):
             "stationary_baro_count": np.float32(c.stationaryBaroCount),
             "stationary_baro_previous": np.float32(c.stationaryBaroPrevious),
             "baro_rejecting_for": np.float32(c.baroRejectingFor), "baro_rejections": int(c.baroRejections),
-            "baro_resets": int(c.baroResets), "baro_rejecting": bool(c.baroRejecting),
+            "baro_resets": int(c.baroResets), "baro_timeouts": int(c.baroTimeouts),
+            "baro_rejecting": bool(c.baroRejecting),
             "gap_count": int(c.gapCount), "aligned": bool(c.aligned), "baro_initialised": bool(c.baroInitialised),
             "mag_initialised": bool(c.magInitialised), "stationary": bool(c.stationary),
             "stationary_half_done": bool(c.stationaryHalfDone), "stationary_has_previous": bool(c.stationaryHasPrevious),
@@ -311,9 +312,12 @@ cdef class InsEstimator(_InsEstimatorGetters):
 
     def _set_state(self, state):
         fields, units = state
+        fields = tuple(fields)
+        if len(fields) == 31:  # a checkpoint from before the baro timeout
+            fields = (*fields[:22], 0, *fields[22:])
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
         self._units = tuple(units)
-        _state_set(&self._c, tuple(fields), _checked_settings)
+        _state_set(&self._c, fields, _checked_settings)
 
     def __repr__(self):
         return (f"InsEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "

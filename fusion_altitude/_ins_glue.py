@@ -24,7 +24,7 @@ MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 #: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.
 POSITIVE_SETTINGS = frozenset({"accel_attitude_noise", "baro_noise", "zero_rate_noise", "zero_velocity_noise",
                                "baro_bias_time_constant", "accel_bias_time_constant", "mag_time_constant",
-                               "gap_period", "baro_gate"})
+                               "gap_period", "baro_gate", "baro_timeout", "dead_reckoning_horizon"})
 
 #: INS settings: (Python name, C name, default, rule), in the order of the C struct FusionAltitudeInsSettings,
 #: the defaults read from the header (:mod:`fusion_altitude._c_tables`). Rules: ">=0" finite in [0, 1e6],

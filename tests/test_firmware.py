@@ -133,7 +133,8 @@ def test_ins_vectors_are_up_to_date_and_cover_every_path():
     for op in ("initialise_with", "set_settings"):  # settings accepted and rejected through both entry points
         assert counts.get(f"{op} status 0", 0) > 0 and counts.get(f"{op} status 6", 0) > 0, op
     for path in ("waiting for alignment", "aligned now", "gap", "accel fused", "accel rejected", "stationary",
-                 "baro bias learning", "baro fused", "mag initialised", "mag filtered", "still, baro vetoes stationary"):
+                 "baro bias learning", "baro fused", "mag initialised", "mag filtered", "still, baro vetoes stationary",
+                 "baro timed out", "height held"):
         assert counts.get(path, 0) > 0, path
     assert set(r[0] for r in recorder.records) == set(range(len(generator.OPS)))
 

@@ -242,6 +242,14 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
         gps_satellites=satellites if gps is not None else None,
         gps_vertical_accuracy=accuracy if gps is not None else None)
     _gaps(options, estimator, settings.gap_period)
+    counts = estimator.timeout_counts
+    if counts.baro:
+        rangefinder = _optional(data, "rangefinder")
+        live = [name for name, samples, count in (("rangefinder", rangefinder, counts.range), ("GPS", gps, counts.gps))
+                if samples is not None and np.isfinite(samples).any() and count == 0]
+        carried = f"carried by the {' and '.join(live)}" if live else "dead-reckoned from the accelerometer"
+        _timeout_warning(data, f"kalman: the baro timed out {counts.baro} time(s) (no sample for > "
+                               f"{settings.baro_timeout:g} s): the altitude there is {carried}")
     _done(options, data.time.size)
     return result
 
@@ -278,8 +286,21 @@ def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
                                                     lidar_altitude=_optional(data, "rangefinder"),
                                                     gps_altitude=_gps_on_baro_datum(data))
     _gaps(options, fusion, settings.gap_period)
+    counts = fusion.timeout_counts
+    if counts.baro:
+        others = [name for name, column in (("rangefinder", 2), ("GPS", 4)) if np.any(result.weight[:, column] > 0)]
+        carried = f"carried by the {' and '.join(others)}" if others else "dead-reckoned, then held (no other height source)"
+        _timeout_warning(data, f"alphabeta: the baro timed out {counts.baro} time(s) (no sample for > "
+                               f"{settings.baro.timeout:g} s): the altitude there is {carried}")
     _done(options, data.time.size)
     return result
+
+
+def _timeout_warning(data: LogData, message: str) -> None:
+    """A one-line warning about a sensor timeout, printed by ``run`` with the log's warnings (once per message)."""
+    warnings = getattr(data, "warnings", None)
+    if isinstance(warnings, list) and message not in warnings:
+        warnings.append(message)
 
 
 #: s of baro samples the α-β fusion's baro filter spans at most on a log: the write-up's Qmax of 60 samples at the
@@ -367,6 +388,9 @@ class InsLogBatch(NamedTuple):
         m: the baro altitude at height 0 (learned while stationary).
     is_stationary : numpy.ndarray of bool
         The INS's stationary detection.
+    baro_timed_out : numpy.ndarray of bool
+        Not baro-aided: no baro reading for longer than the INS's ``baro_timeout`` (s); beyond its
+        ``dead_reckoning_horizon`` the height is held, not dead-reckoned (docs/ins.md).
     """
 
     altitude: np.ndarray
@@ -385,6 +409,7 @@ class InsLogBatch(NamedTuple):
     accel_z_bias: np.ndarray
     baro_bias: np.ndarray
     is_stationary: np.ndarray
+    baro_timed_out: np.ndarray
 
 
 def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
@@ -401,12 +426,18 @@ def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
     batch = ins.update_batch(gyro, accel, dt, data.baro_altitude)
     _gaps(options, ins, ins.settings.gap_period)
     options["baro_rejections"], options["baro_resets"] = int(ins.baro_rejections), int(ins.baro_resets)
+    if ins.baro_timeouts:
+        silent = int(np.count_nonzero(batch.baro_timed_out))
+        _timeout_warning(data, f"INS: the baro timed out {ins.baro_timeouts} time(s) (no reading for > "
+                               f"{ins.settings.baro_timeout:g} s): {silent} samples not baro-aided (column "
+                               f"baro_timed_out); beyond {ins.settings.dead_reckoning_horizon:g} s the height is held, "
+                               "not dead-reckoned")
     _done(options, data.time.size)
     euler = batch.euler.astype(np.float32)
     return InsLogBatch(batch.altitude + batch.baro_bias, batch.vertical_velocity, batch.altitude,
                        euler[:, 0], euler[:, 1], euler[:, 2], *(batch.quaternion[:, i] for i in range(4)),
                        *(batch.gyro_bias[:, i] for i in range(3)), batch.accel_z_bias, batch.baro_bias,
-                       batch.is_stationary)
+                       batch.is_stationary, batch.baro_timed_out)
 
 
 class RocketLogBatch(NamedTuple):

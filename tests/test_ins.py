@@ -374,3 +374,33 @@ def test_baro_timeout_and_horizon_c_equals_the_reference_bit_for_bit():
     r = run_level(reference.InsEstimator(reference.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan),
                   (1.0, 0.0))
     assert same_state(c, r)
+
+
+def _octorotor_with_the_baro_cut_at(seconds):
+    """px4_octorotor_2hz_baro.ulg (shared data) with its baro stream ending at ``seconds`` s, as a user saw it."""
+    import os
+    import warnings
+    from pathlib import Path
+
+    from fusion_altitude import logs
+
+    data_dir = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                   Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data_dir.is_dir(), f"shared data not found at {data_dir}: set FUSION_ALTITUDE_SHARED_DATA"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = logs.load_log(str(data_dir / "px4_octorotor_2hz_baro.ulg"))
+    data.baro_altitude = np.where(data.time < seconds, data.baro_altitude, np.nan)
+    return data
+
+
+def test_the_ins_on_a_log_whose_baro_stops_holds_the_height_near_the_last_baro_and_says_so():
+    """Without the horizon the INS dead-reckons 72 m away from the baro's range within the 80 s left."""
+    from fusion_altitude import runner
+
+    data = _octorotor_with_the_baro_cut_at(14.4)
+    run = runner.run_log(data, estimator="ins")
+    late = data.time > 14.4 + 2.0
+    assert np.all(run.estimate.baro_timed_out[late])
+    assert np.nanmax(np.abs(run.estimate.altitude[late] - np.nanmedian(data.baro_altitude))) < 10.0
+    assert any(w.startswith("INS: the baro timed out 1 time(s)") for w in data.warnings)

@@ -453,3 +453,23 @@ def test_a_baro_back_while_the_gps_bridged_its_silence_is_gated_as_usual(impl):
 def test_a_sensor_timeout_not_in_0_to_1e6_is_rejected_naming_it(impl, name, bad):
     with pytest.raises(ValueError, match=f"^{name} must be finite"):
         impl.KalmanSettings(**{name: bad})
+
+
+def test_the_kalman_filter_on_a_log_whose_baro_stops_carries_on_with_the_gps_and_says_so():
+    import os
+    import warnings
+    from pathlib import Path
+
+    from fusion_altitude import logs, runner
+
+    data_dir = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                   Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data_dir.is_dir(), f"shared data not found at {data_dir}: set FUSION_ALTITUDE_SHARED_DATA"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = logs.load_log(str(data_dir / "px4_octorotor_2hz_baro.ulg"))
+    data.baro_altitude = np.where(data.time < 14.4, data.baro_altitude, np.nan)
+    run = runner.run_log(data, estimator="kalman")
+    assert np.all(np.isfinite(run.estimate.altitude))
+    assert "kalman: the baro timed out 1 time(s) (no sample for > 1.5 s): the altitude there is carried by the GPS" \
+        in data.warnings

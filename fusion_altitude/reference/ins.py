@@ -567,6 +567,7 @@ class InsEstimator(Checkpointable):
                 result.accel_z_bias[i] = self.accel_z_bias_
                 result.baro_bias[i] = self.baro_bias_
                 result.is_stationary[i] = self.stationary
+                result.baro_timed_out[i] = self.baro_timed_out
         return result if out is None else out  # out=: the caller's object itself
 
     # -- getters -------------------------------------------------------------------------------

@@ -20,10 +20,13 @@
  *   2. For each sensor i (IMU, baro, lidar, sonar, GPS, in this order), with
  *      its filter (x_i m, v_i m/s), depth Q_i and T_i = s since its last sample:
  *      - a first sample, one after a silence longer than the sensor's
- *        timeout, or one after a sample beyond its gap maximum, (re)starts
- *        the filter: x_i = z, v_i = v, Q_i = Qmin_i (a dropped sensor comes
- *        back from its own fresh samples, not from a filter that followed
- *        the fault);
+ *        timeout, one after a sample beyond its gap maximum, or one whose
+ *        interval T_i is more than FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
+ *        (4) times the filter's previous interval or less than a quarter of
+ *        it, (re)starts the filter:
+ *        x_i = z, v_i = v (0 after an irregular interval), Q_i = Qmin_i (a
+ *        dropped sensor comes back from its own fresh samples, not from a
+ *        filter that followed the fault);
  *      - otherwise the filter predicts every step, x_i += v_i*dt, T_i += dt,
  *        and on a sample z:
  *          Q_i += 1 (at most Qmax_i) if |z - hPred| <= threshold_i, else Q_i -= 1 (at least Qmin_i)
@@ -68,6 +71,25 @@
  * IMU channel alone had dead-reckoned to 286 m/s and 458 m off within the
  * 1.5 s; bounded by the disagreement the worst error is 202 m, in the
  * transonic boost where the baro itself is 180 m off (docs/hobby_estimators.md).
+ *
+ * Stable steps. The gains are per sample (alpha, and beta over the sample's
+ * interval T), so with a steady sample interval the filter is stable at any
+ * rate: in x and s = v*T one sample maps (x, s) through
+ * [[1-alpha, rho], [-beta(1-alpha), rho(1-beta)]] with rho = T_next/T = 1,
+ * whose eigenvalues lie inside the unit circle for every Q >= 2. With
+ * irregular intervals rho multiplies the velocity term: a velocity learnt
+ * over a 1 ms interval and applied over 1.4 s (rho = 1400) amplified the
+ * noise of a 0.5 m baro to 4.1 km (alternating 0.1 ms and 1.4 s steps), and
+ * the velocity learnt over the 0.1 ms interval, in the fused velocity, threw
+ * the prediction beyond every gap maximum. So a sample whose interval is
+ * more than 4 times the previous one, or less than a quarter of it, is not
+ * integrated by the filter: it restarts it (above) with v_i = 0, since its
+ * velocity was learnt over mismatched intervals. Measured on one filter with
+ * log-uniform random intervals from 0.1 ms to 1.5 s and unit noise,
+ * Q = 2..120: worst |x| 4.5 with this rule, 4e12 if the restart keeps the
+ * velocity, 7e26 without it. A step dt above gapPeriod
+ * is a gap of the whole fusion (below); both rules together are the stable-
+ * step rule (docs/hobby_estimators.md).
  *
  * Why alpha = 2(2Q-1)/(Q(Q+1)): with beta = 6/(Q(Q+1)) these are the gains
  * of the least-squares straight-line fit to the latest Q samples (the
@@ -158,6 +180,13 @@ extern "C" {
 #endif
 #endif
 
+/**
+ * Largest ratio of a sensor's sample interval to its previous one that its
+ * filter integrates; a longer interval restarts the filter (see the file
+ * comment, "Stable steps").
+ */
+#define FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO (4.0f)
+
 /** Largest accepted quality (filter depth), samples. */
 #define FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY (10000)
 
@@ -219,6 +248,7 @@ typedef struct {
     float altitude;       /**< x, m */
     float velocity;       /**< v, m/s */
     float sinceSample;    /**< T, s since the latest sample */
+    float interval;       /**< s: the interval T of the latest sample (0: none since the filter started) */
     float gap;            /**< g = z - hPred of the latest sample, m */
     float weight;         /**< w of the latest step (0: not used) */
     int32_t quality;      /**< Q, samples */
@@ -399,6 +429,7 @@ static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const f
         f->altitude = 0.0f;
         f->velocity = 0.0f;
         f->sinceSample = 0.0f;
+        f->interval = 0.0f;
         f->gap = 0.0f;
         f->weight = 0.0f;
         f->quality = fusion->settings.sensors[i].qualityMin;
@@ -524,6 +555,7 @@ static inline bool FusionAltitudeAlphaBetaStart(FusionAltitudeAlphaBeta *const f
         f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
         f->velocity = velocity;
         f->sinceSample = 0.0f;
+        f->interval = 0.0f;
         f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
         f->quality = s->qualityMin;
         f->started = sampled;
@@ -555,10 +587,14 @@ static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFil
     }
     if (FusionAltitudeIsFinite(z)) {
         const bool wasBeyondGap = !(FusionAltitudeAlphaBetaAbs(f->gap) <= s->gapMax);
+        const bool fresh = !f->started || (f->sinceSample > s->timeout);
+        const bool irregular = (f->interval > 0.0f) && ((f->sinceSample > FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO * f->interval) ||
+                                                        ((FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO * f->sinceSample) < f->interval));
         f->gap = z - altitudePredicted;
-        if (!f->started || (f->sinceSample > s->timeout) || wasBeyondGap) {
+        f->interval = fresh ? 0.0f : f->sinceSample;
+        if (fresh || wasBeyondGap || irregular) {
             f->altitude = z;
-            f->velocity = verticalVelocity;
+            f->velocity = irregular ? 0.0f : verticalVelocity; /* learnt over mismatched intervals: not kept */
             f->quality = s->qualityMin;
             f->started = true;
         } else {

@@ -298,8 +298,8 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
 
     def _set_state(self, state):
         state = tuple(state)
-        if len(state) > 1 and state[1] and len(state[1][0]) == 7:  # a checkpoint from before the timeout fields
-            state = (state[0], tuple((*row[:6], 0, row[6], False) for row in state[1]), *state[2:])
+        if len(state) > 1 and state[1] and len(state[1][0]) == 7:  # from before the interval and timeout fields
+            state = (state[0], tuple((*row[:3], 0.0, *row[3:6], 0, row[6], False) for row in state[1]), *state[2:])
         _state_set(&self._c, state, _c_values)
 
     def __repr__(self):

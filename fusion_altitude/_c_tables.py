@@ -248,6 +248,7 @@ class AlphaBetaStatus(enum.IntEnum):
 
 #: The numeric ``#define`` constants of fusion_altitude_alphabeta.h (floats are float32 in C).
 FUSION_ALTITUDE_ALPHABETA_SENSORS = 5
+FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO = 4.0
 FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY = 10000
 
 

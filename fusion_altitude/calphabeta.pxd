@@ -7,6 +7,7 @@ from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 cdef extern from "fusion_altitude_alphabeta.h" nogil:
     int FUSION_ALTITUDE_ALPHABETA_SENSORS
+    float FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
     int FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
 
     ctypedef enum FusionAltitudeAlphaBetaSensorIndex:
@@ -56,6 +57,7 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         float altitude
         float velocity
         float sinceSample
+        float interval
         float gap
         float weight
         int32_t quality

@@ -27,8 +27,8 @@ def floats32(low, high):
 def state_bits(fusion):
     values, filters, h, v, total, coasting, gap_time, gap_count, started = fusion._get_state()
     bits = lambda x: int(np.float32(x).view(np.uint32))  # noqa: E731
-    return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, n, st_, to)
-                          for x, vi, s, g, w, q, n, st_, to in filters),
+    return (values, tuple((bits(x), bits(vi), bits(s), bits(i), bits(g), bits(w), q, n, st_, to)
+                          for x, vi, s, i, g, w, q, n, st_, to in filters),
             bits(h), bits(v), bits(total), started, bits(coasting), bits(gap_time), gap_count)
 
 
@@ -417,3 +417,38 @@ def test_a_timed_out_sensor_stays_flagged_through_a_restart(impl):
     fusion = _baro_then_gps_only(impl, seconds_after=2.0)
     fusion.update(0.0, baro_altitude=NAN, dt=2.0, gps_altitude=10.0)  # a gap: the fusion restarts from the GPS
     assert fusion.gap_count == 1 and fusion.timed_out.baro
+
+
+# --- Stable steps: a sample interval far from the previous one restarts the filter ------------------------------
+
+
+def _gap_free(impl):
+    """Settings under which every step up to 5 s is integrated (no gap, no timeout), to test the interval rule."""
+    return impl.AlphaBetaSettings(gap_period=5.0, **{k: {"timeout": 5.0} for k in ("imu", "baro", "lidar", "sonar", "gps")})
+
+
+def test_a_sample_interval_more_than_4_times_the_previous_restarts_the_filter_at_the_sample(impl):
+    fusion = impl.AlphaBetaFusion(_gap_free(impl))
+    fusion.update_batch(np.full(30, NAN), dt=0.1, baro_altitude=np.linspace(10.0, 13.0, 30))
+    assert fusion.qualities.baro > 10
+    fusion.update(NAN, baro_altitude=20.0, dt=0.41)  # 4.1 × the previous 0.1 s
+    assert fusion.qualities.baro == 10 and fusion.filter_altitudes.baro == 20.0
+
+
+def test_a_sample_interval_up_to_4_times_the_previous_is_integrated(impl):
+    fusion = impl.AlphaBetaFusion(_gap_free(impl))
+    fusion.update_batch(np.full(30, NAN), dt=0.1, baro_altitude=np.linspace(10.0, 13.0, 30))
+    quality = fusion.qualities.baro
+    fusion.update(NAN, baro_altitude=13.4, dt=0.4)
+    assert fusion.qualities.baro == quality + 1
+
+
+@pytest.mark.parametrize("short", [1e-3, 1e-4])
+def test_alternating_short_and_long_steps_stay_within_2_m_of_a_noisy_baro(impl, short):
+    """Without the interval rule a velocity learnt over the short interval and applied over the long one took the
+    fusion 4.1 km from a 0.5 m-noise baro at 100 m (alternating 0.1 ms and 1.4 s)."""
+    rng = np.random.default_rng(1)
+    steps = np.tile([short, 1.4], 200)
+    out = impl.AlphaBetaFusion(_gap_free(impl)).update_batch(np.full(steps.size, NAN), dt=steps,
+                                                             baro_altitude=100.0 + rng.normal(0.0, 0.5, steps.size))
+    assert np.max(np.abs(out.altitude - 100.0)) < 2.0

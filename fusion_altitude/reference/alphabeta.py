@@ -32,6 +32,8 @@ _ONE = f32(1)
 _TWO = f32(2)
 _SIX = f32(6)
 _IMU = 0
+_ZERO = f32(0)
+_MAX_INTERVAL_RATIO = f32(4)  # FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
 
 
 def gains(quality: int):
@@ -115,12 +117,13 @@ def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus
 class _Filter:
     """FusionAltitudeAlphaBetaFilter: one sensor's alpha-beta filter."""
 
-    __slots__ = ("x", "v", "since", "gap", "weight", "quality", "timeouts", "started", "timed_out")
+    __slots__ = ("x", "v", "since", "interval", "gap", "weight", "quality", "timeouts", "started", "timed_out")
 
     def __init__(self, quality: int) -> None:
         self.x = f32(0)
         self.v = f32(0)
         self.since = f32(0)
+        self.interval = f32(0)
         self.gap = f32(0)
         self.weight = f32(0)
         self.quality = quality
@@ -129,8 +132,8 @@ class _Filter:
         self.timed_out = False
 
     def state(self) -> tuple:
-        return (float(self.x), float(self.v), float(self.since), float(self.gap), float(self.weight), self.quality,
-                self.timeouts, self.started, self.timed_out)
+        return (float(self.x), float(self.v), float(self.since), float(self.interval), float(self.gap),
+                float(self.weight), self.quality, self.timeouts, self.started, self.timed_out)
 
 
 class AlphaBetaFusion(Checkpointable):
@@ -181,6 +184,7 @@ class AlphaBetaFusion(Checkpointable):
             f.x = self._h if i == _IMU else z[i]
             f.v = velocity
             f.since = f32(0)
+            f.interval = f32(0)
             f.gap = f.x - self._h if sampled else f32(0)
             f.quality = s.quality_min
             f.started = sampled
@@ -202,10 +206,16 @@ class AlphaBetaFusion(Checkpointable):
         if np.isfinite(z):
             gap_max = f32(s.gap_max)
             was_beyond_gap = not (-gap_max <= f.gap <= gap_max)
+            fresh = not f.started or f.since > timeout
+            # an interval more than MAX_INTERVAL_RATIO times the previous one or less than its inverse times it: not
+            # integrated (stable steps)
+            irregular = f.interval > 0 and (f.since > _MAX_INTERVAL_RATIO * f.interval
+                                            or _MAX_INTERVAL_RATIO * f.since < f.interval)
             f.gap = z - altitude_predicted  # the sensor's gap, held until its next sample
-            if not f.started or f.since > timeout or was_beyond_gap:  # first, back after silence or gap: restart
+            f.interval = f32(0) if fresh else f.since
+            if fresh or was_beyond_gap or irregular:  # first, back after silence, gap or irregular interval: restart
                 f.x = z
-                f.v = self._v
+                f.v = _ZERO if irregular else self._v  # learnt over mismatched intervals: not kept
                 f.quality = s.quality_min
                 f.started = True
             else:
@@ -422,11 +432,12 @@ class AlphaBetaFusion(Checkpointable):
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
         for row in filters:
-            if len(row) == 7:  # a checkpoint from before the timeout fields
-                row = (*row[:6], 0, row[6], False)
-            x, vi, since, gap, weight, quality, timeouts, filter_started, timed_out = row
+            if len(row) == 7:  # a checkpoint from before the interval and timeout fields
+                row = (*row[:3], 0.0, *row[3:6], 0, row[6], False)
+            x, vi, since, interval, gap, weight, quality, timeouts, filter_started, timed_out = row
             f = _Filter(int(quality))
             f.x, f.v, f.since, f.gap, f.weight = f32(x), f32(vi), f32(since), f32(gap), f32(weight)
+            f.interval = f32(interval)
             f.timeouts, f.started, f.timed_out = int(timeouts), bool(filter_started), bool(timed_out)
             self._filters.append(f)
         self._h, self._v, self._total = f32(h), f32(v), f32(total)

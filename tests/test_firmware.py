@@ -457,7 +457,8 @@ def test_cppcheck_is_clean(build):
     makefile = (FIRMWARE / "Makefile").read_text()
     fuzzers = re.search(r"^FUZZERS := (.*)$", makefile, re.MULTILINE).group(1).split()
     failing = re.search(r"^FUZZERS_FAILING :=(.*)$", makefile, re.MULTILINE).group(1).split()
-    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins"], (fuzzers, failing)
+    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta"], \
+        (fuzzers, failing)
     for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
         assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
     assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
@@ -465,11 +466,12 @@ def test_cppcheck_is_clean(build):
     assert {"observer", "kalman", "complementary", "alphabeta", "flight", "ins"} <= set(estimators), estimators
 
 
-FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins")
+FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta")
 
 
 def test_fuzzers_find_nothing(build):
-    """The observer, Kalman, flight and INS libFuzzer targets, FUZZ_SECONDS in total: a quarter each, two at a time."""
+    """The observer, Kalman, flight, INS and alpha-beta libFuzzer targets, FUZZ_SECONDS in total: a fifth each, two
+    at a time."""
     result = make(build, "fuzz-run", timeout=FUZZ_SECONDS + 300, FUZZ_SECONDS=str(FUZZ_SECONDS))
     log = result.stdout + result.stderr
     assert result.returncode == 0, log[-6000:]

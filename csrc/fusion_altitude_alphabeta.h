@@ -187,6 +187,13 @@ extern "C" {
  */
 #define FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO (4.0f)
 
+/**
+ * Largest accepted confidence: a weight Q * confidence stays below 1e10 and
+ * the sum of five below 1e11, far inside float32 (fuzz_alphabeta.c found a
+ * confidence of 1e36 that made a weight +infinity and the altitude NaN).
+ */
+#define FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE (1e6f)
+
 /** Largest accepted quality (filter depth), samples. */
 #define FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY (10000)
 
@@ -210,7 +217,7 @@ typedef enum {
     FusionAltitudeAlphaBetaStatusInvalidGpsAltitude,   /**< GPS altitude infinite */
     FusionAltitudeAlphaBetaStatusInvalidThreshold,     /**< a threshold not finite or <= 0 */
     FusionAltitudeAlphaBetaStatusInvalidQuality,       /**< not 2 <= qualityMin <= qualityMax <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY */
-    FusionAltitudeAlphaBetaStatusInvalidConfidence,    /**< a confidence not finite or < 0 */
+    FusionAltitudeAlphaBetaStatusInvalidConfidence,    /**< a confidence not in [0, FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE] */
     FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,  /**< a band limit NaN or not altitudeMin < altitudeMax */
     FusionAltitudeAlphaBetaStatusInvalidGapMax,        /**< a gap maximum NaN or <= 0 (+infinity: no limit) */
     FusionAltitudeAlphaBetaStatusInvalidTimeout,       /**< a timeout not finite or <= 0 */
@@ -222,7 +229,7 @@ typedef struct {
     float threshold;     /**< m, > 0: |z - hPred| up to this counts as agreement */
     int32_t qualityMin;  /**< Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable) */
     int32_t qualityMax;  /**< Qmax, samples, >= Qmin */
-    float confidence;    /**< >= 0: weight = Q * confidence */
+    float confidence;    /**< in [0, 1e6]: weight = Q * confidence */
     float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) */
     float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) */
     float gapMax;        /**< m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity) */
@@ -295,7 +302,7 @@ static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltit
         case FusionAltitudeAlphaBetaStatusInvalidQuality:
             return "qualities must satisfy 2 <= minimum <= maximum <= 10000";
         case FusionAltitudeAlphaBetaStatusInvalidConfidence:
-            return "confidences must be finite and >= 0";
+            return "confidences must be in [0, 1e6]";
         case FusionAltitudeAlphaBetaStatusInvalidAltitudeBand:
             return "altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)";
         case FusionAltitudeAlphaBetaStatusInvalidGapMax:
@@ -369,7 +376,8 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSensorSetting
         (sensor->qualityMax > FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY)) {
         return FusionAltitudeAlphaBetaStatusInvalidQuality;
     }
-    if (!FusionAltitudeIsFinite(sensor->confidence) || !(sensor->confidence >= 0.0f)) {
+    if (!FusionAltitudeIsFinite(sensor->confidence) || !(sensor->confidence >= 0.0f) ||
+        !(sensor->confidence <= FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE)) {
         return FusionAltitudeAlphaBetaStatusInvalidConfidence;
     }
     if (!(sensor->altitudeMin < sensor->altitudeMax)) { /* false for NaN */

@@ -239,7 +239,7 @@ class AlphaBetaStatus(enum.IntEnum):
     INVALID_GPS_ALTITUDE = 6  #: GPS altitude infinite
     INVALID_THRESHOLD = 7  #: a threshold not finite or <= 0
     INVALID_QUALITY = 8  #: not 2 <= qualityMin <= qualityMax <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
-    INVALID_CONFIDENCE = 9  #: a confidence not finite or < 0
+    INVALID_CONFIDENCE = 9  #: a confidence not in [0, FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE]
     INVALID_ALTITUDE_BAND = 10  #: a band limit NaN or not altitudeMin < altitudeMax
     INVALID_GAP_MAX = 11  #: a gap maximum NaN or <= 0 (+infinity: no limit)
     INVALID_TIMEOUT = 12  #: a timeout not finite or <= 0
@@ -249,6 +249,7 @@ class AlphaBetaStatus(enum.IntEnum):
 #: The numeric ``#define`` constants of fusion_altitude_alphabeta.h (floats are float32 in C).
 FUSION_ALTITUDE_ALPHABETA_SENSORS = 5
 FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO = 4.0
+FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE = 1e6
 FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY = 10000
 
 
@@ -263,7 +264,7 @@ ALPHABETA_STATUS_MESSAGES = (
     'GPS altitude must be finite (or NaN for no sample)',
     'thresholds must be finite and > 0',
     'qualities must satisfy 2 <= minimum <= maximum <= 10000',
-    'confidences must be finite and >= 0',
+    'confidences must be in [0, 1e6]',
     'altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)',
     'gap maxima must be > 0 (+infinity: no limit)',
     'timeouts must be finite and > 0',
@@ -279,7 +280,7 @@ ALPHABETA_SENSOR_FIELDS = (
     ('threshold', 'threshold', 'f', 'm, > 0: |z - hPred| up to this counts as agreement'),
     ('quality_min', 'qualityMin', 'i', 'Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable)'),
     ('quality_max', 'qualityMax', 'i', 'Qmax, samples, >= Qmin'),
-    ('confidence', 'confidence', 'f', '>= 0: weight = Q * confidence'),
+    ('confidence', 'confidence', 'f', 'in [0, 1e6]: weight = Q * confidence'),
     ('altitude_min', 'altitudeMin', 'f', 'm: weight 0 when hPred < this (may be -infinity)'),
     ('altitude_max', 'altitudeMax', 'f', 'm: weight 0 when hPred > this (may be +infinity)'),
     ('gap_max', 'gapMax', 'f', "m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity)"),

@@ -8,6 +8,7 @@ from libc.stdint cimport int32_t, uint8_t, uint32_t
 cdef extern from "fusion_altitude_alphabeta.h" nogil:
     int FUSION_ALTITUDE_ALPHABETA_SENSORS
     float FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
+    float FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE
     int FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
 
     ctypedef enum FusionAltitudeAlphaBetaSensorIndex:

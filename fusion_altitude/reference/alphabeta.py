@@ -32,6 +32,7 @@ _ONE = f32(1)
 _TWO = f32(2)
 _SIX = f32(6)
 _IMU = 0
+_MAX_CONFIDENCE = 1e6  # FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE: every weight Q · confidence finite
 _ZERO = f32(0)
 _MAX_INTERVAL_RATIO = f32(4)  # FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
 
@@ -49,7 +50,7 @@ def _sensor_status(s: AlphaBetaSensorSettings) -> AlphaBetaStatus:
         return AlphaBetaStatus.INVALID_THRESHOLD
     if s.quality_min < 2 or s.quality_max < s.quality_min or s.quality_max > ALPHABETA_MAX_QUALITY:
         return AlphaBetaStatus.INVALID_QUALITY
-    if not (math.isfinite(s.confidence) and s.confidence >= 0):
+    if not (math.isfinite(s.confidence) and 0 <= s.confidence <= _MAX_CONFIDENCE):
         return AlphaBetaStatus.INVALID_CONFIDENCE
     if not s.altitude_min < s.altitude_max:
         return AlphaBetaStatus.INVALID_ALTITUDE_BAND

@@ -183,7 +183,7 @@ KALMAN_INTERNAL = {"FusionAltitudeKalmanIsNonNegative", "FusionAltitudeKalmanIsP
                    "FusionAltitudeKalmanGpsSigma", "FusionAltitudeKalmanRandomWalks", "FusionAltitudeKalmanInflate",
                    "FusionAltitudeKalmanGap", "FusionAltitudeKalmanFuseVector", "FusionAltitudeKalmanFuseScalar",
                    "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
-                   "FusionAltitudeKalmanProcessGps"}
+                   "FusionAltitudeKalmanProcessGps", "FusionAltitudeKalmanSilent", "FusionAltitudeKalmanResume"}
 
 
 def test_every_public_kalman_function_is_built_and_sized():
@@ -243,7 +243,8 @@ INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive",
                 "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
                 "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
                 "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary",
-                "FusionAltitudeInsHoldVariance", "FusionAltitudeInsDecorrelate", "FusionAltitudeInsForgetHeight"}
+                "FusionAltitudeInsHoldVariance", "FusionAltitudeInsDecorrelate", "FusionAltitudeInsForgetHeight",
+                "FusionAltitudeInsIsBaroSilentFor", "FusionAltitudeInsHoldHeight"}
 
 
 def test_every_public_ins_function_is_built_and_sized():

@@ -733,10 +733,18 @@ static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float
     }
 }
 
-/** Sets q to the shortest rotation taking the body vector f (|f| > 0) to +z: yaw 0. */
-static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const FusionAltitudeInsVector f) {
+/**
+ * Sets q to the shortest rotation taking the body vector f to +z: yaw 0.
+ * @return false (nothing changed) if |f| is 0 in float32: no direction (an
+ * accelNormRejection of g or more lets a zero accel through the norm test;
+ * fuzz_ins.c found the NaN attitude it made).
+ */
+static inline bool FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const FusionAltitudeInsVector f) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const float norm = sqrtf(f.x * f.x + f.y * f.y + f.z * f.z);
+    if (!(norm > 0.0f)) {
+        return false;
+    }
     const float ux = f.x / norm, uy = f.y / norm, uz = f.z / norm;
     /* q = normalise(1 + u.e_z, u x e_z) = normalise(1 + uz, uy, -ux, 0); u = -e_z: 180 deg about x */
     if (uz > -0.999999f) {
@@ -752,6 +760,7 @@ static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const Fu
         ins->q[3] = 0.0f;
     }
     ins->aligned = true;
+    return true;
 }
 
 /**
@@ -1003,10 +1012,9 @@ static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAlt
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (!ins->aligned) {
-        if (!(normError <= s->accelNormRejection)) {
+        if (!(normError <= s->accelNormRejection) || !FusionAltitudeInsAlign(ins, accel)) {
             return false; /* wait for a usable gravity direction */
         }
-        FusionAltitudeInsAlign(ins, accel);
     } else if (dt > s->gapPeriod) {
         FusionAltitudeInsGap(ins);
     } else {
@@ -1038,9 +1046,9 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseGravity(FusionA
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float fz = accel.z - ins->accelZBias;
-    bool rejected = !(normError <= s->accelNormRejection);
+    const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
+    bool rejected = !(normError <= s->accelNormRejection) || !(fNorm > 0.0f); /* |f| = 0: no direction */
     if (!rejected) {
-        const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
         const float u[3] = {accel.x / fNorm, accel.y / fNorm, fz / fNorm};
         const float e[3] = {u[0] - r[0], u[1] - r[1], u[2] - r[2]};
         const float chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];

@@ -404,3 +404,14 @@ def test_the_ins_on_a_log_whose_baro_stops_holds_the_height_near_the_last_baro_a
     assert np.all(run.estimate.baro_timed_out[late])
     assert np.nanmax(np.abs(run.estimate.altitude[late] - np.nanmedian(data.baro_altitude))) < 10.0
     assert any(w.startswith("INS: the baro timed out 1 time(s)") for w in data.warnings)
+
+
+def test_a_zero_accel_does_not_align_even_when_the_norm_test_lets_it_through(impl):
+    """accel_norm_rejection >= g lets |accel| = 0 pass the norm test; fuzz_ins.c found the NaN attitude that the
+    alignment on it made (csrc/fuzz/findings/ins_zero_accel_alignment.bin). It waits for a direction instead."""
+    ins = impl.InsEstimator(impl.InsSettings(accel_norm_rejection=9.9))
+    ins.update(np.zeros(3), np.zeros(3), 0.01, baro_altitude=10.0)
+    assert np.all(np.isfinite(ins.quaternion)) and np.isfinite(ins.covariance).all()
+    ins.update(np.zeros(3), [0.0, 0.0, G], 0.01, baro_altitude=10.0)
+    ins.update(np.zeros(3), np.zeros(3), 0.01, baro_altitude=10.0)  # aligned: a zero accel is no gravity direction
+    assert ins.is_accel_rejected and np.isfinite(ins.covariance).all() and np.all(np.isfinite(ins.quaternion))

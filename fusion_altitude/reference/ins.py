@@ -274,14 +274,18 @@ class InsEstimator(Checkpointable):
         self._initialise(self._s)
 
     # -- FusionAltitudeInsAlign ----------------------------------------------------------------
-    def _align(self, f: np.ndarray) -> None:
+    def _align(self, f: np.ndarray) -> bool:
+        """False (nothing changed) when |f| is 0 in float32: no direction."""
         norm = np.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+        if not norm > 0:
+            return False
         ux, uy, uz = f[0] / norm, f[1] / norm, f[2] / norm
         if uz > f32(-0.999999):
             self.q = _normalise(np.array([_ONE + uz, uy, -ux, _ZERO], dtype=f32))
         else:
             self.q = np.array([0, 1, 0, 0], dtype=f32)
         self.aligned = True
+        return True
 
     # -- FusionAltitudeInsPredict --------------------------------------------------------------
     def _predict(self, w: np.ndarray, f: np.ndarray, dt: np.float32) -> None:
@@ -387,9 +391,8 @@ class InsEstimator(Checkpointable):
         accel_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2])
         norm_error = (accel_norm - g) if accel_norm > g else (g - accel_norm)
         if not self.aligned:
-            if not (norm_error <= s.f32("accel_norm_rejection")):
-                return
-            self._align(accel)
+            if not (norm_error <= s.f32("accel_norm_rejection")) or not self._align(accel):
+                return  # wait for a usable gravity direction
         elif dt > s.f32("gap_period"):
             self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
             attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
@@ -420,9 +423,9 @@ class InsEstimator(Checkpointable):
         fz = accel[2] - self.accel_z_bias_
 
         # accel: gravity direction, with acceleration rejection
-        rejected = not (norm_error <= s.f32("accel_norm_rejection"))
+        f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
+        rejected = not (norm_error <= s.f32("accel_norm_rejection")) or not f_norm > 0  # |f| = 0: no direction
         if not rejected:
-            f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
             u = (accel[0] / f_norm, accel[1] / f_norm, fz / f_norm)
             e = (u[0] - r[0], u[1] - r[1], u[2] - r[2])
             chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]

@@ -20,10 +20,13 @@
  *   2. For each sensor i (IMU, baro, lidar, sonar, GPS, in this order), with
  *      its filter (x_i m, v_i m/s), depth Q_i and T_i = s since its last sample:
  *      - a first sample, one after a silence longer than the sensor's
- *        timeout, or one after a sample beyond its gap maximum, (re)starts
- *        the filter: x_i = z, v_i = v, Q_i = Qmin_i (a dropped sensor comes
- *        back from its own fresh samples, not from a filter that followed
- *        the fault);
+ *        timeout, one after a sample beyond its gap maximum, or one whose
+ *        interval T_i is more than FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
+ *        (4) times the filter's previous interval or less than a quarter of
+ *        it, (re)starts the filter:
+ *        x_i = z, v_i = v (0 after an irregular interval), Q_i = Qmin_i (a
+ *        dropped sensor comes back from its own fresh samples, not from a
+ *        filter that followed the fault);
  *      - otherwise the filter predicts every step, x_i += v_i*dt, T_i += dt,
  *        and on a sample z:
  *          Q_i += 1 (at most Qmax_i) if |z - hPred| <= threshold_i, else Q_i -= 1 (at least Qmin_i)
@@ -33,6 +36,15 @@
  *      - weight w_i = Q_i * confidence_i, zeroed when the sensor is silent
  *        for longer than its timeout, when hPred is outside its altitude band
  *        [altitudeMin_i, altitudeMax_i], or when its gap |g_i| exceeds gapMax_i.
+ *      - timeout: once a started sensor has been silent for longer than its
+ *        timeout (T_i > timeout_i) its timedOut flag is set and its timeout
+ *        count goes up by one (once per silence, as a gap is counted); the
+ *        flag holds, through restarts, until the sensor's next sample. The
+ *        other channels carry on: when the baro times out, a GPS, lidar or
+ *        sonar with weight carries the fused altitude, and the flag says the
+ *        baro is not in it (PX4's EKF2 stops fusing a baro that has not been
+ *        sampled for 2 x 200 ms and falls back to another height source;
+ *        ArduPilot's EKF3 switches to GPS height when the baro is lost).
  *   3. Fused output h = sum(w_i x_i)/sum(w_i), v = sum(w_i v_i)/sum(w_i);
  *      with every weight zero: h = hPred, v += a*dt (dead reckoning).
  * Before the first step with a baro, lidar, sonar or GPS sample the filter
@@ -59,6 +71,25 @@
  * IMU channel alone had dead-reckoned to 286 m/s and 458 m off within the
  * 1.5 s; bounded by the disagreement the worst error is 202 m, in the
  * transonic boost where the baro itself is 180 m off (docs/hobby_estimators.md).
+ *
+ * Stable steps. The gains are per sample (alpha, and beta over the sample's
+ * interval T), so with a steady sample interval the filter is stable at any
+ * rate: in x and s = v*T one sample maps (x, s) through
+ * [[1-alpha, rho], [-beta(1-alpha), rho(1-beta)]] with rho = T_next/T = 1,
+ * whose eigenvalues lie inside the unit circle for every Q >= 2. With
+ * irregular intervals rho multiplies the velocity term: a velocity learnt
+ * over a 1 ms interval and applied over 1.4 s (rho = 1400) amplified the
+ * noise of a 0.5 m baro to 4.1 km (alternating 0.1 ms and 1.4 s steps), and
+ * the velocity learnt over the 0.1 ms interval, in the fused velocity, threw
+ * the prediction beyond every gap maximum. So a sample whose interval is
+ * more than 4 times the previous one, or less than a quarter of it, is not
+ * integrated by the filter: it restarts it (above) with v_i = 0, since its
+ * velocity was learnt over mismatched intervals. Measured on one filter with
+ * log-uniform random intervals from 0.1 ms to 1.5 s and unit noise,
+ * Q = 2..120: worst |x| 4.5 with this rule, 4e12 if the restart keeps the
+ * velocity, 7e26 without it. A step dt above gapPeriod
+ * is a gap of the whole fusion (below); both rules together are the stable-
+ * step rule (docs/hobby_estimators.md).
  *
  * Why alpha = 2(2Q-1)/(Q(Q+1)): with beta = 6/(Q(Q+1)) these are the gains
  * of the least-squares straight-line fit to the latest Q samples (the
@@ -149,6 +180,20 @@ extern "C" {
 #endif
 #endif
 
+/**
+ * Largest ratio of a sensor's sample interval to its previous one that its
+ * filter integrates; a longer interval restarts the filter (see the file
+ * comment, "Stable steps").
+ */
+#define FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO (4.0f)
+
+/**
+ * Largest accepted confidence: a weight Q * confidence stays below 1e10 and
+ * the sum of five below 1e11, far inside float32 (fuzz_alphabeta.c found a
+ * confidence of 1e36 that made a weight +infinity and the altitude NaN).
+ */
+#define FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE (1e6f)
+
 /** Largest accepted quality (filter depth), samples. */
 #define FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY (10000)
 
@@ -172,7 +217,7 @@ typedef enum {
     FusionAltitudeAlphaBetaStatusInvalidGpsAltitude,   /**< GPS altitude infinite */
     FusionAltitudeAlphaBetaStatusInvalidThreshold,     /**< a threshold not finite or <= 0 */
     FusionAltitudeAlphaBetaStatusInvalidQuality,       /**< not 2 <= qualityMin <= qualityMax <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY */
-    FusionAltitudeAlphaBetaStatusInvalidConfidence,    /**< a confidence not finite or < 0 */
+    FusionAltitudeAlphaBetaStatusInvalidConfidence,    /**< a confidence not in [0, FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE] */
     FusionAltitudeAlphaBetaStatusInvalidAltitudeBand,  /**< a band limit NaN or not altitudeMin < altitudeMax */
     FusionAltitudeAlphaBetaStatusInvalidGapMax,        /**< a gap maximum NaN or <= 0 (+infinity: no limit) */
     FusionAltitudeAlphaBetaStatusInvalidTimeout,       /**< a timeout not finite or <= 0 */
@@ -184,7 +229,7 @@ typedef struct {
     float threshold;     /**< m, > 0: |z - hPred| up to this counts as agreement */
     int32_t qualityMin;  /**< Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable) */
     int32_t qualityMax;  /**< Qmax, samples, >= Qmin */
-    float confidence;    /**< >= 0: weight = Q * confidence */
+    float confidence;    /**< in [0, 1e6]: weight = Q * confidence */
     float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) */
     float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) */
     float gapMax;        /**< m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity) */
@@ -210,10 +255,13 @@ typedef struct {
     float altitude;       /**< x, m */
     float velocity;       /**< v, m/s */
     float sinceSample;    /**< T, s since the latest sample */
+    float interval;       /**< s: the interval T of the latest sample (0: none since the filter started) */
     float gap;            /**< g = z - hPred of the latest sample, m */
     float weight;         /**< w of the latest step (0: not used) */
     int32_t quality;      /**< Q, samples */
+    uint32_t timeouts;    /**< times the sensor fell silent for longer than its timeout, in total (counted like gaps) */
     bool started;         /**< the filter has had a sample */
+    bool timedOut;        /**< silent for longer than its timeout since its latest sample (held until its next sample) */
 } FusionAltitudeAlphaBetaFilter;
 
 /** Fusion state. Read it through the Get functions. */
@@ -254,7 +302,7 @@ static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltit
         case FusionAltitudeAlphaBetaStatusInvalidQuality:
             return "qualities must satisfy 2 <= minimum <= maximum <= 10000";
         case FusionAltitudeAlphaBetaStatusInvalidConfidence:
-            return "confidences must be finite and >= 0";
+            return "confidences must be in [0, 1e6]";
         case FusionAltitudeAlphaBetaStatusInvalidAltitudeBand:
             return "altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)";
         case FusionAltitudeAlphaBetaStatusInvalidGapMax:
@@ -328,7 +376,8 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSensorSetting
         (sensor->qualityMax > FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY)) {
         return FusionAltitudeAlphaBetaStatusInvalidQuality;
     }
-    if (!FusionAltitudeIsFinite(sensor->confidence) || !(sensor->confidence >= 0.0f)) {
+    if (!FusionAltitudeIsFinite(sensor->confidence) || !(sensor->confidence >= 0.0f) ||
+        !(sensor->confidence <= FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE)) {
         return FusionAltitudeAlphaBetaStatusInvalidConfidence;
     }
     if (!(sensor->altitudeMin < sensor->altitudeMax)) { /* false for NaN */
@@ -388,10 +437,13 @@ static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const f
         f->altitude = 0.0f;
         f->velocity = 0.0f;
         f->sinceSample = 0.0f;
+        f->interval = 0.0f;
         f->gap = 0.0f;
         f->weight = 0.0f;
         f->quality = fusion->settings.sensors[i].qualityMin;
+        f->timeouts = 0u;
         f->started = false;
+        f->timedOut = false;
     }
     fusion->altitude = 0.0f;
     fusion->verticalVelocity = 0.0f;
@@ -511,9 +563,11 @@ static inline bool FusionAltitudeAlphaBetaStart(FusionAltitudeAlphaBeta *const f
         f->altitude = (i == FusionAltitudeAlphaBetaSensorImu) ? fusion->altitude : z[i];
         f->velocity = velocity;
         f->sinceSample = 0.0f;
+        f->interval = 0.0f;
         f->gap = sampled ? (f->altitude - fusion->altitude) : 0.0f;
         f->quality = s->qualityMin;
         f->started = sampled;
+        f->timedOut = f->timedOut && !sampled; /* a silent sensor stays timed out through the restart */
         f->weight = (sampled && (i != FusionAltitudeAlphaBetaSensorImu)) ? (float) s->qualityMin * s->confidence : 0.0f;
         if (!sampled) {
             f->altitude = 0.0f;
@@ -541,10 +595,14 @@ static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFil
     }
     if (FusionAltitudeIsFinite(z)) {
         const bool wasBeyondGap = !(FusionAltitudeAlphaBetaAbs(f->gap) <= s->gapMax);
+        const bool fresh = !f->started || (f->sinceSample > s->timeout);
+        const bool irregular = (f->interval > 0.0f) && ((f->sinceSample > FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO * f->interval) ||
+                                                        ((FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO * f->sinceSample) < f->interval));
         f->gap = z - altitudePredicted;
-        if (!f->started || (f->sinceSample > s->timeout) || wasBeyondGap) {
+        f->interval = fresh ? 0.0f : f->sinceSample;
+        if (fresh || wasBeyondGap || irregular) {
             f->altitude = z;
-            f->velocity = verticalVelocity;
+            f->velocity = irregular ? 0.0f : verticalVelocity; /* learnt over mismatched intervals: not kept */
             f->quality = s->qualityMin;
             f->started = true;
         } else {
@@ -561,6 +619,12 @@ static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFil
             f->velocity += (beta * residual) / f->sinceSample;
         }
         f->sinceSample = 0.0f;
+    }
+    if (FusionAltitudeIsFinite(z)) {
+        f->timedOut = false;
+    } else if (f->started && (f->sinceSample > s->timeout) && !f->timedOut) {
+        f->timedOut = true; /* this silence is counted once */
+        f->timeouts++;
     }
     float weight = 0.0f;
     if (f->started && !(f->sinceSample > s->timeout)) {
@@ -700,6 +764,17 @@ static inline float FusionAltitudeAlphaBetaGetWeight(const FusionAltitudeAlphaBe
 /** @return a sensor's quality Q (filter depth, samples). */
 static inline int32_t FusionAltitudeAlphaBetaGetQuality(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
     return fusion->filters[sensor].quality;
+}
+
+/** @return true while a sensor is timed out: it had samples, then none for longer than its timeout (until its next sample). */
+static inline bool FusionAltitudeAlphaBetaIsTimedOut(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].timedOut;
+}
+
+/** @return the number of times a sensor timed out so far (each silence longer than its timeout counts once). */
+static inline uint32_t FusionAltitudeAlphaBetaGetTimeoutCount(const FusionAltitudeAlphaBeta *const fusion,
+                                                              const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return fusion->filters[sensor].timeouts;
 }
 
 /** @return the number of gaps so far: updates with dt > gapPeriod once started. */

@@ -93,6 +93,29 @@
  * Alignment: the first sample with | |accel| - g | <= accelNormRejection
  *   sets q to the shortest rotation taking accel to +z (yaw 0); samples
  *   before it are ignored (Ok, nothing changes).
+ * Baro timeout and the dead-reckoning horizon (the baro is the INS's only
+ *   height source). t = baroElapsed, the time since the latest baro reading
+ *   (a reading the gate rejects counts: the baro is alive). Once t >
+ *   baroTimeout (default 1.5 s) the INS is not baro-aided: the flag
+ *   (FusionAltitudeInsIsBaroTimedOut) is set and baroTimeouts += 1, once
+ *   per silence; d and v are dead-reckoned from the IMU as before. A step
+ *   that starts with t > deadReckoningHorizon (default 5 s) stops the dead
+ *   reckoning (FusionAltitudeInsIsHeightHeld): the accelerometer no longer
+ *   moves d and v; v decays to 0, v <- v - k v with k = dt/(horizon + dt)
+ *   (time constant horizon s), d <- d + v dt (so d moves at most |v| *
+ *   horizon further), d and v are decorrelated from the attitude and bias,
+ *   the velocity variance is held at least initialVelocitySigma^2 and the
+ *   height sigma grows by sigma_v per second, sqrt(P_dd) <- sqrt(P_dd) +
+ *   sqrt(P_vv) dt (up to FUSION_ALTITUDE_INS_VARIANCE_LIMIT). Why decayed,
+ *   not held: integrated for longer, an unaided vertical channel drifts
+ *   as the square of time (0.1 m/s^2 of accel or attitude error: 1.25 m
+ *   after 5 s, 125 m after 50 s; on a rocket's boost and coast, kilometres);
+ *   a held velocity still runs away linearly, without bound; a decayed one
+ *   bounds the height to |v| * horizon beyond the horizon while the variance
+ *   says the height is no longer known. Why 5 s: ArduPilot's EKF3 resets
+ *   its height after 5 s without height data, and PX4's EKF2 stops
+ *   dead-reckoning after its 5 s no-aiding timeout. The next reading passes
+ *   the gate (P_dd has grown) and sets d again.
  * Gaps: a dt > gapPeriod is not integrated: gapCount += 1, the prediction is
  *   skipped, the stationary timer restarts, the attitude and velocity
  *   variances are raised to at least their initial values (so the next
@@ -261,6 +284,8 @@ typedef struct {
     float stationaryBaroRate;      /**< m/s: the baro moving faster than this (half-window means) vetoes stationary */
     float baroGate;                /**< sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0) */
     float baroRejectionTimeout;    /**< s: baro rejected for longer: d reset from the next reading */
+    float baroTimeout;             /**< s: no baro reading for longer: not baro-aided (flag, counted) (> 0) */
+    float deadReckoningHorizon;    /**< s: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0) */
 } FusionAltitudeInsSettings;
 
 /** Filter state. Read it through the Get functions. */
@@ -287,6 +312,7 @@ typedef struct {
     uint32_t gapCount;         /**< steps with dt > gapPeriod, not integrated */
     uint32_t baroRejections;   /**< baro readings rejected by the gate, in total */
     uint32_t baroResets;       /**< d reset from the baro after a rejection streak longer than the timeout, in total */
+    uint32_t baroTimeouts;     /**< silences of the baro longer than baroTimeout, in total (each counted once) */
     bool aligned;              /**< attitude set from the first usable accel sample */
     bool baroInitialised;      /**< baro bias set from the first baro sample */
     bool magInitialised;       /**< yaw offset set from the first usable mag sample */
@@ -334,7 +360,10 @@ static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeIns
  *   and 0.5 m/s^2 for 1 s, zeroRateNoise 0.01 rad/s, zeroVelocityNoise
  *   0.05 m/s, baroBiasTimeConstant 5 s, accelBiasTimeConstant 2 s, magTimeConstant 2 s, initial sigmas
  *   0.05 rad, 0.01 rad/s, 0.5 m/s, gapPeriod 0.1 s, stationaryBaroRate 0.5 m/s,
- *   baroGate 5 sigma, baroRejectionTimeout 1 s (as the Kalman filter's gate).
+ *   baroGate 5 sigma, baroRejectionTimeout 1 s (as the Kalman filter's gate),
+ *   baroTimeout 1.5 s (three periods of a 2 Hz baro, longer than a 1 Hz
+ *   one's period; as the Kalman filter's and the alpha-beta fusion's),
+ *   deadReckoningHorizon 5 s (see the file comment).
  */
 static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     FusionAltitudeInsSettings s;
@@ -361,6 +390,8 @@ static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     s.stationaryBaroRate = 0.5f;
     s.baroGate = 5.0f;
     s.baroRejectionTimeout = 1.0f;
+    s.baroTimeout = 1.5f;
+    s.deadReckoningHorizon = 5.0f;
     return s;
 }
 
@@ -376,8 +407,8 @@ static inline bool FusionAltitudeInsIsPositive(const float value) {
 
 /**
  * Checks the settings: every field finite in [0, 1e6]; accelAttitudeNoise,
- * baroNoise, zeroRateNoise, zeroVelocityNoise, the three time constants and
- * gapPeriod > 0.
+ * baroNoise, zeroRateNoise, zeroVelocityNoise, the three time constants,
+ * gapPeriod, baroGate, baroTimeout and deadReckoningHorizon > 0.
  */
 static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const FusionAltitudeInsSettings *const s) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
@@ -393,7 +424,8 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const Fusio
                           FusionAltitudeInsIsPositive(s->zeroRateNoise) && FusionAltitudeInsIsPositive(s->zeroVelocityNoise) &&
                           FusionAltitudeInsIsPositive(s->baroBiasTimeConstant) && FusionAltitudeInsIsPositive(s->accelBiasTimeConstant) &&
                           FusionAltitudeInsIsPositive(s->magTimeConstant) && FusionAltitudeInsIsPositive(s->gapPeriod) &&
-                          FusionAltitudeInsIsPositive(s->baroGate);
+                          FusionAltitudeInsIsPositive(s->baroGate) && FusionAltitudeInsIsPositive(s->baroTimeout) &&
+                          FusionAltitudeInsIsPositive(s->deadReckoningHorizon);
     return (nonNegative && positive) ? FusionAltitudeInsStatusOk : FusionAltitudeInsStatusInvalidSettings;
 }
 
@@ -701,10 +733,18 @@ static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float
     }
 }
 
-/** Sets q to the shortest rotation taking the body vector f (|f| > 0) to +z: yaw 0. */
-static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const FusionAltitudeInsVector f) {
+/**
+ * Sets q to the shortest rotation taking the body vector f to +z: yaw 0.
+ * @return false (nothing changed) if |f| is 0 in float32: no direction (an
+ * accelNormRejection of g or more lets a zero accel through the norm test;
+ * fuzz_ins.c found the NaN attitude it made).
+ */
+static inline bool FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const FusionAltitudeInsVector f) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const float norm = sqrtf(f.x * f.x + f.y * f.y + f.z * f.z);
+    if (!(norm > 0.0f)) {
+        return false;
+    }
     const float ux = f.x / norm, uy = f.y / norm, uz = f.z / norm;
     /* q = normalise(1 + u.e_z, u x e_z) = normalise(1 + uz, uy, -ux, 0); u = -e_z: 180 deg about x */
     if (uz > -0.999999f) {
@@ -720,6 +760,7 @@ static inline void FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const Fu
         ins->q[3] = 0.0f;
     }
     ins->aligned = true;
+    return true;
 }
 
 /**
@@ -854,6 +895,38 @@ static inline void FusionAltitudeInsForgetHeight(FusionAltitudeIns *const ins) {
 }
 
 /**
+ * Internal. True once the baro has had a reading and none for longer than
+ * timeout (s) since: baroElapsed > timeout.
+ */
+static inline bool FusionAltitudeInsIsBaroSilentFor(const FusionAltitudeIns *const ins, const float timeout) {
+    return ins->baroInitialised && (ins->baroElapsed > timeout);
+}
+
+/**
+ * Internal. A step beyond the dead-reckoning horizon (see the file comment),
+ * after the prediction from d0 (m) and v0 (m/s) over dt (s): the accelerometer
+ * no longer moves d and v; v decays, v = v0 - k v0 with k = dt/(horizon + dt),
+ * d = d0 + v dt; d and v are decorrelated, P_vv (m^2/s^2) held at least
+ * initialVelocitySigma^2 and the height sigma grown by sqrt(P_vv) dt (m),
+ * P_dd (m^2) at most FUSION_ALTITUDE_INS_VARIANCE_LIMIT.
+ */
+static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsHoldHeight(FusionAltitudeIns *const ins, const float d0, const float v0,
+                                                                        const float dt) {
+    FUSION_ALTITUDE_INS_NO_CONTRACT
+    const FusionAltitudeInsSettings *const s = &ins->settings;
+    const float k = dt / (s->deadReckoningHorizon + dt);
+    ins->velocity = v0 - k * v0;
+    ins->distance = d0 + ins->velocity * dt;
+    const float velocityFloor = s->initialVelocitySigma * s->initialVelocitySigma;
+    const float pvv = (ins->P[7][7] > velocityFloor) ? ins->P[7][7] : velocityFloor;
+    const float pdd = (ins->P[6][6] > 0.0f) ? ins->P[6][6] : 0.0f;
+    const float sigma = sqrtf(pdd) + sqrtf(pvv) * dt;
+    const float grown = sigma * sigma;
+    FusionAltitudeInsDecorrelate(ins->P, 6, (grown < FUSION_ALTITUDE_INS_VARIANCE_LIMIT) ? grown : FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
+    FusionAltitudeInsDecorrelate(ins->P, 7, pvv);
+}
+
+/**
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
  * variance ((m/s)^2) to at least initialVelocitySigma^2; the height is
@@ -939,16 +1012,20 @@ static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAlt
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     if (!ins->aligned) {
-        if (!(normError <= s->accelNormRejection)) {
+        if (!(normError <= s->accelNormRejection) || !FusionAltitudeInsAlign(ins, accel)) {
             return false; /* wait for a usable gravity direction */
         }
-        FusionAltitudeInsAlign(ins, accel);
     } else if (dt > s->gapPeriod) {
         FusionAltitudeInsGap(ins);
     } else {
         const float w[3] = {gyro.x - ins->gyroBias[0], gyro.y - ins->gyroBias[1], gyro.z - ins->gyroBias[2]};
         const float f[3] = {accel.x, accel.y, accel.z - ins->accelZBias};
+        const float d0 = ins->distance;
+        const float v0 = ins->velocity;
         FusionAltitudeInsPredict(ins, w, f, dt);
+        if (FusionAltitudeInsIsBaroSilentFor(ins, s->deadReckoningHorizon)) {
+            FusionAltitudeInsHoldHeight(ins, d0, v0, dt); /* beyond the horizon: dead reckoning stops */
+        }
         FusionAltitudeInsDetectStationary(ins, gyro, normError, baroAltitude, dt);
     }
     return true;
@@ -969,9 +1046,9 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseGravity(FusionA
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
     const float fz = accel.z - ins->accelZBias;
-    bool rejected = !(normError <= s->accelNormRejection);
+    const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
+    bool rejected = !(normError <= s->accelNormRejection) || !(fNorm > 0.0f); /* |f| = 0: no direction */
     if (!rejected) {
-        const float fNorm = sqrtf(accel.x * accel.x + accel.y * accel.y + fz * fz);
         const float u[3] = {accel.x / fNorm, accel.y / fNorm, fz / fNorm};
         const float e[3] = {u[0] - r[0], u[1] - r[1], u[2] - r[2]};
         const float chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
@@ -1150,7 +1227,11 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
         return FusionAltitudeInsStatusOk;
     }
     ins->stationary = (ins->stationaryTime >= s->stationaryWindow) && ins->stationaryBaroStill;
+    const bool baroWasTimedOut = FusionAltitudeInsIsBaroSilentFor(ins, s->baroTimeout);
     ins->baroElapsed = ins->baroElapsed + dt;
+    if (!baroWasTimedOut && FusionAltitudeInsIsBaroSilentFor(ins, s->baroTimeout)) {
+        ins->baroTimeouts++; /* this silence is counted once */
+    }
     ins->magElapsed = ins->magElapsed + dt;
     if (ins->baroRejecting) {
         ins->baroRejectingFor = ins->baroRejectingFor + dt;
@@ -1174,6 +1255,21 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns 
 
 //------------------------------------------------------------------------------
 // Getters
+
+/** @return true while the INS is not baro-aided: the baro has had a reading, then none for longer than baroTimeout (s). */
+static inline bool FusionAltitudeInsIsBaroTimedOut(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsIsBaroSilentFor(ins, ins->settings.baroTimeout);
+}
+
+/** @return true while dead reckoning is stopped: no baro reading for longer than deadReckoningHorizon (s); see the file comment. */
+static inline bool FusionAltitudeInsIsHeightHeld(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsIsBaroSilentFor(ins, ins->settings.deadReckoningHorizon);
+}
+
+/** @return the number of baro silences longer than baroTimeout so far (each counted once). */
+static inline uint32_t FusionAltitudeInsGetBaroTimeouts(const FusionAltitudeIns *const ins) {
+    return ins->baroTimeouts;
+}
 
 /** @return the settings. */
 static inline FusionAltitudeInsSettings FusionAltitudeInsGetSettings(const FusionAltitudeIns *const ins) {

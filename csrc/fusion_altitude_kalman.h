@@ -65,6 +65,34 @@
  * another sensor is being fused the state is vouched for, and the streak is
  * the sensor's own (a GPS jump, a terrain step): only it is reset.
  *
+ * Sensor timeouts. Each sensor has a timeout (baroTimeout 1.5 s, rangeTimeout
+ * 0.5 s, gpsTimeout 2 s by default): once a sensor that has had a usable
+ * sample has none for longer (T > timeout, T counted over predicted steps;
+ * a gap's dt is counted as a gap, not here), it is flagged timed out and its
+ * timeout count goes up by one (once per silence, as gaps are counted). A
+ * NaN, an out-of-range rangefinder reading or a GPS fix with too few
+ * satellites is no sample; a sample the gate rejects is one (the sensor is
+ * alive; rejection streaks have their own timeout). The filter carries on
+ * with the sensors left: with the baro timed out, GPS and rangefinder go on
+ * correcting h and v, the baro offset ob is held with its random walk
+ * growing, and the altitude h + ob follows them (the flag says the baro is not
+ * in it). A timed-out sensor's next usable sample ends its timeout:
+ *   - if another sensor was fused within the last timeout s, the state is
+ *     vouched for and the sample is processed as usual: its offset's random
+ *     walk has widened the gate over the silence (a 10 s baro dropout: 0.16 m
+ *     more sigma), and an offset that jumped meanwhile is caught by the
+ *     rejection streak and reset after rejectionTimeout. (PX4's EKF2 re-bases
+ *     a height source's bias when it restarts its fusion; here the offset
+ *     state carries over, which on a 10 s baro dropout bridged by the
+ *     rangefinder keeps the altitude continuous to 5 cm where re-basing on
+ *     one noisy sample did not: tests/test_kalman_scenarios.py, (d).)
+ *   - otherwise nothing has corrected h for T s: h and v are inflated as
+ *     after a gap of T (and b by its initial variance) before the sample is
+ *     processed, so it passes the gate and pulls h and v back at once: EKF2
+ *     resets the height to the baro and the vertical velocity to zero when
+ *     every height source has failed, and ArduPilot's EKF3 resets height
+ *     after its height timeout (5 s).
+ *
  * Bit-exact results across compilers and targets need IEEE float32 arithmetic
  * without fused multiply-add contraction. The header turns contraction off for
  * its own functions: a scoped pragma for clang, and for gcc in its GNU modes
@@ -223,6 +251,7 @@ typedef enum {
     FusionAltitudeKalmanStatusInvalidGate,          /**< gate not finite or <= 0, or timeout not finite or < 0 */
     FusionAltitudeKalmanStatusInvalidGroundEffect,  /**< ground-effect noise scale not finite or < 1, dead zone not finite or < 0 */
     FusionAltitudeKalmanStatusInvalidGapPeriod,     /**< gap period NaN or <= 0 (+infinity: never a gap) */
+    FusionAltitudeKalmanStatusInvalidTimeout,       /**< a sensor timeout not in (0, 1e6] */
 } FusionAltitudeKalmanStatus;
 
 /** Settings, all in physical units. */
@@ -247,6 +276,9 @@ typedef struct {
     float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) */
     float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) */
     float gapPeriod;             /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
+    float baroTimeout;           /**< s, > 0: the baro is timed out after this long without a sample (default 1.5 s) */
+    float rangeTimeout;          /**< s, > 0: the rangefinder is timed out after this long without a usable reading (default 0.5 s) */
+    float gpsTimeout;            /**< s, > 0: the GPS is timed out after this long without a usable fix (default 2 s) */
 } FusionAltitudeKalmanSettings;
 
 /** One update's samples. NaN means "no sample this step". */
@@ -262,13 +294,16 @@ typedef struct {
 /** Per-sensor diagnostics. */
 typedef struct {
     float innovation;         /**< y = z - H*x of the latest sample before its correction, m (after the ground-effect dead zone); NaN if none tested */
-    float innovationVariance; /**< S = H*P*H^T + R, m^2; NaN if none tested */
-    float nis;                /**< normalized innovation squared y^2/S; NaN if none tested */
+    float innovationVariance; /**< S = H*P*H^T + R, m^2; NaN if none tested (y^2/S: FusionAltitudeKalmanGetNis) */
     float rejectingFor;       /**< s since the first sample of the current rejection streak; 0 when not rejecting */
+    float sinceSample;        /**< s since the latest usable sample (predicted steps only) */
     uint32_t rejections;      /**< samples rejected by the gate, in total */
     uint32_t resets;          /**< resets after a rejection streak longer than the timeout, in total */
-    FusionAltitudeKalmanResult result; /**< what the latest update did with this sensor */
+    uint32_t timeouts;        /**< silences longer than the sensor's timeout, in total (each counted once) */
+    uint8_t result;           /**< what the latest update did with this sensor: a FusionAltitudeKalmanResult (one byte: the filter fits in 320) */
     bool rejecting;           /**< a rejection streak is in progress */
+    bool sampled;             /**< the sensor has had a usable sample */
+    bool timedOut;            /**< no usable sample for longer than the sensor's timeout (until its next one) */
 } FusionAltitudeKalmanSensor;
 
 /** Filter state. Read it through the Get functions. */
@@ -313,6 +348,8 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
             return "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]";
         case FusionAltitudeKalmanStatusInvalidGapPeriod:
             return "gap period must be > 0 (+infinity: never a gap)";
+        case FusionAltitudeKalmanStatusInvalidTimeout:
+            return "sensor timeouts must be in (0, 1e6] s";
     }
     return "unknown status";
 }
@@ -329,7 +366,12 @@ static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitude
  *   least 4 satellites, gpsOffsetRandomWalk 0.1 m/sqrt(s), gate 5 sigma,
  *   rejectionTimeout 1 s, ground effect x3 baro sigma and 0.5 m dead zone,
  *   initial height sigma 0.1 m, initial velocity sigma 1 m/s (robust to a start in motion),
- *   gap period 0.5 s (50 samples at 100 Hz, 5 at 10 Hz; a 1 Hz log needs a longer one).
+ *   gap period 0.5 s (50 samples at 100 Hz, 5 at 10 Hz; a 1 Hz log needs a longer one),
+ *   sensor timeouts: baro 1.5 s (longer than the 1 s period of a balloon's
+ *   1 Hz baro, three periods of a 2 Hz one; PX4's EKF2 drops a baro after
+ *   0.4 s, made for its 20+ Hz baros), rangefinder 0.5 s (5 periods at 10 Hz:
+ *   a rangefinder above its range stops at once), GPS 2 s (two periods of a
+ *   1 Hz receiver, ten of a 5 Hz one).
  */
 static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(void) {
     FusionAltitudeKalmanSettings settings;
@@ -353,6 +395,9 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
     settings.initialHeightSigma = 0.1f;
     settings.initialVelocitySigma = 1.0f;
     settings.gapPeriod = 0.5f;
+    settings.baroTimeout = 1.5f;
+    settings.rangeTimeout = 0.5f;
+    settings.gpsTimeout = 2.0f;
     return settings;
 }
 
@@ -402,6 +447,10 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const
     if (!(s->gapPeriod > 0.0f)) { /* false for NaN */
         return FusionAltitudeKalmanStatusInvalidGapPeriod;
     }
+    if (!FusionAltitudeKalmanIsPositive(s->baroTimeout) || !FusionAltitudeKalmanIsPositive(s->rangeTimeout) ||
+        !FusionAltitudeKalmanIsPositive(s->gpsTimeout)) {
+        return FusionAltitudeKalmanStatusInvalidTimeout;
+    }
     return FusionAltitudeKalmanStatusOk;
 }
 
@@ -442,8 +491,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanInitialiseWith(Fusi
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         kalman->sensors[i].innovation = FusionAltitudeNaN();
         kalman->sensors[i].innovationVariance = FusionAltitudeNaN();
-        kalman->sensors[i].nis = FusionAltitudeNaN();
-        kalman->sensors[i].result = FusionAltitudeKalmanResultNoSample;
+        kalman->sensors[i].result = (uint8_t) FusionAltitudeKalmanResultNoSample;
     }
     return FusionAltitudeKalmanStatusOk;
 }
@@ -540,6 +588,7 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
         if (k->sensors[i].rejecting) {
             k->sensors[i].rejectingFor += dt;
         }
+        k->sensors[i].sinceSample += dt;
     }
     k->sinceFused += dt;
 }
@@ -791,7 +840,6 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
     const float nis = (y * y) / S;
     sensor->innovation = y;
     sensor->innovationVariance = S;
-    sensor->nis = nis;
     FusionAltitudeKalmanResult result = FusionAltitudeKalmanResultFused;
     bool fuse = true;
     const float gate = k->settings.gate;
@@ -802,7 +850,7 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
             sensor->rejectingFor = 0.0f;
         }
         if (!(sensor->rejectingFor > k->settings.rejectionTimeout)) {
-            sensor->result = FusionAltitudeKalmanResultRejected;
+            sensor->result = (uint8_t) FusionAltitudeKalmanResultRejected;
             return;
         }
         result = FusionAltitudeKalmanResultReset;
@@ -830,7 +878,6 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
                                                  k->P[FusionAltitudeKalmanStateHeight][o];
             S = (c[FusionAltitudeKalmanStateHeight] + c[o]) + R;
             sensor->innovationVariance = S;
-            sensor->nis = (y * y) / S;
         }
     }
     if (fuse) {
@@ -839,15 +886,48 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
     }
     sensor->rejecting = false;
     sensor->rejectingFor = 0.0f;
-    sensor->result = result;
+    sensor->result = (uint8_t) result;
 }
 
 /** Marks a sensor as having no tested sample this step. */
 static inline void FusionAltitudeKalmanNoSample(FusionAltitudeKalmanSensor *const sensor, const FusionAltitudeKalmanResult result) {
     sensor->innovation = FusionAltitudeNaN();
     sensor->innovationVariance = FusionAltitudeNaN();
-    sensor->nis = FusionAltitudeNaN();
-    sensor->result = result;
+    sensor->result = (uint8_t) result;
+}
+
+/**
+ * @brief A step without a usable sample of a sensor whose timeout is timeout
+ * (s): once it has had one and T = sinceSample > timeout, it is flagged timed
+ * out, and counted once per silence. NoSample sets the result.
+ */
+static inline void FusionAltitudeKalmanSilent(FusionAltitudeKalmanSensor *const sensor, const FusionAltitudeKalmanResult result,
+                                              const float timeout) {
+    FusionAltitudeKalmanNoSample(sensor, result);
+    if (sensor->sampled && (sensor->sinceSample > timeout) && !sensor->timedOut) {
+        sensor->timedOut = true;
+        sensor->timeouts++;
+    }
+}
+
+/**
+ * @brief A usable sample of a sensor with timeout (s) ends its silence. After
+ * a timeout with no sensor fused within the last timeout s (see the file
+ * comment), h and v are first inflated over the silence T (b by its initial
+ * variance), so that the sample, then processed as usual, pulls them back.
+ */
+static inline void FusionAltitudeKalmanResume(FusionAltitudeKalman *const k, FusionAltitudeKalmanSensor *const sensor, const float timeout) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    if (sensor->timedOut && (k->sinceFused > timeout)) { /* nothing corrected h for the whole silence */
+        FusionAltitudeKalmanInflate(k, sensor->sinceSample);
+        if (k->settings.estimateAccelBias) {
+            k->P[FusionAltitudeKalmanStateAccelBias][FusionAltitudeKalmanStateAccelBias] +=
+                k->settings.accelBiasInitialSigma * k->settings.accelBiasInitialSigma;
+        }
+    }
+    sensor->sampled = true;
+    sensor->timedOut = false;
+    sensor->sinceSample = 0.0f;
 }
 
 /**
@@ -899,11 +979,12 @@ static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const k
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
     if (!baroPresent) {
-        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultNoSample);
+        FusionAltitudeKalmanSilent(baro, FusionAltitudeKalmanResultNoSample, s->baroTimeout);
         return;
     }
     const float sigma = m->groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
     const float R = sigma * sigma;
+    FusionAltitudeKalmanResume(kalman, baro, s->baroTimeout);
     if (!kalman->baroInitialised) {
         FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateBaroOffset, m->baroAltitude, R);
         kalman->baroInitialised = true;
@@ -927,11 +1008,12 @@ static inline void FusionAltitudeKalmanProcessRange(FusionAltitudeKalman *const 
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const range = &kalman->sensors[FusionAltitudeKalmanSensorRange];
     if (FusionAltitudeIsNaN(m->rangeDistance)) {
-        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultNoSample);
+        FusionAltitudeKalmanSilent(range, FusionAltitudeKalmanResultNoSample, s->rangeTimeout);
     } else if (!(m->rangeDistance >= s->rangeMinimum) || !(m->rangeDistance <= s->rangeMaximum)) {
-        FusionAltitudeKalmanNoSample(range, FusionAltitudeKalmanResultUnusable);
+        FusionAltitudeKalmanSilent(range, FusionAltitudeKalmanResultUnusable, s->rangeTimeout);
     } else {
         const float R = s->rangeNoise * s->rangeNoise;
+        FusionAltitudeKalmanResume(kalman, range, s->rangeTimeout);
         FusionAltitudeKalmanProcess(kalman, range, -1, m->rangeDistance, m->rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
     }
 }
@@ -947,12 +1029,13 @@ static inline void FusionAltitudeKalmanProcessGps(FusionAltitudeKalman *const ka
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
     if (!gpsPresent) {
-        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultNoSample);
+        FusionAltitudeKalmanSilent(gps, FusionAltitudeKalmanResultNoSample, s->gpsTimeout);
     } else if ((m->gpsSatellites >= 0) && (m->gpsSatellites < s->gpsMinimumSatellites)) {
-        FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultUnusable);
+        FusionAltitudeKalmanSilent(gps, FusionAltitudeKalmanResultUnusable, s->gpsTimeout);
     } else {
         const float sigma = FusionAltitudeKalmanGpsSigma(s, m->gpsVerticalAccuracy, m->gpsSatellites);
         const float R = sigma * sigma;
+        FusionAltitudeKalmanResume(kalman, gps, s->gpsTimeout);
         if (!kalman->gpsInitialised) {
             FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateGpsOffset, m->gpsAltitude, R);
             kalman->gpsInitialised = true;
@@ -1079,6 +1162,33 @@ static inline float FusionAltitudeKalmanGetCovariance(const FusionAltitudeKalman
 /** @return the number of gaps so far: updates with dt > gapPeriod. */
 static inline uint32_t FusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman *const kalman) {
     return kalman->gapCount;
+}
+
+/** @return true while the baro is timed out: no sample for longer than baroTimeout (s) since its latest one. */
+static inline bool FusionAltitudeKalmanIsBaroTimedOut(const FusionAltitudeKalman *const kalman) {
+    return kalman->sensors[FusionAltitudeKalmanSensorBaro].timedOut;
+}
+
+/** @return true while the rangefinder is timed out: no usable reading for longer than rangeTimeout (s). */
+static inline bool FusionAltitudeKalmanIsRangeTimedOut(const FusionAltitudeKalman *const kalman) {
+    return kalman->sensors[FusionAltitudeKalmanSensorRange].timedOut;
+}
+
+/** @return true while the GPS is timed out: no usable fix for longer than gpsTimeout (s). */
+static inline bool FusionAltitudeKalmanIsGpsTimedOut(const FusionAltitudeKalman *const kalman) {
+    return kalman->sensors[FusionAltitudeKalmanSensorGps].timedOut;
+}
+
+/**
+ * @return the normalized innovation squared y^2/S of a sensor's latest
+ * tested sample (dimensionless; NaN if none tested): computed from the
+ * stored innovation y and variance S, the same bits as the gate's.
+ */
+static inline float FusionAltitudeKalmanGetNis(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanSensorIndex sensor) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    const float y = kalman->sensors[sensor].innovation;
+    const float S = kalman->sensors[sensor].innovationVariance;
+    return FusionAltitudeIsNaN(S) ? FusionAltitudeNaN() : ((y * y) / S);
 }
 
 /** @return the diagnostics of one sensor. */

@@ -273,6 +273,17 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         return AlphaBetaSensors(*[self._c.filters[i].gap for i in range(5)])
 
     @property
+    def timed_out(self):
+        """Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next
+        sample (FusionAltitudeAlphaBetaIsTimedOut)."""
+        return AlphaBetaSensors(*[bool(self._c.filters[i].timedOut) for i in range(5)])
+
+    @property
+    def timeout_counts(self):
+        """Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once."""
+        return AlphaBetaSensors(*[int(self._c.filters[i].timeouts) for i in range(5)])
+
+    @property
     def settings(self):
         """The settings; assign new :class:`AlphaBetaSettings` to retune (qualities clamped to the new ranges)."""
         return AlphaBetaSettings(**_settings_dict(_settings_from_c(&self._c.settings)))
@@ -286,7 +297,10 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         return _state_get(&self._c, _settings_dict)
 
     def _set_state(self, state):
-        _state_set(&self._c, tuple(state), _c_values)
+        state = tuple(state)
+        if len(state) > 1 and state[1] and len(state[1][0]) == 7:  # from before the interval and timeout fields
+            state = (state[0], tuple((*row[:3], 0.0, *row[3:6], 0, row[6], False) for row in state[1]), *state[2:])
+        _state_set(&self._c, state, _c_values)
 
     def __repr__(self):
         return (f"AlphaBetaFusion(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "

@@ -77,7 +77,7 @@ cdef tuple _state_get(const FusionAltitudeAlphaBeta *c, object settings_out):
     cdef int i, j
     return (
         settings_out(_settings_from_c(&c.settings)),
-        tuple([(c.filters[i].altitude, c.filters[i].velocity, c.filters[i].sinceSample, c.filters[i].gap, c.filters[i].weight, int(c.filters[i].quality), bool(c.filters[i].started),) for i in range(5)]),
+        tuple([(c.filters[i].altitude, c.filters[i].velocity, c.filters[i].sinceSample, c.filters[i].interval, c.filters[i].gap, c.filters[i].weight, int(c.filters[i].quality), int(c.filters[i].timeouts), bool(c.filters[i].started), bool(c.filters[i].timedOut),) for i in range(5)]),
         c.altitude,
         c.verticalVelocity,
         c.totalWeight,
@@ -100,10 +100,13 @@ cdef void _state_set(FusionAltitudeAlphaBeta *c, tuple state, object settings_in
         c.filters[i].altitude = row[0]
         c.filters[i].velocity = row[1]
         c.filters[i].sinceSample = row[2]
-        c.filters[i].gap = row[3]
-        c.filters[i].weight = row[4]
-        c.filters[i].quality = row[5]
-        c.filters[i].started = row[6]
+        c.filters[i].interval = row[3]
+        c.filters[i].gap = row[4]
+        c.filters[i].weight = row[5]
+        c.filters[i].quality = row[6]
+        c.filters[i].timeouts = row[7]
+        c.filters[i].started = row[8]
+        c.filters[i].timedOut = row[9]
     c.altitude = _altitude
     c.verticalVelocity = _vertical_velocity
     c.totalWeight = _total_weight

@@ -130,8 +130,8 @@ def raise_alphabeta_settings_error(status: int, values: dict) -> None:
         if s.quality_max < s.quality_min or s.quality_max > ALPHABETA_MAX_QUALITY:
             raise ValueError(f"{where}.quality_max must be in [quality_min, {ALPHABETA_MAX_QUALITY}], "
                              f"got {s.quality_max!r} (quality_min {s.quality_min!r})")
-        if not (math.isfinite(s.confidence) and s.confidence >= 0):
-            raise ValueError(f"{where}.confidence must be finite and >= 0, got {s.confidence!r}")
+        if not (math.isfinite(s.confidence) and 0 <= s.confidence <= 1e6):
+            raise ValueError(f"{where}.confidence must be finite and in [0, 1e6], got {s.confidence!r}")
         if not s.altitude_min < s.altitude_max:
             raise ValueError(f"{where}.altitude_min must be < altitude_max (m, infinite allowed), "
                              f"got {s.altitude_min!r} and {s.altitude_max!r}")

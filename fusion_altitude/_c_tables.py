@@ -115,6 +115,7 @@ class KalmanStatus(enum.IntEnum):
     INVALID_GATE = 9  #: gate not finite or <= 0, or timeout not finite or < 0
     INVALID_GROUND_EFFECT = 10  #: ground-effect noise scale not finite or < 1, dead zone not finite or < 0
     INVALID_GAP_PERIOD = 11  #: gap period NaN or <= 0 (+infinity: never a gap)
+    INVALID_TIMEOUT = 12  #: a sensor timeout not in (0, 1e6]
 
 
 #: The numeric ``#define`` constants of fusion_altitude_kalman.h (floats are float32 in C).
@@ -139,6 +140,7 @@ KALMAN_STATUS_MESSAGES = (
     'gate must be in (0, 1e6], rejection timeout in [0, 1e6]',
     'ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]',
     'gap period must be > 0 (+infinity: never a gap)',
+    'sensor timeouts must be in (0, 1e6] s',
 )
 
 
@@ -166,6 +168,9 @@ KALMAN_SETTINGS = (
     ('initial_height_sigma', 'initialHeightSigma', 'f', 0.1, 'm: initial height uncertainty (on the ground)'),
     ('initial_velocity_sigma', 'initialVelocitySigma', 'f', 1.0, 'm/s: initial velocity uncertainty (at rest)'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default 0.5 s)'),
+    ('baro_timeout', 'baroTimeout', 'f', 1.5, 's, > 0: the baro is timed out after this long without a sample (default 1.5 s)'),
+    ('range_timeout', 'rangeTimeout', 'f', 0.5, 's, > 0: the rangefinder is timed out after this long without a usable reading (default 0.5 s)'),
+    ('gps_timeout', 'gpsTimeout', 'f', 2.0, 's, > 0: the GPS is timed out after this long without a usable fix (default 2 s)'),
 )
 
 
@@ -234,7 +239,7 @@ class AlphaBetaStatus(enum.IntEnum):
     INVALID_GPS_ALTITUDE = 6  #: GPS altitude infinite
     INVALID_THRESHOLD = 7  #: a threshold not finite or <= 0
     INVALID_QUALITY = 8  #: not 2 <= qualityMin <= qualityMax <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
-    INVALID_CONFIDENCE = 9  #: a confidence not finite or < 0
+    INVALID_CONFIDENCE = 9  #: a confidence not in [0, FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE]
     INVALID_ALTITUDE_BAND = 10  #: a band limit NaN or not altitudeMin < altitudeMax
     INVALID_GAP_MAX = 11  #: a gap maximum NaN or <= 0 (+infinity: no limit)
     INVALID_TIMEOUT = 12  #: a timeout not finite or <= 0
@@ -243,6 +248,8 @@ class AlphaBetaStatus(enum.IntEnum):
 
 #: The numeric ``#define`` constants of fusion_altitude_alphabeta.h (floats are float32 in C).
 FUSION_ALTITUDE_ALPHABETA_SENSORS = 5
+FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO = 4.0
+FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE = 1e6
 FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY = 10000
 
 
@@ -257,7 +264,7 @@ ALPHABETA_STATUS_MESSAGES = (
     'GPS altitude must be finite (or NaN for no sample)',
     'thresholds must be finite and > 0',
     'qualities must satisfy 2 <= minimum <= maximum <= 10000',
-    'confidences must be finite and >= 0',
+    'confidences must be in [0, 1e6]',
     'altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)',
     'gap maxima must be > 0 (+infinity: no limit)',
     'timeouts must be finite and > 0',
@@ -273,7 +280,7 @@ ALPHABETA_SENSOR_FIELDS = (
     ('threshold', 'threshold', 'f', 'm, > 0: |z - hPred| up to this counts as agreement'),
     ('quality_min', 'qualityMin', 'i', 'Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable)'),
     ('quality_max', 'qualityMax', 'i', 'Qmax, samples, >= Qmin'),
-    ('confidence', 'confidence', 'f', '>= 0: weight = Q * confidence'),
+    ('confidence', 'confidence', 'f', 'in [0, 1e6]: weight = Q * confidence'),
     ('altitude_min', 'altitudeMin', 'f', 'm: weight 0 when hPred < this (may be -infinity)'),
     ('altitude_max', 'altitudeMax', 'f', 'm: weight 0 when hPred > this (may be +infinity)'),
     ('gap_max', 'gapMax', 'f', "m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity)"),
@@ -357,6 +364,8 @@ INS_SETTINGS = (
     ('stationary_baro_rate', 'stationaryBaroRate', 'f', 0.5, 'm/s: the baro moving faster than this (half-window means) vetoes stationary'),
     ('baro_gate', 'baroGate', 'f', 5.0, 'sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0)'),
     ('baro_rejection_timeout', 'baroRejectionTimeout', 'f', 1.0, 's: baro rejected for longer: d reset from the next reading'),
+    ('baro_timeout', 'baroTimeout', 'f', 1.5, 's: no baro reading for longer: not baro-aided (flag, counted) (> 0)'),
+    ('dead_reckoning_horizon', 'deadReckoningHorizon', 'f', 5.0, 's: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0)'),
 )
 
 

@@ -49,7 +49,7 @@ cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsV
 cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, const float *accel, const float *mag,
                      const float *baro, const float *dt, float *altitude, float *velocity, float *quaternion,
                      float *global_quaternion, float *gyro_bias, float *accel_z_bias, float *baro_bias,
-                     uint8_t *stationary, FusionAltitudeInsStatus *status) noexcept nogil:
+                     uint8_t *stationary, uint8_t *timed_out, FusionAltitudeInsStatus *status) noexcept nogil:
     """The batch loop: one FusionAltitudeInsUpdate per row; returns the first rejected row (its status in *status)
     or -1."""
     cdef Py_ssize_t i
@@ -87,6 +87,7 @@ cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, co
         accel_z_bias[i] = FusionAltitudeInsGetAccelZBias(ins)
         baro_bias[i] = FusionAltitudeInsGetBaroBias(ins)
         stationary[i] = FusionAltitudeInsIsStationary(ins)
+        timed_out[i] = FusionAltitudeInsIsBaroTimedOut(ins)
     return -1
 
 
@@ -231,13 +232,14 @@ cdef class InsEstimator(_InsEstimatorGetters):
         cdef float[::1] bz = result.accel_z_bias
         cdef float[::1] bb = result.baro_bias
         cdef uint8_t[::1] still = result.is_stationary.view(np.uint8)
+        cdef uint8_t[::1] timed_out = result.baro_timed_out.view(np.uint8)
         cdef FusionAltitudeIns saved = self._c
         cdef Py_ssize_t count = n
         cdef Py_ssize_t bad
         cdef FusionAltitudeInsStatus status = FusionAltitudeInsStatusOk
         with nogil:
             bad = _run(&self._c, count, &g[0, 0], &a[0, 0], &m[0, 0], &b[0], &t[0], &h[0], &v[0], &q[0, 0], &qg[0, 0],
-                       &bias[0, 0], &bz[0], &bb[0], &still[0], &status)
+                       &bias[0, 0], &bz[0], &bb[0], &still[0], &timed_out[0], &status)
         if bad >= 0:  # the C checks of each step (no separate pass over the inputs): nothing applied, the first bad step
             self._c = saved
             _ins_glue.batch_step_error(status, inputs, bad)
@@ -298,7 +300,8 @@ cdef class InsEstimator(_InsEstimatorGetters):
             "stationary_baro_count": np.float32(c.stationaryBaroCount),
             "stationary_baro_previous": np.float32(c.stationaryBaroPrevious),
             "baro_rejecting_for": np.float32(c.baroRejectingFor), "baro_rejections": int(c.baroRejections),
-            "baro_resets": int(c.baroResets), "baro_rejecting": bool(c.baroRejecting),
+            "baro_resets": int(c.baroResets), "baro_timeouts": int(c.baroTimeouts),
+            "baro_rejecting": bool(c.baroRejecting),
             "gap_count": int(c.gapCount), "aligned": bool(c.aligned), "baro_initialised": bool(c.baroInitialised),
             "mag_initialised": bool(c.magInitialised), "stationary": bool(c.stationary),
             "stationary_half_done": bool(c.stationaryHalfDone), "stationary_has_previous": bool(c.stationaryHasPrevious),
@@ -311,9 +314,12 @@ cdef class InsEstimator(_InsEstimatorGetters):
 
     def _set_state(self, state):
         fields, units = state
+        fields = tuple(fields)
+        if len(fields) == 31:  # a checkpoint from before the baro timeout
+            fields = (*fields[:22], 0, *fields[22:])
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
         self._units = tuple(units)
-        _state_set(&self._c, tuple(fields), _checked_settings)
+        _state_set(&self._c, fields, _checked_settings)
 
     def __repr__(self):
         return (f"InsEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "

@@ -44,6 +44,8 @@ cdef FusionAltitudeInsSettings _settings_to_c(object values) except *:
     c.stationaryBaroRate = values['stationary_baro_rate']
     c.baroGate = values['baro_gate']
     c.baroRejectionTimeout = values['baro_rejection_timeout']
+    c.baroTimeout = values['baro_timeout']
+    c.deadReckoningHorizon = values['dead_reckoning_horizon']
     return c
 
 
@@ -73,6 +75,8 @@ cdef dict _settings_from_c(const FusionAltitudeInsSettings *c):
         'stationary_baro_rate': c.stationaryBaroRate,
         'baro_gate': c.baroGate,
         'baro_rejection_timeout': c.baroRejectionTimeout,
+        'baro_timeout': c.baroTimeout,
+        'dead_reckoning_horizon': c.deadReckoningHorizon,
     }
 
 
@@ -115,6 +119,7 @@ cdef tuple _state_get(const FusionAltitudeIns *c, object settings_out):
         int(c.gapCount),
         int(c.baroRejections),
         int(c.baroResets),
+        int(c.baroTimeouts),
         bool(c.aligned),
         bool(c.baroInitialised),
         bool(c.magInitialised),
@@ -132,7 +137,7 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _stationary_half_time, _stationary_baro_sum, _stationary_baro_count, _stationary_baro_previous, _baro_rejecting_for, _gap_count, _baro_rejections, _baro_resets, _aligned, _baro_initialised, _mag_initialised, _stationary, _stationary_half_done, _stationary_has_previous, _stationary_baro_still, _accel_rejected, _baro_rejecting,) = state
+    (_settings, _q, _gyro_bias, _distance, _velocity, _p, _accel_zbias, _baro_bias, _yaw_cos, _yaw_sin, _stationary_time, _rejection_time, _baro_elapsed, _mag_elapsed, _stationary_half_time, _stationary_baro_sum, _stationary_baro_count, _stationary_baro_previous, _baro_rejecting_for, _gap_count, _baro_rejections, _baro_resets, _baro_timeouts, _aligned, _baro_initialised, _mag_initialised, _stationary, _stationary_half_done, _stationary_has_previous, _stationary_baro_still, _accel_rejected, _baro_rejecting,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     for i in range(4):
         c.q[i] = _q[i]
@@ -159,6 +164,7 @@ cdef void _state_set(FusionAltitudeIns *c, tuple state, object settings_in) exce
     c.gapCount = _gap_count
     c.baroRejections = _baro_rejections
     c.baroResets = _baro_resets
+    c.baroTimeouts = _baro_timeouts
     c.aligned = _aligned
     c.baroInitialised = _baro_initialised
     c.magInitialised = _mag_initialised
@@ -175,6 +181,21 @@ cdef class _InsEstimatorGetters(Estimator):
     """The state (``FusionAltitudeIns``) and a property per getter of fusion_altitude_ins.h."""
 
     cdef FusionAltitudeIns _c
+
+    @property
+    def baro_timed_out(self):
+        """True while the INS is not baro-aided: the baro has had a reading, then none for longer than baroTimeout (s)."""
+        return FusionAltitudeInsIsBaroTimedOut(&self._c)
+
+    @property
+    def height_held(self):
+        """True while dead reckoning is stopped: no baro reading for longer than deadReckoningHorizon (s); see the file comment."""
+        return FusionAltitudeInsIsHeightHeld(&self._c)
+
+    @property
+    def baro_timeouts(self):
+        """The number of baro silences longer than baroTimeout so far (each counted once)."""
+        return FusionAltitudeInsGetBaroTimeouts(&self._c)
 
     @property
     def altitude(self):

@@ -24,7 +24,7 @@ MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 #: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.
 POSITIVE_SETTINGS = frozenset({"accel_attitude_noise", "baro_noise", "zero_rate_noise", "zero_velocity_noise",
                                "baro_bias_time_constant", "accel_bias_time_constant", "mag_time_constant",
-                               "gap_period", "baro_gate"})
+                               "gap_period", "baro_gate", "baro_timeout", "dead_reckoning_horizon"})
 
 #: INS settings: (Python name, C name, default, rule), in the order of the C struct FusionAltitudeInsSettings,
 #: the defaults read from the header (:mod:`fusion_altitude._c_tables`). Rules: ">=0" finite in [0, 1e6],
@@ -172,6 +172,9 @@ class InsBatch:
         m (baro altitude at d = 0), shape (N,).
     is_stationary : numpy.ndarray
         bool, shape (N,).
+    baro_timed_out : numpy.ndarray
+        bool, shape (N,): not baro-aided, no baro reading for longer than ``baro_timeout`` s
+        (``InsEstimator.baro_timed_out`` after each step).
     """
 
     altitude: np.ndarray
@@ -182,18 +185,19 @@ class InsBatch:
     accel_z_bias: np.ndarray
     baro_bias: np.ndarray
     is_stationary: np.ndarray
+    baro_timed_out: np.ndarray
 
     def __iter__(self):
         """The arrays in field order, as for the other estimators' batch results (``tuple(batch)``)."""
         return iter((self.altitude, self.vertical_velocity, self.quaternion, self.global_quaternion, self.gyro_bias,
-                     self.accel_z_bias, self.baro_bias, self.is_stationary))
+                     self.accel_z_bias, self.baro_bias, self.is_stationary, self.baro_timed_out))
 
     @classmethod
     def empty(cls, n: int) -> "InsBatch":
         """Newly allocated outputs for n steps."""
         f = np.float32
         return cls(np.empty(n, f), np.empty(n, f), np.empty((n, 4), f), np.empty((n, 4), f), np.empty((n, 3), f),
-                   np.empty(n, f), np.empty(n, f), np.empty(n, np.bool_))
+                   np.empty(n, f), np.empty(n, f), np.empty(n, np.bool_), np.empty(n, np.bool_))
 
     @property
     def euler(self) -> np.ndarray:
@@ -208,7 +212,7 @@ class InsBatch:
 
 _SHAPES = {"altitude": ((), np.float32), "vertical_velocity": ((), np.float32), "quaternion": ((4,), np.float32),
            "global_quaternion": ((4,), np.float32), "gyro_bias": ((3,), np.float32), "accel_z_bias": ((), np.float32),
-           "baro_bias": ((), np.float32), "is_stationary": ((), np.bool_)}
+           "baro_bias": ((), np.float32), "is_stationary": ((), np.bool_), "baro_timed_out": ((), np.bool_)}
 
 
 def prepare_batch(gyro, accel, dt, baro_altitude, mag, out, gyro_scale, accel_scale, check=True):
@@ -253,14 +257,14 @@ def _check_out(out, n: int) -> "InsBatch":
     """out, checked (shapes, dtypes, C-contiguous, writeable), or new arrays when None."""
     if out is None:
         return InsBatch.empty(n)
-    if not isinstance(out, InsBatch):  # any sequence of the eight arrays, in InsBatch's order, as for every batch
+    if not isinstance(out, InsBatch):  # any sequence of the nine arrays, in InsBatch's order, as for every batch
         try:
             fields = list(out)
         except TypeError:
-            raise TypeError(f"out must be an InsBatch or a sequence of its 8 arrays, got {type(out).__name__}") \
+            raise TypeError(f"out must be an InsBatch or a sequence of its 9 arrays, got {type(out).__name__}") \
                 from None
-        if len(fields) != 8:
-            raise TypeError(f"out must be an InsBatch or a sequence of its 8 arrays, got {len(fields)} items")
+        if len(fields) != 9:
+            raise TypeError(f"out must be an InsBatch or a sequence of its 9 arrays, got {len(fields)} items")
         out = InsBatch(*fields)
     for field, (tail, dtype) in _SHAPES.items():
         array = getattr(out, field)

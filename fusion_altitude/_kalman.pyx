@@ -88,7 +88,7 @@ cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
             diag[i * 5 + j] = local.P[j][j]
         for j in range(3):
             innovation[i * 3 + j] = local.sensors[j].innovation
-            nis[i * 3 + j] = local.sensors[j].nis
+            nis[i * 3 + j] = FusionAltitudeKalmanGetNis(&local, <FusionAltitudeKalmanSensorIndex>j)
             result[i * 3 + j] = <uint8_t>local.sensors[j].result
     state[0] = local
     return -1
@@ -290,7 +290,7 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
     @property
     def nis(self):
         """Latest normalized innovation squared y²/S per sensor (NaN: no tested sample)."""
-        return KalmanSensors(*(self._c.sensors[i].nis for i in range(3)))
+        return KalmanSensors(*(FusionAltitudeKalmanGetNis(&self._c, <FusionAltitudeKalmanSensorIndex>i) for i in range(3)))
 
     @property
     def rejections(self):
@@ -301,6 +301,11 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
     def resets(self):
         """Resets after rejection streaks longer than the timeout, per sensor."""
         return KalmanSensors(*(int(self._c.sensors[i].resets) for i in range(3)))
+
+    @property
+    def timeout_counts(self):
+        """Silences longer than the sensor's timeout so far, per sensor (each counted once)."""
+        return KalmanSensors(*(int(self._c.sensors[i].timeouts) for i in range(3)))
 
     @property
     def results(self):
@@ -331,6 +336,10 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         return _state_get(&self._c, dict)
 
     def _set_state(self, state):
+        state = list(state)
+        sensors = state[3]
+        if sensors and len(sensors[0]) == 8:  # a checkpoint from before the sensor timeouts (with nis)
+            state[3] = [(*row[:2], row[3], 0.0, row[4], row[5], 0, row[6], row[7], False, False) for row in sensors]
         _state_set(&self._c, tuple(state), _checked_settings)
 
     def __repr__(self):

@@ -26,6 +26,7 @@ C_STATUS_VALUES = {
     'INVALID_GATE': FusionAltitudeKalmanStatusInvalidGate,
     'INVALID_GROUND_EFFECT': FusionAltitudeKalmanStatusInvalidGroundEffect,
     'INVALID_GAP_PERIOD': FusionAltitudeKalmanStatusInvalidGapPeriod,
+    'INVALID_TIMEOUT': FusionAltitudeKalmanStatusInvalidTimeout,
 }
 
 
@@ -57,6 +58,9 @@ cdef FusionAltitudeKalmanSettings _settings_to_c(object values) except *:
     c.initialHeightSigma = values['initial_height_sigma']
     c.initialVelocitySigma = values['initial_velocity_sigma']
     c.gapPeriod = values['gap_period']
+    c.baroTimeout = values['baro_timeout']
+    c.rangeTimeout = values['range_timeout']
+    c.gpsTimeout = values['gps_timeout']
     return c
 
 
@@ -83,6 +87,9 @@ cdef dict _settings_from_c(const FusionAltitudeKalmanSettings *c):
         'initial_height_sigma': c.initialHeightSigma,
         'initial_velocity_sigma': c.initialVelocitySigma,
         'gap_period': c.gapPeriod,
+        'baro_timeout': c.baroTimeout,
+        'range_timeout': c.rangeTimeout,
+        'gps_timeout': c.gpsTimeout,
     }
 
 
@@ -106,7 +113,7 @@ cdef tuple _state_get(const FusionAltitudeKalman *c, object settings_out):
         settings_out(_settings_from_c(&c.settings)),
         [c.x[i] for i in range(5)],
         [c.P[i][j] for i in range(5) for j in range(5)],
-        tuple([(c.sensors[i].innovation, c.sensors[i].innovationVariance, c.sensors[i].nis, c.sensors[i].rejectingFor, int(c.sensors[i].rejections), int(c.sensors[i].resets), int(<int>c.sensors[i].result), bool(c.sensors[i].rejecting),) for i in range(3)]),
+        tuple([(c.sensors[i].innovation, c.sensors[i].innovationVariance, c.sensors[i].rejectingFor, c.sensors[i].sinceSample, int(c.sensors[i].rejections), int(c.sensors[i].resets), int(c.sensors[i].timeouts), int(c.sensors[i].result), bool(c.sensors[i].rejecting), bool(c.sensors[i].sampled), bool(c.sensors[i].timedOut),) for i in range(3)]),
         c.sinceFused,
         int(c.gapCount),
         bool(c.baroInitialised),
@@ -130,12 +137,15 @@ cdef void _state_set(FusionAltitudeKalman *c, tuple state, object settings_in) e
         row = tuple(_sensors[i])
         c.sensors[i].innovation = row[0]
         c.sensors[i].innovationVariance = row[1]
-        c.sensors[i].nis = row[2]
-        c.sensors[i].rejectingFor = row[3]
+        c.sensors[i].rejectingFor = row[2]
+        c.sensors[i].sinceSample = row[3]
         c.sensors[i].rejections = row[4]
         c.sensors[i].resets = row[5]
-        c.sensors[i].result = <FusionAltitudeKalmanResult><int>row[6]
-        c.sensors[i].rejecting = row[7]
+        c.sensors[i].timeouts = row[6]
+        c.sensors[i].result = row[7]
+        c.sensors[i].rejecting = row[8]
+        c.sensors[i].sampled = row[9]
+        c.sensors[i].timedOut = row[10]
     c.sinceFused = _since_fused
     c.gapCount = _gap_count
     c.baroInitialised = _baro_initialised
@@ -187,3 +197,18 @@ cdef class _KalmanEstimatorGetters(Estimator):
     def gap_count(self):
         """The number of gaps so far: updates with dt > gapPeriod."""
         return FusionAltitudeKalmanGetGapCount(&self._c)
+
+    @property
+    def baro_timed_out(self):
+        """True while the baro is timed out: no sample for longer than baroTimeout (s) since its latest one."""
+        return FusionAltitudeKalmanIsBaroTimedOut(&self._c)
+
+    @property
+    def range_timed_out(self):
+        """True while the rangefinder is timed out: no usable reading for longer than rangeTimeout (s)."""
+        return FusionAltitudeKalmanIsRangeTimedOut(&self._c)
+
+    @property
+    def gps_timed_out(self):
+        """True while the GPS is timed out: no usable fix for longer than gpsTimeout (s)."""
+        return FusionAltitudeKalmanIsGpsTimedOut(&self._c)

@@ -44,6 +44,9 @@ _KALMAN_RULES = {
     "ground_effect_noise_scale": (KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
     "ground_effect_dead_zone": (KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
     "gap_period": (KalmanStatus.INVALID_GAP_PERIOD, "gap"),
+    "baro_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
+    "range_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
+    "gps_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
 }
 
 

@@ -7,6 +7,8 @@ from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 cdef extern from "fusion_altitude_alphabeta.h" nogil:
     int FUSION_ALTITUDE_ALPHABETA_SENSORS
+    float FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
+    float FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE
     int FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
 
     ctypedef enum FusionAltitudeAlphaBetaSensorIndex:
@@ -56,10 +58,13 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
         float altitude
         float velocity
         float sinceSample
+        float interval
         float gap
         float weight
         int32_t quality
+        uint32_t timeouts
         bint started
+        bint timedOut
 
     ctypedef struct FusionAltitudeAlphaBeta:
         FusionAltitudeAlphaBetaSettings settings

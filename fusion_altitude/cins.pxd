@@ -57,6 +57,8 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         float stationaryBaroRate
         float baroGate
         float baroRejectionTimeout
+        float baroTimeout
+        float deadReckoningHorizon
 
     ctypedef struct FusionAltitudeIns:
         FusionAltitudeInsSettings settings
@@ -81,6 +83,7 @@ cdef extern from "fusion_altitude_ins.h" nogil:
         uint32_t gapCount
         uint32_t baroRejections
         uint32_t baroResets
+        uint32_t baroTimeouts
         bint aligned
         bint baroInitialised
         bint magInitialised
@@ -98,6 +101,9 @@ cdef extern from "fusion_altitude_ins.h" nogil:
     FusionAltitudeInsStatus FusionAltitudeInsInitialiseWith(FusionAltitudeIns * ins, const FusionAltitudeInsSettings * settings)
     FusionAltitudeInsStatus FusionAltitudeInsSetSettings(FusionAltitudeIns * ins, const FusionAltitudeInsSettings * settings)
     FusionAltitudeInsStatus FusionAltitudeInsUpdate(FusionAltitudeIns * ins, const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag, const float baroAltitude, const float dt)
+    bint FusionAltitudeInsIsBaroTimedOut(const FusionAltitudeIns * ins)
+    bint FusionAltitudeInsIsHeightHeld(const FusionAltitudeIns * ins)
+    uint32_t FusionAltitudeInsGetBaroTimeouts(const FusionAltitudeIns * ins)
     float FusionAltitudeInsGetAltitude(const FusionAltitudeIns * ins)
     float FusionAltitudeInsGetVerticalVelocity(const FusionAltitudeIns * ins)
     FusionAltitudeInsQuaternion FusionAltitudeInsGetQuaternion(const FusionAltitudeIns * ins)

@@ -45,6 +45,7 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         FusionAltitudeKalmanStatusInvalidGate
         FusionAltitudeKalmanStatusInvalidGroundEffect
         FusionAltitudeKalmanStatusInvalidGapPeriod
+        FusionAltitudeKalmanStatusInvalidTimeout
 
     ctypedef struct FusionAltitudeKalmanSettings:
         float accelNoise
@@ -67,6 +68,9 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
         float initialHeightSigma
         float initialVelocitySigma
         float gapPeriod
+        float baroTimeout
+        float rangeTimeout
+        float gpsTimeout
 
     ctypedef struct FusionAltitudeKalmanMeasurements:
         float baroAltitude
@@ -79,12 +83,15 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
     ctypedef struct FusionAltitudeKalmanSensor:
         float innovation
         float innovationVariance
-        float nis
         float rejectingFor
+        float sinceSample
         uint32_t rejections
         uint32_t resets
-        FusionAltitudeKalmanResult result
+        uint32_t timeouts
+        uint8_t result
         bint rejecting
+        bint sampled
+        bint timedOut
 
     ctypedef struct FusionAltitudeKalman:
         FusionAltitudeKalmanSettings settings
@@ -111,3 +118,7 @@ cdef extern from "fusion_altitude_kalman.h" nogil:
     float FusionAltitudeKalmanGetBaroOffset(const FusionAltitudeKalman * kalman)
     float FusionAltitudeKalmanGetGpsOffset(const FusionAltitudeKalman * kalman)
     uint32_t FusionAltitudeKalmanGetGapCount(const FusionAltitudeKalman * kalman)
+    bint FusionAltitudeKalmanIsBaroTimedOut(const FusionAltitudeKalman * kalman)
+    bint FusionAltitudeKalmanIsRangeTimedOut(const FusionAltitudeKalman * kalman)
+    bint FusionAltitudeKalmanIsGpsTimedOut(const FusionAltitudeKalman * kalman)
+    float FusionAltitudeKalmanGetNis(const FusionAltitudeKalman * kalman, const FusionAltitudeKalmanSensorIndex sensor)

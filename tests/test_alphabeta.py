@@ -27,7 +27,8 @@ def floats32(low, high):
 def state_bits(fusion):
     values, filters, h, v, total, coasting, gap_time, gap_count, started = fusion._get_state()
     bits = lambda x: int(np.float32(x).view(np.uint32))  # noqa: E731
-    return (values, tuple((bits(x), bits(vi), bits(s), bits(g), bits(w), q, st_) for x, vi, s, g, w, q, st_ in filters),
+    return (values, tuple((bits(x), bits(vi), bits(s), bits(i), bits(g), bits(w), q, n, st_, to)
+                          for x, vi, s, i, g, w, q, n, st_, to in filters),
             bits(h), bits(v), bits(total), started, bits(coasting), bits(gap_time), gap_count)
 
 
@@ -269,7 +270,8 @@ def test_bad_batch_names_the_first_bad_index_and_applies_nothing(impl):
     ({"gps": {"threshold": 0.0}}, r"^gps\.threshold must be finite and > 0"),
     ({"baro": {"quality_min": 1}}, r"^baro\.quality_min must be >= 2"),
     ({"baro": {"quality_max": 9}}, r"^baro\.quality_max must be in \[quality_min, 10000\]"),
-    ({"imu": {"confidence": -1.0}}, r"^imu\.confidence must be finite and >= 0"),
+    ({"imu": {"confidence": -1.0}}, r"^imu\.confidence must be finite and in \[0, 1e6\]"),
+    ({"gps": {"confidence": 1e36}}, r"^gps\.confidence must be finite and in \[0, 1e6\]"),
     ({"sonar": {"altitude_max": -1.0}}, r"^sonar\.altitude_min must be < altitude_max"),
     ({"lidar": {"gap_max": 0.0}}, r"^lidar\.gap_max must be > 0"),
     ({"lidar": {"timeout": math.inf}}, r"^lidar\.timeout must be finite and > 0"),
@@ -292,3 +294,162 @@ def test_settings_types(impl):
     fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=0.0)
     fusion.settings = impl.AlphaBetaSettings(baro={"quality_max": 20})
     assert fusion.qualities.baro == 20
+
+
+# --- On logs (fusion_altitude.runner): the baro filter's span and the GPS as fallback ---------------------------
+
+
+def _log(seconds=120.0, imu_rate=100.0, baro_rate=2.0, gps_wander=6.0, baro_stops=None, seed=3):
+    """A hover-climb-hover flight (m, +up) with a baro at ``baro_rate`` Hz (0.3 m noise) and a 5 Hz GPS that
+    wanders ``gps_wander`` m (a slow sine, as a 10 m-accuracy receiver does), the baro ending at ``baro_stops`` s."""
+    from fusion_altitude.logs import LogData
+
+    rng = np.random.default_rng(seed)
+    time = np.arange(0.0, seconds, 1.0 / imu_rate)
+    truth = 380.0 + 4.0 * np.clip((time - 20.0) / 10.0, 0.0, 1.0) - 4.0 * np.clip((time - 80.0) / 10.0, 0.0, 1.0)
+    accel = np.gradient(np.gradient(truth, time), time) + rng.normal(0.0, 0.1, time.size)
+    baro = np.full(time.size, np.nan)
+    every = int(round(imu_rate / baro_rate))
+    baro[::every] = truth[::every] + rng.normal(0.0, 0.3, baro[::every].size)
+    if baro_stops is not None:
+        baro[time >= baro_stops] = np.nan
+    gps = np.full(time.size, np.nan)
+    gps[::20] = truth[::20] + gps_wander * np.sin(2 * np.pi * time[::20] / 40.0)
+    return LogData("simulated", time, accel, baro, reference_altitude=truth, reference_velocity=None,
+                   reference_name="truth", gps_altitude=gps)
+
+
+def _rms(run):
+    return run.comparison(transient=5.0).rms
+
+
+def test_a_wandering_gps_does_not_make_the_fusion_worse_than_the_raw_baro_on_a_log():
+    from fusion_altitude import runner
+
+    run = runner.run_log(_log(), estimator="alphabeta")
+    assert _rms(run) <= run.baro_comparison(transient=5.0).rms
+
+
+def test_the_gps_carries_the_fusion_on_a_log_whose_baro_stops():
+    from fusion_altitude import runner
+
+    run = runner.run_log(_log(gps_wander=0.5, baro_stops=40.0), estimator="alphabeta")
+    late = run.time > 45.0
+    # 1.9 m at most, in the descent: the GPS filter fits its line to 120 samples (24 s at 5 Hz; the write-up's Qmax)
+    assert np.max(np.abs(run.estimate.altitude[late] - run.reference_altitude[late])) < 2.5
+
+
+def test_a_2hz_baro_filter_spans_3_s_not_60_samples_on_a_log():
+    from fusion_altitude import runner
+    from fusion_altitude._alphabeta import AlphaBetaSettings
+
+    changes = runner._alphabeta_log_sensors(_log(baro_rate=2.0), AlphaBetaSettings())
+    assert changes["baro"]["quality_max"] == 10  # round(3 s × 2 Hz) = 6, raised to Qmin = 10
+
+
+def test_a_20hz_baro_keeps_the_write_ups_depth_on_a_log():
+    from fusion_altitude import runner
+    from fusion_altitude._alphabeta import AlphaBetaSettings
+
+    changes = runner._alphabeta_log_sensors(_log(seconds=30.0, baro_rate=20.0), AlphaBetaSettings())
+    assert changes["baro"]["quality_max"] == AlphaBetaSettings().baro.quality_max
+
+
+def test_the_alphabeta_fusion_is_no_worse_than_the_raw_baro_on_the_2hz_baro_px4_log():
+    import os
+    from pathlib import Path
+
+    from fusion_altitude import logs, runner
+
+    data = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data.is_dir(), f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA"
+    run = runner.run_log(logs.load_log(str(data / "px4_octorotor_2hz_baro.ulg")), estimator="alphabeta")
+    assert run.comparison().rms <= run.baro_comparison().rms
+
+
+# --- Sensor timeouts: flag, counter, fallback --------------------------------------------------------------------
+
+
+def _baro_then_gps_only(impl, seconds_after=3.0, gps=True):
+    """1 s of baro and GPS at 10.0 m, then the baro stops and the GPS (if any) goes on at 10.0 m; 100 Hz."""
+    fusion = impl.AlphaBetaFusion()
+    n, m = 100, int(round(100 * seconds_after))
+    baro = np.r_[np.full(n, 10.0), np.full(m, NAN)]
+    gps_altitude = np.full(n + m, 10.0 if gps else NAN)
+    fusion.update_batch(np.zeros(n + m), dt=0.01, baro_altitude=baro, gps_altitude=gps_altitude)
+    return fusion
+
+
+def test_a_sensor_silent_for_longer_than_its_timeout_is_flagged_timed_out(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=1.6)  # default timeout 1.5 s
+    assert fusion.timed_out.baro and not fusion.timed_out.gps
+
+
+def test_a_sensor_silent_for_less_than_its_timeout_is_not_flagged(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=1.4)
+    assert not fusion.timed_out.baro and fusion.timeout_counts.baro == 0
+
+
+def test_each_silence_longer_than_the_timeout_is_counted_once(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=5.0)
+    assert fusion.timeout_counts.baro == 1
+    fusion.update_batch(np.zeros(100), dt=0.01, baro_altitude=10.0, gps_altitude=10.0)  # back for 1 s
+    assert not fusion.timed_out.baro and fusion.timeout_counts.baro == 1
+    fusion.update_batch(np.zeros(200), dt=0.01, baro_altitude=NAN, gps_altitude=10.0)  # silent again for 2 s
+    assert fusion.timed_out.baro and fusion.timeout_counts.baro == 2
+
+
+def test_a_sensor_never_sampled_is_not_timed_out(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=5.0)
+    assert not fusion.timed_out.lidar and fusion.timeout_counts.lidar == 0
+
+
+def test_the_gps_carries_the_fused_altitude_when_the_baro_times_out(impl):
+    fusion = impl.AlphaBetaFusion()
+    n = 100
+    baro = np.r_[np.full(n, 10.0), np.full(5 * n, NAN)]
+    gps = np.r_[np.full(n, 10.0), np.linspace(10.0, 12.0, 5 * n)]  # the vehicle climbs 2 m after the baro stopped
+    out = fusion.update_batch(np.zeros(6 * n), dt=0.01, baro_altitude=baro, gps_altitude=gps)
+    assert fusion.timed_out.baro and out.weight[-1, 1] == 0.0 and out.weight[-1, 4] > 0.0
+    assert fusion.started and abs(out.altitude[-1] - 12.0) < 0.5
+
+
+def test_a_timed_out_sensor_stays_flagged_through_a_restart(impl):
+    fusion = _baro_then_gps_only(impl, seconds_after=2.0)
+    fusion.update(0.0, baro_altitude=NAN, dt=2.0, gps_altitude=10.0)  # a gap: the fusion restarts from the GPS
+    assert fusion.gap_count == 1 and fusion.timed_out.baro
+
+
+# --- Stable steps: a sample interval far from the previous one restarts the filter ------------------------------
+
+
+def _gap_free(impl):
+    """Settings under which every step up to 5 s is integrated (no gap, no timeout), to test the interval rule."""
+    return impl.AlphaBetaSettings(gap_period=5.0, **{k: {"timeout": 5.0} for k in ("imu", "baro", "lidar", "sonar", "gps")})
+
+
+def test_a_sample_interval_more_than_4_times_the_previous_restarts_the_filter_at_the_sample(impl):
+    fusion = impl.AlphaBetaFusion(_gap_free(impl))
+    fusion.update_batch(np.full(30, NAN), dt=0.1, baro_altitude=np.linspace(10.0, 13.0, 30))
+    assert fusion.qualities.baro > 10
+    fusion.update(NAN, baro_altitude=20.0, dt=0.41)  # 4.1 × the previous 0.1 s
+    assert fusion.qualities.baro == 10 and fusion.filter_altitudes.baro == 20.0
+
+
+def test_a_sample_interval_up_to_4_times_the_previous_is_integrated(impl):
+    fusion = impl.AlphaBetaFusion(_gap_free(impl))
+    fusion.update_batch(np.full(30, NAN), dt=0.1, baro_altitude=np.linspace(10.0, 13.0, 30))
+    quality = fusion.qualities.baro
+    fusion.update(NAN, baro_altitude=13.4, dt=0.4)
+    assert fusion.qualities.baro == quality + 1
+
+
+@pytest.mark.parametrize("short", [1e-3, 1e-4])
+def test_alternating_short_and_long_steps_stay_within_2_m_of_a_noisy_baro(impl, short):
+    """Without the interval rule a velocity learnt over the short interval and applied over the long one took the
+    fusion 4.1 km from a 0.5 m-noise baro at 100 m (alternating 0.1 ms and 1.4 s)."""
+    rng = np.random.default_rng(1)
+    steps = np.tile([short, 1.4], 200)
+    out = impl.AlphaBetaFusion(_gap_free(impl)).update_batch(np.full(steps.size, NAN), dt=steps,
+                                                             baro_altitude=100.0 + rng.normal(0.0, 0.5, steps.size))
+    assert np.max(np.abs(out.altitude - 100.0)) < 2.0

@@ -301,3 +301,117 @@ def test_quaternions_are_unit_and_global_differs_from_local_by_a_yaw_only():
     result = fa.InsEstimator().update_batch(gyro, accel, dt, baro, mag)
     assert np.allclose(np.linalg.norm(result.quaternion, axis=1), 1.0, atol=1e-6)
     assert np.allclose(result.euler[:, :2], result.global_euler[:, :2], atol=1e-3)
+
+
+# -- baro timeout and the dead-reckoning horizon ------------------------------------------------------------------
+
+NO_STATIONARY = {"stationary_window": 1000.0}  # a level IMU at rest would otherwise hold v = 0 by itself
+
+
+def level_steps(seconds, baro, accel_error=0.2, rate=100.0):
+    """A level IMU (rad/s, m/s²) whose accelerometer reads ``accel_error`` m/s² too much, with the baro (m)
+    at every step (NaN: none)."""
+    n = int(round(seconds * rate))
+    gyro = np.zeros((n, 3))
+    accel = np.tile([0.0, 0.0, G + accel_error], (n, 1))
+    return gyro, accel, np.full(n, 1.0 / rate), np.full(n, baro)
+
+
+def run_level(ins, *segments):
+    for seconds, baro in segments:
+        gyro, accel, dt, b = level_steps(seconds, baro)
+        ins.update_batch(gyro, accel, dt, b)
+    return ins
+
+
+def test_a_baro_silent_for_longer_than_its_timeout_marks_the_ins_not_baro_aided(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (1.6, math.nan))
+    assert ins.baro_timed_out and ins.baro_timeouts == 1 and not ins.height_held
+
+
+def test_a_baro_silent_for_less_than_its_timeout_is_not_a_timeout(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (1.4, math.nan))
+    assert not ins.baro_timed_out and ins.baro_timeouts == 0
+
+
+def test_each_baro_silence_longer_than_the_timeout_is_counted_once(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (10.0, math.nan), (1.0, 0.0))
+    assert not ins.baro_timed_out and ins.baro_timeouts == 1
+    run_level(ins, (2.0, math.nan))
+    assert ins.baro_timed_out and ins.baro_timeouts == 2
+
+
+def test_beyond_the_horizon_the_ins_stops_dead_reckoning_and_stays_near_the_last_baro_height(impl):
+    """A 0.2 m/s² accelerometer error dead-reckoned for 30 s is 90 m; stopped after the 5 s horizon the height
+    moves at most |v| × 5 s more: within 10 m, the velocity decayed towards 0."""
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan))
+    assert ins.height_held and abs(ins.altitude) < 10.0 and abs(ins.vertical_velocity) < 0.05
+
+
+def test_without_the_horizon_the_same_silence_dead_reckons_far(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(dead_reckoning_horizon=1e6, **NO_STATIONARY)),
+                    (2.0, 0.0), (30.0, math.nan))
+    assert not ins.height_held and ins.altitude > 50.0
+
+
+def test_the_height_variance_grows_while_dead_reckoning_is_stopped(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (6.0, math.nan))
+    variances = []
+    for _ in range(5):
+        run_level(ins, (1.0, math.nan))
+        variances.append(ins.covariance[6, 6])
+    assert np.all(np.diff(variances) > 0)
+
+
+def test_the_first_baro_reading_after_the_horizon_sets_the_height_again(impl):
+    ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan))
+    ins.update(np.zeros(3), [0.0, 0.0, G + 0.2], 0.01, baro_altitude=0.0)
+    assert not ins.baro_timed_out and not ins.height_held and abs(ins.altitude) < 0.5
+
+
+def test_baro_timeout_and_horizon_c_equals_the_reference_bit_for_bit():
+    c = run_level(fa.InsEstimator(fa.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan), (1.0, 0.0))
+    r = run_level(reference.InsEstimator(reference.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan),
+                  (1.0, 0.0))
+    assert same_state(c, r)
+
+
+def _octorotor_with_the_baro_cut_at(seconds):
+    """px4_octorotor_2hz_baro.ulg (shared data) with its baro stream ending at ``seconds`` s, as a user saw it."""
+    import os
+    import warnings
+    from pathlib import Path
+
+    from fusion_altitude import logs
+
+    data_dir = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                   Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data_dir.is_dir(), f"shared data not found at {data_dir}: set FUSION_ALTITUDE_SHARED_DATA"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = logs.load_log(str(data_dir / "px4_octorotor_2hz_baro.ulg"))
+    data.baro_altitude = np.where(data.time < seconds, data.baro_altitude, np.nan)
+    return data
+
+
+def test_the_ins_on_a_log_whose_baro_stops_holds_the_height_near_the_last_baro_and_says_so():
+    """Without the horizon the INS dead-reckons 72 m away from the baro's range within the 80 s left."""
+    from fusion_altitude import runner
+
+    data = _octorotor_with_the_baro_cut_at(14.4)
+    run = runner.run_log(data, estimator="ins")
+    late = data.time > 14.4 + 2.0
+    assert np.all(run.estimate.baro_timed_out[late])
+    assert np.nanmax(np.abs(run.estimate.altitude[late] - np.nanmedian(data.baro_altitude))) < 10.0
+    assert any(w.startswith("INS: the baro timed out 1 time(s)") for w in data.warnings)
+
+
+def test_a_zero_accel_does_not_align_even_when_the_norm_test_lets_it_through(impl):
+    """accel_norm_rejection >= g lets |accel| = 0 pass the norm test; fuzz_ins.c found the NaN attitude that the
+    alignment on it made (csrc/fuzz/findings/ins_zero_accel_alignment.bin). It waits for a direction instead."""
+    ins = impl.InsEstimator(impl.InsSettings(accel_norm_rejection=9.9))
+    ins.update(np.zeros(3), np.zeros(3), 0.01, baro_altitude=10.0)
+    assert np.all(np.isfinite(ins.quaternion)) and np.isfinite(ins.covariance).all()
+    ins.update(np.zeros(3), [0.0, 0.0, G], 0.01, baro_altitude=10.0)
+    ins.update(np.zeros(3), np.zeros(3), 0.01, baro_altitude=10.0)  # aligned: a zero accel is no gravity direction
+    assert ins.is_accel_rejected and np.isfinite(ins.covariance).all() and np.all(np.isfinite(ins.quaternion))

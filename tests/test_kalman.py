@@ -373,3 +373,103 @@ def test_per_sample_gps_and_ground_effect_arguments_match_the_reference(keyword,
     c, reference = fusion_altitude.KalmanEstimator(), fusion_altitude.reference.KalmanEstimator()
     for value in values:
         assert _per_sample_outcome(c, **{keyword: value}) == _per_sample_outcome(reference, **{keyword: value}), value
+
+
+# --- Sensor timeouts ----------------------------------------------------------------------------------------------
+
+
+def _baro_and_gps_then(impl, baro_after, gps_after, seconds=3.0, settings=None):
+    """2 s of baro and GPS at 10 m (100 Hz, at rest), then ``seconds`` s with the given baro and GPS (NaN: none)."""
+    estimator = impl.KalmanEstimator(settings)
+    n, m = 200, int(round(100 * seconds))
+    baro = np.r_[np.full(n, 10.0), np.full(m, baro_after)]
+    gps = np.r_[np.full(n, 10.0), np.full(m, gps_after)]
+    return estimator, estimator.update_batch(np.zeros(n + m), dt=0.01, baro_altitude=baro, gps_altitude=gps)
+
+
+def test_a_baro_silent_for_longer_than_its_timeout_is_flagged(impl):
+    estimator, _ = _baro_and_gps_then(impl, math.nan, 10.0, seconds=1.6)  # default baro_timeout 1.5 s
+    assert estimator.baro_timed_out and not estimator.gps_timed_out
+
+
+def test_a_baro_silent_for_less_than_its_timeout_is_not_flagged(impl):
+    estimator, _ = _baro_and_gps_then(impl, math.nan, 10.0, seconds=1.4)
+    assert not estimator.baro_timed_out and estimator.timeout_counts.baro == 0
+
+
+def test_each_sensor_silence_longer_than_its_timeout_is_counted_once(impl):
+    estimator, _ = _baro_and_gps_then(impl, math.nan, 10.0, seconds=5.0)
+    assert estimator.timeout_counts == (1, 0, 0)
+    estimator.update_batch(np.zeros(100), dt=0.01, baro_altitude=10.0, gps_altitude=10.0)
+    assert not estimator.baro_timed_out and estimator.timeout_counts.baro == 1
+    estimator.update_batch(np.zeros(200), dt=0.01, baro_altitude=math.nan, gps_altitude=10.0)
+    assert estimator.baro_timed_out and estimator.timeout_counts.baro == 2
+
+
+def test_a_sensor_never_sampled_is_not_timed_out(impl):
+    estimator, _ = _baro_and_gps_then(impl, math.nan, 10.0, seconds=5.0)
+    assert not estimator.range_timed_out and estimator.timeout_counts.range == 0
+
+
+def test_gps_fixes_with_too_few_satellites_time_the_gps_out(impl):
+    estimator = impl.KalmanEstimator()
+    estimator.update_batch(np.zeros(100), dt=0.01, baro_altitude=10.0, gps_altitude=10.0, gps_satellites=10)
+    estimator.update_batch(np.zeros(300), dt=0.01, baro_altitude=10.0, gps_altitude=10.0, gps_satellites=2)
+    assert estimator.gps_timed_out and estimator.timeout_counts.gps == 1
+
+
+def test_the_gps_carries_the_altitude_when_the_baro_times_out(impl):
+    estimator = impl.KalmanEstimator()
+    n, m = 200, 1000
+    baro = np.r_[np.full(n, 10.0), np.full(m, math.nan)]
+    gps = np.r_[np.full(n, 10.0), np.linspace(10.0, 15.0, m)]  # a 5 m climb at 0.5 m/s after the baro stopped
+    accel = np.zeros(n + m)
+    out = estimator.update_batch(accel, dt=0.01, baro_altitude=baro, gps_altitude=gps)
+    assert estimator.baro_timed_out and not estimator.gps_timed_out
+    assert abs(out.altitude[-1] - 15.0) < 0.5
+
+
+def test_a_baro_back_after_a_silence_nothing_bridged_pulls_the_altitude_back_at_once(impl):
+    """30 s with no height sensor and a 0.3 m/s² accelerometer error: dead reckoning drifts ~135 m; the baro's
+    first sample after its timeout is fused with h and v inflated over the silence, not rejected."""
+    estimator = impl.KalmanEstimator(impl.KalmanSettings(estimate_accel_bias=False))
+    estimator.update_batch(np.zeros(200), dt=0.01, baro_altitude=10.0)
+    estimator.update_batch(np.full(3000, 0.3), dt=0.01, baro_altitude=math.nan)
+    assert estimator.baro_timed_out and abs(estimator.altitude - 10.0) > 100.0
+    estimator.update(0.3, baro_altitude=10.0, dt=0.01)
+    assert estimator.results.baro == KalmanResult.FUSED and abs(estimator.altitude - 10.0) < 1.0
+    assert not estimator.baro_timed_out
+
+
+def test_a_baro_back_while_the_gps_bridged_its_silence_is_gated_as_usual(impl):
+    estimator, _ = _baro_and_gps_then(impl, math.nan, 10.0, seconds=5.0)
+    velocity_variance = estimator.covariance[1, 1]  # the GPS vouched for the state: no inflation (+100 m²/s²)
+    estimator.update(0.0, baro_altitude=10.0, dt=0.01, gps_altitude=10.0)
+    assert estimator.results.baro == KalmanResult.FUSED and estimator.covariance[1, 1] <= velocity_variance
+
+
+@pytest.mark.parametrize("name", ["baro_timeout", "range_timeout", "gps_timeout"])
+@pytest.mark.parametrize("bad", [0.0, -1.0, math.inf, math.nan, 2e6])
+def test_a_sensor_timeout_not_in_0_to_1e6_is_rejected_naming_it(impl, name, bad):
+    with pytest.raises(ValueError, match=f"^{name} must be finite"):
+        impl.KalmanSettings(**{name: bad})
+
+
+def test_the_kalman_filter_on_a_log_whose_baro_stops_carries_on_with_the_gps_and_says_so():
+    import os
+    import warnings
+    from pathlib import Path
+
+    from fusion_altitude import logs, runner
+
+    data_dir = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                   Path(__file__).resolve().parents[1] / ".." / "shared" / "data"))
+    assert data_dir.is_dir(), f"shared data not found at {data_dir}: set FUSION_ALTITUDE_SHARED_DATA"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = logs.load_log(str(data_dir / "px4_octorotor_2hz_baro.ulg"))
+    data.baro_altitude = np.where(data.time < 14.4, data.baro_altitude, np.nan)
+    run = runner.run_log(data, estimator="kalman")
+    assert np.all(np.isfinite(run.estimate.altitude))
+    assert "kalman: the baro timed out 1 time(s) (no sample for > 1.5 s): the altitude there is carried by the GPS" \
+        in data.warnings

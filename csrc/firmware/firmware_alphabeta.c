@@ -16,6 +16,8 @@ volatile float firmwareAlphaBetaSamples[4]; /* m: baro, lidar, sonar, GPS */
 volatile bool firmwareAlphaBetaReady[4];
 volatile float firmwareAlphaBetaAltitude;         /* m */
 volatile uint32_t firmwareAlphaBetaGapCount;
+volatile bool firmwareAlphaBetaBaroTimedOut;     /* the baro silent for longer than its timeout */
+volatile uint32_t firmwareAlphaBetaBaroTimeouts; /* baro silences longer than its timeout so far */
 volatile float firmwareAlphaBetaVerticalVelocity; /* m/s */
 volatile float firmwareAlphaBetaLidarWeight;
 volatile int32_t firmwareAlphaBetaBaroQuality;
@@ -77,6 +79,8 @@ void FirmwareAlphaBetaTask(void) {
     }
     firmwareAlphaBetaAltitude = FusionAltitudeAlphaBetaGetAltitude(&firmwareAlphaBeta);
     firmwareAlphaBetaGapCount = FusionAltitudeAlphaBetaGetGapCount(&firmwareAlphaBeta);
+    firmwareAlphaBetaBaroTimedOut = FusionAltitudeAlphaBetaIsTimedOut(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorBaro);
+    firmwareAlphaBetaBaroTimeouts = FusionAltitudeAlphaBetaGetTimeoutCount(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorBaro);
     firmwareAlphaBetaVerticalVelocity = FusionAltitudeAlphaBetaGetVerticalVelocity(&firmwareAlphaBeta);
     firmwareAlphaBetaLidarWeight = FusionAltitudeAlphaBetaGetWeight(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorLidar);
     const int32_t quality = FusionAltitudeAlphaBetaGetQuality(&firmwareAlphaBeta, FusionAltitudeAlphaBetaSensorBaro);

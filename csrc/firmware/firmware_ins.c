@@ -30,6 +30,9 @@ volatile uint32_t firmwareInsGaps;
 volatile uint32_t firmwareInsBaroRejections; /* baro readings the innovation gate rejected */
 volatile uint32_t firmwareInsBaroResets;     /* height resets after a rejection streak */
 volatile bool firmwareInsBaroRejecting;
+volatile bool firmwareInsBaroAided;     /* false while the baro is timed out */
+volatile bool firmwareInsHeightHeld;    /* dead reckoning stopped beyond the horizon */
+volatile uint32_t firmwareInsBaroTimeouts;
 volatile uint32_t firmwareInsTick;
 const char *volatile firmwareInsError;
 
@@ -115,6 +118,9 @@ void FirmwareInsTask(void) {
     firmwareInsBaroRejections = FusionAltitudeInsGetBaroRejections(&firmwareIns);
     firmwareInsBaroResets = FusionAltitudeInsGetBaroResets(&firmwareIns);
     firmwareInsBaroRejecting = FusionAltitudeInsIsBaroRejecting(&firmwareIns);
+    firmwareInsBaroAided = !FusionAltitudeInsIsBaroTimedOut(&firmwareIns);
+    firmwareInsHeightHeld = FusionAltitudeInsIsHeightHeld(&firmwareIns);
+    firmwareInsBaroTimeouts = FusionAltitudeInsGetBaroTimeouts(&firmwareIns);
     /* retune the baro noise in flight: a stationary vehicle trusts its baro less (ground effect) */
     FusionAltitudeInsSettings settings = FusionAltitudeInsGetSettings(&firmwareIns);
     const float baroNoise = firmwareInsStationary ? 1.0f : 0.5f;

@@ -32,6 +32,9 @@ volatile float firmwareKalmanAccelBias;        /* m/s^2 */
 volatile float firmwareKalmanBaroOffset;       /* m */
 volatile float firmwareKalmanGpsOffset;        /* m */
 volatile uint32_t firmwareKalmanGapCount;
+volatile bool firmwareKalmanBaroAided; /* false while the baro is timed out (GPS or rangefinder carry on) */
+volatile bool firmwareKalmanRangeTimedOut;
+volatile bool firmwareKalmanGpsTimedOut;
 volatile float firmwareKalmanVelocitySigma2;   /* m^2/s^2 */
 volatile uint32_t firmwareKalmanGpsRejections;
 volatile float firmwareKalmanBaroNis;
@@ -90,12 +93,15 @@ void FirmwareKalmanTask(void) {
     firmwareKalmanBaroOffset = FusionAltitudeKalmanGetBaroOffset(&firmwareKalman);
     firmwareKalmanGpsOffset = FusionAltitudeKalmanGetGpsOffset(&firmwareKalman);
     firmwareKalmanGapCount = FusionAltitudeKalmanGetGapCount(&firmwareKalman);
+    firmwareKalmanBaroAided = !FusionAltitudeKalmanIsBaroTimedOut(&firmwareKalman);
+    firmwareKalmanRangeTimedOut = FusionAltitudeKalmanIsRangeTimedOut(&firmwareKalman);
+    firmwareKalmanGpsTimedOut = FusionAltitudeKalmanIsGpsTimedOut(&firmwareKalman);
     firmwareKalmanVelocitySigma2 =
         FusionAltitudeKalmanGetCovariance(&firmwareKalman, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateVelocity);
     firmwareKalmanGpsRejections = FusionAltitudeKalmanGetSensor(&firmwareKalman, FusionAltitudeKalmanSensorGps).rejections;
     const FusionAltitudeKalmanSensor baro = FusionAltitudeKalmanGetSensor(&firmwareKalman, FusionAltitudeKalmanSensorBaro);
     if (baro.result == FusionAltitudeKalmanResultFused) {
-        firmwareKalmanBaroNis = baro.nis;
+        firmwareKalmanBaroNis = FusionAltitudeKalmanGetNis(&firmwareKalman, FusionAltitudeKalmanSensorBaro);
     }
     /* Guard against a corrupted RAM image: back to the checked settings, or the defaults. */
     FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(&firmwareKalman);

@@ -28,7 +28,7 @@ typedef FusionAltitudeInsReplayVector ReplayVector;
 #define N (FUSION_ALTITUDE_INS_STATES)
 #define TRIANGLE (N * (N + 1) / 2)
 
-typedef char stateWordsMatch[(SETTINGS_WORDS == 23) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 13 + 3 + 9 + 8) ? 1 : -1];
+typedef char stateWordsMatch[(SETTINGS_WORDS == 25) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 13 + 4 + 9 + 8) ? 1 : -1];
 
 /* The settings fields in struct order (the order of the settings words). */
 static float *SettingsField(FusionAltitudeInsSettings *const s, const int index) {
@@ -38,7 +38,7 @@ static float *SettingsField(FusionAltitudeInsSettings *const s, const int index)
                                            &s->zeroRateNoise, &s->zeroVelocityNoise, &s->baroBiasTimeConstant,
                                            &s->accelBiasTimeConstant, &s->magTimeConstant, &s->initialAttitudeSigma,
                                            &s->initialGyroBiasSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->stationaryBaroRate,
-                                           &s->baroGate, &s->baroRejectionTimeout};
+                                           &s->baroGate, &s->baroRejectionTimeout, &s->baroTimeout, &s->deadReckoningHorizon};
     return fields[index];
 }
 
@@ -115,6 +115,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[n++] = FusionAltitudeInsGetGapCount(filter);
     words[n++] = FusionAltitudeInsGetBaroRejections(filter);
     words[n++] = FusionAltitudeInsGetBaroResets(filter);
+    words[n++] = FusionAltitudeInsGetBaroTimeouts(filter);
     const bool flags[] = {filter->aligned, filter->baroInitialised, filter->magInitialised, FusionAltitudeInsIsStationary(filter),
                           filter->stationaryHalfDone, filter->stationaryHasPrevious, filter->stationaryBaroStill,
                           FusionAltitudeInsIsAccelRejected(filter), FusionAltitudeInsIsBaroRejecting(filter)};
@@ -138,6 +139,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
                          (FusionAltitudeInsGetGapCount(filter) == filter->gapCount) &&
                          (FusionAltitudeInsGetBaroRejections(filter) == filter->baroRejections) &&
                          (FusionAltitudeInsGetBaroResets(filter) == filter->baroResets) &&
+                         (FusionAltitudeInsGetBaroTimeouts(filter) == filter->baroTimeouts) &&
                          (FusionAltitudeInsIsBaroRejecting(filter) == filter->baroRejecting);
     bool checked = true;
     const uint32_t *const in = vector->input;
@@ -179,6 +181,7 @@ static void ReplaySetStateWords(ReplayFilter *const filter, const uint32_t words
     filter->gapCount = words[n++];
     filter->baroRejections = words[n++];
     filter->baroResets = words[n++];
+    filter->baroTimeouts = words[n++];
     bool *const flags[] = {&filter->aligned,           &filter->baroInitialised,       &filter->magInitialised,
                            &filter->stationary,        &filter->stationaryHalfDone,    &filter->stationaryHasPrevious,
                            &filter->stationaryBaroStill, &filter->accelRejected,       &filter->baroRejecting};

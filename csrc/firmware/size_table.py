@@ -44,7 +44,8 @@ KALMAN_FUNCTIONS = (
     "FusionAltitudeKalmanGetSensor", "FusionAltitudeKalmanGetCovariance", "FusionAltitudeKalmanGetHeightAboveGround",
     "FusionAltitudeKalmanGetAltitude", "FusionAltitudeKalmanGetAltitudeVariance", "FusionAltitudeKalmanGetVerticalVelocity",
     "FusionAltitudeKalmanGetAccelBias", "FusionAltitudeKalmanGetBaroOffset", "FusionAltitudeKalmanGetGpsOffset",
-    "FusionAltitudeKalmanGetGapCount",
+    "FusionAltitudeKalmanGetGapCount", "FusionAltitudeKalmanIsBaroTimedOut", "FusionAltitudeKalmanIsRangeTimedOut",
+    "FusionAltitudeKalmanIsGpsTimedOut", "FusionAltitudeKalmanGetNis",
 )
 
 COMPLEMENTARY_FUNCTIONS = (
@@ -64,7 +65,7 @@ ALPHABETA_FUNCTIONS = (
     "FusionAltitudeAlphaBetaMeasurementsNone", "FusionAltitudeAlphaBetaGains", "FusionAltitudeAlphaBetaStatusMessage",
     "FusionAltitudeAlphaBetaGetSettings", "FusionAltitudeAlphaBetaGetAltitude", "FusionAltitudeAlphaBetaGetVerticalVelocity",
     "FusionAltitudeAlphaBetaGetWeight", "FusionAltitudeAlphaBetaGetQuality", "FusionAltitudeAlphaBetaIsStarted",
-    "FusionAltitudeAlphaBetaGetGapCount",
+    "FusionAltitudeAlphaBetaGetGapCount", "FusionAltitudeAlphaBetaIsTimedOut", "FusionAltitudeAlphaBetaGetTimeoutCount",
 )
 
 FLIGHT_FUNCTIONS = (
@@ -85,7 +86,8 @@ INS_FUNCTIONS = (
     "FusionAltitudeInsGetLocalToGlobal", "FusionAltitudeInsGetGlobalQuaternion", "FusionAltitudeInsGetGyroBias",
     "FusionAltitudeInsGetAccelZBias", "FusionAltitudeInsGetBaroBias", "FusionAltitudeInsIsStationary",
     "FusionAltitudeInsIsAccelRejected", "FusionAltitudeInsGetGapCount", "FusionAltitudeInsGetBaroRejections",
-    "FusionAltitudeInsGetBaroResets", "FusionAltitudeInsIsBaroRejecting",
+    "FusionAltitudeInsGetBaroResets", "FusionAltitudeInsIsBaroRejecting", "FusionAltitudeInsIsBaroTimedOut",
+    "FusionAltitudeInsIsHeightHeld", "FusionAltitudeInsGetBaroTimeouts",
 )
 
 # Cortex-M4 cycle counts (Cortex-M4 TRM r0p1, tables 3-1 and 7-1). P, the

@@ -125,3 +125,15 @@ uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *
 SIZED uint32_t SizedFusionAltitudeAlphaBetaGetGapCount(const FusionAltitudeAlphaBeta *const fusion) {
     return FusionAltitudeAlphaBetaGetGapCount(fusion);
 }
+
+bool SizedFusionAltitudeAlphaBetaIsTimedOut(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor);
+
+SIZED bool SizedFusionAltitudeAlphaBetaIsTimedOut(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return FusionAltitudeAlphaBetaIsTimedOut(fusion, sensor);
+}
+
+uint32_t SizedFusionAltitudeAlphaBetaGetTimeoutCount(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor);
+
+SIZED uint32_t SizedFusionAltitudeAlphaBetaGetTimeoutCount(const FusionAltitudeAlphaBeta *const fusion, const FusionAltitudeAlphaBetaSensorIndex sensor) {
+    return FusionAltitudeAlphaBetaGetTimeoutCount(fusion, sensor);
+}

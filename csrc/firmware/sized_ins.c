@@ -169,3 +169,21 @@ bool SizedFusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns *const ins);
 SIZED bool SizedFusionAltitudeInsIsBaroRejecting(const FusionAltitudeIns *const ins) {
     return FusionAltitudeInsIsBaroRejecting(ins);
 }
+
+bool SizedFusionAltitudeInsIsBaroTimedOut(const FusionAltitudeIns *const ins);
+
+SIZED bool SizedFusionAltitudeInsIsBaroTimedOut(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsIsBaroTimedOut(ins);
+}
+
+bool SizedFusionAltitudeInsIsHeightHeld(const FusionAltitudeIns *const ins);
+
+SIZED bool SizedFusionAltitudeInsIsHeightHeld(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsIsHeightHeld(ins);
+}
+
+uint32_t SizedFusionAltitudeInsGetBaroTimeouts(const FusionAltitudeIns *const ins);
+
+SIZED uint32_t SizedFusionAltitudeInsGetBaroTimeouts(const FusionAltitudeIns *const ins) {
+    return FusionAltitudeInsGetBaroTimeouts(ins);
+}

@@ -120,3 +120,27 @@ SIZED FusionAltitudeKalmanSensor SizedFusionAltitudeKalmanGetSensor(const Fusion
         const FusionAltitudeKalmanSensorIndex sensor) {
     return FusionAltitudeKalmanGetSensor(kalman, sensor);
 }
+
+bool SizedFusionAltitudeKalmanIsBaroTimedOut(const FusionAltitudeKalman *const kalman);
+
+SIZED bool SizedFusionAltitudeKalmanIsBaroTimedOut(const FusionAltitudeKalman *const kalman) {
+    return FusionAltitudeKalmanIsBaroTimedOut(kalman);
+}
+
+bool SizedFusionAltitudeKalmanIsRangeTimedOut(const FusionAltitudeKalman *const kalman);
+
+SIZED bool SizedFusionAltitudeKalmanIsRangeTimedOut(const FusionAltitudeKalman *const kalman) {
+    return FusionAltitudeKalmanIsRangeTimedOut(kalman);
+}
+
+bool SizedFusionAltitudeKalmanIsGpsTimedOut(const FusionAltitudeKalman *const kalman);
+
+SIZED bool SizedFusionAltitudeKalmanIsGpsTimedOut(const FusionAltitudeKalman *const kalman) {
+    return FusionAltitudeKalmanIsGpsTimedOut(kalman);
+}
+
+float SizedFusionAltitudeKalmanGetNis(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanSensorIndex sensor);
+
+SIZED float SizedFusionAltitudeKalmanGetNis(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanSensorIndex sensor) {
+    return FusionAltitudeKalmanGetNis(kalman, sensor);
+}

@@ -8,8 +8,10 @@
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:
  *   0 initialise with the working settings
- *   1 edit the working settings: field index byte (mod 23), 4 raw bytes, then
- *     SetSettings
+ *   1 edit the working settings: field index byte (mod 23: the first 23
+ *     fields; baroTimeout and deadReckoningHorizon, added later, keep their
+ *     defaults so that the findings decode as they were found), 4 raw bytes,
+ *     then SetSettings
  *   2 update with every argument raw: gyro, accel, mag (3 floats each), baro, dt
  *   3 update with bytes scaled into a plausible range (sane): gyro, accel, mag,
  *     a baro presence byte, baro, dt
@@ -21,12 +23,18 @@
  *   - P is exactly symmetric (bitwise), always;
  *   - while the run is sane (every accepted update had |gyro| <= 10 rad/s,
  *     |accel| <= 160 m/s^2 (16 g), |mag| <= 1e3, |baro| <= 1e5 m,
- *     1e-3 <= dt <= 0.02 s (so |gyro| dt <= 0.2 rad: the first-order
- *     attitude integration and the EKF's linearisation hold),
+ *     1e-4 <= dt <= 10 s (step fuzzing: raw updates, opcode 2, draw any
+ *     step; the seeds have 0.1 ms to 10 s and telemetry-like 0.1-4 s mixes)
+ *     with |gyro| dt <= 0.2 rad on every integrated step (dt <= gapPeriod:
+ *     the first-order attitude integration and the EKF's linearisation
+ *     hold; a longer dt is a gap, not integrated),
  *     at most 20000 updates since initialisation, and the settings in use are
  *     plausible: noises in [1e-6, 10], random walks <= 1, sigmas <= 10,
  *     thresholds and windows <= 1e3): q, biases, d, v and P are finite, P's
- *     diagonal >= 0 and |q| within 1e-3 of 1.
+ *     diagonal >= 0, |q| within 1e-3 of 1, and the bound: |v| <= 1e9 m/s,
+ *     |d| <= 1e14 m (from the box: 20000 steps of at most 10 s, |accel| <=
+ *     160 m/s^2, give |v| <= 3.2e7 m/s and |d| <= 0.5 * 160 * (2e5)^2 =
+ *     3.2e12 m from the prediction; the baro is within 1e5 m).
  */
 
 #include "fusion_altitude_ins.h"
@@ -39,6 +47,8 @@
 
 #define FIELDS (23)
 #define MAX_STEPS (20000)
+#define MAX_VELOCITY (1e9f) /* m/s: the bound of a sane run (file comment) */
+#define MAX_DISTANCE (1e14f) /* m */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -104,7 +114,14 @@ static bool SaneSettings(const FusionAltitudeInsSettings *const s) {
            Within(s->stationaryGyroThreshold, 0.0f, 1e3f) && Within(s->stationaryAccelThreshold, 0.0f, 1e3f) &&
            Within(s->stationaryWindow, 0.0f, 1e3f) && Within(s->baroBiasTimeConstant, 1e-3f, 1e3f) &&
            Within(s->accelBiasTimeConstant, 1e-3f, 1e3f) && Within(s->magTimeConstant, 1e-3f, 1e3f) && Within(s->gapPeriod, 1e-3f, 1e3f) &&
-           Within(s->stationaryBaroRate, 0.0f, 1e3f) && Within(s->baroGate, 1e-3f, 1e6f) && Within(s->baroRejectionTimeout, 0.0f, 1e3f);
+           Within(s->stationaryBaroRate, 0.0f, 1e3f) && Within(s->baroGate, 1e-3f, 1e6f) && Within(s->baroRejectionTimeout, 0.0f, 1e3f) &&
+           Within(s->baroTimeout, 1e-3f, 1e3f) && Within(s->deadReckoningHorizon, 1e-3f, 1e3f);
+}
+
+/* A plausible step (s): 0.1 ms to 10 s, and |gyro| dt <= 0.2 rad on a step that is integrated (dt <= gapPeriod). */
+static bool SaneStep(const FusionAltitudeInsVector gyro, const float dt, const float gapPeriod) {
+    const float limit = (dt > gapPeriod) ? 10.0f : (0.2f / dt);
+    return Within(dt, 1e-4f, 10.0f) && BoundedVector(gyro, (limit < 10.0f) ? limit : 10.0f);
 }
 
 static FusionAltitudeInsStatus Expected(const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
@@ -145,7 +162,7 @@ static void CheckState(const FusionAltitudeIns *const ins, const bool sane) {
     }
     const float norm = ins->q[0] * ins->q[0] + ins->q[1] * ins->q[1] + ins->q[2] * ins->q[2] + ins->q[3] * ins->q[3];
     CHECK(norm > 0.998f && norm < 1.002f);
-    CHECK(FusionAltitudeIsFinite(ins->distance) && FusionAltitudeIsFinite(ins->velocity));
+    CHECK(Bounded(ins->distance, MAX_DISTANCE) && Bounded(ins->velocity, MAX_VELOCITY));
     CHECK(FusionAltitudeIsFinite(ins->gyroBias[0]) && FusionAltitudeIsFinite(ins->gyroBias[1]) && FusionAltitudeIsFinite(ins->gyroBias[2]));
     CHECK(FusionAltitudeIsFinite(ins->accelZBias) && FusionAltitudeIsFinite(ins->baroBias));
 }
@@ -220,7 +237,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 } else {
                     const bool noMag = FusionAltitudeIsNaN(mag.x) && FusionAltitudeIsNaN(mag.y) && FusionAltitudeIsNaN(mag.z);
                     sane = sane && BoundedVector(gyro, 10.0f) && BoundedVector(accel, 160.0f) && (noMag || BoundedVector(mag, 1e3f)) &&
-                           (FusionAltitudeIsNaN(baro) || Bounded(baro, 1e5f)) && Within(dt, 1e-3f, 0.02f) && (++steps <= MAX_STEPS);
+                           (FusionAltitudeIsNaN(baro) || Bounded(baro, 1e5f)) && SaneStep(gyro, dt, ins.settings.gapPeriod) &&
+                           (++steps <= MAX_STEPS);
                 }
                 break;
             }

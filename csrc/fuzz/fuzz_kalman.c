@@ -12,8 +12,9 @@
  *   0 initialise (defaults)
  *   1 initialise with the working settings
  *   2 set settings (the working settings)
- *   3 edit the working settings: field index byte (mod 19), 4 raw bytes
- *     (float bits; int32 for the minimum satellites; != 0 for the bool)
+ *   3 edit the working settings: field index byte (mod 23: the struct's
+ *     fields in order, gapPeriod 19, the three sensor timeouts 20-22), 4 raw
+ *     bytes (float bits; int32 for the minimum satellites; != 0 for the bool)
  *   4 update with every argument from the input: accel, dt, baro, range, GPS
  *     altitude, GPS accuracy (floats), satellites (int32), flags byte (bit 0:
  *     ground effect)
@@ -22,6 +23,10 @@
  *     floats present (and the int32 satellites if flagged)
  *   6 update at the loop dt with NULL measurements: accel
  *   7 initialise with NULL settings, and reset the working settings to the defaults
+ *   Step fuzzing: with bit 7 of the opcode set, 5 and 6 first read a step
+ *   byte and update at a step from it instead of the loop dt (StepFromByte:
+ *   0.1 ms to 10 s, 16 base steps times a jitter of up to 15/32; telemetry
+ *   mixes of 0.1-4 s are sequences of them).
  *
  * Asserted after every call (abort, so libFuzzer reports a crash):
  *   - a rejected call leaves the filter bit-identical (memcmp, padding
@@ -35,9 +40,10 @@
  *     P is >= 0.
  *
  * A run is sane while every accepted input and the settings in use are
- * physically plausible:
- *   - every update at the loop dt, with 1e-3 s <= dt <= 0.1 s, at most
- *     MAX_STEPS (20000) updates since the filter was initialised;
+ *   physically plausible:
+ *   - every update at the loop dt, with 1e-3 s <= dt <= 0.1 s, or at a step
+ *     from a step byte (1e-4 s <= dt <= 10 s), at most MAX_STEPS (20000)
+ *     updates since the filter was initialised;
  *   - |accel| <= 1e3 m/s^2, |baro|, |GPS altitude| <= 1e5 m, GPS accuracy
  *     (when given) in [0.01, 100] m; range any (it is used only within the
  *     limits);
@@ -47,6 +53,12 @@
  *     maximum <= 1e3 m, GPS base and satellite terms <= 100 m with a sum
  *     >= 0.1 m, gate <= 1e3, ground-effect scale <= 100 and dead zone
  *     <= 1e3 m, initial height and velocity sigmas <= 1e3 (m, m/s).
+ * The bound stated for a sane run: |h|, |v|, the offsets and the bias within
+ * MAX_STATE (1e14 m, m/s, m/s^2), every P entry within MAX_VARIANCE (1e30).
+ * From the box: at most 20000 steps of at most 10 s (2e5 s), |accel| <=
+ * 1e3 m/s^2: |v| <= 2e8 m/s and |h| <= 0.5 * 1e3 * (2e5)^2 = 2e13 m from the
+ * prediction alone, samples within 1e5 m; P grows at most by the gap
+ * inflation (10 m/s * 10 s)^2 and the prediction over 2e5 s.
  * Finite inputs alone are not enough: accel = 3e38 overflows h in one step,
  * and a noise of 1e-30 m next to a variance of 1e30 m^2 leaves nothing of
  * float32's 24 bits for the update.
@@ -65,7 +77,11 @@
 #define MAX_STEPS (20000)    /* updates since initialisation */
 #define MAX_ACCEL (1e3f)     /* m/s^2 */
 #define MAX_ALTITUDE (1e5f)  /* m */
-#define SETTINGS_FIELDS (20)
+#define SETTINGS_FIELDS (23)
+#define MIN_STEP (1e-4f)     /* s, step fuzzing */
+#define MAX_STEP (10.0f)     /* s, step fuzzing */
+#define MAX_STATE (1e14f)    /* m, m/s, m/s^2: the bound of a sane run (file comment) */
+#define MAX_VARIANCE (1e30f) /* m^2 and the like */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -156,19 +172,27 @@ static void CheckSymmetric(const FusionAltitudeKalman *const kalman) {
 
 static void CheckFinite(const FusionAltitudeKalman *const kalman) {
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-        CHECK(FusionAltitudeIsFinite(kalman->x[i]));
+        CHECK(Within(kalman->x[i], -MAX_STATE, MAX_STATE));
         CHECK(kalman->P[i][i] >= 0.0f);
         for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-            CHECK(FusionAltitudeIsFinite(kalman->P[i][j]));
+            CHECK(Within(kalman->P[i][j], -MAX_VARIANCE, MAX_VARIANCE));
         }
     }
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
         const FusionAltitudeKalmanSensor sensor = FusionAltitudeKalmanGetSensor(kalman, (FusionAltitudeKalmanSensorIndex) i);
-        CHECK(FiniteOrNoSample(sensor.innovation) && FiniteOrNoSample(sensor.innovationVariance) && FiniteOrNoSample(sensor.nis));
+        CHECK(FiniteOrNoSample(sensor.innovation) && FiniteOrNoSample(sensor.innovationVariance) && FiniteOrNoSample(FusionAltitudeKalmanGetNis(kalman, (FusionAltitudeKalmanSensorIndex) i)));
         CHECK(FusionAltitudeIsFinite(sensor.rejectingFor));
     }
     CHECK(FusionAltitudeIsFinite(FusionAltitudeKalmanGetAltitude(kalman)));
     CHECK(FusionAltitudeIsFinite(FusionAltitudeKalmanGetAltitudeVariance(kalman)));
+}
+
+/* A step from a step byte: 16 base steps from 0.1 ms to 10 s (s), times 1 + (byte >> 4) / 32, at most MAX_STEP. */
+static float StepFromByte(const uint8_t byte) {
+    static const float steps[16] = {1e-4f, 5e-4f, 1e-3f, 2e-3f, 5e-3f, 0.01f, 0.02f, 0.05f,
+                                    0.1f,  0.25f, 0.5f,  1.0f,  2.0f,  4.0f,  7.0f,  10.0f};
+    const float dt = steps[byte & 15u] * (1.0f + (float) (byte >> 4) / 32.0f);
+    return (dt < MAX_STEP) ? dt : MAX_STEP;
 }
 
 typedef struct {
@@ -185,15 +209,16 @@ static void Initialised(Run *const run, const FusionAltitudeKalman *const kalman
 }
 
 static FusionAltitudeKalmanStatus Update(FusionAltitudeKalman *const kalman, Run *const run, const float accel, const float dt,
-                                         const FusionAltitudeKalmanMeasurements *const m) {
+                                         const FusionAltitudeKalmanMeasurements *const m, const bool stepped) {
     const FusionAltitudeKalmanStatus status = FusionAltitudeKalmanUpdate(kalman, accel, dt, m);
     CHECK(status == ExpectedStatus(accel, dt, m));
     if (status != FusionAltitudeKalmanStatusOk) {
         return status;
     }
     run->steps++;
-    bool plausible = Within(accel, -MAX_ACCEL, MAX_ACCEL) && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt)) &&
-                     (run->steps <= MAX_STEPS);
+    const bool stepPlausible = stepped ? Within(dt, MIN_STEP, MAX_STEP)
+                                       : (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt));
+    bool plausible = Within(accel, -MAX_ACCEL, MAX_ACCEL) && stepPlausible && (run->steps <= MAX_STEPS);
     if (m != NULL) {
         plausible = plausible && (FusionAltitudeIsNaN(m->baroAltitude) || Within(m->baroAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
         plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || Within(m->gpsAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
@@ -211,7 +236,8 @@ static void EditSettings(FusionAltitudeKalmanSettings *const s, const uint8_t fi
                                             &s->baroOffsetRandomWalk, &s->rangeNoise, &s->rangeMinimum, &s->rangeMaximum,
                                             &s->gpsNoiseBase, &s->gpsNoiseSatellite, NULL, &s->gpsOffsetRandomWalk, &s->gate,
                                             &s->rejectionTimeout, &s->groundEffectNoiseScale, &s->groundEffectDeadZone,
-                                            &s->initialHeightSigma, &s->initialVelocitySigma, &s->gapPeriod};
+                                            &s->initialHeightSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->baroTimeout,
+                                            &s->rangeTimeout, &s->gpsTimeout};
     const int index = field % SETTINGS_FIELDS;
     if (index == 3) {
         s->estimateAccelBias = bits != 0u;
@@ -280,9 +306,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                     return 0;
                 }
                 m.groundEffect = (byte & 1u) != 0u;
-                status = Update(&kalman, &run, accel, dt, &m);
+                status = Update(&kalman, &run, accel, dt, &m, false);
                 break;
             case 5:
+                dt = run.loopDt;
+                if ((opcode & 0x80u) != 0u) {
+                    if (!ReadByte(&reader, &byte)) {
+                        return 0;
+                    }
+                    dt = StepFromByte(byte);
+                }
                 if (!ReadFloat(&reader, &accel) || !ReadByte(&reader, &byte)) {
                     return 0;
                 }
@@ -294,13 +327,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                     return 0;
                 }
                 m.groundEffect = (byte & 8u) != 0u;
-                status = Update(&kalman, &run, accel, run.loopDt, &m);
+                status = Update(&kalman, &run, accel, dt, &m, (opcode & 0x80u) != 0u);
                 break;
             case 6:
+                dt = run.loopDt;
+                if ((opcode & 0x80u) != 0u) {
+                    if (!ReadByte(&reader, &byte)) {
+                        return 0;
+                    }
+                    dt = StepFromByte(byte);
+                }
                 if (!ReadFloat(&reader, &accel)) {
                     return 0;
                 }
-                status = Update(&kalman, &run, accel, run.loopDt, NULL);
+                status = Update(&kalman, &run, accel, dt, NULL, (opcode & 0x80u) != 0u);
                 break;
             default:
                 status = FusionAltitudeKalmanInitialiseWith(&kalman, NULL);

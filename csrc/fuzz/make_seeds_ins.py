@@ -54,6 +54,19 @@ def flight(seed: int, rest: float, steps: int) -> bytes:
     return out
 
 
+def stepped(steps, seed: int = 0) -> bytes:
+    """Raw updates (opcode 2) of a level IMU rocking slowly at the steps given (s), the baro on every other one:
+    step fuzzing (fuzz_ins.c: 0.1 ms to 10 s are sane, |gyro| dt <= 0.2 rad on integrated steps)."""
+    rng = np.random.default_rng(seed)
+    out = b""
+    for k, dt in enumerate(steps):
+        gyro = (0.01 * float(rng.standard_normal()), 0.01 * float(rng.standard_normal()), 0.0)
+        accel = (0.05 * float(rng.standard_normal()), 0.05 * float(rng.standard_normal()), 9.9)
+        out += raw_update(gyro, accel, (float("nan"),) * 3, 100.0 + 0.3 * float(rng.standard_normal())
+                          if k % 2 == 0 else float("nan"), float(dt))
+    return out
+
+
 def seeds() -> dict:
     nan, inf = float("nan"), float("inf")
     return {
@@ -73,6 +86,13 @@ def seeds() -> dict:
         "accel_rejection_recovery": edit(6, 0.2) + edit(5, 0.1) + bytes([0]) + update((0.0, 0.0, 0.0), LEVEL)
         + b"".join(update((0.0, 0.0, 0.0), (4.9, 0.0, 8.49)) for _ in range(60))
         + b"".join(update((0.0, 0.0, 0.0), (0.0, 0.0, 14.0)) for _ in range(20)),
+        # step fuzzing: telemetry-like 0.1-4 s mixes (gaps at the default 0.1 s gap period, integrated with a 5 s
+        # one: field 19), 0.1 ms steps, 10 s steps, and a baro that stops (timeout, dead-reckoning horizon)
+        "steps_telemetry_mix": bytes([0]) + stepped([0.1, 0.2, 0.5, 1.0, 2.0, 4.0, 0.3, 1.5, 0.1, 3.0] * 6),
+        "steps_telemetry_mix_integrated": edit(19, 5.0) + bytes([0]) + stepped([0.1, 0.2, 0.5, 1.0, 2.0, 4.0, 0.3] * 6),
+        "steps_fine_and_long": bytes([0]) + stepped([1e-4] * 100 + [10.0, 1e-4, 10.0] + [1e-3, 0.01, 0.05] * 20),
+        "baro_stops": bytes([0]) + flight(2, 1.0, 300) + b"".join(
+            update((0.002, 0.0, 0.0), (0.0, 0.0, 10.1)) for _ in range(800)),
     }
 
 

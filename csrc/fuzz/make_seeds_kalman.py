@@ -19,7 +19,11 @@ BARO, RANGE, GPS, GROUND_EFFECT, ACCURACY, SATELLITES = 1, 2, 4, 8, 16, 32
 FIELDS = ("accelNoise", "accelBiasRandomWalk", "accelBiasInitialSigma", "estimateAccelBias", "baroNoise",
           "baroOffsetRandomWalk", "rangeNoise", "rangeMinimum", "rangeMaximum", "gpsNoiseBase", "gpsNoiseSatellite",
           "gpsMinimumSatellites", "gpsOffsetRandomWalk", "gate", "rejectionTimeout", "groundEffectNoiseScale",
-          "groundEffectDeadZone", "initialHeightSigma", "initialVelocitySigma")
+          "groundEffectDeadZone", "initialHeightSigma", "initialVelocitySigma", "gapPeriod", "baroTimeout",
+          "rangeTimeout", "gpsTimeout")
+STEPPED = 0x80  # with UPDATE_LOOP or UPDATE_NULL: a step byte follows the opcode (fuzz_kalman.c StepFromByte)
+#: fuzz_kalman.c StepFromByte's 16 base steps, s (the step byte's low nibble)
+BASE_STEPS = (1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 7.0, 10.0)
 
 
 def f(*values: float) -> bytes:
@@ -55,6 +59,28 @@ def flight(steps: int, baro_every=4, range_every=5, gps_every=20, baro_shift=0.0
     return out
 
 
+def stepped(step_bytes, baro_every=1, gps_every=2, range_every=0, dropout=None) -> bytes:
+    """Updates at the steps of ``step_bytes`` (StepFromByte), baro on every baro_every-th, GPS on every
+    gps_every-th, rangefinder on every range_every-th (0: none); no baro for the steps in ``dropout`` (a range)."""
+    out = b""
+    t = 0.0
+    for k, code in enumerate(step_bytes):
+        t += BASE_STEPS[code & 15] * (1 + (code >> 4) / 32)
+        h = 2.0 + 0.5 * math.sin(0.3 * t)
+        flags, floats = 0, []
+        if baro_every and k % baro_every == 0 and not (dropout and k in dropout):
+            flags |= BARO
+            floats.append(120.0 + h)
+        if range_every and k % range_every == 0:
+            flags |= RANGE
+            floats.append(h)
+        if gps_every and k % gps_every == 0:
+            flags |= GPS
+            floats.append(160.0 + h)
+        out += bytes([UPDATE_LOOP | STEPPED, code]) + f(0.1 * math.cos(0.3 * t)) + bytes([flags]) + f(*floats)
+    return out
+
+
 def seeds() -> dict:
     nan, inf = float("nan"), float("inf")
     return {
@@ -77,6 +103,16 @@ def seeds() -> dict:
         + bytes([UPDATE]) + f(0.0, 0.01, 120.0, 1.0, inf, nan) + struct.pack("<i", 9) + bytes([0])
         + bytes([UPDATE]) + f(0.0, 0.01, 120.0, 1.0, 160.0, -1.0) + struct.pack("<i", -1) + bytes([1])
         + bytes([UPDATE]) + f(0.0, 0.01, 120.5, 1.2, 160.5, 0.7) + struct.pack("<i", 3) + bytes([1]) + flight(20),
+        # step fuzzing: telemetry-like 0.1-4 s mixes, 0.1 ms steps, 10 s steps, jitter; a baro dropout (timeouts)
+        "steps_telemetry_mix": f(0.01) + stepped([8, 9, 10, 11, 12, 13, 0x98, 0x3A, 0xF9, 12, 8, 13, 10] * 4),
+        "steps_fine_and_long": f(0.01) + stepped([0] * 50 + [15, 0x1F, 15] + [1, 2, 3, 4] * 10 + [14, 15]),
+        "steps_baro_dropout_gps_carries": f(0.01) + flight(100) + stepped([5] * 600, gps_every=20, range_every=5,
+                                                                          dropout=range(100, 400)),
+        "steps_sensor_timeouts_edited": f(0.01) + edit("baroTimeout", 0.05) + edit("gpsTimeout", 0.2)
+        + edit("rangeTimeout", 1e-3) + edit("gapPeriod", 20.0) + bytes([SET_SETTINGS])
+        + stepped([5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15] * 3, gps_every=3, range_every=2)
+        + bytes([UPDATE_NULL | STEPPED, 15]) + f(3.0) + bytes([UPDATE_NULL | STEPPED, 0]) + f(-1e3)
+        + edit("baroTimeout", 0.0) + bytes([SET_SETTINGS]),
     }
 
 

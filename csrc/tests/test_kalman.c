@@ -88,7 +88,7 @@ static void InitialiseIsOnTheGroundAtRestWithUnknownOffsets(void) {
     CHECK(kalman.P[4][4] == 0.2f * 0.2f);
     CHECK(kalman.P[2][2] == 0.0f && kalman.P[3][3] == 0.0f);
     CHECK(!kalman.baroInitialised && !kalman.gpsInitialised);
-    CHECK(FusionAltitudeIsNaN(FusionAltitudeKalmanGetSensor(&kalman, FusionAltitudeKalmanSensorBaro).nis));
+    CHECK(FusionAltitudeIsNaN(FusionAltitudeKalmanGetNis(&kalman, FusionAltitudeKalmanSensorBaro)));
 }
 
 static void PredictFollowsTheDocumentedEquations(void) {

@@ -32,6 +32,9 @@ _ONE = f32(1)
 _TWO = f32(2)
 _SIX = f32(6)
 _IMU = 0
+_MAX_CONFIDENCE = 1e6  # FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE: every weight Q · confidence finite
+_ZERO = f32(0)
+_MAX_INTERVAL_RATIO = f32(4)  # FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
 
 
 def gains(quality: int):
@@ -47,7 +50,7 @@ def _sensor_status(s: AlphaBetaSensorSettings) -> AlphaBetaStatus:
         return AlphaBetaStatus.INVALID_THRESHOLD
     if s.quality_min < 2 or s.quality_max < s.quality_min or s.quality_max > ALPHABETA_MAX_QUALITY:
         return AlphaBetaStatus.INVALID_QUALITY
-    if not (math.isfinite(s.confidence) and s.confidence >= 0):
+    if not (math.isfinite(s.confidence) and 0 <= s.confidence <= _MAX_CONFIDENCE):
         return AlphaBetaStatus.INVALID_CONFIDENCE
     if not s.altitude_min < s.altitude_max:
         return AlphaBetaStatus.INVALID_ALTITUDE_BAND
@@ -115,20 +118,23 @@ def check_inputs(accel: np.float32, dt: np.float32, z: tuple) -> AlphaBetaStatus
 class _Filter:
     """FusionAltitudeAlphaBetaFilter: one sensor's alpha-beta filter."""
 
-    __slots__ = ("x", "v", "since", "gap", "weight", "quality", "started")
+    __slots__ = ("x", "v", "since", "interval", "gap", "weight", "quality", "timeouts", "started", "timed_out")
 
     def __init__(self, quality: int) -> None:
         self.x = f32(0)
         self.v = f32(0)
         self.since = f32(0)
+        self.interval = f32(0)
         self.gap = f32(0)
         self.weight = f32(0)
         self.quality = quality
+        self.timeouts = 0
         self.started = False
+        self.timed_out = False
 
     def state(self) -> tuple:
-        return (float(self.x), float(self.v), float(self.since), float(self.gap), float(self.weight), self.quality,
-                self.started)
+        return (float(self.x), float(self.v), float(self.since), float(self.interval), float(self.gap),
+                float(self.weight), self.quality, self.timeouts, self.started, self.timed_out)
 
 
 class AlphaBetaFusion(Checkpointable):
@@ -179,9 +185,11 @@ class AlphaBetaFusion(Checkpointable):
             f.x = self._h if i == _IMU else z[i]
             f.v = velocity
             f.since = f32(0)
+            f.interval = f32(0)
             f.gap = f.x - self._h if sampled else f32(0)
             f.quality = s.quality_min
             f.started = sampled
+            f.timed_out = f.timed_out and not sampled  # a silent sensor stays timed out through the restart
             f.weight = f32(s.quality_min) * f32(s.confidence) if (sampled and i != _IMU) else f32(0)
             if not sampled:
                 f.x = f32(0)
@@ -199,10 +207,16 @@ class AlphaBetaFusion(Checkpointable):
         if np.isfinite(z):
             gap_max = f32(s.gap_max)
             was_beyond_gap = not (-gap_max <= f.gap <= gap_max)
+            fresh = not f.started or f.since > timeout
+            # an interval more than MAX_INTERVAL_RATIO times the previous one or less than its inverse times it: not
+            # integrated (stable steps)
+            irregular = f.interval > 0 and (f.since > _MAX_INTERVAL_RATIO * f.interval
+                                            or _MAX_INTERVAL_RATIO * f.since < f.interval)
             f.gap = z - altitude_predicted  # the sensor's gap, held until its next sample
-            if not f.started or f.since > timeout or was_beyond_gap:  # first, back after silence or gap: restart
+            f.interval = f32(0) if fresh else f.since
+            if fresh or was_beyond_gap or irregular:  # first, back after silence, gap or irregular interval: restart
                 f.x = z
-                f.v = self._v
+                f.v = _ZERO if irregular else self._v  # learnt over mismatched intervals: not kept
                 f.quality = s.quality_min
                 f.started = True
             else:
@@ -216,6 +230,13 @@ class AlphaBetaFusion(Checkpointable):
                 f.x += alpha * residual
                 f.v += (beta * residual) / f.since
             f.since = f32(0)
+        # FusionAltitudeAlphaBetaFilterStep: timed out once a started sensor is silent for longer than its timeout,
+        # counted once per silence, held until its next sample
+        if np.isfinite(z):
+            f.timed_out = False
+        elif f.started and f.since > timeout and not f.timed_out:
+            f.timed_out = True
+            f.timeouts = (f.timeouts + 1) & 0xFFFFFFFF
         weight = f32(0)
         if f.started and not f.since > timeout:
             in_band = f32(s.altitude_min) <= altitude_predicted <= f32(s.altitude_max)
@@ -383,6 +404,17 @@ class AlphaBetaFusion(Checkpointable):
             f.quality = min(max(f.quality, s.quality_min), s.quality_max)
 
     @property
+    def timed_out(self) -> AlphaBetaSensors:
+        """Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next
+        sample (FusionAltitudeAlphaBetaIsTimedOut)."""
+        return AlphaBetaSensors(*[f.timed_out for f in self._filters])
+
+    @property
+    def timeout_counts(self) -> AlphaBetaSensors:
+        """Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once."""
+        return AlphaBetaSensors(*[f.timeouts for f in self._filters])
+
+    @property
     def gap_count(self) -> int:
         """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
         return self._gap_count
@@ -400,10 +432,14 @@ class AlphaBetaFusion(Checkpointable):
             values, filters, h, v, total, coasting, gap_time, gap_count, started = state
         self._settings = AlphaBetaSettings(**values)
         self._filters = []
-        for x, vi, since, gap, weight, quality, filter_started in filters:
+        for row in filters:
+            if len(row) == 7:  # a checkpoint from before the interval and timeout fields
+                row = (*row[:3], 0.0, *row[3:6], 0, row[6], False)
+            x, vi, since, interval, gap, weight, quality, timeouts, filter_started, timed_out = row
             f = _Filter(int(quality))
             f.x, f.v, f.since, f.gap, f.weight = f32(x), f32(vi), f32(since), f32(gap), f32(weight)
-            f.started = bool(filter_started)
+            f.interval = f32(interval)
+            f.timeouts, f.started, f.timed_out = int(timeouts), bool(filter_started), bool(timed_out)
             self._filters.append(f)
         self._h, self._v, self._total = f32(h), f32(v), f32(total)
         self._started = bool(started)

@@ -90,6 +90,11 @@ class InsSettings(KeywordSettings):
     initial_velocity_sigma : 0.5 m/s
     gap_period : 0.1 s
         A dt above it is a gap: not integrated, counted (> 0).
+    baro_timeout : 1.5 s
+        No baro reading for longer: not baro-aided (``baro_timed_out``, counted in ``baro_timeouts``) (> 0).
+    dead_reckoning_horizon : 5.0 s
+        No baro reading for longer: dead reckoning stops (``height_held``): the velocity decays to 0 with this
+        time constant and the height variance grows (> 0).
     stationary_baro_rate : 0.5 m/s
         While the IMU is still, the means of the baro readings over consecutive half windows differing by more
         than this rate × stationary_window / 2 (m) veto stationary: a climb at constant velocity is still to the
@@ -188,6 +193,7 @@ class InsEstimator(Checkpointable):
         self.gap_count_ = 0
         self.baro_rejections_ = 0
         self.baro_resets_ = 0
+        self.baro_timeouts_ = 0
         self.baro_rejecting = False
         self.aligned = False
         self.baro_initialised = False
@@ -268,14 +274,18 @@ class InsEstimator(Checkpointable):
         self._initialise(self._s)
 
     # -- FusionAltitudeInsAlign ----------------------------------------------------------------
-    def _align(self, f: np.ndarray) -> None:
+    def _align(self, f: np.ndarray) -> bool:
+        """False (nothing changed) when |f| is 0 in float32: no direction."""
         norm = np.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+        if not norm > 0:
+            return False
         ux, uy, uz = f[0] / norm, f[1] / norm, f[2] / norm
         if uz > f32(-0.999999):
             self.q = _normalise(np.array([_ONE + uz, uy, -ux, _ZERO], dtype=f32))
         else:
             self.q = np.array([0, 1, 0, 0], dtype=f32)
         self.aligned = True
+        return True
 
     # -- FusionAltitudeInsPredict --------------------------------------------------------------
     def _predict(self, w: np.ndarray, f: np.ndarray, dt: np.float32) -> None:
@@ -381,9 +391,8 @@ class InsEstimator(Checkpointable):
         accel_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2])
         norm_error = (accel_norm - g) if accel_norm > g else (g - accel_norm)
         if not self.aligned:
-            if not (norm_error <= s.f32("accel_norm_rejection")):
-                return
-            self._align(accel)
+            if not (norm_error <= s.f32("accel_norm_rejection")) or not self._align(accel):
+                return  # wait for a usable gravity direction
         elif dt > s.f32("gap_period"):
             self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
             attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
@@ -395,10 +404,16 @@ class InsEstimator(Checkpointable):
         else:
             w = gyro - self.gyro_bias_
             f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
+            d0, v0 = self.distance, self.velocity
             self._predict(w, f, dt)
+            if self._baro_silent_for(s.f32("dead_reckoning_horizon")):
+                self._hold_height(d0, v0, dt)  # beyond the horizon: dead reckoning stops
             self._detect_stationary(gyro, norm_error, baro, dt)
         self.stationary = bool(self.stationary_time >= s.f32("stationary_window")) and self.stationary_baro_still
+        baro_was_timed_out = self._baro_silent_for(s.f32("baro_timeout"))
         self.baro_elapsed = self.baro_elapsed + dt
+        if not baro_was_timed_out and self._baro_silent_for(s.f32("baro_timeout")):
+            self.baro_timeouts_ = (self.baro_timeouts_ + 1) & 0xFFFFFFFF  # this silence is counted once
         self.mag_elapsed = self.mag_elapsed + dt
         if self.baro_rejecting:
             self.baro_rejecting_for = self.baro_rejecting_for + dt
@@ -408,9 +423,9 @@ class InsEstimator(Checkpointable):
         fz = accel[2] - self.accel_z_bias_
 
         # accel: gravity direction, with acceleration rejection
-        rejected = not (norm_error <= s.f32("accel_norm_rejection"))
+        f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
+        rejected = not (norm_error <= s.f32("accel_norm_rejection")) or not f_norm > 0  # |f| = 0: no direction
         if not rejected:
-            f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
             u = (accel[0] / f_norm, accel[1] / f_norm, fz / f_norm)
             e = (u[0] - r[0], u[1] - r[1], u[2] - r[2])
             chord2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
@@ -480,6 +495,25 @@ class InsEstimator(Checkpointable):
                         self.yaw_cos, self.yaw_sin = target_cos, target_sin
                 self.mag_elapsed = _ZERO
 
+    def _baro_silent_for(self, timeout: np.float32) -> bool:
+        """FusionAltitudeInsIsBaroSilentFor: a baro reading once, none for longer than ``timeout`` s since."""
+        return self.baro_initialised and bool(self.baro_elapsed > timeout)
+
+    def _hold_height(self, d0: np.float32, v0: np.float32, dt: np.float32) -> None:
+        """FusionAltitudeInsHoldHeight: beyond the dead-reckoning horizon the accel no longer moves d, v: v decays
+        (time constant: the horizon, s), d integrates it; d, v decorrelated, sigma_d grows by sigma_v per s."""
+        s, P = self._s, self.P
+        k = dt / (s.f32("dead_reckoning_horizon") + dt)
+        self.velocity = v0 - k * v0
+        self.distance = d0 + self.velocity * dt
+        velocity_floor = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
+        pvv = P[7, 7] if P[7, 7] > velocity_floor else velocity_floor
+        pdd = P[6, 6] if P[6, 6] > _ZERO else _ZERO
+        sigma = np.sqrt(pdd) + np.sqrt(pvv) * dt
+        grown = sigma * sigma
+        _decorrelate(P, 6, grown if grown < VARIANCE_LIMIT else VARIANCE_LIMIT)
+        _decorrelate(P, 7, pvv)
+
     def _forget_height(self) -> None:
         """FusionAltitudeInsForgetHeight: velocity variance raised to at least initial_velocity_sigma² ((m/s)²),
         d decorrelated with VARIANCE_LIMIT (m²), so the next baro reading sets d."""
@@ -536,6 +570,7 @@ class InsEstimator(Checkpointable):
                 result.accel_z_bias[i] = self.accel_z_bias_
                 result.baro_bias[i] = self.baro_bias_
                 result.is_stationary[i] = self.stationary
+                result.baro_timed_out[i] = self.baro_timed_out
         return result if out is None else out  # out=: the caller's object itself
 
     # -- getters -------------------------------------------------------------------------------
@@ -621,6 +656,23 @@ class InsEstimator(Checkpointable):
         return int(self.baro_resets_)
 
     @property
+    def baro_timed_out(self) -> bool:
+        """Not baro-aided: the baro had a reading, then none for longer than ``baro_timeout`` s
+        (FusionAltitudeInsIsBaroTimedOut)."""
+        return self._baro_silent_for(self._s.f32("baro_timeout"))
+
+    @property
+    def height_held(self) -> bool:
+        """Dead reckoning stopped: no baro reading for longer than ``dead_reckoning_horizon`` s; the velocity decays
+        to 0 and the height variance grows (FusionAltitudeInsIsHeightHeld)."""
+        return self._baro_silent_for(self._s.f32("dead_reckoning_horizon"))
+
+    @property
+    def baro_timeouts(self) -> int:
+        """Baro silences longer than ``baro_timeout`` so far, each counted once."""
+        return int(self.baro_timeouts_)
+
+    @property
     def is_baro_rejecting(self) -> bool:
         """A baro rejection streak is in progress."""
         return bool(self.baro_rejecting)
@@ -642,7 +694,8 @@ class InsEstimator(Checkpointable):
             "stationary_baro_count": f32(self.stationary_baro_count),
             "stationary_baro_previous": f32(self.stationary_baro_previous),
             "baro_rejecting_for": f32(self.baro_rejecting_for), "baro_rejections": int(self.baro_rejections_),
-            "baro_resets": int(self.baro_resets_), "baro_rejecting": self.baro_rejecting,
+            "baro_resets": int(self.baro_resets_), "baro_timeouts": int(self.baro_timeouts_),
+            "baro_rejecting": self.baro_rejecting,
             "gap_count": int(self.gap_count_), "aligned": self.aligned, "baro_initialised": self.baro_initialised,
             "mag_initialised": self.mag_initialised, "stationary": self.stationary,
             "stationary_half_done": self.stationary_half_done, "stationary_has_previous": self.stationary_has_previous,
@@ -658,16 +711,18 @@ class InsEstimator(Checkpointable):
                   float(self.mag_elapsed), float(self.stationary_half_time), float(self.stationary_baro_sum),
                   float(self.stationary_baro_count), float(self.stationary_baro_previous),
                   float(self.baro_rejecting_for), int(self.gap_count_), int(self.baro_rejections_),
-                  int(self.baro_resets_), bool(self.aligned), bool(self.baro_initialised), bool(self.mag_initialised),
+                  int(self.baro_resets_), int(self.baro_timeouts_), bool(self.aligned), bool(self.baro_initialised), bool(self.mag_initialised),
                   bool(self.stationary), bool(self.stationary_half_done), bool(self.stationary_has_previous),
                   bool(self.stationary_baro_still), bool(self.accel_rejected), bool(self.baro_rejecting))
         return fields, self._units
 
     def _set_state(self, state: tuple) -> None:
         fields, units = state
+        if len(fields) == 31:  # a checkpoint from before the baro timeout
+            fields = (*fields[:22], 0, *fields[22:])
         (settings, q, gyro_bias, distance, velocity, P, accel_z_bias, baro_bias, yaw_cos, yaw_sin, stationary_time,
          rejection_time, baro_elapsed, mag_elapsed, half_time, baro_sum, baro_count, baro_previous, rejecting_for,
-         gap_count, baro_rejections, baro_resets, aligned, baro_initialised, mag_initialised, stationary, half_done,
+         gap_count, baro_rejections, baro_resets, baro_timeouts, aligned, baro_initialised, mag_initialised, stationary, half_done,
          has_previous, baro_still, accel_rejected, baro_rejecting) = fields
         self._gyro_scale, self._accel_scale = _ins_glue.units_tuple(*units)
         self._units = tuple(units)
@@ -687,6 +742,7 @@ class InsEstimator(Checkpointable):
         self.gap_count_ = int(gap_count)
         self.baro_rejecting_for = f32(rejecting_for)
         self.baro_rejections_, self.baro_resets_ = int(baro_rejections), int(baro_resets)
+        self.baro_timeouts_ = int(baro_timeouts)
         self.baro_rejecting = bool(baro_rejecting)
         self.aligned, self.baro_initialised, self.mag_initialised = bool(aligned), bool(baro_initialised), \
             bool(mag_initialised)

@@ -94,6 +94,11 @@ class KalmanSettings(KeywordSettings):
         Negative baro innovations up to this are ignored in ground effect.
     initial_height_sigma, initial_velocity_sigma : 0.1 m, 1.0 m/s
         Initial uncertainty of "on the ground, at rest".
+    gap_period : 0.5 s
+        An update whose dt exceeds this is a gap, not integrated.
+    baro_timeout, range_timeout, gps_timeout : 1.5 s, 0.5 s, 2.0 s
+        A sensor with no usable sample for longer is timed out (``baro_timed_out`` …, counted in
+        ``timeout_counts``); the filter carries on with the others (> 0).
     """
 
     __slots__ = ()
@@ -145,6 +150,8 @@ def _check(values: dict) -> KalmanStatus:
         return KalmanStatus.INVALID_GROUND_EFFECT
     if not v["gap_period"] > 0:
         return KalmanStatus.INVALID_GAP_PERIOD
+    if not (positive(v["baro_timeout"]) and positive(v["range_timeout"]) and positive(v["gps_timeout"])):
+        return KalmanStatus.INVALID_TIMEOUT
     return KalmanStatus.OK
 
 
@@ -164,18 +171,22 @@ class _Settings32:
 class _Sensor:
     """FusionAltitudeKalmanSensor."""
 
-    __slots__ = ("innovation", "innovation_variance", "nis", "rejecting_for", "rejections", "resets", "result",
-                 "rejecting")
+    __slots__ = ("innovation", "innovation_variance", "nis", "rejecting_for", "since_sample", "rejections", "resets",
+                 "timeouts", "result", "rejecting", "sampled", "timed_out")
 
     def __init__(self) -> None:
         self.innovation = _NAN
         self.innovation_variance = _NAN
         self.nis = _NAN
         self.rejecting_for = _ZERO
+        self.since_sample = _ZERO
         self.rejections = 0
         self.resets = 0
+        self.timeouts = 0
         self.result = KalmanResult.NO_SAMPLE
         self.rejecting = False
+        self.sampled = False
+        self.timed_out = False
 
     def no_sample(self, result: KalmanResult) -> None:
         """FusionAltitudeKalmanNoSample."""
@@ -184,17 +195,32 @@ class _Sensor:
         self.nis = _NAN
         self.result = result
 
+    def silent(self, result: KalmanResult, timeout: np.float32) -> None:
+        """FusionAltitudeKalmanSilent: no usable sample; timed out (counted once) after ``timeout`` s of silence."""
+        self.no_sample(result)
+        if self.sampled and self.since_sample > timeout and not self.timed_out:
+            self.timed_out = True
+            self.timeouts = (self.timeouts + 1) & 0xFFFFFFFF  # uint32_t
+
     def as_tuple(self) -> tuple:
-        return (float(self.innovation), float(self.innovation_variance), float(self.nis), float(self.rejecting_for),
-                self.rejections, self.resets, int(self.result), self.rejecting)
+        # the C struct's fields: nis is not stored there (FusionAltitudeKalmanGetNis computes y²/S)
+        return (float(self.innovation), float(self.innovation_variance), float(self.rejecting_for),
+                float(self.since_sample), self.rejections, self.resets, self.timeouts, int(self.result),
+                self.rejecting, self.sampled, self.timed_out)
 
     @classmethod
     def from_tuple(cls, values: tuple) -> "_Sensor":
         sensor = cls()
-        (i, s, nis, rf, sensor.rejections, sensor.resets, result, rejecting) = values
-        sensor.innovation, sensor.innovation_variance, sensor.nis, sensor.rejecting_for = f32(i), f32(s), f32(nis), f32(rf)
+        if len(values) == 8:  # a checkpoint from before the sensor timeouts (with nis, without the timeout fields)
+            values = (*values[:2], values[3], 0.0, values[4], values[5], 0, values[6], values[7], False, False)
+        (i, s, rf, since, sensor.rejections, sensor.resets, sensor.timeouts, result, rejecting, sampled,
+         timed_out) = values
+        sensor.innovation, sensor.innovation_variance, sensor.rejecting_for = f32(i), f32(s), f32(rf)
+        # FusionAltitudeKalmanGetNis
+        sensor.nis = _NAN if _is_nan(sensor.innovation_variance) else (sensor.innovation * sensor.innovation) / sensor.innovation_variance
+        sensor.since_sample = f32(since)
         sensor.result = KalmanResult(result)
-        sensor.rejecting = bool(rejecting)
+        sensor.rejecting, sensor.sampled, sensor.timed_out = bool(rejecting), bool(sampled), bool(timed_out)
         return sensor
 
 
@@ -260,6 +286,7 @@ class KalmanEstimator(Checkpointable):
         for sensor in self._sensors:
             if sensor.rejecting:
                 sensor.rejecting_for += dt
+            sensor.since_sample += dt
         self._since_fused += dt
 
     def _random_walks(self, dt: np.float32) -> None:
@@ -380,6 +407,16 @@ class KalmanEstimator(Checkpointable):
             return
         sensor.result = KalmanResult.REJECTED
 
+    def _resume(self, sensor: _Sensor, timeout: np.float32) -> None:
+        """FusionAltitudeKalmanResume: a usable sample ends the sensor's silence; after a timeout with nothing fused
+        within the last ``timeout`` s, h and v are inflated over the silence (b by its initial variance) first."""
+        if sensor.timed_out and self._since_fused > timeout:  # nothing corrected h for the whole silence
+            self._inflate(sensor.since_sample)
+            if self._s.estimate_accel_bias:
+                sigma = self._s.accel_bias_initial_sigma
+                self._P[ACCEL_BIAS][ACCEL_BIAS] += sigma * sigma
+        sensor.sampled, sensor.timed_out, sensor.since_sample = True, False, _ZERO
+
     def _gps_sigma(self, accuracy: np.float32, satellites: int) -> np.float32:
         """FusionAltitudeKalmanGpsSigma."""
         s = self._s
@@ -412,10 +449,11 @@ class KalmanEstimator(Checkpointable):
         # Barometer: z = h + ob
         sensor = self._sensors[0]
         if not baro_present:
-            sensor.no_sample(KalmanResult.NO_SAMPLE)
+            sensor.silent(KalmanResult.NO_SAMPLE, s.baro_timeout)
         else:
             sigma = s.baro_noise * s.ground_effect_noise_scale if ground_effect else s.baro_noise
             R = sigma * sigma
+            self._resume(sensor, s.baro_timeout)
             if not self._baro_initialised:
                 self._set_offset(BARO_OFFSET, baro, R)
                 self._baro_initialised = True
@@ -430,22 +468,24 @@ class KalmanEstimator(Checkpointable):
         # Rangefinder: z = h
         sensor = self._sensors[1]
         if _is_nan(rng):
-            sensor.no_sample(KalmanResult.NO_SAMPLE)
+            sensor.silent(KalmanResult.NO_SAMPLE, s.range_timeout)
         elif not rng >= s.range_min or not rng <= s.range_max:
-            sensor.no_sample(KalmanResult.UNUSABLE)
+            sensor.silent(KalmanResult.UNUSABLE, s.range_timeout)
         else:
             R = s.range_noise * s.range_noise
+            self._resume(sensor, s.range_timeout)
             self._process(sensor, -1, rng, rng - x[HEIGHT], R)
 
         # GPS: z = h + og
         sensor = self._sensors[2]
         if not gps_present:
-            sensor.no_sample(KalmanResult.NO_SAMPLE)
+            sensor.silent(KalmanResult.NO_SAMPLE, s.gps_timeout)
         elif 0 <= satellites < s.gps_min_satellites:
-            sensor.no_sample(KalmanResult.UNUSABLE)
+            sensor.silent(KalmanResult.UNUSABLE, s.gps_timeout)
         else:
             sigma = self._gps_sigma(accuracy, satellites)
             R = sigma * sigma
+            self._resume(sensor, s.gps_timeout)
             if not self._gps_initialised:
                 self._set_offset(GPS_OFFSET, gps, R)
                 self._gps_initialised = True
@@ -622,6 +662,26 @@ class KalmanEstimator(Checkpointable):
     def results(self) -> KalmanSensors:
         """What the latest update did with each sensor (:class:`KalmanResult`)."""
         return KalmanSensors(*(KalmanResult(s.result) for s in self._sensors))
+
+    @property
+    def timeout_counts(self) -> KalmanSensors:
+        """Silences longer than the sensor's timeout so far, per sensor (each counted once)."""
+        return KalmanSensors(*(s.timeouts for s in self._sensors))
+
+    @property
+    def baro_timed_out(self) -> bool:
+        """Whether the baro is timed out: no sample for longer than ``baro_timeout`` s (FusionAltitudeKalmanIsBaroTimedOut)."""
+        return self._sensors[0].timed_out
+
+    @property
+    def range_timed_out(self) -> bool:
+        """Whether the rangefinder is timed out: no usable reading for longer than ``range_timeout`` s."""
+        return self._sensors[1].timed_out
+
+    @property
+    def gps_timed_out(self) -> bool:
+        """Whether the GPS is timed out: no usable fix for longer than ``gps_timeout`` s."""
+        return self._sensors[2].timed_out
 
     @property
     def baro_initialised(self) -> bool:

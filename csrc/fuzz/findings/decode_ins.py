@@ -9,7 +9,7 @@ header for csrc/tests/test_ins.c.
 
 Calls: ("initialise", settings_list) | ("settings", settings_list) |
 ("update", gyro, accel, mag, baro, dt) with float32 values exactly as the
-fuzzer passes them (settings_list: the fuzzer's working settings, 23 float32
+fuzzer passes them (settings_list: the fuzzer's working settings, 25 float32
 in the C struct order). numpy only.
 """
 
@@ -21,7 +21,10 @@ import numpy as np
 
 f32 = np.float32
 FIELDS = 23
-DEFAULTS = [3e-4, 1e-5, 0.05, 0.05, 2.0, 0.17, 5.0, 0.3, 0.05, 0.5, 1.0, 0.01, 0.05, 5.0, 2.0, 2.0, 0.05, 0.01, 0.5, 0.1, 0.5, 5.0, 1.0]
+# the settings in C struct order; the fuzzer edits the first FIELDS (baroTimeout and deadReckoningHorizon, added
+# after the findings, keep their defaults there)
+DEFAULTS = [3e-4, 1e-5, 0.05, 0.05, 2.0, 0.17, 5.0, 0.3, 0.05, 0.5, 1.0, 0.01, 0.05, 5.0, 2.0, 2.0, 0.05, 0.01, 0.5, 0.1, 0.5, 5.0, 1.0,
+            1.5, 5.0]
 
 
 def _scaled(raw: int, limit: float) -> np.float32:
@@ -122,7 +125,7 @@ def header(calls, name: str, table: str = "insFinding") -> str:
 
 
 def run_in_effect(calls):
-    """The settings in effect after the last accepted initialisation (its 23 float32
+    """The settings in effect after the last accepted initialisation (its 25 float32
     values) and the update calls that follow it; raises if a settings call after it
     is accepted (the run would change settings mid-way)."""
     starts = [k for k, call in enumerate(calls) if call[0] == "initialise" and settings_valid(call[1])]

@@ -58,12 +58,13 @@ STATE_FIELDS = (tuple(f"settings.{name}" for name in C_SETTINGS)
                 + tuple(f"P[{i}][{j}]" for i in range(N) for j in range(i, N))
                 + ("accelZBias", "baroBias", "yawCos", "yawSin", "stationaryTime", "rejectionTime", "baroElapsed",
                    "magElapsed", "stationaryHalfTime", "stationaryBaroSum", "stationaryBaroCount",
-                   "stationaryBaroPrevious", "baroRejectingFor", "gapCount", "baroRejections", "baroResets", "aligned",
+                   "stationaryBaroPrevious", "baroRejectingFor", "gapCount", "baroRejections", "baroResets",
+                   "baroTimeouts", "aligned",
                    "baroInitialised", "magInitialised", "stationary", "stationaryHalfDone", "stationaryHasPrevious",
                    "stationaryBaroStill", "accelRejected", "baroRejecting")
                 + ("localToGlobal.w", "localToGlobal.x", "localToGlobal.y", "localToGlobal.z",
                    "globalQuaternion.w", "globalQuaternion.x", "globalQuaternion.y", "globalQuaternion.z"))
-INTEGER_FIELDS = ("gapCount", "baroRejections", "baroResets", "aligned", "baroInitialised", "magInitialised",
+INTEGER_FIELDS = ("gapCount", "baroRejections", "baroResets", "baroTimeouts", "aligned", "baroInitialised", "magInitialised",
                   "stationary", "stationaryHalfDone", "stationaryHasPrevious", "stationaryBaroStill", "accelRejected",
                   "baroRejecting")
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS if name not in INTEGER_FIELDS)
@@ -102,7 +103,7 @@ class Recorder(vc.Recorder):
                                              e.rejection_time, e.baro_elapsed, e.mag_elapsed,
                                              e.stationary_half_time, e.stationary_baro_sum, e.stationary_baro_count,
                                              e.stationary_baro_previous, e.baro_rejecting_for))
-        words += tuple(x & 0xFFFFFFFF for x in (e.gap_count_, e.baro_rejections_, e.baro_resets_))
+        words += tuple(x & 0xFFFFFFFF for x in (e.gap_count_, e.baro_rejections_, e.baro_resets_, e.baro_timeouts_))
         words += tuple(int(x) for x in (e.aligned, e.baro_initialised, e.mag_initialised, e.stationary,
                                         e.stationary_half_done, e.stationary_has_previous, e.stationary_baro_still,
                                         e.accel_rejected, e.baro_rejecting))
@@ -158,6 +159,10 @@ class Recorder(vc.Recorder):
             self.count("still, baro vetoes stationary")
         if not np.isnan(b):
             self.count("baro " + ("bias learning" if e.stationary else "fused"))
+        if e._baro_silent_for(e.settings.f32("dead_reckoning_horizon")):
+            self.count("height held")
+        elif e._baro_silent_for(e.settings.f32("baro_timeout")):
+            self.count("baro timed out")
         if not np.isnan(m).all():
             self.count("mag " + ("initialised" if (e.mag_initialised and not mag_initialised) else "filtered"))
 
@@ -190,6 +195,7 @@ def build() -> Recorder:
     _accel_rejection_and_gaps(r)
     _stationary_baro(r)
     _baro_gate(r)
+    _baro_timeout(r)
     _magnetometer(r)
     _settings_changes(r, rng)
     _random_steps(r, rng)
@@ -313,6 +319,20 @@ def _baro_gate(r: Recorder) -> None:
     r.update((0.002, 0.0, 0.0), LEVEL, 0.5, 100.0)  # ... ended by a gap: d decorrelated, the reading sets it
     for k in range(10):
         r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 2 == 0 else NAN)
+
+
+def _baro_timeout(r: Recorder) -> None:
+    """The baro stops: not baro-aided after baroTimeout, dead reckoning stopped after the horizon, then back."""
+    r.section("baro timeout 0.2 s, dead-reckoning horizon 0.5 s (never stationary): 25 Hz baro, 1 s of silence "
+              "with a 0.3 m/s^2 accel error (timed out, then v decays, d held), the baro back")
+    r.initialise_with(baro_timeout=0.2, dead_reckoning_horizon=0.5, stationary_gyro_threshold=0.0)
+    r.update((0.0, 0.0, 0.0), LEVEL, 0.01)
+    for k in range(40):
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 4 == 0 else NAN)
+    for _ in range(100):
+        r.update((0.002, 0.0, 0.0), (0.0, 0.0, LEVEL[2] + 0.3), 0.01)
+    for k in range(20):
+        r.update((0.002, 0.0, 0.0), LEVEL, 0.01, 100.0 if k % 4 == 0 else NAN)
 
 
 def _magnetometer(r: Recorder) -> None:

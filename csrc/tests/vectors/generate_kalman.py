@@ -52,8 +52,8 @@ OP = {name: index for index, name in enumerate(OPS)}
 NULL_SETTINGS = 0xFFFFFFFF
 QUIET_NAN_BITS = 0x7FC00000
 
-SENSOR_FIELDS = ("innovation", "innovationVariance", "nis", "rejectingFor", "rejections", "resets", "result",
-                 "rejecting")
+SENSOR_FIELDS = ("innovation", "innovationVariance", "nis", "rejectingFor", "sinceSample", "rejections", "resets",
+                 "timeouts", "result", "rejecting", "sampled", "timedOut")
 STATE_FIELDS = ([f"settings.{name}" for name, *_ in KALMAN_SETTINGS] + [f"x[{i}]" for i in range(5)]
                 + [f"P[{i}][{j}]" for i in range(5) for j in range(i, 5)] + ["altitude", "altitudeVariance"]
                 + [f"{sensor}.{field}" for sensor in ("baro", "range", "gps") for field in SENSOR_FIELDS]
@@ -98,7 +98,8 @@ def state_words(e: _kalman.KalmanEstimator) -> Tuple[int, ...]:
     words += [bits(e._x[0] + e._x[2]), bits(P[0][0] + f32(2) * P[0][2] + P[2][2])]
     for s in e._sensors:
         words += [bits(s.innovation), bits(s.innovation_variance), bits(s.nis), bits(s.rejecting_for),
-                  s.rejections & 0xFFFFFFFF, s.resets & 0xFFFFFFFF, int(s.result), int(bool(s.rejecting))]
+                  bits(s.since_sample), s.rejections & 0xFFFFFFFF, s.resets & 0xFFFFFFFF, s.timeouts & 0xFFFFFFFF,
+                  int(s.result), int(bool(s.rejecting)), int(bool(s.sampled)), int(bool(s.timed_out))]
     words += [int(e._baro_initialised), int(e._gps_initialised), e._gap_count & 0xFFFFFFFF, bits(e._since_fused)]
     assert len(words) == len(STATE_FIELDS)
     return tuple(words)

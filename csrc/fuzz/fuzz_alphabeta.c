@@ -1,0 +1,335 @@
+/**
+ * @file fuzz_alphabeta.c
+ * @brief libFuzzer target for fusion_altitude_alphabeta.h, built with clang
+ * under AddressSanitizer + UndefinedBehaviorSanitizer (csrc/firmware/Makefile,
+ * FUZZERS; seeds in csrc/fuzz/corpus_alphabeta/, written by
+ * make_seeds_alphabeta.py).
+ *
+ * The input is a loop period followed by a sequence of calls; floats are raw
+ * bytes (any bit pattern: NaNs, infinities, subnormals, huge values):
+ *   bytes 0-3   loop dt (float, s)
+ *   then, per call, one opcode byte and its arguments:
+ *   opcode & 7:
+ *   0 initialise (defaults)
+ *   1 initialise with the working settings
+ *   2 set settings (the working settings)
+ *   3 edit the working settings: sensor byte (mod 6: imu, baro, lidar,
+ *     sonar, GPS, or 5 for the gap period), field byte (mod 8: threshold,
+ *     qualityMin, qualityMax, confidence, altitudeMin, altitudeMax, gapMax,
+ *     timeout), 4 raw bytes (float bits; int32 for the qualities)
+ *   4 update with every argument from the input: accel, dt, baro, lidar,
+ *     sonar, GPS (floats)
+ *   5 update at a step from a step byte (StepFromByte: 0.1 ms to 10 s, 16
+ *     base steps times a jitter of up to 15/32; telemetry mixes of 0.1-4 s are
+ *     sequences of them): step byte, accel, a presence byte (bit 0 accel,
+ *     1 baro, 2 lidar, 3 sonar, 4 GPS; absent: NaN), then the floats present
+ *   6 update at the loop dt: accel, presence byte, the floats present
+ *   7 initialise with the defaults, and reset the working settings to them
+ *
+ * Asserted after every call (abort, so libFuzzer reports a crash):
+ *   - a rejected call leaves the fusion bit-identical (memcmp, padding
+ *     included);
+ *   - InitialiseWith and SetSettings return what SettingsCheck returns on
+ *     the same settings; an update returns the status that an independent
+ *     classification of its inputs predicts (ExpectedStatus);
+ *   - every weight is finite and >= 0, and 0 for a filter not started;
+ *   - while the run is sane (below): the fused altitude and velocity and
+ *     every started filter's altitude and velocity are finite and within
+ *     MAX_STATE (1e9 m, m/s).
+ *
+ * A run is sane while every accepted input and the settings in use are
+ * physically plausible:
+ *   - every update at the loop dt (1e-3 s <= dt <= 0.1 s) or at a step from
+ *     a step byte (1e-4 s <= dt <= 10 s), at most MAX_STEPS (20000) updates
+ *     since the fusion was initialised;
+ *   - |accel| <= 1e3 m/s^2 (or NaN), every sample within 1e5 m (or NaN);
+ *   - settings: thresholds in [1e-3, 1e3] m, confidences <= 1e3, altitude
+ *     bands and gap maxima any, timeouts and the gap period <= 1e3 s.
+ * The bound: a started filter's altitude is its last sample plus v * T (T up
+ * to a timeout, 1e3 s) and its velocity a sum of beta * r / T terms that the
+ * interval rule keeps from compounding (FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO);
+ * dead reckoning lasts at most a gap period (0.5 * 1e3 m/s^2 * (1e3 s)^2 =
+ * 5e8 m). 1e9 m is the round bound above both.
+ */
+
+#include "fusion_altitude_alphabeta.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MIN_DT (1e-3f)       /* s, loop dt */
+#define MAX_DT (0.1f)        /* s, loop dt */
+#define MIN_STEP (1e-4f)     /* s, step fuzzing */
+#define MAX_STEP (10.0f)     /* s, step fuzzing */
+#define MAX_STEPS (20000)    /* updates since initialisation */
+#define MAX_ACCEL (1e3f)     /* m/s^2 */
+#define MAX_ALTITUDE (1e5f)  /* m */
+#define MAX_STATE (1e9f)     /* m, m/s: the bound of a sane run (file comment) */
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#define CHECK(condition)                                                                \
+    do {                                                                                \
+        if (!(condition)) {                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
+            abort();                                                                    \
+        }                                                                               \
+    } while (0)
+
+typedef struct {
+    const uint8_t *data;
+    size_t size;
+} Reader;
+
+static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
+    if (reader->size < size) {
+        return false;
+    }
+    memcpy(value, reader->data, size);
+    reader->data += size;
+    reader->size -= size;
+    return true;
+}
+
+static bool ReadFloat(Reader *const reader, float *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static bool ReadByte(Reader *const reader, uint8_t *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static bool Within(const float value, const float minimum, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
+}
+
+static bool IsInfinite(const float value) {
+    return !FusionAltitudeIsFinite(value) && !FusionAltitudeIsNaN(value);
+}
+
+static bool SampleSane(const float value, const float limit) {
+    return FusionAltitudeIsNaN(value) || Within(value, -limit, limit);
+}
+
+/* A step from a step byte: 16 base steps from 0.1 ms to 10 s (s), times 1 + (byte >> 4) / 32, at most MAX_STEP. */
+static float StepFromByte(const uint8_t byte) {
+    static const float steps[16] = {1e-4f, 5e-4f, 1e-3f, 2e-3f, 5e-3f, 0.01f, 0.02f, 0.05f,
+                                    0.1f,  0.25f, 0.5f,  1.0f,  2.0f,  4.0f,  7.0f,  10.0f};
+    const float dt = steps[byte & 15u] * (1.0f + (float) (byte >> 4) / 32.0f);
+    return (dt < MAX_STEP) ? dt : MAX_STEP;
+}
+
+/* The settings a physically plausible system would have (see the file comment). */
+static bool SaneSettings(const FusionAltitudeAlphaBetaSettings *const s) {
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        const FusionAltitudeAlphaBetaSensorSettings *const sensor = &s->sensors[i];
+        if (!Within(sensor->threshold, 1e-3f, 1e3f) || !Within(sensor->confidence, 0.0f, 1e3f) ||
+            !Within(sensor->timeout, 0.0f, 1e3f)) {
+            return false;
+        }
+    }
+    return Within(s->gapPeriod, 0.0f, 1e3f);
+}
+
+/* The status FusionAltitudeAlphaBetaUpdate must return, classified independently of the header's code. */
+static FusionAltitudeAlphaBetaStatus ExpectedStatus(const float accel, const float dt, const FusionAltitudeAlphaBetaMeasurements *const m) {
+    if (IsInfinite(accel)) {
+        return FusionAltitudeAlphaBetaStatusInvalidAccel;
+    }
+    if (!FusionAltitudeIsFinite(dt) || (dt <= 0.0f)) {
+        return FusionAltitudeAlphaBetaStatusInvalidDt;
+    }
+    if (IsInfinite(m->baroAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidBaroAltitude;
+    }
+    if (IsInfinite(m->lidarAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidLidarAltitude;
+    }
+    if (IsInfinite(m->sonarAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidSonarAltitude;
+    }
+    if (IsInfinite(m->gpsAltitude)) {
+        return FusionAltitudeAlphaBetaStatusInvalidGpsAltitude;
+    }
+    return FusionAltitudeAlphaBetaStatusOk;
+}
+
+static void CheckState(const FusionAltitudeAlphaBeta *const fusion, const bool sane) {
+    for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
+        const FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
+        CHECK(FusionAltitudeIsFinite(f->weight) && (f->weight >= 0.0f));
+        CHECK(f->started || (f->weight == 0.0f));
+        if (sane && f->started) {
+            CHECK(Within(f->altitude, -MAX_STATE, MAX_STATE) && Within(f->velocity, -MAX_STATE, MAX_STATE));
+        }
+    }
+    if (sane) {
+        CHECK(Within(FusionAltitudeAlphaBetaGetAltitude(fusion), -MAX_STATE, MAX_STATE));
+        CHECK(Within(FusionAltitudeAlphaBetaGetVerticalVelocity(fusion), -MAX_STATE, MAX_STATE));
+    }
+}
+
+static void EditSettings(FusionAltitudeAlphaBetaSettings *const s, const uint8_t sensorByte, const uint8_t fieldByte,
+                         const uint32_t bits) {
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    const int sensor = sensorByte % (FUSION_ALTITUDE_ALPHABETA_SENSORS + 1);
+    if (sensor == FUSION_ALTITUDE_ALPHABETA_SENSORS) {
+        s->gapPeriod = value;
+        return;
+    }
+    FusionAltitudeAlphaBetaSensorSettings *const t = &s->sensors[sensor];
+    switch (fieldByte % 8) {
+        case 0:
+            t->threshold = value;
+            break;
+        case 1:
+            t->qualityMin = (int32_t) bits;
+            break;
+        case 2:
+            t->qualityMax = (int32_t) bits;
+            break;
+        case 3:
+            t->confidence = value;
+            break;
+        case 4:
+            t->altitudeMin = value;
+            break;
+        case 5:
+            t->altitudeMax = value;
+            break;
+        case 6:
+            t->gapMax = value;
+            break;
+        default:
+            t->timeout = value;
+            break;
+    }
+}
+
+/* Reads a presence byte and the samples it flags (absent: NaN). */
+static bool ReadPresent(Reader *const reader, float *const accel, FusionAltitudeAlphaBetaMeasurements *const m) {
+    uint8_t presence;
+    if (!ReadByte(reader, &presence)) {
+        return false;
+    }
+    float *const fields[5] = {accel, &m->baroAltitude, &m->lidarAltitude, &m->sonarAltitude, &m->gpsAltitude};
+    for (int i = 0; i < 5; i++) {
+        *fields[i] = FusionAltitudeNaN();
+        if (((presence >> i) & 1u) != 0u) {
+            if (!ReadFloat(reader, fields[i])) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    float loopDt;
+    if (!ReadFloat(&reader, &loopDt)) {
+        return 0;
+    }
+    const bool loopDtSane = Within(loopDt, MIN_DT, MAX_DT);
+    static FusionAltitudeAlphaBeta fusion;
+    memset(&fusion, 0, sizeof(fusion)); /* defined padding bytes for memcmp */
+    FusionAltitudeAlphaBetaInitialise(&fusion);
+    FusionAltitudeAlphaBetaSettings working;
+    memset(&working, 0, sizeof(working));
+    working = FusionAltitudeAlphaBetaSettingsDefault();
+    bool sane = true;
+    int steps = 0;
+    uint8_t opcode;
+    while (ReadByte(&reader, &opcode)) {
+        static FusionAltitudeAlphaBeta before;
+        memcpy(&before, &fusion, sizeof(before));
+        FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaStatusOk;
+        FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
+        float accel = FusionAltitudeNaN();
+        float dt = loopDt;
+        bool stepped = false;
+        bool update = false;
+        uint8_t a = 0;
+        uint8_t b = 0;
+        switch (opcode & 7u) {
+            case 0:
+                FusionAltitudeAlphaBetaInitialise(&fusion);
+                sane = SaneSettings(&fusion.settings);
+                steps = 0;
+                break;
+            case 1:
+                status = FusionAltitudeAlphaBetaInitialiseWith(&fusion, &working);
+                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
+                if (status == FusionAltitudeAlphaBetaStatusOk) {
+                    sane = SaneSettings(&working);
+                    steps = 0;
+                }
+                break;
+            case 2:
+                status = FusionAltitudeAlphaBetaSetSettings(&fusion, &working);
+                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
+                if (status == FusionAltitudeAlphaBetaStatusOk) {
+                    sane = sane && SaneSettings(&working);
+                }
+                break;
+            case 3: {
+                uint32_t bits;
+                if (!ReadByte(&reader, &a) || !ReadByte(&reader, &b) || !ReadBytes(&reader, &bits, sizeof(bits))) {
+                    return 0;
+                }
+                EditSettings(&working, a, b, bits);
+                break;
+            }
+            case 4:
+                if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &dt) || !ReadFloat(&reader, &m.baroAltitude) ||
+                    !ReadFloat(&reader, &m.lidarAltitude) || !ReadFloat(&reader, &m.sonarAltitude) ||
+                    !ReadFloat(&reader, &m.gpsAltitude)) {
+                    return 0;
+                }
+                update = true;
+                break;
+            case 5:
+                if (!ReadByte(&reader, &a) || !ReadPresent(&reader, &accel, &m)) {
+                    return 0;
+                }
+                dt = StepFromByte(a);
+                stepped = true;
+                update = true;
+                break;
+            case 6:
+                if (!ReadPresent(&reader, &accel, &m)) {
+                    return 0;
+                }
+                update = true;
+                break;
+            default:
+                FusionAltitudeAlphaBetaInitialise(&fusion);
+                working = FusionAltitudeAlphaBetaSettingsDefault();
+                sane = true;
+                steps = 0;
+                break;
+        }
+        if (update) {
+            status = FusionAltitudeAlphaBetaUpdate(&fusion, accel, dt, &m);
+            CHECK(status == ExpectedStatus(accel, dt, &m));
+            if (status == FusionAltitudeAlphaBetaStatusOk) {
+                steps++;
+                const bool stepSane = stepped ? Within(dt, MIN_STEP, MAX_STEP)
+                                              : (loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(loopDt)));
+                sane = sane && stepSane && (steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
+                       SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&
+                       SampleSane(m.sonarAltitude, MAX_ALTITUDE) && SampleSane(m.gpsAltitude, MAX_ALTITUDE);
+            }
+        }
+        if (status != FusionAltitudeAlphaBetaStatusOk) {
+            CHECK(memcmp(&before, &fusion, sizeof(before)) == 0);
+        }
+        (void) FusionAltitudeAlphaBetaStatusMessage(status);
+        CheckState(&fusion, sane);
+    }
+    return 0;
+}

@@ -336,15 +336,21 @@ static inline bool FusionAltitudeIsDiscreteStable(const float kh, const float kv
  * margin, T = FUSION_ALTITUDE_STABILITY_MARGIN * dt and
  * TD = FUSION_ALTITUDE_STABILITY_MARGIN * D, p = Kh*T, q = Kv*T*TD,
  * s = Kb*T*TD^2 must pass
- *   Kb > 0:  p < 2,  8 - 4p - 2q + s > 0,  p(p + q - 2) - s <= p(2 - p)
- *            and  s <= p*q
+ *   Kb > 0:  p < 2,  8 - 4p - 2q + s > 0  and  p(p + q - 2) - s <= p(2 - p)
  *   Kb = 0, Kv > 0:  p < 2  and  q < 4 - 2p
  *   Kv = Kb = 0:  p < 2
- * These are Jury's conditions (the last, p(2 - p) > s - p(p + q - 2), is
- * p*q > s: Kh*Kv*dt > Kb*D, Routh-Hurwitz when D = dt; it fails when a short
- * correction ends a long interval of dead reckoning) with the equality cases
- * counted as stable and the positivity ones (s > 0, p > 0, q > 0) left out,
- * so that float32 underflow at a tiny dt never makes a gap. With a baro sample every step the limit is where
+ * These are the conditions of Jury's test that bound the step from above
+ * (the first two: an eigenvalue leaves the unit circle at z = -1, the
+ * oscillating divergence the telemetry log showed), with equality counted as
+ * stable. Left out: the positivity ones (s > 0, p > 0, q > 0), which hold for
+ * every step and fail only by float32 underflow at a tiny dt, and
+ * p(2 - p) > s - p(p + q - 2), which is p*q > s: Kh*Kv*dt > Kb*D, Routh-Hurwitz
+ * when D = dt. It fails when gains not scaled to a sparse baro (a baro sample
+ * on fewer than one step in Kh*Kv/Kb, about 10 for the presets) correct
+ * rarely: a slow divergence (|z| = 1.03 per baro interval for the default
+ * gains with a baro every 50th step) that a restart at every baro sample
+ * would not help; scale the gains to the baro rate instead
+ * (tuning.settings_for_baro_rate, which run and fit do). With a baro sample every step the limit is where
  * 8 - 4p - 2q + s = 0 (an eigenvalue at z = -1): default gains dt < 0.413 s
  * (Jury's limit 0.620 s), racing 0.124 s, fixed wing 1.24 s, balloon 3.10 s,
  * rocket 0.694 s. With gains scaled to the baro rate (Kh*N etc. for a baro
@@ -362,7 +368,7 @@ static inline bool FusionAltitudeIsStepStable(const FusionAltitudeSettings *cons
         return false;
     }
     if (settings->biasGain > 0.0f) {
-        return ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && !((p * (p + q - 2.0f) - s) > (p * (2.0f - p))) && !(s > p * q);
+        return ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && !((p * (p + q - 2.0f) - s) > (p * (2.0f - p)));
     }
     if (settings->velocityGain > 0.0f) {
         return q < 4.0f - 2.0f * p;

@@ -34,6 +34,9 @@ GAP_PERIODS = 10.0
 #: The observer's default gap period, s (C FUSION_ALTITUDE_DEFAULT_GAP_PERIOD).
 DEFAULT_GAP_PERIOD = 0.5
 
+#: The observer's default baro timeout, s (C FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT).
+DEFAULT_BARO_TIMEOUT = 2.0
+
 
 def nominal_dt(dt) -> float:
     """The nominal sample period of per-sample periods ``dt`` (s): the median of the finite positive ones
@@ -114,7 +117,7 @@ def _all_gains_valid(gains: np.ndarray) -> bool:
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
           threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None,
-          gap_period: Optional[float] = None) -> SweepResult:
+          gap_period: Optional[float] = None, baro_timeout: float = DEFAULT_BARO_TIMEOUT) -> SweepResult:
     """Run K observer settings over one input stream.
 
     Parameters
@@ -145,12 +148,21 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         s, shared by every setting: a step whose dt exceeds it is a gap (as
         ``AltitudeSettings.gap_period``); default :func:`gap_period_for` of
         ``dt`` (0.5 s, or ten nominal periods on a log slower than 20 Hz).
+    baro_timeout : float, default 2.0
+        s, shared by every setting: with no baro sample for longer than this
+        the observers stop dead-reckoning (as ``AltitudeSettings.baro_timeout``).
 
     Returns
     -------
     SweepResult
         Per-setting error statistics (mean, RMS, max |error|) of altitude −
         reference after each sample, and the outputs when asked.
+
+    Notes
+    -----
+    The settings share one timeline: a baro step that the stability rule
+    (``FusionAltitudeIsStepStable``) makes a gap for any setting is a gap for
+    all of them, so column k equals its own observer except at such steps.
 
     Raises
     ------
@@ -172,6 +184,8 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     gap_period = gap_period_for(dt32 if dt_is_array else dt32[:1]) if gap_period is None else float(gap_period)
     if not gap_period > 0:
         raise ValueError(f"gap_period must be > 0 (s; +inf: never a gap), got {gap_period!r}")
+    if not float(baro_timeout) > 0:
+        raise ValueError(f"baro_timeout must be > 0 (s; +inf: never times out), got {baro_timeout!r}")
     gains_by_row = np.ascontiguousarray(gains.T)
     state = np.empty((4, count), np.float32)
     output_arrays = _observer_glue.output_arrays((n, count), out) if outputs else None
@@ -185,7 +199,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
 
     def run(part: int) -> Tuple[int, int, int]:
         return _sweep.run(accel32, baro32, dt32, dt_is_array, gains_by_row, int(bounds[part]), int(bounds[part + 1]),
-                          state, output_arrays, metric_arrays, reference32, mask8, gap_period)
+                          state, output_arrays, metric_arrays, reference32, mask8, gap_period, float(baro_timeout))
 
     if threads == 1:
         results = [run(0)]

@@ -384,7 +384,9 @@ static void StepStabilityLimitIsJurysAtOnePointFiveTimesTheStep(void) {
     CHECK(FusionAltitudeIsStepStable(&settings, 0.41f, 0.41f));
     CHECK(!FusionAltitudeIsStepStable(&settings, 0.42f, 0.42f));
     CHECK(FusionAltitudeIsStepStable(&settings, 1.0e-45f, 1.0e-45f)); /* underflow at a tiny dt is no gap */
-    CHECK(!FusionAltitudeIsStepStable(&settings, 0.01f, 1.0f)); /* a 0.01 s correction after 1 s of dead reckoning */
+    CHECK(FusionAltitudeSettingsFromPreset(&settings, FusionAltitudePresetRacing) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsStepStable(&settings, 0.1f, 0.1f));
+    CHECK(!FusionAltitudeIsStepStable(&settings, 0.1f, 1.0f)); /* a 0.1 s correction after 0.9 s of dead reckoning */
     CHECK(FusionAltitudeSettingsFromPreset(&settings, FusionAltitudePresetBalloon) == FusionAltitudeStatusOk);
     CHECK(FusionAltitudeIsStepStable(&settings, 3.0f, 3.0f) && !FusionAltitudeIsStepStable(&settings, 3.2f, 3.2f));
 }

@@ -99,7 +99,7 @@ def step_stable(kh: np.float32, kv: np.float32, kb: np.float32, dt: np.float32, 
     """FusionAltitudeIsStepStable: the gap rule's stability limit for a baro step of dt s ending a baro interval of
     ``interval`` s: the conditions of Jury's test that bound the step from above, with T = STABILITY_MARGIN·dt,
     TD = STABILITY_MARGIN·interval, p = Kh·T, q = Kv·T·TD, s = Kb·T·TD²: p < 2, 8 − 4p − 2q + s > 0,
-    p(p+q−2) − s <= p(2−p) and s <= p·q (Kb > 0); p < 2 and q < 4 − 2p (Kb = 0 < Kv); p < 2 (Kv = Kb = 0)."""
+    p(p+q−2) − s <= p(2−p) (Kb > 0); p < 2 and q < 4 − 2p (Kb = 0 < Kv); p < 2 (Kv = Kb = 0)."""
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         t = STABILITY_MARGIN * dt
         t_interval = STABILITY_MARGIN * interval
@@ -109,8 +109,7 @@ def step_stable(kh: np.float32, kv: np.float32, kb: np.float32, dt: np.float32, 
         if not (_is_finite(p) and _is_finite(q) and _is_finite(s)) or not p < 2:
             return False
         if kb > 0:
-            return bool((f32(8) - f32(4) * p - f32(2) * q + s) > 0 and not (p * (p + q - f32(2)) - s) > p * (f32(2) - p)
-                        and not s > p * q)
+            return bool((f32(8) - f32(4) * p - f32(2) * q + s) > 0 and not (p * (p + q - f32(2)) - s) > p * (f32(2) - p))
         if kv > 0:
             return bool(q < f32(4) - f32(2) * p)
         return True

@@ -186,6 +186,7 @@ class ComplementaryStatus(enum.IntEnum):
     INVALID_TIME_CONSTANT = 4  #: a time constant not finite or < 0
     INVALID_COEFFICIENT = 5  #: a per-sample coefficient not finite or outside [0, 1]
     INVALID_GAP_PERIOD = 6  #: gap period NaN or <= 0 (+infinity: never a gap)
+    INVALID_BARO_TIMEOUT = 7  #: baro timeout NaN or <= 0 (+infinity: never times out)
 
 
 #: ``FusionAltitudeComplementaryStatusMessage`` of each status, read from C.
@@ -197,6 +198,7 @@ COMPLEMENTARY_STATUS_MESSAGES = (
     'time constants must be finite and >= 0',
     'per-sample coefficients must be finite and in [0, 1]',
     'gap period must be > 0 (+infinity: never a gap)',
+    'baro timeout must be > 0 (+infinity: never times out)',
 )
 
 
@@ -212,6 +214,7 @@ COMPLEMENTARY_SETTINGS = (
     ('velocity_time_constant', 'velocityTimeConstant', 'f', 9.99, 'TV, s, >= 0: cV = TV/(TV + D) (used otherwise)'),
     ('altitude_time_constant', 'altitudeTimeConstant', 'f', 4.99, 'TH, s, >= 0: cH = TH/(TH + D) (used otherwise)'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default 0.5 s)'),
+    ('baro_timeout', 'baroTimeout', 'f', 2.0, 's: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never)'),
 )
 
 

@@ -610,19 +610,24 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
 
 /**
  * @brief Internal: the timing part of FusionAltitudeUpdate (inputs checked),
- * before the state update. A gap (dt > gapPeriod, or unstable: a baro step
- * the gains cannot integrate stably) releases the reference; a pending
- * restart adds dt to gapTime; after a restart dt is added to sinceRestart.
+ * before the state update. A gap (dt > gapPeriod) releases the reference; a
+ * stability gap (unstable: a baro step the gains cannot integrate stably) is
+ * counted and starts the bias hold (FusionAltitudeUpdate restarts h at this
+ * step's sample); a pending restart adds dt to gapTime; after a restart dt is
+ * added to sinceRestart.
  * Then the baro timeout: a baro sample sets sinceBaro = 0; once the reference
  * was set (or a restart is pending), a step without one adds dt to it, and
  * going above baroTimeout counts a timeout and sets baroTimedOut.
  */
 static inline void FusionAltitudeTiming(FusionAltitude *const altitude, const float dt, const bool baroSample, const bool unstable) {
     FUSION_ALTITUDE_NO_CONTRACT
-    if (altitude->referenceSet && ((dt > altitude->settings.gapPeriod) || unstable)) { /* a gap: restart from the next baro sample */
+    if (altitude->referenceSet && (dt > altitude->settings.gapPeriod)) { /* a gap: restart from the next baro sample */
         altitude->gapCount++;
         altitude->referenceSet = false;
-        altitude->gapTime = (dt > altitude->settings.gapPeriod) ? dt : (altitude->sinceBaro + dt);
+        altitude->gapTime = dt;
+    } else if (altitude->referenceSet && unstable) { /* a stability gap: restart at this step's baro sample */
+        altitude->gapCount++;
+        altitude->sinceRestart = 0.0f;
     } else if (!altitude->referenceSet && (altitude->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
         altitude->gapTime += dt;
     } else if (altitude->referenceSet && (altitude->sinceRestart >= 0.0f)) { /* time since the restart */
@@ -667,13 +672,15 @@ static inline void FusionAltitudeTiming(FusionAltitude *const altitude, const fl
  * accel sample says nothing about the motion over a gap, and a correction the
  * gains cannot integrate stably grows the error at every such step (a
  * telemetry log of 0.5-1 s steps ran the default gains to infinity). The gap
- * count goes up and the reference is released (FusionAltitudeIsReferenceSet
- * is false): the bias b is held, h and v are frozen, and the next baro
- * sample, this step's if it has one, restarts h = z and v = (z - h_before)/T,
- * the mean velocity over the T s since h_before was last updated (the gap and
- * any steps without baro after it; for a gap by the stability rule T starts
- * at D, so a short step after dead-reckoned ones divides by the baro interval,
- * not by its own dt), with residual 0. The mean velocity is used rather than the
+ * count goes up. A gap by the stability rule restarts at once: h = z, v
+ * kept (the step is short, the velocity before it still good; a mean
+ * velocity over one short step would be baro noise divided by dt), residual
+ * 0, and the bias hold below starts. A gap by dt > gapPeriod releases the
+ * reference (FusionAltitudeIsReferenceSet is false): the bias b is held, h
+ * and v are frozen, and the next baro sample, this step's if it has one,
+ * restarts h = z and v = (z - h_before)/T, the mean velocity over the T s
+ * since h_before was last updated (the gap and any steps without baro after
+ * it), with residual 0. The mean velocity is used rather than the
  * held or a zero velocity because it is the only one the data support after
  * a gap in motion, and the velocity loop removes its error (at most the
  * velocity change over half the gap) within a few 1/omega. Meanwhile the
@@ -727,6 +734,11 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     }
     if (!altitude->referenceSet) {
         FusionAltitudeRestart(altitude, baroAltitude);
+        return FusionAltitudeStatusOk;
+    }
+    if (unstable) { /* a stability gap: restart at this sample, v kept (the bias hold started in the timing) */
+        altitude->altitude = baroAltitude;
+        altitude->baroResidual = 0.0f;
         return FusionAltitudeStatusOk;
     }
     if (altitude->baroTimedOut) { /* the first baro sample after a timeout: restart at it, v kept */

@@ -279,10 +279,13 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStore(FusionAltitudeSweep *
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepShared *const shared, const float step, const bool baroSample,
                                                             const bool unstable, const float gapPeriod, const float baroTimeout) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
-    if (shared->referenceSet && ((step > gapPeriod) || unstable)) {
+    if (shared->referenceSet && (step > gapPeriod)) {
         shared->gapCount++;
         shared->referenceSet = false;
-        shared->gapTime = (step > gapPeriod) ? step : (shared->sinceBaro + step);
+        shared->gapTime = step;
+    } else if (shared->referenceSet && unstable) { /* a stability gap: the lanes restart at this step's sample */
+        shared->gapCount++;
+        shared->sinceRestart = 0.0f;
     } else if (!shared->referenceSet && (shared->gapTime > 0.0f)) {
         shared->gapTime += step;
     } else if (shared->referenceSet && (shared->sinceRestart >= 0.0f)) {
@@ -396,6 +399,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
                                                           const float gapPeriod, const float baroTimeout, const size_t lanes) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     const bool baroSample = !FusionAltitudeIsNaN(z);
+    const bool stabilityGap = unstable && shared->referenceSet && !(step > gapPeriod);
     FusionAltitudeSweepTiming(shared, step, baroSample, unstable, gapPeriod, baroTimeout);
     if (!baroSample) {
         if (shared->referenceSet) {
@@ -418,6 +422,11 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         }
     } else if (!shared->referenceSet) {
         FusionAltitudeSweepRestart(x, shared, z, lanes);
+    } else if (stabilityGap) {
+        for (size_t j = 0; j < lanes; j++) {
+            x->h[j] = z;
+            x->r[j] = 0.0f;
+        }
     } else if (shared->baroTimedOut) {
         for (size_t j = 0; j < lanes; j++) {
             x->h[j] = z;
@@ -531,6 +540,7 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
         const float step = dt[t * dtStride];
         const float z = baroAltitude[t];
         const bool baroSample = !FusionAltitudeIsNaN(z);
+        const bool stabilityGap = (unstable[t] != 0u) && shared->referenceSet && !(step > sweep->gapPeriod);
         FusionAltitudeSweepTiming(shared, step, baroSample, unstable[t] != 0u, sweep->gapPeriod, sweep->baroTimeout);
         const V steps = {step, step, step, step, step, step, step, step};
         const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};
@@ -563,6 +573,9 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
             shared->gapTime = 0.0f;
             shared->referenceSet = true;
             shared->baroTimedOut = false;
+        } else if (stabilityGap) {
+            h = zs;
+            r = zeros;
         } else if (shared->baroTimedOut) {
             h = zs;
             r = zeros;

@@ -258,14 +258,19 @@ def _stable_candidates(candidates: Sequence[Tuple[float, float, float]], dt_chec
 
 
 def _stable_at(settings: AltitudeSettings, dt_check: float) -> bool:
+    """Jury's test at ``dt_check`` (s) and the core's stability rule there (``FusionAltitudeIsStepStable``: Jury
+    with the 1.5 margin): gains past the rule would make every baro step a gap, in a sweep for every setting."""
     import warnings
+
+    from .reference.observer import step_stable
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
             settings.validate(dt_check)
         except ValueError:
             return False
-    return True
+    dt32 = np.float32(dt_check)
+    return step_stable(*(np.float32(g) for g in settings.as_tuple()), dt32, dt32)
 
 
 def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float, float] = (0.05, 20.0),
@@ -520,13 +525,28 @@ def _sample_periods(time: np.ndarray) -> np.ndarray:
 
 
 def steps_per_baro(baro_altitude) -> float:
-    """Grid steps per baro sample (≥ 1): samples / finite baro samples; 1 when there is no baro sample.
+    """Grid steps per baro sample (≥ 1) where the baro is present: the median number of steps from one baro
+    sample to the next; 1 when there are fewer than two baro samples.
 
-    The one figure ``run``, ``fit`` and ``compare`` pass to :func:`settings_for_baro_rate`.
+    The one figure ``run``, ``fit`` and ``compare`` pass to :func:`settings_for_baro_rate`. The median of the
+    intervals, not samples / baro samples: on a log whose baro stream stops early (a PX4 log with the baro up to
+    14.4 s of 72 s) the average over the whole log would be 5× the baro's own rate and the gains 5× too high.
     """
     baro = np.asarray(baro_altitude, dtype=float)
-    count = int(np.count_nonzero(np.isfinite(baro)))
-    return max(baro.size / count, 1.0) if count else 1.0
+    finite = np.flatnonzero(np.isfinite(baro))
+    if finite.size < 2:
+        return 1.0
+    return max(float(np.median(np.diff(finite))), 1.0)
+
+
+def baro_interval(time, baro_altitude) -> float:
+    """The log's baro period, s: the median time from one baro sample to the next (the baro's rate where it is
+    present, whatever the rest of the log holds); NaN with fewer than two baro samples."""
+    time = np.asarray(time, dtype=float)
+    finite = np.flatnonzero(np.isfinite(np.asarray(baro_altitude, dtype=float)))
+    if finite.size < 2:
+        return float("nan")
+    return float(np.median(np.diff(time[finite])))
 
 
 #: Shortest period :func:`report` accepts, s (its settling times simulate 600 s at this step in float64).

@@ -363,10 +363,17 @@ static void OneSecondBaroStepIsAGapAtTheDefaultAndRacingGains(void) {
     for (int i = 0; i < 2; i++) {
         FusionAltitude altitude = RunningWithPreset(presets[i]);
         const float h = altitude.altitude;
+        const float v = altitude.verticalVelocity;
+        const float b = altitude.accelBias;
         CHECK(FusionAltitudeUpdate(&altitude, 0.0f, h + 2.0f, 1.0f) == FusionAltitudeStatusOk);
         CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+        CHECK(FusionAltitudeIsReferenceSet(&altitude));
         CHECK(FusionAltitudeGetAltitude(&altitude) == h + 2.0f); /* restarted on this step's sample */
-        CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == 2.0f);
+        CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == v); /* the velocity is kept */
+        CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+        CHECK(altitude.sinceRestart == 0.0f); /* the bias hold starts */
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, h + 2.0f, 0.01f) == FusionAltitudeStatusOk);
+        CHECK(FusionAltitudeGetAccelBias(&altitude) == b);
     }
 }
 

@@ -333,12 +333,15 @@ class AltitudeEstimator(Checkpointable):
         self._reference_set = False
         self._baro_timed_out = False
 
-    # FusionAltitudeTiming: gaps (dt > gap period, or an unstable baro step), then the baro timeout
+    # FusionAltitudeTiming: gaps (dt > gap period), stability gaps (an unstable baro step), then the baro timeout
     def _timing(self, dt: np.float32, baro_sample: bool, unstable: bool) -> None:
-        if self._reference_set and (dt > self._settings._gap_period or unstable):  # a gap: restart from the next baro
+        if self._reference_set and dt > self._settings._gap_period:  # a gap: restart from the next baro sample
             self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
             self._reference_set = False
-            self._gap_time = dt if dt > self._settings._gap_period else self._since_baro + dt
+            self._gap_time = dt
+        elif self._reference_set and unstable:  # a stability gap: restart at this step's baro sample
+            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
+            self._since_restart = f32(0)
         elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
             self._gap_time += dt
         elif self._reference_set and self._since_restart >= 0:  # time since the restart (bias hold)
@@ -375,6 +378,10 @@ class AltitudeEstimator(Checkpointable):
             return Status.OK
         if not self._reference_set:
             self._restart(z)
+            return Status.OK
+        if unstable:  # a stability gap: restart at this sample, v kept (the bias hold started in the timing)
+            self._h = z
+            self._r = f32(0)
             return Status.OK
         if self._baro_timed_out:  # the first baro sample after a timeout: restart at it, v kept
             self._h = z

@@ -609,6 +609,33 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
 }
 
 /**
+ * @brief Internal: the restart of a gap by the stability rule, at the baro
+ * sample z (m) of a step of dt s that ends a baro interval of D = interval s.
+ * h (m) is the estimate before the step: it moved with v over the D - dt s of
+ * the interval before this step and not over this one, so the mean velocity
+ * since the previous baro sample is vMean = ((z - h) + v*(D - dt))/D. The
+ * velocity moves toward it by the weight D/(D + Kh/Kv):
+ *   v += (vMean - v) * D/(D + Kh/Kv);  h = z;  r = 0
+ * Kh/Kv (s) is the time over which the velocity loop trusts its velocity
+ * against the baro (0.83 s for the presets' ratio): a short interval keeps
+ * mostly v (a mean over it would be baro noise / D: 1 m/s for 0.15 m of noise
+ * over 0.16 s), a long one takes mostly vMean (v is stale after a run of such
+ * steps). Kv = 0 keeps v; vMean or the weight not finite keeps v.
+ */
+static inline void FusionAltitudeStabilityRestart(float *const h, float *const v, float *const r, const float kh, const float kv,
+                                                  const float z, const float dt, const float interval) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (kv > 0.0f) {
+        const float mean = ((z - *h) + *v * (interval - dt)) / interval;
+        const float weight = interval / (interval + kh / kv);
+        const float velocity = *v + (mean - *v) * weight;
+        *v = FusionAltitudeIsFinite(velocity) ? velocity : *v;
+    }
+    *h = z;
+    *r = 0.0f;
+}
+
+/**
  * @brief Internal: the timing part of FusionAltitudeUpdate (inputs checked),
  * before the state update. A gap (dt > gapPeriod) releases the reference; a
  * stability gap (unstable: a baro step the gains cannot integrate stably) is
@@ -672,10 +699,10 @@ static inline void FusionAltitudeTiming(FusionAltitude *const altitude, const fl
  * accel sample says nothing about the motion over a gap, and a correction the
  * gains cannot integrate stably grows the error at every such step (a
  * telemetry log of 0.5-1 s steps ran the default gains to infinity). The gap
- * count goes up. A gap by the stability rule restarts at once: h = z, v
- * kept (the step is short, the velocity before it still good; a mean
- * velocity over one short step would be baro noise divided by dt), residual
- * 0, and the bias hold below starts. A gap by dt > gapPeriod releases the
+ * count goes up. A gap by the stability rule restarts at once
+ * (FusionAltitudeStabilityRestart): h = z, v moves toward the mean velocity
+ * over the baro interval D by D/(D + Kh/Kv), residual 0, and the bias hold
+ * below starts. A gap by dt > gapPeriod releases the
  * reference (FusionAltitudeIsReferenceSet is false): the bias b is held, h
  * and v are frozen, and the next baro sample, this step's if it has one,
  * restarts h = z and v = (z - h_before)/T, the mean velocity over the T s
@@ -716,8 +743,9 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
         return status;
     }
     const bool baroSample = FusionAltitudeIsFinite(baroAltitude);
+    const float interval = altitude->sinceBaro + dt; /* D: the baro interval this step ends, s */
     const bool unstable = baroSample && altitude->referenceSet && !altitude->baroTimedOut &&
-                          !FusionAltitudeIsStepStable(&altitude->settings, dt, altitude->sinceBaro + dt);
+                          !FusionAltitudeIsStepStable(&altitude->settings, dt, interval);
     FusionAltitudeTiming(altitude, dt, baroSample, unstable);
     if (!baroSample) { /* NaN, as the inputs are checked: no baro sample this step */
         if (altitude->referenceSet) {
@@ -736,9 +764,10 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
         FusionAltitudeRestart(altitude, baroAltitude);
         return FusionAltitudeStatusOk;
     }
-    if (unstable) { /* a stability gap: restart at this sample, v kept (the bias hold started in the timing) */
-        altitude->altitude = baroAltitude;
-        altitude->baroResidual = 0.0f;
+    if (unstable) { /* a stability gap: restart at this sample (the bias hold started in the timing) */
+        FusionAltitudeStabilityRestart(&altitude->altitude, &altitude->verticalVelocity, &altitude->baroResidual,
+                                       altitude->settings.positionGain, altitude->settings.velocityGain, baroAltitude, dt,
+                                       interval);
         return FusionAltitudeStatusOk;
     }
     if (altitude->baroTimedOut) { /* the first baro sample after a timeout: restart at it, v kept */

@@ -400,6 +400,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     const bool baroSample = !FusionAltitudeIsNaN(z);
     const bool stabilityGap = unstable && shared->referenceSet && !(step > gapPeriod);
+    const float interval = shared->sinceBaro + step;
     FusionAltitudeSweepTiming(shared, step, baroSample, unstable, gapPeriod, baroTimeout);
     if (!baroSample) {
         if (shared->referenceSet) {
@@ -424,8 +425,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         FusionAltitudeSweepRestart(x, shared, z, lanes);
     } else if (stabilityGap) {
         for (size_t j = 0; j < lanes; j++) {
-            x->h[j] = z;
-            x->r[j] = 0.0f;
+            FusionAltitudeStabilityRestart(&x->h[j], &x->v[j], &x->r[j], x->kh[j], x->kv[j], z, step, interval);
         }
     } else if (shared->baroTimedOut) {
         for (size_t j = 0; j < lanes; j++) {
@@ -541,6 +541,7 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
         const float z = baroAltitude[t];
         const bool baroSample = !FusionAltitudeIsNaN(z);
         const bool stabilityGap = (unstable[t] != 0u) && shared->referenceSet && !(step > sweep->gapPeriod);
+        const float interval = shared->sinceBaro + step;
         FusionAltitudeSweepTiming(shared, step, baroSample, unstable[t] != 0u, sweep->gapPeriod, sweep->baroTimeout);
         const V steps = {step, step, step, step, step, step, step, step};
         const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};
@@ -573,9 +574,17 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
             shared->gapTime = 0.0f;
             shared->referenceSet = true;
             shared->baroTimedOut = false;
-        } else if (stabilityGap) {
-            h = zs;
-            r = zeros;
+        } else if (stabilityGap) { /* FusionAltitudeStabilityRestart lane by lane (rare: no need to vectorize) */
+            float lanesOf[3][8];
+            *(U *) lanesOf[0] = h;
+            *(U *) lanesOf[1] = v;
+            *(U *) lanesOf[2] = r;
+            for (size_t j = 0; j < 8u; j++) {
+                FusionAltitudeStabilityRestart(&lanesOf[0][j], &lanesOf[1][j], &lanesOf[2][j], x.kh[j], x.kv[j], z, step, interval);
+            }
+            h = *(const U *) lanesOf[0];
+            v = *(const U *) lanesOf[1];
+            r = *(const U *) lanesOf[2];
         } else if (shared->baroTimedOut) {
             h = zs;
             r = zeros;

@@ -52,7 +52,8 @@ from ._observer import AltitudeEstimator, AltitudeSettings
 from ._observer_glue import AltitudeBatch
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
-from .tuning import _bandwidth_of, _other_fields, baro_interval, gap_period_for, settings_for_baro_rate, steps_per_baro
+from .tuning import (_bandwidth_of, _other_fields, baro_interval, baro_timeout_for, gap_period_for, settings_for_baro_rate,
+                     steps_per_baro)
 
 __all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "applicable_estimators",
            "missing_inputs", "default_preset", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
@@ -218,12 +219,48 @@ def default_preset(data: LogData) -> str:
     return "balloon"
 
 
+class ObserverLogBatch(NamedTuple):
+    """The observer's outputs on a log (:class:`fusion_altitude.AltitudeBatch`) and ``baro_aided``: 1 where a
+    baro sample came within the baro timeout, 0 where the estimate is not baro-aided (the velocity decays, the
+    acceleration is not integrated: see ``FusionAltitudeUpdate``)."""
+
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    accel_bias: np.ndarray
+    baro_residual: np.ndarray
+    baro_aided: np.ndarray
+
+
+def _baro_timeout_warning(name: str, time: np.ndarray, dt, baro, timeout: float, timeouts: int) -> Optional[np.ndarray]:
+    """Warn (one line, :class:`fusion_altitude.logs.LogWarning`) when the estimator timed out; the per-sample
+    not-baro-aided mask (None without a timeout)."""
+    import warnings
+
+    from .logs import LogWarning
+    from .tuning import not_baro_aided
+
+    if not timeouts:
+        return None
+    mask = not_baro_aided(dt, baro, timeout)
+    if mask.any():
+        first = int(np.argmax(mask))
+        warnings.warn(f"{name}: no baro sample for more than {timeout:.3g} s {timeouts} time(s), first from "
+                      f"t = {float(time[first]) - timeout:.1f} s: {int(np.count_nonzero(mask))} samples are not "
+                      "baro-aided (velocity decayed to 0, column baro_aided = 0)", LogWarning, stacklevel=3)
+    return mask
+
+
 def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
     settings = options.get("settings")
     if settings is None:
         settings = AltitudeSettings.preset(default_preset(data))
-    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
-                        clipped=data.clipped, progress=options.get("progress"), dt=dt, info=options)
+    info = options if options is not None else {}
+    result = run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
+                          clipped=data.clipped, progress=options.get("progress"), dt=dt, info=info)
+    mask = _baro_timeout_warning("observer", data.time, dt, data.baro_altitude, info["baro_timeout"],
+                                 info["baro_timeouts"])
+    aided = np.ones(data.time.size, np.int8) if mask is None else (~mask).astype(np.int8)
+    return ObserverLogBatch(*result, aided)
 
 
 def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
@@ -261,12 +298,18 @@ def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
     from ._complementary import ComplementaryFilter, ComplementarySettings
 
     settings = ComplementarySettings()
-    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
+                                baro_timeout=baro_timeout_for(data.time, data.baro_altitude, settings.baro_timeout))
     estimator = ComplementaryFilter(settings)
     result = estimator.update_batch(data.vertical_acceleration, data.baro_altitude, dt)
     _gaps(options, estimator, settings.gap_period)
+    mask = _baro_timeout_warning("complementary", data.time, dt, data.baro_altitude, settings.baro_timeout,
+                                 estimator.baro_timeouts)
     _done(options, data.time.size)
-    return result
+    if mask is None:
+        return result
+    fields = dict(result._asdict(), baro_aided=(~mask).astype(np.int8))
+    return NamedTuple("ComplementaryLogBatch", [(name, np.ndarray) for name in fields])(**fields)
 
 
 def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
@@ -511,9 +554,12 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     dt : array_like, optional
         Per-sample periods, s; default :func:`sample_periods` of ``time``.
         The gap period used is ``max(settings.gap_period, 10 × nominal dt)``
-        (:func:`fusion_altitude.tuning.gap_period_for`).
+        (:func:`fusion_altitude.tuning.gap_period_for`), the baro timeout
+        ``max(settings.baro_timeout, 5 × the baro period)``
+        (:func:`fusion_altitude.tuning.baro_timeout_for`).
     info : dict, optional
-        Receives ``gap_period`` (s, as float32 holds it) and ``gap_count``.
+        Receives ``gap_period`` (s, as float32 holds it), ``gap_count``,
+        ``baro_timeout`` (s) and ``baro_timeouts``.
 
     Returns
     -------
@@ -536,7 +582,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     n = time.size
     dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
     settings = settings or AltitudeSettings()
-    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
+                                baro_timeout=baro_timeout_for(time, baro, settings.baro_timeout))
     if compensate_baro_rate:
         settings = settings_for_baro_rate(settings, steps_per_baro(baro))
     estimator = AltitudeEstimator(settings)
@@ -559,6 +606,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
             progress(int(stop), n)
     if info is not None:
         _gaps(info, estimator, normal.gap_period)
+        info["baro_timeout"] = float(np.float32(normal.baro_timeout))
+        info["baro_timeouts"] = int(estimator.baro_timeouts)
     return out
 
 

@@ -539,6 +539,35 @@ def steps_per_baro(baro_altitude) -> float:
     return max(float(np.median(np.diff(finite))), 1.0)
 
 
+#: A log's baro timeout is at least this many of its baro periods (:func:`baro_timeout_for`).
+BARO_TIMEOUT_PERIODS = 5.0
+
+
+def baro_timeout_for(time, baro_altitude, default: float = DEFAULT_BARO_TIMEOUT) -> float:
+    """The baro timeout for a log, s: ``max(default, BARO_TIMEOUT_PERIODS × the log's baro period)``, so a slow baro
+    (a 1 Hz CSV) does not time out between its own samples while a baro that stops still does."""
+    period = baro_interval(time, baro_altitude)
+    return max(float(default), BARO_TIMEOUT_PERIODS * period) if np.isfinite(period) else float(default)
+
+
+def not_baro_aided(dt, baro_altitude, baro_timeout: float) -> np.ndarray:
+    """Per sample, True where the estimate is not baro-aided: more than ``baro_timeout`` s (the cores' rule,
+    ``sinceBaro > baroTimeout``) since the latest baro sample, from the first baro sample on; the cores' own flag
+    (``baro_timed_out``) at the end of a run is the same rule (float64 sums here)."""
+    baro = np.isfinite(np.asarray(baro_altitude, dtype=float))
+    dt = np.broadcast_to(np.asarray(dt, dtype=float), baro.shape)
+    since = np.zeros(baro.size)
+    elapsed = 0.0
+    started = False
+    for i in range(baro.size):
+        if baro[i]:
+            elapsed, started = 0.0, True
+        elif started:
+            elapsed += dt[i]
+        since[i] = elapsed if started else 0.0
+    return since > baro_timeout
+
+
 def baro_interval(time, baro_altitude) -> float:
     """The log's baro period, s: the median time from one baro sample to the next (the baro's rate where it is
     present, whatever the rest of the log holds); NaN with fewer than two baro samples."""
@@ -669,8 +698,9 @@ def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) ->
 
 
 def _other_fields(settings: AltitudeSettings) -> dict:
-    """Settings other than the three gains (the gap period, where the core has one), to carry over."""
-    return {"gap_period": settings.gap_period} if hasattr(settings, "gap_period") else {}
+    """Settings other than the three gains (the gap period and the baro timeout, where the core has them), to carry
+    over."""
+    return {name: getattr(settings, name) for name in ("gap_period", "baro_timeout") if hasattr(settings, name)}
 
 
 def _bandwidth_of(settings: AltitudeSettings) -> float:

@@ -115,6 +115,19 @@ def step_stable(kh: np.float32, kv: np.float32, kb: np.float32, dt: np.float32, 
         return True
 
 
+def stability_restart(h: np.float32, v: np.float32, kh: np.float32, kv: np.float32, z: np.float32, dt: np.float32,
+                      interval: np.float32) -> Tuple[np.float32, np.float32, np.float32]:
+    """FusionAltitudeStabilityRestart: (h, v, r) after a gap by the stability rule at baro sample z (m), step dt (s),
+    baro interval D (s): v += (vMean − v)·D/(D + Kh/Kv), vMean = ((z − h) + v·(D − dt))/D; h = z; r = 0."""
+    if kv > 0:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            mean = ((z - h) + v * (interval - dt)) / interval
+            weight = interval / (interval + kh / kv)
+            velocity = v + (mean - v) * weight
+        v = velocity if _is_finite(velocity) else v
+    return z, v, f32(0)
+
+
 def _validate(kh: np.float32, kv: np.float32, kb: np.float32, dt: np.float32) -> Status:
     """FusionAltitudeSettingsValidate: the gains' checks, then Jury's test at dt (s)."""
     status = _check_gains(kh, kv, kb)
@@ -360,9 +373,10 @@ class AltitudeEstimator(Checkpointable):
         if status != Status.OK:
             return status
         baro_sample = _is_finite(z)
+        interval = self._since_baro + dt  # D: the baro interval this step ends, s
         if unstable is None:
             unstable = (baro_sample and self._reference_set and not self._baro_timed_out
-                        and not step_stable(*self._settings._gains, dt, self._since_baro + dt))
+                        and not step_stable(*self._settings._gains, dt, interval))
         else:
             unstable = baro_sample and self._reference_set and not self._baro_timed_out and unstable
         self._timing(dt, baro_sample, unstable)
@@ -379,9 +393,9 @@ class AltitudeEstimator(Checkpointable):
         if not self._reference_set:
             self._restart(z)
             return Status.OK
-        if unstable:  # a stability gap: restart at this sample, v kept (the bias hold started in the timing)
-            self._h = z
-            self._r = f32(0)
+        if unstable:  # a stability gap: restart at this sample (the bias hold started in the timing)
+            self._h, self._v, self._r = stability_restart(self._h, self._v, self._settings._gains[0],
+                                                          self._settings._gains[1], z, dt, interval)
             return Status.OK
         if self._baro_timed_out:  # the first baro sample after a timeout: restart at it, v kept
             self._h = z

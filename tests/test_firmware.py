@@ -274,7 +274,9 @@ def test_every_public_flight_function_is_built_and_sized():
 def test_every_public_function_is_built_and_sized():
     header = (CSRC / "fusion_altitude.h").read_text()
     public = set(re.findall(r"^static inline [^(]*?\b(FusionAltitude\w+)\(", header, re.MULTILINE))
-    public -= {"FusionAltitudeRestart"}  # internal: inlined into FusionAltitudeUpdate
+    # internal: inlined into FusionAltitudeUpdate (and FusionAltitudeSettingsValidate)
+    public -= {"FusionAltitudeRestart", "FusionAltitudeTiming", "FusionAltitudeStabilityRestart",
+               "FusionAltitudeIsDiscreteStable"}
     assert "FusionAltitudeUpdate" in public
     sized = set(re.findall(r"\bSized(FusionAltitude\w+)\(", (FIRMWARE / "sized_observer.c").read_text()))
     called = set(re.findall(r"\b(FusionAltitude\w+)\(", (FIRMWARE / "firmware_observer.c").read_text()))
@@ -282,7 +284,8 @@ def test_every_public_function_is_built_and_sized():
     table = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(table)
     assert public - sized == set(), "add these to csrc/firmware/sized_observer.c"
-    assert public - called - {"FusionAltitudeNaN"} == set(), "call these from csrc/firmware/firmware_observer.c"
+    assert public - called - {"FusionAltitudeNaN", "FusionAltitudeInfinity", "FusionAltitudeIsStepStable"} == set(), \
+        "call these from csrc/firmware/firmware_observer.c"
     assert public - set(table.FUNCTIONS) == set(), "add these to FUNCTIONS in csrc/firmware/size_table.py"
 
 
@@ -464,11 +467,12 @@ def test_cppcheck_is_clean(build):
     assert {"observer", "kalman", "complementary", "alphabeta", "flight", "ins"} <= set(estimators), estimators
 
 
-FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins")
+FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_complementary", "fuzz_sweep")
 
 
 def test_fuzzers_find_nothing(build):
-    """The observer, Kalman, flight and INS libFuzzer targets, FUZZ_SECONDS in total: a quarter each, two at a time."""
+    """The observer, Kalman, flight, INS, complementary and sweep libFuzzer targets, FUZZ_SECONDS in total: an equal
+    share each, two at a time."""
     result = make(build, "fuzz-run", timeout=FUZZ_SECONDS + 300, FUZZ_SECONDS=str(FUZZ_SECONDS))
     log = result.stdout + result.stderr
     assert result.returncode == 0, log[-6000:]

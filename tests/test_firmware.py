@@ -385,14 +385,16 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert_ok(make(build, "cross", "cycle-traces"))
     measured = json.loads(subprocess.run([sys.executable, str(FIRMWARE / "size_table.py"), str(build), "--json"],
                                          check=True, capture_output=True, text=True).stdout)
-    # 32 bytes before the gap handling (gap period, gap time, time since the restart, gap count: 48)
-    assert set(measured["ram"].values()) == {48}, measured["ram"]
+    # 32 bytes before the gap handling (gap period, gap time, time since the restart, gap count: 48), 60 with the
+    # baro timeout (its setting, the time since the baro, the timeout count and flag)
+    assert set(measured["ram"].values()) == {60}, measured["ram"]
     assert measured["stack"]["FusionAltitudeUpdate/cortex-m4f/Os"] == [0, "static"]
-    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it); this bound only catches
-    # regressions.
-    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 448
+    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it, 958 with the stability-limit
+    # gap rule and the baro timeout); this bound only catches regressions.
+    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 1024
     full, missing, rejected = measured["cycles"]
-    assert 20 < full["instructions"] < 80 and missing["instructions"] < full["instructions"]
+    # the full correction: 110 instructions with the stability rule's Jury test on every baro step
+    assert 20 < full["instructions"] < 128 and missing["instructions"] < full["instructions"]
     assert rejected["instructions"] < 12
     # Kalman filter: the budget of 320 bytes of RAM; regression bounds on code, stack and cycles.
     kalman = measured["kalman"]
@@ -407,8 +409,8 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert reset["cycles"] < 4000 and rejected["instructions"] < 40
     # Complementary filter and alpha-beta fusion: regression bounds (no goals were set for them).
     complementary, alphabeta = measured["complementary"], measured["alphabeta"]
-    assert set(complementary["ram"].values()) == {68} and set(alphabeta["ram"].values()) == {332}
-    assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 512
+    assert set(complementary["ram"].values()) == {76} and set(alphabeta["ram"].values()) == {332}
+    assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 768  # 710 with the baro timeout
     assert alphabeta["size"]["FusionAltitudeAlphaBetaUpdate/cortex-m4f/Os"] <= 1536
     for figures in (complementary, alphabeta):
         assert all(size <= 160 and qualifier == "static" for size, qualifier in figures["stack"].values()), \
@@ -422,7 +424,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # Rocket flight layer: regression bounds (observer inside; 356 B on ARM, 360 B on RISC-V).
     flight = measured["flight"]
     assert max(flight["ram"].values()) <= 384, flight["ram"]
-    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3072
+    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3840  # 3598 with the observer's stability rule
     assert all(size <= 160 and qualifier == "static" for size, qualifier in flight["stack"].values()), flight["stack"]
     pad, coast, locked, descent, rejected = flight["cycles"]
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20

@@ -259,7 +259,7 @@ def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
                           clipped=data.clipped, progress=options.get("progress"), dt=dt, info=info)
     mask = _baro_timeout_warning("observer", data.time, dt, data.baro_altitude, info["baro_timeout"],
                                  info["baro_timeouts"])
-    aided = np.ones(data.time.size, np.int8) if mask is None else (~mask).astype(np.int8)
+    aided = np.ones(data.time.size, np.int64) if mask is None else (~mask).astype(np.int64)
     return ObserverLogBatch(*result, aided)
 
 
@@ -308,7 +308,7 @@ def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
     _done(options, data.time.size)
     if mask is None:
         return result
-    fields = dict(result._asdict(), baro_aided=(~mask).astype(np.int8))
+    fields = dict(result._asdict(), baro_aided=(~mask).astype(np.int64))
     return NamedTuple("ComplementaryLogBatch", [(name, np.ndarray) for name in fields])(**fields)
 
 

@@ -355,7 +355,12 @@ static inline bool FusionAltitudeIsDiscreteStable(const float kh, const float kv
  * (Jury's limit 0.620 s), racing 0.124 s, fixed wing 1.24 s, balloon 3.10 s,
  * rocket 0.694 s. With gains scaled to the baro rate (Kh*N etc. for a baro
  * on one step in N, tuning.settings_for_baro_rate) p, q, s are those of the
- * observer sampled at the baro period.
+ * observer sampled at the baro period. With the baro timeout off (+infinity,
+ * as the rocket flight layer runs it: it locks the baro out on purpose and
+ * re-admits it gently itself) FusionAltitudeUpdate passes interval = dt: the
+ * first sample after a 45 s lockout would otherwise be a gap (q grows with D).
+ * With a finite timeout D never exceeds it by more than dt (a timed-out step
+ * is not checked).
  */
 static inline bool FusionAltitudeIsStepStable(const FusionAltitudeSettings *const settings, const float dt, const float interval) {
     FUSION_ALTITUDE_NO_CONTRACT
@@ -743,7 +748,8 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
         return status;
     }
     const bool baroSample = FusionAltitudeIsFinite(baroAltitude);
-    const float interval = altitude->sinceBaro + dt; /* D: the baro interval this step ends, s */
+    /* D: the baro interval this step ends, s (dt alone with the timeout off: see FusionAltitudeIsStepStable) */
+    const float interval = FusionAltitudeIsFinite(altitude->settings.baroTimeout) ? (altitude->sinceBaro + dt) : dt;
     const bool unstable = baroSample && altitude->referenceSet && !altitude->baroTimedOut &&
                           !FusionAltitudeIsStepStable(&altitude->settings, dt, interval);
     FusionAltitudeTiming(altitude, dt, baroSample, unstable);

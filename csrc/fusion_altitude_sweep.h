@@ -321,7 +321,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepUnstableSteps(const FusionA
         const bool baroSample = !FusionAltitudeIsNaN(baroAltitude[t]);
         bool any = false;
         if (baroSample && shared.referenceSet && !shared.baroTimedOut) {
-            const float interval = shared.sinceBaro + step;
+            const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared.sinceBaro + step) : step;
             const float *const kh = sweep->positionGain - sweep->ruleBefore;
             const float *const kv = sweep->velocityGain - sweep->ruleBefore;
             const float *const kb = sweep->biasGain - sweep->ruleBefore;
@@ -400,7 +400,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     const bool baroSample = !FusionAltitudeIsNaN(z);
     const bool stabilityGap = unstable && shared->referenceSet && !(step > gapPeriod);
-    const float interval = shared->sinceBaro + step;
+    const float interval = FusionAltitudeIsFinite(baroTimeout) ? (shared->sinceBaro + step) : step;
     FusionAltitudeSweepTiming(shared, step, baroSample, unstable, gapPeriod, baroTimeout);
     if (!baroSample) {
         if (shared->referenceSet) {
@@ -541,7 +541,7 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
         const float z = baroAltitude[t];
         const bool baroSample = !FusionAltitudeIsNaN(z);
         const bool stabilityGap = (unstable[t] != 0u) && shared->referenceSet && !(step > sweep->gapPeriod);
-        const float interval = shared->sinceBaro + step;
+        const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared->sinceBaro + step) : step;
         FusionAltitudeSweepTiming(shared, step, baroSample, unstable[t] != 0u, sweep->gapPeriod, sweep->baroTimeout);
         const V steps = {step, step, step, step, step, step, step, step};
         const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};

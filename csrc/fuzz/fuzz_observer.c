@@ -145,7 +145,8 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
     const bool baroMissing = FusionAltitudeIsNaN(baro);
     const bool gap = before.referenceSet && (dt > before.settings.gapPeriod);
     const bool stabilityGap = !gap && !baroMissing && before.referenceSet && !before.baroTimedOut &&
-                              !FusionAltitudeIsStepStable(&before.settings, dt, before.sinceBaro + dt);
+                              !FusionAltitudeIsStepStable(&before.settings, dt,
+                                                          FusionAltitudeIsFinite(before.settings.baroTimeout) ? (before.sinceBaro + dt) : dt);
     CHECK(FusionAltitudeGetGapCount(altitude) == before.gapCount + ((gap || stabilityGap) ? 1u : 0u));
     CHECK((FusionAltitudeGetBaroTimeouts(altitude) - before.baroTimeouts) <= 1u);
     CHECK(!FusionAltitudeIsBaroTimedOut(altitude) || baroMissing); /* a baro sample always ends a timeout */

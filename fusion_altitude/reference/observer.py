@@ -373,7 +373,8 @@ class AltitudeEstimator(Checkpointable):
         if status != Status.OK:
             return status
         baro_sample = _is_finite(z)
-        interval = self._since_baro + dt  # D: the baro interval this step ends, s
+        # D: the baro interval this step ends, s (dt alone with the timeout off: FusionAltitudeIsStepStable)
+        interval = self._since_baro + dt if _is_finite(self._settings._baro_timeout) else dt
         if unstable is None:
             unstable = (baro_sample and self._reference_set and not self._baro_timed_out
                         and not step_stable(*self._settings._gains, dt, interval))

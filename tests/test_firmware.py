@@ -389,11 +389,11 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # baro timeout (its setting, the time since the baro, the timeout count and flag)
     assert set(measured["ram"].values()) == {60}, measured["ram"]
     assert measured["stack"]["FusionAltitudeUpdate/cortex-m4f/Os"] == [0, "static"]
-    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it, 958 with the stability-limit
+    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it, 1002 with the stability-limit
     # gap rule and the baro timeout); this bound only catches regressions.
     assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 1024
     full, missing, rejected = measured["cycles"]
-    # the full correction: 110 instructions with the stability rule's Jury test on every baro step
+    # the full correction: 117 instructions with the stability rule's Jury test on every baro step
     assert 20 < full["instructions"] < 128 and missing["instructions"] < full["instructions"]
     assert rejected["instructions"] < 12
     # Kalman filter: the budget of 320 bytes of RAM; regression bounds on code, stack and cycles.
@@ -424,7 +424,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # Rocket flight layer: regression bounds (observer inside; 356 B on ARM, 360 B on RISC-V).
     flight = measured["flight"]
     assert max(flight["ram"].values()) <= 384, flight["ram"]
-    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3840  # 3598 with the observer's stability rule
+    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3840  # 3670 with the observer's stability rule
     assert all(size <= 160 and qualifier == "static" for size, qualifier in flight["stack"].values()), flight["stack"]
     pad, coast, locked, descent, rejected = flight["cycles"]
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20

@@ -316,22 +316,35 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepUnstableSteps(const FusionA
     FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
     settings.gapPeriod = sweep->gapPeriod;
     settings.baroTimeout = sweep->baroTimeout;
+    /* the verdict is a function of (dt, interval) alone: the last one is reused when both repeat bit for bit
+     * (a constant dt and baro rate: the common case), so most steps check no setting */
+    uint32_t lastStep = 0u;
+    uint32_t lastInterval = 0u;
+    bool lastAny = false;
+    bool lastValid = false;
     for (size_t t = 0; t < samples; t++) {
         const float step = dt[t * dtStride];
         const bool baroSample = !FusionAltitudeIsNaN(baroAltitude[t]);
         bool any = false;
         if (baroSample && shared.referenceSet && !shared.baroTimedOut) {
             const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared.sinceBaro + step) : step;
+            const bool cached = lastValid && (FusionAltitudeFloatBits(step) == lastStep) &&
+                                (FusionAltitudeFloatBits(interval) == lastInterval);
+            any = cached && lastAny;
             const float *const kh = sweep->positionGain - sweep->ruleBefore;
             const float *const kv = sweep->velocityGain - sweep->ruleBefore;
             const float *const kb = sweep->biasGain - sweep->ruleBefore;
             const size_t ruleCount = sweep->ruleBefore + sweep->count + sweep->ruleAfter;
-            for (size_t k = 0; (k < ruleCount) && !any; k++) {
+            for (size_t k = 0; !cached && (k < ruleCount) && !any; k++) {
                 settings.positionGain = kh[k];
                 settings.velocityGain = kv[k];
                 settings.biasGain = kb[k];
                 any = !FusionAltitudeIsStepStable(&settings, step, interval);
             }
+            lastStep = FusionAltitudeFloatBits(step);
+            lastInterval = FusionAltitudeFloatBits(interval);
+            lastAny = any;
+            lastValid = true;
         }
         unstable[t] = (uint8_t) any;
         FusionAltitudeSweepTiming(&shared, step, baroSample, any, sweep->gapPeriod, sweep->baroTimeout);

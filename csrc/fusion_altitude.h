@@ -94,6 +94,7 @@ typedef enum {
     FusionAltitudeStatusInvalidBandwidth,      /**< omega, zeta or omega_b out of range */
     FusionAltitudeStatusInvalidPreset,         /**< unknown preset */
     FusionAltitudeStatusInvalidGapPeriod,      /**< gap period NaN or <= 0 (+infinity: never a gap) */
+    FusionAltitudeStatusInvalidBaroTimeout,    /**< baro timeout NaN or <= 0 (+infinity: never times out) */
 } FusionAltitudeStatus;
 
 /** Tuning presets. Each is zeta = 0.7, omega_b = omega / 5 through the formulas of FusionAltitudeSettingsFromBandwidth. */
@@ -117,6 +118,33 @@ typedef enum {
 #define FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5f)
 
 /**
+ * Stability margin of the gap rule: a step that carries a baro sample is a gap
+ * unless the update with the gains in force passes Jury's test at
+ * FUSION_ALTITUDE_STABILITY_MARGIN times its dt (see FusionAltitudeIsStepStable).
+ * 1.5: the step may be 1.5x longer before the update diverges. At the limit
+ * the largest discrete eigenvalue of every preset with bias learning has
+ * |z| = 0.87 (the rocket's, Kb = 0, has its marginal bias mode z = 1 and the
+ * others inside), so a run of such steps still damps every error. With a baro
+ * sample every step: default (VTOL) gains, Jury's limit 0.620 s, so steps
+ * above 0.413 s are gaps; racing 0.186 s -> 0.124 s; fixed wing
+ * 1.86 s -> 1.24 s; balloon 4.65 s -> 3.10 s; rocket 1.04 s -> 0.694 s.
+ */
+#define FUSION_ALTITUDE_STABILITY_MARGIN (1.5f)
+
+/**
+ * Default baro timeout, s: 2 s. Once the reference is set, when no baro
+ * sample has arrived for more than baroTimeout s the observer stops
+ * dead-reckoning (see FusionAltitudeUpdate). 2 s is 4 baro periods of a 2 Hz
+ * baro and 20 of a 10 Hz one, so a slow baro does not trip it; and over 2 s
+ * an accel bias error of 0.1 m/s^2 (10 mg, what is left after the bias loop
+ * converged on a hobby IMU) already moves the altitude by 0.5*0.1*2^2 = 0.2 m
+ * and a velocity error of 0.1 m/s by 0.2 m more, together about the noise of
+ * a raw baro: beyond that, dead reckoning is worse than holding still. Slower
+ * baros need a longer one: the balloon preset uses 10 s.
+ */
+#define FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT (2.0f)
+
+/**
  * After a restart following a gap the bias is held (not corrected) while
  * sinceRestart*Kh < FUSION_ALTITUDE_BIAS_HOLD, i.e. for 8/Kh s: about the
  * 2 % settling time 4/(zeta*omega) of the height and velocity loop
@@ -134,6 +162,7 @@ typedef struct {
     float velocityGain; /**< Kv, 1/s^2: baro residual into vertical velocity */
     float biasGain;     /**< Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation */
     float gapPeriod;    /**< s: an update whose dt exceeds this is a gap, not integrated (default FUSION_ALTITUDE_DEFAULT_GAP_PERIOD) */
+    float baroTimeout;  /**< s: after this long without a baro sample the observer stops dead-reckoning (default FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT; +infinity: never) */
 } FusionAltitudeSettings;
 
 /** Observer state. Read it through the Get functions. */
@@ -144,9 +173,12 @@ typedef struct {
     float accelBias;        /**< b, m/s^2, +up: subtracted from the accel input */
     float baroResidual;     /**< r = z - h before the correction, m; NaN on a step without baro */
     float gapTime;          /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
-    float sinceRestart;     /**< s since the last restart after a gap (the bias is held while sinceRestart*Kh < 8); -1 before any */
-    uint32_t gapCount;      /**< updates with dt > gapPeriod so far */
+    float sinceRestart;     /**< s since the last restart after a gap or a baro timeout (the bias is held while sinceRestart*Kh < 8); -1 before any */
+    float sinceBaro;        /**< s since the latest baro sample (0 on a step with one, and before the reference is first set) */
+    uint32_t gapCount;      /**< gaps so far: updates with dt > gapPeriod, or a baro step the gains cannot integrate stably */
+    uint32_t baroTimeouts;  /**< baro timeouts so far: times sinceBaro went above baroTimeout */
     bool referenceSet;      /**< false until the first baro sample or reset, and again from a gap to the next baro sample */
+    bool baroTimedOut;      /**< true from a baro timeout to the next baro sample: the output is not baro-aided */
 } FusionAltitude;
 
 //------------------------------------------------------------------------------
@@ -205,6 +237,8 @@ static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus
             return "unknown preset";
         case FusionAltitudeStatusInvalidGapPeriod:
             return "gap period must be > 0 (+infinity: never a gap)";
+        case FusionAltitudeStatusInvalidBaroTimeout:
+            return "baro timeout must be > 0 (+infinity: never times out)";
     }
     return "unknown status";
 }
@@ -212,12 +246,22 @@ static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus
 //------------------------------------------------------------------------------
 // Settings
 
+/** @return +infinity (a gap period or baro timeout that never fires), built without libm. */
+static inline float FusionAltitudeInfinity(void) {
+    const uint32_t bits = 0x7F800000u;
+    float value;
+    memcpy(&value, &bits, sizeof(value));
+    return value;
+}
+
 /**
  * @return the default (VTOL multirotor) settings: Kh = 2.40 1/s, Kv = 2.88 1/s^2,
- * Kb = 0.675 1/s^3, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5 s).
+ * Kb = 0.675 1/s^3, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5 s),
+ * baro timeout FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT (2 s).
  */
 static inline FusionAltitudeSettings FusionAltitudeSettingsDefault(void) {
-    const FusionAltitudeSettings settings = {2.40f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings settings = {2.40f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD,
+                                             FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
     return settings;
 }
 
@@ -227,7 +271,8 @@ static inline FusionAltitudeSettings FusionAltitudeSettingsDefault(void) {
  * s^3 + Kh*s^2 + Kv*s + Kb: Kh*Kv > Kb when Kb > 0; with Kb = 0 (no bias
  * estimation) the remaining s^2 + Kh*s + Kv needs Kh > 0 when Kv > 0.
  * Kh = Kv = Kb = 0 (pure inertial integration) is accepted. The gap period
- * must be > 0 (+infinity turns gap detection off); it is checked after the gains.
+ * must be > 0 (+infinity turns gap detection off); it is checked after the
+ * gains, and the baro timeout (> 0, +infinity: never) after it.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltitudeSettings *const settings) {
     FUSION_ALTITUDE_NO_CONTRACT
@@ -248,7 +293,92 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltit
     if (!(settings->gapPeriod > 0.0f)) { /* false for NaN */
         return FusionAltitudeStatusInvalidGapPeriod;
     }
+    if (!(settings->baroTimeout > 0.0f)) { /* false for NaN */
+        return FusionAltitudeStatusInvalidBaroTimeout;
+    }
     return FusionAltitudeStatusOk;
+}
+
+/**
+ * @brief Jury's test of the semi-implicit update with gains Kh, Kv, Kb
+ * (1/s, 1/s^2, 1/s^3, already checked) at step dt (s, > 0): true if every
+ * discrete eigenvalue is inside the unit circle. See
+ * FusionAltitudeSettingsValidate for the polynomial and the conditions.
+ */
+static inline bool FusionAltitudeIsDiscreteStable(const float kh, const float kv, const float kb, const float dt) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    const float p = kh * dt;
+    const float q = kv * dt * dt;
+    const float s = kb * dt * dt * dt;
+    if (!FusionAltitudeIsFinite(p) || !FusionAltitudeIsFinite(q) || !FusionAltitudeIsFinite(s)) {
+        return false;
+    }
+    if (kb > 0.0f) {
+        const float lhs = p * (2.0f - p);
+        const float rhs = p * (p + q - 2.0f) - s;
+        return (s > 0.0f) && ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && (p > 0.0f) && (p < 2.0f) && (lhs > rhs) &&
+               (lhs > -rhs);
+    }
+    if (kv > 0.0f) {
+        return (p > 0.0f) && (p < 2.0f) && (q > 0.0f) && (q < 4.0f - 2.0f * p);
+    }
+    return p < 2.0f;
+}
+
+/**
+ * @brief The stability limit of the gap rule: true if the gains of settings
+ * (checked) can integrate a baro step of dt s that ends a baro interval of
+ * interval s (the time since the previous baro sample, this step included;
+ * interval >= dt > 0). Over one baro interval D the update integrates for D
+ * and corrects once with dt; to first order its characteristic polynomial is
+ * that of FusionAltitudeSettingsValidate with p = Kh*dt, q = Kv*dt*D and
+ * s = Kb*dt*D^2 (exact when D = dt: a baro sample every step). With the
+ * margin, T = FUSION_ALTITUDE_STABILITY_MARGIN * dt and
+ * TD = FUSION_ALTITUDE_STABILITY_MARGIN * D, p = Kh*T, q = Kv*T*TD,
+ * s = Kb*T*TD^2 must pass
+ *   Kb > 0:  p < 2,  8 - 4p - 2q + s > 0  and  p(p + q - 2) - s <= p(2 - p)
+ *   Kb = 0, Kv > 0:  p < 2  and  q < 4 - 2p
+ *   Kv = Kb = 0:  p < 2
+ * These are the conditions of Jury's test that bound the step from above
+ * (the first two: an eigenvalue leaves the unit circle at z = -1, the
+ * oscillating divergence the telemetry log showed), with equality counted as
+ * stable. Left out: the positivity ones (s > 0, p > 0, q > 0), which hold for
+ * every step and fail only by float32 underflow at a tiny dt, and
+ * p(2 - p) > s - p(p + q - 2), which is p*q > s: Kh*Kv*dt > Kb*D, Routh-Hurwitz
+ * when D = dt. It fails when gains not scaled to a sparse baro (a baro sample
+ * on fewer than one step in Kh*Kv/Kb, about 10 for the presets) correct
+ * rarely: a slow divergence (|z| = 1.03 per baro interval for the default
+ * gains with a baro every 50th step) that a restart at every baro sample
+ * would not help; scale the gains to the baro rate instead
+ * (tuning.settings_for_baro_rate, which run and fit do). With a baro sample every step the limit is where
+ * 8 - 4p - 2q + s = 0 (an eigenvalue at z = -1): default gains dt < 0.413 s
+ * (Jury's limit 0.620 s), racing 0.124 s, fixed wing 1.24 s, balloon 3.10 s,
+ * rocket 0.694 s. With gains scaled to the baro rate (Kh*N etc. for a baro
+ * on one step in N, tuning.settings_for_baro_rate) p, q, s are those of the
+ * observer sampled at the baro period. With the baro timeout off (+infinity,
+ * as the rocket flight layer runs it: it locks the baro out on purpose and
+ * re-admits it gently itself) FusionAltitudeUpdate passes interval = dt: the
+ * first sample after a 45 s lockout would otherwise be a gap (q grows with D).
+ * With a finite timeout D never exceeds it by more than dt (a timed-out step
+ * is not checked).
+ */
+static inline bool FusionAltitudeIsStepStable(const FusionAltitudeSettings *const settings, const float dt, const float interval) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    const float t = FUSION_ALTITUDE_STABILITY_MARGIN * dt;
+    const float tInterval = FUSION_ALTITUDE_STABILITY_MARGIN * interval;
+    const float p = settings->positionGain * t;
+    const float q = settings->velocityGain * t * tInterval;
+    const float s = settings->biasGain * t * tInterval * tInterval;
+    if (!FusionAltitudeIsFinite(p) || !FusionAltitudeIsFinite(q) || !FusionAltitudeIsFinite(s) || !(p < 2.0f)) {
+        return false;
+    }
+    if (settings->biasGain > 0.0f) {
+        return ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && !((p * (p + q - 2.0f) - s) > (p * (2.0f - p)));
+    }
+    if (settings->velocityGain > 0.0f) {
+        return q < 4.0f - 2.0f * p;
+    }
+    return true;
 }
 
 /**
@@ -273,23 +403,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsValidate(const FusionAl
     if (!FusionAltitudeIsFinite(dt) || !(dt > 0.0f)) {
         return FusionAltitudeStatusInvalidDt;
     }
-    const float p = settings->positionGain * dt;
-    const float q = settings->velocityGain * dt * dt;
-    const float s = settings->biasGain * dt * dt * dt;
-    if (!FusionAltitudeIsFinite(p) || !FusionAltitudeIsFinite(q) || !FusionAltitudeIsFinite(s)) {
-        return FusionAltitudeStatusUnstableDiscrete;
-    }
-    bool stable;
-    if (settings->biasGain > 0.0f) {
-        const float lhs = p * (2.0f - p);
-        const float rhs = p * (p + q - 2.0f) - s;
-        stable = (s > 0.0f) && ((8.0f - 4.0f * p - 2.0f * q + s) > 0.0f) && (p > 0.0f) && (p < 2.0f) &&
-                 (lhs > rhs) && (lhs > -rhs);
-    } else if (settings->velocityGain > 0.0f) {
-        stable = (p > 0.0f) && (p < 2.0f) && (q > 0.0f) && (q < 4.0f - 2.0f * p);
-    } else {
-        stable = p < 2.0f;
-    }
+    const bool stable = FusionAltitudeIsDiscreteStable(settings->positionGain, settings->velocityGain, settings->biasGain, dt);
     return stable ? FusionAltitudeStatusOk : FusionAltitudeStatusUnstableDiscrete;
 }
 
@@ -299,8 +413,9 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsValidate(const FusionAl
  *   Kh = 2*zeta*omega + omegaBias          (1/s)
  *   Kv = omega*omega + 2*zeta*omega*omegaBias  (1/s^2)
  *   Kb = omega*omega*omegaBias             (1/s^3)
- * Typical: zeta = 0.7, omegaBias = omega / 5. The gap period is set to
- * FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (assign it afterwards to change it;
+ * Typical: zeta = 0.7, omegaBias = omega / 5. The gap period and the baro
+ * timeout are set to FUSION_ALTITUDE_DEFAULT_GAP_PERIOD and
+ * FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT (assign them afterwards to change them;
  * *settings is not read). The result is checked with
  * FusionAltitudeSettingsCheck; *settings is written only on success.
  */
@@ -318,6 +433,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
     result.velocityGain = omegaSquared + twoZetaOmega * omegaBias;
     result.biasGain = omegaSquared * omegaBias;
     result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+    result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
     const FusionAltitudeStatus status = FusionAltitudeSettingsCheck(&result);
     if (status != FusionAltitudeStatusOk) {
         return (status == FusionAltitudeStatusInvalidGain) ? FusionAltitudeStatusInvalidBandwidth : status;
@@ -338,7 +454,9 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
  *              transonic baro errors would leak into a learned bias: set it
  *              from a pad calibration, as fusion_altitude_flight.h does)
  * Gap period: 5 s for the balloon (1 Hz baro logs; its gains pass Jury's
- * test up to 6 s), FUSION_ALTITUDE_DEFAULT_GAP_PERIOD for the others.
+ * test up to 6 s), FUSION_ALTITUDE_DEFAULT_GAP_PERIOD for the others. Baro
+ * timeout: 10 s for the balloon (10 periods of a 1 Hz baro),
+ * FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT for the others.
  * *settings is written only on success.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitudeSettings *const settings, const FusionAltitudePreset preset) {
@@ -349,12 +467,14 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
             result.velocityGain = 0.0512f;
             result.biasGain = 0.0016f;
             result.gapPeriod = 5.0f;
+            result.baroTimeout = 10.0f;
             break;
         case FusionAltitudePresetFixedWing:
             result.positionGain = 0.80f;
             result.velocityGain = 0.32f;
             result.biasGain = 0.025f;
             result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
             break;
         case FusionAltitudePresetVtol:
             result = FusionAltitudeSettingsDefault();
@@ -364,12 +484,14 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
             result.velocityGain = 32.0f;
             result.biasGain = 25.0f;
             result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
             break;
         case FusionAltitudePresetRocket:
             result.positionGain = 1.4f;
             result.velocityGain = 1.0f;
             result.biasGain = 0.0f;
             result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
             break;
         default:
             return FusionAltitudeStatusInvalidPreset;
@@ -393,8 +515,11 @@ static inline void FusionAltitudeInitialise(FusionAltitude *const altitude) {
     altitude->baroResidual = 0.0f;
     altitude->gapTime = 0.0f;
     altitude->sinceRestart = -1.0f;
+    altitude->sinceBaro = 0.0f;
     altitude->gapCount = 0u;
+    altitude->baroTimeouts = 0u;
     altitude->referenceSet = false;
+    altitude->baroTimedOut = false;
 }
 
 /**
@@ -411,9 +536,9 @@ static inline FusionAltitudeStatus FusionAltitudeSetSettings(FusionAltitude *con
 
 /**
  * @brief Sets the reference: altitude = baroAltitude (m), vertical velocity 0,
- * residual 0; a pending restart after a gap and a bias hold are cancelled.
- * The accel bias estimate and the gap count are kept. Rejected if
- * baroAltitude is not finite.
+ * residual 0; a pending restart after a gap, a bias hold and a baro timeout
+ * are cancelled. The accel bias estimate and the gap and timeout counts are
+ * kept. Rejected if baroAltitude is not finite.
  */
 static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const altitude, const float baroAltitude) {
     if (!FusionAltitudeIsFinite(baroAltitude)) {
@@ -424,7 +549,9 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
     altitude->baroResidual = 0.0f;
     altitude->gapTime = 0.0f;
     altitude->sinceRestart = -1.0f;
+    altitude->sinceBaro = 0.0f;
     altitude->referenceSet = true;
+    altitude->baroTimedOut = false;
     return FusionAltitudeStatusOk;
 }
 
@@ -433,18 +560,23 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
  * gap sets the reference: h = z, residual 0. After initialisation v = 0 (as
  * FusionAltitudeReset); after a gap v = (z - h)/gapTime, the mean vertical
  * velocity over the gap (h is the last altitude before it, gapTime the time
- * since, s), and the bias hold starts (sinceRestart = 0). The bias is kept.
+ * since, s; 0 if that overflows), and the bias hold starts (sinceRestart = 0).
+ * The bias is kept.
  */
 static inline void FusionAltitudeRestart(FusionAltitude *const altitude, const float baroAltitude) {
     FUSION_ALTITUDE_NO_CONTRACT
+    float velocity = 0.0f;
     if (altitude->gapTime > 0.0f) {
         altitude->sinceRestart = 0.0f;
+        velocity = (baroAltitude - altitude->altitude) / altitude->gapTime;
+        velocity = FusionAltitudeIsFinite(velocity) ? velocity : 0.0f; /* overflow: a gap of a few ulps */
     }
-    altitude->verticalVelocity = (altitude->gapTime > 0.0f) ? ((baroAltitude - altitude->altitude) / altitude->gapTime) : 0.0f;
+    altitude->verticalVelocity = velocity;
     altitude->altitude = baroAltitude;
     altitude->baroResidual = 0.0f;
     altitude->gapTime = 0.0f;
     altitude->referenceSet = true;
+    altitude->baroTimedOut = false;
 }
 
 /**
@@ -482,6 +614,69 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
 }
 
 /**
+ * @brief Internal: the restart of a gap by the stability rule, at the baro
+ * sample z (m) of a step of dt s that ends a baro interval of D = interval s.
+ * h (m) is the estimate before the step: it moved with v over the D - dt s of
+ * the interval before this step and not over this one, so the mean velocity
+ * since the previous baro sample is vMean = ((z - h) + v*(D - dt))/D. The
+ * velocity moves toward it by the weight D/(D + Kh/Kv):
+ *   v += (vMean - v) * D/(D + Kh/Kv);  h = z;  r = 0
+ * Kh/Kv (s) is the time over which the velocity loop trusts its velocity
+ * against the baro (0.83 s for the presets' ratio): a short interval keeps
+ * mostly v (a mean over it would be baro noise / D: 1 m/s for 0.15 m of noise
+ * over 0.16 s), a long one takes mostly vMean (v is stale after a run of such
+ * steps). Kv = 0 keeps v; vMean or the weight not finite keeps v.
+ */
+static inline void FusionAltitudeStabilityRestart(float *const h, float *const v, float *const r, const float kh, const float kv,
+                                                  const float z, const float dt, const float interval) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (kv > 0.0f) {
+        const float mean = ((z - *h) + *v * (interval - dt)) / interval;
+        const float weight = interval / (interval + kh / kv);
+        const float velocity = *v + (mean - *v) * weight;
+        *v = FusionAltitudeIsFinite(velocity) ? velocity : *v;
+    }
+    *h = z;
+    *r = 0.0f;
+}
+
+/**
+ * @brief Internal: the timing part of FusionAltitudeUpdate (inputs checked),
+ * before the state update. A gap (dt > gapPeriod) releases the reference; a
+ * stability gap (unstable: a baro step the gains cannot integrate stably) is
+ * counted and starts the bias hold (FusionAltitudeUpdate restarts h at this
+ * step's sample); a pending restart adds dt to gapTime; after a restart dt is
+ * added to sinceRestart.
+ * Then the baro timeout: a baro sample sets sinceBaro = 0; once the reference
+ * was set (or a restart is pending), a step without one adds dt to it, and
+ * going above baroTimeout counts a timeout and sets baroTimedOut.
+ */
+static inline void FusionAltitudeTiming(FusionAltitude *const altitude, const float dt, const bool baroSample, const bool unstable) {
+    FUSION_ALTITUDE_NO_CONTRACT
+    if (altitude->referenceSet && (dt > altitude->settings.gapPeriod)) { /* a gap: restart from the next baro sample */
+        altitude->gapCount++;
+        altitude->referenceSet = false;
+        altitude->gapTime = dt;
+    } else if (altitude->referenceSet && unstable) { /* a stability gap: restart at this step's baro sample */
+        altitude->gapCount++;
+        altitude->sinceRestart = 0.0f;
+    } else if (!altitude->referenceSet && (altitude->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
+        altitude->gapTime += dt;
+    } else if (altitude->referenceSet && (altitude->sinceRestart >= 0.0f)) { /* time since the restart */
+        altitude->sinceRestart += dt;
+    }
+    if (baroSample) {
+        altitude->sinceBaro = 0.0f;
+    } else if (altitude->referenceSet || (altitude->gapTime > 0.0f)) {
+        altitude->sinceBaro += dt;
+        if (!altitude->baroTimedOut && (altitude->sinceBaro > altitude->settings.baroTimeout)) {
+            altitude->baroTimeouts++;
+            altitude->baroTimedOut = true;
+        }
+    }
+}
+
+/**
  * @brief One step of the observer (semi-implicit Euler).
  *
  * @param accel vertical acceleration a, m/s^2, earth frame, +up, gravity removed.
@@ -500,21 +695,47 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
  * residual 0, as FusionAltitudeReset; a and dt unused) and a step without baro
  * changes nothing but the residual (NaN).
  *
- * Gaps: once the reference is set, an update with dt > gapPeriod is a gap (a
- * logging gap, a brown-out, a scheduler stall) and is not integrated: one
- * accel sample says nothing about the motion over the gap, and the
- * correction step is unstable for Kh*dt >= 2. The gap count goes up and the
- * reference is released (FusionAltitudeIsReferenceSet is false): the bias b
- * is held, h and v are frozen, and the next baro sample, this step's if it
- * has one, restarts h = z and v = (z - h_before)/T, the mean velocity over
- * the T s since h_before was last updated (the gap and any steps without
- * baro after it), with residual 0. The mean velocity is used rather than the
+ * Gaps: once the reference is set, an update is a gap (a logging gap, a
+ * brown-out, a scheduler stall) and is not integrated when dt > gapPeriod, or
+ * when it carries a baro sample and the gains cannot integrate it stably:
+ * FusionAltitudeIsStepStable(settings, dt, D) false, D = sinceBaro + dt the
+ * baro interval it ends (not when timed out: the timeout's restart applies), i.e. Jury's test fails at FUSION_ALTITUDE_STABILITY_MARGIN
+ * times the step (default gains with a baro every step: dt > 0.413 s). One
+ * accel sample says nothing about the motion over a gap, and a correction the
+ * gains cannot integrate stably grows the error at every such step (a
+ * telemetry log of 0.5-1 s steps ran the default gains to infinity). The gap
+ * count goes up. A gap by the stability rule restarts at once
+ * (FusionAltitudeStabilityRestart): h = z, v moves toward the mean velocity
+ * over the baro interval D by D/(D + Kh/Kv), residual 0, and the bias hold
+ * below starts. A gap by dt > gapPeriod releases the
+ * reference (FusionAltitudeIsReferenceSet is false): the bias b is held, h
+ * and v are frozen, and the next baro sample, this step's if it has one,
+ * restarts h = z and v = (z - h_before)/T, the mean velocity over the T s
+ * since h_before was last updated (the gap and any steps without baro after
+ * it), with residual 0. The mean velocity is used rather than the
  * held or a zero velocity because it is the only one the data support after
  * a gap in motion, and the velocity loop removes its error (at most the
  * velocity change over half the gap) within a few 1/omega. Meanwhile the
  * bias is held: after the restart every update adds its dt to sinceRestart,
  * and the bias correction is skipped while sinceRestart*Kh < 8 (see
  * FUSION_ALTITUDE_BIAS_HOLD), so that error does not leak into b.
+ *
+ * Baro timeout: once the reference is set, every step without a baro sample
+ * adds its dt to sinceBaro (a baro sample sets it to 0). When sinceBaro goes
+ * above baroTimeout the timeout count goes up and the observer is timed out
+ * (FusionAltitudeIsBaroTimedOut: the output is not baro-aided) until the next
+ * baro sample. Timed out, it no longer integrates the acceleration: the bias
+ * is held and the velocity decays to 0 with time constant T = baroTimeout,
+ *   v *= T/(T + dt);  h += v*dt
+ * (first order, stable at every dt), so h moves at most |v|*T further and
+ * stays finite however long the baro is missing, instead of dead-reckoning
+ * an accel error into an altitude error growing with the square of time.
+ * Decay, not hold: a held velocity would still move h without bound, and
+ * with no height source the best guess of a vehicle's vertical velocity over
+ * a long outage is 0. The next baro sample restarts cleanly: h = z, v is
+ * kept (the decayed velocity), residual 0 and the bias is held for 8/Kh s as
+ * after a gap. A gap pending while timed out stays a gap (h and v frozen;
+ * its restart as above).
  *
  * Every call checks all inputs first: non-finite accel, infinite
  * baroAltitude, or dt not finite or <= 0 is rejected with the state unchanged.
@@ -526,18 +747,20 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     if (status != FusionAltitudeStatusOk) {
         return status;
     }
-    if (altitude->referenceSet && (dt > altitude->settings.gapPeriod)) { /* a gap: restart from the next baro sample */
-        altitude->gapCount++;
-        altitude->referenceSet = false;
-        altitude->gapTime = dt;
-    } else if (!altitude->referenceSet && (altitude->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
-        altitude->gapTime += dt;
-    } else if (altitude->referenceSet && (altitude->sinceRestart >= 0.0f)) { /* time since the restart */
-        altitude->sinceRestart += dt;
-    }
-    if (!FusionAltitudeIsFinite(baroAltitude)) { /* NaN, as the inputs are checked: no baro sample this step */
+    const bool baroSample = FusionAltitudeIsFinite(baroAltitude);
+    /* D: the baro interval this step ends, s (dt alone with the timeout off: see FusionAltitudeIsStepStable) */
+    const float interval = FusionAltitudeIsFinite(altitude->settings.baroTimeout) ? (altitude->sinceBaro + dt) : dt;
+    const bool unstable = baroSample && altitude->referenceSet && !altitude->baroTimedOut &&
+                          !FusionAltitudeIsStepStable(&altitude->settings, dt, interval);
+    FusionAltitudeTiming(altitude, dt, baroSample, unstable);
+    if (!baroSample) { /* NaN, as the inputs are checked: no baro sample this step */
         if (altitude->referenceSet) {
-            altitude->verticalVelocity += (accel - altitude->accelBias) * dt;
+            if (altitude->baroTimedOut) { /* no dead reckoning beyond the timeout: v decays to 0 */
+                const float timeout = altitude->settings.baroTimeout;
+                altitude->verticalVelocity *= timeout / (timeout + dt);
+            } else {
+                altitude->verticalVelocity += (accel - altitude->accelBias) * dt;
+            }
             altitude->altitude += altitude->verticalVelocity * dt;
         }
         altitude->baroResidual = FusionAltitudeNaN();
@@ -545,6 +768,19 @@ static inline FusionAltitudeStatus FusionAltitudeUpdate(FusionAltitude *const al
     }
     if (!altitude->referenceSet) {
         FusionAltitudeRestart(altitude, baroAltitude);
+        return FusionAltitudeStatusOk;
+    }
+    if (unstable) { /* a stability gap: restart at this sample (the bias hold started in the timing) */
+        FusionAltitudeStabilityRestart(&altitude->altitude, &altitude->verticalVelocity, &altitude->baroResidual,
+                                       altitude->settings.positionGain, altitude->settings.velocityGain, baroAltitude, dt,
+                                       interval);
+        return FusionAltitudeStatusOk;
+    }
+    if (altitude->baroTimedOut) { /* the first baro sample after a timeout: restart at it, v kept */
+        altitude->altitude = baroAltitude;
+        altitude->baroResidual = 0.0f;
+        altitude->sinceRestart = 0.0f;
+        altitude->baroTimedOut = false;
         return FusionAltitudeStatusOk;
     }
     const float residual = baroAltitude - altitude->altitude;
@@ -586,9 +822,19 @@ static inline float FusionAltitudeGetBaroResidual(const FusionAltitude *const al
     return altitude->baroResidual;
 }
 
-/** @return the number of gaps so far: updates with dt > gapPeriod once the reference was set. */
+/** @return the number of gaps so far: updates with dt > gapPeriod, or baro steps the gains cannot integrate stably, once the reference was set. */
 static inline uint32_t FusionAltitudeGetGapCount(const FusionAltitude *const altitude) {
     return altitude->gapCount;
+}
+
+/** @return the number of baro timeouts so far: times the time since the latest baro sample went above baroTimeout. */
+static inline uint32_t FusionAltitudeGetBaroTimeouts(const FusionAltitude *const altitude) {
+    return altitude->baroTimeouts;
+}
+
+/** @return true from a baro timeout to the next baro sample: the output is not baro-aided (v decays, a is not integrated). */
+static inline bool FusionAltitudeIsBaroTimedOut(const FusionAltitude *const altitude) {
+    return altitude->baroTimedOut;
 }
 
 /** @return true once the reference is set (first baro sample or reset); false again from a gap to the next baro sample. */

@@ -39,6 +39,22 @@
  * overshoot at 13.9 s) and a constant accelerometer bias b, which this filter
  * has no state for, a steady altitude error of b*TV*TH (12 mg: 5.9 m).
  *
+ * Stability: the homogeneous update is triangular, with eigenvalues
+ * 1 - dt/(tauA + dt), 1 - D/(tauB + D), cV and cH, all in [0, 1] at every
+ * dt and D (cV, cH in [0, 1] in both modes), so unlike the observer no step
+ * is too long to integrate stably and there is no stability gap: a long step
+ * costs dead-reckoning error (hPred carries aLp*dt^2), which the gap period
+ * and the baro timeout bound. (The 7.7 km a 2.7 Hz telemetry log with 11 s
+ * gaps produced came from dead reckoning, not from an unstable blend.)
+ *
+ * Baro timeout: once the reference is set, when no baro sample has come for
+ * more than baroTimeout s (default 2 s, as the observer's) the timeout count
+ * goes up and the filter is timed out (IsBaroTimedOut: not baro-aided) until
+ * the next baro sample: the acceleration is no longer integrated (aLp kept),
+ * the velocity decays to 0 with time constant T = baroTimeout,
+ * v *= T/(T + dt), h += v*dt, so h moves at most |v|*T further. The next
+ * baro sample restarts h = zLp = z with v kept (vBaro = v).
+ *
  * Gaps: once the reference is set, a step with dt > gapPeriod (default 0.5 s,
  * as the observer's: no jitter trips it at 10 Hz or faster) is a gap and is
  * not integrated: the gap count goes up, the reference is released, h, v and
@@ -46,7 +62,7 @@
  * restarts the filter: h = zLp = z, v = vBaro = (z - h_before)/T, the mean
  * velocity over the T s since h was last updated, and the baro interval
  * starts again. The mean velocity, not 0, because with TV = 10 s a wrong
- * velocity takes tens of seconds to leave this filter.
+ * velocity takes tens of seconds to leave this filter (0 if it overflows).
  *
  * Bit-exact results across compilers and targets need IEEE float32 arithmetic
  * without fused multiply-add contraction. The header turns contraction off for
@@ -110,6 +126,7 @@ typedef enum {
     FusionAltitudeComplementaryStatusInvalidTimeConstant, /**< a time constant not finite or < 0 */
     FusionAltitudeComplementaryStatusInvalidCoefficient,  /**< a per-sample coefficient not finite or outside [0, 1] */
     FusionAltitudeComplementaryStatusInvalidGapPeriod,    /**< gap period NaN or <= 0 (+infinity: never a gap) */
+    FusionAltitudeComplementaryStatusInvalidBaroTimeout,  /**< baro timeout NaN or <= 0 (+infinity: never times out) */
 } FusionAltitudeComplementaryStatus;
 
 /** Settings. */
@@ -122,6 +139,7 @@ typedef struct {
     float velocityTimeConstant; /**< TV, s, >= 0: cV = TV/(TV + D) (used otherwise) */
     float altitudeTimeConstant; /**< TH, s, >= 0: cH = TH/(TH + D) (used otherwise) */
     float gapPeriod;            /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
+    float baroTimeout;          /**< s: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never) */
 } FusionAltitudeComplementarySettings;
 
 /** Filter state. Read it through the Get functions. */
@@ -135,7 +153,9 @@ typedef struct {
     float sinceBaro;         /**< s since the latest baro sample, before this step */
     float gapTime;           /**< s since h was last updated while a restart after a gap is pending; 0 otherwise */
     uint32_t gapCount;       /**< updates with dt > gapPeriod so far */
+    uint32_t baroTimeouts;   /**< baro timeouts so far: times the time without a baro sample went above baroTimeout */
     bool referenceSet;       /**< false until the first baro sample or reset, and from a gap to the next baro sample */
+    bool baroTimedOut;       /**< true from a baro timeout to the next baro sample: the output is not baro-aided */
 } FusionAltitudeComplementary;
 
 //------------------------------------------------------------------------------
@@ -158,6 +178,8 @@ static inline const char *FusionAltitudeComplementaryStatusMessage(const FusionA
             return "per-sample coefficients must be finite and in [0, 1]";
         case FusionAltitudeComplementaryStatusInvalidGapPeriod:
             return "gap period must be > 0 (+infinity: never a gap)";
+        case FusionAltitudeComplementaryStatusInvalidBaroTimeout:
+            return "baro timeout must be > 0 (+infinity: never times out)";
     }
     return "unknown status";
 }
@@ -168,7 +190,8 @@ static inline const char *FusionAltitudeComplementaryStatusMessage(const FusionA
 /**
  * @return the default settings: accel low-pass 0.02 s, baro low-pass 0.05 s,
  * time constants TV = 9.99 s and TH = 4.99 s (the write-up's 0.999 and 0.998
- * at 100 Hz, the same behaviour at any other rate).
+ * at 100 Hz, the same behaviour at any other rate), gap period 0.5 s, baro
+ * timeout 2 s (FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT, justified there).
  */
 static inline FusionAltitudeComplementarySettings FusionAltitudeComplementarySettingsDefault(void) {
     FusionAltitudeComplementarySettings settings;
@@ -180,6 +203,7 @@ static inline FusionAltitudeComplementarySettings FusionAltitudeComplementarySet
     settings.velocityTimeConstant = 9.99f;
     settings.altitudeTimeConstant = 4.99f;
     settings.gapPeriod = 0.5f;
+    settings.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
     return settings;
 }
 
@@ -211,6 +235,9 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementarySetti
     if (!(settings->gapPeriod > 0.0f)) { /* false for NaN */
         return FusionAltitudeComplementaryStatusInvalidGapPeriod;
     }
+    if (!(settings->baroTimeout > 0.0f)) { /* false for NaN */
+        return FusionAltitudeComplementaryStatusInvalidBaroTimeout;
+    }
     return FusionAltitudeComplementaryStatusOk;
 }
 
@@ -228,7 +255,9 @@ static inline void FusionAltitudeComplementaryInitialise(FusionAltitudeComplemen
     filter->sinceBaro = 0.0f;
     filter->gapTime = 0.0f;
     filter->gapCount = 0u;
+    filter->baroTimeouts = 0u;
     filter->referenceSet = false;
+    filter->baroTimedOut = false;
 }
 
 /** @brief Replaces the settings, keeping the state. Rejected (state unchanged) if the check fails. */
@@ -243,8 +272,9 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementarySetSe
 
 /**
  * @brief Sets the reference: altitude = filtered baro = baroAltitude (m),
- * velocity 0, baro velocity 0. The accel low-pass state is kept. Rejected if
- * baroAltitude is not finite.
+ * velocity 0, baro velocity 0; a baro timeout is cancelled. The accel
+ * low-pass state and the counts are kept. Rejected if baroAltitude is not
+ * finite.
  */
 static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset(FusionAltitudeComplementary *const filter,
                                                                                   const float baroAltitude) {
@@ -258,6 +288,7 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset
     filter->sinceBaro = 0.0f;
     filter->gapTime = 0.0f;
     filter->referenceSet = true;
+    filter->baroTimedOut = false;
     return FusionAltitudeComplementaryStatusOk;
 }
 
@@ -268,7 +299,8 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset
  */
 static inline void FusionAltitudeComplementaryRestart(FusionAltitudeComplementary *const filter, const float baroAltitude) {
     FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
-    const float velocity = (baroAltitude - filter->altitude) / filter->gapTime;
+    float velocity = (baroAltitude - filter->altitude) / filter->gapTime;
+    velocity = FusionAltitudeIsFinite(velocity) ? velocity : 0.0f; /* overflow: a gap of a few ulps */
     filter->altitude = baroAltitude;
     filter->baroFiltered = baroAltitude;
     filter->verticalVelocity = velocity;
@@ -276,6 +308,7 @@ static inline void FusionAltitudeComplementaryRestart(FusionAltitudeComplementar
     filter->sinceBaro = 0.0f;
     filter->gapTime = 0.0f;
     filter->referenceSet = true;
+    filter->baroTimedOut = false;
 }
 
 /**
@@ -305,7 +338,8 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryCheck
  *
  * Until the reference is set a baro sample only sets it (Reset; a and dt
  * unused) and a step without baro changes nothing but the baro velocity (NaN).
- * A dt above gapPeriod is a gap: see the file comment.
+ * A dt above gapPeriod is a gap, and more than baroTimeout s without a baro
+ * sample a timeout: see the file comment.
  * Inputs are checked first; a rejected call leaves the state unchanged.
  */
 static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdate(FusionAltitudeComplementary *const filter,
@@ -324,6 +358,11 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdat
     } else if (!filter->referenceSet && (filter->gapTime > 0.0f)) { /* still waiting for the baro after a gap */
         filter->gapTime += dt;
     }
+    if (!baroSample && (filter->referenceSet || (filter->gapTime > 0.0f)) && !filter->baroTimedOut &&
+        ((filter->sinceBaro + dt) > filter->settings.baroTimeout)) { /* a baro timeout */
+        filter->baroTimeouts++;
+        filter->baroTimedOut = true;
+    }
     if (!filter->referenceSet) {
         if (baroSample && (filter->gapTime > 0.0f)) {
             FusionAltitudeComplementaryRestart(filter, baroAltitude);
@@ -332,7 +371,26 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdat
         if (baroSample) {
             return FusionAltitudeComplementaryReset(filter, baroAltitude);
         }
+        if (filter->gapTime > 0.0f) {
+            filter->sinceBaro += dt;
+        }
         filter->baroVelocity = FusionAltitudeNaN();
+        return FusionAltitudeComplementaryStatusOk;
+    }
+    if (filter->baroTimedOut) { /* no dead reckoning: v decays to 0; the next baro sample restarts h at it */
+        if (baroSample) {
+            filter->altitude = baroAltitude;
+            filter->baroFiltered = baroAltitude;
+            filter->baroVelocity = filter->verticalVelocity;
+            filter->sinceBaro = 0.0f;
+            filter->baroTimedOut = false;
+            return FusionAltitudeComplementaryStatusOk;
+        }
+        const float timeout = filter->settings.baroTimeout;
+        filter->verticalVelocity *= timeout / (timeout + dt);
+        filter->altitude += filter->verticalVelocity * dt;
+        filter->baroVelocity = FusionAltitudeNaN();
+        filter->sinceBaro += dt;
         return FusionAltitudeComplementaryStatusOk;
     }
     const FusionAltitudeComplementarySettings *const s = &filter->settings;
@@ -395,6 +453,16 @@ static inline float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltit
 /** @return the number of gaps so far: updates with dt > gapPeriod once the reference was set. */
 static inline uint32_t FusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter) {
     return filter->gapCount;
+}
+
+/** @return the number of baro timeouts so far. */
+static inline uint32_t FusionAltitudeComplementaryGetBaroTimeouts(const FusionAltitudeComplementary *const filter) {
+    return filter->baroTimeouts;
+}
+
+/** @return true from a baro timeout to the next baro sample: the output is not baro-aided. */
+static inline bool FusionAltitudeComplementaryIsBaroTimedOut(const FusionAltitudeComplementary *const filter) {
+    return filter->baroTimedOut;
 }
 
 /** @return true once the reference is set; false from a gap to the next baro sample. */

@@ -317,13 +317,16 @@ static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitude
  * Kv = 1.0 1/s^2, Kb = 0 (the bias is learned on the pad and frozen in flight,
  * so static-port and transonic baro errors never enter it). Slower than VTOL (baro noise and static-port errors matter
  * more than manoeuvres the accelerometer already measures well). Any field the
- * observer settings hold beyond the gains keeps its default.
+ * observer settings hold beyond the gains keeps its default, but the baro
+ * timeout, which is off (+infinity): the flight layer locks the baro out in
+ * boost and at high speed on purpose and dead-reckons through it.
  */
 static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) {
     FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
     settings.positionGain = 1.4f;
     settings.velocityGain = 1.0f;
     settings.biasGain = 0.0f;
+    settings.baroTimeout = FusionAltitudeInfinity();
     return settings;
 }
 

@@ -2,7 +2,13 @@
  * @file fusion_altitude_sweep.h
  * @brief K complementary observers, each with its own gains, over one input
  * stream: for gain sweeps and tuning on a host. Column k equals, bit for bit,
- * FusionAltitudeUpdate run alone with the gains of setting k.
+ * FusionAltitudeUpdate run alone with the gains of setting k, except where a
+ * baro step is a gap by the stability rule for some settings but not for k:
+ * the settings share one timeline (the reference, gaps, restarts and the baro
+ * timeout come from the shared inputs), so such a step is a gap for every
+ * setting (it is unstable for at least one: FusionAltitudeIsStepStable). On a
+ * log with no step near any setting's stability limit, or for K = 1, every
+ * column equals its own observer.
  *
  * States and gains are arrays over the K settings (structure of arrays) and the
  * inner loop runs over k, so that a compiler vectorizes it; the optional
@@ -82,10 +88,16 @@ typedef struct {
     float *accelBias;         /**< b[k], m/s^2 */
     float *baroResidual;      /**< r[k], m (NaN after a step without baro) */
     float gapPeriod;          /**< shared, s: a dt above this is a gap (FusionAltitudeUpdate); set it after FusionAltitudeSweepInitialise */
+    float baroTimeout;        /**< shared, s: no baro sample for longer than this times out (FusionAltitudeUpdate); set it after FusionAltitudeSweepInitialise */
     float gapTime;            /**< shared, s: time since h was updated while a restart after a gap is pending; 0 otherwise */
-    float sinceRestart;       /**< shared, s since the last restart after a gap; -1 before any (column k holds its bias while sinceRestart*Kh[k] < 8) */
-    uint32_t gapCount;        /**< shared: gaps so far */
+    float sinceRestart;       /**< shared, s since the last restart after a gap or timeout; -1 before any (column k holds its bias while sinceRestart*Kh[k] < 8) */
+    float sinceBaro;          /**< shared, s since the latest baro sample */
+    uint32_t gapCount;        /**< shared: gaps so far (dt > gapPeriod, or a baro step unstable for at least one setting) */
+    uint32_t baroTimeouts;    /**< shared: baro timeouts so far */
     bool referenceSet;        /**< shared: every setting auto-zeroes on the same first baro sample, and restarts on the same one after a gap */
+    bool baroTimedOut;        /**< shared: true from a baro timeout to the next baro sample (output not baro-aided) */
+    size_t ruleBefore;        /**< settings [-ruleBefore, 0) of the same gain arrays that the stability rule checks too (0 after Initialise) */
+    size_t ruleAfter;         /**< settings [count, count + ruleAfter) likewise: a sweep split into parts (threads) applies one rule */
 } FusionAltitudeSweep;
 
 /**
@@ -121,9 +133,10 @@ typedef struct {
 
 /**
  * @brief Initialises a sweep: every state zero, reference not set, no gap,
- * gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (assign sweep->gapPeriod
- * afterwards to change it; it must be > 0). The gains are the caller's
- * arrays; check each setting with FusionAltitudeSettingsCheck.
+ * no timeout, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD and baro timeout
+ * FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT (assign sweep->gapPeriod and
+ * sweep->baroTimeout afterwards to change them; both must be > 0). The gains
+ * are the caller's arrays; check each setting with FusionAltitudeSettingsCheck.
  */
 static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const sweep) {
     for (size_t k = 0; k < sweep->count; k++) {
@@ -133,10 +146,16 @@ static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const swee
         sweep->baroResidual[k] = 0.0f;
     }
     sweep->gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
+    sweep->baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
     sweep->gapTime = 0.0f;
     sweep->sinceRestart = -1.0f;
+    sweep->sinceBaro = 0.0f;
     sweep->gapCount = 0u;
+    sweep->baroTimeouts = 0u;
     sweep->referenceSet = false;
+    sweep->baroTimedOut = false;
+    sweep->ruleBefore = 0u;
+    sweep->ruleAfter = 0u;
 }
 
 /** Adds the open block sums into the totals and clears them. Call once after the last update. */
@@ -203,13 +222,20 @@ typedef struct {
 } FusionAltitudeSweepLanes;
 
 /* What every setting shares, since the inputs are shared: the reference, the
- * pending restart after a gap and the gap count (the fields of FusionAltitude). */
+ * pending restart after a gap, the gap count and the baro timeout (the fields
+ * of FusionAltitude). */
 typedef struct {
     float gapTime;
     float sinceRestart;
+    float sinceBaro;
     uint32_t gapCount;
+    uint32_t baroTimeouts;
     bool referenceSet;
+    bool baroTimedOut;
 } FusionAltitudeSweepShared;
+
+/** Samples per pass of the stability rule: their flags are kept in a local array of this many bytes. */
+#define FUSION_ALTITUDE_SWEEP_FLAG_TILE (4096u)
 
 /* Loads settings [first, first + width) into lanes; lanes past width repeat the last setting. */
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepLoad(const FusionAltitudeSweep *const sweep, const FusionAltitudeSweepMetrics *const metrics,
@@ -247,22 +273,94 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStore(FusionAltitudeSweep *
     }
 }
 
-/* The shared part of FusionAltitudeUpdate before the lanes: gap detection,
- * and the time of a pending restart or since the last one. */
-FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepShared *const shared, const float step, const float gapPeriod) {
+/* The shared part of FusionAltitudeUpdate before the lanes (FusionAltitudeTiming):
+ * gap detection, the time of a pending restart or since the last one, and the
+ * baro timeout. unstable: a baro step that the stability rule makes a gap. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepShared *const shared, const float step, const bool baroSample,
+                                                            const bool unstable, const float gapPeriod, const float baroTimeout) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     if (shared->referenceSet && (step > gapPeriod)) {
         shared->gapCount++;
         shared->referenceSet = false;
         shared->gapTime = step;
+    } else if (shared->referenceSet && unstable) { /* a stability gap: the lanes restart at this step's sample */
+        shared->gapCount++;
+        shared->sinceRestart = 0.0f;
     } else if (!shared->referenceSet && (shared->gapTime > 0.0f)) {
         shared->gapTime += step;
     } else if (shared->referenceSet && (shared->sinceRestart >= 0.0f)) {
         shared->sinceRestart += step;
     }
+    if (baroSample) {
+        shared->sinceBaro = 0.0f;
+    } else if (shared->referenceSet || (shared->gapTime > 0.0f)) {
+        shared->sinceBaro += step;
+        if (!shared->baroTimedOut && (shared->sinceBaro > baroTimeout)) {
+            shared->baroTimeouts++;
+            shared->baroTimedOut = true;
+        }
+    }
 }
 
-/* FusionAltitudeRestart on every lane: h = z, v = 0 or the mean velocity over the gap, r = 0. */
+/* The stability rule of the sweep, for samples [0, samples) (at most
+ * FUSION_ALTITUDE_SWEEP_FLAG_TILE) from the shared state *start: unstable[t]
+ * is 1 when sample t carries a baro sample, the reference is set, no timeout
+ * is on, and FusionAltitudeIsStepStable fails for at least one setting (at
+ * dt and the baro interval sinceBaro + dt it ends) of
+ * [-ruleBefore, count + ruleAfter). The shared state evolves
+ * only with the inputs, so one pass gives the flags every chunk uses. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepUnstableSteps(const FusionAltitudeSweep *const sweep, FusionAltitudeSweepShared shared,
+                                                                   const float *const baroAltitude, const float *const dt,
+                                                                   const size_t dtStride, const size_t samples, uint8_t *const unstable) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
+    settings.gapPeriod = sweep->gapPeriod;
+    settings.baroTimeout = sweep->baroTimeout;
+    /* the verdict is a function of (dt, interval) alone: the last one is reused when both repeat bit for bit
+     * (a constant dt and baro rate: the common case), so most steps check no setting */
+    uint32_t lastStep = 0u;
+    uint32_t lastInterval = 0u;
+    bool lastAny = false;
+    bool lastValid = false;
+    for (size_t t = 0; t < samples; t++) {
+        const float step = dt[t * dtStride];
+        const bool baroSample = !FusionAltitudeIsNaN(baroAltitude[t]);
+        bool any = false;
+        if (baroSample && shared.referenceSet && !shared.baroTimedOut) {
+            const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared.sinceBaro + step) : step;
+            const bool cached = lastValid && (FusionAltitudeFloatBits(step) == lastStep) &&
+                                (FusionAltitudeFloatBits(interval) == lastInterval);
+            any = cached && lastAny;
+            const float *const kh = sweep->positionGain - sweep->ruleBefore;
+            const float *const kv = sweep->velocityGain - sweep->ruleBefore;
+            const float *const kb = sweep->biasGain - sweep->ruleBefore;
+            const size_t ruleCount = sweep->ruleBefore + sweep->count + sweep->ruleAfter;
+            for (size_t k = 0; !cached && (k < ruleCount) && !any; k++) {
+                settings.positionGain = kh[k];
+                settings.velocityGain = kv[k];
+                settings.biasGain = kb[k];
+                any = !FusionAltitudeIsStepStable(&settings, step, interval);
+            }
+            lastStep = FusionAltitudeFloatBits(step);
+            lastInterval = FusionAltitudeFloatBits(interval);
+            lastAny = any;
+            lastValid = true;
+        }
+        unstable[t] = (uint8_t) any;
+        FusionAltitudeSweepTiming(&shared, step, baroSample, any, sweep->gapPeriod, sweep->baroTimeout);
+        if (baroSample && !shared.referenceSet) { /* the shared part of FusionAltitudeSweepRestart */
+            shared.sinceRestart = (shared.gapTime > 0.0f) ? 0.0f : shared.sinceRestart;
+            shared.gapTime = 0.0f;
+            shared.referenceSet = true;
+            shared.baroTimedOut = false;
+        } else if (baroSample && shared.baroTimedOut) { /* and of the restart after a timeout */
+            shared.sinceRestart = 0.0f;
+            shared.baroTimedOut = false;
+        }
+    }
+}
+
+/* FusionAltitudeRestart on every lane: h = z, v = 0 or the mean velocity over the gap (0 if it overflows), r = 0. */
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
                                                              const float z, const size_t lanes) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
@@ -271,12 +369,14 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweep
         shared->sinceRestart = 0.0f;
     }
     for (size_t j = 0; j < lanes; j++) {
-        x->v[j] = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
+        const float velocity = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
+        x->v[j] = FusionAltitudeIsFinite(velocity) ? velocity : 0.0f;
         x->h[j] = z;
         x->r[j] = 0.0f;
     }
     shared->gapTime = 0.0f;
     shared->referenceSet = true;
+    shared->baroTimedOut = false;
 }
 
 /* The correction on every lane; after a restart each lane holds its bias
@@ -304,18 +404,30 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCorrect(FusionAltitudeSweep
 }
 
 /* FusionAltitudeUpdate, lane by lane, the same operations in the same order
- * (inputs already checked): gap detection, integration without baro, the
- * restart on the first baro sample, or the correction. */
+ * (inputs already checked): gap detection and the timeout, integration
+ * without baro (or the velocity decay when timed out), the restart on the
+ * first baro sample after a gap or a timeout, or the correction. */
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLanes *const x, FusionAltitudeSweepShared *const shared,
-                                                          const float a, const float z, const float step, const float gapPeriod,
-                                                          const size_t lanes) {
+                                                          const float a, const float z, const float step, const bool unstable,
+                                                          const float gapPeriod, const float baroTimeout, const size_t lanes) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
-    FusionAltitudeSweepTiming(shared, step, gapPeriod);
-    if (FusionAltitudeIsNaN(z)) {
+    const bool baroSample = !FusionAltitudeIsNaN(z);
+    const bool stabilityGap = unstable && shared->referenceSet && !(step > gapPeriod);
+    const float interval = FusionAltitudeIsFinite(baroTimeout) ? (shared->sinceBaro + step) : step;
+    FusionAltitudeSweepTiming(shared, step, baroSample, unstable, gapPeriod, baroTimeout);
+    if (!baroSample) {
         if (shared->referenceSet) {
-            for (size_t j = 0; j < lanes; j++) {
-                x->v[j] += (a - x->b[j]) * step;
-                x->h[j] += x->v[j] * step;
+            if (shared->baroTimedOut) {
+                const float decay = baroTimeout / (baroTimeout + step);
+                for (size_t j = 0; j < lanes; j++) {
+                    x->v[j] *= decay;
+                    x->h[j] += x->v[j] * step;
+                }
+            } else {
+                for (size_t j = 0; j < lanes; j++) {
+                    x->v[j] += (a - x->b[j]) * step;
+                    x->h[j] += x->v[j] * step;
+                }
             }
         }
         const float nan = FusionAltitudeNaN();
@@ -324,6 +436,17 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
         }
     } else if (!shared->referenceSet) {
         FusionAltitudeSweepRestart(x, shared, z, lanes);
+    } else if (stabilityGap) {
+        for (size_t j = 0; j < lanes; j++) {
+            FusionAltitudeStabilityRestart(&x->h[j], &x->v[j], &x->r[j], x->kh[j], x->kv[j], z, step, interval);
+        }
+    } else if (shared->baroTimedOut) {
+        for (size_t j = 0; j < lanes; j++) {
+            x->h[j] = z;
+            x->r[j] = 0.0f;
+        }
+        shared->sinceRestart = 0.0f;
+        shared->baroTimedOut = false;
     } else {
         FusionAltitudeSweepCorrect(x, shared->sinceRestart, a, z, step, lanes);
     }
@@ -367,12 +490,13 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep
                                             const size_t dtStride, const size_t samples,
                                             const FusionAltitudeSweepOutputs *const outputs,
                                             FusionAltitudeSweepMetrics *const metrics, const size_t lanes,
-                                            FusionAltitudeSweepShared *const shared) {
+                                            FusionAltitudeSweepShared *const shared, const uint8_t *const unstable) {
     FusionAltitudeSweepLanes x;
     FusionAltitudeSweepLoad(sweep, metrics, first, width, lanes, &x);
     size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
     for (size_t t = 0; t < samples; t++) {
-        FusionAltitudeSweepStep(&x, shared, accel[t], baroAltitude[t], dt[t * dtStride], sweep->gapPeriod, lanes);
+        FusionAltitudeSweepStep(&x, shared, accel[t], baroAltitude[t], dt[t * dtStride], unstable[t] != 0u, sweep->gapPeriod,
+                                sweep->baroTimeout, lanes);
         if (outputs != NULL) {
             const size_t offset = t * outputs->stride + first;
             FusionAltitudeSweepCopyRow(outputs->altitude, offset, x.h, width, lanes);
@@ -400,7 +524,8 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
                                                              const float *const accel, const float *const baroAltitude, const float *const dt,
                                                              const size_t dtStride, const size_t samples,
                                                              const FusionAltitudeSweepOutputs *const outputs,
-                                                             FusionAltitudeSweepMetrics *const metrics, FusionAltitudeSweepShared *const shared) {
+                                                             FusionAltitudeSweepMetrics *const metrics, FusionAltitudeSweepShared *const shared,
+                                                             const uint8_t *const unstable) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     typedef FusionAltitudeSweepVector8 V;
     typedef FusionAltitudeSweepMask8 M;
@@ -427,13 +552,22 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
     for (size_t t = 0; t < samples; t++) {
         const float step = dt[t * dtStride];
         const float z = baroAltitude[t];
-        FusionAltitudeSweepTiming(shared, step, sweep->gapPeriod);
+        const bool baroSample = !FusionAltitudeIsNaN(z);
+        const bool stabilityGap = (unstable[t] != 0u) && shared->referenceSet && !(step > sweep->gapPeriod);
+        const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared->sinceBaro + step) : step;
+        FusionAltitudeSweepTiming(shared, step, baroSample, unstable[t] != 0u, sweep->gapPeriod, sweep->baroTimeout);
         const V steps = {step, step, step, step, step, step, step, step};
         const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};
         const V zs = {z, z, z, z, z, z, z, z};
-        if (FusionAltitudeIsNaN(z)) {
+        if (!baroSample) {
             if (shared->referenceSet) {
-                v += (as - b) * steps;
+                if (shared->baroTimedOut) {
+                    const float decay = sweep->baroTimeout / (sweep->baroTimeout + step);
+                    const V decays = {decay, decay, decay, decay, decay, decay, decay, decay};
+                    v *= decays;
+                } else {
+                    v += (as - b) * steps;
+                }
                 h += v * steps;
             }
             r = nans;
@@ -442,7 +576,9 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
             if (gapTime > 0.0f) {
                 shared->sinceRestart = 0.0f;
                 const V gapTimes = {gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime};
-                v = (zs - h) / gapTimes;
+                const V velocity = (zs - h) / gapTimes;
+                const M finite = (M) ((velocity - velocity) == zeros); /* x - x is 0 exactly when x is finite */
+                v = (V) ((M) velocity & finite);
             } else {
                 v = zeros;
             }
@@ -450,6 +586,23 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
             r = zeros;
             shared->gapTime = 0.0f;
             shared->referenceSet = true;
+            shared->baroTimedOut = false;
+        } else if (stabilityGap) { /* FusionAltitudeStabilityRestart lane by lane (rare: no need to vectorize) */
+            float lanesOf[3][8];
+            *(U *) lanesOf[0] = h;
+            *(U *) lanesOf[1] = v;
+            *(U *) lanesOf[2] = r;
+            for (size_t j = 0; j < 8u; j++) {
+                FusionAltitudeStabilityRestart(&lanesOf[0][j], &lanesOf[1][j], &lanesOf[2][j], x.kh[j], x.kv[j], z, step, interval);
+            }
+            h = *(const U *) lanesOf[0];
+            v = *(const U *) lanesOf[1];
+            r = *(const U *) lanesOf[2];
+        } else if (shared->baroTimedOut) {
+            h = zs;
+            r = zeros;
+            shared->sinceRestart = 0.0f;
+            shared->baroTimedOut = false;
         } else {
             const V residual = zs - h;
             v += ((as - b) + kv * residual) * steps;
@@ -598,6 +751,8 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
         tile = FUSION_ALTITUDE_SWEEP_TILE_FLOATS / sweep->count;
         tile = (tile < 16u) ? 16u : tile;
     }
+    tile = (tile < FUSION_ALTITUDE_SWEEP_FLAG_TILE) ? tile : FUSION_ALTITUDE_SWEEP_FLAG_TILE;
+    uint8_t unstable[FUSION_ALTITUDE_SWEEP_FLAG_TILE];
     for (size_t start = 0; start < samples; start += tile) {
         const size_t length = ((samples - start) < tile) ? (samples - start) : tile;
         FusionAltitudeSweepOutputs rows;
@@ -616,7 +771,9 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             window.mask = (metrics->mask != NULL) ? &metrics->mask[start] : NULL;
         }
         size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
-        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->gapCount, sweep->referenceSet};
+        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->sinceBaro, sweep->gapCount,
+                                            sweep->baroTimeouts, sweep->referenceSet, sweep->baroTimedOut};
+        FusionAltitudeSweepUnstableSteps(sweep, shared, &baroAltitude[start], &dt[start * dtStride], dtStride, length, unstable);
         for (size_t first = 0; first < sweep->count; first += (size_t) FUSION_ALTITUDE_SWEEP_LANES) {
             const size_t remaining = sweep->count - first;
             const size_t width = (remaining < (size_t) FUSION_ALTITUDE_SWEEP_LANES) ? remaining : (size_t) FUSION_ALTITUDE_SWEEP_LANES;
@@ -625,27 +782,33 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             /* every chunk starts from the same shared state and ends with the same one */
             shared.gapTime = sweep->gapTime;
             shared.sinceRestart = sweep->sinceRestart;
+            shared.sinceBaro = sweep->sinceBaro;
             shared.gapCount = sweep->gapCount;
+            shared.baroTimeouts = sweep->baroTimeouts;
             shared.referenceSet = sweep->referenceSet;
+            shared.baroTimedOut = sweep->baroTimedOut;
             /* constant lane counts, so that each call compiles to fixed-width vector code */
             if (width <= 8u) {
 #if FUSION_ALTITUDE_SWEEP_VECTOR
                 samplesInBlock = FusionAltitudeSweepChunk8(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
-                                                           dtStride, length, chunkOutputs, chunkMetrics, &shared);
+                                                           dtStride, length, chunkOutputs, chunkMetrics, &shared, unstable);
 #else
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
-                                                          dtStride, length, chunkOutputs, chunkMetrics, 8u, &shared);
+                                                          dtStride, length, chunkOutputs, chunkMetrics, 8u, &shared, unstable);
 #endif
             } else {
                 samplesInBlock = FusionAltitudeSweepChunk(sweep, first, width, &accel[start], &baroAltitude[start], &dt[start * dtStride],
                                                           dtStride, length, chunkOutputs, chunkMetrics, (size_t) FUSION_ALTITUDE_SWEEP_LANES,
-                                                          &shared);
+                                                          &shared, unstable);
             }
         }
         sweep->gapTime = shared.gapTime;
         sweep->sinceRestart = shared.sinceRestart;
+        sweep->sinceBaro = shared.sinceBaro;
         sweep->gapCount = shared.gapCount;
+        sweep->baroTimeouts = shared.baroTimeouts;
         sweep->referenceSet = shared.referenceSet;
+        sweep->baroTimedOut = shared.baroTimedOut;
         if (metrics != NULL) {
             size_t counted = 0u;
             if (metrics->mask == NULL) {

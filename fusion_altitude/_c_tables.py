@@ -23,6 +23,7 @@ class Status(enum.IntEnum):
     INVALID_BANDWIDTH = 8  #: omega, zeta or omega_b out of range
     INVALID_PRESET = 9  #: unknown preset
     INVALID_GAP_PERIOD = 10  #: gap period NaN or <= 0 (+infinity: never a gap)
+    INVALID_BARO_TIMEOUT = 11  #: baro timeout NaN or <= 0 (+infinity: never times out)
 
 
 class Preset(enum.IntEnum):
@@ -39,6 +40,8 @@ class Preset(enum.IntEnum):
 FUSION_ALTITUDE_GRAVITY = 9.80665
 FUSION_ALTITUDE_VERSION = 100
 FUSION_ALTITUDE_DEFAULT_GAP_PERIOD = 0.5
+FUSION_ALTITUDE_STABILITY_MARGIN = 1.5
+FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT = 2.0
 FUSION_ALTITUDE_BIAS_HOLD = 8.0
 
 
@@ -55,6 +58,7 @@ OBSERVER_STATUS_MESSAGES = (
     'omega and zeta must be finite and > 0, omega_b finite and >= 0',
     'unknown preset',
     'gap period must be > 0 (+infinity: never a gap)',
+    'baro timeout must be > 0 (+infinity: never times out)',
 )
 
 
@@ -66,6 +70,7 @@ OBSERVER_SETTINGS = (
     ('velocity_gain', 'velocityGain', 'f', 2.88, 'Kv, 1/s^2: baro residual into vertical velocity'),
     ('bias_gain', 'biasGain', 'f', 0.675, 'Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default FUSION_ALTITUDE_DEFAULT_GAP_PERIOD)'),
+    ('baro_timeout', 'baroTimeout', 'f', 2.0, 's: after this long without a baro sample the observer stops dead-reckoning (default FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT; +infinity: never)'),
 )
 
 
@@ -186,6 +191,7 @@ class ComplementaryStatus(enum.IntEnum):
     INVALID_TIME_CONSTANT = 4  #: a time constant not finite or < 0
     INVALID_COEFFICIENT = 5  #: a per-sample coefficient not finite or outside [0, 1]
     INVALID_GAP_PERIOD = 6  #: gap period NaN or <= 0 (+infinity: never a gap)
+    INVALID_BARO_TIMEOUT = 7  #: baro timeout NaN or <= 0 (+infinity: never times out)
 
 
 #: ``FusionAltitudeComplementaryStatusMessage`` of each status, read from C.
@@ -197,6 +203,7 @@ COMPLEMENTARY_STATUS_MESSAGES = (
     'time constants must be finite and >= 0',
     'per-sample coefficients must be finite and in [0, 1]',
     'gap period must be > 0 (+infinity: never a gap)',
+    'baro timeout must be > 0 (+infinity: never times out)',
 )
 
 
@@ -212,6 +219,7 @@ COMPLEMENTARY_SETTINGS = (
     ('velocity_time_constant', 'velocityTimeConstant', 'f', 9.99, 'TV, s, >= 0: cV = TV/(TV + D) (used otherwise)'),
     ('altitude_time_constant', 'altitudeTimeConstant', 'f', 4.99, 'TH, s, >= 0: cH = TH/(TH + D) (used otherwise)'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default 0.5 s)'),
+    ('baro_timeout', 'baroTimeout', 'f', 2.0, 's: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never)'),
 )
 
 
@@ -462,7 +470,7 @@ FLIGHT_STATUS_MESSAGES = (
 #: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
 #: defaults are ``FusionAltitudeRocketSettingsDefault()``, read from C.
 FLIGHT_SETTINGS = (
-    ('observer', 'observer', 's', (1.4, 1.0, 0.0, 0.5,), 'observer gains in flight (bias gain forced to 0 after apogee)'),
+    ('observer', 'observer', 's', (1.4, 1.0, 0.0, 0.5, float("inf"),), 'observer gains in flight (bias gain forced to 0 after apogee)'),
     ('stationary_accel', 'stationaryAccel', 'f', 5.0, "m/s^2: pad samples within this of the window's first are stationary"),
     ('calibration_window', 'calibrationWindow', 'f', 0.5, 's: length of a pad calibration window'),
     ('launch_accel', 'launchAccel', 'f', 20.0, 'm/s^2: accel - bias above this ...'),

@@ -10,6 +10,7 @@ C_STATUS_VALUES = {
     'INVALID_TIME_CONSTANT': FusionAltitudeComplementaryStatusInvalidTimeConstant,
     'INVALID_COEFFICIENT': FusionAltitudeComplementaryStatusInvalidCoefficient,
     'INVALID_GAP_PERIOD': FusionAltitudeComplementaryStatusInvalidGapPeriod,
+    'INVALID_BARO_TIMEOUT': FusionAltitudeComplementaryStatusInvalidBaroTimeout,
 }
 
 
@@ -29,6 +30,7 @@ cdef FusionAltitudeComplementarySettings _settings_to_c(object values) except *:
     c.velocityTimeConstant = values['velocity_time_constant']
     c.altitudeTimeConstant = values['altitude_time_constant']
     c.gapPeriod = values['gap_period']
+    c.baroTimeout = values['baro_timeout']
     return c
 
 
@@ -43,6 +45,7 @@ cdef dict _settings_from_c(const FusionAltitudeComplementarySettings *c):
         'velocity_time_constant': c.velocityTimeConstant,
         'altitude_time_constant': c.altitudeTimeConstant,
         'gap_period': c.gapPeriod,
+        'baro_timeout': c.baroTimeout,
     }
 
 
@@ -72,7 +75,9 @@ cdef tuple _state_get(const FusionAltitudeComplementary *c, object settings_out)
         c.sinceBaro,
         c.gapTime,
         int(c.gapCount),
+        int(c.baroTimeouts),
         bool(c.referenceSet),
+        bool(c.baroTimedOut),
     )
 
 
@@ -81,7 +86,7 @@ cdef void _state_set(FusionAltitudeComplementary *c, tuple state, object setting
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _altitude, _vertical_velocity, _accel_filtered, _baro_filtered, _baro_velocity, _since_baro, _gap_time, _gap_count, _reference_set,) = state
+    (_settings, _altitude, _vertical_velocity, _accel_filtered, _baro_filtered, _baro_velocity, _since_baro, _gap_time, _gap_count, _baro_timeouts, _reference_set, _baro_timed_out,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     c.altitude = _altitude
     c.verticalVelocity = _vertical_velocity
@@ -91,7 +96,9 @@ cdef void _state_set(FusionAltitudeComplementary *c, tuple state, object setting
     c.sinceBaro = _since_baro
     c.gapTime = _gap_time
     c.gapCount = _gap_count
+    c.baroTimeouts = _baro_timeouts
     c.referenceSet = _reference_set
+    c.baroTimedOut = _baro_timed_out
 
 
 
@@ -124,6 +131,16 @@ cdef class _ComplementaryFilterGetters(Estimator):
     def gap_count(self):
         """The number of gaps so far: updates with dt > gapPeriod once the reference was set."""
         return FusionAltitudeComplementaryGetGapCount(&self._c)
+
+    @property
+    def baro_timeouts(self):
+        """The number of baro timeouts so far."""
+        return FusionAltitudeComplementaryGetBaroTimeouts(&self._c)
+
+    @property
+    def baro_timed_out(self):
+        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
+        return FusionAltitudeComplementaryIsBaroTimedOut(&self._c)
 
     @property
     def reference_set(self):

@@ -37,9 +37,10 @@ class ComplementaryBatch(NamedTuple):
 
 #: Complementary settings in the order of the C struct: (name, default, kind), the defaults read from
 #: the header (:mod:`fusion_altitude._c_tables`). kind "t": time constant s (finite, >= 0); "c":
-#: coefficient in [0, 1]; "b": bool; "g": gap period s (> 0, inf: never a gap).
+#: coefficient in [0, 1]; "b": bool; "g": gap period s (> 0, inf: never a gap); "o": baro timeout s (> 0, inf:
+#: never times out).
 COMPLEMENTARY_SETTINGS = tuple((name, default, "b" if kind == "b" else "c" if name.endswith("_coefficient")
-                                else "g" if name == "gap_period" else "t")
+                                else "g" if name == "gap_period" else "o" if name == "baro_timeout" else "t")
                                for name, _, kind, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
 
 
@@ -79,6 +80,8 @@ def raise_complementary_settings_error(status: int, values: dict) -> None:
                 raise ValueError(f"{name} must be finite and in [0, 1], got {value!r}")
         if kind == "g" and status == ComplementaryStatus.INVALID_GAP_PERIOD:
             raise ValueError(f"{name} must be > 0 (s; inf: never a gap), got {value!r}")
+        if kind == "o" and status == ComplementaryStatus.INVALID_BARO_TIMEOUT:
+            raise ValueError(f"{name} must be > 0 (s; inf: never times out), got {value!r}")
     raise ValueError(f"invalid complementary settings (status {status})")
 
 

@@ -70,6 +70,7 @@ cdef FusionAltitudeRocketSettings _settings_to_c(object values) except *:
     c.observer.velocityGain = values['observer'][1]
     c.observer.biasGain = values['observer'][2]
     c.observer.gapPeriod = values['observer'][3]
+    c.observer.baroTimeout = values['observer'][4]
     c.stationaryAccel = values['stationary_accel']
     c.calibrationWindow = values['calibration_window']
     c.launchAccel = values['launch_accel']
@@ -91,7 +92,7 @@ cdef FusionAltitudeRocketSettings _settings_to_c(object values) except *:
 cdef dict _settings_from_c(const FusionAltitudeRocketSettings *c):
     """FusionAltitudeRocketSettings → {name: value} in the struct's order."""
     return {
-        'observer': (c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain, c.observer.gapPeriod,),
+        'observer': (c.observer.positionGain, c.observer.velocityGain, c.observer.biasGain, c.observer.gapPeriod, c.observer.baroTimeout,),
         'stationary_accel': c.stationaryAccel,
         'calibration_window': c.calibrationWindow,
         'launch_accel': c.launchAccel,
@@ -128,7 +129,7 @@ cdef tuple _state_get(const FusionAltitudeRocket *c, object settings_out):
     cdef int i, j
     return (
         settings_out(_settings_from_c(&c.settings)),
-        ((c.observer.settings.positionGain, c.observer.settings.velocityGain, c.observer.settings.biasGain, c.observer.settings.gapPeriod,), c.observer.altitude, c.observer.verticalVelocity, c.observer.accelBias, c.observer.baroResidual, c.observer.gapTime, c.observer.sinceRestart, int(c.observer.gapCount), bool(c.observer.referenceSet),),
+        ((c.observer.settings.positionGain, c.observer.settings.velocityGain, c.observer.settings.biasGain, c.observer.settings.gapPeriod, c.observer.settings.baroTimeout,), c.observer.altitude, c.observer.verticalVelocity, c.observer.accelBias, c.observer.baroResidual, c.observer.gapTime, c.observer.sinceRestart, c.observer.sinceBaro, int(c.observer.gapCount), int(c.observer.baroTimeouts), bool(c.observer.referenceSet), bool(c.observer.baroTimedOut),),
         int(<int>c.phase),
         int(<int>c.baro),
         tuple([(bool(c.events[i].occurred), int(c.events[i].sample), c.events[i].time, c.events[i].height, c.events[i].velocity,) for i in range(6)]),
@@ -173,14 +174,18 @@ cdef void _state_set(FusionAltitudeRocket *c, tuple state, object settings_in) e
     c.observer.settings.velocityGain = _observer[0][1]
     c.observer.settings.biasGain = _observer[0][2]
     c.observer.settings.gapPeriod = _observer[0][3]
+    c.observer.settings.baroTimeout = _observer[0][4]
     c.observer.altitude = _observer[1]
     c.observer.verticalVelocity = _observer[2]
     c.observer.accelBias = _observer[3]
     c.observer.baroResidual = _observer[4]
     c.observer.gapTime = _observer[5]
     c.observer.sinceRestart = _observer[6]
-    c.observer.gapCount = _observer[7]
-    c.observer.referenceSet = _observer[8]
+    c.observer.sinceBaro = _observer[7]
+    c.observer.gapCount = _observer[8]
+    c.observer.baroTimeouts = _observer[9]
+    c.observer.referenceSet = _observer[10]
+    c.observer.baroTimedOut = _observer[11]
     c.phase = <FusionAltitudeRocketPhase><int>_phase
     c.baro = <FusionAltitudeRocketBaro><int>_baro
     for i in range(6):

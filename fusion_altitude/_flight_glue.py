@@ -260,19 +260,25 @@ __all__ = ["RocketStatus", "Phase", "BaroFate", "FlightEvent", "FlightEvents", "
            "CSV_EVENTS", "SETTINGS_FIELDS", "MACH_LOCKOUT", "as_float32_vector", "observer_settings"]
 
 
-def observer_settings(observer: object) -> Tuple[float, float, float, float]:
-    """The ``observer`` setting as (Kh, Kv, Kb, gap period), float32-rounded Python floats: None (the rocket
-    observer), observer settings (``as_tuple`` and ``gap_period``), or 3 gains (the rocket gap period) or 4 values.
-    TypeError for non-reals, ValueError for a wrong count; the stability check is the caller's."""
+def observer_settings(observer: object) -> Tuple[float, ...]:
+    """The ``observer`` setting as (Kh, Kv, Kb, gap period, baro timeout), float32-rounded Python floats: None (the
+    rocket observer), observer settings (``as_tuple`` and ``gap_period``), or 3 gains (the rocket gap period) or 4 or
+    5 values. The baro timeout is the rocket observer's (+inf: the flight layer dead-reckons through its baro lockout
+    on purpose) unless 5 values are given. TypeError for non-reals, ValueError for a wrong count; the stability check
+    is the caller's."""
     if observer is None:
         values = ROCKET_OBSERVER
     elif hasattr(observer, "as_tuple"):
-        values = (*tuple(observer.as_tuple())[:3], getattr(observer, "gap_period", ROCKET_OBSERVER[3]))  # type: ignore
+        values = (*tuple(observer.as_tuple())[:3], getattr(observer, "gap_period", ROCKET_OBSERVER[3]),  # type: ignore
+                  ROCKET_OBSERVER[4])
     else:
         values = tuple(as_float(g, "observer") for g in observer)  # type: ignore[union-attr]
         if len(values) == 3:
             values = (*values, ROCKET_OBSERVER[3])
-        if len(values) != 4:
-            raise ValueError(f"observer must hold 3 gains (and optionally a gap period), got {len(values)} values")
+        if len(values) == 4:
+            values = (*values, ROCKET_OBSERVER[4])
+        if len(values) != 5:
+            raise ValueError(f"observer must hold 3 gains (and optionally a gap period and a baro timeout), got "
+                             f"{len(values)} values")
     with np.errstate(over="ignore"):
         return tuple(float(np.float32(as_float(v, "observer"))) for v in values)  # type: ignore[return-value]

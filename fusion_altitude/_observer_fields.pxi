@@ -14,6 +14,7 @@ C_STATUS_VALUES = {
     'INVALID_BANDWIDTH': FusionAltitudeStatusInvalidBandwidth,
     'INVALID_PRESET': FusionAltitudeStatusInvalidPreset,
     'INVALID_GAP_PERIOD': FusionAltitudeStatusInvalidGapPeriod,
+    'INVALID_BARO_TIMEOUT': FusionAltitudeStatusInvalidBaroTimeout,
 }
 
 
@@ -39,6 +40,7 @@ cdef FusionAltitudeSettings _settings_to_c(object values) except *:
     c.velocityGain = values['velocity_gain']
     c.biasGain = values['bias_gain']
     c.gapPeriod = values['gap_period']
+    c.baroTimeout = values['baro_timeout']
     return c
 
 
@@ -49,6 +51,7 @@ cdef dict _settings_from_c(const FusionAltitudeSettings *c):
         'velocity_gain': c.velocityGain,
         'bias_gain': c.biasGain,
         'gap_period': c.gapPeriod,
+        'baro_timeout': c.baroTimeout,
     }
 
 
@@ -76,8 +79,11 @@ cdef tuple _state_get(const FusionAltitude *c, object settings_out):
         c.baroResidual,
         c.gapTime,
         c.sinceRestart,
+        c.sinceBaro,
         int(c.gapCount),
+        int(c.baroTimeouts),
         bool(c.referenceSet),
+        bool(c.baroTimedOut),
     )
 
 
@@ -86,7 +92,7 @@ cdef void _state_set(FusionAltitude *c, tuple state, object settings_in) except 
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _altitude, _vertical_velocity, _accel_bias, _baro_residual, _gap_time, _since_restart, _gap_count, _reference_set,) = state
+    (_settings, _altitude, _vertical_velocity, _accel_bias, _baro_residual, _gap_time, _since_restart, _since_baro, _gap_count, _baro_timeouts, _reference_set, _baro_timed_out,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     c.altitude = _altitude
     c.verticalVelocity = _vertical_velocity
@@ -94,8 +100,11 @@ cdef void _state_set(FusionAltitude *c, tuple state, object settings_in) except 
     c.baroResidual = _baro_residual
     c.gapTime = _gap_time
     c.sinceRestart = _since_restart
+    c.sinceBaro = _since_baro
     c.gapCount = _gap_count
+    c.baroTimeouts = _baro_timeouts
     c.referenceSet = _reference_set
+    c.baroTimedOut = _baro_timed_out
 
 
 
@@ -126,8 +135,18 @@ cdef class _AltitudeEstimatorGetters(Estimator):
 
     @property
     def gap_count(self):
-        """The number of gaps so far: updates with dt > gapPeriod once the reference was set."""
+        """The number of gaps so far: updates with dt > gapPeriod, or baro steps the gains cannot integrate stably, once the reference was set."""
         return FusionAltitudeGetGapCount(&self._c)
+
+    @property
+    def baro_timeouts(self):
+        """The number of baro timeouts so far: times the time since the latest baro sample went above baroTimeout."""
+        return FusionAltitudeGetBaroTimeouts(&self._c)
+
+    @property
+    def baro_timed_out(self):
+        """True from a baro timeout to the next baro sample: the output is not baro-aided (v decays, a is not integrated)."""
+        return FusionAltitudeIsBaroTimedOut(&self._c)
 
     @property
     def reference_set(self):

@@ -98,6 +98,8 @@ def raise_settings_error(status: int, gains: Tuple[float, float, float], dt: Opt
         raise ValueError(f"dt must be finite and > 0 (s), got {dt!r}")
     if status == Status.INVALID_GAP_PERIOD:
         raise ValueError("gap_period must be > 0 s (inf: never a gap)")
+    if status == Status.INVALID_BARO_TIMEOUT:
+        raise ValueError("baro_timeout must be > 0 s (inf: never times out)")
     if status == Status.INVALID_BANDWIDTH:
         raise ValueError("omega and zeta must be finite and > 0, omega_b finite and >= 0, "
                          "and the resulting gains finite")

@@ -16,13 +16,13 @@ BLOCK = FUSION_ALTITUDE_SWEEP_BLOCK
 def run(const float[::1] accel, const float[::1] baro_altitude, const float[::1] dt, bint dt_is_array,
         const float[:, ::1] gains, Py_ssize_t k_start, Py_ssize_t k_stop,
         float[:, ::1] state, object outputs, object metrics, const float[::1] reference, const uint8_t[::1] mask,
-        float gap_period=0.5):
+        float gap_period=0.5, float baro_timeout=2.0):
     """Run settings k_start..k_stop-1 over all samples (inputs already float32 and checked for shape).
 
     ``gains`` is (3, K) (Kh, Kv, Kb rows); ``state`` is (4, K) scratch (h, v, b, r).
     ``outputs`` is None or 4 arrays (T, K) float32; ``metrics`` is None or 5
     arrays (K,) float32: sum_error, sum_squared_error, max_abs_error and two
-    zeroed scratch rows. ``gap_period`` (s) is shared by every setting.
+    zeroed scratch rows. ``gap_period`` and ``baro_timeout`` (s) are shared by every setting.
     Returns (status, bad_index, metric_samples).
     """
     cdef Py_ssize_t samples = accel.shape[0]
@@ -48,6 +48,9 @@ def run(const float[::1] accel, const float[::1] baro_altitude, const float[::1]
     sweep.baroResidual = &state[3, k_start]
     FusionAltitudeSweepInitialise(&sweep)
     sweep.gapPeriod = gap_period
+    sweep.baroTimeout = baro_timeout
+    sweep.ruleBefore = k_start  # the stability rule checks every setting, whichever part this thread runs
+    sweep.ruleAfter = gains.shape[1] - k_stop
     if outputs is not None:
         h_out, v_out, b_out, r_out = outputs
         out.altitude = &h_out[0, k_start]

@@ -15,6 +15,7 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         FusionAltitudeComplementaryStatusInvalidTimeConstant
         FusionAltitudeComplementaryStatusInvalidCoefficient
         FusionAltitudeComplementaryStatusInvalidGapPeriod
+        FusionAltitudeComplementaryStatusInvalidBaroTimeout
 
     ctypedef struct FusionAltitudeComplementarySettings:
         float accelTimeConstant
@@ -25,6 +26,7 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         float velocityTimeConstant
         float altitudeTimeConstant
         float gapPeriod
+        float baroTimeout
 
     ctypedef struct FusionAltitudeComplementary:
         FusionAltitudeComplementarySettings settings
@@ -36,7 +38,9 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
         float sinceBaro
         float gapTime
         uint32_t gapCount
+        uint32_t baroTimeouts
         bint referenceSet
+        bint baroTimedOut
 
     const char * FusionAltitudeComplementaryStatusMessage(const FusionAltitudeComplementaryStatus status)
     FusionAltitudeComplementarySettings FusionAltitudeComplementarySettingsDefault()
@@ -51,4 +55,6 @@ cdef extern from "fusion_altitude_complementary.h" nogil:
     float FusionAltitudeComplementaryGetBaroFiltered(const FusionAltitudeComplementary * filter)
     float FusionAltitudeComplementaryGetBaroVelocity(const FusionAltitudeComplementary * filter)
     uint32_t FusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary * filter)
+    uint32_t FusionAltitudeComplementaryGetBaroTimeouts(const FusionAltitudeComplementary * filter)
+    bint FusionAltitudeComplementaryIsBaroTimedOut(const FusionAltitudeComplementary * filter)
     bint FusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary * filter)

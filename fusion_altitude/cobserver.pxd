@@ -9,6 +9,8 @@ cdef extern from "fusion_altitude.h" nogil:
     float FUSION_ALTITUDE_GRAVITY
     int FUSION_ALTITUDE_VERSION
     float FUSION_ALTITUDE_DEFAULT_GAP_PERIOD
+    float FUSION_ALTITUDE_STABILITY_MARGIN
+    float FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT
     float FUSION_ALTITUDE_BIAS_HOLD
 
     ctypedef enum FusionAltitudeStatus:
@@ -23,6 +25,7 @@ cdef extern from "fusion_altitude.h" nogil:
         FusionAltitudeStatusInvalidBandwidth
         FusionAltitudeStatusInvalidPreset
         FusionAltitudeStatusInvalidGapPeriod
+        FusionAltitudeStatusInvalidBaroTimeout
 
     ctypedef enum FusionAltitudePreset:
         FusionAltitudePresetBalloon
@@ -36,6 +39,7 @@ cdef extern from "fusion_altitude.h" nogil:
         float velocityGain
         float biasGain
         float gapPeriod
+        float baroTimeout
 
     ctypedef struct FusionAltitude:
         FusionAltitudeSettings settings
@@ -45,8 +49,11 @@ cdef extern from "fusion_altitude.h" nogil:
         float baroResidual
         float gapTime
         float sinceRestart
+        float sinceBaro
         uint32_t gapCount
+        uint32_t baroTimeouts
         bint referenceSet
+        bint baroTimedOut
 
     const char * FusionAltitudeStatusMessage(const FusionAltitudeStatus status)
     FusionAltitudeSettings FusionAltitudeSettingsDefault()
@@ -65,4 +72,6 @@ cdef extern from "fusion_altitude.h" nogil:
     float FusionAltitudeGetAccelBias(const FusionAltitude * altitude)
     float FusionAltitudeGetBaroResidual(const FusionAltitude * altitude)
     uint32_t FusionAltitudeGetGapCount(const FusionAltitude * altitude)
+    uint32_t FusionAltitudeGetBaroTimeouts(const FusionAltitude * altitude)
+    bint FusionAltitudeIsBaroTimedOut(const FusionAltitude * altitude)
     bint FusionAltitudeIsReferenceSet(const FusionAltitude * altitude)

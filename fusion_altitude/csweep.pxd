@@ -19,10 +19,16 @@ cdef extern from "fusion_altitude_sweep.h" nogil:
         float *accelBias
         float *baroResidual
         float gapPeriod
+        float baroTimeout
         float gapTime
         float sinceRestart
+        float sinceBaro
         unsigned int gapCount
+        unsigned int baroTimeouts
         bint referenceSet
+        bint baroTimedOut
+        size_t ruleBefore
+        size_t ruleAfter
 
     ctypedef struct FusionAltitudeSweepOutputs:
         float *altitude

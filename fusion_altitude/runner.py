@@ -53,7 +53,8 @@ from ._observer_glue import AltitudeBatch
 from .health import row_flags
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
-from .tuning import _bandwidth_of, _other_fields, gap_period_for, settings_for_baro_rate, steps_per_baro
+from .tuning import (_bandwidth_of, _other_fields, baro_interval, baro_timeout_for, gap_period_for, settings_for_baro_rate,
+                     steps_per_baro)
 
 __all__ = ["LogRun", "EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "applicable_estimators",
            "missing_inputs", "default_preset", "InsLogBatch", "RocketLogBatch", "rocket_long_axis", "run_observer",
@@ -197,24 +198,71 @@ def _gaps(options: dict, estimator, gap_period: float) -> None:
 
 
 def default_preset(data: LogData) -> str:
-    """The observer preset used when none is given: ``"vtol"``, or on a log too slow for it (Jury's test at the
-    log's nominal period × grid steps per baro sample fails) the fastest of fixed_wing, balloon that is stable
-    there (vtol again if neither is: it will diverge)."""
-    from .tuning import _stable_at
+    """The observer preset used when none is given: the fastest of ``vtol``, ``fixed_wing``, ``balloon`` whose
+    gains the core's stability rule accepts at the log's baro period (:func:`fusion_altitude.tuning.baro_interval`:
+    the median time between baro samples where the baro is present), i.e. Jury's test with the 1.5 margin of
+    ``FusionAltitudeIsStepStable`` for the observer sampled at the baro rate (the gains are scaled to it,
+    :func:`fusion_altitude.tuning.settings_for_baro_rate`). ``balloon`` when none is (a baro slower than one
+    sample in 3.1 s), ``vtol`` without two baro samples.
 
-    period = nominal_period(data.time) * steps_per_baro(data.baro_altitude)
+    With a 2 Hz baro (0.5 s) the VTOL gains are past that limit (0.41 s): they passed plain Jury (0.62 s) and ran
+    at Kh·T = 1.2, a correction that overshoots every baro sample, so the observer was worse than the raw baro
+    (0.729 m against 0.455 m on ``px4_octorotor_2hz_baro.ulg``); fixed_wing is chosen there now."""
+    from .reference.observer import step_stable
+
+    period = baro_interval(data.time, data.baro_altitude)
+    if not np.isfinite(period) or not period > 0:
+        return "vtol"
+    period32 = np.float32(period)
     for name in ("vtol", "fixed_wing", "balloon"):
-        if _stable_at(AltitudeSettings.preset(name), period):
+        gains = tuple(np.float32(g) for g in AltitudeSettings.preset(name).as_tuple())
+        if step_stable(*gains, period32, period32):
             return name
-    return "vtol"
+    return "balloon"
+
+
+class ObserverLogBatch(NamedTuple):
+    """The observer's outputs on a log (:class:`fusion_altitude.AltitudeBatch`) and ``baro_aided``: 1 where a
+    baro sample came within the baro timeout, 0 where the estimate is not baro-aided (the velocity decays, the
+    acceleration is not integrated: see ``FusionAltitudeUpdate``)."""
+
+    altitude: np.ndarray
+    vertical_velocity: np.ndarray
+    accel_bias: np.ndarray
+    baro_residual: np.ndarray
+    baro_aided: np.ndarray
+
+
+def _baro_timeout_warning(name: str, time: np.ndarray, dt, baro, timeout: float, timeouts: int) -> Optional[np.ndarray]:
+    """Warn (one line, :class:`fusion_altitude.logs.LogWarning`) when the estimator timed out; the per-sample
+    not-baro-aided mask (None without a timeout)."""
+    import warnings
+
+    from .logs import LogWarning
+    from .tuning import not_baro_aided
+
+    if not timeouts:
+        return None
+    mask = not_baro_aided(dt, baro, timeout)
+    if mask.any():
+        first = int(np.argmax(mask))
+        warnings.warn(f"{name}: no baro sample for more than {timeout:.3g} s {timeouts} time(s), first from "
+                      f"t = {float(time[first]) - timeout:.1f} s: {int(np.count_nonzero(mask))} samples are not "
+                      "baro-aided (velocity decayed to 0, column baro_aided = 0)", LogWarning, stacklevel=3)
+    return mask
 
 
 def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
     settings = options.get("settings")
     if settings is None:
         settings = AltitudeSettings.preset(default_preset(data))
-    return run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
-                        clipped=data.clipped, progress=options.get("progress"), dt=dt, info=options)
+    info = options if options is not None else {}
+    result = run_observer(data.time, data.vertical_acceleration, data.baro_altitude, settings,
+                          clipped=data.clipped, progress=options.get("progress"), dt=dt, info=info)
+    mask = _baro_timeout_warning("observer", data.time, dt, data.baro_altitude, info["baro_timeout"],
+                                 info["baro_timeouts"])
+    aided = np.ones(data.time.size, np.int64) if mask is None else (~mask).astype(np.int64)
+    return ObserverLogBatch(*result, aided)
 
 
 def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
@@ -260,12 +308,18 @@ def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
     from ._complementary import ComplementaryFilter, ComplementarySettings
 
     settings = ComplementarySettings()
-    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
+                                baro_timeout=baro_timeout_for(data.time, data.baro_altitude, settings.baro_timeout))
     estimator = ComplementaryFilter(settings)
     result = estimator.update_batch(data.vertical_acceleration, data.baro_altitude, dt)
     _gaps(options, estimator, settings.gap_period)
+    mask = _baro_timeout_warning("complementary", data.time, dt, data.baro_altitude, settings.baro_timeout,
+                                 estimator.baro_timeouts)
     _done(options, data.time.size)
-    return result
+    if mask is None:
+        return result
+    fields = dict(result._asdict(), baro_aided=(~mask).astype(np.int64))
+    return NamedTuple("ComplementaryLogBatch", [(name, np.ndarray) for name in fields])(**fields)
 
 
 def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
@@ -570,9 +624,12 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     dt : array_like, optional
         Per-sample periods, s; default :func:`sample_periods` of ``time``.
         The gap period used is ``max(settings.gap_period, 10 × nominal dt)``
-        (:func:`fusion_altitude.tuning.gap_period_for`).
+        (:func:`fusion_altitude.tuning.gap_period_for`), the baro timeout
+        ``max(settings.baro_timeout, 5 × the baro period)``
+        (:func:`fusion_altitude.tuning.baro_timeout_for`).
     info : dict, optional
-        Receives ``gap_period`` (s, as float32 holds it) and ``gap_count``.
+        Receives ``gap_period`` (s, as float32 holds it), ``gap_count``,
+        ``baro_timeout`` (s) and ``baro_timeouts``.
 
     Returns
     -------
@@ -595,7 +652,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     n = time.size
     dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
     settings = settings or AltitudeSettings()
-    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
+    settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
+                                baro_timeout=baro_timeout_for(time, baro, settings.baro_timeout))
     if compensate_baro_rate:
         settings = settings_for_baro_rate(settings, steps_per_baro(baro))
     estimator = AltitudeEstimator(settings)
@@ -618,6 +676,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
             progress(int(stop), n)
     if info is not None:
         _gaps(info, estimator, normal.gap_period)
+        info["baro_timeout"] = float(np.float32(normal.baro_timeout))
+        info["baro_timeouts"] = int(estimator.baro_timeouts)
     return out
 
 

@@ -34,6 +34,9 @@ GAP_PERIODS = 10.0
 #: The observer's default gap period, s (C FUSION_ALTITUDE_DEFAULT_GAP_PERIOD).
 DEFAULT_GAP_PERIOD = 0.5
 
+#: The observer's default baro timeout, s (C FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT).
+DEFAULT_BARO_TIMEOUT = 2.0
+
 
 def nominal_dt(dt) -> float:
     """The nominal sample period of per-sample periods ``dt`` (s): the median of the finite positive ones
@@ -114,7 +117,7 @@ def _all_gains_valid(gains: np.ndarray) -> bool:
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
           threads: Optional[int] = None, out: Optional[Sequence[np.ndarray]] = None,
-          gap_period: Optional[float] = None) -> SweepResult:
+          gap_period: Optional[float] = None, baro_timeout: float = DEFAULT_BARO_TIMEOUT) -> SweepResult:
     """Run K observer settings over one input stream.
 
     Parameters
@@ -145,12 +148,21 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         s, shared by every setting: a step whose dt exceeds it is a gap (as
         ``AltitudeSettings.gap_period``); default :func:`gap_period_for` of
         ``dt`` (0.5 s, or ten nominal periods on a log slower than 20 Hz).
+    baro_timeout : float, default 2.0
+        s, shared by every setting: with no baro sample for longer than this
+        the observers stop dead-reckoning (as ``AltitudeSettings.baro_timeout``).
 
     Returns
     -------
     SweepResult
         Per-setting error statistics (mean, RMS, max |error|) of altitude −
         reference after each sample, and the outputs when asked.
+
+    Notes
+    -----
+    The settings share one timeline: a baro step that the stability rule
+    (``FusionAltitudeIsStepStable``) makes a gap for any setting is a gap for
+    all of them, so column k equals its own observer except at such steps.
 
     Raises
     ------
@@ -172,6 +184,8 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     gap_period = gap_period_for(dt32 if dt_is_array else dt32[:1]) if gap_period is None else float(gap_period)
     if not gap_period > 0:
         raise ValueError(f"gap_period must be > 0 (s; +inf: never a gap), got {gap_period!r}")
+    if not float(baro_timeout) > 0:
+        raise ValueError(f"baro_timeout must be > 0 (s; +inf: never times out), got {baro_timeout!r}")
     gains_by_row = np.ascontiguousarray(gains.T)
     state = np.empty((4, count), np.float32)
     output_arrays = _observer_glue.output_arrays((n, count), out) if outputs else None
@@ -185,7 +199,7 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
 
     def run(part: int) -> Tuple[int, int, int]:
         return _sweep.run(accel32, baro32, dt32, dt_is_array, gains_by_row, int(bounds[part]), int(bounds[part + 1]),
-                          state, output_arrays, metric_arrays, reference32, mask8, gap_period)
+                          state, output_arrays, metric_arrays, reference32, mask8, gap_period, float(baro_timeout))
 
     if threads == 1:
         results = [run(0)]
@@ -244,14 +258,19 @@ def _stable_candidates(candidates: Sequence[Tuple[float, float, float]], dt_chec
 
 
 def _stable_at(settings: AltitudeSettings, dt_check: float) -> bool:
+    """Jury's test at ``dt_check`` (s) and the core's stability rule there (``FusionAltitudeIsStepStable``: Jury
+    with the 1.5 margin): gains past the rule would make every baro step a gap, in a sweep for every setting."""
     import warnings
+
+    from .reference.observer import step_stable
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
             settings.validate(dt_check)
         except ValueError:
             return False
-    return True
+    dt32 = np.float32(dt_check)
+    return step_stable(*(np.float32(g) for g in settings.as_tuple()), dt32, dt32)
 
 
 def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float, float] = (0.05, 20.0),
@@ -506,13 +525,57 @@ def _sample_periods(time: np.ndarray) -> np.ndarray:
 
 
 def steps_per_baro(baro_altitude) -> float:
-    """Grid steps per baro sample (≥ 1): samples / finite baro samples; 1 when there is no baro sample.
+    """Grid steps per baro sample (≥ 1) where the baro is present: the median number of steps from one baro
+    sample to the next; 1 when there are fewer than two baro samples.
 
-    The one figure ``run``, ``fit`` and ``compare`` pass to :func:`settings_for_baro_rate`.
+    The one figure ``run``, ``fit`` and ``compare`` pass to :func:`settings_for_baro_rate`. The median of the
+    intervals, not samples / baro samples: on a log whose baro stream stops early (a PX4 log with the baro up to
+    14.4 s of 72 s) the average over the whole log would be 5× the baro's own rate and the gains 5× too high.
     """
     baro = np.asarray(baro_altitude, dtype=float)
-    count = int(np.count_nonzero(np.isfinite(baro)))
-    return max(baro.size / count, 1.0) if count else 1.0
+    finite = np.flatnonzero(np.isfinite(baro))
+    if finite.size < 2:
+        return 1.0
+    return max(float(np.median(np.diff(finite))), 1.0)
+
+
+#: A log's baro timeout is at least this many of its baro periods (:func:`baro_timeout_for`).
+BARO_TIMEOUT_PERIODS = 5.0
+
+
+def baro_timeout_for(time, baro_altitude, default: float = DEFAULT_BARO_TIMEOUT) -> float:
+    """The baro timeout for a log, s: ``max(default, BARO_TIMEOUT_PERIODS × the log's baro period)``, so a slow baro
+    (a 1 Hz CSV) does not time out between its own samples while a baro that stops still does."""
+    period = baro_interval(time, baro_altitude)
+    return max(float(default), BARO_TIMEOUT_PERIODS * period) if np.isfinite(period) else float(default)
+
+
+def not_baro_aided(dt, baro_altitude, baro_timeout: float) -> np.ndarray:
+    """Per sample, True where the estimate is not baro-aided: more than ``baro_timeout`` s (the cores' rule,
+    ``sinceBaro > baroTimeout``) since the latest baro sample, from the first baro sample on; the cores' own flag
+    (``baro_timed_out``) at the end of a run is the same rule (float64 sums here)."""
+    baro = np.isfinite(np.asarray(baro_altitude, dtype=float))
+    dt = np.broadcast_to(np.asarray(dt, dtype=float), baro.shape)
+    since = np.zeros(baro.size)
+    elapsed = 0.0
+    started = False
+    for i in range(baro.size):
+        if baro[i]:
+            elapsed, started = 0.0, True
+        elif started:
+            elapsed += dt[i]
+        since[i] = elapsed if started else 0.0
+    return since > baro_timeout
+
+
+def baro_interval(time, baro_altitude) -> float:
+    """The log's baro period, s: the median time from one baro sample to the next (the baro's rate where it is
+    present, whatever the rest of the log holds); NaN with fewer than two baro samples."""
+    time = np.asarray(time, dtype=float)
+    finite = np.flatnonzero(np.isfinite(np.asarray(baro_altitude, dtype=float)))
+    if finite.size < 2:
+        return float("nan")
+    return float(np.median(np.diff(time[finite])))
 
 
 #: Shortest period :func:`report` accepts, s (its settling times simulate 600 s at this step in float64).
@@ -635,8 +698,9 @@ def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) ->
 
 
 def _other_fields(settings: AltitudeSettings) -> dict:
-    """Settings other than the three gains (the gap period, where the core has one), to carry over."""
-    return {"gap_period": settings.gap_period} if hasattr(settings, "gap_period") else {}
+    """Settings other than the three gains (the gap period and the baro timeout, where the core has them), to carry
+    over."""
+    return {name: getattr(settings, name) for name in ("gap_period", "baro_timeout") if hasattr(settings, name)}
 
 
 def _bandwidth_of(settings: AltitudeSettings) -> float:

@@ -120,7 +120,7 @@ USES.update({
         "    const float kh[2] = {2.4f, 0.8f}, kv[2] = {2.88f, 0.32f}, kb[2] = {0.675f, 0.025f};\n"
         "    float h[2], v[2], b[2], r[2], accel[8] = {0}, baro[8] = {100, 100, 100, 100, 100, 100, 100, 100};\n"
         "    const float dt = 0.01f; size_t bad = 0;\n"
-        "    FusionAltitudeSweep s = {2, kh, kv, kb, h, v, b, r, 0.5f, 0.0f, -1.0f, 0, false};\n"
+        "    FusionAltitudeSweep s = {2, kh, kv, kb, h, v, b, r, 0.5f, 2.0f, 0.0f, -1.0f, 0.0f, 0, 0, false, false, 0, 0};\n"
         "    FusionAltitudeSweepInitialise(&s);\n"
         "    s.gapPeriod = 0.5f;\n"
         "    if (FusionAltitudeSweepUpdate(&s, accel, baro, &dt, 0, 8, NULL, NULL, &bad) != FusionAltitudeStatusOk) return 1;\n"

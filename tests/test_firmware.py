@@ -276,7 +276,9 @@ def test_every_public_flight_function_is_built_and_sized():
 def test_every_public_function_is_built_and_sized():
     header = (CSRC / "fusion_altitude.h").read_text()
     public = set(re.findall(r"^static inline [^(]*?\b(FusionAltitude\w+)\(", header, re.MULTILINE))
-    public -= {"FusionAltitudeRestart"}  # internal: inlined into FusionAltitudeUpdate
+    # internal: inlined into FusionAltitudeUpdate (and FusionAltitudeSettingsValidate)
+    public -= {"FusionAltitudeRestart", "FusionAltitudeTiming", "FusionAltitudeStabilityRestart",
+               "FusionAltitudeIsDiscreteStable"}
     assert "FusionAltitudeUpdate" in public
     sized = set(re.findall(r"\bSized(FusionAltitude\w+)\(", (FIRMWARE / "sized_observer.c").read_text()))
     called = set(re.findall(r"\b(FusionAltitude\w+)\(", (FIRMWARE / "firmware_observer.c").read_text()))
@@ -284,7 +286,8 @@ def test_every_public_function_is_built_and_sized():
     table = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(table)
     assert public - sized == set(), "add these to csrc/firmware/sized_observer.c"
-    assert public - called - {"FusionAltitudeNaN"} == set(), "call these from csrc/firmware/firmware_observer.c"
+    assert public - called - {"FusionAltitudeNaN", "FusionAltitudeInfinity", "FusionAltitudeIsStepStable"} == set(), \
+        "call these from csrc/firmware/firmware_observer.c"
     assert public - set(table.FUNCTIONS) == set(), "add these to FUNCTIONS in csrc/firmware/size_table.py"
 
 
@@ -384,14 +387,16 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     assert_ok(make(build, "cross", "cycle-traces"))
     measured = json.loads(subprocess.run([sys.executable, str(FIRMWARE / "size_table.py"), str(build), "--json"],
                                          check=True, capture_output=True, text=True).stdout)
-    # 32 bytes before the gap handling (gap period, gap time, time since the restart, gap count: 48)
-    assert set(measured["ram"].values()) == {48}, measured["ram"]
+    # 32 bytes before the gap handling (gap period, gap time, time since the restart, gap count: 48), 60 with the
+    # baro timeout (its setting, the time since the baro, the timeout count and flag)
+    assert set(measured["ram"].values()) == {60}, measured["ram"]
     assert measured["stack"]["FusionAltitudeUpdate/cortex-m4f/Os"] == [0, "static"]
-    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it); this bound only catches
-    # regressions.
-    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 448
+    # Goal 200 bytes (see docs/embedded.md; 218 before the gap handling, 394 with it, 1002 with the stability-limit
+    # gap rule and the baro timeout); this bound only catches regressions.
+    assert measured["size"]["FusionAltitudeUpdate/cortex-m4f/Os"] <= 1024
     full, missing, rejected = measured["cycles"]
-    assert 20 < full["instructions"] < 80 and missing["instructions"] < full["instructions"]
+    # the full correction: 117 instructions with the stability rule's Jury test on every baro step
+    assert 20 < full["instructions"] < 128 and missing["instructions"] < full["instructions"]
     assert rejected["instructions"] < 12
     # Kalman filter: the issue's budget of 320 bytes of RAM; regression bounds on code, stack and cycles.
     kalman = measured["kalman"]
@@ -407,8 +412,8 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # Complementary filter and alpha-beta fusion: regression bounds (no goals were set for them).
     complementary, alphabeta = measured["complementary"], measured["alphabeta"]
     # alpha-beta 372: 332 before each filter's sample interval and timeout flag and counter
-    assert set(complementary["ram"].values()) == {68} and set(alphabeta["ram"].values()) == {372}
-    assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 512
+    assert set(complementary["ram"].values()) == {76} and set(alphabeta["ram"].values()) == {372}
+    assert complementary["size"]["FusionAltitudeComplementaryUpdate/cortex-m4f/Os"] <= 768  # 710 with the baro timeout
     assert alphabeta["size"]["FusionAltitudeAlphaBetaUpdate/cortex-m4f/Os"] <= 1536
     for figures in (complementary, alphabeta):
         assert all(size <= 160 and qualifier == "static" for size, qualifier in figures["stack"].values()), \
@@ -422,7 +427,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # Rocket flight layer: regression bounds (observer inside; 356 B on ARM, 360 B on RISC-V).
     flight = measured["flight"]
     assert max(flight["ram"].values()) <= 384, flight["ram"]
-    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3072
+    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3840  # 3670 with the observer's stability rule
     assert all(size <= 160 and qualifier == "static" for size, qualifier in flight["stack"].values()), flight["stack"]
     pad, coast, locked, descent, rejected = flight["cycles"]
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20
@@ -460,8 +465,8 @@ def test_cppcheck_is_clean(build):
     makefile = (FIRMWARE / "Makefile").read_text()
     fuzzers = re.search(r"^FUZZERS := (.*)$", makefile, re.MULTILINE).group(1).split()
     failing = re.search(r"^FUZZERS_FAILING :=(.*)$", makefile, re.MULTILINE).group(1).split()
-    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta"], \
-        (fuzzers, failing)
+    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta",
+                                 "fuzz_complementary", "fuzz_sweep"], (fuzzers, failing)
     for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
         assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
     assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
@@ -469,12 +474,13 @@ def test_cppcheck_is_clean(build):
     assert {"observer", "kalman", "complementary", "alphabeta", "flight", "ins"} <= set(estimators), estimators
 
 
-FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta")
+FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta", "fuzz_complementary",
+           "fuzz_sweep")
 
 
 def test_fuzzers_find_nothing(build):
-    """The observer, Kalman, flight, INS and alpha-beta libFuzzer targets, FUZZ_SECONDS in total: a fifth each, two
-    at a time."""
+    """The observer, Kalman, flight, INS, alpha-beta, complementary and sweep libFuzzer targets, FUZZ_SECONDS in
+    total: an equal share each, two at a time."""
     result = make(build, "fuzz-run", timeout=FUZZ_SECONDS + 300, FUZZ_SECONDS=str(FUZZ_SECONDS))
     log = result.stdout + result.stderr
     assert result.returncode == 0, log[-6000:]

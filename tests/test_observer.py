@@ -133,7 +133,7 @@ def test_settings_compare_equal_across_implementations():
 
 def test_settings_have_a_readable_repr(impl):
     assert repr(impl.AltitudeSettings()) == \
-        "AltitudeSettings(position_gain=2.4, velocity_gain=2.88, bias_gain=0.675, gap_period=0.5)"
+        "AltitudeSettings(position_gain=2.4, velocity_gain=2.88, bias_gain=0.675, gap_period=0.5, baro_timeout=2.0)"
 
 
 def test_settings_pickle_and_hash(impl):

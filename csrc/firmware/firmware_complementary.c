@@ -18,6 +18,8 @@ volatile float firmwareComplementaryVerticalVelocity;  /* m/s */
 volatile float firmwareComplementaryBaroFiltered;      /* m */
 volatile float firmwareComplementaryBaroVelocity;      /* m/s, NaN without baro */
 volatile uint32_t firmwareComplementaryGapCount;
+volatile uint32_t firmwareComplementaryBaroTimeouts;
+volatile bool firmwareComplementaryBaroAided;
 const char *volatile firmwareComplementaryError;
 
 static FusionAltitudeComplementary firmwareComplementary;
@@ -66,6 +68,8 @@ void FirmwareComplementaryTask(void) {
     firmwareComplementaryBaroFiltered = FusionAltitudeComplementaryGetBaroFiltered(&firmwareComplementary);
     firmwareComplementaryBaroVelocity = FusionAltitudeComplementaryGetBaroVelocity(&firmwareComplementary);
     firmwareComplementaryGapCount = FusionAltitudeComplementaryGetGapCount(&firmwareComplementary);
+    firmwareComplementaryBaroTimeouts = FusionAltitudeComplementaryGetBaroTimeouts(&firmwareComplementary);
+    firmwareComplementaryBaroAided = !FusionAltitudeComplementaryIsBaroTimedOut(&firmwareComplementary);
     /* Guard against a corrupted RAM image: back to the defaults. */
     const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementaryGetSettings(&firmwareComplementary);
     if (FusionAltitudeComplementarySettingsCheck(&settings) != FusionAltitudeComplementaryStatusOk) {

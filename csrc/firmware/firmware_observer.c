@@ -20,6 +20,8 @@ volatile float firmwareAltitude;         /* m */
 volatile float firmwareVerticalVelocity; /* m/s */
 volatile float firmwareAccelBias;        /* m/s^2 */
 volatile uint32_t firmwareGapCount;
+volatile uint32_t firmwareBaroTimeouts;
+volatile bool firmwareBaroAided;
 volatile float firmwareBaroResidual;     /* m */
 const char *volatile firmwareError;
 
@@ -67,6 +69,8 @@ void FirmwareTask(void) {
     firmwareVerticalVelocity = FusionAltitudeGetVerticalVelocity(&firmwareEstimator);
     firmwareAccelBias = FusionAltitudeGetAccelBias(&firmwareEstimator);
     firmwareGapCount = FusionAltitudeGetGapCount(&firmwareEstimator); /* logging gaps and scheduler stalls seen */
+    firmwareBaroTimeouts = FusionAltitudeGetBaroTimeouts(&firmwareEstimator); /* baro outages past the timeout */
+    firmwareBaroAided = !FusionAltitudeIsBaroTimedOut(&firmwareEstimator);  /* false: altitude not baro-aided */
     const float residual = FusionAltitudeGetBaroResidual(&firmwareEstimator);
     if (!FusionAltitudeIsNaN(residual)) { /* NaN (0x7FC00000): no baro this step */
         firmwareBaroResidual = residual;

@@ -66,12 +66,17 @@ static FusionAltitudeStatus Apply(FusionAltitude *const altitude, const FusionAl
             settings = FusionAltitudeGetSettings(altitude);
             settings.gapPeriod = x;
             return FusionAltitudeSetSettings(altitude, &settings);
+        case FusionAltitudeVectorOpSetBaroTimeout:
+            settings = FusionAltitudeGetSettings(altitude);
+            settings.baroTimeout = x;
+            return FusionAltitudeSetSettings(altitude, &settings);
     }
     return (FusionAltitudeStatus) 255;
 }
 
 int main(void) {
-    static const char *const names[11] = {"Kh", "Kv", "Kb", "gapPeriod", "h", "v", "b", "r", "gapTime", "sinceRestart", "gapCount"};
+    static const char *const names[15] = {"Kh", "Kv", "Kb", "gapPeriod", "h", "v", "b", "r", "gapTime", "sinceRestart", "gapCount",
+                                          "baroTimeout", "sinceBaro", "baroTimeouts", "baroTimedOut"};
     FusionAltitude altitude;
     memset(&altitude, 0, sizeof(altitude));
     FusionAltitudeInitialise(&altitude);
@@ -80,7 +85,7 @@ int main(void) {
         const FusionAltitudeVector *const vector = &fusionAltitudeVectors[index];
         const FusionAltitudeStatus status = Apply(&altitude, vector);
         const FusionAltitudeSettings settings = FusionAltitudeGetSettings(&altitude);
-        const uint32_t values[11] = {FusionAltitudeFloatBits(settings.positionGain),
+        const uint32_t values[15] = {FusionAltitudeFloatBits(settings.positionGain),
                                      FusionAltitudeFloatBits(settings.velocityGain),
                                      FusionAltitudeFloatBits(settings.biasGain),
                                      FusionAltitudeFloatBits(settings.gapPeriod),
@@ -90,15 +95,19 @@ int main(void) {
                                      FusionAltitudeFloatBits(FusionAltitudeGetBaroResidual(&altitude)),
                                      FusionAltitudeFloatBits(altitude.gapTime),
                                      FusionAltitudeFloatBits(altitude.sinceRestart),
-                                     FusionAltitudeGetGapCount(&altitude)};
-        uint32_t expected[11];
+                                     FusionAltitudeGetGapCount(&altitude),
+                                     FusionAltitudeFloatBits(settings.baroTimeout),
+                                     FusionAltitudeFloatBits(altitude.sinceBaro),
+                                     FusionAltitudeGetBaroTimeouts(&altitude),
+                                     (uint32_t) FusionAltitudeIsBaroTimedOut(&altitude)};
+        uint32_t expected[15];
         memcpy(expected, vector->state, sizeof(expected));
         if (index == (uint32_t) REPLAY_CORRUPT_RECORD) {
             expected[4] ^= 1u;
         }
         bool same = ((uint32_t) status == vector->status) &&
                     (FusionAltitudeIsReferenceSet(&altitude) == (vector->referenceSet != 0u));
-        for (int field = 0; field < 11; field++) {
+        for (int field = 0; field < 15; field++) {
             same = same && (values[field] == expected[field]);
         }
         if (same) {
@@ -108,7 +117,7 @@ int main(void) {
             printf("record %" PRIu32 " op %u: status %u expected %u, referenceSet %u expected %u\n", index,
                    (unsigned) vector->op, (unsigned) status, (unsigned) vector->status,
                    (unsigned) FusionAltitudeIsReferenceSet(&altitude), (unsigned) vector->referenceSet);
-            for (int field = 0; field < 11; field++) {
+            for (int field = 0; field < 15; field++) {
                 printf("  %s 0x%08" PRIx32 " expected 0x%08" PRIx32 "\n", names[field], values[field], expected[field]);
             }
         }
@@ -125,6 +134,10 @@ int main(void) {
         altitude.gapTime = FloatFromBits(vector->state[8]);
         altitude.sinceRestart = FloatFromBits(vector->state[9]);
         altitude.gapCount = vector->state[10];
+        altitude.settings.baroTimeout = FloatFromBits(vector->state[11]);
+        altitude.sinceBaro = FloatFromBits(vector->state[12]);
+        altitude.baroTimeouts = vector->state[13];
+        altitude.baroTimedOut = vector->state[14] != 0u;
         altitude.referenceSet = vector->referenceSet != 0u;
     }
     printf("replay: %" PRIu32 " records, %" PRIu32 " mismatches\n", (uint32_t) FUSION_ALTITUDE_VECTOR_COUNT, mismatches);

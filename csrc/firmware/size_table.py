@@ -34,7 +34,8 @@ FUNCTIONS = (
     "FusionAltitudeStatusMessage", "FusionAltitudeGetSettings", "FusionAltitudeGetAltitude",
     "FusionAltitudeGetVerticalVelocity", "FusionAltitudeGetAccelBias", "FusionAltitudeGetBaroResidual",
     "FusionAltitudeIsReferenceSet", "FusionAltitudeGetGapCount", "FusionAltitudeIsFinite", "FusionAltitudeIsNaN", "FusionAltitudeNaN",
-    "FusionAltitudeFloatBits",
+    "FusionAltitudeFloatBits", "FusionAltitudeGetBaroTimeouts", "FusionAltitudeIsBaroTimedOut", "FusionAltitudeIsStepStable",
+    "FusionAltitudeInfinity",
 )
 
 KALMAN_FUNCTIONS = (
@@ -55,7 +56,8 @@ COMPLEMENTARY_FUNCTIONS = (
     "FusionAltitudeComplementaryGetSettings", "FusionAltitudeComplementaryGetAltitude",
     "FusionAltitudeComplementaryGetVerticalVelocity", "FusionAltitudeComplementaryGetBaroFiltered",
     "FusionAltitudeComplementaryGetBaroVelocity", "FusionAltitudeComplementaryIsReferenceSet",
-    "FusionAltitudeComplementaryGetGapCount",
+    "FusionAltitudeComplementaryGetGapCount", "FusionAltitudeComplementaryGetBaroTimeouts",
+    "FusionAltitudeComplementaryIsBaroTimedOut",
 )
 
 ALPHABETA_FUNCTIONS = (

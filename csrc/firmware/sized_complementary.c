@@ -103,7 +103,17 @@ SIZED bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeCo
 }
 
 uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter);
+uint32_t SizedFusionAltitudeComplementaryGetBaroTimeouts(const FusionAltitudeComplementary *const filter);
+bool SizedFusionAltitudeComplementaryIsBaroTimedOut(const FusionAltitudeComplementary *const filter);
 
 SIZED uint32_t SizedFusionAltitudeComplementaryGetGapCount(const FusionAltitudeComplementary *const filter) {
     return FusionAltitudeComplementaryGetGapCount(filter);
+}
+
+SIZED uint32_t SizedFusionAltitudeComplementaryGetBaroTimeouts(const FusionAltitudeComplementary *const filter) {
+    return FusionAltitudeComplementaryGetBaroTimeouts(filter);
+}
+
+SIZED bool SizedFusionAltitudeComplementaryIsBaroTimedOut(const FusionAltitudeComplementary *const filter) {
+    return FusionAltitudeComplementaryIsBaroTimedOut(filter);
 }

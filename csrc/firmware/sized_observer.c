@@ -46,6 +46,10 @@ float SizedFusionAltitudeGetAccelBias(const FusionAltitude *const altitude);
 float SizedFusionAltitudeGetBaroResidual(const FusionAltitude *const altitude);
 bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitude);
 uint32_t SizedFusionAltitudeGetGapCount(const FusionAltitude *const altitude);
+uint32_t SizedFusionAltitudeGetBaroTimeouts(const FusionAltitude *const altitude);
+bool SizedFusionAltitudeIsBaroTimedOut(const FusionAltitude *const altitude);
+bool SizedFusionAltitudeIsStepStable(const FusionAltitudeSettings *const settings, const float dt, const float interval);
+float SizedFusionAltitudeInfinity(void);
 
 SIZED uint32_t SizedFusionAltitudeFloatBits(const float value) {
     return FusionAltitudeFloatBits(value);
@@ -138,4 +142,20 @@ SIZED bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitud
 
 SIZED uint32_t SizedFusionAltitudeGetGapCount(const FusionAltitude *const altitude) {
     return FusionAltitudeGetGapCount(altitude);
+}
+
+SIZED uint32_t SizedFusionAltitudeGetBaroTimeouts(const FusionAltitude *const altitude) {
+    return FusionAltitudeGetBaroTimeouts(altitude);
+}
+
+SIZED bool SizedFusionAltitudeIsBaroTimedOut(const FusionAltitude *const altitude) {
+    return FusionAltitudeIsBaroTimedOut(altitude);
+}
+
+SIZED bool SizedFusionAltitudeIsStepStable(const FusionAltitudeSettings *const settings, const float dt, const float interval) {
+    return FusionAltitudeIsStepStable(settings, dt, interval);
+}
+
+SIZED float SizedFusionAltitudeInfinity(void) {
+    return FusionAltitudeInfinity();
 }

@@ -8,29 +8,37 @@
  * bytes (any bit pattern: NaNs, infinities, subnormals, huge values):
  *   bytes 0-3   loop dt (float, s)
  *   then, per call, one opcode byte and its float arguments (4 bytes each):
- *   opcode & 7: 0 initialise, 1 set settings (Kh, Kv, Kb), 2 preset (1 byte),
+ *   opcode & 7: 0 initialise, 1 set settings (Kh, Kv, Kb; with bit 4: the baro
+ *   timeout, s, from one float, the rest kept), 2 preset (1 byte),
  *   3 bandwidth (omega, zeta, omega_b), 4 reset (z), 5 reset with bias (z, b),
  *   6 update (a, z, dt), 7 update at the loop dt (a, z);
  *   opcode bit 3 replaces z of an update with FUSION_ALTITUDE_NO_BARO.
+ *   Opcode 6 draws any step: the seeds (make_seeds_observer.py) hold step
+ *   sequences of 0.1 ms to 10 s and telemetry-like 0.1-4 s mixes.
  *
  * Asserted after every call (abort, so libFuzzer reports a crash):
  *   - a rejected call leaves the estimator (and a rejected settings builder
  *     its output) bit-identical (memcmp);
  *   - FusionAltitudeCheckInputs returns what FusionAltitudeUpdate returned;
  *   - an accepted update's outputs follow its contract (residual z - h or the
- *     quiet NaN 0x7FC00000, reference set by the first baro sample);
- *   - the state stays finite while the run is "sane" (see IsSane below).
+ *     quiet NaN 0x7FC00000, reference set by the first baro sample; a gap by
+ *     the gap period or by the stability rule, FusionAltitudeIsStepStable,
+ *     counted and restarted as documented; a baro timeout counted once, the
+ *     velocity decaying by T/(T + dt) while timed out);
+ *   - the state stays finite and within MAX_STATE (1e9: m, m/s, m/s^2) while
+ *     the run is "sane" (see below).
  *
  * Finite inputs are not enough for a finite state: |a| = 3e38 m/s^2 overflows
  * float32 in one step. A run is sane while every accepted input is physically
  * plausible: |accel| <= 1e3 m/s^2, |baro| and |reset altitude| <= 1e5 m,
- * |warm-start bias| <= 1e3 m/s^2, every update at the loop dt with
- * 1e-4 s <= dt <= 0.1 s and with gains that pass FusionAltitudeSettingsValidate
- * at that dt, and at most 4 gain changes since the state was last fully set
- * (initialise or reset with bias). Under those bounds each stretch of
- * constant gains is a stable linear system with bounded input, so the state
- * is bounded far below float32's 3.4e38; unlimited switching between stable
- * gains can still pump energy (switched systems), hence the gain-change cap.
+ * |warm-start bias| <= 1e3 m/s^2, every step 1e-4 s <= dt <= 10 s (any
+ * sequence: a baro step the gains cannot integrate stably is a gap, and no
+ * baro sample for more than the baro timeout stops the dead reckoning), gains
+ * Kh <= 100 1/s, Kv <= 1e3 1/s^2, Kb <= 1e3 1/s^3 and at most 4 gain changes
+ * since the state was last fully set (initialise or reset with bias). Under
+ * those bounds the state is bounded far below float32's 3.4e38; unlimited
+ * switching between stable gains can still pump energy (switched systems),
+ * hence the gain-change cap.
  */
 
 #include "fusion_altitude.h"
@@ -45,8 +53,9 @@
 #define MAX_ALTITUDE (1e5f)      /* m */
 #define MAX_BIAS (1e3f)          /* m/s^2 */
 #define MIN_DT (1e-4f)           /* s */
-#define MAX_DT (0.1f)            /* s */
+#define MAX_DT (10.0f)           /* s */
 #define MAX_GAIN_CHANGES (4)
+#define MAX_STATE (1e9f)         /* m, m/s, m/s^2 */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -91,13 +100,23 @@ static bool SameBits(const float a, const float b) {
     return FusionAltitudeFloatBits(a) == FusionAltitudeFloatBits(b);
 }
 
-/* True while every state variable is finite (the residual may be the no-baro NaN). */
+/* True while every state variable is finite and within MAX_STATE (the residual may be the no-baro NaN). */
 static bool StateFinite(const FusionAltitude *const altitude) {
     const float residual = FusionAltitudeGetBaroResidual(altitude);
-    return FusionAltitudeIsFinite(FusionAltitudeGetAltitude(altitude)) &&
-           FusionAltitudeIsFinite(FusionAltitudeGetVerticalVelocity(altitude)) &&
-           FusionAltitudeIsFinite(FusionAltitudeGetAccelBias(altitude)) &&
+    return Within(FusionAltitudeGetAltitude(altitude), MAX_STATE) && Within(FusionAltitudeGetVerticalVelocity(altitude), MAX_STATE) &&
+           Within(FusionAltitudeGetAccelBias(altitude), MAX_STATE) &&
            (FusionAltitudeIsFinite(residual) || (FusionAltitudeFloatBits(residual) == 0x7FC00000u));
+}
+
+/* Gains a vehicle could use (the sanity bound on the settings). */
+static bool PlausibleGains(const FusionAltitudeSettings *const settings) {
+    return Within(settings->positionGain, 100.0f) && Within(settings->velocityGain, 1e3f) && Within(settings->biasGain, 1e3f);
+}
+
+/* The mean velocity of a restart (FusionAltitudeRestart): 0 when it overflows. */
+static float RestartVelocity(const float baro, const float altitude, const float time) {
+    const float velocity = (baro - altitude) / time;
+    return FusionAltitudeIsFinite(velocity) ? velocity : 0.0f;
 }
 
 typedef struct {
@@ -125,7 +144,16 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
     }
     const bool baroMissing = FusionAltitudeIsNaN(baro);
     const bool gap = before.referenceSet && (dt > before.settings.gapPeriod);
-    CHECK(FusionAltitudeGetGapCount(altitude) == before.gapCount + (gap ? 1u : 0u));
+    const bool stabilityGap = !gap && !baroMissing && before.referenceSet && !before.baroTimedOut &&
+                              !FusionAltitudeIsStepStable(&before.settings, dt,
+                                                          FusionAltitudeIsFinite(before.settings.baroTimeout) ? (before.sinceBaro + dt) : dt);
+    CHECK(FusionAltitudeGetGapCount(altitude) == before.gapCount + ((gap || stabilityGap) ? 1u : 0u));
+    CHECK((FusionAltitudeGetBaroTimeouts(altitude) - before.baroTimeouts) <= 1u);
+    CHECK(!FusionAltitudeIsBaroTimedOut(altitude) || baroMissing); /* a baro sample always ends a timeout */
+    const FusionAltitudeSettings settings = FusionAltitudeGetSettings(altitude);
+    const bool plausible = Within(accel, MAX_ACCEL) && (baroMissing || Within(baro, MAX_ALTITUDE)) && (dt >= MIN_DT) &&
+                           (dt <= MAX_DT) && PlausibleGains(&settings);
+    run->sane = run->sane && plausible;
     if (gap) { /* not integrated: frozen until the next baro sample, which restarts h at it */
         CHECK(SameBits(altitude->accelBias, before.accelBias));
         if (baroMissing) {
@@ -133,9 +161,13 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
                   SameBits(altitude->verticalVelocity, before.verticalVelocity));
         } else {
             CHECK(altitude->referenceSet && SameBits(altitude->altitude, baro) && SameBits(altitude->baroResidual, 0.0f));
-            CHECK(SameBits(altitude->verticalVelocity, (baro - before.altitude) / dt));
+            CHECK(SameBits(altitude->verticalVelocity, RestartVelocity(baro, before.altitude, dt)));
         }
-        run->sane = false; /* a gap is outside the accuracy envelope */
+        return;
+    }
+    if (stabilityGap) { /* restarted at once: h = z, r = 0, the bias held */
+        CHECK(altitude->referenceSet && SameBits(altitude->altitude, baro) && SameBits(altitude->baroResidual, 0.0f));
+        CHECK(SameBits(altitude->accelBias, before.accelBias) && SameBits(altitude->sinceRestart, 0.0f));
         return;
     }
     if (baroMissing) {
@@ -144,19 +176,21 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
         CHECK(altitude->referenceSet == before.referenceSet);
         if (!before.referenceSet) {
             CHECK(SameBits(altitude->altitude, before.altitude) && SameBits(altitude->verticalVelocity, before.verticalVelocity));
+        } else if (before.baroTimedOut) { /* no dead reckoning: v decays */
+            const float timeout = before.settings.baroTimeout;
+            CHECK(SameBits(altitude->verticalVelocity, before.verticalVelocity * (timeout / (timeout + dt))));
         }
     } else if (!before.referenceSet) { /* auto-zero (v = 0) or the restart after a gap (v = mean velocity over it) */
-        const float velocity = (before.gapTime > 0.0f) ? ((baro - before.altitude) / (before.gapTime + dt)) : 0.0f;
+        const float velocity = (before.gapTime > 0.0f) ? RestartVelocity(baro, before.altitude, before.gapTime + dt) : 0.0f;
         CHECK(SameBits(altitude->altitude, baro) && SameBits(altitude->verticalVelocity, velocity));
         CHECK(SameBits(altitude->baroResidual, 0.0f) && SameBits(altitude->accelBias, before.accelBias));
+    } else if (before.baroTimedOut) { /* the restart after a timeout: h = z, v kept */
+        CHECK(SameBits(altitude->altitude, baro) && SameBits(altitude->verticalVelocity, before.verticalVelocity));
+        CHECK(SameBits(altitude->baroResidual, 0.0f));
     } else {
         CHECK(SameBits(altitude->baroResidual, baro - before.altitude));
     }
     CHECK(FusionAltitudeIsReferenceSet(altitude) == (before.referenceSet || !baroMissing));
-    const FusionAltitudeSettings settings = FusionAltitudeGetSettings(altitude);
-    const bool plausible = Within(accel, MAX_ACCEL) && (baroMissing || Within(baro, MAX_ALTITUDE)) && SameBits(dt, run->loopDt) &&
-                           (FusionAltitudeSettingsValidate(&settings, dt) == FusionAltitudeStatusOk);
-    run->sane = run->sane && plausible;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -189,6 +223,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 run.gainChanges = 0;
                 break;
             case 1:
+                if ((opcode & 16u) != 0u) { /* the baro timeout, s */
+                    if (!ReadFloat(&reader, &x)) {
+                        return 0;
+                    }
+                    settings = FusionAltitudeGetSettings(&altitude);
+                    settings.baroTimeout = x;
+                    status = FusionAltitudeSetSettings(&altitude, &settings);
+                    CHECK(status == FusionAltitudeSettingsCheck(&settings));
+                    break;
+                }
                 if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
                     return 0;
                 }
@@ -196,6 +240,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 settings.velocityGain = y;
                 settings.biasGain = z;
                 settings.gapPeriod = FusionAltitudeGetSettings(&altitude).gapPeriod;
+                settings.baroTimeout = FusionAltitudeGetSettings(&altitude).baroTimeout;
                 status = FusionAltitudeSetSettings(&altitude, &settings);
                 CHECK(status == FusionAltitudeSettingsCheck(&settings));
                 if (status == FusionAltitudeStatusOk) {

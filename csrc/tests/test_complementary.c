@@ -209,6 +209,80 @@ static void GapPeriodMustBePositive(void) {
     CHECK(FusionAltitudeComplementarySettingsCheck(&s) == FusionAltitudeComplementaryStatusOk);
 }
 
+static void BaroTimeoutFlagsCountsAndDecaysTheVelocity(void) {
+    FusionAltitudeComplementary filter = Running();
+    int steps = 0;
+    while (!FusionAltitudeComplementaryIsBaroTimedOut(&filter) && (steps < 1000)) {
+        CHECK(FusionAltitudeComplementaryUpdate(&filter, 1.0f, FusionAltitudeNaN(), 0.01f) == FusionAltitudeComplementaryStatusOk);
+        steps++;
+    }
+    CHECK(steps >= 195 && steps <= 201); /* 2 s since the latest baro sample, in 0.01 s float32 steps */
+    CHECK(FusionAltitudeComplementaryGetBaroTimeouts(&filter) == 1u);
+    const float v = filter.verticalVelocity;
+    const float h = filter.altitude;
+    const float aLp = filter.accelFiltered;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 50.0f, FusionAltitudeNaN(), 0.01f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(filter.verticalVelocity == v * (2.0f / (2.0f + 0.01f)));
+    CHECK(filter.altitude == h + filter.verticalVelocity * 0.01f);
+    CHECK(filter.accelFiltered == aLp); /* the accel is not integrated any more */
+    for (int i = 0; i < 100000; i++) {
+        CHECK(FusionAltitudeComplementaryUpdate(&filter, 50.0f, FusionAltitudeNaN(), 0.01f) == FusionAltitudeComplementaryStatusOk);
+    }
+    const float moved = (filter.altitude - h) * ((v < 0.0f) ? -1.0f : 1.0f);
+    CHECK((moved >= 0.0f) && (moved <= ((v < 0.0f) ? -v : v) * 2.0f + 0.01f)); /* at most |v| * T further */
+}
+
+static void FirstBaroAfterATimeoutRestartsAtIt(void) {
+    FusionAltitudeComplementary filter = Running();
+    for (int i = 0; i < 300; i++) {
+        CHECK(FusionAltitudeComplementaryUpdate(&filter, 1.0f, FusionAltitudeNaN(), 0.01f) == FusionAltitudeComplementaryStatusOk);
+    }
+    const float v = filter.verticalVelocity;
+    CHECK(FusionAltitudeComplementaryUpdate(&filter, 1.0f, 42.0f, 0.01f) == FusionAltitudeComplementaryStatusOk);
+    CHECK(!FusionAltitudeComplementaryIsBaroTimedOut(&filter));
+    CHECK(FusionAltitudeComplementaryGetAltitude(&filter) == 42.0f && FusionAltitudeComplementaryGetBaroFiltered(&filter) == 42.0f);
+    CHECK(FusionAltitudeComplementaryGetVerticalVelocity(&filter) == v);
+    CHECK(FusionAltitudeComplementaryGetGapCount(&filter) == 0u);
+}
+
+static void BaroTimeoutMustBePositive(void) {
+    FusionAltitudeComplementarySettings settings = FusionAltitudeComplementarySettingsDefault();
+    CHECK(settings.baroTimeout == 2.0f);
+    settings.baroTimeout = 0.0f;
+    CHECK(FusionAltitudeComplementarySettingsCheck(&settings) == FusionAltitudeComplementaryStatusInvalidBaroTimeout);
+    settings.baroTimeout = FusionAltitudeNaN();
+    CHECK(FusionAltitudeComplementarySettingsCheck(&settings) == FusionAltitudeComplementaryStatusInvalidBaroTimeout);
+    settings.baroTimeout = FusionAltitudeInfinity();
+    CHECK(FusionAltitudeComplementarySettingsCheck(&settings) == FusionAltitudeComplementaryStatusOk);
+}
+
+/* A pseudo-random float in [0, 1) from a 32-bit LCG (no libm). */
+static float Random(uint32_t *const seed) {
+    *seed = *seed * 1664525u + 1013904223u;
+    return (float) (*seed >> 8) / 16777216.0f;
+}
+
+static void TelemetryLikeStepsStayFiniteAndBounded(void) {
+    /* steps 0.1-4 s (most 0.1 s), baro on 90 % of them within 1 m of a true altitude moving at most 3 m/s, accel
+     * +-2 m/s^2 noise, a 1 s gap period: |h - truth| stays below 100 m (measured 32 m; the blend is stable at every
+     * dt, but with +-20 m/s^2 the 10 s velocity blend lets the integrated noise reach 240 m) */
+    FusionAltitudeComplementary filter = Running();
+    filter.settings.gapPeriod = 1.0f;
+    uint32_t seed = 777u;
+    float truth = filter.altitude;
+    float worst = 0.0f;
+    for (int k = 0; k < 20000; k++) {
+        const float u = Random(&seed);
+        const float dt = (u < 0.6f) ? 0.1f : ((u < 0.85f) ? (0.1f + 0.9f * Random(&seed)) : (0.5f + 3.5f * Random(&seed)));
+        truth += (6.0f * Random(&seed) - 3.0f) * dt;
+        const float baro = (Random(&seed) < 0.9f) ? (truth + 2.0f * Random(&seed) - 1.0f) : FusionAltitudeNaN();
+        CHECK(FusionAltitudeComplementaryUpdate(&filter, 4.0f * Random(&seed) - 2.0f, baro, dt) == FusionAltitudeComplementaryStatusOk);
+        const float error = filter.altitude - truth;
+        worst = (error > worst) ? error : ((-error > worst) ? -error : worst);
+    }
+    CHECK(worst < 100.0f);
+}
+
 int main(void) {
     RUN(DefaultsAreTheWriteUpsCoefficientsAt100Hz);
     RUN(FirstBaroSampleSetsTheReference);
@@ -223,5 +297,9 @@ int main(void) {
     RUN(NextBaroAfterAGapRestartsWithTheMeanVelocity);
     RUN(DtAtTheGapPeriodIsIntegrated);
     RUN(GapPeriodMustBePositive);
+    RUN(BaroTimeoutFlagsCountsAndDecaysTheVelocity);
+    RUN(FirstBaroAfterATimeoutRestartsAtIt);
+    RUN(BaroTimeoutMustBePositive);
+    RUN(TelemetryLikeStepsStayFiniteAndBounded);
     return TestSummary();
 }

@@ -11,8 +11,8 @@
 #include <string.h>
 
 /* Struct sizes a firmware engineer budgets for (checked at compile time). */
-typedef char estimatorFitsIn48Bytes[(sizeof(FusionAltitude) <= 48u) ? 1 : -1];
-typedef char settingsAre16Bytes[(sizeof(FusionAltitudeSettings) == 16u) ? 1 : -1];
+typedef char estimatorFitsIn60Bytes[(sizeof(FusionAltitude) <= 60u) ? 1 : -1];
+typedef char settingsAre20Bytes[(sizeof(FusionAltitudeSettings) == 20u) ? 1 : -1];
 
 static float Infinity(void) {
     const uint32_t bits = 0x7F800000u;
@@ -141,9 +141,9 @@ static void RejectedInputsLeaveStateBitIdentical(void) {
     CHECK(FusionAltitudeReset(&altitude, inf) == FusionAltitudeStatusInvalidBaroAltitude);
     CHECK(FusionAltitudeResetWithBias(&altitude, 1.0f, nan) == FusionAltitudeStatusInvalidAccelBias);
     CHECK(FusionAltitudeResetWithBias(&altitude, nan, 0.0f) == FusionAltitudeStatusInvalidBaroAltitude);
-    const FusionAltitudeSettings negative = {-1.0f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings notFinite = {2.4f, nan, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings unstable = {1.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings negative = {-1.0f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings notFinite = {2.4f, nan, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings unstable = {1.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
     CHECK(FusionAltitudeSetSettings(&altitude, &negative) == FusionAltitudeStatusInvalidGain);
     CHECK(FusionAltitudeSetSettings(&altitude, &notFinite) == FusionAltitudeStatusInvalidGain);
     CHECK(FusionAltitudeSetSettings(&altitude, &unstable) == FusionAltitudeStatusUnstableGains);
@@ -161,11 +161,11 @@ static void FirstSampleStillChecksAllInputs(void) {
 }
 
 static void SettingsCheckAppliesRouthHurwitz(void) {
-    const FusionAltitudeSettings stable = {2.0f, 1.0f, 1.9f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings boundary = {2.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings noBias = {2.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings undamped = {0.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-    const FusionAltitudeSettings inertialOnly = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings stable = {2.0f, 1.0f, 1.9f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings boundary = {2.0f, 1.0f, 2.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings noBias = {2.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings undamped = {0.0f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+    const FusionAltitudeSettings inertialOnly = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
     CHECK(FusionAltitudeSettingsCheck(&stable) == FusionAltitudeStatusOk);
     CHECK(FusionAltitudeSettingsCheck(&boundary) == FusionAltitudeStatusUnstableGains);
     CHECK(FusionAltitudeSettingsCheck(&noBias) == FusionAltitudeStatusOk);
@@ -189,8 +189,8 @@ static void DiscreteValidationRejectsLongSteps(void) {
 static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
     const float omegas[4] = {0.2f, 0.5f, 1.5f, 5.0f};
     for (int i = 0; i < 4; i++) {
-        FusionAltitudeSettings fromPreset = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
-        FusionAltitudeSettings fromBandwidth = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+        FusionAltitudeSettings fromPreset = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
+        FusionAltitudeSettings fromBandwidth = {0.0f, 0.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
         CHECK(FusionAltitudeSettingsFromPreset(&fromPreset, (FusionAltitudePreset) i) == FusionAltitudeStatusOk);
         CHECK(FusionAltitudeSettingsFromBandwidth(&fromBandwidth, omegas[i], 0.7f, omegas[i] / 5.0f) == FusionAltitudeStatusOk);
         const float pairs[3][2] = {{fromPreset.positionGain, fromBandwidth.positionGain},
@@ -201,7 +201,7 @@ static void BandwidthFormulasGiveThePresetsWithinOneUlp(void) {
             CHECK(ulps >= -1 && ulps <= 1);
         }
     }
-    FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    FusionAltitudeSettings untouched = {1.0f, 2.0f, 3.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, -1.0f, 0.7f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
     CHECK(FusionAltitudeSettingsFromBandwidth(&untouched, 1.0f, 0.0f, 0.1f) == FusionAltitudeStatusInvalidBandwidth);
     int unknownPreset = (int) FusionAltitudePresetRocket + 1;
@@ -349,6 +349,151 @@ static void BiasIsHeldForEightOverKhAfterARestart(void) {
     CHECK(FusionAltitudeGetAccelBias(&altitude) != b);
 }
 
+static FusionAltitude RunningWithPreset(const FusionAltitudePreset preset) {
+    FusionAltitude altitude = RunningEstimator();
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
+    (void) FusionAltitudeSettingsFromPreset(&settings, preset);
+    settings.gapPeriod = Infinity(); /* only the stability rule can make a gap */
+    (void) FusionAltitudeSetSettings(&altitude, &settings);
+    return altitude;
+}
+
+static void OneSecondBaroStepIsAGapAtTheDefaultAndRacingGains(void) {
+    const FusionAltitudePreset presets[2] = {FusionAltitudePresetVtol, FusionAltitudePresetRacing};
+    for (int i = 0; i < 2; i++) {
+        FusionAltitude altitude = RunningWithPreset(presets[i]);
+        const float h = altitude.altitude;
+        const float v = altitude.verticalVelocity;
+        const float b = altitude.accelBias;
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, h + 2.0f, 1.0f) == FusionAltitudeStatusOk);
+        CHECK(FusionAltitudeGetGapCount(&altitude) == 1u);
+        CHECK(FusionAltitudeIsReferenceSet(&altitude));
+        CHECK(FusionAltitudeGetAltitude(&altitude) == h + 2.0f); /* restarted on this step's sample */
+        /* v moves toward the mean velocity over the 1 s interval, 2 m/s, by 1/(1 + Kh/Kv) */
+        const float weight = 1.0f / (1.0f + altitude.settings.positionGain / altitude.settings.velocityGain);
+        CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == v + ((2.0f + v * 0.0f) / 1.0f - v) * weight);
+        CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+        CHECK(altitude.sinceRestart == 0.0f); /* the bias hold starts */
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, h + 2.0f, 0.01f) == FusionAltitudeStatusOk);
+        CHECK(FusionAltitudeGetAccelBias(&altitude) == b);
+    }
+}
+
+static void TwentyMillisecondStepIsNotAGapAtTheRacingGains(void) {
+    FusionAltitude altitude = RunningWithPreset(FusionAltitudePresetRacing);
+    CHECK(FusionAltitudeUpdate(&altitude, 0.0f, altitude.altitude + 0.1f, 0.02f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 0u);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) != 0.0f); /* a correction, not a restart */
+}
+
+static void StepStabilityLimitIsJurysAtOnePointFiveTimesTheStep(void) {
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault(); /* Jury's limit 0.620 s: 0.413 s */
+    CHECK(FusionAltitudeSettingsValidate(&settings, 0.61f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeSettingsValidate(&settings, 0.63f) == FusionAltitudeStatusUnstableDiscrete);
+    CHECK(FusionAltitudeIsStepStable(&settings, 0.41f, 0.41f));
+    CHECK(!FusionAltitudeIsStepStable(&settings, 0.42f, 0.42f));
+    CHECK(FusionAltitudeIsStepStable(&settings, 1.0e-45f, 1.0e-45f)); /* underflow at a tiny dt is no gap */
+    CHECK(FusionAltitudeSettingsFromPreset(&settings, FusionAltitudePresetRacing) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsStepStable(&settings, 0.1f, 0.1f));
+    CHECK(!FusionAltitudeIsStepStable(&settings, 0.1f, 1.0f)); /* a 0.1 s correction after 0.9 s of dead reckoning */
+    CHECK(FusionAltitudeSettingsFromPreset(&settings, FusionAltitudePresetBalloon) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeIsStepStable(&settings, 3.0f, 3.0f) && !FusionAltitudeIsStepStable(&settings, 3.2f, 3.2f));
+}
+
+/* A pseudo-random float in [0, 1) from a 32-bit LCG (no libm, same on every target). */
+static float Random(uint32_t *const seed) {
+    *seed = *seed * 1664525u + 1013904223u;
+    return (float) (*seed >> 8) / 16777216.0f;
+}
+
+static void TelemetryLikeStepsStayFiniteAndBounded(void) {
+    /* steps 0.1-4 s (most 0.1 s), baro on 90 % of them within 1 m of a true altitude that moves at most 3 m/s,
+     * accel +-20 m/s^2 noise (no relation to the motion), default and racing gains, a 1 s gap period:
+     * |h - truth| stays below 100 m */
+    const FusionAltitudePreset presets[2] = {FusionAltitudePresetVtol, FusionAltitudePresetRacing};
+    for (int i = 0; i < 2; i++) {
+        FusionAltitude altitude = RunningWithPreset(presets[i]);
+        altitude.settings.gapPeriod = 1.0f;
+        uint32_t seed = 12345u + (uint32_t) i;
+        float truth = altitude.altitude;
+        float worst = 0.0f;
+        for (int k = 0; k < 20000; k++) {
+            const float u = Random(&seed);
+            const float dt = (u < 0.6f) ? 0.1f : ((u < 0.85f) ? (0.1f + 0.9f * Random(&seed)) : (0.5f + 3.5f * Random(&seed)));
+            truth += (6.0f * Random(&seed) - 3.0f) * dt;
+            const float baro = (Random(&seed) < 0.9f) ? (truth + 2.0f * Random(&seed) - 1.0f) : FUSION_ALTITUDE_NO_BARO;
+            CHECK(FusionAltitudeUpdate(&altitude, 40.0f * Random(&seed) - 20.0f, baro, dt) == FusionAltitudeStatusOk);
+            const float error = altitude.altitude - truth;
+            worst = (error > worst) ? error : ((-error > worst) ? -error : worst);
+            CHECK(FusionAltitudeIsFinite(altitude.verticalVelocity) && FusionAltitudeIsFinite(altitude.accelBias));
+        }
+        CHECK(worst < 100.0f);
+        CHECK(FusionAltitudeGetGapCount(&altitude) > 0u);
+    }
+}
+
+static void BaroTimeoutFlagsCountsAndDecaysTheVelocity(void) {
+    FusionAltitude altitude = RunningEstimator();
+    int steps = 0;
+    while (!FusionAltitudeIsBaroTimedOut(&altitude) && (steps < 1000)) {
+        CHECK(FusionAltitudeUpdate(&altitude, 1.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+        steps++;
+    }
+    CHECK(steps >= 200 && steps <= 201); /* 2 s of 0.01 s steps in float32 */
+    CHECK(FusionAltitudeGetBaroTimeouts(&altitude) == 1u);
+    const float v = altitude.verticalVelocity;
+    const float h = altitude.altitude;
+    CHECK(FusionAltitudeUpdate(&altitude, 50.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    const float decayed = v * (2.0f / (2.0f + 0.01f)); /* the accel is not integrated any more */
+    CHECK(altitude.verticalVelocity == decayed);
+    CHECK(altitude.altitude == h + decayed * 0.01f);
+    for (int i = 0; i < 100000; i++) { /* 1000 s without baro: h moves less than |v| * 2 s further */
+        CHECK(FusionAltitudeUpdate(&altitude, 50.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    }
+    const float moved = altitude.altitude - h;
+    CHECK((moved >= 0.0f) && (moved <= v * 2.0f + 0.01f));
+    CHECK(FusionAltitudeGetBaroTimeouts(&altitude) == 1u);
+}
+
+static void FirstBaroAfterATimeoutRestartsAtItAndClearsTheFlag(void) {
+    FusionAltitude altitude = RunningEstimator();
+    for (int i = 0; i < 300; i++) {
+        CHECK(FusionAltitudeUpdate(&altitude, 1.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    }
+    CHECK(FusionAltitudeIsBaroTimedOut(&altitude));
+    const float v = altitude.verticalVelocity;
+    const float b = altitude.accelBias;
+    CHECK(FusionAltitudeUpdate(&altitude, 1.0f, 42.0f, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(!FusionAltitudeIsBaroTimedOut(&altitude));
+    CHECK(FusionAltitudeGetAltitude(&altitude) == 42.0f);
+    CHECK(FusionAltitudeGetVerticalVelocity(&altitude) == v);
+    CHECK(FusionAltitudeGetBaroResidual(&altitude) == 0.0f);
+    CHECK(altitude.sinceRestart == 0.0f); /* the bias is held for 8/Kh s */
+    CHECK(FusionAltitudeUpdate(&altitude, 1.0f, 42.0f, 0.01f) == FusionAltitudeStatusOk);
+    CHECK(FusionAltitudeGetAccelBias(&altitude) == b);
+    CHECK(FusionAltitudeGetBaroTimeouts(&altitude) == 1u);
+    CHECK(FusionAltitudeGetGapCount(&altitude) == 0u);
+}
+
+static void BaroTimeoutMustBePositiveAndMayBeInfinite(void) {
+    FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
+    CHECK(settings.baroTimeout == 2.0f);
+    settings.baroTimeout = 0.0f;
+    CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusInvalidBaroTimeout);
+    settings.baroTimeout = FusionAltitudeNaN();
+    CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusInvalidBaroTimeout);
+    FusionAltitude altitude = RunningEstimator();
+    const FusionAltitude before = altitude;
+    CHECK(FusionAltitudeSetSettings(&altitude, &settings) == FusionAltitudeStatusInvalidBaroTimeout);
+    CHECK(SameBits(&altitude, &before));
+    settings.baroTimeout = Infinity();
+    CHECK(FusionAltitudeSetSettings(&altitude, &settings) == FusionAltitudeStatusOk);
+    for (int i = 0; i < 1000; i++) {
+        CHECK(FusionAltitudeUpdate(&altitude, 0.0f, FUSION_ALTITUDE_NO_BARO, 0.01f) == FusionAltitudeStatusOk);
+    }
+    CHECK(!FusionAltitudeIsBaroTimedOut(&altitude) && (FusionAltitudeGetBaroTimeouts(&altitude) == 0u));
+}
+
 int main(void) {
     RUN(InitialiseUsesDefaultGainsAndNoReference);
     RUN(FirstBaroSampleOnlySetsTheReference);
@@ -374,5 +519,12 @@ int main(void) {
     RUN(ResetCancelsAPendingRestart);
     RUN(GapPeriodMustBePositiveAndMayBeInfinite);
     RUN(BiasIsHeldForEightOverKhAfterARestart);
+    RUN(OneSecondBaroStepIsAGapAtTheDefaultAndRacingGains);
+    RUN(TwentyMillisecondStepIsNotAGapAtTheRacingGains);
+    RUN(StepStabilityLimitIsJurysAtOnePointFiveTimesTheStep);
+    RUN(TelemetryLikeStepsStayFiniteAndBounded);
+    RUN(BaroTimeoutFlagsCountsAndDecaysTheVelocity);
+    RUN(FirstBaroAfterATimeoutRestartsAtItAndClearsTheFlag);
+    RUN(BaroTimeoutMustBePositiveAndMayBeInfinite);
     return TestSummary();
 }

@@ -44,7 +44,8 @@ static void MakeInputs(void) {
 }
 
 static FusionAltitudeSweep NewSweep(void) {
-    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], 0.0f, 0.0f, 0.0f, 0u, false};
+    FusionAltitudeSweep sweep = {SETTINGS, kh, kv, kb, state[0], state[1], state[2], state[3], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0u, 0u,
+                                 false, false, 0u, 0u};
     FusionAltitudeSweepInitialise(&sweep);
     return sweep;
 }
@@ -62,7 +63,7 @@ static void EveryColumnEqualsTheSingleFilter(void) {
     for (int k = 0; k < SETTINGS; k++) {
         FusionAltitude single;
         FusionAltitudeInitialise(&single);
-        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
         (void) FusionAltitudeSetSettings(&single, &settings);
         bool same = true;
         for (int t = 0; t < SAMPLES; t++) {
@@ -121,7 +122,7 @@ static void ScalarDtUsesStrideZero(void) {
     CHECK(FusionAltitudeSweepUpdate(&sweep, accel, baro, &step, 0, SAMPLES, NULL, NULL, &bad) == FusionAltitudeStatusOk);
     FusionAltitude single;
     FusionAltitudeInitialise(&single);
-    const FusionAltitudeSettings settings = {kh[5], kv[5], kb[5], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD};
+    const FusionAltitudeSettings settings = {kh[5], kv[5], kb[5], FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
     (void) FusionAltitudeSetSettings(&single, &settings);
     for (int t = 0; t < SAMPLES; t++) {
         (void) FusionAltitudeUpdate(&single, accel[t], baro[t], step);
@@ -153,7 +154,7 @@ static void EveryColumnRestartsAfterAGapAsTheSingleFilter(void) {
     for (int k = 0; k < SETTINGS; k++) {
         FusionAltitude single;
         FusionAltitudeInitialise(&single);
-        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], 0.5f};
+        const FusionAltitudeSettings settings = {kh[k], kv[k], kb[k], 0.5f, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT};
         (void) FusionAltitudeSetSettings(&single, &settings);
         bool same = true;
         for (int t = 0; t < SAMPLES; t++) {

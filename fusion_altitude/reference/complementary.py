@@ -7,8 +7,8 @@ bit for bit.
 State (float32): altitude h (m), vertical velocity v (m/s), low-passed accel
 aLp (m/s²), low-passed baro zLp (m), the latest finite-difference baro
 velocity (m/s), the time since the latest baro sample (s), the time since h
-was last updated while a restart after a gap is pending (s), the gap count,
-and whether the reference is set.
+was last updated while a restart after a gap is pending (s), the gap and
+baro-timeout counts, whether the reference is set and whether the baro timed out.
 """
 
 from __future__ import annotations
@@ -47,6 +47,8 @@ def _check(values: dict) -> ComplementaryStatus:
         return ComplementaryStatus.INVALID_COEFFICIENT
     if not f32(values["gap_period"]) > 0:
         return ComplementaryStatus.INVALID_GAP_PERIOD
+    if not f32(values["baro_timeout"]) > 0:
+        return ComplementaryStatus.INVALID_BARO_TIMEOUT
     return ComplementaryStatus.OK
 
 
@@ -94,7 +96,8 @@ class ComplementarySettings(KeywordSettings):
 class ComplementaryFilter(Checkpointable):
     """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
 
-    __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_gap_time", "_gap_count", "_reference_set")
+    __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_gap_time", "_gap_count", "_baro_timeouts",
+                 "_reference_set", "_baro_timed_out")
 
     def __init__(self, settings: Optional[ComplementarySettings] = None) -> None:
         # FusionAltitudeComplementaryInitialise
@@ -107,7 +110,9 @@ class ComplementaryFilter(Checkpointable):
         self._since = f32(0)
         self._gap_time = f32(0)
         self._gap_count = 0
+        self._baro_timeouts = 0
         self._reference_set = False
+        self._baro_timed_out = False
 
     # FusionAltitudeComplementaryReset
     def _reset(self, z: np.float32) -> ComplementaryStatus:
@@ -120,11 +125,13 @@ class ComplementaryFilter(Checkpointable):
         self._since = f32(0)
         self._gap_time = f32(0)
         self._reference_set = True
+        self._baro_timed_out = False
         return ComplementaryStatus.OK
 
     # FusionAltitudeComplementaryRestart: after a gap, v = vBaro = mean velocity over it
     def _restart(self, z: np.float32) -> None:
         velocity = (z - self._h) / self._gap_time
+        velocity = velocity if np.isfinite(velocity) else f32(0)  # overflow: a gap of a few ulps
         self._h = z
         self._zf = z
         self._v = velocity
@@ -132,6 +139,7 @@ class ComplementaryFilter(Checkpointable):
         self._since = f32(0)
         self._gap_time = f32(0)
         self._reference_set = True
+        self._baro_timed_out = False
 
     # FusionAltitudeComplementaryUpdate
     def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryStatus:
@@ -145,13 +153,33 @@ class ComplementaryFilter(Checkpointable):
             self._gap_time = dt
         elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
             self._gap_time += dt
+        if (not baro_sample and (self._reference_set or self._gap_time > 0) and not self._baro_timed_out
+                and (self._since + dt) > f32(self._settings._values["baro_timeout"])):  # a baro timeout
+            self._baro_timeouts = (self._baro_timeouts + 1) & 0xFFFFFFFF
+            self._baro_timed_out = True
         if not self._reference_set:
             if baro_sample and self._gap_time > 0:
                 self._restart(z)
                 return ComplementaryStatus.OK
             if baro_sample:
                 return self._reset(z)
+            if self._gap_time > 0:
+                self._since += dt
             self._vb = _NAN
+            return ComplementaryStatus.OK
+        if self._baro_timed_out:  # no dead reckoning: v decays to 0; the next baro sample restarts h at it
+            if baro_sample:
+                self._h = z
+                self._zf = z
+                self._vb = self._v
+                self._since = f32(0)
+                self._baro_timed_out = False
+                return ComplementaryStatus.OK
+            timeout = f32(self._settings._values["baro_timeout"])
+            self._v *= timeout / (timeout + dt)
+            self._h += self._v * dt
+            self._vb = _NAN
+            self._since += dt
             return ComplementaryStatus.OK
         s = self._settings._values
         tau_a = f32(s["accel_time_constant"])
@@ -253,6 +281,16 @@ class ComplementaryFilter(Checkpointable):
         return self._gap_count
 
     @property
+    def baro_timed_out(self) -> bool:
+        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
+        return self._baro_timed_out
+
+    @property
+    def baro_timeouts(self) -> int:
+        """Number of baro timeouts so far: times no baro sample came for more than ``settings.baro_timeout`` s."""
+        return self._baro_timeouts
+
+    @property
     def settings(self) -> ComplementarySettings:
         """The settings; assign new ones to retune, keeping the state."""
         return self._settings
@@ -263,16 +301,22 @@ class ComplementaryFilter(Checkpointable):
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),
-                float(self._vb), float(self._since), float(self._gap_time), self._gap_count, self._reference_set)
+                float(self._vb), float(self._since), float(self._gap_time), self._gap_count, self._baro_timeouts,
+                self._reference_set, self._baro_timed_out)
 
     def _set_state(self, state: tuple) -> None:
-        # the C struct's order; an 8-tuple is a checkpoint from before the gap fields
+        # the C struct's order; an 8-tuple is a checkpoint from before the gap fields, a 10-tuple one from before
+        # the baro timeout
+        baro_timeouts, baro_timed_out = 0, False
         if len(state) == 8:
             values, h, v, a, zf, vb, since, reference_set = state
             gap_time, gap_count = 0.0, 0
-        else:
+        elif len(state) == 10:
             values, h, v, a, zf, vb, since, gap_time, gap_count, reference_set = state
-        self._settings = ComplementarySettings(**values)
+        else:
+            values, h, v, a, zf, vb, since, gap_time, gap_count, baro_timeouts, reference_set, baro_timed_out = state
+        self._baro_timeouts, self._baro_timed_out = int(baro_timeouts), bool(baro_timed_out)
+        self._settings = ComplementarySettings(**{"baro_timeout": 2.0, **values})
         self._h, self._v, self._a, self._zf, self._vb, self._since = (f32(x) for x in (h, v, a, zf, vb, since))
         self._reference_set = bool(reference_set)
         self._gap_time, self._gap_count = f32(gap_time), int(gap_count)

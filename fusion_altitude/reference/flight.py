@@ -96,8 +96,8 @@ class RocketSettings(KeywordSettings):
     def __init__(self, observer: object = None, **kwargs: object) -> None:
         observer_values = _flight_glue.observer_settings(observer)
         values = _flight_glue.convert_settings(kwargs)
-        kh, kv, kb, gap = (f32(v) for v in observer_values)
-        if _check_gains(kh, kv, kb) != Status.OK or not gap > 0:  # FusionAltitudeSettingsCheck
+        kh, kv, kb, gap, baro_timeout = (f32(v) for v in observer_values)
+        if _check_gains(kh, kv, kb) != Status.OK or not gap > 0 or not baro_timeout > 0:  # FusionAltitudeSettingsCheck
             _flight_glue.raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": observer_values})
         status = _flight_glue.check_settings_values(values)
         if status != RocketStatus.OK:

@@ -13,7 +13,7 @@ import numpy as np
 from .. import _observer_glue, _sweep_glue
 from .._observer_glue import AltitudeBatch
 from .._sweep_glue import SweepResult
-from .observer import AltitudeEstimator, AltitudeSettings
+from .observer import AltitudeEstimator, AltitudeSettings, step_stable
 
 f32 = np.float32
 #: FUSION_ALTITUDE_SWEEP_BLOCK
@@ -21,10 +21,12 @@ BLOCK = 1024
 
 
 def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs: bool = False,
-          threads=None, out=None, gap_period: float = 0.5) -> SweepResult:
+          threads=None, out=None, gap_period: float = 0.5, baro_timeout: float = 2.0) -> SweepResult:
     """Run K observer settings over one input stream (see :func:`fusion_altitude.sweep`).
 
-    ``gap_period`` (s) is shared by every setting, as in ``FusionAltitudeSweep``.
+    ``gap_period`` and ``baro_timeout`` (s) are shared by every setting, as in
+    ``FusionAltitudeSweep``; so is the stability rule: a baro step that is a gap
+    by it for any setting is a gap for all (``FusionAltitudeSweepUnstableSteps``).
     """
     outputs = outputs or out is not None
     accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
@@ -36,7 +38,21 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
             raise ValueError(f"settings[{k}]: {error}") from None
     n, count = accel32.shape[0], gains.shape[0]
     dt_argument = dt32 if dt_is_array else dt32[0]
-    runs = [AltitudeEstimator(AltitudeSettings(*row, gap_period=gap_period)).update_batch(accel32, baro32, dt_argument) for row in gains]
+    made = [AltitudeSettings(*row, gap_period=gap_period, baro_timeout=baro_timeout) for row in gains]
+    estimators = [AltitudeEstimator(one) for one in made]
+    # validate every input first, as the C does (nothing is applied on a bad sample)
+    AltitudeEstimator(made[0]).update_batch(accel32, baro32, dt_argument)
+    runs = [AltitudeBatch(*(np.empty(n, np.float32) for _ in range(4))) for _ in range(count)]
+    timeline = estimators[0]  # every estimator shares the timeline; the first one decides the rule's inputs
+    for i in range(n):
+        t = dt32[i] if dt_is_array else dt32[0]
+        z = baro32[i]
+        unstable = (not np.isnan(z) and timeline._reference_set and not timeline._baro_timed_out
+                    and any(not step_stable(*one._gains, t, timeline._since_baro + t) for one in made))
+        for estimator, run in zip(estimators, runs):
+            estimator._update(accel32[i], z, t, unstable)
+            run.altitude[i], run.vertical_velocity[i] = estimator._h, estimator._v
+            run.accel_bias[i], run.baro_residual[i] = estimator._b, estimator._r
     output_arrays = None
     if outputs:
         output_arrays = _observer_glue.output_arrays((n, count), out)

@@ -43,8 +43,9 @@ INF = float("inf")
 OPS = ("INITIALISE", "SET_SETTINGS", "RESET", "UPDATE")
 SETTINGS_FIELDS = tuple(f"settings.{name}" for name, _, _ in COMPLEMENTARY_SETTINGS)
 STATE_FIELDS = SETTINGS_FIELDS + ("altitude", "verticalVelocity", "accelFiltered", "baroFiltered", "baroVelocity",
-                                  "sinceBaro", "referenceSet", "gapTime", "gapCount")
-FLOAT_FIELDS = tuple(f for f in STATE_FIELDS[len(SETTINGS_FIELDS):] if f not in ("referenceSet", "gapCount"))
+                                  "sinceBaro", "referenceSet", "gapTime", "gapCount", "baroTimeouts", "baroTimedOut")
+FLOAT_FIELDS = tuple(f for f in STATE_FIELDS[len(SETTINGS_FIELDS):]
+                     if f not in ("referenceSet", "gapCount", "baroTimeouts", "baroTimedOut"))
 
 
 def settings_words(values: Dict[str, object]) -> tuple:
@@ -74,7 +75,8 @@ class Recorder(vc.Recorder):
         f = self.filter
         words = settings_words(f.settings.as_dict())
         words += tuple(vc.bits(x) for x in (f._h, f._v, f._a, f._zf, f._vb, f._since))
-        return words + (int(f._reference_set), vc.bits(f._gap_time), f._gap_count)
+        return words + (int(f._reference_set), vc.bits(f._gap_time), f._gap_count, f._baro_timeouts,
+                        int(f._baro_timed_out))
 
     # FusionAltitudeComplementaryInitialise
     def initialise(self) -> None:
@@ -147,6 +149,7 @@ def build() -> Recorder:
     _retunes_and_baro_faults(r, flight, default)
     bad = _rejected_settings(r, flight, default)
     _time_gaps(r, flight, default)
+    _baro_timeout(r, flight, default)
     flight = _reinitialise(r, rng)
     _random_steps(r, rng, flight, default, bad)
     return r
@@ -272,6 +275,29 @@ def _time_gaps(r: Recorder, flight: Flight, default: dict) -> None:
     r.update(0.0, flight.origin + flight.h, 5.0)
     r.set_settings(default)
     flight.fly(50, "hover")
+
+
+def _baro_timeout(r: Recorder, flight: Flight, default: dict) -> None:
+    """The baro timeout (s): rejected and accepted values; an outage past it (decay, no dead reckoning), the restart."""
+    r.section("baro timeout: rejected (0, negative, NaN), +infinity (dead reckoning through a 3 s outage), then 2 s: "
+              "a 3 s outage times out (v decays), the next baro sample restarts h at it; a timeout while a gap is "
+              "pending")
+    for values in (settings(baro_timeout=0.0), settings(baro_timeout=-1.0), settings(baro_timeout=NAN)):
+        r.set_settings(values)
+    r.set_settings(settings(baro_timeout=INF))
+    flight.fly(50)
+    for _ in range(60):
+        r.update(0.4, NAN, 0.05)
+    r.set_settings(default)
+    flight.fly(60)
+    for k in range(60):
+        r.update(0.5 + 0.05 * k, NAN, 0.05)
+    r.update(0.2, flight.origin + flight.h, 0.01)
+    flight.fly(100)
+    r.update(0.1, NAN, 1.5)
+    r.update(0.1, NAN, 1.0)
+    r.update(0.1, flight.origin + flight.h, 0.01)
+    flight.fly(20)
 
 
 def _reinitialise(r: Recorder, rng: random.Random) -> Flight:

@@ -35,7 +35,7 @@ f32 = np.float32
 
 # Operation codes, equal to FusionAltitudeVectorOp in observer_vectors.h.
 OPS = ("INITIALISE", "UPDATE", "RESET", "RESET_WITH_BIAS", "SET_SETTINGS", "SET_PRESET", "SET_BANDWIDTH",
-       "VALIDATE", "SET_GAP_PERIOD")
+       "VALIDATE", "SET_GAP_PERIOD", "SET_BARO_TIMEOUT")
 OP = {name: index for index, name in enumerate(OPS)}
 QUIET_NAN_BITS = 0x7FC00000
 NAN = float("nan")
@@ -63,8 +63,9 @@ class Recorder:
     def _record(self, op: str, inputs: Sequence[np.float32], status: Status) -> None:
         e = self.estimator
         patterns = [bits(value) for value in inputs] + [0] * (3 - len(inputs))
-        state = tuple(bits(value) for value in (*e._settings._gains, e._settings._gap_period, e._h, e._v, e._b, e._r,
-                                                e._gap_time, e._since_restart)) + (e._gap_count,)
+        state = (tuple(bits(value) for value in (*e._settings._gains, e._settings._gap_period, e._h, e._v, e._b, e._r,
+                                                 e._gap_time, e._since_restart)) + (e._gap_count,)
+                 + (bits(e._settings._baro_timeout), bits(e._since_baro), e._baro_timeouts, int(e._baro_timed_out)))
         self.records.append((OP[op], int(status), tuple(patterns), state, int(e._reference_set)))
 
     def section(self, text: str) -> None:
@@ -103,19 +104,32 @@ class Recorder:
         self._record("RESET_WITH_BIAS", (z, b), status)
         return status
 
-    def _set_gains(self, gains: Tuple[np.float32, ...], gap_period: np.float32) -> Status:
+    def _set_gains(self, gains: Tuple[np.float32, ...], gap_period: np.float32,
+                   baro_timeout: np.float32 = None) -> Status:
+        if baro_timeout is None:
+            baro_timeout = self.estimator._settings._baro_timeout
         status = _observer._check_gains(*gains)
         if status == Status.OK and not gap_period > 0:
             status = Status.INVALID_GAP_PERIOD
+        if status == Status.OK and not baro_timeout > 0:
+            status = Status.INVALID_BARO_TIMEOUT
         if status == Status.OK:
             settings = AltitudeSettings.__new__(AltitudeSettings)
             settings._gains = tuple(gains)
             settings._gap_period = gap_period
+            settings._baro_timeout = baro_timeout
             self.estimator._settings = settings
         return status
 
     def _gap_period(self) -> np.float32:
         return self.estimator._settings._gap_period
+
+    # FusionAltitudeSetSettings with the baro timeout changed (the gains and the gap period kept)
+    def set_baro_timeout(self, baro_timeout) -> Status:
+        timeout = baro_timeout if isinstance(baro_timeout, np.float32) else f32(baro_timeout)
+        status = self._set_gains(self.estimator._settings._gains, self._gap_period(), timeout)
+        self._record("SET_BARO_TIMEOUT", (timeout,), status)
+        return status
 
     # FusionAltitudeSetSettings with the gains changed (the gap period kept)
     def set_settings(self, kh, kv, kb) -> Status:
@@ -137,7 +151,8 @@ class Recorder:
         status = Status.INVALID_PRESET
         if 0 <= index < len(names):
             status = self._set_gains(_observer._PRESET_GAINS[names[index]],
-                                     f32(_observer._PRESET_GAP_PERIODS[names[index]]))
+                                     f32(_observer._PRESET_GAP_PERIODS[names[index]]),
+                                     f32(_observer._PRESET_BARO_TIMEOUTS[names[index]]))
         self._record("SET_PRESET", (from_bits(index),), status)
         return status
 
@@ -146,7 +161,7 @@ class Recorder:
         inputs = tuple(value if isinstance(value, np.float32) else f32(value) for value in (omega, zeta, omega_bias))
         status, gains = _observer._from_bandwidth(*inputs)
         if status == Status.OK:
-            status = self._set_gains(gains, f32(_observer.DEFAULT_GAP_PERIOD))
+            status = self._set_gains(gains, f32(_observer.DEFAULT_GAP_PERIOD), f32(_observer.DEFAULT_BARO_TIMEOUT))
         self._record("SET_BANDWIDTH", inputs, status)
         return status
 
@@ -187,8 +202,11 @@ def build() -> Recorder:
     _settings_and_presets(r, rng)
     _bandwidth(r, rng)
     _gaps(r, rng)
+    _stability_gaps(r, rng)
+    _baro_timeout(r, rng)
     _reinitialise(r)
     _random_steps(r, rng)
+    _telemetry_steps(r, rng)
     return r
 
 
@@ -314,6 +332,73 @@ def _gaps(r: Recorder, rng: random.Random) -> None:
     flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "hover")
 
 
+def _stability_gaps(r: Recorder, rng: random.Random) -> None:
+    """Baro steps the gains cannot integrate stably (Jury at 1.5 dt) are gaps, whatever the gap period."""
+    r.section("stability gaps: gap period +infinity; 0.02 s steps integrated; a 1 s baro step is a gap at the default "
+              "and racing gains; 0.5 s is one only at racing; a 1 s step without baro is integrated")
+    r.set_gap_period(INF)
+    flight(r, rng, 50, 0.02, 1, 0.1, 0.05, "sine")
+    r.update(0.2, 121.0, 1.0)
+    r.update(0.2, 121.5, 0.5)
+    r.update(0.2, NAN, 1.0)
+    r.update(0.2, 122.0, 0.02)
+    r.set_preset(3)
+    r.set_gap_period(INF)
+    flight(r, rng, 50, 0.02, 1, 0.1, 0.05, "sine")
+    r.update(0.2, 121.0, 1.0)
+    r.update(0.2, 121.5, 0.5)
+    r.update(0.2, 121.5, 0.1)
+    r.update(0.2, 121.6, 0.02)
+    r.set_preset(2)
+
+
+def _baro_timeout(r: Recorder, rng: random.Random) -> None:
+    """The baro timeout (s): rejected and accepted values; a long outage (decay), the restart, +infinity."""
+    r.section("baro timeout: rejected (0, -0, negative, NaN), +infinity accepted (dead reckoning), back to 2 s")
+    for timeout in (0.0, -0.0, -1.0, NAN, from_bits(0xFFC00000)):
+        r.set_baro_timeout(timeout)
+    r.set_baro_timeout(INF)
+    flight(r, rng, 40, 0.01, 4, 0.3, 0.05, "hover")
+    for _ in range(300):
+        r.update(0.5, NAN, 0.01)
+    r.set_baro_timeout(2.0)
+    r.update(0.0, 120.0, 0.01)
+    r.section("a 4 s outage: dead reckoning to 2 s, then timed out (v decays, accel not integrated) until the baro; "
+              "the restart holds the bias")
+    flight(r, rng, 200, 0.01, 4, 0.3, 0.05, "climb")
+    for k in range(400):
+        r.update(0.8 + 0.01 * k, NAN, 0.01)
+    r.update(0.3, 118.0, 0.01)
+    flight(r, rng, 200, 0.01, 4, 0.3, 0.05, "hover")
+    r.section("timeout during a pending gap restart; a reset cancels a timeout; a gap restart clears it")
+    r.update(0.1, NAN, 1.5)
+    r.update(0.1, NAN, 1.0)
+    r.update(0.1, 119.0, 0.01)
+    for _ in range(250):
+        r.update(0.4, NAN, 0.01)
+    r.reset(119.5)
+    for _ in range(250):
+        r.update(0.4, NAN, 0.01)
+    r.update(0.4, 119.0, 3.0)
+    flight(r, rng, 100, 0.01, 4, 0.3, 0.05, "hover")
+
+
+def _telemetry_steps(r: Recorder, rng: random.Random) -> None:
+    """Telemetry-like steps (0.1-4 s, baro on most) at the default and racing gains: gaps, no divergence."""
+    r.section("telemetry-like steps 0.1-4 s with a 1 s gap period at the default, then the racing, gains")
+    for preset in (2, 3):
+        r.set_preset(preset)
+        r.set_gap_period(1.0)
+        r.reset(100.0)
+        h = 100.0
+        for _ in range(300):
+            dt = rng.choice((0.1, 0.1, 0.1, 0.2, rng.uniform(0.1, 1.0), rng.uniform(0.5, 4.0)))
+            h += rng.uniform(-3.0, 3.0) * dt
+            baro = h + rng.uniform(-1.0, 1.0) if rng.random() < 0.9 else NAN
+            r.update(rng.uniform(-20.0, 20.0), baro, dt)
+    r.set_preset(2)
+
+
 def _reinitialise(r: Recorder) -> None:
     """Initialise again mid-run (state and gains back to the defaults)."""
     r.section("initialise again mid-run (state and gains back to the defaults)")
@@ -354,11 +439,14 @@ def _random_steps(r: Recorder, rng: random.Random) -> None:
 def check_representable(records) -> None:
     """Refuses vectors whose bits could depend on the FPU's NaN or overflow handling."""
     for index, (_, _, _, state, _) in enumerate(records):
-        for field, pattern in zip(("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time", "since restart"),
-                                  state):
+        names = ("kh", "kv", "kb", "gap period", "h", "v", "b", "r", "gap time", "since restart", "gap count",
+                 "baro timeout", "since baro")
+        for field, pattern in zip(names, state):
+            if field == "gap count":
+                continue
             exponent_all_ones = (pattern & 0x7F800000) == 0x7F800000
             if exponent_all_ones and not (field == "r" and pattern == QUIET_NAN_BITS) \
-                    and not (field == "gap period" and pattern == 0x7F800000):
+                    and not (field in ("gap period", "baro timeout") and pattern == 0x7F800000):
                 raise AssertionError(f"record {index}: {field} = {pattern:#010x} is not finite")
 
 
@@ -377,10 +465,11 @@ def render() -> str:
         " * input: update (accel m/s^2, baro altitude m, dt s); reset (baro m);",
         " * reset with bias (baro m, accel bias m/s^2); set settings (Kh 1/s, Kv 1/s^2,",
         " * Kb 1/s^3); set preset (index as an integer); set bandwidth (omega rad/s,",
-        " * zeta, omega_b rad/s); validate (dt s); set gap period (s). state after the",
-        " * call: Kh, Kv, Kb, gap period s, altitude m, vertical velocity m/s, accel",
-        " * bias m/s^2, baro residual m, gap time s, time since the last restart s,",
-        " * and the gap count (an integer).",
+        " * zeta, omega_b rad/s); validate (dt s); set gap period (s); set baro timeout",
+        " * (s). state after the call: Kh, Kv, Kb, gap period s, altitude m, vertical",
+        " * velocity m/s, accel bias m/s^2, baro residual m, gap time s, time since the",
+        " * last restart s, the gap count (an integer), baro timeout s, time since the",
+        " * latest baro sample s, the baro timeout count and baroTimedOut (integers).",
         " *",
         " * Sections (record index: description):",
     ]
@@ -405,7 +494,7 @@ def render() -> str:
         "    uint8_t status;       /**< expected FusionAltitudeStatus */",
         "    uint8_t referenceSet; /**< expected FusionAltitudeIsReferenceSet after the call */",
         "    uint32_t input[3];    /**< arguments, binary32 bits (unused ones 0) */",
-        "    uint32_t state[11];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time, since restart (binary32 bits), gap count */",
+        "    uint32_t state[15];   /**< expected Kh, Kv, Kb, gap period, h, v, b, r, gap time, since restart (binary32 bits), gap count, baro timeout, since baro (binary32 bits), baro timeouts, baro timed out */",
         "} FusionAltitudeVector;",
         "",
         f"#define FUSION_ALTITUDE_VECTOR_COUNT ({len(recorder.records)})",

@@ -813,7 +813,8 @@ def _print_run_results(run, estimator: str) -> None:
     if hasattr(run.estimate, "accel_bias"):
         print(f"final accel bias estimate: {float(run.estimate.accel_bias[-1]):+.4f} m/s²")
     if getattr(run, "gap_count", None) is not None:
-        period = f" (dt > {run.gap_period:.3g} s)" if getattr(run, "gap_period", None) is not None else ""
+        period = (f" (dt > {run.gap_period:.3g} s, or a step its gains cannot integrate stably)"
+                  if getattr(run, "gap_period", None) is not None else "")
         print(f"gaps met by the estimator{period}: {run.gap_count}")
     if estimator == "ins":
         e = run.estimate
@@ -891,9 +892,9 @@ def _default_preset(data) -> str:
 
 def _warn_if_unstable(settings, data, what: str) -> None:
     """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
-    period. The gap period follows the log's rate (:func:`fusion_altitude.tuning.gap_period_for`), so the
-    observer integrates every step of a slow log and unstable gains really diverge; the warning names the
-    presets that are stable at this rate."""
+    period. The core treats every step its gains cannot integrate stably as a gap (it restarts at the baro
+    sample), so the estimate does not diverge but is the raw baro on those steps; the warning says so and names
+    the presets that are stable at this rate."""
     from . import runner, tuning
     from ._observer import AltitudeSettings
 
@@ -906,7 +907,8 @@ def _warn_if_unstable(settings, data, what: str) -> None:
         advice = (f"presets stable at this rate: {', '.join(stable)}; or fit the gains" if stable
                   else "no preset is stable at this rate: fit the gains")
         print(f"warning: {what} is unstable at this log's rate (nominal period {nominal:g} s, baro on 1 of "
-              f"{steps:.2f} steps: Jury's test at {period:g} s fails): the estimate diverges; {advice}",
+              f"{steps:.2f} steps: Jury's test at {period:g} s fails): such steps are gaps, where the estimate is "
+              f"the raw baro; {advice}",
               file=sys.stderr)
 
 

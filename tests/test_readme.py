@@ -1,5 +1,5 @@
-"""The README shows what its commands print: every block after a ``<!-- output: COMMAND -->`` line is
-COMMAND's output (stdout and stderr as a terminal shows them, stage times left out), run here.
+"""The README and the docs show what their commands print: every block after a ``<!-- output: COMMAND -->``
+line is COMMAND's output (stdout and stderr as a terminal shows them, stage times left out), run here.
 
 ``FUSION_ALTITUDE_UPDATE_README=1 pytest tests/test_readme.py`` rewrites the blocks from the commands.
 """
@@ -41,20 +41,22 @@ def output_of(command: str) -> str:
     return "\n".join(lines).replace(str(shared_data()) + os.sep, "../shared/data/") + "\n"
 
 
-BLOCKS = BLOCK.findall(README.read_text(encoding="utf-8"))
+PAGES = [README] + sorted((ROOT / "docs").glob("*.md"))
+BLOCKS = [(page, command, shown) for page in PAGES for command, shown in BLOCK.findall(page.read_text(encoding="utf-8"))]
 
 
 def test_the_readme_has_command_outputs_and_stays_short():
-    assert len(BLOCKS) >= 2
+    assert len([page for page, _, _ in BLOCKS if page == README]) >= 2
     assert len(README.read_text(encoding="utf-8").splitlines()) <= 250
 
 
-@pytest.mark.parametrize("command,shown", BLOCKS, ids=[command for command, _ in BLOCKS])
-def test_a_readme_block_is_what_its_command_prints(command, shown):
+@pytest.mark.parametrize("page,command,shown", BLOCKS,
+                         ids=[f"{page.name}: {command}" for page, command, _ in BLOCKS])
+def test_a_block_is_what_its_command_prints(page, command, shown):
     printed = output_of(command)
     if os.environ.get("FUSION_ALTITUDE_UPDATE_README"):
-        text = README.read_text(encoding="utf-8")
-        README.write_text(text.replace(f"<!-- output: {command} -->\n```\n{shown}```\n",
-                                       f"<!-- output: {command} -->\n```\n{printed}```\n"), encoding="utf-8")
+        text = page.read_text(encoding="utf-8")
+        page.write_text(text.replace(f"<!-- output: {command} -->\n```\n{shown}```\n",
+                                     f"<!-- output: {command} -->\n```\n{printed}```\n"), encoding="utf-8")
         return
     assert printed == shown

@@ -88,7 +88,7 @@ typedef enum {
     FusionAltitudeStatusInvalidBaroAltitude,   /**< baro altitude infinite (update) or not finite (reset) */
     FusionAltitudeStatusInvalidDt,             /**< dt not finite or <= 0 */
     FusionAltitudeStatusInvalidAccelBias,      /**< warm-start accel bias not finite */
-    FusionAltitudeStatusInvalidGain,           /**< a gain is not finite or is negative */
+    FusionAltitudeStatusInvalidGain,           /**< a gain is not finite, is negative or exceeds FUSION_ALTITUDE_MAXIMUM_GAIN */
     FusionAltitudeStatusUnstableGains,         /**< continuous-time observer not stable (Routh-Hurwitz) */
     FusionAltitudeStatusUnstableDiscrete,      /**< discrete update not stable at this dt (Jury) */
     FusionAltitudeStatusInvalidBandwidth,      /**< omega, zeta or omega_b out of range */
@@ -116,6 +116,14 @@ typedef enum {
  * about 5x the log's median dt.
  */
 #define FUSION_ALTITUDE_DEFAULT_GAP_PERIOD (0.5f)
+
+/**
+ * Largest gain FusionAltitudeSettingsCheck accepts (Kh 1/s, Kv 1/s^2, Kb 1/s^3):
+ * with every gain <= 1e15 the products the check and the update form (Kh*Kv,
+ * Kv*r, Kb*dt^3) stay finite in float32 (max 3.4e38); ω = 10^4 rad/s, far
+ * past any stable rate, gives Kb = ω^2 ω_b <= 10^12.
+ */
+#define FUSION_ALTITUDE_MAXIMUM_GAIN (1e15f)
 
 /**
  * Stability margin of the gap rule: a step that carries a baro sample is a gap
@@ -226,7 +234,7 @@ static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus
         case FusionAltitudeStatusInvalidAccelBias:
             return "accel bias must be finite";
         case FusionAltitudeStatusInvalidGain:
-            return "gains must be finite and >= 0";
+            return "gains must be finite, >= 0 and <= 1e15";
         case FusionAltitudeStatusUnstableGains:
             return "gains are not stable: need position_gain * velocity_gain > bias_gain (and position_gain > 0 when velocity_gain > 0)";
         case FusionAltitudeStatusUnstableDiscrete:
@@ -280,7 +288,8 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltit
     const float kv = settings->velocityGain;
     const float kb = settings->biasGain;
     if (!FusionAltitudeIsFinite(kh) || !FusionAltitudeIsFinite(kv) || !FusionAltitudeIsFinite(kb) ||
-        (kh < 0.0f) || (kv < 0.0f) || (kb < 0.0f)) {
+        (kh < 0.0f) || (kv < 0.0f) || (kb < 0.0f) || (kh > FUSION_ALTITUDE_MAXIMUM_GAIN) ||
+        (kv > FUSION_ALTITUDE_MAXIMUM_GAIN) || (kb > FUSION_ALTITUDE_MAXIMUM_GAIN)) {
         return FusionAltitudeStatusInvalidGain;
     }
     if (kb > 0.0f) {

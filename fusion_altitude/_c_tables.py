@@ -17,7 +17,7 @@ class Status(enum.IntEnum):
     INVALID_BARO_ALTITUDE = 2  #: baro altitude infinite (update) or not finite (reset)
     INVALID_DT = 3  #: dt not finite or <= 0
     INVALID_ACCEL_BIAS = 4  #: warm-start accel bias not finite
-    INVALID_GAIN = 5  #: a gain is not finite or is negative
+    INVALID_GAIN = 5  #: a gain is not finite, is negative or exceeds FUSION_ALTITUDE_MAXIMUM_GAIN
     UNSTABLE_GAINS = 6  #: continuous-time observer not stable (Routh-Hurwitz)
     UNSTABLE_DISCRETE = 7  #: discrete update not stable at this dt (Jury)
     INVALID_BANDWIDTH = 8  #: omega, zeta or omega_b out of range
@@ -40,6 +40,7 @@ class Preset(enum.IntEnum):
 FUSION_ALTITUDE_GRAVITY = 9.80665
 FUSION_ALTITUDE_VERSION = 100
 FUSION_ALTITUDE_DEFAULT_GAP_PERIOD = 0.5
+FUSION_ALTITUDE_MAXIMUM_GAIN = 1e15
 FUSION_ALTITUDE_STABILITY_MARGIN = 1.5
 FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT = 2.0
 FUSION_ALTITUDE_BIAS_HOLD = 8.0
@@ -52,7 +53,7 @@ OBSERVER_STATUS_MESSAGES = (
     'baro altitude must be finite (or NaN for no sample in update)',
     'dt must be finite and > 0',
     'accel bias must be finite',
-    'gains must be finite and >= 0',
+    'gains must be finite, >= 0 and <= 1e15',
     'gains are not stable: need position_gain * velocity_gain > bias_gain (and position_gain > 0 when velocity_gain > 0)',
     'gains are not stable at this dt: the discrete update diverges',
     'omega and zeta must be finite and > 0, omega_b finite and >= 0',

@@ -46,8 +46,9 @@ cdef int32_t _satellites(object value) except? -2:
         count = PyLong_AsLongLongAndOverflow(value, &overflow)
         if overflow > 0 or count > 2147483647:
             return 2147483647
-        return -1 if overflow < 0 or count < -1 else <int32_t>count
-    return _kalman_glue.kalman_satellites(value)
+        if overflow == 0 and count >= 0:
+            return <int32_t>count
+    return _kalman_glue.kalman_satellites(value)  # None, NaN, floats, and the refusal of a negative count
 
 
 def _checked_settings(values):

@@ -144,7 +144,8 @@ def raise_kalman_update_error(status: int, values: dict, index: Optional[int] = 
 
 
 def kalman_satellites(value: object) -> int:
-    """gps_satellites of a per-sample update as a C int32: None (unknown) → -1."""
+    """gps_satellites of a per-sample update as a C int32: None or NaN (unknown) → -1; a count is a whole number
+    >= 0 (a negative count is refused: it is no count, and C reads it as "unknown")."""
     if value is None:
         return -1
     if isinstance(value, (bool, np.bool_)):
@@ -158,7 +159,9 @@ def kalman_satellites(value: object) -> int:
     if not hasattr(type(value), "__index__"):
         raise TypeError(f"gps_satellites must be an int or None, got {type(value).__name__}")
     n = int(value)  # type: ignore[call-overload]
-    return max(-1, min(n, 2**31 - 1))
+    if n < 0:
+        raise ValueError(f"gps_satellites must be >= 0 (None or NaN: unknown), got {value!r}")
+    return min(n, 2**31 - 1)
 
 
 class KalmanBatch(NamedTuple):
@@ -225,9 +228,15 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
             if bad.any():
                 index = int(np.argmax(bad))
                 raise ValueError(f"gps_satellites[{index}] must be a whole number, got {raw[index]!r}")
+            negative = ~np.isnan(raw) & (raw < 0)
             raw = np.where(np.isnan(raw), -1, raw)
         elif raw.dtype.kind not in "iu":
             raise TypeError(f"gps_satellites must be an array of integers, got dtype {raw.dtype}")
+        else:
+            negative = raw < 0
+        if negative.any():
+            index = int(np.argmax(negative))
+            raise ValueError(f"gps_satellites[{index}] must be >= 0 (NaN: unknown), got {raw[index].item()!r}")
         satellites = np.ascontiguousarray(np.clip(raw, -1, 2**31 - 1), dtype=np.int32)
     inputs["gps_satellites"] = satellites
     if ground_effect is None or np.ndim(ground_effect) == 0:

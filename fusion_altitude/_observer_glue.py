@@ -11,7 +11,7 @@ from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._c_tables import Preset, Status
+from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN, Preset, Status
 from ._common import output_arrays as _output_arrays, prepare_inputs, raise_input_error
 
 __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs", "prepare_batch", "output_arrays"]
@@ -86,8 +86,8 @@ def raise_settings_error(status: int, gains: Tuple[float, float, float], dt: Opt
     kh, kv, kb = gains
     if status == Status.INVALID_GAIN:
         for name, value in zip(("position_gain", "velocity_gain", "bias_gain"), gains):
-            if not math.isfinite(value) or value < 0:
-                raise ValueError(f"{name} must be finite and >= 0, got {value!r}")
+            if not math.isfinite(value) or value < 0 or value > FUSION_ALTITUDE_MAXIMUM_GAIN:
+                raise ValueError(f"{name} must be finite, >= 0 and <= {FUSION_ALTITUDE_MAXIMUM_GAIN:g}, got {value!r}")
     if status == Status.UNSTABLE_GAINS:
         raise ValueError(
             "gains are unstable: Routh-Hurwitz needs position_gain * velocity_gain > bias_gain "

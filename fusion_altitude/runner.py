@@ -271,8 +271,8 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
     gps = _optional(data, "gps_altitude")
     satellites = _optional(data, "gps_satellites")
     accuracy = _optional(data, "gps_accuracy")
-    if satellites is not None:
-        satellites = np.where(np.isfinite(satellites.astype(float)), satellites, -1).astype(np.int32)  # -1: unknown
+    if satellites is not None:  # float, NaN where unknown (what the binding takes: NaN → unknown)
+        satellites = satellites.astype(float)
     # every argument after accel by keyword: valid in the old (accel, dt, ...) and the new (accel, baro_altitude,
     # dt, ...) argument order alike
     settings = options.get("kalman_settings")

@@ -16,6 +16,7 @@ from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _sweep, _observer_glue, _sweep_glue
+from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN
 from ._observer_glue import Status
 from ._sweep_glue import SweepResult
 from ._observer import AltitudeSettings
@@ -106,11 +107,14 @@ def without_gap_transients(dt, mask=None, window: float = GAP_SETTLING):
 
 def _all_gains_valid(gains: np.ndarray) -> bool:
     """FusionAltitudeSettingsCheck on every row of float32 (K, 3) gains at once (Kh 1/s, Kv 1/s², Kb 1/s³):
-    finite, >= 0, and Routh–Hurwitz (Kh·Kv > Kb in float32 when Kb > 0; Kh > 0 when Kv > 0). A K-row loop of
-    AltitudeSettings costs ~10 µs a row, which on a short log is most of a large sweep's time."""
+    finite, >= 0, <= FUSION_ALTITUDE_MAXIMUM_GAIN, and Routh–Hurwitz (Kh·Kv > Kb in float32 when Kb > 0; Kh > 0
+    when Kv > 0). A K-row loop of AltitudeSettings costs ~10 µs a row, which on a short log is most of a large
+    sweep's time."""
     kh, kv, kb = (np.asarray(gains[:, i], dtype=np.float32) for i in range(3))
+    top = np.float32(FUSION_ALTITUDE_MAXIMUM_GAIN)
     with np.errstate(over="ignore", invalid="ignore"):
-        finite = np.isfinite(kh) & np.isfinite(kv) & np.isfinite(kb) & (kh >= 0) & (kv >= 0) & (kb >= 0)
+        finite = np.isfinite(kh) & np.isfinite(kv) & np.isfinite(kb) & (kh >= 0) & (kv >= 0) & (kb >= 0) \
+            & (kh <= top) & (kv <= top) & (kb <= top)
         stable = np.where(kb > 0, kh * kv > kb, ~((kv > 0) & ~(kh > 0)))
     return bool(np.all(finite & stable))
 
@@ -175,7 +179,8 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
         accel, baro_altitude, dt, settings, reference, mask, outputs)
     if not _all_gains_valid(gains):  # the first bad row raises with AltitudeSettings' own message
-        for k, row in enumerate(gains):
+        given = np.asarray(settings, dtype=float).reshape(gains.shape)  # the values as given, not as float32
+        for k, row in enumerate(given):
             try:
                 AltitudeSettings(*row.tolist())
             except ValueError as error:

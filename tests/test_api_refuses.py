@@ -1,5 +1,7 @@
 """The Python API refuses what it cannot honour (out= arrays that share memory)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -28,3 +30,36 @@ def test_disjoint_views_of_one_buffer_are_accepted():
     out = tuple(buffer[10 * k:10 * (k + 1)] for k in range(4))
     result = fa.AltitudeEstimator().update_batch(np.zeros(10), np.full(10, 3.0), 0.01, out=out)
     assert result is out and np.all(buffer[:10] == 3.0)
+
+
+@pytest.mark.parametrize("value", [1e30, 1e200, np.inf])
+def test_a_gain_beyond_the_largest_the_core_accepts_is_named_with_the_value_given(value):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy overflow warning on the way
+        with pytest.raises(ValueError, match="^" + re.escape(f"position_gain must be finite, >= 0 and <= 1e+15, got "
+                                                             f"{value!r}") + "$"):
+            fa.AltitudeSettings(position_gain=value, velocity_gain=value)
+
+
+def test_the_largest_gain_is_the_headers():
+    from fusion_altitude import _c_tables
+
+    assert _c_tables.FUSION_ALTITUDE_MAXIMUM_GAIN == 1e15
+    fa.AltitudeSettings(position_gain=1e15, velocity_gain=1e15, bias_gain=1.0)
+
+
+def test_a_negative_satellite_count_is_refused_and_the_state_kept():
+    estimator = fa.KalmanEstimator()
+    estimator.update(0.0, baro_altitude=10.0, dt=0.01)
+    before = estimator.altitude
+    with pytest.raises(ValueError, match=r"^gps_satellites must be >= 0 \(None or NaN: unknown\), got -3$"):
+        estimator.update(0.0, baro_altitude=10.0, dt=0.01, gps_altitude=12.0, gps_satellites=-3)
+    assert estimator.altitude == before
+
+
+def test_a_negative_satellite_count_in_a_batch_is_named_by_its_index():
+    with pytest.raises(ValueError, match=r"^gps_satellites\[1\] must be >= 0 \(NaN: unknown\), got -2$"):
+        fa.KalmanEstimator().update_batch(np.zeros(3), baro_altitude=np.zeros(3), dt=0.01, gps_altitude=np.zeros(3),
+                                          gps_satellites=np.array([5, -2, 3]))

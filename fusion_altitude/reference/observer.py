@@ -19,13 +19,15 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .. import _common, _observer_glue
+from .. import _c_tables, _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
 from ._settings import GainSettings
 
 f32 = np.float32
+#: FUSION_ALTITUDE_MAXIMUM_GAIN: the largest gain the settings check accepts (1/s, 1/s², 1/s³).
+MAXIMUM_GAIN = f32(_c_tables.FUSION_ALTITUDE_MAXIMUM_GAIN)
 _NAN = f32("nan")
 
 #: FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, s.
@@ -62,8 +64,9 @@ def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> Status:
 # -- settings ----------------------------------------------------------------
 
 def _check_gains(kh: np.float32, kv: np.float32, kb: np.float32) -> Status:
-    """FusionAltitudeSettingsCheck: finite, >= 0, Routh-Hurwitz."""
-    if not (_is_finite(kh) and _is_finite(kv) and _is_finite(kb)) or kh < 0 or kv < 0 or kb < 0:
+    """FusionAltitudeSettingsCheck: finite, >= 0, <= FUSION_ALTITUDE_MAXIMUM_GAIN, Routh-Hurwitz."""
+    if not (_is_finite(kh) and _is_finite(kv) and _is_finite(kb)) or kh < 0 or kv < 0 or kb < 0 \
+            or kh > MAXIMUM_GAIN or kv > MAXIMUM_GAIN or kb > MAXIMUM_GAIN:
         return Status.INVALID_GAIN
     if kb > 0:
         if not kh * kv > kb:
@@ -201,14 +204,16 @@ class AltitudeSettings(GainSettings):
     def __init__(self, position_gain: float = 2.40, velocity_gain: float = 2.88, bias_gain: float = 0.675,
                  gap_period: float = DEFAULT_GAP_PERIOD, baro_timeout: float = DEFAULT_BARO_TIMEOUT) -> None:
         names = ("position_gain", "velocity_gain", "bias_gain")
+        given = tuple(_common.as_float(value, name) for value, name in zip((position_gain, velocity_gain, bias_gain),
+                                                                             names))
         with np.errstate(over="ignore"):
-            gains = tuple(f32(_common.as_float(value, name))
-                          for value, name in zip((position_gain, velocity_gain, bias_gain), names))
+            gains = tuple(f32(value) for value in given)
             period = f32(_common.as_float(gap_period, "gap_period"))
             timeout = f32(_common.as_float(baro_timeout, "baro_timeout"))
         status = _check_gains(*gains)
-        if status != Status.OK:
-            _observer_glue.raise_settings_error(status, tuple(float(g) for g in gains))
+        if status != Status.OK:  # the message names the value given (1e200, not the float32 inf it becomes)
+            _observer_glue.raise_settings_error(status, given if status == Status.INVALID_GAIN
+                                                else tuple(float(g) for g in gains))
         if not period > 0:
             raise ValueError(f"gap_period must be > 0 s (inf: never a gap); got {float(period)}")
         if not timeout > 0:

@@ -131,6 +131,13 @@ extern "C" {
  */
 #define FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT (236.0f)
 
+/**
+ * @brief s: a coast that the baro contradicts this long (its latest accepted
+ * sample more than spikeThreshold below its peak since launch) ends in apogee,
+ * whatever the velocity estimate says.
+ */
+#define FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME (1.0f)
+
 /** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
 #define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
 
@@ -140,7 +147,7 @@ extern "C" {
 /** Status returned by every function that can reject its input. */
 typedef enum {
     FusionAltitudeRocketStatusOk = 0,
-    FusionAltitudeRocketStatusInvalidAccel,            /**< accel not finite */
+    FusionAltitudeRocketStatusInvalidAccel,            /**< accel infinite (NaN: no accelerometer sample) */
     FusionAltitudeRocketStatusInvalidBaroAltitude,     /**< baro altitude infinite */
     FusionAltitudeRocketStatusInvalidDt,               /**< dt not finite or <= 0 */
     FusionAltitudeRocketStatusInvalidObserverSettings, /**< observer gains rejected by FusionAltitudeSettingsCheck */
@@ -159,6 +166,7 @@ typedef enum {
     FusionAltitudeRocketStatusInvalidLandedSpeed,      /**< not finite or <= 0 */
     FusionAltitudeRocketStatusInvalidLandedTime,       /**< not finite or < 0 */
     FusionAltitudeRocketStatusInvalidGapPeriod,        /**< NaN or <= 0 (+infinity: never a gap) */
+    FusionAltitudeRocketStatusInvalidBaroLaunchHeight, /**< not finite or <= 0 */
 } FusionAltitudeRocketStatus;
 
 /** Flight phases, in the only order they can occur. */
@@ -220,6 +228,7 @@ typedef struct {
     float landedSpeed;       /**< m/s: |v| below this ... */
     float landedTime;        /**< s: ... for this long declares landing */
     float gapPeriod;         /**< s: an update with dt above this is a gap */
+    float baroLaunchHeight;  /**< m: launch from the baro when two rising pad samples are this far above the pad */
 } FusionAltitudeRocketSettings;
 
 /** State. Read it through the Get functions. */
@@ -250,12 +259,17 @@ typedef struct {
     float lastBaroAge;                /**< s since lastBaro */
     float baroOffset;                 /**< m: baro height minus observer height when the baro was last re-admitted */
     float offsetApplied;              /**< m: the part of baroOffset added to the output height so far */
+    float padBaroPrevious;            /**< m above the pad: the previous pad baro sample (baro launch detector) */
+    float baroPeak;                   /**< m above the pad: highest baro sample not rejected as a spike since launch */
+    float contradictionTime;          /**< s: how long the baro has stayed more than spikeThreshold below baroPeak in coast */
     bool windowStationary;            /**< every sample of the current window stationary so far */
     bool padAltitudeSet;              /**< a baro sample has been seen on the pad */
     bool lastBaroSet;                 /**< lastBaro holds a sample */
     bool baroAdmitted;                /**< the latest baro sample not rejected as a spike was fused */
     bool lockout;                     /**< baro lockout active at the latest step */
-    bool accelTrusted;                /**< latest step used the accel after apogee (INS) */
+    bool accelTrusted;                /**< latest step used the accel input */
+    bool padBaroPreviousSet;          /**< padBaroPrevious holds a sample */
+    bool baroLed;                     /**< no usable accelerometer since launch or since it was lost: baro-led flight */
 } FusionAltitudeRocket;
 
 //------------------------------------------------------------------------------
@@ -267,7 +281,7 @@ static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitude
         case FusionAltitudeRocketStatusOk:
             return "ok";
         case FusionAltitudeRocketStatusInvalidAccel:
-            return "accel must be finite";
+            return "accel must be finite, or NaN for no sample";
         case FusionAltitudeRocketStatusInvalidBaroAltitude:
             return "baro altitude must be finite, or NaN for no sample";
         case FusionAltitudeRocketStatusInvalidDt:
@@ -304,6 +318,8 @@ static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitude
             return "landed time must be finite and >= 0";
         case FusionAltitudeRocketStatusInvalidGapPeriod:
             return "gap period must be > 0 (+infinity: never a gap)";
+        case FusionAltitudeRocketStatusInvalidBaroLaunchHeight:
+            return "baro launch height must be finite and > 0";
     }
     return "unknown status";
 }
@@ -331,7 +347,8 @@ static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) 
  * @brief Defaults (justified in docs/rocket.md): stationary 5 m/s^2 over 0.5 s
  * windows; launch at 20 m/s^2 (about 2 g net) for 0.05 s; burnout below
  * 0 m/s^2 for 0.1 s; apogee margin 1 m/s; lockout above 100 m/s; spikes 20 m for at most 0.2 s;
- * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
+ * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s;
+ * baro launch 30 m above the pad.
  */
 static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(void) {
     FusionAltitudeRocketSettings settings;
@@ -351,6 +368,7 @@ static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(v
     settings.landedSpeed = 3.0f;
     settings.landedTime = 2.0f;
     settings.gapPeriod = 0.5f;
+    settings.baroLaunchHeight = 30.0f;
     return settings;
 }
 
@@ -412,6 +430,9 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketSettingsCheck(const
     if (FusionAltitudeIsNaN(settings->gapPeriod) || !(settings->gapPeriod > 0.0f)) {
         return FusionAltitudeRocketStatusInvalidGapPeriod;
     }
+    if (!FusionAltitudeRocketPositive(settings->baroLaunchHeight)) {
+        return FusionAltitudeRocketStatusInvalidBaroLaunchHeight;
+    }
     return FusionAltitudeRocketStatusOk;
 }
 
@@ -455,7 +476,8 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketInitialise(FusionAl
 
 /** @brief The input rules of the update functions, on their own. */
 static inline FusionAltitudeRocketStatus FusionAltitudeRocketCheckInputs(const float accel, const float baroAltitude, const float dt) {
-    switch (FusionAltitudeCheckInputs(accel, baroAltitude, dt)) {
+    /* accel NaN means no accelerometer sample; the observer's rules apply to the rest */
+    switch (FusionAltitudeCheckInputs(FusionAltitudeIsNaN(accel) ? 0.0f : accel, baroAltitude, dt)) {
         case FusionAltitudeStatusOk:
             return FusionAltitudeRocketStatusOk;
         case FusionAltitudeStatusInvalidAccel:
@@ -477,25 +499,28 @@ static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const 
 
 /**
  * Calibration window on the pad (no gap, no launch candidate): sums of accel
- * (m/s^2) and baro altitude (m; hasBaro: a reading) relative to the window's
- * first samples; a window is stationary while accel stays within
- * +-stationaryAccel (m/s^2) of its first sample. After calibrationWindow s
- * (dt, s) a stationary window moves accelBias and padAltitude to its means
- * with weight 1 / windows (windows <= FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS).
+ * (m/s^2; NaN: no sample) and baro altitude (m; hasBaro: a reading) relative
+ * to the window's first samples; a window is stationary while accel stays
+ * within +-stationaryAccel (m/s^2) of its first sample. After
+ * calibrationWindow s (dt, s) a stationary window moves accelBias (if it
+ * held an accel sample) and padAltitude to its means with weight 1 / windows
+ * (windows <= FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS).
  */
 static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                        const bool hasBaro, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    if (rocket->windowSamples == 0u) {
-        rocket->windowAccelFirst = accel;
+    if (!FusionAltitudeIsNaN(accel)) {
+        if (rocket->windowSamples == 0u) {
+            rocket->windowAccelFirst = accel;
+        }
+        const float deviation = accel - rocket->windowAccelFirst;
+        if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
+            rocket->windowStationary = false;
+        }
+        rocket->windowAccelSum += deviation;
+        rocket->windowSamples++;
     }
-    const float deviation = accel - rocket->windowAccelFirst;
-    if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
-        rocket->windowStationary = false;
-    }
-    rocket->windowAccelSum += deviation;
-    rocket->windowSamples++;
     if (hasBaro) {
         if (rocket->windowBaroSamples == 0u) {
             rocket->windowBaroFirst = baroAltitude;
@@ -510,8 +535,10 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
                 rocket->windows++;
             }
             const float weight = 1.0f / (float) rocket->windows;
-            const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
-            rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            if (rocket->windowSamples > 0u) {
+                const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
+                rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            }
             if (rocket->windowBaroSamples > 0u) {
                 const float meanBaro = rocket->windowBaroFirst + rocket->windowBaroSum / (float) rocket->windowBaroSamples;
                 rocket->padAltitude += (meanBaro - rocket->padAltitude) * weight;
@@ -522,7 +549,42 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
     }
 }
 
-/** Pad step: calibration windows and the launch detector. */
+/**
+ * Launch from the baro (pad; baroAltitude m, a sample): the sample and the
+ * pad sample before it are both more than baroLaunchHeight m above the pad
+ * and it is higher than that one (rising). The accelerometer did not show
+ * the launch (dead, missing, wrong axis), so the flight is baro-led from here
+ * (baroLed): the observer restarts at the sample's height with v = 0 and
+ * the phase goes straight to coast (no burnout event). Returns true if
+ * launched.
+ */
+static inline bool FusionAltitudeRocketBaroLaunchStep(FusionAltitudeRocket *const rocket, const float baroAltitude) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const float height = baroAltitude - rocket->padAltitude;
+    const bool launched = rocket->padBaroPreviousSet && (rocket->padBaroPrevious > settings->baroLaunchHeight) &&
+                          (height > settings->baroLaunchHeight) && (height > rocket->padBaroPrevious);
+    rocket->padBaroPrevious = height;
+    rocket->padBaroPreviousSet = true;
+    if (!launched) {
+        return false;
+    }
+    (void) FusionAltitudeResetWithBias(&rocket->observer, height, rocket->accelBias);
+    FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventLaunch]);
+    rocket->phase = FusionAltitudeRocketPhaseCoast;
+    rocket->baroLed = true;
+    rocket->baroAdmitted = true;
+    rocket->baro = FusionAltitudeRocketBaroFused;
+    rocket->lastBaro = height;
+    rocket->lastBaroAge = 0.0f;
+    rocket->lastBaroSet = true;
+    rocket->baroPeak = height;
+    rocket->runTime = 0.0f;
+    FusionAltitudeRocketClearWindow(rocket);
+    return true;
+}
+
+/** Pad step: calibration windows and the launch detectors (accel; baro). accel: m/s^2 (NaN: none); baroAltitude: m (NaN: none); dt: s. */
 static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                const float dt, const bool gap) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
@@ -533,10 +595,13 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
         rocket->padAltitude = baroAltitude; /* until the first window completes */
         rocket->padAltitudeSet = true;
     }
+    if (hasBaro && FusionAltitudeRocketBaroLaunchStep(rocket, baroAltitude)) {
+        return;
+    }
 
-    /* Launch detector: accel - bias > launchAccel for launchTime s. */
+    /* Launch detector: accel - bias > launchAccel for launchTime s (no accel sample: no candidate). */
     const float netAccel = accel - rocket->accelBias;
-    if (!gap && (netAccel > settings->launchAccel)) {
+    if (!gap && !FusionAltitudeIsNaN(accel) && (netAccel > settings->launchAccel)) {
         if (rocket->runTime == 0.0f) { /* first sample of a candidate run: start from rest at the pad */
             (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
             (void) FusionAltitudeUpdate(&rocket->observer, accel, FUSION_ALTITUDE_NO_BARO, dt);
@@ -566,14 +631,24 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
     FusionAltitudeRocketCalibrationStep(rocket, accel, baroAltitude, hasBaro, dt);
 }
 
-/** Baro gate after launch: returns the baro value to fuse (height above the pad minus the baro offset) or NaN. */
+/**
+ * Baro gate after launch: returns the baro value to fuse (height above the pad
+ * minus the baro offset, m) or NaN. The spike threshold grows with the age of
+ * the last accepted sample (s) as spikeThreshold + g * age^2 / 2 (m): the
+ * prediction lastBaro + v * age misses by up to a * age^2 / 2 when the
+ * velocity changes at a (about g in coast), which at telemetry rates (0.1-4 s
+ * between samples) is tens of metres. A baro-led flight (baroLed) fuses
+ * every sample that is not a spike, whatever the speed, and never re-bases
+ * the offset: the baro is all it has.
+ */
 static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket, const float baroAltitude, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
     const float lockoutSpeed = (settings->lockoutSpeed < FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT) ? settings->lockoutSpeed
                                                                                             : FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT;
-    rocket->lockout = (rocket->phase == FusionAltitudeRocketPhaseBoost) || (velocity > lockoutSpeed) || (velocity < -lockoutSpeed);
+    rocket->lockout = ((rocket->phase == FusionAltitudeRocketPhaseBoost) && !rocket->baroLed) || (velocity > lockoutSpeed) ||
+                      (velocity < -lockoutSpeed);
     rocket->lastBaroAge += dt;
     if (FusionAltitudeIsNaN(baroAltitude)) {
         rocket->baro = FusionAltitudeRocketBaroNone;
@@ -582,20 +657,26 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     const float height = baroAltitude - rocket->padAltitude;
     if (rocket->lastBaroSet) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
-        if ((miss > settings->spikeThreshold) || (miss < -settings->spikeThreshold)) {
+        const float threshold = settings->spikeThreshold + (0.5f * FUSION_ALTITUDE_GRAVITY) * (rocket->lastBaroAge * rocket->lastBaroAge);
+        if ((miss > threshold) || (miss < -threshold)) {
             if (rocket->spikeTime < settings->spikeTime) {
                 rocket->spikeTime += dt;
                 rocket->baro = FusionAltitudeRocketBaroSpike;
                 return FUSION_ALTITUDE_NO_BARO;
             }
-            rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
+            if (!rocket->baroLed) {
+                rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
+            }
         }
     }
     rocket->spikeTime = 0.0f;
     rocket->lastBaro = height;
     rocket->lastBaroAge = 0.0f;
     rocket->lastBaroSet = true;
-    if (rocket->lockout) {
+    if (height > rocket->baroPeak) {
+        rocket->baroPeak = height;
+    }
+    if (rocket->lockout && !rocket->baroLed) {
         rocket->baro = FusionAltitudeRocketBaroLockedOut;
         rocket->baroAdmitted = false;
         return FUSION_ALTITUDE_NO_BARO;
@@ -628,13 +709,18 @@ static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const ro
 }
 
 /**
- * Gap in flight (dt > gapPeriod, s): constant-velocity extrapolation over dt in
- * 2^n equal sub-steps no longer than gapPeriod (at most
- * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS), the accel input being the observer's
- * bias (m/s^2, no net acceleration); the accel is no longer trusted and the
- * next baro sample is re-admitted through the offset.
+ * Gap in flight (dt > gapPeriod, s): extrapolation over dt in 2^n equal
+ * sub-steps no longer than gapPeriod (at most
+ * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS) with the accel input `input` (m/s^2,
+ * see FusionAltitudeRocketInput): this step's accel held over the gap in
+ * coast (about -g: a telemetry gap of 4 s at apogee then misses by metres,
+ * not the 78 m of a constant velocity), the bias (no net acceleration) in
+ * boost. The baro is not re-admitted through the offset after a gap unless it
+ * was locked out: the next sample is fused, so that it corrects the
+ * extrapolated velocity (re-basing after every gap of a 2 Hz telemetry log
+ * hid the descent from the velocity and kept the flight in coast for minutes).
  */
-static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocket, const float dt) {
+static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocket, const float input, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     uint32_t steps = 1u;
@@ -643,22 +729,23 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         steps *= 2u;
         step = dt / (float) steps;
     }
+    const float gapInput = (rocket->phase == FusionAltitudeRocketPhaseBoost) ? FusionAltitudeGetAccelBias(&rocket->observer) : input;
     for (uint32_t index = 0u; index < steps; index++) {
-        (void) FusionAltitudeUpdate(&rocket->observer, FusionAltitudeGetAccelBias(&rocket->observer), FUSION_ALTITUDE_NO_BARO, step);
+        (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, step);
     }
     rocket->lastBaroAge += dt;
     rocket->runTime = 0.0f;
     rocket->baro = FusionAltitudeRocketBaroNone;
-    rocket->accelTrusted = false;
-    rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
 }
 
 /**
  * offsetApplied (m) -> baroOffset (m) while climbing: up by at most
  * offsetRate * |v| * dt (v: velocity, m/s; dt, s), down by at most offsetRate
  * times the observer's rise in this step (height - heightBefore, m; none if it
- * did not rise), so the output height never falls by absorbing the offset; at
- * once in the descent.
+ * did not rise), so the output height never falls by absorbing the offset. In
+ * the descent it moves by at most offsetRate * (|v| + landedSpeed) * dt either
+ * way: the height blends into the baro without a step (the apogee event itself
+ * reports the baro-corrected height, see FusionAltitudeRocketPhaseStep).
  */
 static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const rocket, const float velocity, const float heightBefore,
                                                    const float dt) {
@@ -670,7 +757,14 @@ static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const r
     const float offsetStepDown = (rise > 0.0f) ? (settings->offsetRate * rise) : 0.0f;
     const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
     if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
-        rocket->offsetApplied = rocket->baroOffset;
+        const float descentStep = settings->offsetRate * (speed + settings->landedSpeed) * dt;
+        if (offsetLeft > descentStep) {
+            rocket->offsetApplied += descentStep;
+        } else if (offsetLeft < -descentStep) {
+            rocket->offsetApplied -= descentStep;
+        } else {
+            rocket->offsetApplied = rocket->baroOffset;
+        }
     } else if (offsetLeft > offsetStep) {
         rocket->offsetApplied += offsetStep;
     } else if (offsetLeft < -offsetStepDown) {
@@ -701,28 +795,56 @@ static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const r
 }
 
 /**
+ * Apogee: coast -> drogue, the observer's bias frozen from then on. The
+ * reported apogee height is baro-corrected: the observer height plus the whole
+ * baro offset found at re-admission (m), i.e. where the baro puts the rocket,
+ * not the inertial height the output is still blending from (the output height
+ * reaches it in the descent without a step, FusionAltitudeRocketApplyOffset).
+ * When the baro contradicted the coast (contradicted), the apogee height is
+ * the baro's peak, the velocity estimate (wrong) restarts at 0 m/s at the
+ * current height and the baro is re-admitted through the offset.
+ */
+static inline void FusionAltitudeRocketApogee(FusionAltitudeRocket *const rocket, const bool contradicted) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    FusionAltitudeRocketEvent *const apogee = &rocket->events[FusionAltitudeRocketEventApogee];
+    FusionAltitudeRocketRecord(rocket, apogee);
+    apogee->height = contradicted ? rocket->baroPeak : (FusionAltitudeGetAltitude(&rocket->observer) + rocket->baroOffset);
+    rocket->phase = FusionAltitudeRocketPhaseDrogue;
+    FusionAltitudeSettings descent = rocket->settings.observer;
+    descent.biasGain = 0.0f; /* bias frozen from apogee on */
+    (void) FusionAltitudeSetSettings(&rocket->observer, &descent);
+    if (contradicted) {
+        (void) FusionAltitudeResetWithBias(&rocket->observer, FusionAltitudeGetAltitude(&rocket->observer),
+                                           FusionAltitudeGetAccelBias(&rocket->observer));
+        rocket->baroAdmitted = false;
+    }
+}
+
+/**
  * Phase transitions after the observer step: burnout (boost), apogee at
- * v < -apogeeMargin (coast; v: velocity, m/s; the observer's bias is frozen
- * from then on), main deployment at output height <= mainAltitude (m, above
- * the pad; drogue) and landing (drogue and main). accel: m/s^2; dt: s.
+ * v < -apogeeMargin (coast; v: velocity, m/s) or when the baro has contradicted
+ * the coast for FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME s, main deployment
+ * at the baro-corrected height (observer height + baro offset, m above the pad)
+ * <= mainAltitude (drogue) and landing (drogue and main). accel: m/s^2; dt: s.
  */
 static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const rocket, const float accel, const float velocity, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->baroOffset;
     switch (rocket->phase) {
         case FusionAltitudeRocketPhaseBoost:
             FusionAltitudeRocketBurnoutStep(rocket, accel, dt);
             break;
-        case FusionAltitudeRocketPhaseCoast:
+        case FusionAltitudeRocketPhaseCoast: {
+            const bool contradicted = rocket->lastBaroSet && (rocket->lastBaro < (rocket->baroPeak - settings->spikeThreshold));
+            rocket->contradictionTime = contradicted ? (rocket->contradictionTime + dt) : 0.0f;
             if (!rocket->lockout && (velocity < -settings->apogeeMargin)) {
-                FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventApogee]);
-                rocket->phase = FusionAltitudeRocketPhaseDrogue;
-                FusionAltitudeSettings descent = rocket->settings.observer;
-                descent.biasGain = 0.0f; /* bias frozen from apogee on */
-                (void) FusionAltitudeSetSettings(&rocket->observer, &descent);
+                FusionAltitudeRocketApogee(rocket, false);
+            } else if (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME) {
+                FusionAltitudeRocketApogee(rocket, true);
             }
             break;
+        }
         case FusionAltitudeRocketPhaseDrogue:
             if (!rocket->lockout && !(height > settings->mainAltitude)) {
                 FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventMain]);
@@ -740,18 +862,47 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
     }
 }
 
-/** Flight step (boost and later). accel: m/s^2; baroAltitude: m (NaN: none); dt: s. */
+/**
+ * The observer's accel input (m/s^2) this step: the accel (m/s^2) until apogee,
+ * and after it only if accelVertical (an INS); never in a baro-led flight.
+ * Otherwise the bias (no net acceleration), except in a baro-led coast:
+ * bias - g, ballistic, since the baro alone would lag the deceleration by
+ * Kh * g / Kv (14 m/s with the rocket gains) and declare apogee 1.4 s late.
+ */
+static inline float FusionAltitudeRocketInput(FusionAltitudeRocket *const rocket, const float accel, const bool accelVertical) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    rocket->accelTrusted = !rocket->baroLed && (!descending || accelVertical);
+    if (rocket->accelTrusted) {
+        return accel;
+    }
+    if (rocket->baroLed && (rocket->phase == FusionAltitudeRocketPhaseCoast)) {
+        return FusionAltitudeGetAccelBias(&rocket->observer) - FUSION_ALTITUDE_GRAVITY;
+    }
+    return FusionAltitudeGetAccelBias(&rocket->observer);
+}
+
+/**
+ * Flight step (boost and later). accel: m/s^2 (NaN: no sample, the
+ * accelerometer is lost: baro-led for the rest of the flight, boost -> coast
+ * without a burnout event); baroAltitude: m (NaN: none); dt: s.
+ */
 static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                   const float dt, const bool gap, const bool accelVertical) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
-    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    if (FusionAltitudeIsNaN(accel) && !rocket->baroLed) {
+        rocket->baroLed = true;
+        if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+            rocket->phase = FusionAltitudeRocketPhaseCoast;
+            rocket->runTime = 0.0f;
+        }
+    }
+    const float input = FusionAltitudeRocketInput(rocket, accel, accelVertical);
     if (gap) {
-        FusionAltitudeRocketGapStep(rocket, dt);
+        FusionAltitudeRocketGapStep(rocket, input, dt);
         return;
     }
     const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
-    rocket->accelTrusted = !descending || accelVertical;
-    const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
     const float heightBefore = FusionAltitudeGetAltitude(&rocket->observer);
     (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);

@@ -9,6 +9,7 @@ from fusion_altitude.cobserver cimport FusionAltitude, FusionAltitudeSettings
 
 cdef extern from "fusion_altitude_flight.h" nogil:
     float FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
+    float FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME
     int FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
     ctypedef enum FusionAltitudeRocketStatus:
@@ -32,6 +33,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         FusionAltitudeRocketStatusInvalidLandedSpeed
         FusionAltitudeRocketStatusInvalidLandedTime
         FusionAltitudeRocketStatusInvalidGapPeriod
+        FusionAltitudeRocketStatusInvalidBaroLaunchHeight
 
     ctypedef enum FusionAltitudeRocketPhase:
         FusionAltitudeRocketPhasePad
@@ -80,6 +82,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float landedSpeed
         float landedTime
         float gapPeriod
+        float baroLaunchHeight
 
     ctypedef struct FusionAltitudeRocket:
         FusionAltitudeRocketSettings settings
@@ -108,12 +111,17 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float lastBaroAge
         float baroOffset
         float offsetApplied
+        float padBaroPrevious
+        float baroPeak
+        float contradictionTime
         bint windowStationary
         bint padAltitudeSet
         bint lastBaroSet
         bint baroAdmitted
         bint lockout
         bint accelTrusted
+        bint padBaroPreviousSet
+        bint baroLed
 
     const char * FusionAltitudeRocketStatusMessage(const FusionAltitudeRocketStatus status)
     FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault()

@@ -138,6 +138,13 @@ extern "C" {
  */
 #define FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME (1.0f)
 
+/**
+ * @brief s: a baro-led flight declares apogee only once the baro has set no
+ * new peak for this long (its ballistic input cannot see a burn, so the
+ * velocity estimate alone could cross zero while the rocket still climbs).
+ */
+#define FUSION_ALTITUDE_ROCKET_PEAK_AGE (0.5f)
+
 /** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
 #define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
 
@@ -262,6 +269,7 @@ typedef struct {
     float padBaroPrevious;            /**< m above the pad: the previous pad baro sample (baro launch detector) */
     float baroPeak;                   /**< m above the pad: highest baro sample not rejected as a spike since launch */
     float contradictionTime;          /**< s: how long the baro has stayed more than spikeThreshold below baroPeak in coast */
+    float baroPeakAge;                /**< s since baroPeak was set */
     bool windowStationary;            /**< every sample of the current window stationary so far */
     bool padAltitudeSet;              /**< a baro sample has been seen on the pad */
     bool lastBaroSet;                 /**< lastBaro holds a sample */
@@ -579,6 +587,7 @@ static inline bool FusionAltitudeRocketBaroLaunchStep(FusionAltitudeRocket *cons
     rocket->lastBaroAge = 0.0f;
     rocket->lastBaroSet = true;
     rocket->baroPeak = height;
+    rocket->baroPeakAge = 0.0f;
     rocket->runTime = 0.0f;
     FusionAltitudeRocketClearWindow(rocket);
     return true;
@@ -650,12 +659,14 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     rocket->lockout = ((rocket->phase == FusionAltitudeRocketPhaseBoost) && !rocket->baroLed) || (velocity > lockoutSpeed) ||
                       (velocity < -lockoutSpeed);
     rocket->lastBaroAge += dt;
+    rocket->baroPeakAge += dt;
     if (FusionAltitudeIsNaN(baroAltitude)) {
         rocket->baro = FusionAltitudeRocketBaroNone;
         return FUSION_ALTITUDE_NO_BARO;
     }
     const float height = baroAltitude - rocket->padAltitude;
-    if (rocket->lastBaroSet) {
+    /* a baro-led observer waiting to restart after a gap takes the sample as it is */
+    if (rocket->lastBaroSet && (!rocket->baroLed || FusionAltitudeIsReferenceSet(&rocket->observer))) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
         const float threshold = settings->spikeThreshold + (0.5f * FUSION_ALTITUDE_GRAVITY) * (rocket->lastBaroAge * rocket->lastBaroAge);
         if ((miss > threshold) || (miss < -threshold)) {
@@ -675,6 +686,7 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     rocket->lastBaroSet = true;
     if (height > rocket->baroPeak) {
         rocket->baroPeak = height;
+        rocket->baroPeakAge = 0.0f;
     }
     if (rocket->lockout && !rocket->baroLed) {
         rocket->baro = FusionAltitudeRocketBaroLockedOut;
@@ -730,11 +742,18 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         step = dt / (float) steps;
     }
     const float gapInput = (rocket->phase == FusionAltitudeRocketPhaseBoost) ? FusionAltitudeGetAccelBias(&rocket->observer) : input;
-    for (uint32_t index = 0u; index < steps; index++) {
-        (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, step);
+    if (rocket->baroLed) { /* the observer's own gap: it restarts at the next baro sample with the mean velocity over the gap */
+        (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, dt);
+    } else {
+        for (uint32_t index = 0u; index < steps; index++) {
+            (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, step);
+        }
     }
     rocket->lastBaroAge += dt;
-    rocket->runTime = 0.0f;
+    rocket->baroPeakAge += dt;
+    if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+        rocket->runTime = 0.0f; /* the burnout run restarts; a landed run goes on (telemetry gaps every few s) */
+    }
     rocket->baro = FusionAltitudeRocketBaroNone;
 }
 
@@ -838,7 +857,9 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
         case FusionAltitudeRocketPhaseCoast: {
             const bool contradicted = rocket->lastBaroSet && (rocket->lastBaro < (rocket->baroPeak - settings->spikeThreshold));
             rocket->contradictionTime = contradicted ? (rocket->contradictionTime + dt) : 0.0f;
-            if (!rocket->lockout && (velocity < -settings->apogeeMargin)) {
+            /* baro-led: also no new baro peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s */
+            const bool baroAgrees = !rocket->baroLed || (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE);
+            if (!rocket->lockout && (velocity < -settings->apogeeMargin) && baroAgrees) {
                 FusionAltitudeRocketApogee(rocket, false);
             } else if (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME) {
                 FusionAltitudeRocketApogee(rocket, true);
@@ -891,6 +912,15 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
                                                   const float dt, const bool gap, const bool accelVertical) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     if (FusionAltitudeIsNaN(accel) && !rocket->baroLed) {
+        rocket->baroLed = true;
+        if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+            rocket->phase = FusionAltitudeRocketPhaseCoast;
+            rocket->runTime = 0.0f;
+        }
+    }
+    if (gap && !rocket->baroLed && (rocket->phase < FusionAltitudeRocketPhaseDrogue) &&
+        (rocket->lockout || (rocket->phase == FusionAltitudeRocketPhaseBoost))) {
+        /* a gap in boost or in the lockout: the integrated velocity is lost and the baro cannot check it yet */
         rocket->baroLed = true;
         if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
             rocket->phase = FusionAltitudeRocketPhaseCoast;

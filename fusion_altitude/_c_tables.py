@@ -423,6 +423,7 @@ class BaroFate(enum.IntEnum):
 #: The numeric ``#define`` constants of fusion_altitude_flight.h (floats are float32 in C).
 FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT = 236.0
 FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME = 1.0
+FUSION_ALTITUDE_ROCKET_PEAK_AGE = 0.5
 FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS = 6
 
 

@@ -10,6 +10,7 @@ from fusion_altitude.cobserver cimport FusionAltitude, FusionAltitudeSettings
 cdef extern from "fusion_altitude_flight.h" nogil:
     float FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
     float FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME
+    float FUSION_ALTITUDE_ROCKET_PEAK_AGE
     int FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
     ctypedef enum FusionAltitudeRocketStatus:
@@ -114,6 +115,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float padBaroPrevious
         float baroPeak
         float contradictionTime
+        float baroPeakAge
         bint windowStationary
         bint padAltitudeSet
         bint lastBaroSet

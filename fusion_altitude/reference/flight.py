@@ -29,6 +29,7 @@ MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
 GRAVITY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
 CONTRADICTION_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
+PEAK_AGE = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
 _HALF_G = f32(0.5) * GRAVITY
 CALIBRATION_WINDOWS = 8
 
@@ -137,7 +138,7 @@ class RocketEstimator(Checkpointable):
                  "_window_time", "_window_accel_first", "_window_accel_sum", "_window_baro_first", "_window_baro_sum",
                  "_run_time", "_spike_time", "_last_baro", "_last_baro_age", "_window_stationary", "_pad_altitude_set",
                  "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted",
-                 "_pad_baro_previous", "_baro_peak", "_contradiction_time", "_pad_baro_previous_set", "_baro_led", "_s")
+                 "_pad_baro_previous", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_s")
 
     def __init__(self, settings: Optional[RocketSettings] = None) -> None:
         # FusionAltitudeRocketInitialise
@@ -170,6 +171,7 @@ class RocketEstimator(Checkpointable):
         self._pad_baro_previous = _ZERO
         self._baro_peak = _ZERO
         self._contradiction_time = _ZERO
+        self._baro_peak_age = _ZERO
         self._pad_baro_previous_set = False
         self._baro_led = False
         self._clear_window()
@@ -215,6 +217,7 @@ class RocketEstimator(Checkpointable):
         self._last_baro_age = _ZERO
         self._last_baro_set = True
         self._baro_peak = height
+        self._baro_peak_age = _ZERO
         self._run_time = _ZERO
         self._clear_window()
         return True
@@ -289,11 +292,12 @@ class RocketEstimator(Checkpointable):
         self._lockout = bool((self._phase == Phase.BOOST and not self._baro_led) or v > lockout_speed
                              or v < -lockout_speed)
         self._last_baro_age += dt
+        self._baro_peak_age += dt
         if np.isnan(z):
             self._baro = BaroFate.NONE
             return _NAN
         height = z - self._pad_altitude
-        if self._last_baro_set:
+        if self._last_baro_set and (not self._baro_led or self._obs._reference_set):
             miss = height - (self._last_baro + v * self._last_baro_age)
             threshold = s["spike_threshold"] + _HALF_G * (self._last_baro_age * self._last_baro_age)
             if miss > threshold or miss < -threshold:
@@ -309,6 +313,7 @@ class RocketEstimator(Checkpointable):
         self._last_baro_set = True
         if height > self._baro_peak:
             self._baro_peak = height
+            self._baro_peak_age = _ZERO
         if self._lockout and not self._baro_led:
             self._baro = BaroFate.LOCKED_OUT
             self._baro_admitted = False
@@ -364,6 +369,11 @@ class RocketEstimator(Checkpointable):
             if self._phase == Phase.BOOST:
                 self._phase = Phase.COAST
                 self._run_time = _ZERO
+        if gap and not self._baro_led and self._phase < Phase.DROGUE and (self._lockout or self._phase == Phase.BOOST):
+            self._baro_led = True  # a gap in boost or in the lockout: the integrated velocity is lost
+            if self._phase == Phase.BOOST:
+                self._phase = Phase.COAST
+                self._run_time = _ZERO
         accel_input = self._input(a, accel_vertical)
         if gap:  # FusionAltitudeRocketGapStep
             steps = 1
@@ -372,10 +382,15 @@ class RocketEstimator(Checkpointable):
                 steps *= 2
                 step = dt / f32(steps)
             gap_input = self._obs._b if self._phase == Phase.BOOST else accel_input
-            for _ in range(steps):
-                self._obs._update(gap_input, _NAN, step)
+            if self._baro_led:  # the observer's own gap: restart at the next baro sample
+                self._obs._update(gap_input, _NAN, dt)
+            else:
+                for _ in range(steps):
+                    self._obs._update(gap_input, _NAN, step)
             self._last_baro_age += dt
-            self._run_time = _ZERO
+            self._baro_peak_age += dt
+            if self._phase == Phase.BOOST:
+                self._run_time = _ZERO  # the burnout run restarts; a landed run goes on
             self._baro = BaroFate.NONE
             return
         fused = self._gate(z, dt)
@@ -421,7 +436,8 @@ class RocketEstimator(Checkpointable):
         elif self._phase == Phase.COAST:
             contradicted = self._last_baro_set and self._last_baro < self._baro_peak - s["spike_threshold"]
             self._contradiction_time = self._contradiction_time + dt if contradicted else _ZERO
-            if not self._lockout and v < -s["apogee_margin"]:
+            baro_agrees = not self._baro_led or self._baro_peak_age >= PEAK_AGE  # baro-led: no new peak for 0.5 s
+            if not self._lockout and v < -s["apogee_margin"] and baro_agrees:
                 self._apogee(False)
             elif self._contradiction_time >= CONTRADICTION_TIME:
                 self._apogee(True)
@@ -586,14 +602,15 @@ class RocketEstimator(Checkpointable):
                                      self._window_accel_first, self._window_accel_sum, self._window_baro_first,
                                      self._window_baro_sum, self._run_time, self._spike_time, self._last_baro,
                                      self._last_baro_age, self._baro_offset, self._offset_applied,
-                                     self._pad_baro_previous, self._baro_peak, self._contradiction_time)),
+                                     self._pad_baro_previous, self._baro_peak, self._contradiction_time,
+                                     self._baro_peak_age)),
                 self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted,
                 self._lockout, self._accel_trusted, self._pad_baro_previous_set, self._baro_led)
 
     def _set_state(self, state: tuple) -> None:
         (settings, observer, phase, baro, events, candidate, self._sample, self._gap_count, self._windows,
          self._window_samples, self._window_baro_samples, *rest) = state
-        floats, flags = rest[:18], rest[18:]
+        floats, flags = rest[:19], rest[19:]
         self._use_settings(RocketSettings(**settings))
         self._obs = AltitudeEstimator(AltitudeSettings(*self._settings.observer))
         self._obs._set_state(tuple(observer))
@@ -607,6 +624,6 @@ class RocketEstimator(Checkpointable):
         (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time, self._window_accel_first,
          self._window_accel_sum, self._window_baro_first, self._window_baro_sum, self._run_time, self._spike_time,
          self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied, self._pad_baro_previous,
-         self._baro_peak, self._contradiction_time) = (f32(x) for x in floats)
+         self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
         (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
          self._accel_trusted, self._pad_baro_previous_set, self._baro_led) = (bool(x) for x in flags)

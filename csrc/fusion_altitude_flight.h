@@ -267,6 +267,7 @@ typedef struct {
     float baroOffset;                 /**< m: baro height minus observer height when the baro was last re-admitted */
     float offsetApplied;              /**< m: the part of baroOffset added to the output height so far */
     float padBaroPrevious;            /**< m above the pad: the previous pad baro sample (baro launch detector) */
+    float padBaroAge;                 /**< s since padBaroPrevious */
     float baroPeak;                   /**< m above the pad: highest baro sample not rejected as a spike since launch */
     float contradictionTime;          /**< s: how long the baro has stayed more than spikeThreshold below baroPeak in coast */
     float baroPeakAge;                /**< s since baroPeak was set */
@@ -562,22 +563,30 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
  * pad sample before it are both more than baroLaunchHeight m above the pad
  * and it is higher than that one (rising). The accelerometer did not show
  * the launch (dead, missing, wrong axis), so the flight is baro-led from here
- * (baroLed): the observer restarts at the sample's height with v = 0 and
- * the phase goes straight to coast (no burnout event). Returns true if
- * launched.
+ * (baroLed): the observer restarts at the sample's height, with v the mean
+ * velocity since the pad sample before if that is more than gapPeriod s old
+ * (a telemetry gap over the launch), else 0 (denser samples are too noisy for a
+ * difference; the baro pulls v up within a few s). The phase goes straight to
+ * coast (no burnout event). Returns true if launched. (baroAltitude, m.)
  */
 static inline bool FusionAltitudeRocketBaroLaunchStep(FusionAltitudeRocket *const rocket, const float baroAltitude) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float height = baroAltitude - rocket->padAltitude;
-    const bool launched = rocket->padBaroPreviousSet && (rocket->padBaroPrevious > settings->baroLaunchHeight) &&
-                          (height > settings->baroLaunchHeight) && (height > rocket->padBaroPrevious);
+    const float previous = rocket->padBaroPrevious;
+    const float age = rocket->padBaroAge;
+    const bool launched = rocket->padBaroPreviousSet && (previous > settings->baroLaunchHeight) &&
+                          (height > settings->baroLaunchHeight) && (height > previous);
     rocket->padBaroPrevious = height;
+    rocket->padBaroAge = 0.0f;
     rocket->padBaroPreviousSet = true;
     if (!launched) {
         return false;
     }
     (void) FusionAltitudeResetWithBias(&rocket->observer, height, rocket->accelBias);
+    if (age > settings->gapPeriod) {
+        rocket->observer.verticalVelocity = (height - previous) / age; /* no API for it: see FusionAltitudeRocketGate */
+    }
     FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventLaunch]);
     rocket->phase = FusionAltitudeRocketPhaseCoast;
     rocket->baroLed = true;
@@ -604,6 +613,7 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
         rocket->padAltitude = baroAltitude; /* until the first window completes */
         rocket->padAltitudeSet = true;
     }
+    rocket->padBaroAge += dt;
     if (hasBaro && FusionAltitudeRocketBaroLaunchStep(rocket, baroAltitude)) {
         return;
     }
@@ -665,8 +675,9 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
         return FUSION_ALTITUDE_NO_BARO;
     }
     const float height = baroAltitude - rocket->padAltitude;
-    /* a baro-led observer waiting to restart after a gap takes the sample as it is */
-    if (rocket->lastBaroSet && (!rocket->baroLed || FusionAltitudeIsReferenceSet(&rocket->observer))) {
+    const float previousBaro = rocket->lastBaro;
+    const float previousAge = rocket->lastBaroAge;
+    if (rocket->lastBaroSet) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
         const float threshold = settings->spikeThreshold + (0.5f * FUSION_ALTITUDE_GRAVITY) * (rocket->lastBaroAge * rocket->lastBaroAge);
         if ((miss > threshold) || (miss < -threshold)) {
@@ -697,6 +708,13 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
         rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
         rocket->baroAdmitted = true;
+        if (rocket->baroLed && (previousAge > settings->gapPeriod)) {
+            /* In a baro-led flight after more than gapPeriod s without a baro sample (a gap) the extrapolated
+             * velocity cannot be checked: it restarts as the baro's mean velocity since its previous accepted
+             * sample (m/s). The only place the flight layer writes an observer field directly: its API has no
+             * restart with a given velocity. */
+            rocket->observer.verticalVelocity = (height - previousBaro) / previousAge;
+        }
     }
     return height - rocket->baroOffset;
 }
@@ -742,12 +760,15 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         step = dt / (float) steps;
     }
     const float gapInput = (rocket->phase == FusionAltitudeRocketPhaseBoost) ? FusionAltitudeGetAccelBias(&rocket->observer) : input;
-    if (rocket->baroLed) { /* the observer's own gap: it restarts at the next baro sample with the mean velocity over the gap */
-        (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, dt);
-    } else {
-        for (uint32_t index = 0u; index < steps; index++) {
-            (void) FusionAltitudeUpdate(&rocket->observer, gapInput, FUSION_ALTITUDE_NO_BARO, step);
-        }
+    /* a baro-led coast is not extrapolated into a descent the baro has not shown: the ballistic input stops at v <= 0 */
+    const bool holdTop = rocket->baroLed && (rocket->phase == FusionAltitudeRocketPhaseCoast);
+    for (uint32_t index = 0u; index < steps; index++) {
+        const bool top = holdTop && !(FusionAltitudeGetVerticalVelocity(&rocket->observer) > 0.0f);
+        (void) FusionAltitudeUpdate(&rocket->observer, top ? FusionAltitudeGetAccelBias(&rocket->observer) : gapInput,
+                                    FUSION_ALTITUDE_NO_BARO, step);
+    }
+    if (rocket->baroLed) {
+        rocket->baroAdmitted = false; /* baro-led: the next sample restarts the observer at the baro (FusionAltitudeRocketGate) */
     }
     rocket->lastBaroAge += dt;
     rocket->baroPeakAge += dt;
@@ -857,8 +878,10 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
         case FusionAltitudeRocketPhaseCoast: {
             const bool contradicted = rocket->lastBaroSet && (rocket->lastBaro < (rocket->baroPeak - settings->spikeThreshold));
             rocket->contradictionTime = contradicted ? (rocket->contradictionTime + dt) : 0.0f;
-            /* baro-led: also no new baro peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s */
-            const bool baroAgrees = !rocket->baroLed || (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE);
+            /* baro-led: also this step's baro fused, below the peak, and no new peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s */
+            const bool baroAgrees = !rocket->baroLed || ((rocket->baro == FusionAltitudeRocketBaroFused) &&
+                                                         (rocket->lastBaro < rocket->baroPeak) &&
+                                                         (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE));
             if (!rocket->lockout && (velocity < -settings->apogeeMargin) && baroAgrees) {
                 FusionAltitudeRocketApogee(rocket, false);
             } else if (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME) {

@@ -113,6 +113,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float baroOffset
         float offsetApplied
         float padBaroPrevious
+        float padBaroAge
         float baroPeak
         float contradictionTime
         float baroPeakAge

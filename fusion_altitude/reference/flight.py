@@ -138,7 +138,7 @@ class RocketEstimator(Checkpointable):
                  "_window_time", "_window_accel_first", "_window_accel_sum", "_window_baro_first", "_window_baro_sum",
                  "_run_time", "_spike_time", "_last_baro", "_last_baro_age", "_window_stationary", "_pad_altitude_set",
                  "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted",
-                 "_pad_baro_previous", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_s")
+                 "_pad_baro_previous", "_pad_baro_age", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_s")
 
     def __init__(self, settings: Optional[RocketSettings] = None) -> None:
         # FusionAltitudeRocketInitialise
@@ -169,6 +169,7 @@ class RocketEstimator(Checkpointable):
         self._lockout = False
         self._accel_trusted = False
         self._pad_baro_previous = _ZERO
+        self._pad_baro_age = _ZERO
         self._baro_peak = _ZERO
         self._contradiction_time = _ZERO
         self._baro_peak_age = _ZERO
@@ -200,14 +201,18 @@ class RocketEstimator(Checkpointable):
     def _baro_launch_step(self, z: np.float32) -> bool:
         s = self._s
         height = z - self._pad_altitude
-        launched = bool(self._pad_baro_previous_set and self._pad_baro_previous > s["baro_launch_height"]
-                        and height > s["baro_launch_height"] and height > self._pad_baro_previous)
+        previous, age = self._pad_baro_previous, self._pad_baro_age
+        launched = bool(self._pad_baro_previous_set and previous > s["baro_launch_height"]
+                        and height > s["baro_launch_height"] and height > previous)
         self._pad_baro_previous = height
+        self._pad_baro_age = _ZERO
         self._pad_baro_previous_set = True
         if not launched:
             return False
         self._obs._b = self._accel_bias
         self._obs._reset(height)
+        if age > s["gap_period"]:
+            self._obs._v = (height - previous) / age
         self._record(self._events[LAUNCH])
         self._phase = Phase.COAST
         self._baro_led = True
@@ -230,6 +235,7 @@ class RocketEstimator(Checkpointable):
         if has_baro and not self._pad_altitude_set:
             self._pad_altitude = z
             self._pad_altitude_set = True
+        self._pad_baro_age += dt
         if has_baro and self._baro_launch_step(z):
             return
 
@@ -297,7 +303,8 @@ class RocketEstimator(Checkpointable):
             self._baro = BaroFate.NONE
             return _NAN
         height = z - self._pad_altitude
-        if self._last_baro_set and (not self._baro_led or self._obs._reference_set):
+        previous_baro, previous_age = self._last_baro, self._last_baro_age
+        if self._last_baro_set:
             miss = height - (self._last_baro + v * self._last_baro_age)
             threshold = s["spike_threshold"] + _HALF_G * (self._last_baro_age * self._last_baro_age)
             if miss > threshold or miss < -threshold:
@@ -322,6 +329,8 @@ class RocketEstimator(Checkpointable):
         if not self._baro_admitted:
             self._baro_offset = height - self._obs._h
             self._baro_admitted = True
+            if self._baro_led and previous_age > s["gap_period"]:  # baro-led after a gap: the baro's mean velocity
+                self._obs._v = (height - previous_baro) / previous_age
         return height - self._baro_offset
 
     # FusionAltitudeRocketLandedStep
@@ -382,11 +391,12 @@ class RocketEstimator(Checkpointable):
                 steps *= 2
                 step = dt / f32(steps)
             gap_input = self._obs._b if self._phase == Phase.BOOST else accel_input
-            if self._baro_led:  # the observer's own gap: restart at the next baro sample
-                self._obs._update(gap_input, _NAN, dt)
-            else:
-                for _ in range(steps):
-                    self._obs._update(gap_input, _NAN, step)
+            hold_top = self._baro_led and self._phase == Phase.COAST  # no extrapolated descent the baro has not shown
+            for _ in range(steps):
+                top = hold_top and not self._obs._v > 0
+                self._obs._update(self._obs._b if top else gap_input, _NAN, step)
+            if self._baro_led:
+                self._baro_admitted = False  # the next sample restarts the observer at the baro
             self._last_baro_age += dt
             self._baro_peak_age += dt
             if self._phase == Phase.BOOST:
@@ -436,7 +446,8 @@ class RocketEstimator(Checkpointable):
         elif self._phase == Phase.COAST:
             contradicted = self._last_baro_set and self._last_baro < self._baro_peak - s["spike_threshold"]
             self._contradiction_time = self._contradiction_time + dt if contradicted else _ZERO
-            baro_agrees = not self._baro_led or self._baro_peak_age >= PEAK_AGE  # baro-led: no new peak for 0.5 s
+            baro_agrees = not self._baro_led or (self._baro == BaroFate.FUSED and self._last_baro < self._baro_peak
+                                                 and self._baro_peak_age >= PEAK_AGE)  # baro-led: the baro agrees
             if not self._lockout and v < -s["apogee_margin"] and baro_agrees:
                 self._apogee(False)
             elif self._contradiction_time >= CONTRADICTION_TIME:
@@ -602,7 +613,7 @@ class RocketEstimator(Checkpointable):
                                      self._window_accel_first, self._window_accel_sum, self._window_baro_first,
                                      self._window_baro_sum, self._run_time, self._spike_time, self._last_baro,
                                      self._last_baro_age, self._baro_offset, self._offset_applied,
-                                     self._pad_baro_previous, self._baro_peak, self._contradiction_time,
+                                     self._pad_baro_previous, self._pad_baro_age, self._baro_peak, self._contradiction_time,
                                      self._baro_peak_age)),
                 self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted,
                 self._lockout, self._accel_trusted, self._pad_baro_previous_set, self._baro_led)
@@ -610,7 +621,7 @@ class RocketEstimator(Checkpointable):
     def _set_state(self, state: tuple) -> None:
         (settings, observer, phase, baro, events, candidate, self._sample, self._gap_count, self._windows,
          self._window_samples, self._window_baro_samples, *rest) = state
-        floats, flags = rest[:19], rest[19:]
+        floats, flags = rest[:20], rest[20:]
         self._use_settings(RocketSettings(**settings))
         self._obs = AltitudeEstimator(AltitudeSettings(*self._settings.observer))
         self._obs._set_state(tuple(observer))
@@ -624,6 +635,6 @@ class RocketEstimator(Checkpointable):
         (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time, self._window_accel_first,
          self._window_accel_sum, self._window_baro_first, self._window_baro_sum, self._run_time, self._spike_time,
          self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied, self._pad_baro_previous,
-         self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
+         self._pad_baro_age, self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
         (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
          self._accel_trusted, self._pad_baro_previous_set, self._baro_led) = (bool(x) for x in flags)

@@ -145,6 +145,21 @@ extern "C" {
  */
 #define FUSION_ALTITUDE_ROCKET_PEAK_AGE (0.5f)
 
+/**
+ * @brief s: the longest gap over which the accel input is held (telemetry
+ * gaps are up to about 4 s); a longer gap is extrapolated at constant velocity
+ * and, unless the flight is baro-led, the baro re-admitted through the offset.
+ */
+#define FUSION_ALTITUDE_ROCKET_GAP_HOLD (4.0f)
+
+/**
+ * @brief 1/s: in the descent the output height also absorbs this fraction of
+ * the remaining baro offset per second (on top of offsetRate * (|v| +
+ * landedSpeed)), so that even an offset of kilometres (a long gap extrapolated
+ * in the lockout) is gone within tens of seconds, without a step.
+ */
+#define FUSION_ALTITUDE_ROCKET_OFFSET_DECAY (0.1f)
+
 /** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
 #define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
 
@@ -279,6 +294,7 @@ typedef struct {
     bool accelTrusted;                /**< latest step used the accel input */
     bool padBaroPreviousSet;          /**< padBaroPrevious holds a sample */
     bool baroLed;                     /**< no usable accelerometer since launch or since it was lost: baro-led flight */
+    bool gapRestart;                  /**< the next fused baro sample restarts the observer (after an unheld or baro-led gap) */
 } FusionAltitudeRocket;
 
 //------------------------------------------------------------------------------
@@ -677,6 +693,7 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     const float height = baroAltitude - rocket->padAltitude;
     const float previousBaro = rocket->lastBaro;
     const float previousAge = rocket->lastBaroAge;
+    const bool previousSet = rocket->lastBaroSet;
     if (rocket->lastBaroSet) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
         const float threshold = settings->spikeThreshold + (0.5f * FUSION_ALTITUDE_GRAVITY) * (rocket->lastBaroAge * rocket->lastBaroAge);
@@ -705,16 +722,27 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
         return FUSION_ALTITUDE_NO_BARO;
     }
     rocket->baro = FusionAltitudeRocketBaroFused;
-    if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
-        rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
-        rocket->baroAdmitted = true;
-        if (rocket->baroLed && (previousAge > settings->gapPeriod)) {
-            /* In a baro-led flight after more than gapPeriod s without a baro sample (a gap) the extrapolated
-             * velocity cannot be checked: it restarts as the baro's mean velocity since its previous accepted
-             * sample (m/s). The only place the flight layer writes an observer field directly: its API has no
-             * restart with a given velocity. */
+    if (rocket->gapRestart) {
+        /* After a gap that was not extrapolated on a held accel (longer than FUSION_ALTITUDE_ROCKET_GAP_HOLD s, or
+         * baro-led) the extrapolated height and velocity are guesses: the velocity restarts as the baro's mean
+         * velocity since its previous accepted sample (m/s; kept without one). Before apogee the height is
+         * re-admitted through the offset (the output never falls while climbing; the baro reads low by the
+         * static-port error there); from apogee on the observer restarts at the baro (height minus the offset
+         * kept, m): the output height steps to the baro rather than staying wrong. The only place the flight
+         * layer writes observer fields directly: its API has no restart with a given velocity. */
+        if (rocket->phase < FusionAltitudeRocketPhaseDrogue) {
+            rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
+        } else {
+            rocket->observer.altitude = height - rocket->baroOffset;
+        }
+        if (previousSet && (previousAge > 0.0f)) {
             rocket->observer.verticalVelocity = (height - previousBaro) / previousAge;
         }
+        rocket->gapRestart = false;
+        rocket->baroAdmitted = true;
+    } else if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
+        rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
+        rocket->baroAdmitted = true;
     }
     return height - rocket->baroOffset;
 }
@@ -759,7 +787,8 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         steps *= 2u;
         step = dt / (float) steps;
     }
-    const float gapInput = (rocket->phase == FusionAltitudeRocketPhaseBoost) ? FusionAltitudeGetAccelBias(&rocket->observer) : input;
+    const bool hold = (rocket->phase != FusionAltitudeRocketPhaseBoost) && (dt <= FUSION_ALTITUDE_ROCKET_GAP_HOLD);
+    const float gapInput = hold ? input : FusionAltitudeGetAccelBias(&rocket->observer);
     /* a baro-led coast is not extrapolated into a descent the baro has not shown: the ballistic input stops at v <= 0 */
     const bool holdTop = rocket->baroLed && (rocket->phase == FusionAltitudeRocketPhaseCoast);
     for (uint32_t index = 0u; index < steps; index++) {
@@ -767,8 +796,8 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         (void) FusionAltitudeUpdate(&rocket->observer, top ? FusionAltitudeGetAccelBias(&rocket->observer) : gapInput,
                                     FUSION_ALTITUDE_NO_BARO, step);
     }
-    if (rocket->baroLed) {
-        rocket->baroAdmitted = false; /* baro-led: the next sample restarts the observer at the baro (FusionAltitudeRocketGate) */
+    if (rocket->baroLed || !hold) {
+        rocket->gapRestart = true; /* the extrapolation is a guess: the next sample restarts the observer (FusionAltitudeRocketGate) */
     }
     rocket->lastBaroAge += dt;
     rocket->baroPeakAge += dt;
@@ -783,7 +812,8 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
  * offsetRate * |v| * dt (v: velocity, m/s; dt, s), down by at most offsetRate
  * times the observer's rise in this step (height - heightBefore, m; none if it
  * did not rise), so the output height never falls by absorbing the offset. In
- * the descent it moves by at most offsetRate * (|v| + landedSpeed) * dt either
+ * the descent it moves by at most (offsetRate * (|v| + landedSpeed) +
+ * FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * |baroOffset - offsetApplied|) * dt either
  * way: the height blends into the baro without a step (the apogee event itself
  * reports the baro-corrected height, see FusionAltitudeRocketPhaseStep).
  */
@@ -797,7 +827,8 @@ static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const r
     const float offsetStepDown = (rise > 0.0f) ? (settings->offsetRate * rise) : 0.0f;
     const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
     if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
-        const float descentStep = settings->offsetRate * (speed + settings->landedSpeed) * dt;
+        const float left = (offsetLeft < 0.0f) ? -offsetLeft : offsetLeft;
+        const float descentStep = (settings->offsetRate * (speed + settings->landedSpeed) + FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * left) * dt;
         if (offsetLeft > descentStep) {
             rocket->offsetApplied += descentStep;
         } else if (offsetLeft < -descentStep) {

@@ -169,6 +169,7 @@ cdef tuple _state_get(const FusionAltitudeRocket *c, object settings_out):
         bool(c.accelTrusted),
         bool(c.padBaroPreviousSet),
         bool(c.baroLed),
+        bool(c.gapRestart),
     )
 
 
@@ -177,7 +178,7 @@ cdef void _state_set(FusionAltitudeRocket *c, tuple state, object settings_in) e
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _observer, _phase, _baro, _events, _candidate, _sample, _gap_count, _windows, _window_samples, _window_baro_samples, _time, _time_compensation, _accel_bias, _pad_altitude, _window_time, _window_accel_first, _window_accel_sum, _window_baro_first, _window_baro_sum, _run_time, _spike_time, _last_baro, _last_baro_age, _baro_offset, _offset_applied, _pad_baro_previous, _pad_baro_age, _baro_peak, _contradiction_time, _baro_peak_age, _window_stationary, _pad_altitude_set, _last_baro_set, _baro_admitted, _lockout, _accel_trusted, _pad_baro_previous_set, _baro_led,) = state
+    (_settings, _observer, _phase, _baro, _events, _candidate, _sample, _gap_count, _windows, _window_samples, _window_baro_samples, _time, _time_compensation, _accel_bias, _pad_altitude, _window_time, _window_accel_first, _window_accel_sum, _window_baro_first, _window_baro_sum, _run_time, _spike_time, _last_baro, _last_baro_age, _baro_offset, _offset_applied, _pad_baro_previous, _pad_baro_age, _baro_peak, _contradiction_time, _baro_peak_age, _window_stationary, _pad_altitude_set, _last_baro_set, _baro_admitted, _lockout, _accel_trusted, _pad_baro_previous_set, _baro_led, _gap_restart,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     c.observer.settings.positionGain = _observer[0][0]
     c.observer.settings.velocityGain = _observer[0][1]
@@ -238,6 +239,7 @@ cdef void _state_set(FusionAltitudeRocket *c, tuple state, object settings_in) e
     c.accelTrusted = _accel_trusted
     c.padBaroPreviousSet = _pad_baro_previous_set
     c.baroLed = _baro_led
+    c.gapRestart = _gap_restart
 
 
 

@@ -11,6 +11,8 @@ cdef extern from "fusion_altitude_flight.h" nogil:
     float FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
     float FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME
     float FUSION_ALTITUDE_ROCKET_PEAK_AGE
+    float FUSION_ALTITUDE_ROCKET_GAP_HOLD
+    float FUSION_ALTITUDE_ROCKET_OFFSET_DECAY
     int FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
     ctypedef enum FusionAltitudeRocketStatus:
@@ -125,6 +127,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         bint accelTrusted
         bint padBaroPreviousSet
         bint baroLed
+        bint gapRestart
 
     const char * FusionAltitudeRocketStatusMessage(const FusionAltitudeRocketStatus status)
     FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault()

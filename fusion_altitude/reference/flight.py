@@ -27,6 +27,8 @@ _NAN = f32("nan")
 _ZERO = f32(0)
 MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
+OFFSET_DECAY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_OFFSET_DECAY)
+GAP_HOLD = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_GAP_HOLD)
 GRAVITY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
 CONTRADICTION_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
 PEAK_AGE = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
@@ -138,7 +140,7 @@ class RocketEstimator(Checkpointable):
                  "_window_time", "_window_accel_first", "_window_accel_sum", "_window_baro_first", "_window_baro_sum",
                  "_run_time", "_spike_time", "_last_baro", "_last_baro_age", "_window_stationary", "_pad_altitude_set",
                  "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted",
-                 "_pad_baro_previous", "_pad_baro_age", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_s")
+                 "_pad_baro_previous", "_pad_baro_age", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_gap_restart", "_s")
 
     def __init__(self, settings: Optional[RocketSettings] = None) -> None:
         # FusionAltitudeRocketInitialise
@@ -175,6 +177,7 @@ class RocketEstimator(Checkpointable):
         self._baro_peak_age = _ZERO
         self._pad_baro_previous_set = False
         self._baro_led = False
+        self._gap_restart = False
         self._clear_window()
 
     # FusionAltitudeRocketClearWindow
@@ -303,7 +306,7 @@ class RocketEstimator(Checkpointable):
             self._baro = BaroFate.NONE
             return _NAN
         height = z - self._pad_altitude
-        previous_baro, previous_age = self._last_baro, self._last_baro_age
+        previous_baro, previous_age, previous_set = self._last_baro, self._last_baro_age, self._last_baro_set
         if self._last_baro_set:
             miss = height - (self._last_baro + v * self._last_baro_age)
             threshold = s["spike_threshold"] + _HALF_G * (self._last_baro_age * self._last_baro_age)
@@ -326,11 +329,18 @@ class RocketEstimator(Checkpointable):
             self._baro_admitted = False
             return _NAN
         self._baro = BaroFate.FUSED
-        if not self._baro_admitted:
+        if self._gap_restart:  # restart with the baro's mean velocity; height: re-based before apogee, restarted after
+            if self._phase < Phase.DROGUE:
+                self._baro_offset = height - self._obs._h
+            else:
+                self._obs._h = height - self._baro_offset
+            if previous_set and previous_age > 0:
+                self._obs._v = (height - previous_baro) / previous_age
+            self._gap_restart = False
+            self._baro_admitted = True
+        elif not self._baro_admitted:
             self._baro_offset = height - self._obs._h
             self._baro_admitted = True
-            if self._baro_led and previous_age > s["gap_period"]:  # baro-led after a gap: the baro's mean velocity
-                self._obs._v = (height - previous_baro) / previous_age
         return height - self._baro_offset
 
     # FusionAltitudeRocketLandedStep
@@ -390,13 +400,14 @@ class RocketEstimator(Checkpointable):
             while step > s["gap_period"] and steps < MAX_GAP_STEPS:
                 steps *= 2
                 step = dt / f32(steps)
-            gap_input = self._obs._b if self._phase == Phase.BOOST else accel_input
+            hold = self._phase != Phase.BOOST and dt <= GAP_HOLD  # accel held over gaps up to 4 s
+            gap_input = accel_input if hold else self._obs._b
             hold_top = self._baro_led and self._phase == Phase.COAST  # no extrapolated descent the baro has not shown
             for _ in range(steps):
                 top = hold_top and not self._obs._v > 0
                 self._obs._update(self._obs._b if top else gap_input, _NAN, step)
-            if self._baro_led:
-                self._baro_admitted = False  # the next sample restarts the observer at the baro
+            if self._baro_led or not hold:
+                self._gap_restart = True  # the extrapolation is a guess: the next sample restarts the observer
             self._last_baro_age += dt
             self._baro_peak_age += dt
             if self._phase == Phase.BOOST:
@@ -417,7 +428,8 @@ class RocketEstimator(Checkpointable):
         offset_step_down = s["offset_rate"] * rise if rise > 0 else _ZERO
         offset_left = self._baro_offset - self._offset_applied
         if self._phase >= Phase.DROGUE:  # in the descent: at most offset_rate·(|v| + landed_speed)·dt either way
-            descent_step = s["offset_rate"] * (speed + s["landed_speed"]) * dt
+            left = -offset_left if offset_left < 0 else offset_left
+            descent_step = (s["offset_rate"] * (speed + s["landed_speed"]) + OFFSET_DECAY * left) * dt
             if offset_left > descent_step:
                 self._offset_applied += descent_step
             elif offset_left < -descent_step:
@@ -616,7 +628,7 @@ class RocketEstimator(Checkpointable):
                                      self._pad_baro_previous, self._pad_baro_age, self._baro_peak, self._contradiction_time,
                                      self._baro_peak_age)),
                 self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted,
-                self._lockout, self._accel_trusted, self._pad_baro_previous_set, self._baro_led)
+                self._lockout, self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart)
 
     def _set_state(self, state: tuple) -> None:
         (settings, observer, phase, baro, events, candidate, self._sample, self._gap_count, self._windows,
@@ -637,4 +649,4 @@ class RocketEstimator(Checkpointable):
          self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied, self._pad_baro_previous,
          self._pad_baro_age, self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
         (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
-         self._accel_trusted, self._pad_baro_previous_set, self._baro_led) = (bool(x) for x in flags)
+         self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart) = (bool(x) for x in flags)

@@ -133,8 +133,9 @@ extern "C" {
 
 /**
  * @brief s: a coast that the baro contradicts this long (its latest accepted
- * sample more than spikeThreshold below its peak since launch) ends in apogee,
- * whatever the velocity estimate says.
+ * sample more than spikeThreshold below its peak since launch) ends in apogee
+ * outside the lockout, whatever the velocity estimate says (never during the
+ * lockout: a transonic static-port dip must not deploy a parachute).
  */
 #define FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME (1.0f)
 
@@ -915,7 +916,7 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
                                                          (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE));
             if (!rocket->lockout && (velocity < -settings->apogeeMargin) && baroAgrees) {
                 FusionAltitudeRocketApogee(rocket, false);
-            } else if (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME) {
+            } else if (!rocket->lockout && (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)) {
                 FusionAltitudeRocketApogee(rocket, true);
             }
             break;

@@ -26,9 +26,9 @@
  *     inputs, an initialise FusionAltitudeRocketSettingsCheck of its settings;
  *   - the phase never goes back and a declared event (but maximum speed, a
  *     running maximum) is never rewritten between initialisations;
- *   - apogee is declared only after launch, and either with the velocity
- *     below -apogeeMargin outside the baro lockout or with the baro more than
- *     spikeThreshold below its peak (a coast the baro contradicts);
+ *   - apogee is declared only after launch, never during the baro lockout,
+ *     and either with the velocity below -apogeeMargin or with the baro more
+ *     than spikeThreshold below its peak (a coast the baro contradicts);
  *   - while the run is sane (every accepted update scaled as above, at most
  *     20000 updates, settings in use within plausible bounds, the observer
  *     gains stable at the flight layer's gap period too), height, velocity,
@@ -126,7 +126,8 @@ static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAlt
     if (apogee.occurred && !before->events[FusionAltitudeRocketEventApogee].occurred) {
         CHECK(before->events[FusionAltitudeRocketEventLaunch].occurred);
         const bool contradicted = rocket->lastBaro < (rocket->baroPeak - rocket->settings.spikeThreshold);
-        CHECK(contradicted || (!FusionAltitudeRocketIsLockedOut(rocket) && (apogee.velocity < -rocket->settings.apogeeMargin)));
+        CHECK(!FusionAltitudeRocketIsLockedOut(rocket));
+        CHECK(contradicted || (apogee.velocity < -rocket->settings.apogeeMargin));
     }
     if (sane) {
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetHeight(rocket)));

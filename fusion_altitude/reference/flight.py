@@ -462,7 +462,7 @@ class RocketEstimator(Checkpointable):
                                                  and self._baro_peak_age >= PEAK_AGE)  # baro-led: the baro agrees
             if not self._lockout and v < -s["apogee_margin"] and baro_agrees:
                 self._apogee(False)
-            elif self._contradiction_time >= CONTRADICTION_TIME:
+            elif not self._lockout and self._contradiction_time >= CONTRADICTION_TIME:
                 self._apogee(True)
         elif self._phase == Phase.DROGUE:
             if not self._lockout and not h > s["main_altitude"]:

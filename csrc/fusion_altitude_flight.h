@@ -134,10 +134,17 @@ extern "C" {
 /**
  * @brief s: a coast that the baro contradicts this long (its latest accepted
  * sample more than spikeThreshold below its peak since launch) ends in apogee
- * outside the lockout, whatever the velocity estimate says (never during the
- * lockout: a transonic static-port dip must not deploy a parachute).
+ * outside the lockout, whatever the velocity estimate says ...
  */
 #define FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME (1.0f)
+
+/**
+ * @brief s: ... and in the lockout after this long: a transonic static-port
+ * dip (a Mach transit takes 1-2 s) must not deploy a parachute, but a
+ * velocity estimate that runs away above the lockout speed must not hide the
+ * descent for minutes either.
+ */
+#define FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME (5.0f)
 
 /**
  * @brief s: a baro-led flight declares apogee only once the baro has set no
@@ -916,7 +923,8 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
                                                          (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE));
             if (!rocket->lockout && (velocity < -settings->apogeeMargin) && baroAgrees) {
                 FusionAltitudeRocketApogee(rocket, false);
-            } else if (!rocket->lockout && (rocket->contradictionTime >= FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)) {
+            } else if (rocket->contradictionTime >= (rocket->lockout ? FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME
+                                                                      : FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)) {
                 FusionAltitudeRocketApogee(rocket, true);
             }
             break;

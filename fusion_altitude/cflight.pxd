@@ -10,6 +10,7 @@ from fusion_altitude.cobserver cimport FusionAltitude, FusionAltitudeSettings
 cdef extern from "fusion_altitude_flight.h" nogil:
     float FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
     float FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME
+    float FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME
     float FUSION_ALTITUDE_ROCKET_PEAK_AGE
     float FUSION_ALTITUDE_ROCKET_GAP_HOLD
     float FUSION_ALTITUDE_ROCKET_OFFSET_DECAY

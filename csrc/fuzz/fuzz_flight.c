@@ -26,8 +26,8 @@
  *     inputs, an initialise FusionAltitudeRocketSettingsCheck of its settings;
  *   - the phase never goes back and a declared event (but maximum speed, a
  *     running maximum) is never rewritten between initialisations;
- *   - apogee is declared only after launch, never during the baro lockout,
- *     and either with the velocity below -apogeeMargin or with the baro more
+ *   - apogee is declared only after launch, and either outside the baro
+ *     lockout with the velocity below -apogeeMargin or with the baro more
  *     than spikeThreshold below its peak (a coast the baro contradicts);
  *   - while the run is sane (every accepted update scaled as above, at most
  *     20000 updates, settings in use within plausible bounds, the observer
@@ -126,8 +126,7 @@ static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAlt
     if (apogee.occurred && !before->events[FusionAltitudeRocketEventApogee].occurred) {
         CHECK(before->events[FusionAltitudeRocketEventLaunch].occurred);
         const bool contradicted = rocket->lastBaro < (rocket->baroPeak - rocket->settings.spikeThreshold);
-        CHECK(!FusionAltitudeRocketIsLockedOut(rocket));
-        CHECK(contradicted || (apogee.velocity < -rocket->settings.apogeeMargin));
+        CHECK(contradicted || (!FusionAltitudeRocketIsLockedOut(rocket) && (apogee.velocity < -rocket->settings.apogeeMargin)));
     }
     if (sane) {
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetHeight(rocket)));

@@ -31,6 +31,7 @@ OFFSET_DECAY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_OFFSET_DECAY)
 GAP_HOLD = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_GAP_HOLD)
 GRAVITY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
 CONTRADICTION_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
+CONTRADICTION_LOCKOUT_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME)
 PEAK_AGE = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
 _HALF_G = f32(0.5) * GRAVITY
 CALIBRATION_WINDOWS = 8
@@ -462,7 +463,7 @@ class RocketEstimator(Checkpointable):
                                                  and self._baro_peak_age >= PEAK_AGE)  # baro-led: the baro agrees
             if not self._lockout and v < -s["apogee_margin"] and baro_agrees:
                 self._apogee(False)
-            elif not self._lockout and self._contradiction_time >= CONTRADICTION_TIME:
+            elif self._contradiction_time >= (CONTRADICTION_LOCKOUT_TIME if self._lockout else CONTRADICTION_TIME):
                 self._apogee(True)
         elif self._phase == Phase.DROGUE:
             if not self._lockout and not h > s["main_altitude"]:

@@ -7,8 +7,9 @@
  * landed, with the time and height of each event.
  *
  * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
- * libm. It uses the observer through its public API only, so it includes
- * fusion_altitude.h: copy both files.
+ * libm. It uses the observer through its public API, except that a restart
+ * after a gap (and a baro launch over one) writes the observer's velocity
+ * (and height) fields directly; it includes fusion_altitude.h: copy both files.
  *
  * Units and frame: height m above the pad (+up), vertical velocity m/s (+up),
  * acceleration m/s^2, time s. Inputs at every step:
@@ -17,7 +18,10 @@
  *                minus g, taken as vertical until apogee (the cosine error of
  *                a tilted flight is not corrected; see docs/rocket.md). With an
  *                INS, its earth-frame vertical acceleration (see
- *                FusionAltitudeRocketUpdateWithVerticalAccel).
+ *                FusionAltitudeRocketUpdateWithVerticalAccel). NaN: no
+ *                accelerometer sample (a baro-only log, a dead or saturated
+ *                accelerometer, one that ended): in flight the layer is
+ *                baro-led from then on (below).
  *   baroAltitude m, pressure altitude (any datum; the pad is learned), or
  *                FUSION_ALTITUDE_NO_BARO when no sample arrived this step.
  *   dt           s since the previous step.
@@ -35,9 +39,20 @@
  * pad altitude. Launch is declared when accel - accelBias > launchAccel for
  * launchTime s in a row; its time and height are those of the first sample of
  * that run, and the motion from that sample on is integrated (no baro).
+ * Launch is also declared from the baro, when two pad samples in a row are
+ * more than baroLaunchHeight m above the pad and rising (the accelerometer
+ * showed none: dead, missing, wrong axis): the flight is then baro-led.
+ *
+ * Baro-led flight (no usable accelerometer: a baro launch, a NaN accel in
+ * flight, or a gap in boost or in the lockout, after which the integrated
+ * velocity cannot be trusted): the observer is fed its bias (no net
+ * acceleration), bias - g in coast (ballistic), boost ends at once (no burnout
+ * event), every baro sample that is not a spike is fused whatever the speed,
+ * and apogee needs, besides v < -apogeeMargin, a fused sample below the baro's
+ * peak and no new peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s.
  *
  * Baro gate (after launch). Each baro sample is, in this order:
- *   - a spike when |z - (zLast + v * age)| > spikeThreshold, where zLast is
+ *   - a spike when |z - (zLast + v * age)| > spikeThreshold + g * age^2 / 2, where zLast is
  *     the last sample not rejected as a spike, age the time since it and v
  *     the velocity estimate; rejected (not fused) unless the rejections have
  *     already lasted spikeTime s, in which case the new level is accepted.
@@ -56,9 +71,14 @@
  *     at most offsetRate times the observer's own rise in that step (nothing
  *     when h did not rise), so that while climbing the reported height never
  *     falls by absorbing the offset: it rises by at least (1 - offsetRate)
- *     of h's rise. After apogee oApplied = o at once. The velocity estimate
- *     used for apogee is never dragged by the height correction. A gap, and
- *     a baro step that outlasts spikeTime, are re-admitted the same way.
+ *     of h's rise. After apogee oApplied moves to o by at most
+ *     (offsetRate * (|v| + landedSpeed) + FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * |o - oApplied|) * dt
+ *     per step: the height blends into the baro without a step, and the
+ *     apogee event reports the baro-corrected height h + o (not h + oApplied):
+ *     the reported apogee agrees with the baro, the trace gets there smoothly.
+ *     The velocity estimate used for apogee is never dragged by the height
+ *     correction. A baro step that outlasts spikeTime is re-admitted the same
+ *     way; after a gap see below.
  *
  * Phases and events (the observer's velocity v and height h after the step):
  *   pad -> boost     launch   (above)
@@ -67,8 +87,12 @@
  *   (boost, coast)   max speed: the step with the largest v so far
  *   coast -> drogue  apogee   v < -apogeeMargin (v crossing zero, past its noise:
  *                             1 m/s = 0.1 s late), never in boost (before
- *                             burnout) and never while the lockout is active
- *   drogue -> main   main     h <= mainAltitude
+ *                             burnout) and never while the lockout is active;
+ *                             or when the baro has stayed more than
+ *                             spikeThreshold below its peak for
+ *                             FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME s
+ *                             (..._LOCKOUT_TIME in the lockout): height = that peak
+ *   drogue -> main   main     h + o <= mainAltitude (the baro-corrected height)
  *   drogue/main -> landed     |v| < landedSpeed for landedTime s in a row
  * After apogee the accelerometer is not vertical (tumbling, under a
  * parachute): without an INS the accel input is ignored (the observer is fed
@@ -79,12 +103,20 @@
  *
  * Gaps: an update with dt > gapPeriod is counted (gapCount). On the pad it
  * discards the calibration window and any launch candidate. In flight the
- * step is extrapolated at constant velocity (no accel, no baro), split into
- * equal sub-steps of at most gapPeriod (a power of two, up to 4096: 2048 s at
- * the default gapPeriod), so the observer itself never
- * sees a step longer than gapPeriod; event timers restart.
+ * step is extrapolated (no baro) in equal sub-steps of at most gapPeriod (a
+ * power of two, up to 4096: 2048 s at the default gapPeriod), so the observer
+ * itself never sees a step longer than gapPeriod: on this step's accel input
+ * held over gaps up to FUSION_ALTITUDE_ROCKET_GAP_HOLD s after boost (bias - g
+ * in a baro-led coast, stopping at v = 0), at constant velocity in boost and
+ * over longer gaps. The next baro sample is fused directly after a held gap
+ * (it corrects the extrapolated velocity: telemetry logs have a gap every
+ * second or so); after a longer or baro-led gap it restarts the velocity as
+ * the baro's mean velocity since its previous sample and re-bases the height
+ * through the offset before apogee (restarts it at the baro after). A gap in
+ * boost or in the lockout makes the flight baro-led. The burnout timer
+ * restarts; the landed timer goes on.
  *
- * Bad input (accel not finite, baro infinite, dt not finite or <= 0) returns a
+ * Bad input (accel infinite, baro infinite, dt not finite or <= 0) returns a
  * status and leaves the state bit-identical.
  */
 

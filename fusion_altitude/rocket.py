@@ -428,7 +428,9 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
 
         1. ``baro_only`` logs: NaN throughout.
         2. ``axial_acceleration`` (the flight computer's along-axis, usually
-           high-g, accelerometer) when alive and reading ≈ +g on the pad;
+           high-g, accelerometer) when alive and reading at least 0.5 g over
+           the first second (≈ +g on the pad; more when the log starts in
+           boost, as a Raven's export);
            held over steps without a sample for up to :data:`ACCEL_HOLD` s,
            NaN after its last sample (e.g. a Raven's that stops after 4.5 s).
         3. The raw IMU's long axis when alive (not constant) and reading
@@ -454,7 +456,7 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
     if axial is not None:
         axial = np.asarray(axial, dtype=np.float64)
         mean, alive = pad_levels(axial, time)
-        if alive[0] and 0.5 * GRAVITY <= mean[0] <= 1.5 * GRAVITY:
+        if alive[0] and mean[0] >= 0.5 * GRAVITY:  # more than +g when the log starts in boost (a Raven's)
             return _held(axial, time) - GRAVITY, "rocket layer: the flight computer's along-axis accelerometer"
         skipped.append("its along-axis accelerometer is dead" if not alive[0] else
                        f"its along-axis accelerometer reads {mean[0]:+.2f} m/s² on the pad, not +g")

@@ -230,3 +230,15 @@ def test_nan_accel_is_no_sample_not_an_error_and_inf_is_still_rejected():
     estimator.update(math.nan, 1400.0, 0.01)
     with pytest.raises(ValueError, match=r"^accel must be finite, or NaN for no accelerometer sample"):
         estimator.update(math.inf, 1400.0, 0.01)
+
+
+def test_an_along_axis_accelerometer_whose_export_starts_in_boost_is_still_used():
+    """A Raven export starts at launch: its first second reads the thrust, not +g."""
+    flight = _flight(0, "axial")
+    start = int(np.searchsorted(flight.time, flight.launch_time - 0.1))
+    data = flight_log(flight, "axial", np.arange(start, flight.time.size))
+    accel, note = rocket.rocket_accel_input(data)
+    assert note == "rocket layer: the flight computer's along-axis accelerometer"
+    run = _run(data)
+    assert run.events["launch"].occurred and run.events["burnout"].occurred
+    assert abs(run.events["apogee"].height - flight.apogee_height) <= 0.02 * flight.apogee_height

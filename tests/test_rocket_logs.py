@@ -9,9 +9,9 @@ apogee so that the apogee timing is measured apart from the data a gap removes:
 a gap over the apogee has its own test). Run through ``run_log(estimator="rocket")``,
 i.e. the input choice of rocket.rocket_accel_input and the C flight layer.
 
-Figures measured over these fixtures (seeds 0-5, python /tmp-free: see docs/rocket.md
-"Logs without a good accelerometer"): apogee 0.14-0.79 s after the truth, height
-within 0.37 %, the largest fall during the ascent 5.3 m, the final height within 12 m.
+Figures measured over these fixtures (seeds 0-5; the table in docs/rocket.md, "Logs without a
+good accelerometer"): apogee 0.14-0.79 s after the truth, height within 0.37 %, the largest fall
+during the ascent 5.3 m, the final height within 12 m; the bounds below leave room for other seeds.
 """
 
 import math

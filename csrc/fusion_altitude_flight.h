@@ -108,9 +108,10 @@
  * itself never sees a step longer than gapPeriod: on this step's accel input
  * held over gaps up to FUSION_ALTITUDE_ROCKET_GAP_HOLD s after boost (bias - g
  * in a baro-led coast, stopping at v = 0), at constant velocity in boost and
- * over longer gaps. The next baro sample is fused directly after a held gap
- * (it corrects the extrapolated velocity: telemetry logs have a gap every
- * second or so); after a longer or baro-led gap it restarts the velocity as
+ * over longer gaps. After a held gap the next baro sample is re-admitted
+ * through the offset (the extrapolation's height error must not drag the
+ * velocity into an early apogee; the held deceleration already turned the
+ * velocity); after a longer or baro-led gap it restarts the velocity as
  * the baro's mean velocity since its previous sample and re-bases the height
  * through the offset before apogee (restarts it at the baro after). A gap in
  * boost or in the lockout makes the flight baro-led. The burnout timer
@@ -838,6 +839,8 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
     }
     if (rocket->baroLed || !hold) {
         rocket->gapRestart = true; /* the extrapolation is a guess: the next sample restarts the observer (FusionAltitudeRocketGate) */
+    } else {
+        rocket->baroAdmitted = false; /* held: the height error goes through the offset, not into the velocity */
     }
     rocket->lastBaroAge += dt;
     rocket->baroPeakAge += dt;

@@ -409,6 +409,8 @@ class RocketEstimator(Checkpointable):
                 self._obs._update(self._obs._b if top else gap_input, _NAN, step)
             if self._baro_led or not hold:
                 self._gap_restart = True  # the extrapolation is a guess: the next sample restarts the observer
+            else:
+                self._baro_admitted = False  # held: the height error goes through the offset
             self._last_baro_age += dt
             self._baro_peak_age += dt
             if self._phase == Phase.BOOST:

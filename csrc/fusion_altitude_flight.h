@@ -7,8 +7,9 @@
  * landed, with the time and height of each event.
  *
  * Header-only C99 (also valid C++), float32 only, no malloc, no globals, no
- * libm. It uses the observer through its public API only, so it includes
- * fusion_altitude.h: copy both files.
+ * libm. It uses the observer through its public API, except that a restart
+ * after a gap (and a baro launch over one) writes the observer's velocity
+ * (and height) fields directly; it includes fusion_altitude.h: copy both files.
  *
  * Units and frame: height m above the pad (+up), vertical velocity m/s (+up),
  * acceleration m/s^2, time s. Inputs at every step:
@@ -17,7 +18,10 @@
  *                minus g, taken as vertical until apogee (the cosine error of
  *                a tilted flight is not corrected; see docs/rocket.md). With an
  *                INS, its earth-frame vertical acceleration (see
- *                FusionAltitudeRocketUpdateWithVerticalAccel).
+ *                FusionAltitudeRocketUpdateWithVerticalAccel). NaN: no
+ *                accelerometer sample (a baro-only log, a dead or saturated
+ *                accelerometer, one that ended): in flight the layer is
+ *                baro-led from then on (below).
  *   baroAltitude m, pressure altitude (any datum; the pad is learned), or
  *                FUSION_ALTITUDE_NO_BARO when no sample arrived this step.
  *   dt           s since the previous step.
@@ -35,9 +39,20 @@
  * pad altitude. Launch is declared when accel - accelBias > launchAccel for
  * launchTime s in a row; its time and height are those of the first sample of
  * that run, and the motion from that sample on is integrated (no baro).
+ * Launch is also declared from the baro, when two pad samples in a row are
+ * more than baroLaunchHeight m above the pad and rising (the accelerometer
+ * showed none: dead, missing, wrong axis): the flight is then baro-led.
+ *
+ * Baro-led flight (no usable accelerometer: a baro launch, a NaN accel in
+ * flight, or a gap in boost or in the lockout, after which the integrated
+ * velocity cannot be trusted): the observer is fed its bias (no net
+ * acceleration), bias - g in coast (ballistic), boost ends at once (no burnout
+ * event), every baro sample that is not a spike is fused whatever the speed,
+ * and apogee needs, besides v < -apogeeMargin, a fused sample below the baro's
+ * peak and no new peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s.
  *
  * Baro gate (after launch). Each baro sample is, in this order:
- *   - a spike when |z - (zLast + v * age)| > spikeThreshold, where zLast is
+ *   - a spike when |z - (zLast + v * age)| > spikeThreshold + g * age^2 / 2, where zLast is
  *     the last sample not rejected as a spike, age the time since it and v
  *     the velocity estimate; rejected (not fused) unless the rejections have
  *     already lasted spikeTime s, in which case the new level is accepted.
@@ -56,9 +71,14 @@
  *     at most offsetRate times the observer's own rise in that step (nothing
  *     when h did not rise), so that while climbing the reported height never
  *     falls by absorbing the offset: it rises by at least (1 - offsetRate)
- *     of h's rise. After apogee oApplied = o at once. The velocity estimate
- *     used for apogee is never dragged by the height correction. A gap, and
- *     a baro step that outlasts spikeTime, are re-admitted the same way.
+ *     of h's rise. After apogee oApplied moves to o by at most
+ *     (offsetRate * (|v| + landedSpeed) + FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * |o - oApplied|) * dt
+ *     per step: the height blends into the baro without a step, and the
+ *     apogee event reports the baro-corrected height h + o (not h + oApplied):
+ *     the reported apogee agrees with the baro, the trace gets there smoothly.
+ *     The velocity estimate used for apogee is never dragged by the height
+ *     correction. A baro step that outlasts spikeTime is re-admitted the same
+ *     way; after a gap see below.
  *
  * Phases and events (the observer's velocity v and height h after the step):
  *   pad -> boost     launch   (above)
@@ -67,8 +87,12 @@
  *   (boost, coast)   max speed: the step with the largest v so far
  *   coast -> drogue  apogee   v < -apogeeMargin (v crossing zero, past its noise:
  *                             1 m/s = 0.1 s late), never in boost (before
- *                             burnout) and never while the lockout is active
- *   drogue -> main   main     h <= mainAltitude
+ *                             burnout) and never while the lockout is active;
+ *                             or when the baro has stayed more than
+ *                             spikeThreshold below its peak for
+ *                             FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME s
+ *                             (..._LOCKOUT_TIME in the lockout): height = that peak
+ *   drogue -> main   main     h + o <= mainAltitude (the baro-corrected height)
  *   drogue/main -> landed     |v| < landedSpeed for landedTime s in a row
  * After apogee the accelerometer is not vertical (tumbling, under a
  * parachute): without an INS the accel input is ignored (the observer is fed
@@ -79,12 +103,21 @@
  *
  * Gaps: an update with dt > gapPeriod is counted (gapCount). On the pad it
  * discards the calibration window and any launch candidate. In flight the
- * step is extrapolated at constant velocity (no accel, no baro), split into
- * equal sub-steps of at most gapPeriod (a power of two, up to 4096: 2048 s at
- * the default gapPeriod), so the observer itself never
- * sees a step longer than gapPeriod; event timers restart.
+ * step is extrapolated (no baro) in equal sub-steps of at most gapPeriod (a
+ * power of two, up to 4096: 2048 s at the default gapPeriod), so the observer
+ * itself never sees a step longer than gapPeriod: on this step's accel input
+ * held over gaps up to FUSION_ALTITUDE_ROCKET_GAP_HOLD s after boost (bias - g
+ * in a baro-led coast, stopping at v = 0), at constant velocity in boost and
+ * over longer gaps. After a held gap the next baro sample is re-admitted
+ * through the offset (the extrapolation's height error must not drag the
+ * velocity into an early apogee; the held deceleration already turned the
+ * velocity); after a longer or baro-led gap it restarts the velocity as
+ * the baro's mean velocity since its previous sample and re-bases the height
+ * through the offset before apogee (restarts it at the baro after). A gap in
+ * boost or in the lockout makes the flight baro-led. The burnout timer
+ * restarts; the landed timer goes on.
  *
- * Bad input (accel not finite, baro infinite, dt not finite or <= 0) returns a
+ * Bad input (accel infinite, baro infinite, dt not finite or <= 0) returns a
  * status and leaves the state bit-identical.
  */
 
@@ -131,6 +164,43 @@ extern "C" {
  */
 #define FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT (236.0f)
 
+/**
+ * @brief s: a coast that the baro contradicts this long (its latest accepted
+ * sample more than spikeThreshold below its peak since launch) ends in apogee
+ * outside the lockout, whatever the velocity estimate says ...
+ */
+#define FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME (1.0f)
+
+/**
+ * @brief s: ... and in the lockout after this long: a transonic static-port
+ * dip (a Mach transit takes 1-2 s) must not deploy a parachute, but a
+ * velocity estimate that runs away above the lockout speed must not hide the
+ * descent for minutes either.
+ */
+#define FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME (5.0f)
+
+/**
+ * @brief s: a baro-led flight declares apogee only once the baro has set no
+ * new peak for this long (its ballistic input cannot see a burn, so the
+ * velocity estimate alone could cross zero while the rocket still climbs).
+ */
+#define FUSION_ALTITUDE_ROCKET_PEAK_AGE (0.5f)
+
+/**
+ * @brief s: the longest gap over which the accel input is held (telemetry
+ * gaps are up to about 4 s); a longer gap is extrapolated at constant velocity
+ * and, unless the flight is baro-led, the baro re-admitted through the offset.
+ */
+#define FUSION_ALTITUDE_ROCKET_GAP_HOLD (4.0f)
+
+/**
+ * @brief 1/s: in the descent the output height also absorbs this fraction of
+ * the remaining baro offset per second (on top of offsetRate * (|v| +
+ * landedSpeed)), so that even an offset of kilometres (a long gap extrapolated
+ * in the lockout) is gone within tens of seconds, without a step.
+ */
+#define FUSION_ALTITUDE_ROCKET_OFFSET_DECAY (0.1f)
+
 /** Most sub-steps a gap is split into (see FusionAltitudeRocketUpdate). */
 #define FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS (4096u)
 
@@ -140,7 +210,7 @@ extern "C" {
 /** Status returned by every function that can reject its input. */
 typedef enum {
     FusionAltitudeRocketStatusOk = 0,
-    FusionAltitudeRocketStatusInvalidAccel,            /**< accel not finite */
+    FusionAltitudeRocketStatusInvalidAccel,            /**< accel infinite (NaN: no accelerometer sample) */
     FusionAltitudeRocketStatusInvalidBaroAltitude,     /**< baro altitude infinite */
     FusionAltitudeRocketStatusInvalidDt,               /**< dt not finite or <= 0 */
     FusionAltitudeRocketStatusInvalidObserverSettings, /**< observer gains rejected by FusionAltitudeSettingsCheck */
@@ -159,6 +229,7 @@ typedef enum {
     FusionAltitudeRocketStatusInvalidLandedSpeed,      /**< not finite or <= 0 */
     FusionAltitudeRocketStatusInvalidLandedTime,       /**< not finite or < 0 */
     FusionAltitudeRocketStatusInvalidGapPeriod,        /**< NaN or <= 0 (+infinity: never a gap) */
+    FusionAltitudeRocketStatusInvalidBaroLaunchHeight, /**< not finite or <= 0 */
 } FusionAltitudeRocketStatus;
 
 /** Flight phases, in the only order they can occur. */
@@ -220,6 +291,7 @@ typedef struct {
     float landedSpeed;       /**< m/s: |v| below this ... */
     float landedTime;        /**< s: ... for this long declares landing */
     float gapPeriod;         /**< s: an update with dt above this is a gap */
+    float baroLaunchHeight;  /**< m: launch from the baro when two rising pad samples are this far above the pad */
 } FusionAltitudeRocketSettings;
 
 /** State. Read it through the Get functions. */
@@ -250,12 +322,20 @@ typedef struct {
     float lastBaroAge;                /**< s since lastBaro */
     float baroOffset;                 /**< m: baro height minus observer height when the baro was last re-admitted */
     float offsetApplied;              /**< m: the part of baroOffset added to the output height so far */
+    float padBaroPrevious;            /**< m above the pad: the previous pad baro sample (baro launch detector) */
+    float padBaroAge;                 /**< s since padBaroPrevious */
+    float baroPeak;                   /**< m above the pad: highest baro sample not rejected as a spike since launch */
+    float contradictionTime;          /**< s: how long the baro has stayed more than spikeThreshold below baroPeak in coast */
+    float baroPeakAge;                /**< s since baroPeak was set */
     bool windowStationary;            /**< every sample of the current window stationary so far */
     bool padAltitudeSet;              /**< a baro sample has been seen on the pad */
     bool lastBaroSet;                 /**< lastBaro holds a sample */
     bool baroAdmitted;                /**< the latest baro sample not rejected as a spike was fused */
     bool lockout;                     /**< baro lockout active at the latest step */
-    bool accelTrusted;                /**< latest step used the accel after apogee (INS) */
+    bool accelTrusted;                /**< latest step used the accel input */
+    bool padBaroPreviousSet;          /**< padBaroPrevious holds a sample */
+    bool baroLed;                     /**< no usable accelerometer since launch or since it was lost: baro-led flight */
+    bool gapRestart;                  /**< the next fused baro sample restarts the observer (after an unheld or baro-led gap) */
 } FusionAltitudeRocket;
 
 //------------------------------------------------------------------------------
@@ -267,7 +347,7 @@ static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitude
         case FusionAltitudeRocketStatusOk:
             return "ok";
         case FusionAltitudeRocketStatusInvalidAccel:
-            return "accel must be finite";
+            return "accel must be finite, or NaN for no sample";
         case FusionAltitudeRocketStatusInvalidBaroAltitude:
             return "baro altitude must be finite, or NaN for no sample";
         case FusionAltitudeRocketStatusInvalidDt:
@@ -304,6 +384,8 @@ static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitude
             return "landed time must be finite and >= 0";
         case FusionAltitudeRocketStatusInvalidGapPeriod:
             return "gap period must be > 0 (+infinity: never a gap)";
+        case FusionAltitudeRocketStatusInvalidBaroLaunchHeight:
+            return "baro launch height must be finite and > 0";
     }
     return "unknown status";
 }
@@ -334,7 +416,8 @@ static inline FusionAltitudeSettings FusionAltitudeRocketObserverSettings(void) 
  * @brief Defaults (justified in docs/rocket.md): stationary 5 m/s^2 over 0.5 s
  * windows; launch at 20 m/s^2 (about 2 g net) for 0.05 s; burnout below
  * 0 m/s^2 for 0.1 s; apogee margin 1 m/s; lockout above 100 m/s; spikes 20 m for at most 0.2 s;
- * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s.
+ * offset rate 0.9; main at 250 m; landed below 3 m/s for 2 s; gap 0.5 s;
+ * baro launch 30 m above the pad.
  */
 static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(void) {
     FusionAltitudeRocketSettings settings;
@@ -354,6 +437,7 @@ static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(v
     settings.landedSpeed = 3.0f;
     settings.landedTime = 2.0f;
     settings.gapPeriod = 0.5f;
+    settings.baroLaunchHeight = 30.0f;
     return settings;
 }
 
@@ -415,6 +499,9 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketSettingsCheck(const
     if (FusionAltitudeIsNaN(settings->gapPeriod) || !(settings->gapPeriod > 0.0f)) {
         return FusionAltitudeRocketStatusInvalidGapPeriod;
     }
+    if (!FusionAltitudeRocketPositive(settings->baroLaunchHeight)) {
+        return FusionAltitudeRocketStatusInvalidBaroLaunchHeight;
+    }
     return FusionAltitudeRocketStatusOk;
 }
 
@@ -458,7 +545,8 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketInitialise(FusionAl
 
 /** @brief The input rules of the update functions, on their own. */
 static inline FusionAltitudeRocketStatus FusionAltitudeRocketCheckInputs(const float accel, const float baroAltitude, const float dt) {
-    switch (FusionAltitudeCheckInputs(accel, baroAltitude, dt)) {
+    /* accel NaN means no accelerometer sample; the observer's rules apply to the rest */
+    switch (FusionAltitudeCheckInputs(FusionAltitudeIsNaN(accel) ? 0.0f : accel, baroAltitude, dt)) {
         case FusionAltitudeStatusOk:
             return FusionAltitudeRocketStatusOk;
         case FusionAltitudeStatusInvalidAccel:
@@ -480,25 +568,28 @@ static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const 
 
 /**
  * Calibration window on the pad (no gap, no launch candidate): sums of accel
- * (m/s^2) and baro altitude (m; hasBaro: a reading) relative to the window's
- * first samples; a window is stationary while accel stays within
- * +-stationaryAccel (m/s^2) of its first sample. After calibrationWindow s
- * (dt, s) a stationary window moves accelBias and padAltitude to its means
- * with weight 1 / windows (windows <= FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS).
+ * (m/s^2; NaN: no sample) and baro altitude (m; hasBaro: a reading) relative
+ * to the window's first samples; a window is stationary while accel stays
+ * within +-stationaryAccel (m/s^2) of its first sample. After
+ * calibrationWindow s (dt, s) a stationary window moves accelBias (if it
+ * held an accel sample) and padAltitude to its means with weight 1 / windows
+ * (windows <= FUSION_ALTITUDE_ROCKET_CALIBRATION_WINDOWS).
  */
 static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                        const bool hasBaro, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    if (rocket->windowSamples == 0u) {
-        rocket->windowAccelFirst = accel;
+    if (!FusionAltitudeIsNaN(accel)) {
+        if (rocket->windowSamples == 0u) {
+            rocket->windowAccelFirst = accel;
+        }
+        const float deviation = accel - rocket->windowAccelFirst;
+        if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
+            rocket->windowStationary = false;
+        }
+        rocket->windowAccelSum += deviation;
+        rocket->windowSamples++;
     }
-    const float deviation = accel - rocket->windowAccelFirst;
-    if (!(deviation <= settings->stationaryAccel) || !(deviation >= -settings->stationaryAccel)) {
-        rocket->windowStationary = false;
-    }
-    rocket->windowAccelSum += deviation;
-    rocket->windowSamples++;
     if (hasBaro) {
         if (rocket->windowBaroSamples == 0u) {
             rocket->windowBaroFirst = baroAltitude;
@@ -513,8 +604,10 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
                 rocket->windows++;
             }
             const float weight = 1.0f / (float) rocket->windows;
-            const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
-            rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            if (rocket->windowSamples > 0u) {
+                const float meanAccel = rocket->windowAccelFirst + rocket->windowAccelSum / (float) rocket->windowSamples;
+                rocket->accelBias += (meanAccel - rocket->accelBias) * weight;
+            }
             if (rocket->windowBaroSamples > 0u) {
                 const float meanBaro = rocket->windowBaroFirst + rocket->windowBaroSum / (float) rocket->windowBaroSamples;
                 rocket->padAltitude += (meanBaro - rocket->padAltitude) * weight;
@@ -525,7 +618,51 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
     }
 }
 
-/** Pad step: calibration windows and the launch detector. */
+/**
+ * Launch from the baro (pad; baroAltitude m, a sample): the sample and the
+ * pad sample before it are both more than baroLaunchHeight m above the pad
+ * and it is higher than that one (rising). The accelerometer did not show
+ * the launch (dead, missing, wrong axis), so the flight is baro-led from here
+ * (baroLed): the observer restarts at the sample's height, with v the mean
+ * velocity since the pad sample before if that is more than gapPeriod s old
+ * (a telemetry gap over the launch), else 0 (denser samples are too noisy for a
+ * difference; the baro pulls v up within a few s). The phase goes straight to
+ * coast (no burnout event). Returns true if launched. (baroAltitude, m.)
+ */
+static inline bool FusionAltitudeRocketBaroLaunchStep(FusionAltitudeRocket *const rocket, const float baroAltitude) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const float height = baroAltitude - rocket->padAltitude;
+    const float previous = rocket->padBaroPrevious;
+    const float age = rocket->padBaroAge;
+    const bool launched = rocket->padBaroPreviousSet && (previous > settings->baroLaunchHeight) &&
+                          (height > settings->baroLaunchHeight) && (height > previous);
+    rocket->padBaroPrevious = height;
+    rocket->padBaroAge = 0.0f;
+    rocket->padBaroPreviousSet = true;
+    if (!launched) {
+        return false;
+    }
+    (void) FusionAltitudeResetWithBias(&rocket->observer, height, rocket->accelBias);
+    if (age > settings->gapPeriod) {
+        rocket->observer.verticalVelocity = (height - previous) / age; /* no API for it: see FusionAltitudeRocketGate */
+    }
+    FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventLaunch]);
+    rocket->phase = FusionAltitudeRocketPhaseCoast;
+    rocket->baroLed = true;
+    rocket->baroAdmitted = true;
+    rocket->baro = FusionAltitudeRocketBaroFused;
+    rocket->lastBaro = height;
+    rocket->lastBaroAge = 0.0f;
+    rocket->lastBaroSet = true;
+    rocket->baroPeak = height;
+    rocket->baroPeakAge = 0.0f;
+    rocket->runTime = 0.0f;
+    FusionAltitudeRocketClearWindow(rocket);
+    return true;
+}
+
+/** Pad step: calibration windows and the launch detectors (accel; baro). accel: m/s^2 (NaN: none); baroAltitude: m (NaN: none); dt: s. */
 static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                const float dt, const bool gap) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
@@ -536,10 +673,14 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
         rocket->padAltitude = baroAltitude; /* until the first window completes */
         rocket->padAltitudeSet = true;
     }
+    rocket->padBaroAge += dt;
+    if (hasBaro && FusionAltitudeRocketBaroLaunchStep(rocket, baroAltitude)) {
+        return;
+    }
 
-    /* Launch detector: accel - bias > launchAccel for launchTime s. */
+    /* Launch detector: accel - bias > launchAccel for launchTime s (no accel sample: no candidate). */
     const float netAccel = accel - rocket->accelBias;
-    if (!gap && (netAccel > settings->launchAccel)) {
+    if (!gap && !FusionAltitudeIsNaN(accel) && (netAccel > settings->launchAccel)) {
         if (rocket->runTime == 0.0f) { /* first sample of a candidate run: start from rest at the pad */
             (void) FusionAltitudeResetWithBias(&rocket->observer, 0.0f, rocket->accelBias);
             (void) FusionAltitudeUpdate(&rocket->observer, accel, FUSION_ALTITUDE_NO_BARO, dt);
@@ -569,42 +710,81 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
     FusionAltitudeRocketCalibrationStep(rocket, accel, baroAltitude, hasBaro, dt);
 }
 
-/** Baro gate after launch: returns the baro value to fuse (height above the pad minus the baro offset) or NaN. */
+/**
+ * Baro gate after launch: returns the baro value to fuse (height above the pad
+ * minus the baro offset, m) or NaN. The spike threshold grows with the age of
+ * the last accepted sample (s) as spikeThreshold + g * age^2 / 2 (m): the
+ * prediction lastBaro + v * age misses by up to a * age^2 / 2 when the
+ * velocity changes at a (about g in coast), which at telemetry rates (0.1-4 s
+ * between samples) is tens of metres. A baro-led flight (baroLed) fuses
+ * every sample that is not a spike, whatever the speed, and never re-bases
+ * the offset: the baro is all it has.
+ */
 static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket, const float baroAltitude, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
     const float lockoutSpeed = (settings->lockoutSpeed < FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT) ? settings->lockoutSpeed
                                                                                             : FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT;
-    rocket->lockout = (rocket->phase == FusionAltitudeRocketPhaseBoost) || (velocity > lockoutSpeed) || (velocity < -lockoutSpeed);
+    rocket->lockout = ((rocket->phase == FusionAltitudeRocketPhaseBoost) && !rocket->baroLed) || (velocity > lockoutSpeed) ||
+                      (velocity < -lockoutSpeed);
     rocket->lastBaroAge += dt;
+    rocket->baroPeakAge += dt;
     if (FusionAltitudeIsNaN(baroAltitude)) {
         rocket->baro = FusionAltitudeRocketBaroNone;
         return FUSION_ALTITUDE_NO_BARO;
     }
     const float height = baroAltitude - rocket->padAltitude;
+    const float previousBaro = rocket->lastBaro;
+    const float previousAge = rocket->lastBaroAge;
+    const bool previousSet = rocket->lastBaroSet;
     if (rocket->lastBaroSet) {
         const float miss = height - (rocket->lastBaro + velocity * rocket->lastBaroAge);
-        if ((miss > settings->spikeThreshold) || (miss < -settings->spikeThreshold)) {
+        const float threshold = settings->spikeThreshold + (0.5f * FUSION_ALTITUDE_GRAVITY) * (rocket->lastBaroAge * rocket->lastBaroAge);
+        if ((miss > threshold) || (miss < -threshold)) {
             if (rocket->spikeTime < settings->spikeTime) {
                 rocket->spikeTime += dt;
                 rocket->baro = FusionAltitudeRocketBaroSpike;
                 return FUSION_ALTITUDE_NO_BARO;
             }
-            rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
+            if (!rocket->baroLed) {
+                rocket->baroAdmitted = false; /* a lasting step: re-admitted through the offset, not the velocity */
+            }
         }
     }
     rocket->spikeTime = 0.0f;
     rocket->lastBaro = height;
     rocket->lastBaroAge = 0.0f;
     rocket->lastBaroSet = true;
-    if (rocket->lockout) {
+    if (height > rocket->baroPeak) {
+        rocket->baroPeak = height;
+        rocket->baroPeakAge = 0.0f;
+    }
+    if (rocket->lockout && !rocket->baroLed) {
         rocket->baro = FusionAltitudeRocketBaroLockedOut;
         rocket->baroAdmitted = false;
         return FUSION_ALTITUDE_NO_BARO;
     }
     rocket->baro = FusionAltitudeRocketBaroFused;
-    if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
+    if (rocket->gapRestart) {
+        /* After a gap that was not extrapolated on a held accel (longer than FUSION_ALTITUDE_ROCKET_GAP_HOLD s, or
+         * baro-led) the extrapolated height and velocity are guesses: the velocity restarts as the baro's mean
+         * velocity since its previous accepted sample (m/s; kept without one). Before apogee the height is
+         * re-admitted through the offset (the output never falls while climbing; the baro reads low by the
+         * static-port error there); from apogee on the observer restarts at the baro (height minus the offset
+         * kept, m): the output height steps to the baro rather than staying wrong. The only place the flight
+         * layer writes observer fields directly: its API has no restart with a given velocity. */
+        if (rocket->phase < FusionAltitudeRocketPhaseDrogue) {
+            rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
+        } else {
+            rocket->observer.altitude = height - rocket->baroOffset;
+        }
+        if (previousSet && (previousAge > 0.0f)) {
+            rocket->observer.verticalVelocity = (height - previousBaro) / previousAge;
+        }
+        rocket->gapRestart = false;
+        rocket->baroAdmitted = true;
+    } else if (!rocket->baroAdmitted) { /* re-admission: the observer keeps its (inertial) height; the offset goes to the output */
         rocket->baroOffset = height - FusionAltitudeGetAltitude(&rocket->observer);
         rocket->baroAdmitted = true;
     }
@@ -631,13 +811,18 @@ static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const ro
 }
 
 /**
- * Gap in flight (dt > gapPeriod, s): constant-velocity extrapolation over dt in
- * 2^n equal sub-steps no longer than gapPeriod (at most
- * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS), the accel input being the observer's
- * bias (m/s^2, no net acceleration); the accel is no longer trusted and the
- * next baro sample is re-admitted through the offset.
+ * Gap in flight (dt > gapPeriod, s): extrapolation over dt in 2^n equal
+ * sub-steps no longer than gapPeriod (at most
+ * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS) with the accel input `input` (m/s^2,
+ * see FusionAltitudeRocketInput): this step's accel held over the gap in
+ * coast (about -g: a telemetry gap of 4 s at apogee then misses by metres,
+ * not the 78 m of a constant velocity), the bias (no net acceleration) in
+ * boost. The baro is not re-admitted through the offset after a gap unless it
+ * was locked out: the next sample is fused, so that it corrects the
+ * extrapolated velocity (re-basing after every gap of a 2 Hz telemetry log
+ * hid the descent from the velocity and kept the flight in coast for minutes).
  */
-static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocket, const float dt) {
+static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocket, const float input, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     uint32_t steps = 1u;
@@ -646,22 +831,37 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
         steps *= 2u;
         step = dt / (float) steps;
     }
+    const bool hold = (rocket->phase != FusionAltitudeRocketPhaseBoost) && (dt <= FUSION_ALTITUDE_ROCKET_GAP_HOLD);
+    const float gapInput = hold ? input : FusionAltitudeGetAccelBias(&rocket->observer);
+    /* a baro-led coast is not extrapolated into a descent the baro has not shown: the ballistic input stops at v <= 0 */
+    const bool holdTop = rocket->baroLed && (rocket->phase == FusionAltitudeRocketPhaseCoast);
     for (uint32_t index = 0u; index < steps; index++) {
-        (void) FusionAltitudeUpdate(&rocket->observer, FusionAltitudeGetAccelBias(&rocket->observer), FUSION_ALTITUDE_NO_BARO, step);
+        const bool top = holdTop && !(FusionAltitudeGetVerticalVelocity(&rocket->observer) > 0.0f);
+        (void) FusionAltitudeUpdate(&rocket->observer, top ? FusionAltitudeGetAccelBias(&rocket->observer) : gapInput,
+                                    FUSION_ALTITUDE_NO_BARO, step);
+    }
+    if (rocket->baroLed || !hold) {
+        rocket->gapRestart = true; /* the extrapolation is a guess: the next sample restarts the observer (FusionAltitudeRocketGate) */
+    } else {
+        rocket->baroAdmitted = false; /* held: the height error goes through the offset, not into the velocity */
     }
     rocket->lastBaroAge += dt;
-    rocket->runTime = 0.0f;
+    rocket->baroPeakAge += dt;
+    if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+        rocket->runTime = 0.0f; /* the burnout run restarts; a landed run goes on (telemetry gaps every few s) */
+    }
     rocket->baro = FusionAltitudeRocketBaroNone;
-    rocket->accelTrusted = false;
-    rocket->baroAdmitted = false; /* the next baro sample is re-admitted through the offset */
 }
 
 /**
  * offsetApplied (m) -> baroOffset (m) while climbing: up by at most
  * offsetRate * |v| * dt (v: velocity, m/s; dt, s), down by at most offsetRate
  * times the observer's rise in this step (height - heightBefore, m; none if it
- * did not rise), so the output height never falls by absorbing the offset; at
- * once in the descent.
+ * did not rise), so the output height never falls by absorbing the offset. In
+ * the descent it moves by at most (offsetRate * (|v| + landedSpeed) +
+ * FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * |baroOffset - offsetApplied|) * dt either
+ * way: the height blends into the baro without a step (the apogee event itself
+ * reports the baro-corrected height, see FusionAltitudeRocketPhaseStep).
  */
 static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const rocket, const float velocity, const float heightBefore,
                                                    const float dt) {
@@ -673,7 +873,15 @@ static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const r
     const float offsetStepDown = (rise > 0.0f) ? (settings->offsetRate * rise) : 0.0f;
     const float offsetLeft = rocket->baroOffset - rocket->offsetApplied;
     if (rocket->phase >= FusionAltitudeRocketPhaseDrogue) {
-        rocket->offsetApplied = rocket->baroOffset;
+        const float left = (offsetLeft < 0.0f) ? -offsetLeft : offsetLeft;
+        const float descentStep = (settings->offsetRate * (speed + settings->landedSpeed) + FUSION_ALTITUDE_ROCKET_OFFSET_DECAY * left) * dt;
+        if (offsetLeft > descentStep) {
+            rocket->offsetApplied += descentStep;
+        } else if (offsetLeft < -descentStep) {
+            rocket->offsetApplied -= descentStep;
+        } else {
+            rocket->offsetApplied = rocket->baroOffset;
+        }
     } else if (offsetLeft > offsetStep) {
         rocket->offsetApplied += offsetStep;
     } else if (offsetLeft < -offsetStepDown) {
@@ -704,28 +912,61 @@ static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const r
 }
 
 /**
+ * Apogee: coast -> drogue, the observer's bias frozen from then on. The
+ * reported apogee height is baro-corrected: the observer height plus the whole
+ * baro offset found at re-admission (m), i.e. where the baro puts the rocket,
+ * not the inertial height the output is still blending from (the output height
+ * reaches it in the descent without a step, FusionAltitudeRocketApplyOffset).
+ * When the baro contradicted the coast (contradicted), the apogee height is
+ * the baro's peak, the velocity estimate (wrong) restarts at 0 m/s at the
+ * current height and the baro is re-admitted through the offset.
+ */
+static inline void FusionAltitudeRocketApogee(FusionAltitudeRocket *const rocket, const bool contradicted) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    FusionAltitudeRocketEvent *const apogee = &rocket->events[FusionAltitudeRocketEventApogee];
+    FusionAltitudeRocketRecord(rocket, apogee);
+    apogee->height = contradicted ? rocket->baroPeak : (FusionAltitudeGetAltitude(&rocket->observer) + rocket->baroOffset);
+    rocket->phase = FusionAltitudeRocketPhaseDrogue;
+    FusionAltitudeSettings descent = rocket->settings.observer;
+    descent.biasGain = 0.0f; /* bias frozen from apogee on */
+    (void) FusionAltitudeSetSettings(&rocket->observer, &descent);
+    if (contradicted) {
+        (void) FusionAltitudeResetWithBias(&rocket->observer, FusionAltitudeGetAltitude(&rocket->observer),
+                                           FusionAltitudeGetAccelBias(&rocket->observer));
+        rocket->baroAdmitted = false;
+    }
+}
+
+/**
  * Phase transitions after the observer step: burnout (boost), apogee at
- * v < -apogeeMargin (coast; v: velocity, m/s; the observer's bias is frozen
- * from then on), main deployment at output height <= mainAltitude (m, above
- * the pad; drogue) and landing (drogue and main). accel: m/s^2; dt: s.
+ * v < -apogeeMargin (coast; v: velocity, m/s) or when the baro has contradicted
+ * the coast for FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME s, main deployment
+ * at the baro-corrected height (observer height + baro offset, m above the pad)
+ * <= mainAltitude (drogue) and landing (drogue and main). accel: m/s^2; dt: s.
  */
 static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const rocket, const float accel, const float velocity, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->offsetApplied;
+    const float height = FusionAltitudeGetAltitude(&rocket->observer) + rocket->baroOffset;
     switch (rocket->phase) {
         case FusionAltitudeRocketPhaseBoost:
             FusionAltitudeRocketBurnoutStep(rocket, accel, dt);
             break;
-        case FusionAltitudeRocketPhaseCoast:
-            if (!rocket->lockout && (velocity < -settings->apogeeMargin)) {
-                FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventApogee]);
-                rocket->phase = FusionAltitudeRocketPhaseDrogue;
-                FusionAltitudeSettings descent = rocket->settings.observer;
-                descent.biasGain = 0.0f; /* bias frozen from apogee on */
-                (void) FusionAltitudeSetSettings(&rocket->observer, &descent);
+        case FusionAltitudeRocketPhaseCoast: {
+            const bool contradicted = rocket->lastBaroSet && (rocket->lastBaro < (rocket->baroPeak - settings->spikeThreshold));
+            rocket->contradictionTime = contradicted ? (rocket->contradictionTime + dt) : 0.0f;
+            /* baro-led: also this step's baro fused, below the peak, and no new peak for FUSION_ALTITUDE_ROCKET_PEAK_AGE s */
+            const bool baroAgrees = !rocket->baroLed || ((rocket->baro == FusionAltitudeRocketBaroFused) &&
+                                                         (rocket->lastBaro < rocket->baroPeak) &&
+                                                         (rocket->baroPeakAge >= FUSION_ALTITUDE_ROCKET_PEAK_AGE));
+            if (!rocket->lockout && (velocity < -settings->apogeeMargin) && baroAgrees) {
+                FusionAltitudeRocketApogee(rocket, false);
+            } else if (rocket->contradictionTime >= (rocket->lockout ? FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME
+                                                                      : FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)) {
+                FusionAltitudeRocketApogee(rocket, true);
             }
             break;
+        }
         case FusionAltitudeRocketPhaseDrogue:
             if (!rocket->lockout && !(height > settings->mainAltitude)) {
                 FusionAltitudeRocketRecord(rocket, &rocket->events[FusionAltitudeRocketEventMain]);
@@ -743,18 +984,56 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
     }
 }
 
-/** Flight step (boost and later). accel: m/s^2; baroAltitude: m (NaN: none); dt: s. */
+/**
+ * The observer's accel input (m/s^2) this step: the accel (m/s^2) until apogee,
+ * and after it only if accelVertical (an INS); never in a baro-led flight.
+ * Otherwise the bias (no net acceleration), except in a baro-led coast:
+ * bias - g, ballistic, since the baro alone would lag the deceleration by
+ * Kh * g / Kv (14 m/s with the rocket gains) and declare apogee 1.4 s late.
+ */
+static inline float FusionAltitudeRocketInput(FusionAltitudeRocket *const rocket, const float accel, const bool accelVertical) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    rocket->accelTrusted = !rocket->baroLed && (!descending || accelVertical);
+    if (rocket->accelTrusted) {
+        return accel;
+    }
+    if (rocket->baroLed && (rocket->phase == FusionAltitudeRocketPhaseCoast)) {
+        return FusionAltitudeGetAccelBias(&rocket->observer) - FUSION_ALTITUDE_GRAVITY;
+    }
+    return FusionAltitudeGetAccelBias(&rocket->observer);
+}
+
+/**
+ * Flight step (boost and later). accel: m/s^2 (NaN: no sample, the
+ * accelerometer is lost: baro-led for the rest of the flight, boost -> coast
+ * without a burnout event); baroAltitude: m (NaN: none); dt: s.
+ */
 static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                   const float dt, const bool gap, const bool accelVertical) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
-    const bool descending = rocket->phase >= FusionAltitudeRocketPhaseDrogue;
+    if (FusionAltitudeIsNaN(accel) && !rocket->baroLed) {
+        rocket->baroLed = true;
+        if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+            rocket->phase = FusionAltitudeRocketPhaseCoast;
+            rocket->runTime = 0.0f;
+        }
+    }
+    if (gap && !rocket->baroLed && (rocket->phase < FusionAltitudeRocketPhaseDrogue) &&
+        (rocket->lockout || (rocket->phase == FusionAltitudeRocketPhaseBoost))) {
+        /* a gap in boost or in the lockout: the integrated velocity is lost and the baro cannot check it yet */
+        rocket->baroLed = true;
+        if (rocket->phase == FusionAltitudeRocketPhaseBoost) {
+            rocket->phase = FusionAltitudeRocketPhaseCoast;
+            rocket->runTime = 0.0f;
+        }
+    }
+    const float input = FusionAltitudeRocketInput(rocket, accel, accelVertical);
     if (gap) {
-        FusionAltitudeRocketGapStep(rocket, dt);
+        FusionAltitudeRocketGapStep(rocket, input, dt);
         return;
     }
     const float fused = FusionAltitudeRocketGate(rocket, baroAltitude, dt);
-    rocket->accelTrusted = !descending || accelVertical;
-    const float input = rocket->accelTrusted ? accel : FusionAltitudeGetAccelBias(&rocket->observer);
     const float heightBefore = FusionAltitudeGetAltitude(&rocket->observer);
     (void) FusionAltitudeUpdate(&rocket->observer, input, fused, dt);
     const float velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);

@@ -384,7 +384,7 @@ class RocketStatus(enum.IntEnum):
     """C ``FusionAltitudeRocketStatus`` (fusion_altitude_flight.h)."""
 
     OK = 0
-    INVALID_ACCEL = 1  #: accel not finite
+    INVALID_ACCEL = 1  #: accel infinite (NaN: no accelerometer sample)
     INVALID_BARO_ALTITUDE = 2  #: baro altitude infinite
     INVALID_DT = 3  #: dt not finite or <= 0
     INVALID_OBSERVER_SETTINGS = 4  #: observer gains rejected by FusionAltitudeSettingsCheck
@@ -403,6 +403,7 @@ class RocketStatus(enum.IntEnum):
     INVALID_LANDED_SPEED = 17  #: not finite or <= 0
     INVALID_LANDED_TIME = 18  #: not finite or < 0
     INVALID_GAP_PERIOD = 19  #: NaN or <= 0 (+infinity: never a gap)
+    INVALID_BARO_LAUNCH_HEIGHT = 20  #: not finite or <= 0
 
 
 class Phase(enum.IntEnum):
@@ -439,13 +440,18 @@ class BaroFate(enum.IntEnum):
 
 #: The numeric ``#define`` constants of fusion_altitude_flight.h (floats are float32 in C).
 FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT = 236.0
+FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME = 1.0
+FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME = 5.0
+FUSION_ALTITUDE_ROCKET_PEAK_AGE = 0.5
+FUSION_ALTITUDE_ROCKET_GAP_HOLD = 4.0
+FUSION_ALTITUDE_ROCKET_OFFSET_DECAY = 0.1
 FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS = 6
 
 
 #: ``FusionAltitudeRocketStatusMessage`` of each status, read from C.
 FLIGHT_STATUS_MESSAGES = (
     'ok',
-    'accel must be finite',
+    'accel must be finite, or NaN for no sample',
     'baro altitude must be finite, or NaN for no sample',
     'dt must be finite and > 0',
     'observer gains are invalid or unstable',
@@ -464,6 +470,7 @@ FLIGHT_STATUS_MESSAGES = (
     'landed speed must be finite and > 0',
     'landed time must be finite and >= 0',
     'gap period must be > 0 (+infinity: never a gap)',
+    'baro launch height must be finite and > 0',
 )
 
 
@@ -487,6 +494,7 @@ FLIGHT_SETTINGS = (
     ('landed_speed', 'landedSpeed', 'f', 3.0, 'm/s: |v| below this ...'),
     ('landed_time', 'landedTime', 'f', 2.0, 's: ... for this long declares landing'),
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update with dt above this is a gap'),
+    ('baro_launch_height', 'baroLaunchHeight', 'f', 30.0, 'm: launch from the baro when two rising pad samples are this far above the pad'),
 )
 
 

@@ -89,7 +89,8 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
             m/s², gravity removed, +up: the long-axis accelerometer minus g
             (used as vertical until apogee, ignored after it) or, with
             ``accel_is_vertical``, a trusted earth-frame vertical acceleration
-            from an INS (used in every phase).
+            from an INS (used in every phase). NaN: no accelerometer sample
+            (in flight the layer is baro-led from then on).
         baro_altitude : float
             Pressure altitude, m; NaN when no baro sample arrived this step.
         dt : float
@@ -100,7 +101,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         Raises
         ------
         ValueError
-            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            accel or baro_altitude infinite, dt not finite or <= 0;
             the state is unchanged.
         """
         cdef double a = _as_double(accel, "accel")

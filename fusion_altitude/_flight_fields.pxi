@@ -23,6 +23,7 @@ C_STATUS_VALUES = {
     'INVALID_LANDED_SPEED': FusionAltitudeRocketStatusInvalidLandedSpeed,
     'INVALID_LANDED_TIME': FusionAltitudeRocketStatusInvalidLandedTime,
     'INVALID_GAP_PERIOD': FusionAltitudeRocketStatusInvalidGapPeriod,
+    'INVALID_BARO_LAUNCH_HEIGHT': FusionAltitudeRocketStatusInvalidBaroLaunchHeight,
 }
 
 
@@ -86,6 +87,7 @@ cdef FusionAltitudeRocketSettings _settings_to_c(object values) except *:
     c.landedSpeed = values['landed_speed']
     c.landedTime = values['landed_time']
     c.gapPeriod = values['gap_period']
+    c.baroLaunchHeight = values['baro_launch_height']
     return c
 
 
@@ -108,6 +110,7 @@ cdef dict _settings_from_c(const FusionAltitudeRocketSettings *c):
         'landed_speed': c.landedSpeed,
         'landed_time': c.landedTime,
         'gap_period': c.gapPeriod,
+        'baro_launch_height': c.baroLaunchHeight,
     }
 
 
@@ -154,12 +157,20 @@ cdef tuple _state_get(const FusionAltitudeRocket *c, object settings_out):
         c.lastBaroAge,
         c.baroOffset,
         c.offsetApplied,
+        c.padBaroPrevious,
+        c.padBaroAge,
+        c.baroPeak,
+        c.contradictionTime,
+        c.baroPeakAge,
         bool(c.windowStationary),
         bool(c.padAltitudeSet),
         bool(c.lastBaroSet),
         bool(c.baroAdmitted),
         bool(c.lockout),
         bool(c.accelTrusted),
+        bool(c.padBaroPreviousSet),
+        bool(c.baroLed),
+        bool(c.gapRestart),
     )
 
 
@@ -168,7 +179,7 @@ cdef void _state_set(FusionAltitudeRocket *c, tuple state, object settings_in) e
     what :func:`_settings_to_c` takes."""
     cdef int i, j
     cdef tuple row
-    (_settings, _observer, _phase, _baro, _events, _candidate, _sample, _gap_count, _windows, _window_samples, _window_baro_samples, _time, _time_compensation, _accel_bias, _pad_altitude, _window_time, _window_accel_first, _window_accel_sum, _window_baro_first, _window_baro_sum, _run_time, _spike_time, _last_baro, _last_baro_age, _baro_offset, _offset_applied, _window_stationary, _pad_altitude_set, _last_baro_set, _baro_admitted, _lockout, _accel_trusted,) = state
+    (_settings, _observer, _phase, _baro, _events, _candidate, _sample, _gap_count, _windows, _window_samples, _window_baro_samples, _time, _time_compensation, _accel_bias, _pad_altitude, _window_time, _window_accel_first, _window_accel_sum, _window_baro_first, _window_baro_sum, _run_time, _spike_time, _last_baro, _last_baro_age, _baro_offset, _offset_applied, _pad_baro_previous, _pad_baro_age, _baro_peak, _contradiction_time, _baro_peak_age, _window_stationary, _pad_altitude_set, _last_baro_set, _baro_admitted, _lockout, _accel_trusted, _pad_baro_previous_set, _baro_led, _gap_restart,) = state
     c.settings = _settings_to_c(settings_in(_settings))
     c.observer.settings.positionGain = _observer[0][0]
     c.observer.settings.velocityGain = _observer[0][1]
@@ -220,12 +231,20 @@ cdef void _state_set(FusionAltitudeRocket *c, tuple state, object settings_in) e
     c.lastBaroAge = _last_baro_age
     c.baroOffset = _baro_offset
     c.offsetApplied = _offset_applied
+    c.padBaroPrevious = _pad_baro_previous
+    c.padBaroAge = _pad_baro_age
+    c.baroPeak = _baro_peak
+    c.contradictionTime = _contradiction_time
+    c.baroPeakAge = _baro_peak_age
     c.windowStationary = _window_stationary
     c.padAltitudeSet = _pad_altitude_set
     c.lastBaroSet = _last_baro_set
     c.baroAdmitted = _baro_admitted
     c.lockout = _lockout
     c.accelTrusted = _accel_trusted
+    c.padBaroPreviousSet = _pad_baro_previous_set
+    c.baroLed = _baro_led
+    c.gapRestart = _gap_restart
 
 
 

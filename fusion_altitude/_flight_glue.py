@@ -36,7 +36,7 @@ SETTINGS_RULES = {
     "launch_time": "non_negative", "burnout_accel": "finite", "burnout_time": "non_negative",
     "apogee_margin": "non_negative", "lockout_speed": "positive", "spike_threshold": "positive",
     "spike_time": "non_negative", "offset_rate": "rate", "main_altitude": "non_negative", "landed_speed": "positive",
-    "landed_time": "non_negative", "gap_period": "gap",
+    "landed_time": "non_negative", "gap_period": "gap", "baro_launch_height": "positive",
 }
 
 #: Settings fields after the observer settings, in C declaration (and check) order: (name, default, rule, unit),
@@ -69,7 +69,7 @@ def raise_settings_error(status: int, values: Dict[str, float]) -> None:
 
 
 _UPDATE_RULES = {
-    RocketStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
+    RocketStatus.INVALID_ACCEL: ("accel", "must be finite, or NaN for no accelerometer sample (m/s²)"),
     RocketStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
     RocketStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
 }

@@ -9,6 +9,11 @@ from fusion_altitude.cobserver cimport FusionAltitude, FusionAltitudeSettings
 
 cdef extern from "fusion_altitude_flight.h" nogil:
     float FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
+    float FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME
+    float FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME
+    float FUSION_ALTITUDE_ROCKET_PEAK_AGE
+    float FUSION_ALTITUDE_ROCKET_GAP_HOLD
+    float FUSION_ALTITUDE_ROCKET_OFFSET_DECAY
     int FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
     ctypedef enum FusionAltitudeRocketStatus:
@@ -32,6 +37,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         FusionAltitudeRocketStatusInvalidLandedSpeed
         FusionAltitudeRocketStatusInvalidLandedTime
         FusionAltitudeRocketStatusInvalidGapPeriod
+        FusionAltitudeRocketStatusInvalidBaroLaunchHeight
 
     ctypedef enum FusionAltitudeRocketPhase:
         FusionAltitudeRocketPhasePad
@@ -80,6 +86,7 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float landedSpeed
         float landedTime
         float gapPeriod
+        float baroLaunchHeight
 
     ctypedef struct FusionAltitudeRocket:
         FusionAltitudeRocketSettings settings
@@ -108,12 +115,20 @@ cdef extern from "fusion_altitude_flight.h" nogil:
         float lastBaroAge
         float baroOffset
         float offsetApplied
+        float padBaroPrevious
+        float padBaroAge
+        float baroPeak
+        float contradictionTime
+        float baroPeakAge
         bint windowStationary
         bint padAltitudeSet
         bint lastBaroSet
         bint baroAdmitted
         bint lockout
         bint accelTrusted
+        bint padBaroPreviousSet
+        bint baroLed
+        bint gapRestart
 
     const char * FusionAltitudeRocketStatusMessage(const FusionAltitudeRocketStatus status)
     FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault()

@@ -35,7 +35,7 @@ ROCKET_OBSERVER_GAINS = (1.4, 1.0, 0.0)
 __all__ = ["RocketEstimator", "RocketSettings", "RocketBatch", "FlightEvents", "FlightEvent", "Phase", "BaroFate",
            "RocketStatus", "ROCKET_OBSERVER_GAINS", "rocket_altitude_settings", "rocket_kalman_settings",
            "long_axis_accel", "run_rocket", "detect_events", "events_from_estimates", "events_from_states",
-           "flight_computer_events", "STATE_EVENTS"]
+           "flight_computer_events", "STATE_EVENTS", "rocket_accel_input", "pad_levels", "saturated_samples"]
 
 
 def rocket_altitude_settings():
@@ -324,3 +324,161 @@ def flight_computer_events(data: object, pad_altitude: Optional[float] = None,
                                        main_altitude=main_altitude)
         return events, "read off its height and velocity (events_from_estimates)"
     return None, "the log has neither flight states nor the flight computer's height and velocity"
+
+
+#: A pad window: the first this many s of a log are taken as at rest on the pad.
+PAD_SECONDS = 1.0
+#: s an along-axis accelerometer sample is held over steps without one; after its last sample and this long the
+#: accelerometer has ended (NaN: the flight layer goes on baro-led).
+ACCEL_HOLD = 1.0
+#: An accelerometer column is taken as saturated where it stays within 0.1 % of its largest |value| on at least
+#: this many samples, if that value is above 4 g.
+SATURATION_SAMPLES = 3
+
+
+def pad_levels(accel_body: object, time: Optional[object] = None, seconds: float = PAD_SECONDS
+              ) -> Tuple[np.ndarray, np.ndarray]:
+    """Median specific force per column over the pad window and which columns are alive.
+
+    The median, not the mean: a log that starts less than ``seconds`` before
+    the launch (the Hedy CATS log: 0.75 s) still gives the pad's reading.
+
+    Parameters
+    ----------
+    accel_body : array_like, shape (N, 3) or (N,)
+        Specific force, m/s².
+    time : array_like, shape (N,), optional
+        s; the window is the first ``seconds`` s (all samples if None).
+    seconds : float
+        s.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray of bool)
+        The medians (m/s², NaN for a column without a finite sample in the
+        window) and, per column, alive: at least two finite samples in the log
+        and not constant (a dead axis logs one value, often 0).
+    """
+    array = np.asarray(accel_body, dtype=np.float64)
+    array = array.reshape(array.shape[0], -1)
+    window = np.ones(array.shape[0], dtype=bool)
+    if time is not None:
+        t = np.asarray(time, dtype=np.float64)
+        window = t <= t[0] + seconds
+    means = np.full(array.shape[1], np.nan)
+    alive = np.zeros(array.shape[1], dtype=bool)
+    for k in range(array.shape[1]):
+        column = array[:, k]
+        finite = column[np.isfinite(column)]
+        alive[k] = finite.size >= 2 and float(np.ptp(finite)) > 0.0
+        pad = column[window][np.isfinite(column[window])]
+        if pad.size:
+            means[k] = float(np.median(pad))
+    return means, alive
+
+
+def saturated_samples(specific_force: object, clipped: Optional[object] = None) -> np.ndarray:
+    """Where an accelerometer column is at its range limit (bool per sample).
+
+    ``clipped`` (a reader's flag, e.g. LogData.clipped) where given, or'ed with
+    a plateau at the column's largest |value|: at least
+    :data:`SATURATION_SAMPLES` samples within 0.1 % of it, that value above 4 g
+    (a ±16 g IMU reads exactly ±156.9 m/s² through the thrust peak).
+    """
+    values = np.asarray(specific_force, dtype=np.float64)
+    magnitude = np.abs(values)
+    result = np.zeros(values.shape, dtype=bool) if clipped is None else np.asarray(clipped, dtype=bool).copy()
+    if np.isfinite(magnitude).any():
+        peak = float(np.nanmax(magnitude))
+        plateau = np.isfinite(magnitude) & (magnitude >= 0.999 * peak)
+        if peak > 4 * GRAVITY and plateau.sum() >= SATURATION_SAMPLES:
+            result |= plateau
+    return result
+
+
+def _held(values: np.ndarray, time: np.ndarray, hold: float = ACCEL_HOLD) -> np.ndarray:
+    """Each NaN step takes the latest finite sample if it is at most ``hold`` s old (NaN otherwise)."""
+    finite = np.isfinite(values)
+    index = np.where(finite, np.arange(values.size), -1)
+    latest = np.maximum.accumulate(index)
+    out = np.full(values.size, np.nan)
+    ok = latest >= 0
+    out[ok] = values[latest[ok]]
+    out[ok & (time - time[np.maximum(latest, 0)] > hold)] = np.nan
+    return out
+
+
+def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = None) -> Tuple[np.ndarray, str]:
+    """The flight layer's accel input for a log, and a one-line note of what it is.
+
+    Parameters
+    ----------
+    data : fusion_altitude.logs.LogData
+        A rocket log.
+    long_axis : (int, float), optional
+        The IMU column along the nose and its sign (``--long-axis``); checked
+        against gravity on the pad (:func:`fusion_altitude.runner.rocket_long_axis`).
+
+    Returns
+    -------
+    (numpy.ndarray, str)
+        m/s², the long-axis specific force minus g on every step; NaN where the
+        flight layer must do without an accelerometer (from there on it is
+        baro-led). In order of preference:
+
+        1. ``baro_only`` logs: NaN throughout.
+        2. ``axial_acceleration`` (the flight computer's along-axis, usually
+           high-g, accelerometer) when alive and reading at least 0.5 g over
+           the first second (≈ +g on the pad; more when the log starts in
+           boost, as a Raven's export);
+           held over steps without a sample for up to :data:`ACCEL_HOLD` s,
+           NaN after its last sample (e.g. a Raven's that stops after 4.5 s).
+        3. The raw IMU's long axis when alive (not constant) and reading
+           ≈ +g (0.5–1.5 g) on the pad, NaN from its first saturated sample
+           (:func:`saturated_samples`) on.
+        4. The reader's vertical acceleration when it is not constant.
+        5. NaN throughout (dead or missing accelerometer).
+
+    Raises
+    ------
+    LogError
+        ``long_axis`` contradicts gravity on the pad.
+    """
+    from .runner import rocket_long_axis
+
+    time = np.asarray(data.time, dtype=np.float64)
+    n = time.size
+    none = np.full(n, np.nan)
+    if getattr(data, "baro_only", False):
+        return none, "rocket layer: no accelerometer in the log: baro-only flight (events from the baro)"
+    skipped = []
+    axial = getattr(data, "axial_acceleration", None)
+    if axial is not None:
+        axial = np.asarray(axial, dtype=np.float64)
+        mean, alive = pad_levels(axial, time)
+        if alive[0] and mean[0] >= 0.5 * GRAVITY:  # more than +g when the log starts in boost (a Raven's)
+            return _held(axial, time) - GRAVITY, "rocket layer: the flight computer's along-axis accelerometer"
+        skipped.append("its along-axis accelerometer is dead" if not alive[0] else
+                       f"its along-axis accelerometer reads {mean[0]:+.2f} m/s² on the pad, not +g")
+    if data.accel is not None:
+        accel = np.asarray(data.accel, dtype=np.float64)
+        axis, sign = rocket_long_axis(accel, time, long_axis=long_axis)
+        mean, alive = pad_levels(accel, time)
+        name = f"{'+' if sign > 0 else '-'}{'XYZ'[axis]}"
+        if alive[axis] and 0.5 * GRAVITY <= sign * mean[axis] <= 1.5 * GRAVITY:
+            values = long_axis_accel(accel, axis, sign)
+            saturated = saturated_samples(accel[:, axis], getattr(data, "clipped", None))
+            if saturated.any():
+                first = int(np.argmax(saturated))
+                values[first:] = np.nan
+                return values, (f"rocket layer: IMU axis {name}, saturated from t = {time[first]:.2f} s on: "
+                                f"baro-led from there")
+            return values, f"rocket layer: IMU axis {name}"
+        skipped.append("the IMU is dead (constant)" if not alive.any() else
+                       f"no IMU axis reads +g on the pad (means {', '.join(f'{m:+.2f}' for m in mean)} m/s²)")
+    elif not skipped:
+        vertical = np.asarray(data.vertical_acceleration, dtype=np.float64)
+        if pad_levels(vertical, time)[1][0]:
+            return vertical, "rocket layer: the reader's vertical acceleration, taken along the long axis"
+        skipped.append("its vertical acceleration is constant")
+    return none, f"rocket layer: no usable accelerometer ({'; '.join(skipped)}): baro-led flight (events from the baro)"

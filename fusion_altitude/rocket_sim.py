@@ -22,7 +22,7 @@ specific force minus g (m/s², ≈ 0 at rest on the pad, +up while the nose is u
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -269,6 +269,100 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
             baro[k] += rng.choice((-1.0, 1.0)) * rng.uniform(*model.pyro_spike)
     return RocketFlight(trajectory, accel, baro, static_error, apogee_time, apogee_height, float(t[k_main]),
                         model.pad_time, burnout_time, float(t[k_landed]), model)
+
+
+def telemetry_indices(flight: RocketFlight, seed: int = 0, step: float = 0.1, gap_probability: float = 0.07,
+                      longest: float = 4.0, quiet: Tuple[float, ...] = (), quiet_margin: float = 2.0) -> np.ndarray:
+    """Sample indices of a ground-station telemetry log drawn from a simulated flight.
+
+    Packets every ``step`` s, and with probability ``gap_probability`` per
+    packet a gap drawn uniformly from 0.6 s to ``longest`` s instead (lost
+    packets), as an AltOS telemetry CSV (median step 0.1 s, 154 steps over
+    0.5 s, the longest 4 s, over a 3-minute flight). No gap starts or ends
+    within ``quiet_margin`` s of the times in ``quiet`` (e.g. the true apogee,
+    to test the event timing apart from the data a gap removes).
+
+    Returns
+    -------
+    numpy.ndarray of int
+        Increasing indices into ``flight.time``, starting at 0.
+    """
+    rng = np.random.default_rng(seed)
+    rate = flight.model.rate
+    times = flight.time
+    indices = [0]
+    k = 0
+    while True:
+        gap = rng.random() < gap_probability
+        length = rng.uniform(0.6, longest) if gap else step
+        end = k + max(1, int(round(length * rate)))
+        if gap and any(times[k] - quiet_margin - length <= q <= times[k] + length + quiet_margin for q in quiet):
+            end = k + max(1, int(round(step * rate)))
+        if end >= times.size:
+            break
+        indices.append(end)
+        k = end
+    return np.asarray(indices)
+
+
+#: Kinds of :func:`flight_log`.
+LOG_KINDS = ("imu", "dead_imu", "saturating_imu", "baro_only", "axial", "axial_ends")
+
+
+def flight_log(flight: RocketFlight, kind: str = "imu", indices: Optional[np.ndarray] = None,
+               imu_range: float = 6.0 * GRAVITY):
+    """A :class:`~fusion_altitude.logs.LogData` of a simulated flight, as a flight computer's log reader gives it.
+
+    Parameters
+    ----------
+    flight : RocketFlight
+    kind : str
+        ``"imu"``: a raw IMU (N, 3), the long axis +Z (reads +g on the pad);
+        ``"dead_imu"``: the IMU's columns all zero (a TeleMega export with a dead IMU);
+        ``"saturating_imu"``: the IMU clips at ±``imu_range`` (m/s², specific
+        force; the thrust peak exceeds it) and the reader's ``clipped`` flag is not set;
+        ``"baro_only"``: no accelerometer (``baro_only``, zeros as vertical acceleration);
+        ``"axial"``: the flight computer's along-axis accelerometer
+        (``axial_acceleration``) and a dead IMU;
+        ``"axial_ends"``: the along-axis accelerometer stops 4.5 s after
+        launch (a Raven's) and there is no IMU.
+    indices : numpy.ndarray of int, optional
+        Samples to keep (e.g. :func:`telemetry_indices`); all if omitted.
+    imu_range : float
+        m/s², the saturating IMU's range.
+
+    Returns
+    -------
+    fusion_altitude.logs.LogData
+        ``time`` s, ``baro_altitude`` m (the flight's), vertical acceleration
+        as a reader without an attitude would give it (the long axis minus g;
+        zeros for ``baro_only``); ``vehicle`` "rocket".
+    """
+    from .logs import LogData
+
+    if kind not in LOG_KINDS:
+        raise ValueError(f"kind must be one of {', '.join(LOG_KINDS)}, got {kind!r}")
+    k = np.arange(flight.time.size) if indices is None else np.asarray(indices)
+    time = flight.time[k]
+    specific = flight.accel[k] + GRAVITY  # long-axis specific force, m/s², +nose
+    n = time.size
+    accel = axial = None
+    vertical = flight.accel[k].copy()
+    if kind in ("imu", "dead_imu", "saturating_imu", "axial"):
+        accel = np.zeros((n, 3))
+        if kind != "dead_imu" and kind != "axial":
+            accel[:, 2] = specific if kind == "imu" else np.clip(specific, -imu_range, imu_range)
+            accel[:, 0] = 0.3 + 0.05 * np.sin(time)
+            accel[:, 1] = -0.2 + 0.05 * np.cos(time)
+    if kind in ("axial", "axial_ends"):
+        axial = specific.copy()
+        if kind == "axial_ends":
+            axial[time > flight.launch_time + 4.5] = np.nan
+    if kind in ("dead_imu", "baro_only", "axial"):
+        vertical = np.zeros(n)
+    return LogData(source=f"simulated flight ({kind})", time=time, vertical_acceleration=vertical,
+                   baro_altitude=flight.baro_altitude[k].copy(), accel=accel, imu_frame="sensor" if accel is not None else "",
+                   vehicle="rocket", axial_acceleration=axial, baro_only=kind == "baro_only")
 
 
 def summary(seeds: int = 20) -> str:

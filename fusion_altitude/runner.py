@@ -524,12 +524,14 @@ class RocketLogBatch(NamedTuple):
     baro_fate: np.ndarray
 
 
-def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0) -> Tuple[int, float]:
+def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0,
+                     long_axis: Optional[Tuple[int, float]] = None) -> Tuple[int, float]:
     """The rocket's long axis in a body-frame accelerometer: (column, sign) of :func:`fusion_altitude.rocket.long_axis_accel`.
 
-    On the pad the long axis is the one that carries gravity: the column with
-    the largest mean |specific force| over the first ``seconds`` s (all
-    samples if ``seconds_time`` is None), signed so that it reads +g (nose up).
+    On the pad the long axis is the one that carries gravity: among the live
+    columns (not constant, not all NaN; any column if none is) the one with the largest median
+    |specific force| over the first ``seconds`` s (all samples if
+    ``seconds_time`` is None), signed so that it reads +g (nose up).
 
     Parameters
     ----------
@@ -539,26 +541,51 @@ def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0) -> Tup
         Sample times, s.
     seconds : float, default 1.0
         Length of the pad window, s.
+    long_axis : (int, float), optional
+        The user's (column, sign): checked against gravity instead of chosen.
+
+    Raises
+    ------
+    LogError
+        ``long_axis`` contradicts gravity on the pad: that axis does not read
+        ≈ +9.81 m/s² (0.7–1.3 g) at rest, it is dead (constant), or another
+        axis carries more than 0.5 g.
     """
-    accel = np.asarray(accel_body, dtype=float)
-    window = np.ones(accel.shape[0], dtype=bool)
-    if seconds_time is not None:
-        t = np.asarray(seconds_time, dtype=float)
-        window = t <= t[0] + seconds
-    mean = np.nanmean(accel[window], axis=0)
-    axis = int(np.argmax(np.abs(mean)))
-    return axis, (1.0 if mean[axis] >= 0 else -1.0)
+    from ._common import GRAVITY
+    from .logs import LogError
+    from .rocket import pad_levels
+
+    mean, alive = pad_levels(accel_body, seconds_time, seconds)
+    if long_axis is not None:
+        axis, sign = int(long_axis[0]), float(long_axis[1])
+        name = f"{'+' if sign > 0 else '-'}{'XYZ'[axis]}"
+        reading = sign * mean[axis]
+        others = [(abs(mean[k]), k) for k in range(3) if k != axis and alive[k]]
+        other, other_axis = max(others) if others else (0.0, axis)
+        if not alive[axis]:
+            raise LogError(f"long axis {name}: that accelerometer column is constant (dead); it cannot be the "
+                           f"rocket's long axis")
+        if not (0.7 * GRAVITY <= reading <= 1.3 * GRAVITY) or other > 0.5 * GRAVITY:
+            carrier = (f"; {'XYZ'[other_axis]} reads {mean[other_axis]:+.2f} m/s² and carries gravity"
+                       if other > 0.5 * GRAVITY else "")
+            raise LogError(f"long axis {name} reads {reading:+.2f} m/s² at rest on the pad (first {seconds:g} s), "
+                           f"not about +9.81: the nose-up axis reads +g at rest{carrier}")
+        return axis, sign
+    candidates = np.where(alive | ~alive.any(), np.abs(np.nan_to_num(mean)), -1.0)  # all columns dead: any
+    axis = int(np.argmax(candidates))
+    return axis, (1.0 if not mean[axis] < 0 else -1.0)
 
 
 def _run_rocket(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
+    """The rocket flight layer on a log; its accelerometer input is chosen by :func:`fusion_altitude.rocket.rocket_accel_input`
+    (NaN where the flight layer must do without one: baro-led), and what was chosen goes to ``data.notes``."""
     from ._flight import RocketEstimator
-    from .rocket import long_axis_accel
+    from .rocket import rocket_accel_input
 
-    if data.accel is not None:
-        axis, sign = options.get("long_axis") or rocket_long_axis(data.accel, data.time)
-        accel = long_axis_accel(data.accel, axis, sign)
-    else:  # no raw IMU: the reader's vertical acceleration, taken as the long axis until apogee
-        accel = np.asarray(data.vertical_acceleration, float)
+    accel, note = rocket_accel_input(data, options.get("long_axis"))
+    if note not in data.notes:
+        data.notes.append(note)
+    options["rocket_input"] = note
     estimator = RocketEstimator(options.get("rocket_settings"))
     result = estimator.update_batch(accel, data.baro_altitude, dt)
     options["gap_count"] = int(estimator.gap_count)

@@ -250,9 +250,16 @@ def test_events_csv_and_output_naming_one_file_is_refused(hedy, tmp_path, capsys
     assert "-o and --events-csv name the same file" in capsys.readouterr().err
 
 
-def test_long_axis_flag_overrides_the_detected_axis(hedy, capsys):
-    assert main(["run", hedy, "--long-axis", "+Z"]) == 0
-    assert "long axis +Z" in capsys.readouterr().out
+def test_long_axis_flag_that_agrees_with_gravity_on_the_pad_is_used(hedy, capsys):
+    assert main(["run", hedy, "--long-axis=-Y"]) == 0
+    assert "long axis -Y" in capsys.readouterr().out
+
+
+def test_long_axis_flag_that_contradicts_gravity_on_the_pad_is_refused_in_one_line(hedy, capsys):
+    """Hedy's +Z reads about -0.8 m/s² on the pad while -Y carries g: integrating +Z would make a runaway."""
+    assert main(["run", hedy, "--long-axis", "+Z"]) == 2
+    errors = [line for line in capsys.readouterr().err.splitlines() if "error" in line]  # not the progress lines
+    assert len(errors) == 1 and "long axis +Z reads" in errors[0] and "not about +9.81" in errors[0]
 
 
 def test_compare_log_runs_the_rocket_layer_on_rocket_logs_only(hedy, px4):

@@ -424,10 +424,11 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     every, baro, imu, rejected = alphabeta["cycles"]
     assert imu["instructions"] < baro["instructions"] < every["instructions"] < 1500
     assert rejected["instructions"] < 20
-    # Rocket flight layer: regression bounds (observer inside; 356 B on ARM, 360 B on RISC-V).
+    # Rocket flight layer: regression bounds (observer inside; 384 B on ARM, 388 B on RISC-V since issue 20's baro
+    # launch, baro peak, contradiction timer and gap restart: 356 B and 360 B before).
     flight = measured["flight"]
-    assert max(flight["ram"].values()) <= 384, flight["ram"]
-    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 3840  # 3670 with the observer's stability rule
+    assert max(flight["ram"].values()) <= 416, flight["ram"]  # both: the observer's stability rule and issue 20's rocket
+    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 4608  # 3670 (stability rule), 3866 (rocket)
     assert all(size <= 160 and qualifier == "static" for size, qualifier in flight["stack"].values()), flight["stack"]
     pad, coast, locked, descent, rejected = flight["cycles"]
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20

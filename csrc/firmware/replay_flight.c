@@ -26,7 +26,7 @@ typedef FusionAltitudeRocketVector ReplayVector;
 
 #define SETTINGS_WORDS (FUSION_ALTITUDE_FLIGHT_VECTOR_SETTINGS_WORDS)
 
-typedef char stateWordsMatch[(SETTINGS_WORDS == 18) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 10 + 35 + 5 + 15 + 6) ? 1 : -1];
+typedef char stateWordsMatch[(SETTINGS_WORDS == 19) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 10 + 35 + 5 + 20 + 8) ? 1 : -1];
 
 static FusionAltitudeRocketSettings SettingsFromWords(const uint32_t words[SETTINGS_WORDS]) {
     FusionAltitudeRocketSettings settings = FusionAltitudeRocketSettingsDefault();
@@ -37,7 +37,7 @@ static FusionAltitudeRocketSettings SettingsFromWords(const uint32_t words[SETTI
     float *const fields[] = {&settings.stationaryAccel, &settings.calibrationWindow, &settings.launchAccel, &settings.launchTime,
                              &settings.burnoutAccel, &settings.burnoutTime, &settings.apogeeMargin, &settings.lockoutSpeed,
                              &settings.spikeThreshold, &settings.spikeTime, &settings.offsetRate, &settings.mainAltitude,
-                             &settings.landedSpeed, &settings.landedTime, &settings.gapPeriod};
+                             &settings.landedSpeed, &settings.landedTime, &settings.gapPeriod, &settings.baroLaunchHeight};
     for (size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); i++) {
         *fields[i] = ReplayFloat(words[n++]);
     }
@@ -81,7 +81,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     const float settingsFloats[] = {s->observer.positionGain, s->observer.velocityGain, s->observer.biasGain, s->stationaryAccel,
                                     s->calibrationWindow, s->launchAccel, s->launchTime, s->burnoutAccel, s->burnoutTime,
                                     s->apogeeMargin, s->lockoutSpeed, s->spikeThreshold, s->spikeTime, s->offsetRate,
-                                    s->mainAltitude, s->landedSpeed, s->landedTime, s->gapPeriod};
+                                    s->mainAltitude, s->landedSpeed, s->landedTime, s->gapPeriod, s->baroLaunchHeight};
     for (size_t i = 0; i < sizeof(settingsFloats) / sizeof(settingsFloats[0]); i++) {
         words[n++] = ReplayBits(settingsFloats[i]);
     }
@@ -110,12 +110,14 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
                             FusionAltitudeRocketGetPadAltitude(filter), filter->windowTime, filter->windowAccelFirst,
                             filter->windowAccelSum, filter->windowBaroFirst, filter->windowBaroSum, filter->runTime,
                             filter->spikeTime, filter->lastBaro, filter->lastBaroAge, filter->baroOffset,
-                            filter->offsetApplied};
+                            filter->offsetApplied, filter->padBaroPrevious, filter->padBaroAge, filter->baroPeak,
+                            filter->contradictionTime, filter->baroPeakAge};
     for (size_t i = 0; i < sizeof(floats) / sizeof(floats[0]); i++) {
         words[n++] = ReplayBits(floats[i]);
     }
     const bool flags[] = {filter->windowStationary, filter->padAltitudeSet, filter->lastBaroSet, filter->baroAdmitted,
-                          FusionAltitudeRocketIsLockedOut(filter), filter->accelTrusted};
+                          FusionAltitudeRocketIsLockedOut(filter), filter->accelTrusted, filter->padBaroPreviousSet,
+                          filter->baroLed};
     for (size_t i = 0; i < sizeof(flags) / sizeof(flags[0]); i++) {
         words[n++] = flags[i] ? 1u : 0u;
     }
@@ -164,12 +166,13 @@ static void ReplaySetStateWords(ReplayFilter *const filter, const uint32_t words
     float *const floats[] = {&filter->time, &filter->timeCompensation, &filter->accelBias, &filter->padAltitude, &filter->windowTime,
                              &filter->windowAccelFirst, &filter->windowAccelSum, &filter->windowBaroFirst, &filter->windowBaroSum,
                              &filter->runTime, &filter->spikeTime, &filter->lastBaro, &filter->lastBaroAge, &filter->baroOffset,
-                             &filter->offsetApplied};
+                             &filter->offsetApplied, &filter->padBaroPrevious, &filter->padBaroAge, &filter->baroPeak,
+                             &filter->contradictionTime, &filter->baroPeakAge};
     for (size_t i = 0; i < sizeof(floats) / sizeof(floats[0]); i++) {
         *floats[i] = ReplayFloat(words[n++]);
     }
     bool *const flags[] = {&filter->windowStationary, &filter->padAltitudeSet, &filter->lastBaroSet, &filter->baroAdmitted,
-                           &filter->lockout, &filter->accelTrusted};
+                           &filter->lockout, &filter->accelTrusted, &filter->padBaroPreviousSet, &filter->baroLed};
     for (size_t i = 0; i < sizeof(flags) / sizeof(flags[0]); i++) {
         *flags[i] = words[n++] != 0u;
     }

@@ -8,13 +8,17 @@
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:
  *   0 initialise with the working settings (opcode & 4: with NULL, the defaults)
- *   1 edit the working settings: field index byte (mod 19: the four observer
- *     settings, then the 15 rocket settings), 4 raw bytes
+ *   1 edit the working settings: field index byte (mod 20: the four observer
+ *     settings, then the 16 rocket settings), 4 raw bytes
  *   2 update with every argument raw: accel, baro, dt (opcode & 4: the
  *     vertical-accel update of an INS)
  *   3 update with bytes scaled into a plausible range (sane): accel in
- *     [-300, 300] m/s^2, a baro presence byte, baro in [-1e4, 1e5] m, dt in
- *     [1e-3, 0.05] s (opcode & 4: vertical-accel update)
+ *     [-300, 300] m/s^2, a flags byte, baro in [-1e4, 1e5] m, dt in a range
+ *     the flags choose (opcode & 4: vertical-accel update). Flags: bit 0 a
+ *     baro sample (else NaN), bit 1 no accel sample (NaN: baro-led from
+ *     then on), bits 2-3 the dt range: 0 [1e-3, 0.05] s (the seeds'), 1
+ *     [1e-4, 10] s (any step, gaps of seconds), 2 [0.1, 4] s (telemetry
+ *     packets and their gaps), 3 [1e-4, 0.05] s
  *
  * Asserted after every call (abort, so libFuzzer reports a crash):
  *   - a rejected call leaves the flight layer bit-identical (memcmp, padding
@@ -22,11 +26,15 @@
  *     inputs, an initialise FusionAltitudeRocketSettingsCheck of its settings;
  *   - the phase never goes back and a declared event (but maximum speed, a
  *     running maximum) is never rewritten between initialisations;
- *   - apogee is declared only after burnout, never during the baro lockout,
- *     and with the velocity below -apogeeMargin;
+ *   - apogee is declared only after launch, and either outside the baro
+ *     lockout with the velocity below -apogeeMargin or with the baro more
+ *     than spikeThreshold below its peak (a coast the baro contradicts);
  *   - while the run is sane (every accepted update scaled as above, at most
- *     20000 updates, settings in use within plausible bounds), height,
- *     velocity, bias, pad altitude and time are finite.
+ *     20000 updates, settings in use within plausible bounds, the observer
+ *     gains stable at the flight layer's gap period too), height, velocity,
+ *     bias, pad altitude, time, baro offsets and baro peak are finite, and
+ *     bounded: |velocity| <= 1e9 m/s and |height| <= 1e14 m (300 m/s^2 held
+ *     over 20000 steps of 10 s reaches 6e7 m/s and 6e12 m).
  */
 
 #include "fusion_altitude_flight.h"
@@ -37,7 +45,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIELDS (19)
+#define FIELDS (20)
 #define MAX_STEPS (20000)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -87,7 +95,8 @@ static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
     float *const fields[FIELDS] = {&s->observer.positionGain, &s->observer.velocityGain, &s->observer.biasGain, &s->observer.gapPeriod,
                                    &s->stationaryAccel, &s->calibrationWindow, &s->launchAccel, &s->launchTime, &s->burnoutAccel,
                                    &s->burnoutTime, &s->apogeeMargin, &s->lockoutSpeed, &s->spikeThreshold, &s->spikeTime,
-                                   &s->offsetRate, &s->mainAltitude, &s->landedSpeed, &s->landedTime, &s->gapPeriod};
+                                   &s->offsetRate, &s->mainAltitude, &s->landedSpeed, &s->landedTime, &s->gapPeriod,
+                                   &s->baroLaunchHeight};
     return fields[index];
 }
 
@@ -95,13 +104,15 @@ static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
 static bool SaneSettings(const FusionAltitudeRocketSettings *const s) {
     const bool gains = (FusionAltitudeSettingsValidate(&s->observer, 1e-3f) == FusionAltitudeStatusOk) &&
                        (FusionAltitudeSettingsValidate(&s->observer, 0.05f) == FusionAltitudeStatusOk) &&
+                       Within(s->gapPeriod, 1e-4f, 10.0f) &&
+                       (FusionAltitudeSettingsValidate(&s->observer, s->gapPeriod) == FusionAltitudeStatusOk) &&
                        Within(s->observer.positionGain, 0.0f, 100.0f) && Within(s->observer.velocityGain, 0.0f, 1e3f) &&
                        Within(s->observer.biasGain, 0.0f, 1e3f);
     return gains && Within(s->stationaryAccel, 0.0f, 1e3f) && Within(s->calibrationWindow, 0.0f, 1e3f) &&
            Within(s->launchAccel, 0.0f, 1e3f) && Within(s->launchTime, 0.0f, 1e3f) && Within(s->burnoutAccel, -1e3f, 1e3f) &&
            Within(s->burnoutTime, 0.0f, 1e3f) && Within(s->apogeeMargin, 0.0f, 1e3f) && Within(s->lockoutSpeed, 0.0f, 1e4f) &&
            Within(s->spikeThreshold, 0.0f, 1e5f) && Within(s->spikeTime, 0.0f, 1e3f) && Within(s->mainAltitude, 0.0f, 1e5f) &&
-           Within(s->landedSpeed, 0.0f, 1e3f) && Within(s->landedTime, 0.0f, 1e3f);
+           Within(s->landedSpeed, 0.0f, 1e3f) && Within(s->landedTime, 0.0f, 1e3f) && Within(s->baroLaunchHeight, 0.0f, 1e5f);
 }
 
 static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAltitudeRocket *const before, const bool sane) {
@@ -113,9 +124,9 @@ static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAlt
     }
     const FusionAltitudeRocketEvent apogee = FusionAltitudeRocketGetEvent(rocket, FusionAltitudeRocketEventApogee);
     if (apogee.occurred && !before->events[FusionAltitudeRocketEventApogee].occurred) {
-        CHECK(before->events[FusionAltitudeRocketEventBurnout].occurred);
-        CHECK(!FusionAltitudeRocketIsLockedOut(rocket));
-        CHECK(apogee.velocity < -rocket->settings.apogeeMargin);
+        CHECK(before->events[FusionAltitudeRocketEventLaunch].occurred);
+        const bool contradicted = rocket->lastBaro < (rocket->baroPeak - rocket->settings.spikeThreshold);
+        CHECK(contradicted || (!FusionAltitudeRocketIsLockedOut(rocket) && (apogee.velocity < -rocket->settings.apogeeMargin)));
     }
     if (sane) {
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetHeight(rocket)));
@@ -123,6 +134,11 @@ static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAlt
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetAccelBias(rocket)));
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetPadAltitude(rocket)));
         CHECK(FusionAltitudeIsFinite(FusionAltitudeRocketGetTime(rocket)));
+        CHECK(FusionAltitudeIsFinite(rocket->baroOffset) && FusionAltitudeIsFinite(rocket->offsetApplied));
+        CHECK(FusionAltitudeIsFinite(rocket->baroPeak));
+        const float velocity = FusionAltitudeRocketGetVerticalVelocity(rocket);
+        const float height = FusionAltitudeRocketGetHeight(rocket);
+        CHECK((velocity <= 1e9f) && (velocity >= -1e9f) && (height <= 1e14f) && (height >= -1e14f));
     }
 }
 
@@ -170,13 +186,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                         return 0;
                     }
                 } else {
-                    uint8_t presence;
-                    if (!ReadScaled(&reader, -300.0f, 300.0f, &accel) || !ReadBytes(&reader, &presence, 1) ||
-                        !ReadScaled(&reader, -1e4f, 1e5f, &baro) || !ReadScaled(&reader, 1e-3f, 0.05f, &dt)) {
+                    uint8_t flags;
+                    if (!ReadScaled(&reader, -300.0f, 300.0f, &accel) || !ReadBytes(&reader, &flags, 1) ||
+                        !ReadScaled(&reader, -1e4f, 1e5f, &baro)) {
                         return 0;
                     }
-                    if (!(presence & 1)) {
+                    static const float dtRanges[4][2] = {{1e-3f, 0.05f}, {1e-4f, 10.0f}, {0.1f, 4.0f}, {1e-4f, 0.05f}};
+                    const int range = (flags >> 2) & 3;
+                    if (!ReadScaled(&reader, dtRanges[range][0], dtRanges[range][1], &dt)) {
+                        return 0;
+                    }
+                    if (!(flags & 1)) {
                         baro = FUSION_ALTITUDE_NO_BARO;
+                    }
+                    if (flags & 2) {
+                        accel = FUSION_ALTITUDE_NO_BARO; /* NaN: no accelerometer sample */
                     }
                 }
                 const FusionAltitudeRocketStatus status = (opcode & 4) ? FusionAltitudeRocketUpdateWithVerticalAccel(&rocket, accel, baro, dt)
@@ -185,8 +209,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (status != FusionAltitudeRocketStatusOk) {
                     CHECK(memcmp(&rocket, &before, sizeof(rocket)) == 0);
                 } else {
-                    sane = sane && Within(accel, -300.0f, 300.0f) && (FusionAltitudeIsNaN(baro) || Within(baro, -1e4f, 1e5f)) &&
-                           Within(dt, 1e-3f, 0.05f) && (++steps <= MAX_STEPS);
+                    sane = sane && (FusionAltitudeIsNaN(accel) || Within(accel, -300.0f, 300.0f)) &&
+                           (FusionAltitudeIsNaN(baro) || Within(baro, -1e4f, 1e5f)) && Within(dt, 1e-4f, 10.0f) &&
+                           (++steps <= MAX_STEPS);
                 }
                 break;
             }

@@ -19,7 +19,10 @@ import numpy as np
 CORPUS = Path(__file__).resolve().parent / "corpus_flight"
 FIELDS = ("positionGain", "velocityGain", "biasGain", "observerGapPeriod", "stationaryAccel", "calibrationWindow",
           "launchAccel", "launchTime", "burnoutAccel", "burnoutTime", "apogeeMargin", "lockoutSpeed", "spikeThreshold",
-          "spikeTime", "offsetRate", "mainAltitude", "landedSpeed", "landedTime", "gapPeriod")
+          "spikeTime", "offsetRate", "mainAltitude", "landedSpeed", "landedTime", "gapPeriod", "baroLaunchHeight")
+
+#: dt ranges of fuzz_flight.c's scaled update (flags bits 2-3), s.
+DT_RANGES = ((1e-3, 0.05), (1e-4, 10.0), (0.1, 4.0), (1e-4, 0.05))
 
 
 def scaled(value: float, minimum: float, maximum: float) -> bytes:
@@ -27,10 +30,11 @@ def scaled(value: float, minimum: float, maximum: float) -> bytes:
     return struct.pack("<H", raw)
 
 
-def update(accel: float, baro: float, dt: float, vertical: bool = False) -> bytes:
-    presence = 0 if np.isnan(baro) else 1
-    return (bytes([3 | (4 if vertical else 0)]) + scaled(accel, -300.0, 300.0) + bytes([presence])
-            + scaled(0.0 if np.isnan(baro) else baro, -1e4, 1e5) + scaled(dt, 1e-3, 0.05))
+def update(accel: float, baro: float, dt: float, vertical: bool = False, dt_range: int = 0) -> bytes:
+    """A scaled update; accel NaN: no accelerometer sample; ``dt_range`` indexes DT_RANGES."""
+    flags = (0 if np.isnan(baro) else 1) | (2 if np.isnan(accel) else 0) | (dt_range << 2)
+    return (bytes([3 | (4 if vertical else 0)]) + scaled(0.0 if np.isnan(accel) else accel, -300.0, 300.0)
+            + bytes([flags]) + scaled(0.0 if np.isnan(baro) else baro, -1e4, 1e5) + scaled(dt, *DT_RANGES[dt_range]))
 
 
 def raw_update(accel: float, baro: float, dt: float) -> bytes:
@@ -54,6 +58,20 @@ def flight(seed: int, stride: int, vertical: bool = False, dropout: int = 0) -> 
     return out
 
 
+def telemetry_flight(seed: int, accel: bool = True) -> bytes:
+    """A flight as a 10 Hz telemetry log with gaps of 0.6-4 s (rocket_sim.telemetry_indices), dt range [0.1, 4] s;
+    without ``accel`` every accel is NaN (a baro-only log: launch from the baro)."""
+    from fusion_altitude.rocket_sim import RocketFlightModel, simulate_rocket_flight, telemetry_indices
+
+    sim = simulate_rocket_flight(seed, RocketFlightModel(burn_time=2.5, main_altitude=300.0))
+    indices = telemetry_indices(sim, seed, gap_probability=0.1)
+    out = b""
+    for previous, k in zip(indices[:-1], indices[1:]):
+        value = float(sim.accel[k]) if accel else float("nan")
+        out += update(value, float(sim.baro_altitude[k]), float(sim.time[k] - sim.time[previous]), dt_range=2)
+    return out
+
+
 def seeds() -> dict:
     return {
         "flight_25hz": bytes([0]) + flight(0, 4),
@@ -63,6 +81,10 @@ def seeds() -> dict:
         "rejected_and_gap": bytes([0]) + raw_update(float("nan"), 100.0, 0.01) + raw_update(0.0, float("inf"), 0.01)
         + raw_update(0.0, 100.0, 0.0) + raw_update(0.0, 100.0, -0.01) + raw_update(0.0, float("nan"), 2.0)
         + b"".join(update(0.0, 100.0, 0.01) for _ in range(200)) + raw_update(0.0, 100.0, 5.0),
+        "telemetry_gaps": bytes([0]) + telemetry_flight(3),
+        "telemetry_baro_only": bytes([0]) + telemetry_flight(4, accel=False),
+        "accel_lost_long_steps": bytes([0]) + flight(5, 4)[:3000] + b"".join(
+            update(float("nan"), 1400.0 + 300.0 - 9.0 * i, 2.5 if i % 3 else 7.0, dt_range=1) for i in range(60)),
         "bad_settings": edit("offsetRate", 2.0) + bytes([0]) + edit("offsetRate", 0.5) + edit("gapPeriod", float("nan"))
         + bytes([0]) + edit("gapPeriod", 0.2) + bytes([0]) + b"".join(update(0.0, 50.0, 0.02) for _ in range(100)),
     }

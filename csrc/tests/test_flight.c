@@ -134,7 +134,7 @@ static void BadInputsReturnAStatusAndLeaveTheStateBitIdentical(void) {
     CHECK(FusionAltitudeRocketGetPhase(&rocket) != FusionAltitudeRocketPhasePad);
     FusionAltitudeRocket before;
     memcpy(&before, &rocket, sizeof(rocket));
-    CHECK(FusionAltitudeRocketUpdate(&rocket, FusionAltitudeNaN(), 1500.0f, DT) == FusionAltitudeRocketStatusInvalidAccel);
+    CHECK(FusionAltitudeRocketUpdate(&rocket, Infinity(), 1500.0f, DT) == FusionAltitudeRocketStatusInvalidAccel); /* NaN: no sample */
     CHECK(FusionAltitudeRocketUpdate(&rocket, 0.0f, Infinity(), DT) == FusionAltitudeRocketStatusInvalidBaroAltitude);
     CHECK(FusionAltitudeRocketUpdate(&rocket, 0.0f, 1500.0f, 0.0f) == FusionAltitudeRocketStatusInvalidDt);
     CHECK(FusionAltitudeRocketUpdateWithVerticalAccel(&rocket, 0.0f, 1500.0f, -DT) == FusionAltitudeRocketStatusInvalidDt);
@@ -377,7 +377,7 @@ static void TheBiasIsFrozenFromApogeeEvenWithABiasGain(void) {
     CHECK(FusionAltitudeRocketGetAccelBias(&rocket) == biasAtApogee);
 }
 
-static void GapsAreCountedAndExtrapolatedAtConstantVelocityInFlight(void) {
+static void GapsInTheCoastAreCountedAndExtrapolatedBallisticallyUpTo4s(void) {
     FusionAltitudeRocket rocket = NewRocket(NULL);
     float h = 0.0f;
     float v = 0.0f;
@@ -385,13 +385,33 @@ static void GapsAreCountedAndExtrapolatedAtConstantVelocityInFlight(void) {
         const Sample s = Truth(step, &h, &v);
         (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro, DT);
     }
+    CHECK(FusionAltitudeRocketGetPhase(&rocket) == FusionAltitudeRocketPhaseCoast);
     const float height = FusionAltitudeRocketGetHeight(&rocket);
     const float velocity = FusionAltitudeRocketGetVerticalVelocity(&rocket);
+    const float accel = -G; /* a gap in the lockout: baro-led from here, the ballistic input (bias - g) is held */
     CHECK(FusionAltitudeRocketUpdate(&rocket, -G, FUSION_ALTITUDE_NO_BARO, 2.0f) == FusionAltitudeRocketStatusOk);
     CHECK(FusionAltitudeRocketGetGapCount(&rocket) == 1u);
+    const float expectedVelocity = velocity + 2.0f * accel;
+    CHECK(FusionAltitudeRocketGetVerticalVelocity(&rocket) > expectedVelocity - 0.01f &&
+          FusionAltitudeRocketGetVerticalVelocity(&rocket) < expectedVelocity + 0.01f);
+    const float expected = height + 2.0f * velocity + 2.5f * accel; /* 4 sub-steps of 0.5 s, semi-implicit Euler: a dt^2 (1+2+3+4) */
+    CHECK(FusionAltitudeRocketGetHeight(&rocket) > expected - 0.1f && FusionAltitudeRocketGetHeight(&rocket) < expected + 0.1f);
+}
+
+static void AGapLongerThan4sIsExtrapolatedAtConstantVelocity(void) {
+    FusionAltitudeRocket rocket = NewRocket(NULL);
+    float h = 0.0f;
+    float v = 0.0f;
+    for (int step = 0; step < 1200; step++) {
+        const Sample s = Truth(step, &h, &v);
+        (void) FusionAltitudeRocketUpdate(&rocket, s.accel, s.baro, DT);
+    }
+    const float height = FusionAltitudeRocketGetHeight(&rocket);
+    const float velocity = FusionAltitudeRocketGetVerticalVelocity(&rocket);
+    CHECK(FusionAltitudeRocketUpdate(&rocket, -G, FUSION_ALTITUDE_NO_BARO, 6.0f) == FusionAltitudeRocketStatusOk);
     CHECK(FusionAltitudeRocketGetVerticalVelocity(&rocket) == velocity);
-    const float expected = height + 2.0f * velocity;
-    CHECK(FusionAltitudeRocketGetHeight(&rocket) > expected - 0.05f && FusionAltitudeRocketGetHeight(&rocket) < expected + 0.05f);
+    const float expected = height + 6.0f * velocity;
+    CHECK(FusionAltitudeRocketGetHeight(&rocket) > expected - 0.1f && FusionAltitudeRocketGetHeight(&rocket) < expected + 0.1f);
 }
 
 static void ALongGapInTheDescentIsReAdmittedThroughTheOffsetWithoutALockout(void) {
@@ -490,7 +510,8 @@ int main(void) {
     RUN(AfterApogeeTheAccelIsIgnoredWithoutAnIns);
     RUN(WithAVerticalAccelTheDescentUsesIt);
     RUN(TheBiasIsFrozenFromApogeeEvenWithABiasGain);
-    RUN(GapsAreCountedAndExtrapolatedAtConstantVelocityInFlight);
+    RUN(GapsInTheCoastAreCountedAndExtrapolatedBallisticallyUpTo4s);
+    RUN(AGapLongerThan4sIsExtrapolatedAtConstantVelocity);
     RUN(ALongGapInTheDescentIsReAdmittedThroughTheOffsetWithoutALockout);
     RUN(ALastingBaroStepMovesTheHeightNotTheVelocity);
     RUN(APadGapDiscardsTheCalibrationWindow);

@@ -27,6 +27,13 @@ _NAN = f32("nan")
 _ZERO = f32(0)
 MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
+OFFSET_DECAY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_OFFSET_DECAY)
+GAP_HOLD = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_GAP_HOLD)
+GRAVITY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
+CONTRADICTION_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
+CONTRADICTION_LOCKOUT_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME)
+PEAK_AGE = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
+_HALF_G = f32(0.5) * GRAVITY
 CALIBRATION_WINDOWS = 8
 
 # event indices
@@ -80,6 +87,10 @@ class RocketSettings(KeywordSettings):
         s: ... for this long declares landing.
     gap_period : float, default 0.5
         s: an update with a longer dt is a gap (counted; extrapolated in flight).
+    baro_launch_height : float, default 30.0
+        m: launch from the baro when two rising pad baro samples are more than
+        this above the pad (the accelerometer showed none); the flight is then
+        baro-led.
 
     The defaults are the header's (``FusionAltitudeRocketSettingsDefault``).
 
@@ -129,7 +140,8 @@ class RocketEstimator(Checkpointable):
                  "_window_samples", "_window_baro_samples", "_time", "_time_c", "_accel_bias", "_pad_altitude",
                  "_window_time", "_window_accel_first", "_window_accel_sum", "_window_baro_first", "_window_baro_sum",
                  "_run_time", "_spike_time", "_last_baro", "_last_baro_age", "_window_stationary", "_pad_altitude_set",
-                 "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted", "_s")
+                 "_last_baro_set", "_baro_offset", "_offset_applied", "_baro_admitted", "_lockout", "_accel_trusted",
+                 "_pad_baro_previous", "_pad_baro_age", "_baro_peak", "_contradiction_time", "_baro_peak_age", "_pad_baro_previous_set", "_baro_led", "_gap_restart", "_s")
 
     def __init__(self, settings: Optional[RocketSettings] = None) -> None:
         # FusionAltitudeRocketInitialise
@@ -159,6 +171,14 @@ class RocketEstimator(Checkpointable):
         self._baro_admitted = False
         self._lockout = False
         self._accel_trusted = False
+        self._pad_baro_previous = _ZERO
+        self._pad_baro_age = _ZERO
+        self._baro_peak = _ZERO
+        self._contradiction_time = _ZERO
+        self._baro_peak_age = _ZERO
+        self._pad_baro_previous_set = False
+        self._baro_led = False
+        self._gap_restart = False
         self._clear_window()
 
     # FusionAltitudeRocketClearWindow
@@ -181,6 +201,36 @@ class RocketEstimator(Checkpointable):
     def _record(self, event: list) -> None:
         event[:] = [True, self._sample, self._time, self._obs._h + self._offset_applied, self._obs._v]
 
+    # FusionAltitudeRocketBaroLaunchStep
+    def _baro_launch_step(self, z: np.float32) -> bool:
+        s = self._s
+        height = z - self._pad_altitude
+        previous, age = self._pad_baro_previous, self._pad_baro_age
+        launched = bool(self._pad_baro_previous_set and previous > s["baro_launch_height"]
+                        and height > s["baro_launch_height"] and height > previous)
+        self._pad_baro_previous = height
+        self._pad_baro_age = _ZERO
+        self._pad_baro_previous_set = True
+        if not launched:
+            return False
+        self._obs._b = self._accel_bias
+        self._obs._reset(height)
+        if age > s["gap_period"]:
+            self._obs._v = (height - previous) / age
+        self._record(self._events[LAUNCH])
+        self._phase = Phase.COAST
+        self._baro_led = True
+        self._baro_admitted = True
+        self._baro = BaroFate.FUSED
+        self._last_baro = height
+        self._last_baro_age = _ZERO
+        self._last_baro_set = True
+        self._baro_peak = height
+        self._baro_peak_age = _ZERO
+        self._run_time = _ZERO
+        self._clear_window()
+        return True
+
     # FusionAltitudeRocketPadStep
     def _pad_step(self, a: np.float32, z: np.float32, dt: np.float32, gap: bool) -> None:
         s = self._s
@@ -189,9 +239,12 @@ class RocketEstimator(Checkpointable):
         if has_baro and not self._pad_altitude_set:
             self._pad_altitude = z
             self._pad_altitude_set = True
+        self._pad_baro_age += dt
+        if has_baro and self._baro_launch_step(z):
+            return
 
         net = a - self._accel_bias
-        if not gap and net > s["launch_accel"]:
+        if not gap and not np.isnan(a) and net > s["launch_accel"]:
             if self._run_time == 0:
                 self._reset_observer()
                 self._obs._update(a, _NAN, dt)
@@ -213,13 +266,14 @@ class RocketEstimator(Checkpointable):
         if gap:
             self._clear_window()
             return
-        if self._window_samples == 0:
-            self._window_accel_first = a
-        deviation = a - self._window_accel_first
-        if not deviation <= s["stationary_accel"] or not deviation >= -s["stationary_accel"]:
-            self._window_stationary = False
-        self._window_accel_sum += deviation
-        self._window_samples += 1
+        if not np.isnan(a):
+            if self._window_samples == 0:
+                self._window_accel_first = a
+            deviation = a - self._window_accel_first
+            if not deviation <= s["stationary_accel"] or not deviation >= -s["stationary_accel"]:
+                self._window_stationary = False
+            self._window_accel_sum += deviation
+            self._window_samples += 1
         if has_baro:
             if self._window_baro_samples == 0:
                 self._window_baro_first = z
@@ -231,8 +285,9 @@ class RocketEstimator(Checkpointable):
                 if self._windows < CALIBRATION_WINDOWS:
                     self._windows += 1
                 weight = f32(1) / f32(self._windows)
-                mean_accel = self._window_accel_first + self._window_accel_sum / f32(self._window_samples)
-                self._accel_bias += (mean_accel - self._accel_bias) * weight
+                if self._window_samples > 0:
+                    mean_accel = self._window_accel_first + self._window_accel_sum / f32(self._window_samples)
+                    self._accel_bias += (mean_accel - self._accel_bias) * weight
                 if self._window_baro_samples > 0:
                     mean_baro = self._window_baro_first + self._window_baro_sum / f32(self._window_baro_samples)
                     self._pad_altitude += (mean_baro - self._pad_altitude) * weight
@@ -244,30 +299,47 @@ class RocketEstimator(Checkpointable):
         s = self._s
         v = self._obs._v
         lockout_speed = s["lockout_speed"] if s["lockout_speed"] < MACH_LOCKOUT else MACH_LOCKOUT
-        self._lockout = bool(self._phase == Phase.BOOST or v > lockout_speed or v < -lockout_speed)
+        self._lockout = bool((self._phase == Phase.BOOST and not self._baro_led) or v > lockout_speed
+                             or v < -lockout_speed)
         self._last_baro_age += dt
+        self._baro_peak_age += dt
         if np.isnan(z):
             self._baro = BaroFate.NONE
             return _NAN
         height = z - self._pad_altitude
+        previous_baro, previous_age, previous_set = self._last_baro, self._last_baro_age, self._last_baro_set
         if self._last_baro_set:
             miss = height - (self._last_baro + v * self._last_baro_age)
-            if miss > s["spike_threshold"] or miss < -s["spike_threshold"]:
+            threshold = s["spike_threshold"] + _HALF_G * (self._last_baro_age * self._last_baro_age)
+            if miss > threshold or miss < -threshold:
                 if self._spike_time < s["spike_time"]:
                     self._spike_time += dt
                     self._baro = BaroFate.SPIKE
                     return _NAN
-                self._baro_admitted = False  # a lasting step: re-admitted through the offset
+                if not self._baro_led:
+                    self._baro_admitted = False  # a lasting step: re-admitted through the offset
         self._spike_time = _ZERO
         self._last_baro = height
         self._last_baro_age = _ZERO
         self._last_baro_set = True
-        if self._lockout:
+        if height > self._baro_peak:
+            self._baro_peak = height
+            self._baro_peak_age = _ZERO
+        if self._lockout and not self._baro_led:
             self._baro = BaroFate.LOCKED_OUT
             self._baro_admitted = False
             return _NAN
         self._baro = BaroFate.FUSED
-        if not self._baro_admitted:
+        if self._gap_restart:  # restart with the baro's mean velocity; height: re-based before apogee, restarted after
+            if self._phase < Phase.DROGUE:
+                self._baro_offset = height - self._obs._h
+            else:
+                self._obs._h = height - self._baro_offset
+            if previous_set and previous_age > 0:
+                self._obs._v = (height - previous_baro) / previous_age
+            self._gap_restart = False
+            self._baro_admitted = True
+        elif not self._baro_admitted:
             self._baro_offset = height - self._obs._h
             self._baro_admitted = True
         return height - self._baro_offset
@@ -286,28 +358,68 @@ class RocketEstimator(Checkpointable):
         else:
             self._run_time = _ZERO
 
+    # FusionAltitudeRocketInput
+    def _input(self, a: np.float32, accel_vertical: bool) -> np.float32:
+        descending = self._phase >= Phase.DROGUE
+        self._accel_trusted = (not self._baro_led) and ((not descending) or accel_vertical)
+        if self._accel_trusted:
+            return a
+        if self._baro_led and self._phase == Phase.COAST:
+            return self._obs._b - GRAVITY  # ballistic coast
+        return self._obs._b
+
+    # FusionAltitudeRocketApogee
+    def _apogee(self, contradicted: bool) -> None:
+        self._record(self._events[APOGEE])
+        self._events[APOGEE][3] = self._baro_peak if contradicted else self._obs._h + self._baro_offset
+        self._phase = Phase.DROGUE
+        kh, kv, _ = self._obs._settings._gains
+        descent = copy.copy(self._obs._settings)
+        descent._gains = (kh, kv, _ZERO)  # bias frozen from apogee on
+        self._obs._settings = descent
+        if contradicted:  # FusionAltitudeResetWithBias(&observer, h, b)
+            self._obs._reset(self._obs._h)
+            self._baro_admitted = False
+
     # FusionAltitudeRocketFlightStep
     def _flight_step(self, a: np.float32, z: np.float32, dt: np.float32, gap: bool, accel_vertical: bool) -> None:
         s = self._s
-        descending = self._phase >= Phase.DROGUE
-        if gap:
+        if np.isnan(a) and not self._baro_led:  # the accelerometer is lost: baro-led from here
+            self._baro_led = True
+            if self._phase == Phase.BOOST:
+                self._phase = Phase.COAST
+                self._run_time = _ZERO
+        if gap and not self._baro_led and self._phase < Phase.DROGUE and (self._lockout or self._phase == Phase.BOOST):
+            self._baro_led = True  # a gap in boost or in the lockout: the integrated velocity is lost
+            if self._phase == Phase.BOOST:
+                self._phase = Phase.COAST
+                self._run_time = _ZERO
+        accel_input = self._input(a, accel_vertical)
+        if gap:  # FusionAltitudeRocketGapStep
             steps = 1
             step = dt
             while step > s["gap_period"] and steps < MAX_GAP_STEPS:
                 steps *= 2
                 step = dt / f32(steps)
+            hold = self._phase != Phase.BOOST and dt <= GAP_HOLD  # accel held over gaps up to 4 s
+            gap_input = accel_input if hold else self._obs._b
+            hold_top = self._baro_led and self._phase == Phase.COAST  # no extrapolated descent the baro has not shown
             for _ in range(steps):
-                self._obs._update(self._obs._b, _NAN, step)
+                top = hold_top and not self._obs._v > 0
+                self._obs._update(self._obs._b if top else gap_input, _NAN, step)
+            if self._baro_led or not hold:
+                self._gap_restart = True  # the extrapolation is a guess: the next sample restarts the observer
+            else:
+                self._baro_admitted = False  # held: the height error goes through the offset
             self._last_baro_age += dt
-            self._run_time = _ZERO
+            self._baro_peak_age += dt
+            if self._phase == Phase.BOOST:
+                self._run_time = _ZERO  # the burnout run restarts; a landed run goes on
             self._baro = BaroFate.NONE
-            self._accel_trusted = False
-            self._baro_admitted = False  # the next baro sample is re-admitted through the offset
             return
         fused = self._gate(z, dt)
-        self._accel_trusted = (not descending) or accel_vertical
         height_before = self._obs._h
-        self._obs._update(a if self._accel_trusted else self._obs._b, fused, dt)
+        self._obs._update(accel_input, fused, dt)
 
         # offset_applied -> baro_offset while climbing: up by at most offset_rate·|v|·dt (m), down by at most
         # offset_rate times the observer's rise in this step (m; none if it did not rise): the output height
@@ -318,15 +430,22 @@ class RocketEstimator(Checkpointable):
         rise = self._obs._h - height_before
         offset_step_down = s["offset_rate"] * rise if rise > 0 else _ZERO
         offset_left = self._baro_offset - self._offset_applied
-        if self._phase >= Phase.DROGUE:
-            self._offset_applied = self._baro_offset
+        if self._phase >= Phase.DROGUE:  # in the descent: at most offset_rate·(|v| + landed_speed)·dt either way
+            left = -offset_left if offset_left < 0 else offset_left
+            descent_step = (s["offset_rate"] * (speed + s["landed_speed"]) + OFFSET_DECAY * left) * dt
+            if offset_left > descent_step:
+                self._offset_applied += descent_step
+            elif offset_left < -descent_step:
+                self._offset_applied -= descent_step
+            else:
+                self._offset_applied = self._baro_offset
         elif offset_left > offset_step:
             self._offset_applied += offset_step
         elif offset_left < -offset_step_down:
             self._offset_applied -= offset_step_down
         else:
             self._offset_applied = self._baro_offset
-        h = self._obs._h + self._offset_applied
+        h = self._obs._h + self._baro_offset  # the baro-corrected height decides main
         net = a - self._accel_bias
         if self._phase == Phase.BOOST:
             if net < s["burnout_accel"]:
@@ -340,13 +459,14 @@ class RocketEstimator(Checkpointable):
             else:
                 self._run_time = _ZERO
         elif self._phase == Phase.COAST:
-            if not self._lockout and v < -s["apogee_margin"]:
-                self._record(self._events[APOGEE])
-                self._phase = Phase.DROGUE
-                kh, kv, _ = self._obs._settings._gains
-                descent = copy.copy(self._obs._settings)
-                descent._gains = (kh, kv, _ZERO)  # bias frozen from apogee on
-                self._obs._settings = descent
+            contradicted = self._last_baro_set and self._last_baro < self._baro_peak - s["spike_threshold"]
+            self._contradiction_time = self._contradiction_time + dt if contradicted else _ZERO
+            baro_agrees = not self._baro_led or (self._baro == BaroFate.FUSED and self._last_baro < self._baro_peak
+                                                 and self._baro_peak_age >= PEAK_AGE)  # baro-led: the baro agrees
+            if not self._lockout and v < -s["apogee_margin"] and baro_agrees:
+                self._apogee(False)
+            elif self._contradiction_time >= (CONTRADICTION_LOCKOUT_TIME if self._lockout else CONTRADICTION_TIME):
+                self._apogee(True)
         elif self._phase == Phase.DROGUE:
             if not self._lockout and not h > s["main_altitude"]:
                 self._record(self._events[MAIN])
@@ -362,7 +482,7 @@ class RocketEstimator(Checkpointable):
 
     # FusionAltitudeRocketStep
     def _step(self, a: np.float32, z: np.float32, dt: np.float32, accel_vertical: bool) -> RocketStatus:
-        status = check_inputs(a, z, dt)
+        status = check_inputs(_ZERO if np.isnan(a) else a, z, dt)  # accel NaN: no accelerometer sample
         if status != 0:
             return RocketStatus(int(status))  # the first three codes agree
         increment = dt - self._time_c
@@ -393,7 +513,8 @@ class RocketEstimator(Checkpointable):
             m/s², gravity removed, +up: the long-axis accelerometer minus g
             (used as vertical until apogee, ignored after it) or, with
             ``accel_is_vertical``, a trusted earth-frame vertical acceleration
-            from an INS (used in every phase).
+            from an INS (used in every phase). NaN: no accelerometer sample
+            (in flight the layer is baro-led from then on).
         baro_altitude : float
             Pressure altitude, m; NaN when no baro sample arrived this step.
         dt : float
@@ -404,7 +525,7 @@ class RocketEstimator(Checkpointable):
         Raises
         ------
         ValueError
-            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            accel or baro_altitude infinite, dt not finite or <= 0;
             the state is unchanged.
         """
         with np.errstate(over="ignore"):
@@ -507,14 +628,16 @@ class RocketEstimator(Checkpointable):
                 *(float(x) for x in (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time,
                                      self._window_accel_first, self._window_accel_sum, self._window_baro_first,
                                      self._window_baro_sum, self._run_time, self._spike_time, self._last_baro,
-                                     self._last_baro_age, self._baro_offset, self._offset_applied)),
+                                     self._last_baro_age, self._baro_offset, self._offset_applied,
+                                     self._pad_baro_previous, self._pad_baro_age, self._baro_peak, self._contradiction_time,
+                                     self._baro_peak_age)),
                 self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted,
-                self._lockout, self._accel_trusted)
+                self._lockout, self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart)
 
     def _set_state(self, state: tuple) -> None:
         (settings, observer, phase, baro, events, candidate, self._sample, self._gap_count, self._windows,
          self._window_samples, self._window_baro_samples, *rest) = state
-        floats, flags = rest[:15], rest[15:]
+        floats, flags = rest[:20], rest[20:]
         self._use_settings(RocketSettings(**settings))
         self._obs = AltitudeEstimator(AltitudeSettings(*self._settings.observer))
         self._obs._set_state(tuple(observer))
@@ -527,6 +650,7 @@ class RocketEstimator(Checkpointable):
         self._candidate = event(candidate)
         (self._time, self._time_c, self._accel_bias, self._pad_altitude, self._window_time, self._window_accel_first,
          self._window_accel_sum, self._window_baro_first, self._window_baro_sum, self._run_time, self._spike_time,
-         self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied) = (f32(x) for x in floats)
+         self._last_baro, self._last_baro_age, self._baro_offset, self._offset_applied, self._pad_baro_previous,
+         self._pad_baro_age, self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
         (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
-         self._accel_trusted) = (bool(x) for x in flags)
+         self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart) = (bool(x) for x in flags)

@@ -49,12 +49,14 @@ STATE_FIELDS = (tuple(f"settings.{name}" for name in SETTINGS_FIELDS)
                 + ("sample", "gapCount", "windows", "windowSamples", "windowBaroSamples",
                    "time", "timeCompensation", "accelBias", "padAltitude", "windowTime", "windowAccelFirst",
                    "windowAccelSum", "windowBaroFirst", "windowBaroSum", "runTime", "spikeTime", "lastBaro",
-                   "lastBaroAge", "baroOffset", "offsetApplied",
-                   "windowStationary", "padAltitudeSet", "lastBaroSet", "baroAdmitted", "lockout", "accelTrusted"))
+                   "lastBaroAge", "baroOffset", "offsetApplied", "padBaroPrevious", "padBaroAge", "baroPeak",
+                   "contradictionTime", "baroPeakAge",
+                   "windowStationary", "padAltitudeSet", "lastBaroSet", "baroAdmitted", "lockout", "accelTrusted",
+                   "padBaroPreviousSet", "baroLed"))
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
                      if not name.endswith(("occurred", "sample", "referenceSet", "Count", "windows", "Samples"))
                      and name not in ("phase", "baro", "windowStationary", "padAltitudeSet", "lastBaroSet",
-                                      "baroAdmitted", "lockout", "accelTrusted"))
+                                      "baroAdmitted", "lockout", "accelTrusted", "padBaroPreviousSet", "baroLed"))
 
 
 def settings_words(settings: RocketSettings) -> tuple:
@@ -82,9 +84,12 @@ class Recorder(vc.Recorder):
         words += tuple(vc.bits(x) for x in (r._time, r._time_c, r._accel_bias, r._pad_altitude, r._window_time,
                                              r._window_accel_first, r._window_accel_sum, r._window_baro_first,
                                              r._window_baro_sum, r._run_time, r._spike_time, r._last_baro,
-                                             r._last_baro_age, r._baro_offset, r._offset_applied))
+                                             r._last_baro_age, r._baro_offset, r._offset_applied,
+                                             r._pad_baro_previous, r._pad_baro_age, r._baro_peak,
+                                             r._contradiction_time, r._baro_peak_age))
         words += tuple(int(x) for x in (r._window_stationary, r._pad_altitude_set, r._last_baro_set,
-                                         r._baro_admitted, r._lockout, r._accel_trusted))
+                                         r._baro_admitted, r._lockout, r._accel_trusted, r._pad_baro_previous_set,
+                                         r._baro_led))
         return words
 
     def initialise_with(self, settings: RocketSettings) -> None:
@@ -113,7 +118,7 @@ def fly(recorder: Recorder, seed: int, settings: RocketSettings, rng: random.Ran
         if faults:
             choice = rng.random()
             if choice < 0.003:
-                recorder.update(rng.choice((NAN, INF)), baro, dt, vertical)  # rejected accel
+                recorder.update(rng.choice((INF, -INF)), baro, dt, vertical)  # rejected accel (NaN: no sample)
             elif choice < 0.006:
                 recorder.update(accel, rng.choice((INF, -INF)), dt, vertical)  # rejected baro
             elif choice < 0.009:
@@ -126,6 +131,28 @@ def fly(recorder: Recorder, seed: int, settings: RocketSettings, rng: random.Ran
         recorder.update(accel, baro, dt, vertical)
 
 
+def fly_logged(recorder: Recorder, seed: int, settings: RocketSettings, accel: str = "live",
+               telemetry: bool = False) -> None:
+    """A short flight with the accelerometer ``"live"``, ``"none"`` (NaN: a baro-only log or a dead IMU) or
+    ``"lost"`` (NaN from 1.5 s after launch: an accelerometer that ends or saturates), at 25 Hz or, with
+    ``telemetry``, at 10 Hz with gaps of 0.6-4 s (fusion_altitude.rocket_sim.telemetry_indices)."""
+    from fusion_altitude.rocket_sim import telemetry_indices
+
+    flight = simulate_rocket_flight(seed, RocketFlightModel(burn_time=2.5, main_altitude=300.0))
+    recorder.initialise_with(settings)
+    indices = telemetry_indices(flight, seed, gap_probability=0.1) if telemetry else np.arange(0, len(flight.time), 4)
+    values = flight.accel.copy()
+    if accel == "none":
+        values[:] = NAN
+    elif accel == "lost":
+        values[flight.time > flight.launch_time + 1.5] = NAN
+    previous = indices[0]
+    for k in indices:
+        dt = float(flight.time[k] - flight.time[previous]) if k != previous else flight.dt * 4
+        recorder.update(float(values[k]), float(flight.baro_altitude[k]), dt)
+        previous = k
+
+
 def build() -> Recorder:
     r = Recorder()
     rng = random.Random(20261123)
@@ -135,6 +162,14 @@ def build() -> Recorder:
     fly(r, 1, RocketSettings(main_altitude=400.0, lockout_speed=80.0), rng, vertical=True)
     r.section("seed 2, bias gain 0.2, short gap period, lockout above Mach (capped)")
     fly(r, 2, RocketSettings(observer=(1.6, 1.28, 0.2), gap_period=0.1, lockout_speed=1000.0, spike_time=0.0), rng)
+    r.section("seed 3, no accelerometer (NaN): launch from the baro, a baro-led flight")
+    fly_logged(r, 3, RocketSettings(), accel="none")
+    r.section("seed 4, the accelerometer lost 1.5 s after launch (ends or saturates): baro-led from there")
+    fly_logged(r, 4, RocketSettings(), accel="lost")
+    r.section("seed 5, telemetry: 10 Hz with gaps of 0.6-4 s, accel live")
+    fly_logged(r, 5, RocketSettings(), telemetry=True)
+    r.section("seed 6, telemetry without an accelerometer, baro launch at 20 m")
+    fly_logged(r, 6, RocketSettings(baro_launch_height=20.0), accel="none", telemetry=True)
     return r
 
 

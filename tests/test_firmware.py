@@ -401,7 +401,7 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # Kalman filter: the issue's budget of 320 bytes of RAM; regression bounds on code, stack and cycles.
     kalman = measured["kalman"]
     assert max(kalman["ram"].values()) <= 320, kalman["ram"]
-    assert kalman["size"]["FusionAltitudeKalmanUpdate/cortex-m4f/Os"] <= 3072
+    assert kalman["size"]["FusionAltitudeKalmanUpdate/cortex-m4f/Os"] <= 3584  # 3448 with the sensor timeouts (3040 before)
     assert all(size <= 256 and qualifier == "static" for key, (size, qualifier) in kalman["stack"].items()), \
         kalman["stack"]
     paths = {row["path"]: row for row in kalman["cycles"]}
@@ -428,7 +428,8 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     # launch, baro peak, contradiction timer and gap restart: 356 B and 360 B before).
     flight = measured["flight"]
     assert max(flight["ram"].values()) <= 416, flight["ram"]  # both: the observer's stability rule and issue 20's rocket
-    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 4608  # 3670 (stability rule), 3866 (rocket)
+    # 5102 B with both: issue 20's rocket changes (3866 B alone) and the observer's stability rule inlined (3670 alone)
+    assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 5632
     assert all(size <= 160 and qualifier == "static" for size, qualifier in flight["stack"].values()), flight["stack"]
     pad, coast, locked, descent, rejected = flight["cycles"]
     assert max(row["instructions"] for row in (pad, coast, locked, descent)) < 400 and rejected["instructions"] < 20

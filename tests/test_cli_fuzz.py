@@ -125,11 +125,29 @@ def fleet_path(folder, kind, seed):
     return make_file(folder, kind, seed)
 
 
+def output_target(draw, folder):
+    """An output path: ordinary names, and the ones that must never be replaced: every file already in the folder
+    (the input and the siblings its reader opens), a symlink and a hard link to one of them, a device, ``-``."""
+    existing = sorted(os.path.join(folder, name) for name in os.listdir(folder)
+                      if os.path.isfile(os.path.join(folder, name)))
+    choices = [os.path.join(folder, "out.csv"), os.path.join(folder, "p.png"), os.path.join(folder, "p.xyz"),
+               os.path.join(folder, "no", "p.png"), folder, os.path.join(folder, "fit.json"), "", os.devnull, "-"]
+    if existing:
+        target = draw(st.sampled_from(existing))
+        kind = draw(st.sampled_from(["same", "symlink", "hardlink"]))
+        if kind == "same":
+            return target
+        link = os.path.join(folder, "links", f"{kind}-{os.path.basename(target)}")
+        os.makedirs(os.path.dirname(link), exist_ok=True)
+        if not os.path.lexists(link):
+            (os.symlink if kind == "symlink" else os.link)(target, link)
+        return link
+    return draw(st.sampled_from(choices))
+
+
 def value_for(flag, draw, folder):
     if flag in ("-o", "--plot", "--export", "--events-csv"):
-        return draw(st.sampled_from([os.path.join(folder, "out.csv"), os.path.join(folder, "p.png"),
-                                     os.path.join(folder, "p.xyz"), os.path.join(folder, "no", "p.png"), folder,
-                                     os.path.join(folder, "fit.json"), ""]))
+        return output_target(draw, folder)
     if flag in ("--time", "--accel", "--baro", "--pressure", "--reference", "--gps", "--rangefinder", "--temperature"):
         return draw(st.sampled_from(COLUMNS))
     if flag in ("--accel-body", "--attitude-columns"):
@@ -202,8 +220,22 @@ def fleet_argv(draw, folder):
     return argv + draw_flags(draw, FLEET_FLAGS[command], folder)
 
 
-def check(argv, run):
-    """Run ``main(argv)`` via ``run``; the status and stderr obey the CLI's promises."""
+def snapshot(folder):
+    """The bytes of every regular file under ``folder`` (symlinks not followed)."""
+    files = {}
+    for root, _, names in os.walk(folder):
+        for name in names:
+            path = os.path.join(root, name)
+            if os.path.isfile(path) and not os.path.islink(path):
+                with open(path, "rb") as stream:
+                    files[path] = stream.read()
+    return files
+
+
+def check(argv, run, folder=None):
+    """Run ``main(argv)`` via ``run``; the status and stderr obey the CLI's promises, and no file that was in
+    ``folder`` before (inputs, the siblings their readers open, links to them) is changed."""
+    before = snapshot(folder) if folder else {}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -216,8 +248,12 @@ def check(argv, run):
         else:
             usage = False
     err = run()
+    after = snapshot(folder) if folder else {}
+    assert all(after.get(path) == data for path, data in before.items()), (argv, "an input was changed")
     assert not caught, (argv, [f"{w.category.__name__}: {w.message}" for w in caught])
-    assert status in (0, 1, 2), (argv, status, err)
+    assert status in (0, 1, 2, 3), (argv, status, err)
+    if status == 3:  # an estimate refused: one line says why
+        assert err.strip().splitlines()[-1].startswith(f"fusion-altitude {argv[0]}: error: "), (argv, err)
     assert "Traceback" not in err, (argv, err)
     assert not re.search(r"\w+Warning\b", err), (argv, err)
     if status == 2 and not usage:
@@ -231,7 +267,7 @@ def check(argv, run):
 def test_no_input_makes_the_cli_print_a_traceback(data, tmp_path_factory, capsys):
     folder = str(tmp_path_factory.mktemp("fuzz"))
     argv = data.draw(argv_and_file(folder))
-    check(argv, lambda: capsys.readouterr().err)
+    check(argv, lambda: capsys.readouterr().err, folder if argv[0] != "demo" else None)
 
 
 @pytest.fixture

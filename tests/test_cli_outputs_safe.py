@@ -2,6 +2,7 @@
 output format follows the extension; errors name the user's path; a fleet sees flights, not files."""
 
 import os
+import re
 import shutil
 import stat
 import subprocess
@@ -183,3 +184,22 @@ def test_the_fleet_summary_flags_a_truncated_log(tmp_path, shared_data):
     rows = {row["path"].rsplit("/", 1)[-1]: row for row in result.summary.to_pylist()}
     assert rows["cut.ulg"]["truncated"] and not rows["whole.ulg"]["truncated"]
     assert "ends inside a message" in rows["cut.ulg"]["warnings"]
+
+
+def test_a_fleet_of_the_shared_data_is_one_row_per_flight_without_python_warning_text(tmp_path, shared_data):
+    logs = tmp_path / "logs"
+    logs.mkdir()
+    for path in shared_data.iterdir():
+        if path.suffix.lower() in (".ulg", ".bin", ".csv"):
+            shutil.copyfile(path, logs / path.name)
+    (logs / "cut.ulg").write_bytes((shared_data / "px4_sample_log_small.ulg").read_bytes()[:300000])
+    flights = {path.name for path in logs.iterdir()} - {"hedy_imu.csv", "hedy_flight_info.csv"}
+    result = subprocess.run([sys.executable, "-m", "fusion_altitude", "fleet", "run", str(logs), "-o",
+                             str(tmp_path / "out"), "--workers", "1"], capture_output=True, text=True, timeout=900)
+    assert "Traceback" not in result.stderr and not re.search(r"\w+Warning\b|\.py:\d+", result.stderr), result.stderr
+    from fusion_altitude import fleet
+
+    rows = fleet.summary(str(tmp_path / "out")).to_pylist()
+    assert sorted(row["path"].rsplit("/", 1)[-1] for row in rows) == sorted(flights)
+    truncated = [row["path"].rsplit("/", 1)[-1] for row in rows if row["truncated"]]
+    assert "cut.ulg" in truncated and "px4_sample_log_small.ulg" not in truncated

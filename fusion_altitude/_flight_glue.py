@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import BaroFate, Phase, RocketEventId, RocketStatus
-from ._common import as_float, as_float32_vector
+from ._common import as_float, as_float32_vector, check_no_overlap
 from ._observer_glue import prepare_inputs
 
 
@@ -249,6 +249,7 @@ def prepare_batch(accel: object, baro_altitude: object, dt: object, out: Optiona
         if not isinstance(array, np.ndarray) or array.dtype != dtype or array.shape != (n,) \
                 or not array.flags.c_contiguous or not array.flags.writeable:
             raise ValueError(f"out.{field} must be a writeable contiguous {np.dtype(dtype).name} array of shape ({n},)")
+    check_no_overlap(dict(zip(RocketBatch._fields, out)))
     return accel32, baro32, dt32, dt_is_array, RocketBatch(*out)
 
 

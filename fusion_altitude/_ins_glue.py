@@ -15,7 +15,7 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import InsStatus
-from ._common import GRAVITY, as_float
+from ._common import GRAVITY, as_float, check_no_overlap
 
 #: Largest accepted setting and input magnitude (FUSION_ALTITUDE_INS_MAXIMUM).
 MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
@@ -272,6 +272,7 @@ def _check_out(out, n: int) -> "InsBatch":
                 and array.flags.c_contiguous and array.flags.writeable):
             raise ValueError(f"out.{field} must be a writeable C-contiguous {np.dtype(dtype).name} array of shape "
                              f"{(n, *tail)}")
+    check_no_overlap({field: getattr(out, field) for field in _SHAPES})
     return out
 
 

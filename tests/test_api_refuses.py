@@ -63,3 +63,20 @@ def test_a_negative_satellite_count_in_a_batch_is_named_by_its_index():
     with pytest.raises(ValueError, match=r"^gps_satellites\[1\] must be >= 0 \(NaN: unknown\), got -2$"):
         fa.KalmanEstimator().update_batch(np.zeros(3), baro_altitude=np.zeros(3), dt=0.01, gps_altitude=np.zeros(3),
                                           gps_satellites=np.array([5, -2, 3]))
+
+
+def test_the_ins_refuses_outputs_that_share_memory():
+    batch = fa.InsEstimator().update_batch(np.zeros((4, 3)), np.tile([0.0, 0.0, 9.80665], (4, 1)), 0.01)
+    out = list(batch)
+    out[1] = out[0]  # one array for altitude and vertical velocity (both per-sample float32)
+    with pytest.raises(ValueError, match="share memory"):
+        fa.InsEstimator().update_batch(np.zeros((4, 3)), np.tile([0.0, 0.0, 9.80665], (4, 1)), 0.01, out=out)
+
+
+def test_the_rocket_layer_refuses_outputs_that_share_memory():
+    from fusion_altitude._flight import RocketEstimator
+
+    shared = np.zeros(5, np.float32)
+    out = (shared, shared, np.zeros(5, np.float32), np.zeros(5, np.uint8), np.zeros(5, np.uint8))
+    with pytest.raises(ValueError, match="share memory"):
+        RocketEstimator().update_batch(np.full(5, 9.8), np.zeros(5), 0.01, out=out)

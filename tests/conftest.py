@@ -1,10 +1,21 @@
 """Shared fixtures: most behaviour tests run against both implementations."""
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import fusion_altitude
 import fusion_altitude.reference
+
+
+@pytest.fixture(scope="session")
+def shared_logs() -> Path:
+    """The shared real logs (``../shared/data``, or FUSION_ALTITUDE_SHARED_DATA as .ci/run sets it); missing: fail."""
+    path = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).parents[1] / ".." / "shared" / "data"))
+    assert path.is_dir(), f"shared data not found at {path}: set FUSION_ALTITUDE_SHARED_DATA"
+    return path
 
 
 @pytest.fixture(params=["c", "reference"])

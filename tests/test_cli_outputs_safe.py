@@ -14,14 +14,11 @@ import pytest
 
 from fusion_altitude.cli import main
 
-HERE = Path(__file__).parent
 
 
-@pytest.fixture(scope="module")
-def shared_data():
-    path = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", HERE.parent / ".." / "shared" / "data"))
-    assert path.is_dir(), f"shared data not found at {path}: set FUSION_ALTITUDE_SHARED_DATA"
-    return path
+@pytest.fixture
+def shared_data(shared_logs):
+    return shared_logs
 
 
 @pytest.fixture

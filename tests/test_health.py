@@ -1,7 +1,5 @@
 """The health report: what a log's sensors and an estimator's run can stand behind (fusion_altitude.health, `run`)."""
 
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,11 +9,9 @@ from fusion_altitude.cli import main
 from fusion_altitude.logs import LogData
 
 
-@pytest.fixture(scope="module")
-def shared_data():
-    path = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", Path(__file__).parents[1] / ".." / "shared" / "data"))
-    assert path.is_dir(), f"shared data not found at {path}: set FUSION_ALTITUDE_SHARED_DATA"
-    return path
+@pytest.fixture
+def shared_data(shared_logs):
+    return shared_logs
 
 
 def climb_log(duration=60.0, rate=50.0, baro_every=5, stop=None, gps=False, climb=2.0):

@@ -27,6 +27,7 @@
  */
 
 #include "fusion_altitude_sweep.h"
+#include "fuzz_common.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -39,43 +40,6 @@
 #define MAX_STATE (1e9f) /* m, m/s, m/s^2 */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
-
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-} Reader;
-
-static bool ReadFloat(Reader *const reader, float *const value) {
-    if (reader->size < sizeof(*value)) {
-        return false;
-    }
-    memcpy(value, reader->data, sizeof(*value));
-    reader->data += sizeof(*value);
-    reader->size -= sizeof(*value);
-    return true;
-}
-
-static bool ReadByte(Reader *const reader, uint8_t *const value) {
-    if (reader->size < 1u) {
-        return false;
-    }
-    *value = reader->data[0];
-    reader->data++;
-    reader->size--;
-    return true;
-}
-
-static bool Within(const float value, const float limit) {
-    return FusionAltitudeIsFinite(value) && (value <= limit) && (value >= -limit);
-}
 
 static float kh[MAX_SETTINGS], kv[MAX_SETTINGS], kb[MAX_SETTINGS];
 static float accel[MAX_SAMPLES], baro[MAX_SAMPLES], dt[MAX_SAMPLES];

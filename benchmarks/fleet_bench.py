@@ -171,7 +171,34 @@ def main(argv=None) -> int:
             print(f"all {len(paths)} logs, {label}: read {part[0]:.2f} s, estimate {part[1]:.3f} s, write {part[2]:.2f} s "
                   f"({100 * part[0] / part.sum():.0f} / {100 * part[1] / part.sum():.1f} / "
                   f"{100 * part[2] / part.sum():.0f} %)")
+        ulog, csv = (np.mean([costs[p] for p in kinds[kind]], axis=0) for kind in ("PX4 ULog", "Hedy CSV (245 s)"))
+        csv_samples = adapter.read_log(kinds["Hedy CSV (245 s)"][0], CSV_OPTIONS).time.size
+        print()
+        print(fleet_cost_table(os.path.getsize(kinds["PX4 ULog"][0]) / 1e6 / ulog[3], csv[4] / csv_samples,
+                               csv[5] / csv_samples, written * 1e6 / samples_total))
     return 0
+
+
+#: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),
+#: i.e. 85 MB and 120,000 grid steps (200 Hz) per log; reading scales linearly with size.
+FLEET_LOGS, LOG_MEGABYTES, LOG_SAMPLES = 100_000, 85.0, 120_000
+
+
+def fleet_cost_table(read_megabytes_per_s, estimate_s_per_sample, write_s_per_sample, output_bytes_per_sample):
+    """The CPU time and storage of a 100,000-log fleet from one core's measured rates, as a markdown table."""
+    read, estimate, write = (LOG_MEGABYTES / read_megabytes_per_s, estimate_s_per_sample * LOG_SAMPLES,
+                             write_s_per_sample * LOG_SAMPLES)
+    output = output_bytes_per_sample * LOG_SAMPLES / 1e6
+    rows = [("input (assumed)", f"{LOG_MEGABYTES:.0f} MB", f"{LOG_MEGABYTES * FLEET_LOGS / 1e6:.1f} TB", "10 min of a ULog"),
+            ("read", f"{read:.1f} s", f"{read * FLEET_LOGS / 3600:.0f} CPU-hours", f"{read_megabytes_per_s:.1f} MB/s per CPU (ULog)"),
+            ("estimate", f"{estimate * 1e3:.0f} ms", f"{estimate * FLEET_LOGS / 3600:.1f} CPU-hours",
+             f"{estimate_s_per_sample * 1e6:.3f} µs/sample (Hedy CSV)"),
+            ("write", f"{write:.2f} s", f"{write * FLEET_LOGS / 3600:.1f} CPU-hours",
+             f"{write_s_per_sample * 1e6:.2f} µs/sample (Hedy CSV)"),
+            ("output Parquet", f"{output:.1f} MB", f"{output * FLEET_LOGS / 1e6:.2f} TB", f"{output_bytes_per_sample:.1f} bytes/sample"),
+            ("**total CPU**", f"**{read + estimate + write:.1f} s**", f"**{(read + estimate + write) * FLEET_LOGS / 3600:.0f} CPU-hours**", "")]
+    lines = ["| | per log | 100,000 logs | rate |", "|---|---:|---:|---|"]
+    return "\n".join(lines + [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows])
 
 
 if __name__ == "__main__":

@@ -174,6 +174,36 @@ def expand_paths(paths_or_globs: Union[str, Sequence[str]]) -> List[str]:
     return _flights(sorted(found))
 
 
+def _inside(path: str, directory: str) -> bool:
+    path, directory = os.path.realpath(path), os.path.realpath(directory)
+    return path == directory or path.startswith(directory.rstrip(os.sep) + os.sep)
+
+
+def check_output_apart(paths_or_globs: Union[str, Sequence[str]], logs: Sequence[str], output_dir: str) -> None:
+    """Refuse an output directory that holds a log or lies inside a directory of logs (symlinks resolved).
+
+    Its ``summary.csv``, ``logs/`` and ``csv/`` would otherwise replace a file of the same name among the
+    logs, and the next run would read the fleet's own outputs as logs.
+
+    Raises
+    ------
+    ValueError
+        Naming ``output_dir`` and the log or directory it clashes with.
+    """
+    if _is_url(output_dir):
+        return
+    if isinstance(paths_or_globs, (str, os.PathLike)):
+        paths_or_globs = [paths_or_globs]
+    for item in map(os.fspath, paths_or_globs):
+        if not _is_url(item) and os.path.isdir(item) and _inside(output_dir, item):
+            raise ValueError(f"output_dir {output_dir!r} is inside the log directory {item!r}: the fleet would "
+                             "read its own outputs as logs; choose a directory outside it")
+    for log in logs:
+        if not _is_url(log) and _inside(log, output_dir):
+            raise ValueError(f"output_dir {output_dir!r} holds the log {log!r}: the fleet's outputs could "
+                             "replace it; choose a directory that holds no log")
+
+
 def _flights(paths: List[str]) -> List[str]:
     """``paths`` with one path per flight: the IMU and flight-info files of a CATS set whose baro file is in the
     list are dropped (the reader opens them with it), so a flight is one row, never three."""
@@ -622,6 +652,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     urls = expand_paths(paths_or_globs)
     if not urls:
         raise ValueError("paths_or_globs is empty")
+    check_output_apart(paths_or_globs, urls, output_dir)
     resolved = adapter.resolve_settings(estimator, settings)
     csv_options = dict(csv_options or {})
     digest = settings_hash(estimator, resolved, csv_options)

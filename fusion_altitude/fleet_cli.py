@@ -171,7 +171,7 @@ def _cell(value: Any) -> Any:
     if value is None:
         return ""
     if isinstance(value, float) and not math.isfinite(value):
-        return "nan"
+        return "—"  # no figure (e.g. no reference in the log), never a printed nan
     return value
 
 
@@ -231,7 +231,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         resolve_settings(args.estimator, args.preset)
     except (ValueError, TypeError) as error:
         raise _cli_error(_flag_message(error)) from None
-    _check_inputs("DIR_OR_GLOB", args.paths)
+    logs = _check_inputs("DIR_OR_GLOB", args.paths)
+    try:
+        fleet.check_output_apart(args.paths, logs, args.output)
+    except ValueError as error:
+        raise _cli_error(str(error).replace(f"output_dir {args.output!r}", f"-o {args.output}", 1)) from None
     try:
         with fleet.open_client(_client_argument(args), args.workers) as client:
             link = fleet.dashboard_link(client)
@@ -256,7 +260,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         busy = sum(total.values())
         print(f"worker time per computed log: read {total['read_s'] / len(computed) * 1e3:.1f} ms, estimate "
               f"{total['estimate_s'] / len(computed) * 1e3:.1f} ms, write {total['write_s'] / len(computed) * 1e3:.1f}"
-              f" ms ({megabytes / busy if busy else math.nan:.2f} MB/s per worker)")
+              f" ms ({f'{megabytes / busy:.2f}' if busy else '—'} MB/s per worker)")
     print()
     _print_summary(result.summary, args.worst)
     return 0 if not result.failed else 1

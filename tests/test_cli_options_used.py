@@ -40,3 +40,24 @@ def test_the_gravity_message_suggests_flags_that_run_as_written(tmp_path, capsys
     flags = [word for part in suggested.groups() for word in part.split()]
     assert flags == ["--accel-units", "g", "--remove-gravity"]
     assert main(argv + flags) == 0
+
+
+def test_the_demo_exports_a_log_and_its_suggested_run_command_runs_as_printed(tmp_path, capsys):
+    import shlex
+
+    assert main(["demo", "--seed", "0", "--export", str(tmp_path / "flight.csv")]) == 0
+    out = capsys.readouterr().out
+    line = out.splitlines()[out.splitlines().index(next(l for l in out.splitlines() if "run it with:" in l)) + 1]
+    argv = shlex.split(line.strip())
+    assert argv[:2] == ["fusion-altitude", "run"]
+    assert main(argv[1:]) == 0
+    assert "flight.csv" in capsys.readouterr().out  # the run's report names the exported log
+
+
+def test_fit_without_a_reference_suggests_the_flag_that_makes_it_run(tmp_path, capsys):
+    log = write_csv(tmp_path / "log.csv", np.zeros(2000), 10.0 + np.sin(0.01 * np.arange(2000)))
+    base = ["fit", log, "--time", "t", "--accel", "az", "--baro", "alt"]
+    assert main(base) == 2
+    err = capsys.readouterr().err
+    assert "give --reference COLUMN" in err
+    assert main(base + ["--reference", "alt"]) == 0

@@ -200,3 +200,24 @@ def test_a_fleet_of_the_shared_data_is_one_row_per_flight_without_python_warning
     assert sorted(row["path"].rsplit("/", 1)[-1] for row in rows) == sorted(flights)
     truncated = [row["path"].rsplit("/", 1)[-1] for row in rows if row["truncated"]]
     assert "cut.ulg" in truncated and "px4_sample_log_small.ulg" not in truncated
+
+
+@pytest.mark.parametrize("where", ["the log directory", "a folder inside it", "its parent",
+                                   "a link to the log directory"])
+def test_a_fleet_output_directory_among_the_logs_is_refused_before_any_work(cats, tmp_path, capsys, where):
+    output = {"the log directory": cats, "a folder inside it": cats / "out", "its parent": cats.parent,
+              "a link to the log directory": tmp_path.parent / f"{tmp_path.name}-link"}[where]
+    if where == "a link to the log directory":
+        output.symlink_to(cats, target_is_directory=True)
+    before = contents(cats)
+    assert main(["fleet", "run", str(cats), "-o", str(output), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and f"-o {output}" in err
+    assert contents(cats) == before and not (cats / "out").exists() and not (cats / "summary.csv").exists()
+
+
+def test_the_library_refuses_a_fleet_output_directory_that_holds_a_log(cats):
+    from fusion_altitude import fleet
+
+    with pytest.raises(ValueError, match="output_dir .* holds the log"):
+        fleet.run_many([str(cats / "hedy_baro.csv")], output_dir=str(cats), workers=1)

@@ -230,3 +230,47 @@ def test_d_baro_dropout_is_bridged_by_the_rangefinder():
     assert np.max(np.abs(result.altitude - truth)[dropout]) < 0.15
     assert estimator.resets.baro == 0 and estimator.rejections.baro == 0
     assert np.max(np.abs(np.diff(result.altitude[(t > 29) & (t < 32)]))) < 0.05
+
+
+# -- the table of docs/kalman.md ("Accuracy"): python tests/test_kalman_scenarios.py ---------------
+
+def _row(name, sensors, observer, kalman_altitude, height=None):
+    height_cell = "—" if height is None else f"{100 * height:.2f}"
+    return f"| {name} | {sensors} | {100 * observer:.2f} | {100 * kalman_altitude:.2f} | {height_cell} |"
+
+
+def accuracy_table():
+    """The four scenarios' altitude RMS after 5 s (cm), as a markdown table."""
+    rows = ["| scenario | sensors | altitude RMS, observer (cm) | altitude RMS, Kalman (cm) | Kalman height-above-ground RMS (cm; (b): in range, outside the 2 s after the step) |",
+            "|---|---|---:|---:|---:|"]
+    errors = []
+    for seed in range(20):
+        t, truth, accel, baro = flight_a(seed)
+        observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
+        result = kalman().update_batch(accel, dt=DT, baro_altitude=baro)
+        errors.append((rms(observer - truth, t), rms(result.altitude - truth, t)))
+    rows.append(_row("(a) 5 m sinusoid, 60 s, mean of 20 seeds", "baro", *np.mean(errors, axis=0)))
+    t, altitude, height, accel, baro, rangefinder = flight_b(0)
+    truth = altitude + BARO_REFERENCE + 0.3 * t / 100.0
+    observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
+    result = kalman().update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder)
+    in_range = (height < 8.0) & ((t < 25.0) | (t > 27.0))  # in range, outside the 2 s after the step
+    rows.append(_row("(b) 1 m terrain step, climb to 12 m (range lost above 8 m), 100 s", "baro + range 20 Hz",
+                     rms(observer - truth, t), rms(result.altitude - truth, t),
+                     rms((result.height_above_ground - height)[in_range], t[in_range])))
+    t, altitude, accel, baro, gps, satellites = flight_c(0)
+    observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
+    result = kalman().update_batch(accel, dt=DT, baro_altitude=baro, gps_altitude=gps, gps_satellites=satellites)
+    rows.append(_row("(c) 10 m GPS jump at 30 s, 20 s GPS outage, 100 s", "baro + GPS 5 Hz",
+                     rms(observer - BARO_REFERENCE - altitude, t), rms(result.altitude - BARO_REFERENCE - altitude, t),
+                     rms(result.height_above_ground - altitude, t)))
+    t, altitude, accel, baro, rangefinder = flight_d(0)
+    observer = fa.AltitudeEstimator().update_batch(accel, baro, DT).altitude
+    result = kalman().update_batch(accel, dt=DT, baro_altitude=baro, range_distance=rangefinder)
+    rows.append(_row("(d) 10 s baro dropout", "baro + range 20 Hz", rms(observer - BARO_REFERENCE - altitude, t),
+                     rms(result.altitude - BARO_REFERENCE - altitude, t), rms(result.height_above_ground - altitude, t)))
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":
+    print(accuracy_table())

@@ -242,3 +242,39 @@ def test_an_along_axis_accelerometer_whose_export_starts_in_boost_is_still_used(
     run = _run(data)
     assert run.events["launch"].occurred and run.events["burnout"].occurred
     assert abs(run.events["apogee"].height - flight.apogee_height) <= 0.02 * flight.apogee_height
+
+
+# -- the table of docs/rocket.md ("Logs without a good accelerometer"): python tests/test_rocket_logs.py --------
+
+def summary_table():
+    """Over every fixture kind and seeds 0-5, per rate: the ranges and worst cases the tests above bound."""
+    columns = {}
+    for rate in ("100 Hz", "telemetry"):
+        delays, errors, falls, overshoots, finals, fired = [], [], [], [], [], True
+        for kind in LOG_KINDS:
+            for seed in SEEDS:
+                flight = _flight(seed, kind)
+                indices = (telemetry_indices(flight, seed, quiet=(flight.apogee_time,)) if rate == "telemetry"
+                           else np.arange(flight.time.size))
+                run = _run(flight_log(flight, kind, indices))
+                events, height = run.events, np.asarray(run.estimate.height, float)
+                fired &= all(events[name].occurred for name in ("launch", "apogee", "main", "landed"))
+                delays.append(events["apogee"].time - flight.apogee_time)
+                errors.append(abs(events["apogee"].height - flight.apogee_height) / flight.apogee_height)
+                ascent = height[events["launch"].sample:events["apogee"].sample + 1]
+                falls.append((np.maximum.accumulate(ascent) - ascent).max())
+                overshoots.append(height.max() / flight.apogee_height)
+                finals.append(abs(height[-1]))
+        columns[rate] = [f"{min(delays):.2f} – {max(delays):.2f}", f"≤ {100 * max(errors):.2f} %",
+                         f"≤ {max(falls):.1f}", f"≤ {max(overshoots):.4f}", f"≤ {max(finals):.1f}",
+                         "all fire" if fired else "not all fire"]
+    labels = ["apogee after the true apogee (s)", "apogee height error",
+              "largest fall of the height during the ascent (m)", "highest height / true apogee",
+              "final height (m)", "launch, apogee, main, landed"]
+    rows = ["| | 100 Hz | telemetry |", "|---|---|---|"]
+    rows += [f"| {label} | {a} | {b} |" for label, a, b in zip(labels, columns["100 Hz"], columns["telemetry"])]
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":
+    print(summary_table())

@@ -52,7 +52,6 @@ nitpick_ignore_regex = [("myst", r"\.\./csrc/fusion_altitude[a-z_]*\.h")]
 
 # MyST: the topic pages' headings get anchors (they link to one another by #heading).
 myst_heading_anchors = 4
-myst_enable_extensions = ["dollarmath"]
 
 html_theme = "alabaster"
 html_static_path = []

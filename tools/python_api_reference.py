@@ -27,6 +27,7 @@ import difflib
 import importlib
 import inspect
 import os
+import re
 import sys
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
@@ -134,6 +135,24 @@ def _inherits_from_package(cls: type) -> bool:
     return any(getattr(base, "__module__", "").startswith("fusion_altitude") for base in cls.__mro__[1:])
 
 
+def cython_init_signature(cls: type) -> str:
+    """``(parameters)`` of a Cython ``cdef class``'s ``__init__``, which Python cannot inspect (a slot), read
+    from its ``.pyx`` in the source tree; ``""`` for any other class (autodoc inspects those)."""
+    try:
+        inspect.signature(cls)
+        return ""
+    except (TypeError, ValueError):
+        pass
+    source = os.path.join(ROOT, *cls.__module__.split(".")) + ".pyx"  # the source tree, not the installed copy
+    if not os.path.exists(source):
+        return ""
+    with open(source, encoding="utf-8") as handle:
+        text = handle.read()
+    body = re.search(rf"^cdef class {cls.__name__}\b.*?:\n(.*?)(?=^\S|\Z)", text, re.S | re.M)
+    init = re.search(r"^    def __init__\(self,?\s*(.*?)\):", body.group(1), re.S | re.M) if body else None
+    return f"({' '.join(init.group(1).split())})" if init else ""
+
+
 def entry(module_name: str, name: str, obj: object, documented: Documented) -> str:
     """The reST of one public name (relative to the current module): an autodoc directive, or an alias of
     an earlier entry."""
@@ -147,7 +166,7 @@ def entry(module_name: str, name: str, obj: object, documented: Documented) -> s
         options = "   :members:\n"
         if _inherits_from_package(obj):
             options += "   :inherited-members:\n"
-        return f".. autoclass:: {name}\n{options}\n"
+        return f".. autoclass:: {name}{cython_init_signature(obj)}\n{options}\n"
     if kind == "function":
         return f".. autofunction:: {name}\n\n"
     return f".. autodata:: {name}\n   :no-value:\n\n"

@@ -96,6 +96,11 @@ def test_sphinx_build_with_warnings_as_errors_passes(built_docs):
     assert process.returncode == 0, process.stdout + process.stderr
 
 
+def test_every_docstring_parses_as_numpydoc(built_docs):
+    process, _ = built_docs  # numpydoc reports an unknown section or a bad underline as a Python warning
+    assert "UserWarning" not in process.stderr, process.stderr
+
+
 def test_build_fetches_no_inventory_over_the_network():
     conf = open(os.path.join(ROOT, "docs", "conf.py"), encoding="utf-8").read()
     assert "sphinx.ext.intersphinx" not in conf

@@ -153,6 +153,51 @@ def cython_init_signature(cls: type) -> str:
     return f"({' '.join(init.group(1).split())})" if init else ""
 
 
+def _c_field_comments(names: Sequence[str]) -> Dict[str, Tuple[str, str]]:
+    """{python name: (C field, the header's comment)} from the generated settings table whose names are
+    ``names`` (the tables of the module that holds the generated status enums, ``fusion_altitude.Status``)."""
+    import fusion_altitude
+
+    tables = importlib.import_module(fusion_altitude.Status.__module__)
+    for value in vars(tables).values():
+        if (isinstance(value, tuple) and value and all(isinstance(row, tuple) and len(row) >= 5 for row in value)
+                and [row[0] for row in value] == list(names)):
+            return {row[0]: (row[1], row[4]) for row in value}
+    return {}
+
+
+def _default_text(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:.7g}"
+    if isinstance(value, tuple):
+        return "(" + ", ".join(_default_text(item) for item in value) + ")"
+    return repr(value)
+
+
+def settings_fields(cls: type) -> str:
+    """A table of a settings class's keyword arguments: name, default, C field and its comment (units).
+
+    Only for classes named ``...Settings`` whose ``cls()`` holds the defaults (``as_dict``); ``""`` otherwise."""
+    if not cls.__name__.endswith("Settings") or not hasattr(cls, "as_dict"):
+        return ""
+    try:
+        defaults = cls().as_dict()
+    except TypeError:
+        return ""
+    comments = _c_field_comments(list(defaults))
+    lines = [f"   .. list-table:: Settings of {cls.__name__} (keyword arguments; the defaults are C's)",
+             "      :header-rows: 1", "", "      * - name", "        - default", "        - C field: the header's comment"]
+    for name, default in defaults.items():
+        c_field, comment = comments.get(name, ("", ""))
+        escaped = _RST_SPECIAL.sub(r"\\\1", comment)
+        lines += [f"      * - ``{name}``", f"        - ``{_default_text(default)}``",
+                  f"        - ``{c_field}``: {escaped}" if c_field else "        -"]
+    return "\n".join(lines) + "\n\n"
+
+
+_RST_SPECIAL = re.compile(r"([\\`*_|\[\]<>])")
+
+
 def entry(module_name: str, name: str, obj: object, documented: Documented) -> str:
     """The reST of one public name (relative to the current module): an autodoc directive, or an alias of
     an earlier entry."""
@@ -166,7 +211,7 @@ def entry(module_name: str, name: str, obj: object, documented: Documented) -> s
         options = "   :members:\n"
         if _inherits_from_package(obj):
             options += "   :inherited-members:\n"
-        return f".. autoclass:: {name}{cython_init_signature(obj)}\n{options}\n"
+        return f".. autoclass:: {name}{cython_init_signature(obj)}\n{options}\n{settings_fields(obj)}"
     if kind == "function":
         return f".. autofunction:: {name}\n\n"
     return f".. autodata:: {name}\n   :no-value:\n\n"

@@ -38,7 +38,7 @@ intersphinx_mapping = {}
 
 # autodoc: members in source order, signatures from the compiled bindings (Cython's binding=True).
 autodoc_member_order = "bysource"
-autodoc_default_options = {"members": True}
+autodoc_default_options = {}  # each directive of docs/api/ says what it documents
 autodoc_typehints = "none"  # the numpydoc "Parameters" sections carry the types and units
 
 # numpydoc: no autosummary tables of members (autodoc documents them).

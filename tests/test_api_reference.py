@@ -1,5 +1,5 @@
 """The API reference (docs/conf.py, docs/index.rst, docs/api/): Sphinx builds it with warnings as errors, offline,
-and it lists every public Python name and every public function, struct and enum of the C headers.
+and it lists every public Python name and every public function, struct, enum and macro of the C headers.
 
 The documented names are read from the built inventory (``objects.inv``), so a name counts only if Sphinx
 documented it; the expected names come from the package (``__all__``) and from the headers, parsed here
@@ -71,6 +71,18 @@ def expected_python_names():
 
 _HEADER_PATHS = sorted(glob.glob(os.path.join(ROOT, "csrc", "fusion_altitude*.h")))
 _DOC_THEN_DECLARATION = re.compile(r"/\*\*(?!/)((?:(?!\*/).)*)\*/[ \t]*\n((?:(?!/\*)[^;{])*)[;{]", re.S)
+
+
+_DOC_THEN_MACRO = re.compile(r"/\*\*(?!/)((?:(?!\*/).)*)\*/[ \t]*\n#define[ \t]+(\w+)", re.S)
+
+
+def public_c_macros():
+    """The #define names right after a /** */ comment that is not "Internal"."""
+    names = set()
+    for path in _HEADER_PATHS:
+        text = open(path, encoding="utf-8").read()
+        names |= {name for comment, name in _DOC_THEN_MACRO.findall(text) if not re.search(r"\bInternal[:.]", comment)}
+    return names
 
 
 def public_c_declarations():
@@ -148,6 +160,13 @@ def test_c_reference_documents_every_public_struct_and_enum_of_the_headers(built
     _, types = public_c_declarations()
     documented = {name for role, name in inventory(output) if role in ("c:struct", "c:enum")}
     assert types and documented == types
+
+
+def test_c_reference_documents_every_public_macro_of_the_headers(built_docs):
+    _, output = built_docs
+    documented = {name for role, name in inventory(output) if role == "c:macro"}
+    assert documented == public_c_macros()
+    assert "FUSION_ALTITUDE_GRAVITY" in documented
 
 
 def test_c_reference_leaves_out_the_functions_the_headers_call_internal(built_docs):

@@ -186,7 +186,8 @@ def settings_fields(cls: type) -> str:
         return ""
     comments = _c_field_comments(list(defaults))
     lines = [f"   .. list-table:: Settings of {cls.__name__} (keyword arguments; the defaults are C's)",
-             "      :header-rows: 1", "", "      * - name", "        - default", "        - C field: the header's comment"]
+             "      :header-rows: 1", "",
+             "      * - name", "        - default", "        - C field: the header's comment"]
     for name, default in defaults.items():
         c_field, comment = comments.get(name, ("", ""))
         escaped = _RST_SPECIAL.sub(r"\\\1", comment)
@@ -253,17 +254,14 @@ def pages() -> Dict[str, str]:
     declared = set()
     for stem, title, names in TOP_LEVEL:
         texts[stem] += _section(f"{title} (``fusion_altitude``)")
-        texts[stem] += ".. py:module:: fusion_altitude\n\n" if not declared else (
+        texts[stem] += ".. automodule:: fusion_altitude\n\n" if not declared else (
             "" if stem in declared else ".. py:currentmodule:: fusion_altitude\n\n")
         declared.add(stem)
         texts[stem] += "".join(entry("fusion_altitude", name, getattr(fusion_altitude, name), documented)
                                for name in names)
     for stem, module_name, names in MODULES:
         module = importlib.import_module(module_name)
-        texts[stem] += _section(f"``{module_name}``") + f".. py:module:: {module_name}\n\n"
-        summary = inspect.getdoc(module)
-        if summary:
-            texts[stem] += summary.split("\n\n", 1)[0].replace("\n", " ") + "\n\n"
+        texts[stem] += _section(f"``{module_name}``") + f".. automodule:: {module_name}\n\n"  # its docstring
         texts[stem] += "".join(entry(module_name, name, getattr(module, name), documented)
                                for name in module_names(module_name, names))
     return {f"python_{stem}.rst": text.rstrip("\n") + "\n" for stem, text in texts.items()}

@@ -36,7 +36,9 @@ exclude_patterns = ["_build", "images/*.md"]
 # Offline: no inventory is fetched.
 intersphinx_mapping = {}
 
-# autodoc: members in source order, signatures from the compiled bindings (Cython's binding=True).
+# autodoc: members in source order (the Cython classes': alphabetical); method signatures from the compiled
+# bindings (Cython's binding=True); a cdef class's constructor parameters, which Python cannot inspect, are
+# written into its directive by tools/python_api_reference.py from the .pyx.
 autodoc_member_order = "bysource"
 autodoc_default_options = {}  # each directive of docs/api/ says what it documents
 autodoc_typehints = "none"  # the numpydoc "Parameters" sections carry the types and units

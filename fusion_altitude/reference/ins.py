@@ -55,8 +55,10 @@ _UPPER = np.triu(np.ones((N_STATES, N_STATES), dtype=bool))
 class InsSettings(KeywordSettings):
     """Settings of the INS, float32, in physical units (keyword arguments only).
 
-    Parameters (defaults: a MEMS IMU at 100–500 Hz on a multirotor)
-    ----------------------------------------------------------------
+    The defaults are for a MEMS IMU at 100–500 Hz on a multirotor.
+
+    Parameters
+    ----------
     gyro_noise : 3e-4 rad/s/√Hz
         Gyro white-noise density.
     gyro_bias_random_walk : 1e-5 rad/s²/√Hz

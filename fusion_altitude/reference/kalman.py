@@ -60,8 +60,10 @@ def _is_nan(x: np.float32) -> bool:
 class KalmanSettings(KeywordSettings):
     """Settings of the Kalman filter, in physical units (float32).
 
-    Parameters (keyword only; defaults for a multirotor)
-    ----------------------------------------------------
+    Keyword arguments only; the defaults are for a multirotor.
+
+    Parameters
+    ----------
     accel_noise : 0.035 m/s²/√Hz
         Accelerometer white-noise density N_a, vibration included.
     accel_bias_random_walk : 0.003 m/s³/√Hz

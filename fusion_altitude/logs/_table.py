@@ -17,6 +17,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from . import _csv_fast
 from ._data import LogError
 
 #: Cells that mean "no value" (case-insensitive, after stripping spaces).
@@ -213,7 +214,9 @@ def numeric_columns(table: Table, columns: Sequence[int],
     LogError
         The first line with a bad cell, naming file line and column.
     """
-    data = _fast(table, columns, progress)
+    data = _csv_fast.read_columns(table.body, columns, MISSING, progress)  # pyarrow, or None (issue 25)
+    if data is None:
+        data = _fast(table, columns, progress)
     if data is not None:
         body = table.body
         expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)

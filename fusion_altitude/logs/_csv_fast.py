@@ -118,3 +118,38 @@ def read_columns(body: str, columns: Sequence[int], missing: Sequence[str], prog
     if not parts:
         return np.zeros((0, len(columns)))
     return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=0)
+
+
+def read_text_column(body: str, column: int, rows: int) -> Optional[np.ndarray]:
+    """The stripped cells of column ``column`` of the first ``rows`` lines of ``body`` (object array of str).
+
+    Only for a plain body whose first ``rows`` lines are its data rows: no
+    quote character, no empty line among them, and pyarrow finding exactly
+    ``rows`` rows, each with the same number of cells (else None, and the
+    caller splits the lines in Python). Each distinct cell (pyarrow's dictionary encoding) is stripped with
+    ``str.strip`` once, so the result is what splitting each line gives.
+    """
+    if ENGINE != "auto" or '"' in body or rows == 0:
+        return None
+    pacsv = _pyarrow()
+    if pacsv is None:
+        return None
+    import pyarrow as pa
+
+    name = f"f{column}"
+    data = body.encode("utf-8")
+    read = pacsv.ReadOptions(autogenerate_column_names=True, use_threads=False,
+                             block_size=max(1 << 20, min(len(data) + 1, 1 << 30)))
+    convert = pacsv.ConvertOptions(column_types={name: pa.string()}, include_columns=[name], null_values=[],
+                                   strings_can_be_null=False, quoted_strings_can_be_null=False)
+    parse = pacsv.ParseOptions(delimiter=",", quote_char=False, newlines_in_values=False)
+    try:
+        table = pacsv.read_csv(pa.py_buffer(data), read_options=read, parse_options=parse, convert_options=convert)
+    except (pa.ArrowException, KeyError, ValueError, TypeError):
+        return None
+    if table.num_rows != rows:
+        return None
+    encoded = table.column(name).combine_chunks().dictionary_encode()
+    stripped = np.empty(len(encoded.dictionary), dtype=object)
+    stripped[:] = [cell.strip() for cell in encoded.dictionary.to_pylist()]
+    return stripped[encoded.indices.to_numpy(zero_copy_only=False)]

@@ -230,6 +230,11 @@ def numeric_columns(table: Table, columns: Sequence[int],
 
 def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
     """The raw (stripped) cells of one column for the given file lines (object array of str)."""
+    rows = lines.size
+    if rows and int(lines[0]) == table.first_line and int(lines[-1]) == table.first_line + rows - 1:
+        cells = _csv_fast.read_text_column(table.body, column, rows)  # pyarrow, or None (issue 25)
+        if cells is not None:
+            return cells
     body = table.body.split("\n")
     quoted = '"' in table.body
     out = []

@@ -6,7 +6,7 @@ formatter per value), so the text is byte for byte what
 :func:`fusion_altitude.runner._write_csv_stream_python` writes —
 ``repr`` (shortest round trip) for float64, ``%.9g`` for float32, ``%d`` for
 integer and boolean columns — at tens of MB/s instead of about 7 MB/s.
-``engine("python")`` selects the old writer (kept for one release, and for
+``engine("python")`` — or an unbuilt extension — selects the old writer (kept for one release, and for
 the tests and ``benchmarks/csv_bench.py`` that compare the two).
 """
 
@@ -33,6 +33,15 @@ def engine(name: str) -> Iterator[None]:
         yield
     finally:
         ENGINE = previous
+
+
+def available() -> bool:
+    """True when the extension's formatter (``fusion_altitude._csv_format``) is built."""
+    try:
+        from . import _csv_format  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def column_kinds(arrays: List[np.ndarray]) -> np.ndarray:

@@ -971,7 +971,8 @@ def _write_csv_stream(columns: List[Tuple[str, np.ndarray]], stream, n: int,
                       progress: Optional[Callable[[int, int], None]], chunk: int) -> None:
     from . import _csv_write  # the same bytes, formatted in C (issue 25); engine("python") selects the loop below
 
-    writer = _csv_write.write_csv_stream if _csv_write.ENGINE == "c" else _write_csv_stream_python
+    fast = _csv_write.ENGINE == "c" and _csv_write.available()
+    writer = _csv_write.write_csv_stream if fast else _write_csv_stream_python
     writer(columns, stream, n, progress, chunk)
 
 

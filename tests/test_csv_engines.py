@@ -200,3 +200,39 @@ def test_run_o_writes_the_same_file_with_both_writers(tmp_path):
         write_csv(run, str(tmp_path / "old.csv"))
     write_csv(run, str(tmp_path / "new.csv"))
     assert (tmp_path / "new.csv").read_bytes() == (tmp_path / "old.csv").read_bytes()
+
+
+def test_the_shared_csvs_are_parsed_by_pyarrow_not_the_fallback(monkeypatch):
+    """The comparisons above compare two paths: on the shared CSVs the fast reader does the parsing."""
+    taken = []
+    original = _csv_fast.read_columns
+
+    def counting(*args, **kwargs):
+        data = original(*args, **kwargs)
+        taken.append(data is not None)
+        return data
+
+    monkeypatch.setattr(_csv_fast, "read_columns", counting)
+    for name in ("hedy_imu.csv", "raven_ndrt2020.csv"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            logs.load_log(str(DATA / name))
+    assert len(taken) == 4 and all(taken)
+
+
+def test_without_pyarrow_the_numpy_path_reads_the_same(tmp_path, monkeypatch):
+    fx.write_generic_csv(tmp_path / "log.csv", duration=6.0, rate=50.0, repeat_every=9)
+    with_pyarrow = outcome(tmp_path / "log.csv", "auto", **CSV)
+    monkeypatch.setattr(_csv_fast, "_pyarrow", lambda: None)
+    assert _csv_fast.read_columns("1,2\n", [0, 1], ("",)) is None
+    assert outcome(tmp_path / "log.csv", "auto", **CSV) == with_pyarrow
+
+
+def test_without_the_extension_run_o_falls_back_to_the_python_writer(tmp_path, monkeypatch):
+    fx.write_generic_csv(tmp_path / "log.csv", duration=6.0, rate=50.0)
+    run = run_log(logs.load_log(str(tmp_path / "log.csv"), **CSV))
+    write_csv(run, str(tmp_path / "fast.csv"))
+    monkeypatch.setattr(_csv_write, "available", lambda: False)
+    monkeypatch.setattr(_csv_write, "write_csv_stream", None)  # would fail if called
+    write_csv(run, str(tmp_path / "python.csv"))
+    assert (tmp_path / "python.csv").read_bytes() == (tmp_path / "fast.csv").read_bytes()

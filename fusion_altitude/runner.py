@@ -969,6 +969,15 @@ def write_csv(run: LogRun, path: str, progress: Optional[Callable[[int, int], No
 
 def _write_csv_stream(columns: List[Tuple[str, np.ndarray]], stream, n: int,
                       progress: Optional[Callable[[int, int], None]], chunk: int) -> None:
+    from . import _csv_write  # the same bytes, formatted in C (issue 25); engine("python") selects the loop below
+
+    fast = _csv_write.ENGINE == "c" and _csv_write.available()
+    writer = _csv_write.write_csv_stream if fast else _write_csv_stream_python
+    writer(columns, stream, n, progress, chunk)
+
+
+def _write_csv_stream_python(columns: List[Tuple[str, np.ndarray]], stream, n: int,
+                             progress: Optional[Callable[[int, int], None]], chunk: int) -> None:
     arrays = [np.asarray(values) for _, values in columns]
     arrays = [a if a.dtype in (np.float32, np.float64) or a.dtype.kind in "iub" else a.astype(np.float64)
               for a in arrays]

@@ -17,6 +17,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from . import _csv_fast
 from ._data import LogError
 
 #: Cells that mean "no value" (case-insensitive, after stripping spaces).
@@ -213,7 +214,9 @@ def numeric_columns(table: Table, columns: Sequence[int],
     LogError
         The first line with a bad cell, naming file line and column.
     """
-    data = _fast(table, columns, progress)
+    data = _csv_fast.read_columns(table.body, columns, MISSING, progress)  # pyarrow, or None (issue 25)
+    if data is None:
+        data = _fast(table, columns, progress)
     if data is not None:
         body = table.body
         expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)
@@ -227,6 +230,11 @@ def numeric_columns(table: Table, columns: Sequence[int],
 
 def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
     """The raw (stripped) cells of one column for the given file lines (object array of str)."""
+    rows = lines.size
+    if rows and int(lines[0]) == table.first_line and int(lines[-1]) == table.first_line + rows - 1:
+        cells = _csv_fast.read_text_column(table.body, column, rows)  # pyarrow, or None (issue 25)
+        if cells is not None:
+            return cells
     body = table.body.split("\n")
     quoted = '"' in table.body
     out = []

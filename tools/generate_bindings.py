@@ -21,6 +21,9 @@ runs a small program that calls ``...SettingsDefault()`` and
 settings or state struct (e.g. ``float gapPeriod``) reaches Python by running
 this script again; nothing else is edited by hand.
 
+It also writes ``csrc/tests/vectors/<module>_settings_words.h`` (:mod:`settings_words`): the settings structs as
+the 32-bit words of the test vectors, which the firmware replays and the fuzzers decode.
+
 Usage::
 
     python tools/generate_bindings.py           # write the files
@@ -40,6 +43,9 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import settings_words  # noqa: E402  (tools/settings_words.py: the settings as words, for replays and fuzzers)
 
 ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
@@ -698,6 +704,7 @@ def generate() -> Dict[Path, str]:
         files[PACKAGE / f"_{module}.pyi"] = generate_stub(module, headers[module])
         files[PACKAGE / PXD_NAMES[module]] = generate_pxd(module, headers[module],
                                                           files[PACKAGE / f"_{module}_fields.pxi"])
+    files.update(settings_words.generate(headers, MODULES, CSRC))
     return files
 
 

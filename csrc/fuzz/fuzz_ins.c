@@ -38,6 +38,7 @@
  */
 
 #include "fusion_altitude_ins.h"
+#include "tests/vectors/ins_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -45,7 +46,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIELDS (23)
+#define FIELDS (23) /* the settings words an edit reaches (file comment); at most FUSION_ALTITUDE_INS_SETTINGS_WORDS */
+
+typedef char fieldsWithinSettings[(FIELDS <= FUSION_ALTITUDE_INS_SETTINGS_WORDS) ? 1 : -1];
+
 #define MAX_STEPS (20000)
 #define MAX_VELOCITY (1e9f) /* m/s: the bound of a sane run (file comment) */
 #define MAX_DISTANCE (1e14f) /* m */
@@ -195,7 +199,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (!ReadBytes(&reader, &field, 1) || !ReadFloat(&reader, &value)) {
                     return 0;
                 }
-                ((float *) &working)[field % FIELDS] = value;
+                uint32_t bits;
+                memcpy(&bits, &value, sizeof(bits));
+                FusionAltitudeInsSettingsSetWord(&working, field % FIELDS, bits);
                 const FusionAltitudeInsStatus status = FusionAltitudeInsSetSettings(&ins, &working);
                 CHECK(status == FusionAltitudeInsSettingsCheck(&working));
                 if (status == FusionAltitudeInsStatusOk) {

@@ -12,8 +12,10 @@
  *   0 initialise (defaults)
  *   1 initialise with the working settings
  *   2 set settings (the working settings)
- *   3 edit the working settings: field index byte (mod 23: the struct's
- *     fields in order, gapPeriod 19, the three sensor timeouts 20-22), 4 raw
+ *   3 edit the working settings: field index byte (mod
+ *     FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, 23 today: the struct's fields in
+ *     order, gapPeriod 19, the three sensor timeouts 20-22; the decoder,
+ *     FusionAltitudeKalmanSettingsSetWord, is generated from the header), 4 raw
  *     bytes (float bits; int32 for the minimum satellites; != 0 for the bool)
  *   4 update with every argument from the input: accel, dt, baro, range, GPS
  *     altitude, GPS accuracy (floats), satellites (int32), flags byte (bit 0:
@@ -65,6 +67,7 @@
  */
 
 #include "fusion_altitude_kalman.h"
+#include "tests/vectors/kalman_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -77,7 +80,6 @@
 #define MAX_STEPS (20000)    /* updates since initialisation */
 #define MAX_ACCEL (1e3f)     /* m/s^2 */
 #define MAX_ALTITUDE (1e5f)  /* m */
-#define SETTINGS_FIELDS (23)
 #define MIN_STEP (1e-4f)     /* s, step fuzzing */
 #define MAX_STEP (10.0f)     /* s, step fuzzing */
 #define MAX_STATE (1e14f)    /* m, m/s, m/s^2: the bound of a sane run (file comment) */
@@ -229,25 +231,6 @@ static FusionAltitudeKalmanStatus Update(FusionAltitudeKalman *const kalman, Run
     return status;
 }
 
-static void EditSettings(FusionAltitudeKalmanSettings *const s, const uint8_t field, const uint32_t bits) {
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    float *const floats[SETTINGS_FIELDS] = {&s->accelNoise, &s->accelBiasRandomWalk, &s->accelBiasInitialSigma, NULL, &s->baroNoise,
-                                            &s->baroOffsetRandomWalk, &s->rangeNoise, &s->rangeMinimum, &s->rangeMaximum,
-                                            &s->gpsNoiseBase, &s->gpsNoiseSatellite, NULL, &s->gpsOffsetRandomWalk, &s->gate,
-                                            &s->rejectionTimeout, &s->groundEffectNoiseScale, &s->groundEffectDeadZone,
-                                            &s->initialHeightSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->baroTimeout,
-                                            &s->rangeTimeout, &s->gpsTimeout};
-    const int index = field % SETTINGS_FIELDS;
-    if (index == 3) {
-        s->estimateAccelBias = bits != 0u;
-    } else if (index == 11) {
-        s->gpsMinimumSatellites = (int32_t) bits;
-    } else {
-        *floats[index] = value;
-    }
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
     Run run = {true, 0, 0.0f, false};
@@ -295,7 +278,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (!ReadByte(&reader, &byte) || !ReadBytes(&reader, &bits, sizeof(bits))) {
                     return 0;
                 }
-                EditSettings(&working, byte, bits);
+                FusionAltitudeKalmanSettingsSetWord(&working, byte % FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, bits);
                 break;
             }
             case 4:

@@ -64,7 +64,23 @@ def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryS
 
 
 class ComplementarySettings(KeywordSettings):
-    """Settings of the two-stage complementary filter (float32); see :class:`fusion_altitude.ComplementarySettings`."""
+    """Settings of the two-stage complementary filter (float32, keyword arguments only).
+
+    Parameters (defaults: ``FusionAltitudeComplementarySettingsDefault``)
+    ---------------------------------------------------------------------
+    accel_time_constant, baro_time_constant : 0.02 s, 0.05 s
+        Low-pass time constants τA of the accelerometer and τB of the baro (>= 0; 0: none).
+    per_sample_coefficients : False
+        True: blend with the fixed coefficients below, per baro sample; False: from the time constants.
+    velocity_coefficient, altitude_coefficient : 0.999, 0.998
+        cV and cH in [0, 1], per baro sample (used with ``per_sample_coefficients``).
+    velocity_time_constant, altitude_time_constant : 9.99 s, 4.99 s
+        TV and TH (>= 0): cV = TV/(TV + D), cH = TH/(TH + D) for a baro period D (used otherwise).
+    gap_period : 0.5 s
+        An update whose dt exceeds this is a gap, not integrated.
+    baro_timeout : 2.0 s
+        After this long without a baro sample the filter stops dead-reckoning (+inf: never).
+    """
 
     __slots__ = ()
     _DISTINCT = "per_sample_coefficients"

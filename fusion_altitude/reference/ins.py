@@ -90,6 +90,10 @@ class InsSettings(KeywordSettings):
     initial_velocity_sigma : 0.5 m/s
     gap_period : 0.1 s
         A dt above it is a gap: not integrated, counted (> 0).
+    baro_gate : 5.0 σ
+        A baro reading with innovation y² > baro_gate² S is rejected (> 0).
+    baro_rejection_timeout : 1.0 s
+        Baro rejected for longer: its bias is reset from the next reading.
     baro_timeout : 1.5 s
         No baro reading for longer: not baro-aided (``baro_timed_out``, counted in ``baro_timeouts``) (> 0).
     dead_reckoning_horizon : 5.0 s

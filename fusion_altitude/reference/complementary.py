@@ -22,6 +22,7 @@ from .. import _common, _complementary_glue, _observer_glue
 from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import BaroGapDiagnostics
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -109,7 +110,7 @@ class ComplementarySettings(KeywordSettings):
         return ComplementarySettings(**{**self._values, **changes})
 
 
-class ComplementaryFilter(Checkpointable):
+class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
     """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
 
     __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_gap_time", "_gap_count", "_baro_timeouts",
@@ -290,21 +291,6 @@ class ComplementaryFilter(Checkpointable):
     def reference_set(self) -> bool:
         """Whether the reference is set (False from a gap to the next baro sample)."""
         return self._reference_set
-
-    @property
-    def gap_count(self) -> int:
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
-        return self._gap_count
-
-    @property
-    def baro_timed_out(self) -> bool:
-        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
-        return self._baro_timed_out
-
-    @property
-    def baro_timeouts(self) -> int:
-        """Number of baro timeouts so far: times no baro sample came for more than ``settings.baro_timeout`` s."""
-        return self._baro_timeouts
 
     @property
     def settings(self) -> ComplementarySettings:

@@ -23,6 +23,7 @@ from .. import _c_tables, _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import BaroGapDiagnostics
 from ._settings import GainSettings
 
 f32 = np.float32
@@ -309,7 +310,7 @@ class AltitudeSettings(GainSettings):
 
 # -- estimator ---------------------------------------------------------------
 
-class AltitudeEstimator(Checkpointable):
+class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     """3rd-order complementary observer: baro altitude + vertical acceleration.
 
     Parameters
@@ -514,21 +515,6 @@ class AltitudeEstimator(Checkpointable):
     def reference_set(self) -> bool:
         """Whether the reference is set (first baro sample or reset); False again from a gap to the next baro sample."""
         return self._reference_set
-
-    @property
-    def gap_count(self) -> int:
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
-        return self._gap_count
-
-    @property
-    def baro_timed_out(self) -> bool:
-        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
-        return self._baro_timed_out
-
-    @property
-    def baro_timeouts(self) -> int:
-        """Number of baro timeouts so far: times no baro sample came for more than ``settings.baro_timeout`` s."""
-        return self._baro_timeouts
 
     @property
     def settings(self) -> AltitudeSettings:

@@ -32,6 +32,9 @@ def c_settings_from_bandwidth(float omega, float zeta, float omega_b):
     return int(status), (_settings_from_c(&c) if status == FusionAltitudeStatusOk else None)
 
 
+_observer_glue.use_c_settings_functions(from_bandwidth=c_settings_from_bandwidth)
+
+
 def c_settings_from_preset(int preset):
     """FusionAltitudeSettingsFromPreset, from C: the gains dict."""
     cdef FusionAltitudeSettings c

@@ -156,6 +156,19 @@ def _from_bandwidth(omega: np.float32, zeta: np.float32, omega_b: np.float32) ->
     return status, gains
 
 
+def _settings_from_bandwidth(omega: np.float32, zeta: np.float32,
+                             omega_b: np.float32) -> Tuple[Status, Tuple[np.float32, ...]]:
+    """FusionAltitudeSettingsFromBandwidth itself where the binding registered it (``_observer_glue``), else
+    its twin :func:`_from_bandwidth`."""
+    c_function = _observer_glue.C_SETTINGS_FUNCTIONS.get("from_bandwidth")
+    if c_function is None:
+        return _from_bandwidth(omega, zeta, omega_b)
+    status, values = c_function(float(omega), float(zeta), float(omega_b))
+    if values is None:
+        return Status(status), ()
+    return Status(status), tuple(f32(values[name]) for name in ("position_gain", "velocity_gain", "bias_gain"))
+
+
 #: FusionAltitudeSettingsFromPreset: {preset: (Kh, Kv, Kb)} as float32, and the gap period and baro timeout (s),
 #: read from C by the generator (``_c_tables.OBSERVER_PRESETS``).
 _PRESET_GAINS = {name: (f32(p["position_gain"]), f32(p["velocity_gain"]), f32(p["bias_gain"]))
@@ -226,7 +239,7 @@ class AltitudeSettings(GainSettings):
         omega32 = f32(_common.as_float(omega, "omega"))
         zeta32 = f32(_common.as_float(zeta, "zeta"))
         omega_b32 = omega32 / f32(5) if omega_b is None else f32(_common.as_float(omega_b, "omega_b"))
-        status, gains = _from_bandwidth(omega32, zeta32, omega_b32)
+        status, gains = _settings_from_bandwidth(omega32, zeta32, omega_b32)
         if status != Status.OK:
             _observer_glue.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
         return cls(*gains, gap_period=gap_period, baro_timeout=baro_timeout)

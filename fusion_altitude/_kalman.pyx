@@ -355,3 +355,6 @@ _common.share_signatures(KalmanEstimator, _kalman_glue.KalmanContract, ("update"
 def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(KalmanEstimator, state)
+
+
+_kalman_glue.use_c_settings_functions(check=c_settings_check)

@@ -60,6 +60,17 @@ KALMAN_SETTINGS = tuple((name, default, kind, *_KALMAN_RULES.get(name, (KalmanSt
 KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
 
 
+#: The C settings functions ``KalmanSettings`` calls instead of the reference's arithmetic twins, once the binding
+#: (``_kalman.pyx``) registers them at import: ``"check"`` → ``c_settings_check``. Without the compiled extension
+#: it stays empty and the reference's twin checks (``tests/test_kalman.py`` holds it equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
+def use_c_settings_functions(**functions) -> None:
+    """Called by the binding at import: the settings class computes with these C functions from then on."""
+    C_SETTINGS_FUNCTIONS.update(functions)
+
+
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
 KALMAN_MAXIMUM_SETTING = _c_tables.FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING
 

@@ -106,7 +106,7 @@ class KalmanSettings(KeywordSettings):
 
     def __init__(self, **kwargs) -> None:
         values = _kalman_glue.convert_kalman_settings(kwargs)
-        status = _check(values)
+        status = _settings_check(values)
         if status != KalmanStatus.OK:
             _kalman_glue.raise_kalman_settings_error(status, values)
         self._values = values
@@ -118,6 +118,13 @@ class KalmanSettings(KeywordSettings):
 
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: squared it stays far inside float32.
 MAXIMUM_SETTING = f32(_kalman_glue.KALMAN_MAXIMUM_SETTING)
+
+
+def _settings_check(values: dict) -> KalmanStatus:
+    """FusionAltitudeKalmanSettingsCheck itself where the binding registered it (``_kalman_glue``), else its twin
+    :func:`_check`."""
+    c_function = _kalman_glue.C_SETTINGS_FUNCTIONS.get("check")
+    return _check(values) if c_function is None else KalmanStatus(c_function(values))
 
 
 def _check(values: dict) -> KalmanStatus:

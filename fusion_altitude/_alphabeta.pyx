@@ -20,7 +20,7 @@ from fusion_altitude.calphabeta cimport *
 from fusion_altitude import _alphabeta_glue, _common
 from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.alphabeta import AlphaBetaFusion as _reference_AlphaBetaFusion, AlphaBetaSettings
+from fusion_altitude.reference.alphabeta import AlphaBetaSettings
 
 include "_alphabeta_fields.pxi"
 
@@ -307,7 +307,7 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
                 f"weights={tuple(self.weights)!r})")
 
 
-_common.share_signatures(AlphaBetaFusion, _reference_AlphaBetaFusion, ("update", "update_batch"))
+_common.share_signatures(AlphaBetaFusion, _alphabeta_glue.AlphaBetaContract, ("update", "update_batch"))
 
 
 def _restore(state):

@@ -19,7 +19,7 @@ ALPHABETA_SENSORS = _c_tables.ALPHABETA_SENSORS
 
 
 #: Largest accepted quality (FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY).
-ALPHABETA_MAX_QUALITY = 10000
+ALPHABETA_MAX_QUALITY = _c_tables.FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
 
 
 class AlphaBetaSensorSettings(NamedTuple):
@@ -191,3 +191,18 @@ def prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude, sonar_alti
                                                                    sonar_altitude, gps_altitude))))
     layout = [((n,), np.float32)] * 2 + [((n, 5), np.float32), ((n, 5), np.int32)]
     return n, inputs, steps, output_arrays(AlphaBetaBatch, layout, out)
+
+
+class AlphaBetaContract:
+    """The public methods whose signature (and docstring) the AlphaBetaFusion binding and reference share, written
+    once here: ``_common.share_signatures``/``share_docstrings`` give them to both classes."""
+
+    def update(self, accel: float, baro_altitude: float, dt: float, *, lidar_altitude: float = math.nan,
+               sonar_altitude: float = math.nan, gps_altitude: float = math.nan) -> None:
+        """See the estimator class."""
+        raise NotImplementedError
+
+    def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
+                     gps_altitude=None, out=None) -> AlphaBetaBatch:
+        """See the estimator class."""
+        raise NotImplementedError

@@ -75,6 +75,25 @@ OBSERVER_SETTINGS = (
 )
 
 
+#: ``FusionAltitudeSettingsFromPreset``: {preset: {setting: value}}, read from C.
+OBSERVER_PRESETS = {
+    'balloon': {'position_gain': 0.32, 'velocity_gain': 0.0512, 'bias_gain': 0.0016, 'gap_period': 5.0, 'baro_timeout': 10.0},
+    'fixed_wing': {'position_gain': 0.8, 'velocity_gain': 0.32, 'bias_gain': 0.025, 'gap_period': 0.5, 'baro_timeout': 2.0},
+    'vtol': {'position_gain': 2.4, 'velocity_gain': 2.88, 'bias_gain': 0.675, 'gap_period': 0.5, 'baro_timeout': 2.0},
+    'racing': {'position_gain': 8.0, 'velocity_gain': 32.0, 'bias_gain': 25.0, 'gap_period': 0.5, 'baro_timeout': 2.0},
+    'rocket': {'position_gain': 1.4, 'velocity_gain': 1.0, 'bias_gain': 0.0, 'gap_period': 0.5, 'baro_timeout': 2.0},
+}
+
+#: The position-loop bandwidth ω of each preset, rad/s: the comments of ``FusionAltitudePreset``.
+OBSERVER_PRESET_OMEGA = {
+    'balloon': 0.2,
+    'fixed_wing': 0.5,
+    'vtol': 1.5,
+    'racing': 5.0,
+    'rocket': 1.0,
+}
+
+
 # -- fusion_altitude_kalman.h ----------------------------------------------------------------------------
 
 class KalmanStateIndex(enum.IntEnum):

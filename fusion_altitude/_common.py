@@ -14,9 +14,11 @@ from typing import Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ._c_tables import FUSION_ALTITUDE_GRAVITY as _FUSION_ALTITUDE_GRAVITY
+
 
 #: Standard gravity, m/s². Multiply an acceleration in g by this.
-GRAVITY = 9.80665
+GRAVITY = _FUSION_ALTITUDE_GRAVITY  # fusion_altitude.h, through the generated tables
 
 
 def as_float(value: object, name: str) -> float:

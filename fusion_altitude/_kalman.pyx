@@ -23,7 +23,7 @@ import numpy as np
 from fusion_altitude import _common, _kalman_glue
 from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.kalman import KalmanEstimator as _reference_KalmanEstimator, KalmanSettings
+from fusion_altitude.reference.kalman import KalmanSettings
 
 include "_kalman_fields.pxi"
 
@@ -348,10 +348,13 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
 
 
-_common.share_docstrings(KalmanEstimator, _reference_KalmanEstimator)
-_common.share_signatures(KalmanEstimator, _reference_KalmanEstimator, ("update", "update_batch"))
+_common.share_docstrings(KalmanEstimator, _kalman_glue.KalmanContract)
+_common.share_signatures(KalmanEstimator, _kalman_glue.KalmanContract, ("update", "update_batch"))
 
 
 def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(KalmanEstimator, state)
+
+
+_kalman_glue.use_c_settings_functions(check=c_settings_check)

@@ -60,8 +60,19 @@ KALMAN_SETTINGS = tuple((name, default, kind, *_KALMAN_RULES.get(name, (KalmanSt
 KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
 
 
+#: The C settings functions ``KalmanSettings`` calls instead of the reference's arithmetic twins, once the binding
+#: (``_kalman.pyx``) registers them at import: ``"check"`` → ``c_settings_check``. Without the compiled extension
+#: it stays empty and the reference's twin checks (``tests/test_kalman.py`` holds it equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
+def use_c_settings_functions(**functions) -> None:
+    """Called by the binding at import: the settings class computes with these C functions from then on."""
+    C_SETTINGS_FUNCTIONS.update(functions)
+
+
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
-KALMAN_MAXIMUM_SETTING = 1e6
+KALMAN_MAXIMUM_SETTING = _c_tables.FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING
 
 
 KALMAN_SETTINGS_DEFAULTS = {name: default for name, default, *_ in KALMAN_SETTINGS}
@@ -249,3 +260,46 @@ def prepare_kalman_batch(accel, dt, baro_altitude, range_distance, gps_altitude,
     for name, value in (("gps_satellites", gps_satellites), ("ground_effect", ground_effect)):
         steps[name] = int(value is not None and np.ndim(value) != 0)
     return n, inputs, steps, kalman_output_arrays(n, out)
+
+
+class KalmanContract:
+    """The public methods whose signature (and docstring) the KalmanEstimator binding and reference share, written
+    once here: ``_common.share_signatures``/``share_docstrings`` give them to both classes."""
+
+    def update(self, accel: float, baro_altitude: float, dt: float, *, range_distance: float = math.nan,
+               gps_altitude: float = math.nan, gps_satellites: Optional[int] = None,
+               gps_vertical_accuracy: Optional[float] = None, ground_effect: bool = False) -> None:
+        """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
+
+        Parameters
+        ----------
+        accel : float
+            Vertical acceleration, m/s², earth frame, +up, gravity removed.
+        dt : float
+            Time since the previous step, s.
+        baro_altitude, range_distance, gps_altitude : float, optional
+            Samples, m; NaN (the default) when a sensor has none this step. A
+            range outside [range_min, range_max] (or ±inf) counts as no echo.
+        gps_satellites : int, optional
+            Satellites used; None: unknown (the GPS model then assumes
+            ``gps_min_satellites``). Fewer than ``gps_min_satellites``: not fused.
+        gps_vertical_accuracy : float, optional
+            Receiver-reported 1σ vertical accuracy, m; used instead of the
+            satellite model when given.
+        ground_effect : bool
+            Take-off or landing: widen the baro noise and ignore negative baro
+            innovations up to the dead zone.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, dt not finite or <= 0, baro or GPS altitude
+            infinite, a GPS accuracy (with a GPS sample) not finite and > 0;
+            the state is unchanged.
+        """
+        raise NotImplementedError
+
+    def update_batch(self, accel, baro_altitude, dt, *, range_distance=None, gps_altitude=None,
+                     gps_satellites=None, gps_vertical_accuracy=None, ground_effect=None, out=None) -> KalmanBatch:
+        """See the estimator class."""
+        raise NotImplementedError

@@ -15,7 +15,7 @@ from fusion_altitude.cobserver cimport *
 from fusion_altitude import _common, _observer_glue
 from fusion_altitude._observer_glue import AltitudeBatch
 from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.observer import AltitudeEstimator as _reference_AltitudeEstimator, AltitudeSettings
+from fusion_altitude.reference.observer import AltitudeSettings
 
 include "_observer_fields.pxi"
 
@@ -30,6 +30,9 @@ def c_settings_from_bandwidth(float omega, float zeta, float omega_b):
     cdef FusionAltitudeSettings c
     cdef FusionAltitudeStatus status = FusionAltitudeSettingsFromBandwidth(&c, omega, zeta, omega_b)
     return int(status), (_settings_from_c(&c) if status == FusionAltitudeStatusOk else None)
+
+
+_observer_glue.use_c_settings_functions(from_bandwidth=c_settings_from_bandwidth)
 
 
 def c_settings_from_preset(int preset):
@@ -204,7 +207,7 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
                 f"accel_bias={self.accel_bias!r}, baro_residual={self.baro_residual!r}, settings={self.settings!r})")
 
 
-_common.share_docstrings(AltitudeEstimator, _reference_AltitudeEstimator)
+_common.share_docstrings(AltitudeEstimator, _observer_glue.AltitudeContract)
 
 
 def _restore(state):

@@ -11,15 +11,28 @@ from typing import NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN, Preset, Status
+from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN, OBSERVER_PRESET_OMEGA, Preset, Status
 from ._common import output_arrays as _output_arrays, prepare_inputs, raise_input_error
 
 __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs", "prepare_batch", "output_arrays"]
 
 
 #: Preset names accepted by ``AltitudeSettings.preset`` and their position-loop
-#: bandwidth ω (rad/s); each uses ζ = 0.7 and ω_b = ω/5.
-PRESET_OMEGA = {"balloon": 0.2, "fixed_wing": 0.5, "vtol": 1.5, "racing": 5.0, "rocket": 1.0}
+#: bandwidth ω (rad/s); each uses ζ = 0.7 and ω_b = ω/5 (the rocket ω_b = 0). From the header's
+#: ``FusionAltitudePreset`` comments, through the generated tables.
+PRESET_OMEGA = dict(OBSERVER_PRESET_OMEGA)
+
+
+#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
+#: binding (``_observer.pyx``) registers them at import: ``"from_bandwidth"`` → ``c_settings_from_bandwidth``.
+#: Without the compiled extension it stays empty and the reference's twins compute (``tests/test_observer.py``
+#: holds the twins equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
+def use_c_settings_functions(**functions) -> None:
+    """Called by the binding at import: the settings class computes with these C functions from then on."""
+    C_SETTINGS_FUNCTIONS.update(functions)
 
 
 #: Index of each preset in the C enum ``FusionAltitudePreset``.
@@ -155,3 +168,49 @@ def prepare_batch(accel: object, baro_altitude: object, dt: object,
 def output_arrays(shape: Tuple[int, ...], out: Optional[Sequence[np.ndarray]]) -> AltitudeBatch:
     """New float32 output arrays of ``shape``, or the caller's ``out`` after checking it."""
     return _output_arrays(AltitudeBatch, [(shape, np.float32)] * 4, out)
+
+
+class AltitudeContract:
+    """The public methods whose signature (and docstring) the AltitudeEstimator binding and reference share, written
+    once here: ``_common.share_signatures``/``share_docstrings`` give them to both classes."""
+
+    def update(self, accel: float, baro_altitude: float, dt: float) -> None:
+        """Process one sample.
+
+        Parameters
+        ----------
+        accel : float
+            Vertical acceleration, m/s², earth frame, +up, gravity removed.
+        baro_altitude : float
+            Barometric altitude, m; NaN when no baro sample arrived this step
+            (the filter then integrates the acceleration only).
+        dt : float
+            Time since the previous sample, s.
+
+        Notes
+        -----
+        Once the reference is set, a ``dt`` above ``settings.gap_period`` is a
+        gap: it is not integrated, :attr:`gap_count` goes up, the bias is held
+        and the next baro sample (this one's if present) restarts the altitude
+        at the baro and the velocity at the mean velocity over the gap
+        ((z − h_before) / time since h_before); :attr:`reference_set` is
+        False until then. After the restart the bias is held for 8/Kh s
+        (while the velocity error is corrected). A step carrying a baro
+        sample that the gains cannot integrate stably (Jury's test fails at
+        1.5 times the step and the baro interval it ends; default gains with
+        a baro every step: dt > 0.413 s) is a gap too.
+
+        With no baro sample for more than ``settings.baro_timeout`` s the
+        observer stops dead-reckoning: :attr:`baro_timeouts` goes up,
+        :attr:`baro_timed_out` is True until the next baro sample, the
+        acceleration is no longer integrated and the velocity decays to 0
+        (v ·= T/(T + dt), T = baro_timeout), so the altitude moves at most
+        |v|·T further; the next baro sample restarts the altitude at the baro.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        raise NotImplementedError

@@ -16,7 +16,7 @@ from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _sweep, _observer_glue, _sweep_glue
-from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN
+from ._c_tables import FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_MAXIMUM_GAIN
 from ._observer_glue import Status
 from ._sweep_glue import SweepResult
 from ._observer import AltitudeSettings
@@ -33,10 +33,10 @@ MIN_SETTINGS_PER_THREAD = 64
 GAP_PERIODS = 10.0
 
 #: The observer's default gap period, s (C FUSION_ALTITUDE_DEFAULT_GAP_PERIOD).
-DEFAULT_GAP_PERIOD = 0.5
+DEFAULT_GAP_PERIOD = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD
 
 #: The observer's default baro timeout, s (C FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT).
-DEFAULT_BARO_TIMEOUT = 2.0
+DEFAULT_BARO_TIMEOUT = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT
 
 
 def nominal_dt(dt) -> float:

@@ -9,10 +9,13 @@ import pickle
 import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
+from hypothesis import given, settings as hypothesis_settings
+from hypothesis import strategies as st
 
 import fusion_altitude
 import fusion_altitude.reference
 from fusion_altitude import KalmanResult, KalmanStatus, _kalman
+from fusion_altitude._kalman_glue import KALMAN_SETTINGS as KALMAN_SETTINGS_TABLE
 
 DT = 0.01
 
@@ -473,3 +476,22 @@ def test_the_kalman_filter_on_a_log_whose_baro_stops_carries_on_with_the_gps_and
     assert np.all(np.isfinite(run.estimate.altitude))
     assert "kalman: the baro timed out 1 time(s) (no sample for > 1.5 s): the altitude there is carried by the GPS" \
         in data.warnings
+
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(changes=st.dictionaries(st.sampled_from([name for name, *_ in KALMAN_SETTINGS_TABLE if name != "estimate_accel_bias"
+                                                and name != "gps_min_satellites"]),
+                               st.floats(-10.0, 2e6, width=32) | st.sampled_from([0.0, math.inf, -math.inf, math.nan]),
+                               max_size=4))
+def test_the_reference_twin_of_the_settings_check_equals_the_c_function(changes):
+    from fusion_altitude.reference import kalman as reference_kalman
+
+    values = {name: default for name, default, *_ in KALMAN_SETTINGS_TABLE}
+    values.update(changes)
+    assert int(reference_kalman._check(values)) == _kalman.c_settings_check(values)
+
+
+def test_kalman_settings_check_with_the_c_function_once_the_binding_is_imported():
+    from fusion_altitude import _kalman_glue
+
+    assert _kalman_glue.C_SETTINGS_FUNCTIONS["check"] is _kalman.c_settings_check

@@ -163,6 +163,25 @@ def test_from_bandwidth_equals_the_c_function(omega, zeta, omega_b):
         assert fusion_altitude.AltitudeSettings.from_bandwidth(omega, zeta, omega_b).as_dict() == gains
 
 
+@hypothesis_settings(max_examples=200, deadline=None)
+@given(omega=st.floats(-1.0, 50.0, width=32), zeta=st.floats(-0.5, 3.0, width=32), omega_b=st.floats(-1.0, 10.0, width=32))
+def test_the_reference_twin_of_from_bandwidth_equals_the_c_function(omega, zeta, omega_b):
+    from fusion_altitude.reference import observer as reference_observer
+
+    c_status, c_gains = _observer.c_settings_from_bandwidth(omega, zeta, omega_b)
+    status, gains = reference_observer._from_bandwidth(np.float32(omega), np.float32(zeta), np.float32(omega_b))
+    assert int(status) == c_status
+    if c_status == Status.OK:
+        assert tuple(float(g) for g in gains) == (c_gains["position_gain"], c_gains["velocity_gain"],
+                                                  c_gains["bias_gain"])
+
+
+def test_from_bandwidth_calls_the_c_function_once_the_binding_is_imported():
+    from fusion_altitude import _observer_glue
+
+    assert _observer_glue.C_SETTINGS_FUNCTIONS["from_bandwidth"] is _observer.c_settings_from_bandwidth
+
+
 @pytest.mark.parametrize("name", sorted(PRESET_OMEGA))
 def test_presets_equal_the_c_function(name):
     preset = c.AltitudeSettings.preset(name)

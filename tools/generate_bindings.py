@@ -21,6 +21,9 @@ runs a small program that calls ``...SettingsDefault()`` and
 settings or state struct (e.g. ``float gapPeriod``) reaches Python by running
 this script again; nothing else is edited by hand.
 
+It also writes ``csrc/tests/vectors/<module>_settings_words.h`` (:mod:`settings_words`): the settings structs as
+the 32-bit words of the test vectors, which the firmware replays and the fuzzers decode.
+
 Usage::
 
     python tools/generate_bindings.py           # write the files
@@ -40,6 +43,9 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import settings_words  # noqa: E402  (tools/settings_words.py: the settings as words, for replays and fuzzers)
 
 ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
@@ -220,6 +226,12 @@ def read_from_c(headers: Dict[str, Header]) -> Tuple[Dict[str, Dict[Tuple[str, .
                 kind, ('"%ld"', "(long)"))
             lines.append(f'      printf("D {module} {".".join(path)} "); printf({fmt}, {cast}{access}); printf("\\n");')
         lines.append("    }")
+        if f"{prefix}Preset" in header.enums and f"{prefix}SettingsFromPreset" in header.path.read_text():
+            for member, _ in header.enums[f"{prefix}Preset"].members:
+                lines.append(f"    {{ {settings} s; {prefix}SettingsFromPreset(&s, {member});")
+                for path, access, kind in _c_leaves(header, settings, "s"):
+                    lines.append(f'      printf("P {module} {member}.{".".join(path)} %.9g\\n", (double){access});')
+                lines.append("    }")
         status = f"{prefix}Status"
         for member, _ in header.enums[status].members:
             lines.append(f'    printf("M {module} %s\\n", {prefix}StatusMessage({member}));')
@@ -236,6 +248,9 @@ def read_from_c(headers: Dict[str, Header]) -> Tuple[Dict[str, Dict[Tuple[str, .
         if tag == "D":
             path, value = rest.split(" ", 1)
             defaults[module][tuple(path.split("."))] = value
+        elif tag == "P":  # a preset's settings: stored as defaults under ("preset", member, field...)
+            path, value = rest.split(" ", 1)
+            defaults[module][("preset",) + tuple(path.split("."))] = value
         else:
             messages[module].append(rest)
     return defaults, messages
@@ -338,6 +353,30 @@ def settings_table(module: str, header: Header, struct: str, defaults: Dict[Tupl
     return lines + ["", ""]
 
 
+def presets_table(module: str, header: Header, prefix: str, struct: str,
+                  defaults: Dict[Tuple[str, ...], str]) -> List[str]:
+    """``<MODULE>_PRESETS`` (``...SettingsFromPreset`` of each preset, read from C) and ``<MODULE>_PRESET_OMEGA``
+    (the bandwidth ω, rad/s, that each preset's enum comment gives), keyed by the preset's Python name."""
+    enum = header.enums.get(f"{prefix}Preset")
+    if enum is None or not any(key[0] == "preset" for key in defaults):
+        return []
+    upper = module.upper()
+    lines = [f"#: ``{prefix}SettingsFromPreset``: {{preset: {{setting: value}}}}, read from C.", f"{upper}_PRESETS = {{"]
+    for member, _ in enum.members:
+        name = upper_snake(member[len(enum_prefix(enum)):]).lower()
+        values = ", ".join(f"{path[-1]!r}: {_python_value(defaults[('preset', member) + path], kind)}"
+                           for path, _, kind in _c_leaves(header, struct, "s"))
+        lines.append(f"    {name!r}: {{{values}}},")
+    lines += ["}", "", f"#: The position-loop bandwidth ω of each preset, rad/s: the comments of ``{enum.cname}``.",
+              f"{upper}_PRESET_OMEGA = {{"]
+    for member, comment in enum.members:
+        match = re.search(r"omega = ([\d.]+) rad/s", comment)
+        if match is None:
+            raise SystemExit(f"generate_bindings: {member} has no 'omega = <value> rad/s' in its comment")
+        lines.append(f"    {upper_snake(member[len(enum_prefix(enum)):]).lower()!r}: {float(match.group(1))!r},")
+    return lines + ["}", "", ""]
+
+
 def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
     out = [GENERATED.rstrip(), '"""Enums, status messages and settings tables of the C headers, for the binding and the reference.',
            "", "Pure Python: :mod:`fusion_altitude.reference` imports it without the compiled extension.", '"""', "",
@@ -366,6 +405,7 @@ def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
         out += [")", "", ""]
         if settings:
             out += settings_table(module, header, settings, defaults[module])
+            out += presets_table(module, header, prefix, settings, defaults[module])
     out.append("#: Status messages of each estimator class, for ``Estimator.status_message``.")
     out.append("STATUS_MESSAGES = {")
     out += [f"    {ESTIMATORS[m]!r}: {m.upper()}_STATUS_MESSAGES," for m in MODULES]
@@ -698,6 +738,7 @@ def generate() -> Dict[Path, str]:
         files[PACKAGE / f"_{module}.pyi"] = generate_stub(module, headers[module])
         files[PACKAGE / PXD_NAMES[module]] = generate_pxd(module, headers[module],
                                                           files[PACKAGE / f"_{module}_fields.pxi"])
+    files.update(settings_words.generate(headers, MODULES, CSRC))
     return files
 
 

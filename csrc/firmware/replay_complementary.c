@@ -26,24 +26,11 @@ typedef FusionAltitudeComplementaryVector ReplayVector;
 
 #include "replay_common.h"
 
+#include "vectors/complementary_settings_words.h"
+
 #define SETTINGS_WORDS (FUSION_ALTITUDE_COMPLEMENTARY_VECTOR_SETTINGS_WORDS)
 
-typedef char stateWordsMatch[(REPLAY_STATE_WORDS == SETTINGS_WORDS + 11) && (SETTINGS_WORDS == 9) ? 1 : -1];
-
-static FusionAltitudeComplementarySettings SettingsFromWords(const uint32_t words[SETTINGS_WORDS]) {
-    FusionAltitudeComplementarySettings s;
-    memset(&s, 0, sizeof(s));
-    s.accelTimeConstant = ReplayFloat(words[0]);
-    s.baroTimeConstant = ReplayFloat(words[1]);
-    s.perSampleCoefficients = words[2] != 0u;
-    s.velocityCoefficient = ReplayFloat(words[3]);
-    s.altitudeCoefficient = ReplayFloat(words[4]);
-    s.velocityTimeConstant = ReplayFloat(words[5]);
-    s.altitudeTimeConstant = ReplayFloat(words[6]);
-    s.gapPeriod = ReplayFloat(words[7]);
-    s.baroTimeout = ReplayFloat(words[8]);
-    return s;
-}
+typedef char stateWordsMatch[(REPLAY_STATE_WORDS == SETTINGS_WORDS + 11) && (SETTINGS_WORDS == FUSION_ALTITUDE_COMPLEMENTARY_SETTINGS_WORDS) ? 1 : -1];
 
 static void ReplayInitialise(ReplayFilter *const filter) {
     FusionAltitudeComplementaryInitialise(filter);
@@ -57,7 +44,7 @@ static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *cons
             FusionAltitudeComplementaryInitialise(filter);
             return FusionAltitudeComplementaryStatusOk;
         case FusionAltitudeComplementaryVectorOpSetSettings:
-            settings = SettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
+            settings = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeComplementarySetSettings(filter, &settings);
         case FusionAltitudeComplementaryVectorOpReset:
             return (uint32_t) FusionAltitudeComplementaryReset(filter, ReplayFloat(in[0]));
@@ -70,16 +57,14 @@ static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *cons
 static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, const uint32_t status,
                              uint32_t words[REPLAY_STATE_WORDS]) {
     const FusionAltitudeComplementarySettings s = FusionAltitudeComplementaryGetSettings(filter);
-    const float floats[REPLAY_STATE_WORDS] = {
-        s.accelTimeConstant, s.baroTimeConstant, 0.0f, s.velocityCoefficient, s.altitudeCoefficient,
-        s.velocityTimeConstant, s.altitudeTimeConstant, s.gapPeriod, s.baroTimeout, FusionAltitudeComplementaryGetAltitude(filter),
-        FusionAltitudeComplementaryGetVerticalVelocity(filter), filter->accelFiltered,
+    const float floats[REPLAY_STATE_WORDS - SETTINGS_WORDS] = {
+        FusionAltitudeComplementaryGetAltitude(filter), FusionAltitudeComplementaryGetVerticalVelocity(filter), filter->accelFiltered,
         FusionAltitudeComplementaryGetBaroFiltered(filter), FusionAltitudeComplementaryGetBaroVelocity(filter),
         filter->sinceBaro, 0.0f, filter->gapTime, 0.0f, 0.0f, 0.0f};
-    for (int i = 0; i < REPLAY_STATE_WORDS; i++) {
-        words[i] = ReplayBits(floats[i]);
+    FusionAltitudeComplementarySettingsToWords(&s, words);
+    for (int i = SETTINGS_WORDS; i < REPLAY_STATE_WORDS; i++) {
+        words[i] = ReplayBits(floats[i - SETTINGS_WORDS]);
     }
-    words[2] = s.perSampleCoefficients ? 1u : 0u;
     words[15] = FusionAltitudeComplementaryIsReferenceSet(filter) ? 1u : 0u;
     words[17] = FusionAltitudeComplementaryGetGapCount(filter);
     words[18] = FusionAltitudeComplementaryGetBaroTimeouts(filter);
@@ -89,7 +74,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
         return (uint32_t) FusionAltitudeComplementaryCheckInputs(ReplayFloat(in[0]), ReplayFloat(in[1]), ReplayFloat(in[2])) == status;
     }
     if (vector->op == (uint8_t) FusionAltitudeComplementaryVectorOpSetSettings) {
-        const FusionAltitudeComplementarySettings requested = SettingsFromWords(fusionAltitudeComplementaryVectorSettings[vector->input[0]]);
+        const FusionAltitudeComplementarySettings requested = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[vector->input[0]]);
         return (uint32_t) FusionAltitudeComplementarySettingsCheck(&requested) == status;
     }
     return true;
@@ -97,7 +82,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
 
 static void ReplaySetStateWords(ReplayFilter *const filter, const uint32_t words[REPLAY_STATE_WORDS]) {
     memset(filter, 0, sizeof(*filter));
-    filter->settings = SettingsFromWords(words);
+    filter->settings = FusionAltitudeComplementarySettingsFromWords(words);
     filter->altitude = ReplayFloat(words[9]);
     filter->verticalVelocity = ReplayFloat(words[10]);
     filter->accelFiltered = ReplayFloat(words[11]);

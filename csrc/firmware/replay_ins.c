@@ -24,31 +24,13 @@ typedef FusionAltitudeInsReplayVector ReplayVector;
 
 #include "replay_common.h"
 
+#include "vectors/ins_settings_words.h"
+
 #define SETTINGS_WORDS (FUSION_ALTITUDE_INS_VECTOR_SETTINGS_WORDS)
 #define N (FUSION_ALTITUDE_INS_STATES)
 #define TRIANGLE (N * (N + 1) / 2)
 
-typedef char stateWordsMatch[(SETTINGS_WORDS == 25) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 13 + 4 + 9 + 8) ? 1 : -1];
-
-/* The settings fields in struct order (the order of the settings words). */
-static float *SettingsField(FusionAltitudeInsSettings *const s, const int index) {
-    float *const fields[SETTINGS_WORDS] = {&s->gyroNoise, &s->gyroBiasRandomWalk, &s->accelNoise, &s->accelAttitudeNoise,
-                                           &s->accelNormRejection, &s->accelRejection, &s->recoveryTriggerPeriod, &s->baroNoise,
-                                           &s->stationaryGyroThreshold, &s->stationaryAccelThreshold, &s->stationaryWindow,
-                                           &s->zeroRateNoise, &s->zeroVelocityNoise, &s->baroBiasTimeConstant,
-                                           &s->accelBiasTimeConstant, &s->magTimeConstant, &s->initialAttitudeSigma,
-                                           &s->initialGyroBiasSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->stationaryBaroRate,
-                                           &s->baroGate, &s->baroRejectionTimeout, &s->baroTimeout, &s->deadReckoningHorizon};
-    return fields[index];
-}
-
-static FusionAltitudeInsSettings SettingsFromWords(const uint32_t words[SETTINGS_WORDS]) {
-    FusionAltitudeInsSettings settings = FusionAltitudeInsSettingsDefault();
-    for (int i = 0; i < SETTINGS_WORDS; i++) {
-        *SettingsField(&settings, i) = ReplayFloat(words[i]);
-    }
-    return settings;
-}
+typedef char stateWordsMatch[(SETTINGS_WORDS == FUSION_ALTITUDE_INS_SETTINGS_WORDS) && (REPLAY_STATE_WORDS == SETTINGS_WORDS + 9 + TRIANGLE + 13 + 4 + 9 + 8) ? 1 : -1];
 
 static FusionAltitudeInsVector VectorFromWords(const uint32_t words[3]) {
     FusionAltitudeInsVector v;
@@ -68,10 +50,10 @@ static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *cons
     FusionAltitudeInsSettings settings;
     switch ((FusionAltitudeInsReplayVectorOp) vector->op) {
         case FusionAltitudeInsReplayVectorOpInitialiseWith:
-            settings = SettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
+            settings = FusionAltitudeInsSettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeInsInitialiseWith(filter, &settings);
         case FusionAltitudeInsReplayVectorOpSetSettings:
-            settings = SettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
+            settings = FusionAltitudeInsSettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeInsSetSettings(filter, &settings);
         case FusionAltitudeInsReplayVectorOpUpdate:
             return (uint32_t) FusionAltitudeInsUpdate(filter, VectorFromWords(&in[0]), VectorFromWords(&in[3]), VectorFromWords(&in[6]),
@@ -87,10 +69,9 @@ static bool SameBits(const float a, const float b) {
 static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, const uint32_t status,
                              uint32_t words[REPLAY_STATE_WORDS]) {
     int n = 0;
-    FusionAltitudeInsSettings settings = FusionAltitudeInsGetSettings(filter);
-    for (int i = 0; i < SETTINGS_WORDS; i++) {
-        words[n++] = ReplayBits(*SettingsField(&settings, i));
-    }
+    const FusionAltitudeInsSettings settings = FusionAltitudeInsGetSettings(filter);
+    FusionAltitudeInsSettingsToWords(&settings, words);
+    n += SETTINGS_WORDS;
     const FusionAltitudeInsQuaternion q = FusionAltitudeInsGetQuaternion(filter);
     const FusionAltitudeInsVector bias = FusionAltitudeInsGetGyroBias(filter);
     const float nominal[] = {q.w, q.x, q.y, q.z, bias.x, bias.y, bias.z, FusionAltitudeInsGetAltitude(filter),
@@ -147,7 +128,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
         checked = (uint32_t) FusionAltitudeInsCheckInputs(VectorFromWords(&in[0]), VectorFromWords(&in[3]), VectorFromWords(&in[6]),
                                                           ReplayFloat(in[9]), ReplayFloat(in[10])) == status;
     } else {
-        const FusionAltitudeInsSettings requested = SettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
+        const FusionAltitudeInsSettings requested = FusionAltitudeInsSettingsFromWords(fusionAltitudeInsReplayVectorSettings[in[0]]);
         checked = (uint32_t) FusionAltitudeInsSettingsCheck(&requested) == status;
     }
     return symmetric && getters && checked;
@@ -155,7 +136,7 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
 
 static void ReplaySetStateWords(ReplayFilter *const filter, const uint32_t words[REPLAY_STATE_WORDS]) {
     memset(filter, 0, sizeof(*filter));
-    filter->settings = SettingsFromWords(words);
+    filter->settings = FusionAltitudeInsSettingsFromWords(words);
     int n = SETTINGS_WORDS;
     for (int i = 0; i < 4; i++) {
         filter->q[i] = ReplayFloat(words[n++]);

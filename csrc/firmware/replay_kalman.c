@@ -28,52 +28,12 @@ typedef FusionAltitudeKalmanVector ReplayVector;
 
 #include "replay_common.h"
 
+#include "vectors/kalman_settings_words.h"
+
 #define STATE_WORDS (REPLAY_STATE_WORDS)
-#define SETTINGS_WORDS (23)
+#define SETTINGS_WORDS (FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS) /* generated from the header's settings struct */
 
 typedef char stateWordsMatch[(STATE_WORDS == SETTINGS_WORDS + 5 + 15 + 2 + 3 * 12 + 4) ? 1 : -1];
-
-static FusionAltitudeKalmanSettings SettingsFromWords(const uint32_t words[SETTINGS_WORDS]) {
-    FusionAltitudeKalmanSettings s;
-    memset(&s, 0, sizeof(s));
-    s.accelNoise = ReplayFloat(words[0]);
-    s.accelBiasRandomWalk = ReplayFloat(words[1]);
-    s.accelBiasInitialSigma = ReplayFloat(words[2]);
-    s.estimateAccelBias = words[3] != 0u;
-    s.baroNoise = ReplayFloat(words[4]);
-    s.baroOffsetRandomWalk = ReplayFloat(words[5]);
-    s.rangeNoise = ReplayFloat(words[6]);
-    s.rangeMinimum = ReplayFloat(words[7]);
-    s.rangeMaximum = ReplayFloat(words[8]);
-    s.gpsNoiseBase = ReplayFloat(words[9]);
-    s.gpsNoiseSatellite = ReplayFloat(words[10]);
-    s.gpsMinimumSatellites = (int32_t) words[11];
-    s.gpsOffsetRandomWalk = ReplayFloat(words[12]);
-    s.gate = ReplayFloat(words[13]);
-    s.rejectionTimeout = ReplayFloat(words[14]);
-    s.groundEffectNoiseScale = ReplayFloat(words[15]);
-    s.groundEffectDeadZone = ReplayFloat(words[16]);
-    s.initialHeightSigma = ReplayFloat(words[17]);
-    s.initialVelocitySigma = ReplayFloat(words[18]);
-    s.gapPeriod = ReplayFloat(words[19]);
-    s.baroTimeout = ReplayFloat(words[20]);
-    s.rangeTimeout = ReplayFloat(words[21]);
-    s.gpsTimeout = ReplayFloat(words[22]);
-    return s;
-}
-
-static void SettingsToWords(const FusionAltitudeKalmanSettings *const s, uint32_t words[SETTINGS_WORDS]) {
-    const float floats[SETTINGS_WORDS] = {s->accelNoise, s->accelBiasRandomWalk, s->accelBiasInitialSigma, 0.0f, s->baroNoise,
-                                          s->baroOffsetRandomWalk, s->rangeNoise, s->rangeMinimum, s->rangeMaximum, s->gpsNoiseBase,
-                                          s->gpsNoiseSatellite, 0.0f, s->gpsOffsetRandomWalk, s->gate, s->rejectionTimeout,
-                                          s->groundEffectNoiseScale, s->groundEffectDeadZone, s->initialHeightSigma,
-                                          s->initialVelocitySigma, s->gapPeriod, s->baroTimeout, s->rangeTimeout, s->gpsTimeout};
-    for (int i = 0; i < SETTINGS_WORDS; i++) {
-        words[i] = FusionAltitudeFloatBits(floats[i]);
-    }
-    words[3] = s->estimateAccelBias ? 1u : 0u;
-    words[11] = (uint32_t) s->gpsMinimumSatellites;
-}
 
 /* The state words (order of STATE_FIELDS in generate_kalman.py); false if P is not exactly symmetric. */
 static bool ReplayStateWords(const FusionAltitudeKalman *const kalman, const ReplayVector *const vector, const uint32_t status,
@@ -81,7 +41,7 @@ static bool ReplayStateWords(const FusionAltitudeKalman *const kalman, const Rep
     (void) vector;
     (void) status;
     const FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(kalman);
-    SettingsToWords(&settings, words);
+    FusionAltitudeKalmanSettingsToWords(&settings, words);
     int n = SETTINGS_WORDS;
     const float x[5] = {FusionAltitudeKalmanGetHeightAboveGround(kalman), FusionAltitudeKalmanGetVerticalVelocity(kalman),
                         FusionAltitudeKalmanGetBaroOffset(kalman), FusionAltitudeKalmanGetGpsOffset(kalman),
@@ -127,7 +87,7 @@ static bool ReplayStateWords(const FusionAltitudeKalman *const kalman, const Rep
 /* Sets the filter to the given state words (after a mismatch at a checkpoint). */
 static void ReplaySetStateWords(FusionAltitudeKalman *const kalman, const uint32_t words[STATE_WORDS]) {
     memset(kalman, 0, sizeof(*kalman));
-    kalman->settings = SettingsFromWords(words);
+    kalman->settings = FusionAltitudeKalmanSettingsFromWords(words);
     int n = SETTINGS_WORDS;
     for (int i = 0; i < 5; i++) {
         kalman->x[i] = ReplayFloat(words[n++]);
@@ -178,10 +138,10 @@ static uint32_t ReplayApply(FusionAltitudeKalman *const kalman, const FusionAlti
             if (in[0] == 0xFFFFFFFFu) {
                 return (uint32_t) FusionAltitudeKalmanInitialiseWith(kalman, NULL);
             }
-            settings = SettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
+            settings = FusionAltitudeKalmanSettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeKalmanInitialiseWith(kalman, &settings);
         case FusionAltitudeKalmanVectorOpSetSettings:
-            settings = SettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
+            settings = FusionAltitudeKalmanSettingsFromWords(fusionAltitudeKalmanVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeKalmanSetSettings(kalman, &settings);
         case FusionAltitudeKalmanVectorOpUpdate:
             m = FusionAltitudeKalmanMeasurementsNone();

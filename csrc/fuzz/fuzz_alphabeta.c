@@ -53,6 +53,7 @@
  */
 
 #include "fusion_altitude_alphabeta.h"
+#include "fuzz_common.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -69,49 +70,8 @@
 #define MAX_ALTITUDE (1e5f)  /* m */
 #define MAX_STATE (1e9f)     /* m, m/s: the bound of a sane run (file comment) */
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
-
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-} Reader;
-
-static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
-    if (reader->size < size) {
-        return false;
-    }
-    memcpy(value, reader->data, size);
-    reader->data += size;
-    reader->size -= size;
-    return true;
-}
-
-static bool ReadFloat(Reader *const reader, float *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
-
-static bool ReadByte(Reader *const reader, uint8_t *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
-
-static bool Within(const float value, const float minimum, const float maximum) {
-    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
-}
-
-static bool IsInfinite(const float value) {
-    return !FusionAltitudeIsFinite(value) && !FusionAltitudeIsNaN(value);
-}
-
 static bool SampleSane(const float value, const float limit) {
-    return FusionAltitudeIsNaN(value) || Within(value, -limit, limit);
+    return FusionAltitudeIsNaN(value) || InRange(value, -limit, limit);
 }
 
 /* A step from a step byte: 16 base steps from 0.1 ms to 10 s (s), times 1 + (byte >> 4) / 32, at most MAX_STEP. */
@@ -126,12 +86,12 @@ static float StepFromByte(const uint8_t byte) {
 static bool SaneSettings(const FusionAltitudeAlphaBetaSettings *const s) {
     for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
         const FusionAltitudeAlphaBetaSensorSettings *const sensor = &s->sensors[i];
-        if (!Within(sensor->threshold, 1e-3f, 1e3f) || !Within(sensor->confidence, 0.0f, 1e3f) ||
-            !Within(sensor->timeout, 0.0f, 1e3f)) {
+        if (!InRange(sensor->threshold, 1e-3f, 1e3f) || !InRange(sensor->confidence, 0.0f, 1e3f) ||
+            !InRange(sensor->timeout, 0.0f, 1e3f)) {
             return false;
         }
     }
-    return Within(s->gapPeriod, 0.0f, 1e3f);
+    return InRange(s->gapPeriod, 0.0f, 1e3f);
 }
 
 /* The status FusionAltitudeAlphaBetaUpdate must return, classified independently of the header's code. */
@@ -163,12 +123,12 @@ static void CheckState(const FusionAltitudeAlphaBeta *const fusion, const bool s
         CHECK(FusionAltitudeIsFinite(f->weight) && (f->weight >= 0.0f));
         CHECK(f->started || (f->weight == 0.0f));
         if (sane && f->started) {
-            CHECK(Within(f->altitude, -MAX_STATE, MAX_STATE) && Within(f->velocity, -MAX_STATE, MAX_STATE));
+            CHECK(InRange(f->altitude, -MAX_STATE, MAX_STATE) && InRange(f->velocity, -MAX_STATE, MAX_STATE));
         }
     }
     if (sane) {
-        CHECK(Within(FusionAltitudeAlphaBetaGetAltitude(fusion), -MAX_STATE, MAX_STATE));
-        CHECK(Within(FusionAltitudeAlphaBetaGetVerticalVelocity(fusion), -MAX_STATE, MAX_STATE));
+        CHECK(InRange(FusionAltitudeAlphaBetaGetAltitude(fusion), -MAX_STATE, MAX_STATE));
+        CHECK(InRange(FusionAltitudeAlphaBetaGetVerticalVelocity(fusion), -MAX_STATE, MAX_STATE));
     }
 }
 
@@ -234,7 +194,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (!ReadFloat(&reader, &loopDt)) {
         return 0;
     }
-    const bool loopDtSane = Within(loopDt, MIN_DT, MAX_DT);
+    const bool loopDtSane = InRange(loopDt, MIN_DT, MAX_DT);
     static FusionAltitudeAlphaBeta fusion;
     memset(&fusion, 0, sizeof(fusion)); /* defined padding bytes for memcmp */
     FusionAltitudeAlphaBetaInitialise(&fusion);
@@ -318,7 +278,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             CHECK(status == ExpectedStatus(accel, dt, &m));
             if (status == FusionAltitudeAlphaBetaStatusOk) {
                 steps++;
-                const bool stepSane = stepped ? Within(dt, MIN_STEP, MAX_STEP)
+                const bool stepSane = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
                                               : (loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(loopDt)));
                 sane = sane && stepSane && (steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
                        SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&

@@ -1,8 +1,9 @@
 /*
- * fuzz_common.h - what the observer, complementary-filter and sweep fuzzers
- * share: CHECK (abort with the failed condition), a Reader over the fuzzer's
- * bytes (ReadFloat: 4 bytes as a float32; ReadByte), and Within (finite and
- * |value| <= limit, in the unit of the value). Included by those fuzzers only.
+ * fuzz_common.h - what every fuzzer shares: CHECK (abort with the failed
+ * condition), a Reader over the fuzzer's bytes (ReadBytes; ReadFloat: 4 bytes
+ * as a float32; ReadByte), Within (finite and |value| <= limit, in the unit of
+ * the value), InRange (finite and in [minimum, maximum]) and IsInfinite.
+ * Included by the fuzzers only.
  */
 #ifndef FUZZ_COMMON_H
 #define FUZZ_COMMON_H
@@ -29,28 +30,36 @@ typedef struct {
     size_t size;
 } Reader;
 
-static bool ReadFloat(Reader *const reader, float *const value) {
-    if (reader->size < sizeof(*value)) {
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static inline bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
+    if (reader->size < size) {
         return false;
     }
-    memcpy(value, reader->data, sizeof(*value));
-    reader->data += sizeof(*value);
-    reader->size -= sizeof(*value);
+    memcpy(value, reader->data, size);
+    reader->data += size;
+    reader->size -= size;
     return true;
 }
 
-static bool ReadByte(Reader *const reader, uint8_t *const value) {
-    if (reader->size < 1u) {
-        return false;
-    }
-    *value = reader->data[0];
-    reader->data++;
-    reader->size--;
-    return true;
+static inline bool ReadFloat(Reader *const reader, float *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
 }
 
-static bool Within(const float value, const float limit) {
+static inline bool ReadByte(Reader *const reader, uint8_t *const value) {
+    return ReadBytes(reader, value, sizeof(*value));
+}
+
+static inline bool Within(const float value, const float limit) {
     return FusionAltitudeIsFinite(value) && (value <= limit) && (value >= -limit);
+}
+
+static inline bool InRange(const float value, const float minimum, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
+}
+
+static inline bool IsInfinite(const float value) {
+    return !FusionAltitudeIsFinite(value) && !FusionAltitudeIsNaN(value);
 }
 
 #endif

@@ -38,6 +38,7 @@
  */
 
 #include "fusion_altitude_flight.h"
+#include "fuzz_common.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -48,35 +49,6 @@
 #define FIELDS (20)
 #define MAX_STEPS (20000)
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
-
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-} Reader;
-
-static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
-    if (reader->size < size) {
-        return false;
-    }
-    memcpy(value, reader->data, size);
-    reader->data += size;
-    reader->size -= size;
-    return true;
-}
-
-static bool ReadFloat(Reader *const reader, float *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
-
 /* A byte pair scaled to [minimum, maximum]. */
 static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {
     uint16_t raw;
@@ -85,10 +57,6 @@ static bool ReadScaled(Reader *const reader, const float minimum, const float ma
     }
     *value = minimum + ((float) raw / 65535.0f) * (maximum - minimum);
     return true;
-}
-
-static bool Within(const float value, const float minimum, const float maximum) {
-    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
 }
 
 static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
@@ -104,15 +72,15 @@ static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
 static bool SaneSettings(const FusionAltitudeRocketSettings *const s) {
     const bool gains = (FusionAltitudeSettingsValidate(&s->observer, 1e-3f) == FusionAltitudeStatusOk) &&
                        (FusionAltitudeSettingsValidate(&s->observer, 0.05f) == FusionAltitudeStatusOk) &&
-                       Within(s->gapPeriod, 1e-4f, 10.0f) &&
+                       InRange(s->gapPeriod, 1e-4f, 10.0f) &&
                        (FusionAltitudeSettingsValidate(&s->observer, s->gapPeriod) == FusionAltitudeStatusOk) &&
-                       Within(s->observer.positionGain, 0.0f, 100.0f) && Within(s->observer.velocityGain, 0.0f, 1e3f) &&
-                       Within(s->observer.biasGain, 0.0f, 1e3f);
-    return gains && Within(s->stationaryAccel, 0.0f, 1e3f) && Within(s->calibrationWindow, 0.0f, 1e3f) &&
-           Within(s->launchAccel, 0.0f, 1e3f) && Within(s->launchTime, 0.0f, 1e3f) && Within(s->burnoutAccel, -1e3f, 1e3f) &&
-           Within(s->burnoutTime, 0.0f, 1e3f) && Within(s->apogeeMargin, 0.0f, 1e3f) && Within(s->lockoutSpeed, 0.0f, 1e4f) &&
-           Within(s->spikeThreshold, 0.0f, 1e5f) && Within(s->spikeTime, 0.0f, 1e3f) && Within(s->mainAltitude, 0.0f, 1e5f) &&
-           Within(s->landedSpeed, 0.0f, 1e3f) && Within(s->landedTime, 0.0f, 1e3f) && Within(s->baroLaunchHeight, 0.0f, 1e5f);
+                       InRange(s->observer.positionGain, 0.0f, 100.0f) && InRange(s->observer.velocityGain, 0.0f, 1e3f) &&
+                       InRange(s->observer.biasGain, 0.0f, 1e3f);
+    return gains && InRange(s->stationaryAccel, 0.0f, 1e3f) && InRange(s->calibrationWindow, 0.0f, 1e3f) &&
+           InRange(s->launchAccel, 0.0f, 1e3f) && InRange(s->launchTime, 0.0f, 1e3f) && InRange(s->burnoutAccel, -1e3f, 1e3f) &&
+           InRange(s->burnoutTime, 0.0f, 1e3f) && InRange(s->apogeeMargin, 0.0f, 1e3f) && InRange(s->lockoutSpeed, 0.0f, 1e4f) &&
+           InRange(s->spikeThreshold, 0.0f, 1e5f) && InRange(s->spikeTime, 0.0f, 1e3f) && InRange(s->mainAltitude, 0.0f, 1e5f) &&
+           InRange(s->landedSpeed, 0.0f, 1e3f) && InRange(s->landedTime, 0.0f, 1e3f) && InRange(s->baroLaunchHeight, 0.0f, 1e5f);
 }
 
 static void CheckState(const FusionAltitudeRocket *const rocket, const FusionAltitudeRocket *const before, const bool sane) {
@@ -209,8 +177,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (status != FusionAltitudeRocketStatusOk) {
                     CHECK(memcmp(&rocket, &before, sizeof(rocket)) == 0);
                 } else {
-                    sane = sane && (FusionAltitudeIsNaN(accel) || Within(accel, -300.0f, 300.0f)) &&
-                           (FusionAltitudeIsNaN(baro) || Within(baro, -1e4f, 1e5f)) && Within(dt, 1e-4f, 10.0f) &&
+                    sane = sane && (FusionAltitudeIsNaN(accel) || InRange(accel, -300.0f, 300.0f)) &&
+                           (FusionAltitudeIsNaN(baro) || InRange(baro, -1e4f, 1e5f)) && InRange(dt, 1e-4f, 10.0f) &&
                            (++steps <= MAX_STEPS);
                 }
                 break;

@@ -38,6 +38,8 @@
  */
 
 #include "fusion_altitude_ins.h"
+#include "fuzz_common.h"
+#include "tests/vectors/ins_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -45,39 +47,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIELDS (23)
+#define FIELDS (23) /* the settings words an edit reaches (file comment); at most FUSION_ALTITUDE_INS_SETTINGS_WORDS */
+
+typedef char fieldsWithinSettings[(FIELDS <= FUSION_ALTITUDE_INS_SETTINGS_WORDS) ? 1 : -1];
+
 #define MAX_STEPS (20000)
 #define MAX_VELOCITY (1e9f) /* m/s: the bound of a sane run (file comment) */
 #define MAX_DISTANCE (1e14f) /* m */
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
-
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-} Reader;
-
-static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
-    if (reader->size < size) {
-        return false;
-    }
-    memcpy(value, reader->data, size);
-    reader->data += size;
-    reader->size -= size;
-    return true;
-}
-
-static bool ReadFloat(Reader *const reader, float *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
 
 static bool ReadVector(Reader *const reader, FusionAltitudeInsVector *const v) {
     return ReadFloat(reader, &v->x) && ReadFloat(reader, &v->y) && ReadFloat(reader, &v->z);
@@ -93,12 +69,8 @@ static bool ReadScaled(Reader *const reader, const float limit, float *const val
     return true;
 }
 
-static bool Within(const float value, const float minimum, const float maximum) {
-    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
-}
-
 static bool Bounded(const float value, const float limit) {
-    return Within(value, -limit, limit);
+    return InRange(value, -limit, limit);
 }
 
 static bool BoundedVector(const FusionAltitudeInsVector v, const float limit) {
@@ -106,22 +78,22 @@ static bool BoundedVector(const FusionAltitudeInsVector v, const float limit) {
 }
 
 static bool SaneSettings(const FusionAltitudeInsSettings *const s) {
-    return Within(s->gyroNoise, 1e-6f, 10.0f) && Within(s->gyroBiasRandomWalk, 0.0f, 1.0f) && Within(s->accelNoise, 1e-6f, 10.0f) &&
-           Within(s->accelAttitudeNoise, 1e-3f, 10.0f) && Within(s->baroNoise, 1e-2f, 100.0f) && Within(s->zeroRateNoise, 1e-4f, 10.0f) &&
-           Within(s->zeroVelocityNoise, 1e-3f, 10.0f) && Within(s->initialAttitudeSigma, 0.0f, 10.0f) &&
-           Within(s->initialGyroBiasSigma, 0.0f, 10.0f) && Within(s->initialVelocitySigma, 0.0f, 10.0f) &&
-           Within(s->accelNormRejection, 0.0f, 1e3f) && Within(s->accelRejection, 0.0f, 1e3f) && Within(s->recoveryTriggerPeriod, 0.0f, 1e3f) &&
-           Within(s->stationaryGyroThreshold, 0.0f, 1e3f) && Within(s->stationaryAccelThreshold, 0.0f, 1e3f) &&
-           Within(s->stationaryWindow, 0.0f, 1e3f) && Within(s->baroBiasTimeConstant, 1e-3f, 1e3f) &&
-           Within(s->accelBiasTimeConstant, 1e-3f, 1e3f) && Within(s->magTimeConstant, 1e-3f, 1e3f) && Within(s->gapPeriod, 1e-3f, 1e3f) &&
-           Within(s->stationaryBaroRate, 0.0f, 1e3f) && Within(s->baroGate, 1e-3f, 1e6f) && Within(s->baroRejectionTimeout, 0.0f, 1e3f) &&
-           Within(s->baroTimeout, 1e-3f, 1e3f) && Within(s->deadReckoningHorizon, 1e-3f, 1e3f);
+    return InRange(s->gyroNoise, 1e-6f, 10.0f) && InRange(s->gyroBiasRandomWalk, 0.0f, 1.0f) && InRange(s->accelNoise, 1e-6f, 10.0f) &&
+           InRange(s->accelAttitudeNoise, 1e-3f, 10.0f) && InRange(s->baroNoise, 1e-2f, 100.0f) && InRange(s->zeroRateNoise, 1e-4f, 10.0f) &&
+           InRange(s->zeroVelocityNoise, 1e-3f, 10.0f) && InRange(s->initialAttitudeSigma, 0.0f, 10.0f) &&
+           InRange(s->initialGyroBiasSigma, 0.0f, 10.0f) && InRange(s->initialVelocitySigma, 0.0f, 10.0f) &&
+           InRange(s->accelNormRejection, 0.0f, 1e3f) && InRange(s->accelRejection, 0.0f, 1e3f) && InRange(s->recoveryTriggerPeriod, 0.0f, 1e3f) &&
+           InRange(s->stationaryGyroThreshold, 0.0f, 1e3f) && InRange(s->stationaryAccelThreshold, 0.0f, 1e3f) &&
+           InRange(s->stationaryWindow, 0.0f, 1e3f) && InRange(s->baroBiasTimeConstant, 1e-3f, 1e3f) &&
+           InRange(s->accelBiasTimeConstant, 1e-3f, 1e3f) && InRange(s->magTimeConstant, 1e-3f, 1e3f) && InRange(s->gapPeriod, 1e-3f, 1e3f) &&
+           InRange(s->stationaryBaroRate, 0.0f, 1e3f) && InRange(s->baroGate, 1e-3f, 1e6f) && InRange(s->baroRejectionTimeout, 0.0f, 1e3f) &&
+           InRange(s->baroTimeout, 1e-3f, 1e3f) && InRange(s->deadReckoningHorizon, 1e-3f, 1e3f);
 }
 
 /* A plausible step (s): 0.1 ms to 10 s, and |gyro| dt <= 0.2 rad on a step that is integrated (dt <= gapPeriod). */
 static bool SaneStep(const FusionAltitudeInsVector gyro, const float dt, const float gapPeriod) {
     const float limit = (dt > gapPeriod) ? 10.0f : (0.2f / dt);
-    return Within(dt, 1e-4f, 10.0f) && BoundedVector(gyro, (limit < 10.0f) ? limit : 10.0f);
+    return InRange(dt, 1e-4f, 10.0f) && BoundedVector(gyro, (limit < 10.0f) ? limit : 10.0f);
 }
 
 static FusionAltitudeInsStatus Expected(const FusionAltitudeInsVector gyro, const FusionAltitudeInsVector accel, const FusionAltitudeInsVector mag,
@@ -195,7 +167,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (!ReadBytes(&reader, &field, 1) || !ReadFloat(&reader, &value)) {
                     return 0;
                 }
-                ((float *) &working)[field % FIELDS] = value;
+                uint32_t bits;
+                memcpy(&bits, &value, sizeof(bits));
+                FusionAltitudeInsSettingsSetWord(&working, field % FIELDS, bits);
                 const FusionAltitudeInsStatus status = FusionAltitudeInsSetSettings(&ins, &working);
                 CHECK(status == FusionAltitudeInsSettingsCheck(&working));
                 if (status == FusionAltitudeInsStatusOk) {

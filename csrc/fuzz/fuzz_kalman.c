@@ -12,8 +12,10 @@
  *   0 initialise (defaults)
  *   1 initialise with the working settings
  *   2 set settings (the working settings)
- *   3 edit the working settings: field index byte (mod 23: the struct's
- *     fields in order, gapPeriod 19, the three sensor timeouts 20-22), 4 raw
+ *   3 edit the working settings: field index byte (mod
+ *     FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, 23 today: the struct's fields in
+ *     order, gapPeriod 19, the three sensor timeouts 20-22; the decoder,
+ *     FusionAltitudeKalmanSettingsSetWord, is generated from the header), 4 raw
  *     bytes (float bits; int32 for the minimum satellites; != 0 for the bool)
  *   4 update with every argument from the input: accel, dt, baro, range, GPS
  *     altitude, GPS accuracy (floats), satellites (int32), flags byte (bit 0:
@@ -65,6 +67,8 @@
  */
 
 #include "fusion_altitude_kalman.h"
+#include "fuzz_common.h"
+#include "tests/vectors/kalman_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -77,63 +81,21 @@
 #define MAX_STEPS (20000)    /* updates since initialisation */
 #define MAX_ACCEL (1e3f)     /* m/s^2 */
 #define MAX_ALTITUDE (1e5f)  /* m */
-#define SETTINGS_FIELDS (23)
 #define MIN_STEP (1e-4f)     /* s, step fuzzing */
 #define MAX_STEP (10.0f)     /* s, step fuzzing */
 #define MAX_STATE (1e14f)    /* m, m/s, m/s^2: the bound of a sane run (file comment) */
 #define MAX_VARIANCE (1e30f) /* m^2 and the like */
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
-
-typedef struct {
-    const uint8_t *data;
-    size_t size;
-} Reader;
-
-static bool ReadBytes(Reader *const reader, void *const value, const size_t size) {
-    if (reader->size < size) {
-        return false;
-    }
-    memcpy(value, reader->data, size);
-    reader->data += size;
-    reader->size -= size;
-    return true;
-}
-
-static bool ReadFloat(Reader *const reader, float *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
-
-static bool ReadByte(Reader *const reader, uint8_t *const value) {
-    return ReadBytes(reader, value, sizeof(*value));
-}
-
-static bool Within(const float value, const float minimum, const float maximum) {
-    return FusionAltitudeIsFinite(value) && (value >= minimum) && (value <= maximum);
-}
-
-static bool IsInfinite(const float value) {
-    return !FusionAltitudeIsFinite(value) && !FusionAltitudeIsNaN(value);
-}
-
 /* The settings a physically plausible system would have (see the file comment). */
 static bool SaneSettings(const FusionAltitudeKalmanSettings *const s) {
-    return Within(s->accelNoise, 1e-3f, 10.0f) && Within(s->accelBiasRandomWalk, 0.0f, 1.0f) &&
-           Within(s->accelBiasInitialSigma, 0.0f, 10.0f) && Within(s->baroNoise, 0.01f, 100.0f) &&
-           Within(s->baroOffsetRandomWalk, 0.0f, 10.0f) && Within(s->rangeNoise, 0.01f, 100.0f) &&
-           Within(s->rangeMaximum, 0.0f, 1e3f) && Within(s->gpsNoiseBase, 0.0f, 100.0f) &&
-           Within(s->gpsNoiseSatellite, 0.0f, 100.0f) && (s->gpsNoiseBase + s->gpsNoiseSatellite >= 0.1f) &&
-           Within(s->gpsOffsetRandomWalk, 0.0f, 10.0f) && Within(s->gate, 0.0f, 1e3f) &&
-           Within(s->groundEffectNoiseScale, 1.0f, 100.0f) && Within(s->groundEffectDeadZone, 0.0f, 1e3f) &&
-           Within(s->initialHeightSigma, 0.0f, 1e3f) && Within(s->initialVelocitySigma, 0.0f, 1e3f);
+    return InRange(s->accelNoise, 1e-3f, 10.0f) && InRange(s->accelBiasRandomWalk, 0.0f, 1.0f) &&
+           InRange(s->accelBiasInitialSigma, 0.0f, 10.0f) && InRange(s->baroNoise, 0.01f, 100.0f) &&
+           InRange(s->baroOffsetRandomWalk, 0.0f, 10.0f) && InRange(s->rangeNoise, 0.01f, 100.0f) &&
+           InRange(s->rangeMaximum, 0.0f, 1e3f) && InRange(s->gpsNoiseBase, 0.0f, 100.0f) &&
+           InRange(s->gpsNoiseSatellite, 0.0f, 100.0f) && (s->gpsNoiseBase + s->gpsNoiseSatellite >= 0.1f) &&
+           InRange(s->gpsOffsetRandomWalk, 0.0f, 10.0f) && InRange(s->gate, 0.0f, 1e3f) &&
+           InRange(s->groundEffectNoiseScale, 1.0f, 100.0f) && InRange(s->groundEffectDeadZone, 0.0f, 1e3f) &&
+           InRange(s->initialHeightSigma, 0.0f, 1e3f) && InRange(s->initialVelocitySigma, 0.0f, 1e3f);
 }
 
 /* The status FusionAltitudeKalmanUpdate must return, classified independently of the header's code. */
@@ -172,10 +134,10 @@ static void CheckSymmetric(const FusionAltitudeKalman *const kalman) {
 
 static void CheckFinite(const FusionAltitudeKalman *const kalman) {
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_STATES; i++) {
-        CHECK(Within(kalman->x[i], -MAX_STATE, MAX_STATE));
+        CHECK(InRange(kalman->x[i], -MAX_STATE, MAX_STATE));
         CHECK(kalman->P[i][i] >= 0.0f);
         for (int j = 0; j < FUSION_ALTITUDE_KALMAN_STATES; j++) {
-            CHECK(Within(kalman->P[i][j], -MAX_VARIANCE, MAX_VARIANCE));
+            CHECK(InRange(kalman->P[i][j], -MAX_VARIANCE, MAX_VARIANCE));
         }
     }
     for (int i = 0; i < FUSION_ALTITUDE_KALMAN_SENSORS; i++) {
@@ -216,36 +178,17 @@ static FusionAltitudeKalmanStatus Update(FusionAltitudeKalman *const kalman, Run
         return status;
     }
     run->steps++;
-    const bool stepPlausible = stepped ? Within(dt, MIN_STEP, MAX_STEP)
+    const bool stepPlausible = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
                                        : (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt));
-    bool plausible = Within(accel, -MAX_ACCEL, MAX_ACCEL) && stepPlausible && (run->steps <= MAX_STEPS);
+    bool plausible = InRange(accel, -MAX_ACCEL, MAX_ACCEL) && stepPlausible && (run->steps <= MAX_STEPS);
     if (m != NULL) {
-        plausible = plausible && (FusionAltitudeIsNaN(m->baroAltitude) || Within(m->baroAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
-        plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || Within(m->gpsAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
+        plausible = plausible && (FusionAltitudeIsNaN(m->baroAltitude) || InRange(m->baroAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
+        plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || InRange(m->gpsAltitude, -MAX_ALTITUDE, MAX_ALTITUDE));
         plausible = plausible && (FusionAltitudeIsNaN(m->gpsAltitude) || FusionAltitudeIsNaN(m->gpsVerticalAccuracy) ||
-                                  Within(m->gpsVerticalAccuracy, 0.01f, 100.0f));
+                                  InRange(m->gpsVerticalAccuracy, 0.01f, 100.0f));
     }
     run->sane = run->sane && plausible;
     return status;
-}
-
-static void EditSettings(FusionAltitudeKalmanSettings *const s, const uint8_t field, const uint32_t bits) {
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    float *const floats[SETTINGS_FIELDS] = {&s->accelNoise, &s->accelBiasRandomWalk, &s->accelBiasInitialSigma, NULL, &s->baroNoise,
-                                            &s->baroOffsetRandomWalk, &s->rangeNoise, &s->rangeMinimum, &s->rangeMaximum,
-                                            &s->gpsNoiseBase, &s->gpsNoiseSatellite, NULL, &s->gpsOffsetRandomWalk, &s->gate,
-                                            &s->rejectionTimeout, &s->groundEffectNoiseScale, &s->groundEffectDeadZone,
-                                            &s->initialHeightSigma, &s->initialVelocitySigma, &s->gapPeriod, &s->baroTimeout,
-                                            &s->rangeTimeout, &s->gpsTimeout};
-    const int index = field % SETTINGS_FIELDS;
-    if (index == 3) {
-        s->estimateAccelBias = bits != 0u;
-    } else if (index == 11) {
-        s->gpsMinimumSatellites = (int32_t) bits;
-    } else {
-        *floats[index] = value;
-    }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -254,7 +197,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (!ReadFloat(&reader, &run.loopDt)) {
         return 0;
     }
-    run.loopDtSane = Within(run.loopDt, MIN_DT, MAX_DT);
+    run.loopDtSane = InRange(run.loopDt, MIN_DT, MAX_DT);
     static FusionAltitudeKalman kalman;
     memset(&kalman, 0, sizeof(kalman)); /* defined padding bytes for memcmp */
     FusionAltitudeKalmanInitialise(&kalman);
@@ -295,7 +238,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (!ReadByte(&reader, &byte) || !ReadBytes(&reader, &bits, sizeof(bits))) {
                     return 0;
                 }
-                EditSettings(&working, byte, bits);
+                FusionAltitudeKalmanSettingsSetWord(&working, byte % FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, bits);
                 break;
             }
             case 4:

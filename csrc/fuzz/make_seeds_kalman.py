@@ -13,14 +13,14 @@ import math
 import struct
 from pathlib import Path
 
+from fusion_altitude._c_tables import KALMAN_SETTINGS
+
 CORPUS = Path(__file__).resolve().with_name("corpus_kalman")
 INITIALISE, INITIALISE_WITH, SET_SETTINGS, EDIT, UPDATE, UPDATE_LOOP, UPDATE_NULL, DEFAULTS = range(8)
 BARO, RANGE, GPS, GROUND_EFFECT, ACCURACY, SATELLITES = 1, 2, 4, 8, 16, 32
-FIELDS = ("accelNoise", "accelBiasRandomWalk", "accelBiasInitialSigma", "estimateAccelBias", "baroNoise",
-          "baroOffsetRandomWalk", "rangeNoise", "rangeMinimum", "rangeMaximum", "gpsNoiseBase", "gpsNoiseSatellite",
-          "gpsMinimumSatellites", "gpsOffsetRandomWalk", "gate", "rejectionTimeout", "groundEffectNoiseScale",
-          "groundEffectDeadZone", "initialHeightSigma", "initialVelocitySigma", "gapPeriod", "baroTimeout",
-          "rangeTimeout", "gpsTimeout")
+#: The settings words an EDIT reaches, in the struct's order: the C names of the generated table (the decoder,
+#: FusionAltitudeKalmanSettingsSetWord in csrc/tests/vectors/kalman_settings_words.h, has the same order).
+FIELDS = tuple(c_name for _, c_name, *_ in KALMAN_SETTINGS)
 STEPPED = 0x80  # with UPDATE_LOOP or UPDATE_NULL: a step byte follows the opcode (fuzz_kalman.c StepFromByte)
 #: fuzz_kalman.c StepFromByte's 16 base steps, s (the step byte's low nibble)
 BASE_STEPS = (1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 7.0, 10.0)

@@ -18,7 +18,7 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _common, _alphabeta_glue
+from .. import _c_tables, _common, _alphabeta_glue
 from .._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
                                AlphaBetaSensorSettings, AlphaBetaStatus)
 
@@ -32,7 +32,7 @@ _ONE = f32(1)
 _TWO = f32(2)
 _SIX = f32(6)
 _IMU = 0
-_MAX_CONFIDENCE = 1e6  # FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE: every weight Q · confidence finite
+_MAX_CONFIDENCE = _c_tables.FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE  # every weight Q · confidence finite
 _ZERO = f32(0)
 _MAX_INTERVAL_RATIO = f32(4)  # FUSION_ALTITUDE_ALPHABETA_MAX_INTERVAL_RATIO
 

@@ -22,6 +22,7 @@ from .. import _common, _complementary_glue, _observer_glue
 from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import BaroGapDiagnostics
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -64,7 +65,23 @@ def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryS
 
 
 class ComplementarySettings(KeywordSettings):
-    """Settings of the two-stage complementary filter (float32); see :class:`fusion_altitude.ComplementarySettings`."""
+    """Settings of the two-stage complementary filter (float32, keyword arguments only).
+
+    Parameters (defaults: ``FusionAltitudeComplementarySettingsDefault``)
+    ---------------------------------------------------------------------
+    accel_time_constant, baro_time_constant : 0.02 s, 0.05 s
+        Low-pass time constants τA of the accelerometer and τB of the baro (>= 0; 0: none).
+    per_sample_coefficients : False
+        True: blend with the fixed coefficients below, per baro sample; False: from the time constants.
+    velocity_coefficient, altitude_coefficient : 0.999, 0.998
+        cV and cH in [0, 1], per baro sample (used with ``per_sample_coefficients``).
+    velocity_time_constant, altitude_time_constant : 9.99 s, 4.99 s
+        TV and TH (>= 0): cV = TV/(TV + D), cH = TH/(TH + D) for a baro period D (used otherwise).
+    gap_period : 0.5 s
+        An update whose dt exceeds this is a gap, not integrated.
+    baro_timeout : 2.0 s
+        After this long without a baro sample the filter stops dead-reckoning (+inf: never).
+    """
 
     __slots__ = ()
     _DISTINCT = "per_sample_coefficients"
@@ -93,7 +110,7 @@ class ComplementarySettings(KeywordSettings):
         return ComplementarySettings(**{**self._values, **changes})
 
 
-class ComplementaryFilter(Checkpointable):
+class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
     """The hobbyist two-stage complementary filter; see :class:`fusion_altitude.ComplementaryFilter`."""
 
     __slots__ = ("_settings", "_h", "_v", "_a", "_zf", "_vb", "_since", "_gap_time", "_gap_count", "_baro_timeouts",
@@ -274,21 +291,6 @@ class ComplementaryFilter(Checkpointable):
     def reference_set(self) -> bool:
         """Whether the reference is set (False from a gap to the next baro sample)."""
         return self._reference_set
-
-    @property
-    def gap_count(self) -> int:
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
-        return self._gap_count
-
-    @property
-    def baro_timed_out(self) -> bool:
-        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
-        return self._baro_timed_out
-
-    @property
-    def baro_timeouts(self) -> int:
-        """Number of baro timeouts so far: times no baro sample came for more than ``settings.baro_timeout`` s."""
-        return self._baro_timeouts
 
     @property
     def settings(self) -> ComplementarySettings:

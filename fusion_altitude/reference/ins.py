@@ -32,18 +32,19 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _ins_glue
+from .. import _c_tables, _ins_glue
 from .._ins_glue import InsBatch, InsStatus
 from ._checkpoint import Checkpointable
 from ._settings import KeywordSettings
 
 f32 = np.float32
-N_STATES = 8
-GRAVITY = f32(9.80665)
-VARIANCE_LIMIT = f32(1e4)
-ATTITUDE_VARIANCE_LIMIT = f32(1e2)
-YAW_VARIANCE_LIMIT = f32(1e-4)
-NEWTON_NORM = f32(1e-4)  # FUSION_ALTITUDE_INS_NEWTON_NORM
+# The header's constants (fusion_altitude.h, fusion_altitude_ins.h), through the generated tables.
+N_STATES = _c_tables.FUSION_ALTITUDE_INS_STATES
+GRAVITY = f32(_c_tables.FUSION_ALTITUDE_GRAVITY)
+VARIANCE_LIMIT = f32(_c_tables.FUSION_ALTITUDE_INS_VARIANCE_LIMIT)
+ATTITUDE_VARIANCE_LIMIT = f32(_c_tables.FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT)
+YAW_VARIANCE_LIMIT = f32(_c_tables.FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT)
+NEWTON_NORM = f32(_c_tables.FUSION_ALTITUDE_INS_NEWTON_NORM)
 _ZERO = f32(0)
 _ONE = f32(1)
 _HALF = f32(0.5)
@@ -92,6 +93,10 @@ class InsSettings(KeywordSettings):
     initial_velocity_sigma : 0.5 m/s
     gap_period : 0.1 s
         A dt above it is a gap: not integrated, counted (> 0).
+    baro_gate : 5.0 σ
+        A baro reading with innovation y² > baro_gate² S is rejected (> 0).
+    baro_rejection_timeout : 1.0 s
+        Baro rejected for longer: its bias is reset from the next reading.
     baro_timeout : 1.5 s
         No baro reading for longer: not baro-aided (``baro_timed_out``, counted in ``baro_timeouts``) (> 0).
     dead_reckoning_horizon : 5.0 s

@@ -108,7 +108,7 @@ class KalmanSettings(KeywordSettings):
 
     def __init__(self, **kwargs) -> None:
         values = _kalman_glue.convert_kalman_settings(kwargs)
-        status = _check(values)
+        status = _settings_check(values)
         if status != KalmanStatus.OK:
             _kalman_glue.raise_kalman_settings_error(status, values)
         self._values = values
@@ -119,7 +119,14 @@ class KalmanSettings(KeywordSettings):
 
 
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: squared it stays far inside float32.
-MAXIMUM_SETTING = f32(1e6)
+MAXIMUM_SETTING = f32(_kalman_glue.KALMAN_MAXIMUM_SETTING)
+
+
+def _settings_check(values: dict) -> KalmanStatus:
+    """FusionAltitudeKalmanSettingsCheck itself where the binding registered it (``_kalman_glue``), else its twin
+    :func:`_check`."""
+    c_function = _kalman_glue.C_SETTINGS_FUNCTIONS.get("check")
+    return _check(values) if c_function is None else KalmanStatus(c_function(values))
 
 
 def _check(values: dict) -> KalmanStatus:
@@ -503,34 +510,6 @@ class KalmanEstimator(Checkpointable):
     def update(self, accel: float, baro_altitude: float, dt: float, *, range_distance: float = math.nan,
                gps_altitude: float = math.nan, gps_satellites: Optional[int] = None,
                gps_vertical_accuracy: Optional[float] = None, ground_effect: bool = False) -> None:
-        """Process one step: predict with ``accel`` over ``dt``, then fuse the samples given.
-
-        Parameters
-        ----------
-        accel : float
-            Vertical acceleration, m/s², earth frame, +up, gravity removed.
-        dt : float
-            Time since the previous step, s.
-        baro_altitude, range_distance, gps_altitude : float, optional
-            Samples, m; NaN (the default) when a sensor has none this step. A
-            range outside [range_min, range_max] (or ±inf) counts as no echo.
-        gps_satellites : int, optional
-            Satellites used; None: unknown (the GPS model then assumes
-            ``gps_min_satellites``). Fewer than ``gps_min_satellites``: not fused.
-        gps_vertical_accuracy : float, optional
-            Receiver-reported 1σ vertical accuracy, m; used instead of the
-            satellite model when given.
-        ground_effect : bool
-            Take-off or landing: widen the baro noise and ignore negative baro
-            innovations up to the dead zone.
-
-        Raises
-        ------
-        ValueError
-            accel not finite, dt not finite or <= 0, baro or GPS altitude
-            infinite, a GPS accuracy (with a GPS sample) not finite and > 0;
-            the state is unchanged.
-        """
         values = {"accel": accel, "dt": dt, "baro_altitude": baro_altitude, "gps_altitude": gps_altitude,
                   "gps_vertical_accuracy": gps_vertical_accuracy}
         with np.errstate(over="ignore"):
@@ -743,3 +722,6 @@ class KalmanEstimator(Checkpointable):
     def __repr__(self) -> str:
         return (f"KalmanEstimator(height_above_ground={self.height_above_ground!r}, altitude={self.altitude!r}, "
                 f"vertical_velocity={self.vertical_velocity!r}, accel_bias={self.accel_bias!r})")
+
+
+_common.share_docstrings(KalmanEstimator, _kalman_glue.KalmanContract)

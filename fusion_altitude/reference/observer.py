@@ -23,6 +23,7 @@ from .. import _c_tables, _common, _observer_glue
 from .._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import BaroGapDiagnostics
 from ._settings import GainSettings
 
 f32 = np.float32
@@ -31,13 +32,13 @@ MAXIMUM_GAIN = f32(_c_tables.FUSION_ALTITUDE_MAXIMUM_GAIN)
 _NAN = f32("nan")
 
 #: FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, s.
-DEFAULT_GAP_PERIOD = 0.5
+DEFAULT_GAP_PERIOD = _c_tables.FUSION_ALTITUDE_DEFAULT_GAP_PERIOD
 #: FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT, s.
-DEFAULT_BARO_TIMEOUT = 2.0
+DEFAULT_BARO_TIMEOUT = _c_tables.FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT
 #: FUSION_ALTITUDE_STABILITY_MARGIN: a baro step is a gap unless Jury's test passes at this times its dt.
-STABILITY_MARGIN = f32(1.5)
+STABILITY_MARGIN = f32(_c_tables.FUSION_ALTITUDE_STABILITY_MARGIN)
 #: FUSION_ALTITUDE_BIAS_HOLD: after a restart the bias is held while (time since it)·Kh < this.
-BIAS_HOLD = f32(8)
+BIAS_HOLD = f32(_c_tables.FUSION_ALTITUDE_BIAS_HOLD)
 
 
 # -- float classification (FusionAltitudeIsFinite / FusionAltitudeIsNaN) ------
@@ -155,21 +156,25 @@ def _from_bandwidth(omega: np.float32, zeta: np.float32, omega_b: np.float32) ->
     return status, gains
 
 
-#: FusionAltitudeSettingsFromPreset: gap period, s (balloon: 1 Hz baro logs).
-_PRESET_GAP_PERIODS = {"balloon": 5.0, "fixed_wing": DEFAULT_GAP_PERIOD, "vtol": DEFAULT_GAP_PERIOD,
-                       "racing": DEFAULT_GAP_PERIOD, "rocket": DEFAULT_GAP_PERIOD}
-#: FusionAltitudeSettingsFromPreset: baro timeout, s (balloon: 10 periods of a 1 Hz baro).
-_PRESET_BARO_TIMEOUTS = {"balloon": 10.0, "fixed_wing": DEFAULT_BARO_TIMEOUT, "vtol": DEFAULT_BARO_TIMEOUT,
-                         "racing": DEFAULT_BARO_TIMEOUT, "rocket": DEFAULT_BARO_TIMEOUT}
+def _settings_from_bandwidth(omega: np.float32, zeta: np.float32,
+                             omega_b: np.float32) -> Tuple[Status, Tuple[np.float32, ...]]:
+    """FusionAltitudeSettingsFromBandwidth itself where the binding registered it (``_observer_glue``), else
+    its twin :func:`_from_bandwidth`."""
+    c_function = _observer_glue.C_SETTINGS_FUNCTIONS.get("from_bandwidth")
+    if c_function is None:
+        return _from_bandwidth(omega, zeta, omega_b)
+    status, values = c_function(float(omega), float(zeta), float(omega_b))
+    if values is None:
+        return Status(status), ()
+    return Status(status), tuple(f32(values[name]) for name in ("position_gain", "velocity_gain", "bias_gain"))
 
-#: FusionAltitudeSettingsFromPreset: the formulas evaluated exactly, rounded to float32.
-_PRESET_GAINS = {
-    "balloon": (f32(0.32), f32(0.0512), f32(0.0016)),
-    "fixed_wing": (f32(0.80), f32(0.32), f32(0.025)),
-    "vtol": (f32(2.40), f32(2.88), f32(0.675)),
-    "racing": (f32(8.0), f32(32.0), f32(25.0)),
-    "rocket": (f32(1.4), f32(1.0), f32(0.0)),  # omega 1, omega_b 0: the bias comes from a pad calibration
-}
+
+#: FusionAltitudeSettingsFromPreset: {preset: (Kh, Kv, Kb)} as float32, and the gap period and baro timeout (s),
+#: read from C by the generator (``_c_tables.OBSERVER_PRESETS``).
+_PRESET_GAINS = {name: (f32(p["position_gain"]), f32(p["velocity_gain"]), f32(p["bias_gain"]))
+                 for name, p in _c_tables.OBSERVER_PRESETS.items()}
+_PRESET_GAP_PERIODS = {name: p["gap_period"] for name, p in _c_tables.OBSERVER_PRESETS.items()}
+_PRESET_BARO_TIMEOUTS = {name: p["baro_timeout"] for name, p in _c_tables.OBSERVER_PRESETS.items()}
 
 
 class AltitudeSettings(GainSettings):
@@ -234,7 +239,7 @@ class AltitudeSettings(GainSettings):
         omega32 = f32(_common.as_float(omega, "omega"))
         zeta32 = f32(_common.as_float(zeta, "zeta"))
         omega_b32 = omega32 / f32(5) if omega_b is None else f32(_common.as_float(omega_b, "omega_b"))
-        status, gains = _from_bandwidth(omega32, zeta32, omega_b32)
+        status, gains = _settings_from_bandwidth(omega32, zeta32, omega_b32)
         if status != Status.OK:
             _observer_glue.raise_settings_error(status, (float(omega32), float(zeta32), float(omega_b32)))
         return cls(*gains, gap_period=gap_period, baro_timeout=baro_timeout)
@@ -318,7 +323,7 @@ class AltitudeSettings(GainSettings):
 
 # -- estimator ---------------------------------------------------------------
 
-class AltitudeEstimator(Checkpointable):
+class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     """3rd-order complementary observer: baro altitude + vertical acceleration.
 
     Parameters
@@ -448,44 +453,6 @@ class AltitudeEstimator(Checkpointable):
         self._baro_timed_out = False
 
     def update(self, accel: float, baro_altitude: float, dt: float) -> None:
-        """Process one sample.
-
-        Parameters
-        ----------
-        accel : float
-            Vertical acceleration, m/s², earth frame, +up, gravity removed.
-        baro_altitude : float
-            Barometric altitude, m; NaN when no baro sample arrived this step
-            (the filter then integrates the acceleration only).
-        dt : float
-            Time since the previous sample, s.
-
-        Notes
-        -----
-        Once the reference is set, a ``dt`` above ``settings.gap_period`` is a
-        gap: it is not integrated, :attr:`gap_count` goes up, the bias is held
-        and the next baro sample (this one's if present) restarts the altitude
-        at the baro and the velocity at the mean velocity over the gap
-        ((z − h_before) / time since h_before); :attr:`reference_set` is
-        False until then. After the restart the bias is held for 8/Kh s
-        (while the velocity error is corrected). A step carrying a baro
-        sample that the gains cannot integrate stably (Jury's test fails at
-        1.5 times the step and the baro interval it ends; default gains with
-        a baro every step: dt > 0.413 s) is a gap too.
-
-        With no baro sample for more than ``settings.baro_timeout`` s the
-        observer stops dead-reckoning: :attr:`baro_timeouts` goes up,
-        :attr:`baro_timed_out` is True until the next baro sample, the
-        acceleration is no longer integrated and the velocity decays to 0
-        (v ·= T/(T + dt), T = baro_timeout), so the altitude moves at most
-        |v|·T further; the next baro sample restarts the altitude at the baro.
-
-        Raises
-        ------
-        ValueError
-            accel not finite, baro_altitude infinite, dt not finite or <= 0;
-            the state is unchanged.
-        """
         with np.errstate(over="ignore"):
             a = f32(_common.as_float(accel, "accel"))
             z = f32(_common.as_float(baro_altitude, "baro_altitude"))
@@ -563,21 +530,6 @@ class AltitudeEstimator(Checkpointable):
         return self._reference_set
 
     @property
-    def gap_count(self) -> int:
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period`` once the reference was set."""
-        return self._gap_count
-
-    @property
-    def baro_timed_out(self) -> bool:
-        """True from a baro timeout to the next baro sample: the output is not baro-aided."""
-        return self._baro_timed_out
-
-    @property
-    def baro_timeouts(self) -> int:
-        """Number of baro timeouts so far: times no baro sample came for more than ``settings.baro_timeout`` s."""
-        return self._baro_timeouts
-
-    @property
     def settings(self) -> AltitudeSettings:
         """The gains; assign new :class:`AltitudeSettings` to retune without losing the state."""
         return self._settings
@@ -625,3 +577,6 @@ def _as_settings(settings: object) -> AltitudeSettings:
                                 gap_period=getattr(settings, "gap_period", DEFAULT_GAP_PERIOD),
                                 baro_timeout=getattr(settings, "baro_timeout", DEFAULT_BARO_TIMEOUT))
     raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
+
+
+_common.share_docstrings(AltitudeEstimator, _observer_glue.AltitudeContract)

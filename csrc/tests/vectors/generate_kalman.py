@@ -9,8 +9,10 @@ full state, word for word. csrc/firmware/replay_kalman.c replays them on the
 host (gcc, clang) and on an emulated Cortex-M4F (QEMU), which must reproduce
 every bit.
 
-The state, as 70 binary32/integer words (STATE_FIELDS, the same order in
-replay_kalman.c): the 20 settings, x (5), the upper triangle of P (15), the
+The state, as binary32/integer words (STATE_FIELDS, the same order in
+replay_kalman.c): the settings (KALMAN_SETTINGS: the header's struct, in its
+order; replay_kalman.c decodes them with the generated
+kalman_settings_words.h), x (5), the upper triangle of P (15), the
 altitude h + ob and its variance (the getters), per sensor (baro, range, GPS)
 innovation, innovation variance, NIS, rejecting-for, rejections, resets,
 result, rejecting (8 each), the baro/GPS initialised flags, the gap count and

@@ -349,7 +349,7 @@ def _mark_events(plot, events, shift: float, colour: str, dash: str, who: str, t
         offsets = [-12 * (first_row + k % 3) for k in range(len(occurred))]
         names = [e.name if who == "our" else f"{e.name} (FC)" for e in occurred]
         source = ColumnDataSource({"x": xs, "name": names, "dy": offsets})
-        plot.add_layout(LabelSet(x="x", y=PLOT_HEIGHT - 62, y_units="screen", text="name", y_offset="dy",
+        plot.add_layout(LabelSet(x="x", y=PLOT_HEIGHT - 100, y_units="screen", text="name", y_offset="dy",
                                  x_offset=3, source=source, text_font_size="10px", text_color=colour,
                                  background_fill_color="white", background_fill_alpha=0.7))
 
@@ -507,6 +507,9 @@ FLEET_COLUMNS = (("log_id", "log"), ("status", "status"), ("error", "error"), ("
                  ("rms_error_m", "RMS vs log (m)"), ("baro_rms_error_m", "baro RMS (m)"),
                  ("final_accel_bias_m_s2", "final bias (m/s²)"), ("stopped_streams", "stopped"))
 
+_TEXT_COLUMNS = ("log_id", "status", "error", "estimator", "stopped_streams")
+_COUNT_COLUMNS = ("imu_gaps", "baro_gaps", "estimator_gaps")
+
 
 def _histogram(title: str, x_label: str, values: Sequence[float], bins: int = 20):
     """A histogram figure of the finite ``values``."""
@@ -563,7 +566,7 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
     data: Dict[str, list] = {}
     for name, _ in FLEET_COLUMNS:
         values = [row.get(name) for row in rows]
-        if name in ("log_id", "status", "error", "estimator", "stopped_streams"):
+        if name in _TEXT_COLUMNS:
             data[name] = ["" if v is None else str(v) for v in values]
         else:
             data[name] = [math.nan if v is None else float(v) for v in values]
@@ -575,9 +578,13 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
                                           "<%= value %></a><% } else { %><%= value %><% } %>")
     table_columns = []
     for name, heading in FLEET_COLUMNS:
-        formatter = link if name == "log_id" else (
-            NumberFormatter(format="0.000") if isinstance(data[name][0] if rows else 0.0, float) else None)
-        options = {"formatter": formatter} if formatter is not None else {}
+        options: Dict[str, Any] = {}
+        if name == "log_id":
+            options.update(formatter=link, width=260)
+        elif name in _COUNT_COLUMNS:
+            options.update(formatter=NumberFormatter(format="0"), width=70)
+        elif name not in _TEXT_COLUMNS:
+            options.update(formatter=NumberFormatter(format="0.000"), width=90)
         table_columns.append(TableColumn(field=name, title=heading, **options))
     table = DataTable(source=source, view=view, columns=table_columns, sortable=True, sizing_mode="stretch_width",
                       height=min(600, 60 + 26 * max(len(rows), 1)), index_position=None)

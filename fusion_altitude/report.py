@@ -191,14 +191,18 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
             return "–" if not math.isfinite(value) else f"{value:.3f}"
         return html.escape(str(value))
 
+    def td(value: Any) -> str:  # numbers right-aligned (the style sheet's default), text left
+        numeric = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+        return f"<td>{cell(value)}</td>" if numeric else f"<td class='fa-text'>{cell(value)}</td>"
+
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>" for row in rows)
+    body = "".join("<tr>" + "".join(td(v) for v in row) + "</tr>" for row in rows)
     return f"<table class='fa-table'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
 _STYLE = ("<style>.fa-table{border-collapse:collapse;font:12px sans-serif;margin:4px 0 10px}"
           ".fa-table td,.fa-table th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
-          ".fa-table td:first-child,.fa-table th:first-child{text-align:left}"
+          ".fa-table td:first-child,.fa-table th:first-child,.fa-table td.fa-text{text-align:left}"
           ".fa-head{font:13px sans-serif}.fa-head h2{margin:4px 0}.fa-head h3{margin:8px 0 2px;font-size:14px}"
           ".fa-note{color:#555;font-size:12px}</style>")
 
@@ -251,8 +255,9 @@ def _header_html(runs, settings: Dict[str, Any], health) -> str:
         if run.baro_rejections is not None:
             extra.append(f"{run.baro_rejections} baro rejections, {run.baro_resets} resets")
         described = settings.get(run.estimator)
-        rows.append([run.estimator, "defaults" if described is None else str(described), "; ".join(extra)])
-    parts.append(_table(["estimator", "settings", "during the run"], rows))
+        rows.append([run.estimator, "defaults" if described is None else str(described), "; ".join(extra),
+                     _residual(run)[2]])
+    parts.append(_table(["estimator", "settings", "during the run", "baro residual plotted"], rows))
     if first.reference_altitude is not None and np.isfinite(first.reference_altitude).any():
         from .metrics import error_statistics
 
@@ -308,16 +313,19 @@ def _figure(title: str, y_label: str, x_range, x_label: str):
 
 
 def _line(plot, data: Dict[str, np.ndarray], name: str, colour: str, width: float = 1.2, dash: str = "solid",
-          dots: bool = False):
-    """A line (or dots, for a sparse sensor) of ``data`` on ``plot``; None if there is nothing to draw."""
+          dots: bool = False, legend: Optional[str] = None):
+    """A line (or dots, for a sparse sensor) of ``data`` on ``plot``, named ``name`` (the hover's label) and in
+    the legend as ``legend`` (default ``name``; one label for several lines is one legend entry); None if there is
+    nothing to draw."""
     from bokeh.models import ColumnDataSource
 
     if data["x"].size == 0:
         return None
     source = ColumnDataSource(data)
+    legend = legend or name
     if dots and data["x"].size <= 4 * COLUMNS:  # not decimated: each sample is one dot
-        return plot.scatter("x", "y", source=source, size=3, color=colour, legend_label=name, name=name)
-    return plot.line("x", "y", source=source, line_width=width, color=colour, line_dash=dash, legend_label=name,
+        return plot.scatter("x", "y", source=source, size=3, color=colour, legend_label=legend, name=name)
+    return plot.line("x", "y", source=source, line_width=width, color=colour, line_dash=dash, legend_label=legend,
                      name=name)
 
 
@@ -453,19 +461,16 @@ def log_report(runs, title: Optional[str] = None, settings: Optional[Dict[str, A
                            "#ff7f0e", 0.8))
 
     residual_plot = _figure("Baro residual (innovation)", "residual (m)", altitude.x_range, x_label)
-    descriptions = []
     for k, run in enumerate(runs):
-        residual, gate, description = _residual(run)
+        residual, gate, _ = _residual(run)
         colour = ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)]
-        descriptions.append(f"{run.estimator}: {description}")
         lines.append(_line(residual_plot, _series(x, residual, columns), f"{run.estimator} residual", colour,
                            dots=True))
         if gate is not None and np.isfinite(gate).any():
-            lines.append(_line(residual_plot, _series(x, gate, columns), f"{run.estimator} gate (±)", colour, 1.0,
-                               dash="dashed"))
-            lines.append(_line(residual_plot, _series(x, -gate, columns), f"{run.estimator} gate (−)", colour, 1.0,
-                               dash="dashed"))
-    residual_plot.title.text += ": " + "; ".join(descriptions)
+            for sign, name in ((1.0, "+"), (-1.0, "−")):
+                lines.append(_line(residual_plot, _series(x, sign * gate, columns), f"{run.estimator} gate ({name})",
+                                   colour, 1.0, dash="dashed", legend=f"{run.estimator} gate (±)"))
+    residual_plot.title.text += " (what each estimator's is: the header's estimator table)"
 
     plots = [altitude, velocity, bias, residual_plot]
     theirs = None

@@ -79,9 +79,9 @@ def test_the_header_has_the_health_of_every_sensor_and_the_error_table(shared_lo
     run = runner.run_log(data, estimator="kalman")
     header = report.log_report(run).children[0].text
     for stream in ("accelerometer", "baro", "gps"):
-        assert f"<td>{stream}</td>" in header, stream
-    assert "Against the log's own estimate" in header and "<td>kalman − ref</td>" in header
-    assert "<td>baro − ref</td>" in header
+        assert f"<td class='fa-text'>{stream}</td>" in header, stream
+    assert "Against the log's own estimate" in header and "<td class='fa-text'>kalman − ref</td>" in header
+    assert "<td class='fa-text'>baro − ref</td>" in header
 
 
 def test_a_logging_gap_of_the_log_is_a_shaded_span(shared_logs):
@@ -97,4 +97,5 @@ def test_the_kalman_residual_is_drawn_with_its_gate(shared_logs):
     layout = report.log_report(runner.run_log(data, estimator="kalman"))
     residual = layout.children[-1]
     names = [r.name for r in residual.renderers if r.name]
-    assert "kalman residual" in names and "kalman gate (±)" in names and "gate ±" in residual.title.text
+    assert "kalman residual" in names and "kalman gate (+)" in names and "kalman gate (−)" in names
+    assert "Kalman baro innovation; gate ±" in layout.children[0].text

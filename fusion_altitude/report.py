@@ -41,6 +41,7 @@ ESTIMATE_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e37
 PHASE_COLOURS = ("#dddddd", "#ff9896", "#ffbb78", "#aec7e8", "#98df8a", "#c5b0d5")
 #: Shaded spans: (key, legend label, colour).
 SPAN_KINDS = (("gap", "logging gap", "#7f7f7f"), ("timeout", "baro timeout (not baro-aided)", "#d62728"),
+              ("sensor", "GPS / rangefinder / axial accelerometer timeout", "#bcbd22"),
               ("rejected", "baro rejected", "#9467bd"), ("lockout", "rocket baro lockout", "#e377c2"))
 
 
@@ -147,6 +148,12 @@ def _spans(run, x: np.ndarray, merge: float) -> Dict[str, Tuple[np.ndarray, np.n
     if timed_out is not None:
         timeout = timeout | np.asarray(timed_out, bool)
     spans["timeout"] = _intervals(x, timeout, merge)
+    silent = np.zeros(time.size, bool)
+    for name in ("gps_altitude", "rangefinder", "axial_acceleration"):  # silent longer than each stream's timeout
+        values = getattr(run, name, None)
+        if values is not None and np.isfinite(np.asarray(values, float)).any():
+            silent |= not_baro_aided(time, values)  # the same rule for any stream: baro_timeout_for(its rate)
+    spans["sensor"] = _intervals(x, silent, merge)
     rejected = np.zeros(time.size, bool)
     lockout = np.zeros(time.size, bool)
     fate = getattr(run.estimate, "baro_fate", None)

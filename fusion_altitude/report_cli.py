@@ -68,7 +68,7 @@ def _default_output(path: str) -> str:
     return os.path.splitext(os.path.basename(path))[0] + ".html"
 
 
-def log_runs(data, estimators: List[str], preset=None) -> Dict[str, Any]:
+def log_runs(data, estimators: List[str], preset=None, agl: bool = False) -> Dict[str, Any]:
     """Run each of ``estimators`` on ``data`` as ``run`` does: {"runs": [LogRun], "settings": {name: text},
     "refused": [(name, reason)]}. An estimate :func:`fusion_altitude.health.check_estimate` refuses is left out."""
     from . import runner
@@ -82,7 +82,7 @@ def log_runs(data, estimators: List[str], preset=None) -> Dict[str, Any]:
             observer_settings = AltitudeSettings.preset(preset)
             settings[name] = f"preset {preset}: {observer_settings}"
         try:
-            run = runner.run_log(data, observer_settings, estimator=name)
+            run = runner.run_log(data, observer_settings, estimator=name, agl=agl)
         except ValueError as error:
             refused.append((name, str(error)))
             continue
@@ -127,7 +127,7 @@ def run_report(args: argparse.Namespace) -> int:
     if "observer" in estimators and preset is None:
         preset = cli._default_preset(data)
     with progress.stage("estimating"):
-        result = log_runs(data, estimators, preset)
+        result = log_runs(data, estimators, preset, agl=args.agl)
     for name, reason in result["refused"]:
         print(f"warning: estimator {name} left out of the report: {reason}", file=sys.stderr)
     if not result["runs"]:

@@ -99,3 +99,20 @@ def test_the_kalman_residual_is_drawn_with_its_gate(shared_logs):
     names = [r.name for r in residual.renderers if r.name]
     assert "kalman residual" in names and "kalman gate (+)" in names and "kalman gate (−)" in names
     assert "Kalman baro innovation; gate ±" in layout.children[0].text
+
+
+def test_report_agl_puts_every_altitude_above_the_start(shared_logs, tmp_path, capsys):
+    page = tmp_path / "agl.html"
+    status, _, err = _run(["report", str(shared_logs / "px4_sample_log_small.ulg"), "--agl", "-o", str(page)],
+                          capsys)
+    assert status == 0, err
+    text = page.read_text()
+    assert "altitude above the start (m)" in text and "above the start (" in text
+
+
+def test_a_stream_that_stops_is_a_shaded_sensor_timeout(shared_logs):
+    """The Raven's axial accelerometer is logged for the first 4.5 s only (shared data README)."""
+    data = _log(shared_logs / "raven_ndrt2020.csv")
+    layout = report.log_report(runner.run_log(data, estimator="rocket"))
+    labels = [item.label.value for item in layout.children[1].legend[0].items]
+    assert "GPS / rangefinder / axial accelerometer timeout" in labels

@@ -4,8 +4,9 @@ For every shared log (``fusion-altitude report LOG``, the estimator ``run``
 picks), one ``--all-estimators`` report, and a generated 1-million-row CSV
 log (the simulator, :func:`report_browser.write_long_csv`): the page's size
 and the time from navigation start to every plot drawn (the page's own
-``performance.now()``), best and median of ``--repeat`` loads in one
-browser. Prints a Markdown table.
+``performance.now()``): the first load in a fresh browser (cold: Bokeh's
+script compiled for the first time), then the best and median of
+``--repeat`` more loads (warm). Prints a Markdown table.
 
     python benchmarks/report_bench.py [--repeat 5] [--rows 1000000] [--screenshot docs/images/report.png]
 
@@ -59,22 +60,23 @@ def main_bench() -> None:
         for k, (name, arguments) in enumerate(cases):
             page = folder / f"page{k}.html"
             pages.append((name, page, _report(arguments, page)))
-        driver = report_browser.open_chromium()
-        try:
-            print("| log | rows | page (MB) | report written in (s) | load best (s) | load median (s) |")
-            print("|---|---:|---:|---:|---:|---:|")
-            for (name, page, written), (_, arguments) in zip(pages, cases):
+        print("| log | rows | page (MB) | report written in (s) | cold load (s) | warm load best (s) | "
+              "warm load median (s) |")
+        print("|---|---:|---:|---:|---:|---:|---:|")
+        for (name, page, written), (_, arguments) in zip(pages, cases):
+            driver = report_browser.open_chromium()  # a fresh browser per page: the first load is a cold one
+            try:
+                cold = report_browser.load(driver, page)
                 loads = [report_browser.load(driver, page) for _ in range(args.repeat)]
                 errors = report_browser.console_errors(driver)
                 if errors:
                     raise SystemExit(f"{name}: console errors {errors}")
-                print(f"| {name} | {_rows(arguments)} | {page.stat().st_size / 1e6:.2f} | {written:.2f} | "
-                      f"{min(loads):.2f} | {statistics.median(loads):.2f} |")
                 if args.screenshot and name == "hedy_baro.csv":
-                    report_browser.load(driver, page)
                     driver.save_screenshot(args.screenshot)
-        finally:
-            driver.quit()
+            finally:
+                driver.quit()
+            print(f"| {name} | {_rows(arguments)} | {page.stat().st_size / 1e6:.2f} | {written:.2f} | {cold:.2f} | "
+                  f"{min(loads):.2f} | {statistics.median(loads):.2f} |", flush=True)
 
 
 def _rows(arguments) -> str:

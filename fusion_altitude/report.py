@@ -219,8 +219,6 @@ _STYLE = ("<style>.fa-table{border-collapse:collapse;font:12px sans-serif;margin
 
 def _header_html(runs, settings: Dict[str, Any], health) -> str:
     """The report's header: the log, its sensor health, the settings used and the error table."""
-    from .health import format_health  # noqa: F401  (the same table as `run`, as HTML here)
-
     first = runs[0]
     time = np.asarray(first.time, float)
     duration = float(time[-1] - time[0])
@@ -233,7 +231,7 @@ def _header_html(runs, settings: Dict[str, Any], health) -> str:
               (getattr(first, "altitude_reference", "") or "the log's")),
              ("log's own estimate", first.reference_name if first.reference_altitude is not None else "none")]
     parts.append(" · ".join(f"<b>{html.escape(k)}</b>: {html.escape(v)}" for k, v in facts))
-    parts.append("<h3>Sensor health</h3>")
+    parts.append("<h3>Sensor health</h3>")  # the table of `run` (health.format_health), as HTML
     rows = []
     for s in health:
         notes = []
@@ -612,7 +610,8 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
         const keep = [];
         for (let i = 0; i < d.log_id.length; i++) {
             const hay = (d.log_id[i] + ' ' + d.path[i] + ' ' + d.error[i]).toLowerCase();
-            keep.push((needle === '' || hay.includes(needle)) && (status.value === 'all' || d.status[i] === status.value));
+            const shown = needle === '' || hay.includes(needle);
+            keep.push(shown && (status.value === 'all' || d.status[i] === status.value));
         }
         view.filter.booleans = keep;
         source.change.emit();

@@ -1,4 +1,4 @@
-"""``fusion-altitude report LOG`` and ``fusion-altitude fleet report OUT``: the command line of :mod:`fusion_altitude.report`.
+"""``fusion-altitude report LOG`` and ``fleet report OUT``: the command line of :mod:`fusion_altitude.report`.
 
 :func:`add_report_parser` adds ``report`` to the subcommands of
 ``fusion-altitude``; :func:`add_fleet_report_parser` adds ``report`` to the

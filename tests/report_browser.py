@@ -41,9 +41,10 @@ const models = [...doc.all_models];
 const name = (m) => m.type ?? m.constructor.__name__;
 const figures = models.filter((m) => name(m) === 'Figure');
 const glyphs = models.filter((m) => name(m) === 'GlyphRenderer');
-const walk = (root, out) => { for (const el of root.querySelectorAll('*')) { if (el.tagName === 'CANVAS') out.push(el);
-                                                                            if (el.shadowRoot) walk(el.shadowRoot, out); }
-                              return out; };
+const walk = (root, out) => {
+  for (const el of root.querySelectorAll('*')) { if (el.tagName === 'CANVAS') out.push(el);
+                                                 if (el.shadowRoot) walk(el.shadowRoot, out); }
+  return out; };
 const canvases = walk(document, []);
 let drawn = 0;
 for (const c of canvases) {
@@ -52,12 +53,18 @@ for (const c of canvases) {
   if (!ctx) continue;
   const px = ctx.getImageData(0, 0, c.width, c.height).data;
   let colours = new Set();
-  for (let i = 0; i < px.length && colours.size < 3; i += 4 * 97) colours.add(px[i] << 16 | px[i + 1] << 8 | px[i + 2] | px[i + 3] << 24);
+  for (let i = 0; i < px.length && colours.size < 3; i += 4 * 97)  // a sparse sample of the pixels
+    colours.add(px[i] << 16 | px[i + 1] << 8 | px[i + 2] | px[i + 3] << 24);
   if (colours.size >= 3) drawn += 1;
 }
 const empty = glyphs.filter((g) => { const d = g.data_source?.data; if (!d) return false;
-  const cols = d instanceof Map ? [...d.values()] : Object.values(d); return cols.length > 0 && cols[0].length === 0; });
-return {figures: figures.length, glyph_renderers: glyphs.length, canvases: canvases.length, drawn_canvases: drawn,
+  const cols = d instanceof Map ? [...d.values()] : Object.values(d);
+  return cols.length > 0 && cols[0].length === 0; });
+const hasData = (r) => { const d = r.data_source?.data; if (!d) return false;
+  const cols = d instanceof Map ? [...d.values()] : Object.values(d); return cols.length > 0 && cols[0].length > 0; };
+const dataGlyph = (r) => name(r) === 'GlyphRenderer' && ['Line', 'Scatter', 'Quad'].includes(name(r.glyph)) && hasData(r);
+const bare = figures.filter((f) => !f.renderers.some(dataGlyph));
+return {figures: figures.length, glyph_renderers: glyphs.length, figures_without_data: bare.length, canvases: canvases.length, drawn_canvases: drawn,
         empty_glyph_renderers: empty.length, x_ranges: [...new Set(figures.map((f) => f.x_range.id))].length,
         tables: models.filter((m) => name(m) === 'DataTable').length};
 """
@@ -103,7 +110,7 @@ def load(driver, path: Path, timeout: float = 60.0) -> float:
 
 def inspect(driver) -> Dict[str, Any]:
     """Counts of the loaded page: figures, glyph renderers, canvases, non-blank canvases, empty renderers,
-    distinct x ranges, data tables."""
+    figures without a line, dots or bars holding data, distinct x ranges, data tables."""
     return driver.execute_script(_INSPECT)
 
 

@@ -88,7 +88,7 @@ def _check_page(browser, page: Path, figures: int, artifact: str) -> dict:
     written = _model_counts(page)
     assert seen["figures"] == written["figures"] == figures, (page.name, seen, written)
     assert seen["glyph_renderers"] == written["glyph_renderers"] >= figures, (page.name, seen, written)
-    assert seen["empty_glyph_renderers"] == 0, (page.name, seen)
+    assert seen["empty_glyph_renderers"] == 0 and seen["figures_without_data"] == 0, (page.name, seen)
     assert seen["drawn_canvases"] >= figures, (page.name, seen)
     ARTIFACTS.mkdir(exist_ok=True)
     browser.save_screenshot(str(ARTIFACTS / f"{artifact}.png"))

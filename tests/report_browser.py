@@ -64,7 +64,9 @@ const hasData = (r) => { const d = r.data_source?.data; if (!d) return false;
   const cols = d instanceof Map ? [...d.values()] : Object.values(d); return cols.length > 0 && cols[0].length > 0; };
 const dataGlyph = (r) => name(r) === 'GlyphRenderer' && ['Line', 'Scatter', 'Quad'].includes(name(r.glyph)) && hasData(r);
 const bare = figures.filter((f) => !f.renderers.some(dataGlyph));
-return {figures: figures.length, glyph_renderers: glyphs.length, figures_without_data: bare.length, canvases: canvases.length, drawn_canvases: drawn,
+const hovers = figures.filter((f) => f.toolbar.tools.some((t) => name(t) === 'HoverTool')).length;
+return {figures: figures.length, glyph_renderers: glyphs.length, figures_without_data: bare.length,
+        figures_with_hover: hovers, canvases: canvases.length, drawn_canvases: drawn,
         empty_glyph_renderers: empty.length, x_ranges: [...new Set(figures.map((f) => f.x_range.id))].length,
         tables: models.filter((m) => name(m) === 'DataTable').length};
 """

@@ -105,7 +105,8 @@ def _no_network_source(page: Path) -> None:
 def test_every_shared_log_has_a_report_that_renders_without_console_errors(browser, log_pages):
     assert len(log_pages) >= 6
     for name, page in log_pages.items():
-        _check_page(browser, page, LOG_FIGURES, f"report-{Path(name).stem}")
+        seen = _check_page(browser, page, LOG_FIGURES, f"report-{Path(name).stem}")
+        assert seen["figures_with_hover"] == LOG_FIGURES, (name, seen)  # tooltips with time and value
         shown = browser.execute_script("return document.body.innerText")
         for text in (name, "Sensor health", "Estimators and settings"):  # the header (plot titles are drawn)
             assert text in shown, (name, text)
@@ -164,13 +165,39 @@ def test_the_fleet_report_renders_a_table_and_histograms_with_links_to_each_log(
     _check_page(browser, reports[0], LOG_FIGURES, "fleet-log-report")
 
 
+#: JavaScript: the text of each visible row of the fleet table, top to bottom.
+TABLE_ROWS = """
+    const walk = (root, out) => { for (const el of root.querySelectorAll('*')) {
+        if (el.classList.contains('slick-row')) out.push(el); if (el.shadowRoot) walk(el.shadowRoot, out); }
+        return out; };
+    return walk(document, []).sort((a, b) => a.getBoundingClientRect().top - b.getBoundingClientRect().top)
+                             .map((row) => row.textContent);"""
+
+
+def test_clicking_a_fleet_table_heading_sorts_its_rows(browser, fleet_page):
+    browser_tools.load(browser, fleet_page)
+    before = browser.execute_script(TABLE_ROWS)
+    by_duration = ["px4_sample_log_small.ulg", "rrc3_juno3.csv", "px4_octorotor_2hz_baro.ulg"]
+    names = [row.split("-")[0] for row in before]
+    assert sorted(names) == sorted(by_duration) and names != by_duration  # in path order: not by duration
+    browser.execute_script("""
+        const walk = (root, out) => { for (const el of root.querySelectorAll('*')) {
+            if (el.classList.contains('slick-header-column')) out.push(el); if (el.shadowRoot) walk(el.shadowRoot, out); }
+            return out; };
+        walk(document, []).find((el) => el.textContent.trim() === 'duration (s)').click();""")
+    deadline = time.time() + 5
+    after = browser.execute_script(TABLE_ROWS)
+    while after == before and time.time() < deadline:
+        time.sleep(0.05)
+        after = browser.execute_script(TABLE_ROWS)
+    # durations (shared data README): the small PX4 log 6.5 s, the RRC3 flight 30.5 s, the octorotor 94.6 s
+    assert [row.split("-")[0] for row in after] == by_duration, after
+    assert not browser_tools.console_errors(browser)
+
+
 def test_the_fleet_filter_hides_rows_that_do_not_match(browser, fleet_page):
     browser_tools.load(browser, fleet_page)
-    rows = """
-        const walk = (root, out) => { for (const el of root.querySelectorAll('*')) {
-            if (el.classList.contains('slick-row')) out.push(el); if (el.shadowRoot) walk(el.shadowRoot, out); }
-            return out; };
-        return walk(document, []).map((row) => row.textContent);"""
+    rows = TABLE_ROWS
     assert len(browser.execute_script(rows)) == 3
     browser.execute_script("""
         const name = (m) => m.type ?? m.constructor.__name__;

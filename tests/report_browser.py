@@ -62,7 +62,8 @@ const empty = glyphs.filter((g) => { const d = g.data_source?.data; if (!d) retu
   return cols.length > 0 && cols[0].length === 0; });
 const hasData = (r) => { const d = r.data_source?.data; if (!d) return false;
   const cols = d instanceof Map ? [...d.values()] : Object.values(d); return cols.length > 0 && cols[0].length > 0; };
-const dataGlyph = (r) => name(r) === 'GlyphRenderer' && ['Line', 'Scatter', 'Quad'].includes(name(r.glyph)) && hasData(r);
+const dataGlyph = (r) => name(r) === 'GlyphRenderer' && ['Line', 'Scatter', 'Quad'].includes(name(r.glyph))
+                         && hasData(r);
 const bare = figures.filter((f) => !f.renderers.some(dataGlyph));
 const hovers = figures.filter((f) => f.toolbar.tools.some((t) => name(t) === 'HoverTool')).length;
 return {figures: figures.length, glyph_renderers: glyphs.length, figures_without_data: bare.length,

@@ -182,7 +182,8 @@ def test_clicking_a_fleet_table_heading_sorts_its_rows(browser, fleet_page):
     assert sorted(names) == sorted(by_duration) and names != by_duration  # in path order: not by duration
     browser.execute_script("""
         const walk = (root, out) => { for (const el of root.querySelectorAll('*')) {
-            if (el.classList.contains('slick-header-column')) out.push(el); if (el.shadowRoot) walk(el.shadowRoot, out); }
+            if (el.classList.contains('slick-header-column')) out.push(el);
+            if (el.shadowRoot) walk(el.shadowRoot, out); }
             return out; };
         walk(document, []).find((el) => el.textContent.trim() === 'duration (s)').click();""")
     deadline = time.time() + 5

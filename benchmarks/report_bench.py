@@ -1,8 +1,10 @@
 """Size and load time of the HTML reports in headless Chromium (docs/report.md).
 
 For every shared log (``fusion-altitude report LOG``, the estimator ``run``
-picks), one ``--all-estimators`` report, and a generated 1-million-row CSV
-log (the simulator, :func:`report_browser.write_long_csv`): the page's size
+picks), one ``--all-estimators`` report, a generated 1-million-row CSV
+log (the simulator, :func:`report_browser.write_long_csv`) and a fleet page
+(``fleet report`` of a ``fleet run`` of three shared logs, their own
+reports included in its time): the page's size
 and the time from navigation start to every plot drawn (the page's own
 ``performance.now()``): the first load in a fresh browser (cold: Bokeh's
 script compiled for the first time), then the best and median of
@@ -33,6 +35,10 @@ from fusion_altitude import fleet  # noqa: E402
 from fusion_altitude.cli import main  # noqa: E402
 
 
+#: The logs of the measured fleet page (as tests/test_report_browser.py's fleet).
+FLEET_LOGS = ("px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg", "rrc3_juno3.csv")
+
+
 def _report(arguments, page: Path) -> float:
     """Write a report with the CLI; s it took (read, estimate, write)."""
     start = time.perf_counter()
@@ -60,6 +66,13 @@ def main_bench() -> None:
         for k, (name, arguments) in enumerate(cases):
             page = folder / f"page{k}.html"
             pages.append((name, page, _report(arguments, page)))
+        fleet_logs = [str(shared / name) for name in FLEET_LOGS]  # a fleet page and its links
+        fleet.run_many(fleet_logs, output_dir=str(folder / "fleet"), workers=1)
+        start = time.perf_counter()
+        if main(["fleet", "report", str(folder / "fleet")]) != 0:
+            raise SystemExit("fleet report failed")
+        cases.append((f"fleet report of {', '.join(FLEET_LOGS)}", None))
+        pages.append((cases[-1][0], folder / "fleet" / "fleet.html", time.perf_counter() - start))
         print("| log | rows | page (MB) | report written in (s) | cold load (s) | warm load best (s) | "
               "warm load median (s) |")
         print("|---|---:|---:|---:|---:|---:|---:|")
@@ -80,7 +93,9 @@ def main_bench() -> None:
 
 
 def _rows(arguments) -> str:
-    """Rows of the log on the estimator's grid."""
+    """Rows of the log on the estimator's grid ("3 logs" for the fleet page)."""
+    if arguments is None:
+        return f"{len(FLEET_LOGS)} logs"
     from fusion_altitude import logs
 
     import warnings

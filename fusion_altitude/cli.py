@@ -1240,6 +1240,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_compare_parser(commands)
     from .fleet_cli import add_fleet_parser
     add_fleet_parser(commands)
+    from .report_cli import add_report_parser
+    add_report_parser(commands)
     return parser
 
 

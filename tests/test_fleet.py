@@ -553,12 +553,14 @@ def test_cli_fleet_rejects_zero_workers(fleet_dir, tmp_path):
 
 
 def test_the_fleet_extra_brings_the_dashboard_and_fleet_run_prints_its_link(fleet_dir, tmp_path):
-    """bokeh is in the [fleet] extra, so the LocalCluster that `fleet run` starts (no --scheduler) has a dashboard,
-    and its link is printed."""
+    """bokeh comes with the [fleet] extra (through [report]), so the LocalCluster that `fleet run` starts (no
+    --scheduler) has a dashboard, and its link is printed."""
     import re
 
-    extra = re.search(r"^fleet = \[(.*)\]$", (ROOT / "pyproject.toml").read_text(), re.MULTILINE).group(1)
-    assert '"bokeh>=' in extra
+    text = (ROOT / "pyproject.toml").read_text()
+    extra = re.search(r"^fleet = \[(.*)\]$", text, re.MULTILINE).group(1)
+    assert '"fusion-altitude[report]"' in extra
+    assert '"bokeh>=' in re.search(r"^report = \[(.*)\]$", text, re.MULTILINE).group(1)
     status, _, err = _cli(["fleet", "run", str(fleet_dir / "sim" / "sim01.csv"), "-o", str(tmp_path),
                            "--workers", "1", *CSV_FLAGS])
     assert status == 0, err

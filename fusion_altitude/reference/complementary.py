@@ -67,8 +67,10 @@ def check_inputs(a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryS
 class ComplementarySettings(KeywordSettings):
     """Settings of the two-stage complementary filter (float32, keyword arguments only).
 
-    Parameters (defaults: ``FusionAltitudeComplementarySettingsDefault``)
-    ---------------------------------------------------------------------
+    The defaults are ``FusionAltitudeComplementarySettingsDefault``'s.
+
+    Parameters
+    ----------
     accel_time_constant, baro_time_constant : 0.02 s, 0.05 s
         Low-pass time constants τA of the accelerometer and τB of the baro (>= 0; 0: none).
     per_sample_coefficients : False

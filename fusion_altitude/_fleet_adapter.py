@@ -67,7 +67,7 @@ def resolve_settings(estimator: str, settings: Any) -> Any:
     if estimator not in estimator_names():
         raise ValueError(f"estimator must be one of {', '.join(estimator_names())}, got {estimator!r}")
     if estimator == "observer":
-        from ._observer import AltitudeSettings
+        from ._core._observer import AltitudeSettings
         if settings is None:
             return AltitudeSettings()
         if isinstance(settings, str):
@@ -223,13 +223,13 @@ def fit_search(evaluate_rms, dt_check: float, omega_range, zetas, bias_ratios, r
 
 def default_settings():
     """The gains :func:`fusion_altitude.tuning.fit` reports as the default (VTOL) for comparison."""
-    from ._observer import AltitudeSettings
+    from ._core._observer import AltitudeSettings
     return AltitudeSettings()
 
 
 def settings_from_bandwidth(omega: float, zeta: float, omega_b: float):
     """Observer gains from ω (rad/s), ζ and ω_b (rad/s), as :func:`fusion_altitude.tuning.fit` builds its result."""
-    from ._observer import AltitudeSettings
+    from ._core._observer import AltitudeSettings
     return AltitudeSettings.from_bandwidth(omega, zeta, omega_b)
 
 

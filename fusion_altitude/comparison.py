@@ -41,13 +41,13 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
-from ._complementary import ComplementaryFilter
-from ._kalman import KalmanEstimator
-from ._observer import AltitudeEstimator, AltitudeSettings
+from ._core._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from ._core._complementary import ComplementaryFilter
+from ._core._kalman import KalmanEstimator
+from ._core._observer import AltitudeEstimator, AltitudeSettings
 from .health import check_estimate
 from .metrics import error_statistics, settling_time
-from .scenarios import ScenarioResult, run_scenario
+from .sim.scenarios import ScenarioResult, run_scenario
 
 __all__ = ["ESTIMATORS", "SCENARIOS", "estimators_for", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
            "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
@@ -201,7 +201,7 @@ class _InsAltitude:
 
 def _ins_runner(result: ScenarioResult, baro: np.ndarray, dt: np.float32):
     """A call running the INS on the scenario's raw IMU (gyro °/s, accel g, magnetometer) and baro."""
-    from ._ins import InsEstimator
+    from ._core._ins import InsEstimator
 
     gyro, accel, mag = result.imu.gyro, result.imu.accel, result.imu.mag   # float64: converted by the binding
     return lambda: _InsAltitude(InsEstimator(gyro_units="deg/s", accel_units="g").update_batch(gyro, accel, dt, baro,
@@ -218,7 +218,7 @@ class _RocketAltitude:
 
 def _rocket_runner(result: ScenarioResult):
     """A call running the rocket flight layer on the scenario's long-axis accelerometer and baro."""
-    from ._flight import RocketEstimator
+    from ._core._flight import RocketEstimator
     from .runner import sample_periods
 
     dt = sample_periods(result.time)
@@ -232,7 +232,7 @@ def _rocket_runner(result: ScenarioResult):
 
 
 def _preset(name: str) -> str:
-    from .scenarios import spec
+    from .sim.scenarios import spec
 
     return spec(name).preset
 
@@ -269,7 +269,7 @@ def table_cells(rows: Sequence[Row]) -> List[List[str]]:
 
 def header(rows: Sequence[Row]) -> Tuple[str, ...]:
     """:data:`HEADER`, with "log" as the first column's name when the rows come from :func:`compare_log`."""
-    from .scenarios import scenario_names
+    from .sim.scenarios import scenario_names
 
     if rows and not any(r.scenario in scenario_names() for r in rows):
         return ("log",) + HEADER[1:]

@@ -23,9 +23,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ._common import GRAVITY, as_float
-from ._flight import RocketEstimator
-from ._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
+from ._core._common import GRAVITY, as_float
+from ._core._flight import RocketEstimator
+from ._core._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
 from .reference.flight import RocketSettings
 
 #: Observer gains of the rocket preset (Kh 1/s, Kv 1/s², Kb 1/s³): ω = 1 rad/s,

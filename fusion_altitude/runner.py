@@ -48,8 +48,8 @@ from typing import Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from ._observer import AltitudeEstimator, AltitudeSettings
-from ._observer_glue import AltitudeBatch
+from ._core._observer import AltitudeEstimator, AltitudeSettings
+from ._core._observer_glue import AltitudeBatch
 from .health import row_flags
 from .logs import LogData
 from .metrics import ErrorStatistics, error_statistics
@@ -266,7 +266,7 @@ def _run_observer_entry(data: LogData, dt: np.ndarray, options: dict):
 
 
 def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
-    from ._kalman import KalmanEstimator
+    from ._core._kalman import KalmanEstimator
 
     gps = _optional(data, "gps_altitude")
     satellites = _optional(data, "gps_satellites")
@@ -282,7 +282,7 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
         from .rocket import rocket_kalman_settings
         settings = rocket_kalman_settings()
     if settings is None:
-        from ._kalman import KalmanSettings
+        from ._core._kalman import KalmanSettings
         settings = KalmanSettings()
     settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period))
     estimator = KalmanEstimator(settings)
@@ -305,7 +305,7 @@ def _run_kalman(data: LogData, dt: np.ndarray, options: dict):
 
 
 def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
-    from ._complementary import ComplementaryFilter, ComplementarySettings
+    from ._core._complementary import ComplementaryFilter, ComplementarySettings
 
     settings = ComplementarySettings()
     settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
@@ -325,7 +325,7 @@ def _run_complementary(data: LogData, dt: np.ndarray, options: dict):
 def _run_alphabeta(data: LogData, dt: np.ndarray, options: dict):
     import math
 
-    from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+    from ._core._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 
     # a log's altitudes are above sea level (or any datum) and may dip below the start: the altitude windows of
     # the defaults (made for heights above a take-off point) are opened for the imu, baro and GPS
@@ -469,7 +469,7 @@ class InsLogBatch(NamedTuple):
 
 
 def _run_ins(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
-    from ._ins import InsEstimator, InsSettings
+    from ._core._ins import InsEstimator, InsSettings
 
     gyro, accel = np.asarray(data.gyro, float), np.asarray(data.accel, float)
     if data.imu_frame == "FRD":  # to FLU (x forward, y left, z up): a level vehicle then reads roll 0, not ±180°
@@ -551,7 +551,7 @@ def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0,
         ≈ +9.81 m/s² (0.7–1.3 g) at rest, it is dead (constant), or another
         axis carries more than 0.5 g.
     """
-    from ._common import GRAVITY
+    from ._core._common import GRAVITY
     from .logs import LogError
     from .rocket import pad_levels
 
@@ -579,7 +579,7 @@ def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0,
 def _run_rocket(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
     """The rocket flight layer on a log; its accelerometer input is chosen by :func:`fusion_altitude.rocket.rocket_accel_input`
     (NaN where the flight layer must do without one: baro-led), and what was chosen goes to ``data.notes``."""
-    from ._flight import RocketEstimator
+    from ._core._flight import RocketEstimator
     from .rocket import rocket_accel_input
 
     accel, note = rocket_accel_input(data, options.get("long_axis"))

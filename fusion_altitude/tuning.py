@@ -15,11 +15,11 @@ from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _sweep, _observer_glue, _sweep_glue
-from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN
-from ._observer_glue import Status
-from ._sweep_glue import SweepResult
-from ._observer import AltitudeSettings
+from ._core import _sweep, _observer_glue, _sweep_glue
+from ._core._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN
+from ._core._observer_glue import Status
+from ._core._sweep_glue import SweepResult
+from ._core._observer import AltitudeSettings
 
 #: Settings per thread below which a sweep stays on one thread. Measured on the
 #: 2-core dev machine (``python benchmarks/compare.py``, 10^5 samples, metrics

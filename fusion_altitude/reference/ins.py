@@ -32,8 +32,8 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _ins_glue
-from .._ins_glue import InsBatch, InsStatus
+from .._core import _ins_glue
+from .._core._ins_glue import InsBatch, InsStatus
 from ._checkpoint import Checkpointable
 from ._settings import KeywordSettings
 

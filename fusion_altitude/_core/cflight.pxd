@@ -4,7 +4,7 @@
 
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
-from fusion_altitude.cobserver cimport FusionAltitude, FusionAltitudeSettings
+from fusion_altitude._core.cobserver cimport FusionAltitude, FusionAltitudeSettings
 
 
 cdef extern from "fusion_altitude_flight.h" nogil:

@@ -26,7 +26,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .sim import GRAVITY, Trajectory, _from_acceleration, _level
+from . import GRAVITY, Trajectory, _from_acceleration, _level
 
 #: Speed of sound at the pad (15 °C), m/s; the simulator uses it for the Mach number.
 SPEED_OF_SOUND = 340.3
@@ -338,7 +338,7 @@ def flight_log(flight: RocketFlight, kind: str = "imu", indices: Optional[np.nda
         as a reader without an attitude would give it (the long axis minus g;
         zeros for ``baro_only``); ``vehicle`` "rocket".
     """
-    from .logs import LogData
+    from ..logs import LogData
 
     if kind not in LOG_KINDS:
         raise ValueError(f"kind must be one of {', '.join(LOG_KINDS)}, got {kind!r}")
@@ -368,7 +368,7 @@ def flight_log(flight: RocketFlight, kind: str = "imu", indices: Optional[np.nda
 def summary(seeds: int = 20) -> str:
     """The event and height figures of :func:`fusion_altitude.rocket.run_rocket` (default settings)
     over ``seeds`` simulated flights, as a Markdown table (``python -m fusion_altitude.rocket_sim``)."""
-    from .rocket import run_rocket
+    from ..rocket import run_rocket
 
     rows = {"apogee delay after the true apogee (s)": [], "apogee height error (%)": [],
             "true height at main (m; set 250)": [], "largest height drop during the ascent (m)": [],
@@ -401,9 +401,9 @@ def kalman_comparison(seeds: int = 5) -> str:
     """RMS height error over whole simulated flights (m): the Kalman filter with its default and its rocket
     settings (accel as given, baro above the pad) and the rocket flight layer
     (``python -m fusion_altitude.rocket_sim --kalman``)."""
-    from . import KalmanEstimator, KalmanSettings
-    from .metrics import error_statistics
-    from .rocket import rocket_kalman_settings, run_rocket
+    from .. import KalmanEstimator, KalmanSettings
+    from ..metrics import error_statistics
+    from ..rocket import rocket_kalman_settings, run_rocket
 
     lines = ["| seed | Kalman, default settings | Kalman, rocket settings | RocketEstimator |", "|---|---|---|---|"]
     for seed in range(seeds):

@@ -23,8 +23,8 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from . import sim
-from ._common import GRAVITY
+from .. import sim
+from .._core._common import GRAVITY
 from .sensors import euler_to_quaternion
 
 __all__ = ["RawImuFlight", "simulate_raw_imu", "run_ins", "run_two_step", "attitude_error_deg"]
@@ -171,7 +171,7 @@ def simulate_raw_imu(scenario: str = "realistic", seed: int = 0, rest_duration: 
 
 def run_ins(flight: RawImuFlight, settings=None, use_magnetometer: bool = True):
     """The INS (C binding) over a flight; returns its :class:`fusion_altitude.InsBatch`."""
-    from ._ins import InsEstimator
+    from .._core._ins import InsEstimator
 
     return InsEstimator(settings).update_batch(flight.gyro, flight.accel, flight.dt, flight.baro_altitude,
                                                flight.mag if use_magnetometer else None)
@@ -188,8 +188,8 @@ def run_two_step(flight: RawImuFlight, use_magnetometer: bool = True):
     """
     import imufusion
 
-    from ._observer import AltitudeEstimator, AltitudeSettings
-    from .tuning import settings_for_baro_rate
+    from .._core._observer import AltitudeEstimator, AltitudeSettings
+    from ..tuning import settings_for_baro_rate
 
     ahrs = imufusion.Ahrs()
     rate = 1.0 / flight.dt

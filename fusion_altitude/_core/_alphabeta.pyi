@@ -9,7 +9,7 @@ import numpy as np
 from ._alphabeta_glue import AlphaBetaBatch as AlphaBetaBatch
 from ._alphabeta_glue import AlphaBetaSensorSettings as AlphaBetaSensorSettings
 from ._alphabeta_glue import AlphaBetaSensors as AlphaBetaSensors
-from .reference.alphabeta import AlphaBetaSettings as AlphaBetaSettings
+from ..reference.alphabeta import AlphaBetaSettings as AlphaBetaSettings
 
 C_STATUS_VALUES: Dict[str, int]
 C_SENSOR_COUNT: int

@@ -28,7 +28,7 @@ from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._common import GRAVITY
+from .._core._common import GRAVITY
 from .sensors import euler_to_quaternion, quaternion_multiply, quaternion_to_matrix
 
 __all__ = [

@@ -8,13 +8,13 @@ converted to the C struct here; conversions, enums and the state layout are
 generated from the header (``_complementary_fields.pxi``).
 """
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
 
-from fusion_altitude.ccomplementary cimport *
+from fusion_altitude._core.ccomplementary cimport *
 
 from fusion_altitude import _common, _complementary_glue
-from fusion_altitude._complementary_glue import ComplementaryBatch
+from fusion_altitude._core._complementary_glue import ComplementaryBatch
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.complementary import ComplementarySettings
 

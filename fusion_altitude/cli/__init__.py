@@ -40,7 +40,7 @@ import time as _time
 import warnings
 from typing import Callable, Iterator, List, Optional, Sequence
 
-from ._version import __version__
+from .._version import __version__
 
 __all__ = ["main", "build_parser", "format_table", "CliError"]
 
@@ -120,7 +120,7 @@ def _same_file(a: str, b: str) -> bool:
 def _input_files(path: str) -> List[str]:
     """Every file the reader of ``path`` opens: the file itself and, for a multi-file log (a CATS set: baro, IMU,
     flight info), its siblings."""
-    from . import logs
+    from .. import logs
 
     files = [path]
     with contextlib.suppress(OSError, ValueError):
@@ -132,7 +132,7 @@ def _input_files(path: str) -> List[str]:
 def _is_sibling_name(path: str, inputs: Sequence[str]) -> bool:
     """``path`` (existing or not) is named as a member of the multi-file log in ``inputs`` (a CATS
     ``<prefix>baro.csv``/``imu.csv``/``flight_info.csv`` beside them): the next read would take it for one."""
-    from .logs import cats
+    from ..logs import cats
 
     mine = cats._split_name(os.path.abspath(path))
     if mine is None:
@@ -178,7 +178,7 @@ def _check_output(path: Optional[str], flag: str, inputs: Sequence[str] = (), st
     if _is_sibling_name(path, every):
         raise CliError(f"{flag} {path} is named as a file of the multi-file log {inputs[0]}: the next read would "
                        "take it for one; choose another name")
-    from .runner import is_special_output
+    from ..runner import is_special_output
 
     if is_special_output(path):
         if not os.access(path, os.W_OK):
@@ -221,7 +221,7 @@ def _check_plot(path: Optional[str], inputs: Sequence[str] = ()) -> None:
     if path is None:
         return
     _check_output(path, "--plot", inputs)
-    from .plotting import check_plot_path
+    from ..plotting import check_plot_path
 
     try:
         check_plot_path(path)
@@ -278,8 +278,8 @@ class _Progress:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from ._common import GRAVITY
-    from .scenarios import PUBLISHED, PUBLISHED_SOURCE, describe, export_csv, run_scenario
+    from .._core._common import GRAVITY
+    from ..sim.scenarios import PUBLISHED, PUBLISHED_SOURCE, describe, export_csv, run_scenario
 
     if args.seed < 0:
         raise CliError(f"--seed must be >= 0, got {args.seed}")
@@ -323,7 +323,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         print(f"  fusion-altitude run {args.export} --time time --accel vertical_acceleration --baro baro_altitude "
               "--reference true_altitude")
     if args.plot:
-        from .plotting import plot_scenario
+        from ..plotting import plot_scenario
 
         plot_scenario(result, args.plot)
         print(f"plot written to {args.plot}")
@@ -347,8 +347,8 @@ def _check_attitude(attitude: str) -> None:
 
 
 def _cmd_tune(args: argparse.Namespace) -> int:
-    from ._observer import AltitudeSettings
-    from .tuning import report
+    from .._core._observer import AltitudeSettings
+    from ..tuning import report
 
     _number("--omega", args.omega, 0.0, maximum=MAX_OMEGA)
     _number("--zeta", args.zeta, 0.0, maximum=MAX_ZETA)
@@ -419,7 +419,7 @@ _CSV_FLAGS = (
 
 def _log_format(path: str) -> str:
     """"csv" for a generic CSV (needs column flags), else the reader's format name."""
-    from . import logs
+    from .. import logs
 
     sniff = getattr(logs, "sniff_format", None)
     if sniff is not None:
@@ -491,7 +491,7 @@ def _column_lists(args: argparse.Namespace) -> dict:
 def _csv_options(given: dict) -> dict:
     """The keywords of :func:`fusion_altitude.logs.read_csv_log` from the flags ``given`` (flag → (keyword,
     value)); CliError when a needed flag is missing, two exclude each other, or the reader lacks one."""
-    from . import logs
+    from .. import logs
 
     parameters = inspect.signature(logs.read_csv_log).parameters
     missing = [flag for flag, keyword in (("--time", "time_column"), ("--accel", "accel_column"))
@@ -529,7 +529,7 @@ def _other_format_options(given: dict, path: str, fmt: str) -> dict:
 def _read_log(args: argparse.Namespace, options: dict, progress: _Progress):
     """:func:`fusion_altitude.logs.load_log` with ``options`` (and ``--instance``) under a progress bar; its
     LogError → CliError naming our flags instead of the reader's keywords."""
-    from . import logs
+    from .. import logs
 
     load_parameters = inspect.signature(logs.load_log).parameters
     if args.instance is not None:
@@ -600,7 +600,7 @@ def _run_estimator(args: argparse.Namespace, data, health=()) -> str:
     Kalman filter when the baro stops before the log's end and the log has GPS (it carries on with the GPS), else
     the INS when the log has a raw gyro and accelerometer (and no ``--preset``, which names observer gains), else
     the observer. CliError when the flags contradict each other or the log lacks what the estimator needs."""
-    from . import runner
+    from .. import runner
 
     rocket = args.rocket or getattr(data, "vehicle", "") == "rocket"
     baro_stops = any(s.name == "baro" and s.stopped for s in health)
@@ -637,7 +637,7 @@ def _print_health(data, health, run, estimator: str) -> None:
     for what the estimator cannot do about it."""
     import numpy as np
 
-    from .health import format_health, not_baro_aided, stopped_streams
+    from ..health import format_health, not_baro_aided, stopped_streams
 
     time = np.asarray(data.time, float)
     print()
@@ -678,7 +678,7 @@ def _print_health(data, health, run, estimator: str) -> None:
 
 def _print_events(run, data) -> None:
     """The rocket layer's events next to the flight computer's own (when the log has them)."""
-    from .rocket import flight_computer_events
+    from ..rocket import flight_computer_events
 
     theirs, how = flight_computer_events(data, pad_altitude=None)
     print()
@@ -711,9 +711,9 @@ def _run(args: argparse.Namespace, progress: "_Progress", stdout) -> int:
     """``run`` after the output checks; ``stdout`` is where ``-o -`` writes the CSV."""
     import numpy as np
 
-    from . import runner
-    from ._observer import AltitudeSettings
-    from .health import check_estimate, sensor_health
+    from .. import runner
+    from .._core._observer import AltitudeSettings
+    from ..health import check_estimate, sensor_health
 
     data = _load(args, progress)
     health = sensor_health(data)
@@ -762,7 +762,7 @@ def _check_run_outputs(args: argparse.Namespace) -> None:
 
 def _run_description(args: argparse.Namespace, data, run, estimator: str):
     """What ``run`` ran (estimator, preset, rocket long axis, datum) and the notes to print (None: the log's)."""
-    from . import runner
+    from .. import runner
 
     what = f"estimator {estimator}" + (f", preset {args.preset}" if estimator == "observer" else "")
     if estimator == "rocket" and not args.estimator:
@@ -776,7 +776,7 @@ def _run_description(args: argparse.Namespace, data, run, estimator: str):
         notes = list(data.notes) + [f"INS inputs: the raw gyro and accelerometer{frame} and the baro; "
                                     "any attitude source above is not used (the INS estimates its own)"]
     if estimator == "rocket" and data.accel is not None:
-        from .logs.cats import ATTITUDE_NOTE
+        from ..logs.cats import ATTITUDE_NOTE
 
         column, sign = LONG_AXES[args.long_axis] if args.long_axis else runner.rocket_long_axis(data.accel, data.time)
         axis = f"{'+' if sign > 0 else '-'}{'XYZ'[column]}"
@@ -842,7 +842,7 @@ def _print_run_comparison(run, agl: bool) -> None:
             ["max |·| (m)", estimate.max, raw.max]]
     reference_velocity = run.reference_velocity
     if reference_velocity is not None and np.isfinite(reference_velocity).any():
-        from .metrics import error_statistics
+        from ..metrics import error_statistics
 
         velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
                                     - reference_velocity, 0.0)
@@ -852,7 +852,7 @@ def _print_run_comparison(run, agl: bool) -> None:
 
 def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress, stdout=None) -> None:
     """Write what ``run`` was asked for: the events CSV, the estimates CSV (``-o -``: to ``stdout``), the plot."""
-    from . import runner
+    from .. import runner
 
     if args.events_csv:
         with runner.atomic_output(args.events_csv) as temporary:
@@ -866,7 +866,7 @@ def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress, stdou
             runner.write_csv(run, args.output, progress=bar)
         print(f"estimates written to {args.output}")
     if args.plot:
-        from .plotting import plot_log_run
+        from ..plotting import plot_log_run
 
         with progress.stage("plotting"):
             plot_log_run(run, args.plot)
@@ -876,8 +876,8 @@ def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress, stdou
 def _default_preset(data) -> str:
     """The observer preset ``run`` uses without ``--preset`` (:func:`fusion_altitude.runner.default_preset`); a
     change from vtol is said on stderr."""
-    from . import runner, tuning
-    from ._observer import AltitudeSettings
+    from .. import runner, tuning
+    from .._core._observer import AltitudeSettings
 
     name = runner.default_preset(data)
     steps = tuning.steps_per_baro(data.baro_altitude)
@@ -895,8 +895,8 @@ def _warn_if_unstable(settings, data, what: str) -> None:
     period. The core treats every step its gains cannot integrate stably as a gap (it restarts at the baro
     sample), so the estimate does not diverge but is the raw baro on those steps; the warning says so and names
     the presets that are stable at this rate."""
-    from . import runner, tuning
-    from ._observer import AltitudeSettings
+    from .. import runner, tuning
+    from .._core._observer import AltitudeSettings
 
     steps = tuning.steps_per_baro(data.baro_altitude)
     nominal = runner.nominal_period(data.time)
@@ -954,7 +954,7 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
     import numpy as np
 
     if args.scenario is not None:
-        from .scenarios import run_scenario
+        from ..sim.scenarios import run_scenario
         if args.file is not None:
             raise CliError("give a log FILE or --scenario, not both")
         result = run_scenario(args.scenario, args.seed)
@@ -962,7 +962,7 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
         duration = float(result.time[-1] - result.time[0])
         if skip >= duration:
             raise CliError(f"--skip {skip:g} s leaves no sample of scenario {args.scenario}'s {duration:.2f} s")
-        from .metrics import error_statistics
+        from ..metrics import error_statistics
 
         preset_rms = error_statistics(result.time, result.altitude_error, skip).rms
         return (f"scenario {args.scenario}, seed {args.seed} (reference: simulator truth)", result.time,
@@ -984,7 +984,7 @@ def _fit_inputs(args: argparse.Namespace, progress: _Progress):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from . import tuning
+    from .. import tuning
 
     progress = _Progress()
     _check_fit_arguments(args)
@@ -1015,7 +1015,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     print("runners-up:")
     print(format_table(["omega (rad/s)", "zeta", "omega_b (rad/s)", "RMS (m)"], _runners_up(result.landscape)))
     if args.plot:
-        from .plotting import plot_fit_landscape
+        from ..plotting import plot_fit_landscape
 
         with progress.stage("plotting"):
             plot_fit_landscape(result, args.plot, title=source)
@@ -1063,7 +1063,7 @@ def _fit_split(args: argparse.Namespace, time, skip: float):
 def _fit(args: argparse.Namespace, time, accel, baro, reference, split, skip: float, steps: float, progress):
     """The fit over the whole log (after ``skip`` s) or, with a ``split`` time (s), on the part before it scored
     on the rest: (fit result, held-out result or None). The library's ValueError → CliError naming our flags."""
-    from . import tuning
+    from .. import tuning
 
     options = dict(omega_range=(args.omega_min, args.omega_max), steps_per_baro=steps)
     held_out = None
@@ -1086,7 +1086,7 @@ def _fit_gaps_and_baro_rms(time, baro, reference, skip: float, scored_until: flo
     (after ``skip`` s, before ``scored_until`` s, without the gaps' transients)."""
     import numpy as np
 
-    from . import metrics, tuning
+    from .. import metrics, tuning
 
     counted = tuning.without_gap_transients(_sample_periods(time), (time > time[0] + skip) & (time < scored_until))
     gaps = int(np.count_nonzero(_sample_periods(time) > tuning.gap_period_for(_sample_periods(time))))
@@ -1143,7 +1143,7 @@ def _runners_up(landscape, count: int = 5) -> list:
 
 
 def _sample_periods(time):
-    from .runner import sample_periods
+    from ..runner import sample_periods
 
     return sample_periods(time)
 
@@ -1153,7 +1153,7 @@ def _sample_periods(time):
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    from . import comparison
+    from .. import comparison
 
     if args.repeat < 0:
         raise CliError(f"--repeat must be >= 0 (0: no timing), got {args.repeat}")
@@ -1179,7 +1179,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 
 def _print_rows(args: argparse.Namespace, rows) -> None:
-    from . import comparison
+    from .. import comparison
 
     if args.markdown:
         print(comparison.format_markdown(rows))
@@ -1197,7 +1197,7 @@ def _refused_rows(rows) -> int:
 
 
 def _compare_log(args: argparse.Namespace) -> int:
-    from . import comparison
+    from .. import comparison
 
     if args.scenario or args.plot_scenario:
         raise CliError("--scenario and --plot-scenario apply to simulated comparisons, not to a log FILE")
@@ -1238,14 +1238,14 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run_parser(commands)
     _add_fit_parser(commands)
     _add_compare_parser(commands)
-    from .fleet_cli import add_fleet_parser
+    from .fleet import add_fleet_parser
     add_fleet_parser(commands)
     return parser
 
 
 def _add_demo_parser(commands) -> None:
     """The ``demo`` subcommand: simulate a scenario and print the error table."""
-    from .scenarios import scenario_names
+    from ..sim.scenarios import scenario_names
 
     demo = commands.add_parser("demo", help="simulate a flight and print the error table",
                                description="Simulate a scenario, run the observer, print raw-baro vs fused errors.")
@@ -1279,7 +1279,7 @@ def _add_tune_parser(commands) -> None:
 
 def _add_run_parser(commands) -> None:
     """The ``run`` subcommand: an estimator on a recorded log."""
-    from .runner import ESTIMATORS
+    from ..runner import ESTIMATORS
 
     run = commands.add_parser("run", help="run an estimator on a recorded log (CSV, .ulg, .bin)",
                               description="Run an estimator on a log and compare it with the log's own estimate. "
@@ -1312,7 +1312,7 @@ def _add_run_parser(commands) -> None:
 
 def _add_fit_parser(commands) -> None:
     """The ``fit`` subcommand: fit the observer's gains to a reference altitude."""
-    from .scenarios import scenario_names
+    from ..sim.scenarios import scenario_names
 
     fit = commands.add_parser("fit", help="fit the gains to a reference altitude (a log or a scenario)",
                               description="Search omega, zeta, omega_b for the gains whose altitude best matches a "
@@ -1337,8 +1337,8 @@ def _add_fit_parser(commands) -> None:
 
 def _add_compare_parser(commands) -> None:
     """The ``compare`` subcommand: every estimator on the simulator's scenarios or on one log."""
-    from .comparison import SCENARIOS
-    from .scenarios import scenario_names
+    from ..comparison import SCENARIOS
+    from ..sim.scenarios import scenario_names
 
     comparison = commands.add_parser(
         "compare", help="every estimator on the simulator's scenarios, or on one log: one table",

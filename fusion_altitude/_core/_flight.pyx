@@ -11,12 +11,12 @@ getters are generated from the header (``_flight_fields.pxi``); the
 
 from libc.string cimport memcpy
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
-from fusion_altitude.cflight cimport *
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from fusion_altitude._core.cflight cimport *
 
 from fusion_altitude import _flight_glue
-from fusion_altitude._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
+from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.flight import RocketSettings
 

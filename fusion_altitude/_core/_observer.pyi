@@ -7,7 +7,7 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._observer_glue import AltitudeBatch as AltitudeBatch
-from .reference.observer import AltitudeSettings as AltitudeSettings
+from ..reference.observer import AltitudeSettings as AltitudeSettings
 
 C_STATUS_VALUES: Dict[str, int]
 C_PRESET_VALUES: Dict[str, int]

@@ -10,15 +10,15 @@ generated from the header (``_alphabeta_fields.pxi``).
 
 import math
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
 from libc.math cimport NAN
 from libc.stdint cimport int32_t
 
-from fusion_altitude.calphabeta cimport *
+from fusion_altitude._core.calphabeta cimport *
 
 from fusion_altitude import _alphabeta_glue, _common
-from fusion_altitude._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from fusion_altitude._core._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.alphabeta import AlphaBetaFusion as _reference_AlphaBetaFusion, AlphaBetaSettings
 

@@ -7,7 +7,7 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._complementary_glue import ComplementaryBatch as ComplementaryBatch
-from .reference.complementary import ComplementarySettings as ComplementarySettings
+from ..reference.complementary import ComplementarySettings as ComplementarySettings
 
 C_STATUS_VALUES: Dict[str, int]
 def status_message(status: int) -> str: ...

@@ -20,12 +20,12 @@ _SUMMARY_COLUMNS = ("log_id", "status", "samples", "duration_s", "baro_rate_hz",
 
 
 def _cli_error(message: str) -> Exception:
-    from .cli import CliError
+    from . import CliError
     return CliError(message)
 
 
 def _format_table(header, rows) -> str:
-    from .cli import format_table
+    from . import format_table
     return format_table(header, rows)
 
 
@@ -66,7 +66,7 @@ def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
     run.add_argument("paths", nargs="+", metavar="DIR_OR_GLOB", help="logs: files, directories, globs or URLs")
     run.add_argument("-o", "--output", required=True, metavar="OUT/", help="output directory (or fsspec URL)")
     run.add_argument("--estimator", default="observer", help="estimator (default observer)")
-    from ._observer_glue import PRESET_OMEGA
+    from .._core._observer_glue import PRESET_OMEGA
 
     run.add_argument("--preset", default=None, choices=tuple(PRESET_OMEGA),
                      help="observer gains, as `run --preset` (default vtol)")
@@ -146,7 +146,7 @@ def _flag_message(error: object) -> str:
 def _check_inputs(flag: str, paths: List[str]) -> List[str]:
     """Before any cluster starts: every local path exists and every glob or directory holds logs; the expanded
     list of logs. URLs are left to the workers."""
-    from . import fleet
+    from .. import fleet
 
     for item in paths:
         if "://" in item or any(ch in item for ch in "*?["):
@@ -160,7 +160,7 @@ def _check_inputs(flag: str, paths: List[str]) -> List[str]:
 
 
 def _check_numbers(args: argparse.Namespace) -> None:
-    from .cli import _number
+    from . import _number
 
     _number("--sea-level-pa", args.sea_level_pa, 0.0)
     if getattr(args, "worst", 0) < 0:
@@ -184,7 +184,7 @@ def _print_rows(rows: List[Dict[str, Any]]) -> None:
 
 
 def _print_summary(table, worst: int, everything: bool = False) -> None:
-    from . import fleet
+    from .. import fleet
 
     rows = table.to_pylist()
     ok = [row for row in rows if row["status"] == "ok"]
@@ -219,8 +219,8 @@ def _check_output_directory(path: str) -> None:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from . import fleet
-    from ._fleet_adapter import resolve_settings
+    from .. import fleet
+    from .._fleet_adapter import resolve_settings
 
     fleet._fleet_imports()
     _check_numbers(args)
@@ -263,9 +263,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
-    from . import fleet
+    from .. import fleet
 
-    from .cli import MAX_OMEGA, _check_output, _number
+    from . import MAX_OMEGA, _check_output, _number
 
     fleet._fleet_imports()
     _check_numbers(args)
@@ -330,7 +330,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                   "holdout_default_rms_error_m": result.holdout_default_rms_error}
         import json
 
-        from .runner import atomic_output
+        from ..runner import atomic_output
 
         with atomic_output(args.output) as temporary, open(temporary, "w") as handle:
             json.dump(record, handle, indent=1, allow_nan=True)
@@ -339,7 +339,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:
-    from . import fleet
+    from .. import fleet
 
     if args.worst < 0:
         raise _cli_error(f"--worst must be >= 0, got {args.worst}")

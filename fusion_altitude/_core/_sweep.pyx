@@ -7,8 +7,8 @@
 
 from libc.stdint cimport uint8_t
 
-from fusion_altitude.cobserver cimport FusionAltitudeStatus, FusionAltitudeStatusOk
-from fusion_altitude.csweep cimport *
+from fusion_altitude._core.cobserver cimport FusionAltitudeStatus, FusionAltitudeStatusOk
+from fusion_altitude._core.csweep cimport *
 
 BLOCK = FUSION_ALTITUDE_SWEEP_BLOCK
 

@@ -15,11 +15,11 @@ from typing import Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from ._common import GRAVITY
-from ._observer_glue import AltitudeBatch
-from ._observer import AltitudeEstimator, AltitudeSettings
-from .metrics import ErrorStatistics, error_statistics
-from . import sim
+from .._core._common import GRAVITY
+from .._core._observer_glue import AltitudeBatch
+from .._core._observer import AltitudeEstimator, AltitudeSettings
+from ..metrics import ErrorStatistics, error_statistics
+from .. import sim
 
 __all__ = ["PUBLISHED", "PUBLISHED_SOURCE", "export_csv", "ScenarioResult", "ScenarioSpec", "scenario_names", "spec", "run_scenario", "describe"]
 
@@ -300,7 +300,7 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     else:
         accel = sim.truth_vertical_acceleration(imu, trajectory)
     baro_altitude = sim.align_to(trajectory.time, baro)
-    from .tuning import settings_for_baro_rate, steps_per_baro
+    from ..tuning import settings_for_baro_rate, steps_per_baro
 
     gains = settings if settings is not None else AltitudeSettings.preset(scenario.preset)
     estimator = AltitudeEstimator(settings_for_baro_rate(gains, steps_per_baro(baro_altitude)))
@@ -323,7 +323,7 @@ def _run_rocket_scenario(scenario: ScenarioSpec, seed: int, settings: Optional[A
     changes nothing here. The true bias is the simulated long-axis bias.
     """
     from .rocket_sim import simulate_rocket_flight
-    from .tuning import settings_for_baro_rate, steps_per_baro
+    from ..tuning import settings_for_baro_rate, steps_per_baro
 
     flight = simulate_rocket_flight(seed=seed)
     model = flight.model
@@ -357,7 +357,7 @@ def export_csv(result: ScenarioResult, path: str) -> None:
     Run it with ``fusion-altitude run PATH --time time --accel vertical_acceleration --baro baro_altitude
     --reference true_altitude``.
     """
-    from .runner import atomic_output
+    from ..runner import atomic_output
 
     columns = (result.time, result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude)
     table = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])

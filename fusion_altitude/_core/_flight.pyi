@@ -10,7 +10,7 @@ from ._c_tables import BaroFate as BaroFate
 from ._flight_glue import FlightEvents as FlightEvents
 from ._c_tables import Phase as Phase
 from ._flight_glue import RocketBatch as RocketBatch
-from .reference.flight import RocketSettings as RocketSettings
+from ..reference.flight import RocketSettings as RocketSettings
 
 C_STATUS_VALUES: Dict[str, int]
 C_PHASE_VALUES: Dict[str, int]

@@ -10,18 +10,18 @@ generated from the header (``_kalman_fields.pxi``).
 
 import math
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
 from cpython.long cimport PyLong_AsLongLongAndOverflow, PyLong_CheckExact
 from libc.math cimport NAN
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
-from fusion_altitude.ckalman cimport *
+from fusion_altitude._core.ckalman cimport *
 
 import numpy as np
 
 from fusion_altitude import _common, _kalman_glue
-from fusion_altitude._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from fusion_altitude._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.kalman import KalmanEstimator as _reference_KalmanEstimator, KalmanSettings
 

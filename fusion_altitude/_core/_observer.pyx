@@ -8,12 +8,12 @@ converted to the C struct here; conversions, enums and the state layout are
 generated from the header (``_observer_fields.pxi``).
 """
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
-from fusion_altitude.cobserver cimport *
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from fusion_altitude._core.cobserver cimport *
 
 from fusion_altitude import _common, _observer_glue
-from fusion_altitude._observer_glue import AltitudeBatch
+from fusion_altitude._core._observer_glue import AltitudeBatch
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.observer import AltitudeEstimator as _reference_AltitudeEstimator, AltitudeSettings
 

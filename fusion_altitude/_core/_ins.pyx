@@ -14,14 +14,14 @@ from cpython.list cimport PyList_CheckExact
 from cpython.tuple cimport PyTuple_CheckExact
 from libc.stdint cimport uint8_t, uint32_t
 
-from fusion_altitude._convert cimport as_double as _as_double
-from fusion_altitude._estimator cimport Estimator
-from fusion_altitude.cins cimport *
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from fusion_altitude._core.cins cimport *
 
 import numpy as np
 
 from fusion_altitude import _ins_glue
-from fusion_altitude._ins_glue import InsBatch, InsStatus
+from fusion_altitude._core._ins_glue import InsBatch, InsStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.ins import InsSettings
 

@@ -3,7 +3,7 @@
 
 from libc.stdint cimport uint8_t
 
-from fusion_altitude.cobserver cimport FusionAltitudeStatus
+from fusion_altitude._core.cobserver cimport FusionAltitudeStatus
 
 
 cdef extern from "fusion_altitude_sweep.h" nogil:

@@ -7,7 +7,7 @@ from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._ins_glue import InsBatch as InsBatch
-from .reference.ins import InsSettings as InsSettings
+from ..reference.ins import InsSettings as InsSettings
 
 C_STATUS_VALUES: Dict[str, int]
 def c_status_message(status: int) -> str: ...

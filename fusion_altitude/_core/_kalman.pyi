@@ -8,7 +8,7 @@ import numpy as np
 
 from ._kalman_glue import KalmanBatch as KalmanBatch
 from ._kalman_glue import KalmanSensors as KalmanSensors
-from .reference.kalman import KalmanSettings as KalmanSettings
+from ..reference.kalman import KalmanSettings as KalmanSettings
 
 C_RESULT_VALUES: Dict[str, int]
 C_STATUS_VALUES: Dict[str, int]

@@ -35,7 +35,7 @@ from .reference.complementary import ComplementarySettings
 from .reference.alphabeta import AlphaBetaSettings
 from .reference.ins import InsSettings
 from .reference.flight import RocketSettings
-from .sim.sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
+from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 
 #: The public names that need the compiled extension.
 _COMPILED = ("AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator",

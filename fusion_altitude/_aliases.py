@@ -15,8 +15,7 @@ _CORE = ("_alphabeta", "_alphabeta_glue", "_c_tables", "_common", "_complementar
 #: old module name → the module it now is.
 MOVED_MODULES = {
     **{f"fusion_altitude.{name}": f"fusion_altitude._core.{name}" for name in _CORE},
-    **{f"fusion_altitude.{name}": f"fusion_altitude.sim.{name}" for name in ("imu_sim", "rocket_sim", "scenarios",
-                                                                              "sensors")},
+    **{f"fusion_altitude.{name}": f"fusion_altitude.sim.{name}" for name in ("imu_sim", "rocket_sim", "scenarios")},
     "fusion_altitude.fleet_cli": "fusion_altitude.cli.fleet",
 }
 
@@ -25,10 +24,12 @@ class _AliasLoader(importlib.abc.Loader):
     """Loads an old name as the module it moved to."""
 
     def create_module(self, spec):
-        return importlib.import_module(MOVED_MODULES[spec.name])
+        module = importlib.import_module(MOVED_MODULES[spec.name])
+        self._spec = module.__spec__  # the import system sets __spec__ to the alias's; exec_module puts it back
+        return module
 
     def exec_module(self, module):
-        pass  # already executed under its new name
+        module.__spec__ = self._spec  # already executed under its new name; keep __spec__.parent == __package__
 
 
 class _AliasFinder(importlib.abc.MetaPathFinder):

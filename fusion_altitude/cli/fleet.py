@@ -20,12 +20,12 @@ _SUMMARY_COLUMNS = ("log_id", "status", "samples", "duration_s", "baro_rate_hz",
 
 
 def _cli_error(message: str) -> Exception:
-    from . import CliError
+    from .common import CliError
     return CliError(message)
 
 
 def _format_table(header, rows) -> str:
-    from . import format_table
+    from .common import format_table
     return format_table(header, rows)
 
 
@@ -160,7 +160,7 @@ def _check_inputs(flag: str, paths: List[str]) -> List[str]:
 
 
 def _check_numbers(args: argparse.Namespace) -> None:
-    from . import _number
+    from .common import number as _number
 
     _number("--sea-level-pa", args.sea_level_pa, 0.0)
     if getattr(args, "worst", 0) < 0:
@@ -265,7 +265,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _cmd_fit(args: argparse.Namespace) -> int:
     from .. import fleet
 
-    from . import MAX_OMEGA, _check_output, _number
+    from .common import MAX_OMEGA, check_output as _check_output, number as _number
 
     fleet._fleet_imports()
     _check_numbers(args)
@@ -330,7 +330,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                   "holdout_default_rms_error_m": result.holdout_default_rms_error}
         import json
 
-        from ..runner import atomic_output
+        from ..outputs import atomic_output
 
         with atomic_output(args.output) as temporary, open(temporary, "w") as handle:
             json.dump(record, handle, indent=1, allow_nan=True)

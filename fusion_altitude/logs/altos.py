@@ -8,7 +8,7 @@ from typing import Callable, Optional, Union
 import numpy as np
 
 from .._core._common import GRAVITY
-from ..sim.sensors import height_above_ground
+from ..sensors import height_above_ground
 from ._checks import ALTITUDE_RANGE, ALTOS_MISSING, PRESSURE_RANGE, absurd_columns, dead_message, is_dead
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header, text_column

@@ -9,7 +9,7 @@ from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
-from ..sim.sensors import vertical_acceleration
+from ..sensors import vertical_acceleration
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
 from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 

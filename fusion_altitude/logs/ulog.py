@@ -9,7 +9,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from ..sim.sensors import pressure_to_altitude, vertical_acceleration
+from ..sensors import pressure_to_altitude, vertical_acceleration
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
 from ._truncation import ulog_missing_bytes, warn_if_truncated as _warn_if_truncated
 

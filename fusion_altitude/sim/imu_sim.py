@@ -23,9 +23,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .. import sim
+from . import trajectories as sim
 from .._core._common import GRAVITY
-from .sensors import euler_to_quaternion
+from ..sensors import euler_to_quaternion
 
 __all__ = ["RawImuFlight", "simulate_raw_imu", "run_ins", "run_two_step", "attitude_error_deg"]
 

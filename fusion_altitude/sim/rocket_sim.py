@@ -26,7 +26,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from . import GRAVITY, Trajectory, _from_acceleration, _level
+from .trajectories import GRAVITY, Trajectory, _from_acceleration, _level
 
 #: Speed of sound at the pad (15 °C), m/s; the simulator uses it for the Mach number.
 SPEED_OF_SOUND = 340.3
@@ -401,7 +401,7 @@ def kalman_comparison(seeds: int = 5) -> str:
     """RMS height error over whole simulated flights (m): the Kalman filter with its default and its rocket
     settings (accel as given, baro above the pad) and the rocket flight layer
     (``python -m fusion_altitude.rocket_sim --kalman``)."""
-    from .. import KalmanEstimator, KalmanSettings
+    from .._core._kalman import KalmanEstimator, KalmanSettings
     from ..metrics import error_statistics
     from ..rocket import rocket_kalman_settings, run_rocket
 

@@ -19,7 +19,7 @@ from .._core._common import GRAVITY
 from .._core._observer_glue import AltitudeBatch
 from .._core._observer import AltitudeEstimator, AltitudeSettings
 from ..metrics import ErrorStatistics, error_statistics
-from .. import sim
+from . import trajectories as sim
 
 __all__ = ["PUBLISHED", "PUBLISHED_SOURCE", "export_csv", "ScenarioResult", "ScenarioSpec", "scenario_names", "spec", "run_scenario", "describe"]
 
@@ -286,7 +286,7 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     imu = sim.simulate_imu(trajectory, scenario.imu, rng)
     if scenario.baro_override is not None:
         value = scenario.baro_override(trajectory)
-        from .sensors import altitude_to_pressure
+        from ..sensors import altitude_to_pressure
         baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
     else:
         baro = sim.simulate_baro(trajectory, scenario.baro, rng)
@@ -335,7 +335,7 @@ def _run_rocket_scenario(scenario: ScenarioSpec, seed: int, settings: Optional[A
     imu = sim.ImuStream(truth.time.copy(), np.column_stack([np.zeros(n), np.zeros(n), reading]), np.zeros((n, 3)),
                         np.tile([0.4, 0.0, -0.3], (n, 1)),
                         np.abs(flight.accel + GRAVITY) >= model.saturation * (1 - 1e-9))
-    from .sensors import altitude_to_pressure
+    from ..sensors import altitude_to_pressure
     baro = sim.BaroStream(truth.time.copy(), flight.baro_altitude.copy(), altitude_to_pressure(flight.baro_altitude))
     gains = settings if settings is not None else AltitudeSettings.preset(scenario.preset)
     accel = np.asarray(flight.accel, dtype=float)
@@ -357,7 +357,7 @@ def export_csv(result: ScenarioResult, path: str) -> None:
     Run it with ``fusion-altitude run PATH --time time --accel vertical_acceleration --baro baro_altitude
     --reference true_altitude``.
     """
-    from ..runner import atomic_output
+    from ..outputs import atomic_output
 
     columns = (result.time, result.vertical_acceleration, result.baro_altitude, result.trajectory.altitude)
     table = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])

@@ -45,6 +45,7 @@ from ._core._alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from ._core._complementary import ComplementaryFilter
 from ._core._kalman import KalmanEstimator
 from ._core._observer import AltitudeEstimator, AltitudeSettings
+from .estimators import ESTIMATORS as REGISTRY
 from .health import check_estimate
 from .metrics import error_statistics, settling_time
 from .sim.scenarios import ScenarioResult, run_scenario
@@ -52,11 +53,12 @@ from .sim.scenarios import ScenarioResult, run_scenario
 __all__ = ["ESTIMATORS", "SCENARIOS", "estimators_for", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
            "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
 
-#: Estimator names, in table order.
-ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "INS", "rocket layer",
+#: Estimator names, in table order: the registry's labels (:mod:`fusion_altitude.estimators`), the observer with
+#: fitted gains after the observer, and the raw baro last.
+ESTIMATORS = ("observer", "observer (fit)", *(entry.table_label for entry in REGISTRY.values() if entry.name != "observer"),
               "raw baro")
-#: Estimators that only run on some scenarios.
-_ONLY_ON = {"rocket layer": ("rocket",)}
+#: Estimators that only run on some scenarios: those made for one vehicle, on the scenario of that name.
+_ONLY_ON = {entry.table_label: (entry.vehicle,) for entry in REGISTRY.values() if entry.vehicle}
 #: The scenarios of the table.
 SCENARIOS = ("realistic", "clean", "balloon", "fixed-wing", "ground-effect", "baro-glitches", "terrain-step",
              "gps-outage")

@@ -410,7 +410,6 @@ LONG_AXES = {f"{sign}{axis}": (column, 1.0 if sign == "+" else -1.0)
 
 
 #: Estimators that carry on with the GPS altitude when the baro stops.
-GPS_ESTIMATORS = ("kalman", "alphabeta")
 
 
 def _run_estimator(args: argparse.Namespace, data, health=()) -> str:
@@ -455,6 +454,7 @@ def _print_health(data, health, run, estimator: str) -> None:
     for what the estimator cannot do about it."""
     import numpy as np
 
+    from ..estimators import ESTIMATORS
     from ..health import format_health, not_baro_aided, stopped_streams
 
     time = np.asarray(data.time, float)
@@ -482,7 +482,7 @@ def _print_health(data, health, run, estimator: str) -> None:
         print(f"warning: the {stream.name} stops at {stream.last:.2f} s, {float(time[-1]) - stream.last:.2f} s before "
               "the log's end", file=sys.stderr)
         if stream.name == "baro":
-            if estimator in GPS_ESTIMATORS and has_gps:
+            if ESTIMATORS[estimator].uses_gps and has_gps:
                 print(f"warning: estimator {estimator} carries on with the GPS altitude after the baro stops",
                       file=sys.stderr)
             else:
@@ -536,12 +536,14 @@ def _run(args: argparse.Namespace, progress: "_Progress", stdout) -> int:
     data = _load(args, progress)
     health = sensor_health(data)
     estimator = _run_estimator(args, data, health)
-    if estimator == "observer":
-        if args.preset is None:
-            args.preset = _default_preset(data)
-        else:
-            _warn_if_unstable(AltitudeSettings.preset(args.preset), data, f"--preset {args.preset}")
     options = {"long_axis": LONG_AXES[args.long_axis]} if args.long_axis else {}
+    if runner.ESTIMATORS[estimator].takes_preset:
+        rate = runner.observer_rate(data)  # the preset rule, steps per baro and the stability test, once
+        options["steps_per_baro"] = rate.steps_per_baro
+        if args.preset is None:
+            args.preset = _default_preset(rate)
+        else:
+            _warn_if_unstable(AltitudeSettings.preset(args.preset), rate, f"--preset {args.preset}")
     with progress.stage("estimating") as bar:
         try:
             run = runner.run_log(data, AltitudeSettings.preset(args.preset) if args.preset else None, progress=bar,
@@ -691,42 +693,30 @@ def _write_run_outputs(args: argparse.Namespace, run, progress: _Progress, stdou
         print(f"plot written to {args.plot}")
 
 
-def _default_preset(data) -> str:
-    """The observer preset ``run`` uses without ``--preset`` (:func:`fusion_altitude.runner.default_preset`); a
-    change from vtol is said on stderr."""
-    from .. import runner, tuning
-    from .._core._observer import AltitudeSettings
-
-    name = runner.default_preset(data)
-    steps = tuning.steps_per_baro(data.baro_altitude)
+def _default_preset(rate) -> str:
+    """The observer preset ``run`` uses without ``--preset`` (``rate.default_preset``, of
+    :func:`fusion_altitude.estimators.observer_rate`); a change from vtol is said on stderr."""
+    name = rate.default_preset
     if name != "vtol":
         print(f"note: the default preset vtol is unstable at this log's rate (nominal period "
-              f"{runner.nominal_period(data.time):g} s, baro on 1 of {steps:.2f} steps): running preset {name}, the "
+              f"{rate.nominal_period:g} s, baro on 1 of {rate.steps_per_baro:.2f} steps): running preset {name}, the "
               "fastest one stable there", file=sys.stderr)
-    elif not tuning._stable_at(AltitudeSettings.preset(name), runner.nominal_period(data.time) * steps):
-        _warn_if_unstable(AltitudeSettings.preset(name), data, "the default preset vtol")
+    elif not rate.is_stable(name):
+        _warn_if_unstable(name, rate, "the default preset vtol")
     return name
 
 
-def _warn_if_unstable(settings, data, what: str) -> None:
-    """Warn on stderr when ``settings``, compensated for the log's baro rate, fail Jury's test at its nominal
-    period. The core treats every step its gains cannot integrate stably as a gap (it restarts at the baro
-    sample), so the estimate does not diverge but is the raw baro on those steps; the warning says so and names
-    the presets that are stable at this rate."""
-    from .. import runner, tuning
-    from .._core._observer import AltitudeSettings
-
-    steps = tuning.steps_per_baro(data.baro_altitude)
-    nominal = runner.nominal_period(data.time)
-    period = nominal * steps
-    if not tuning._stable_at(settings, period):
-        stable = [name for name in ("balloon", "fixed_wing", "vtol", "racing", "rocket")
-                  if tuning._stable_at(AltitudeSettings.preset(name), period)]
-        advice = (f"presets stable at this rate: {', '.join(stable)}; or fit the gains" if stable
-                  else "no preset is stable at this rate: fit the gains")
-        print(f"warning: {what} is unstable at this log's rate (nominal period {nominal:g} s, baro on 1 of "
-              f"{steps:.2f} steps: Jury's test at {period:g} s fails): such steps are gaps, where the estimate is "
-              f"the raw baro; {advice}",
+def _warn_if_unstable(settings, rate, what: str) -> None:
+    """Warn on stderr when ``settings`` (or a preset name), compensated for the log's baro rate, fail Jury's test at
+    its nominal period (``rate``: :func:`fusion_altitude.estimators.observer_rate`). The core treats every step its
+    gains cannot integrate stably as a gap (it restarts at the baro sample), so the estimate does not diverge but is
+    the raw baro on those steps; the warning says so and names the presets that are stable at this rate."""
+    if not rate.is_stable(settings):
+        advice = (f"presets stable at this rate: {', '.join(rate.stable_presets)}; or fit the gains"
+                  if rate.stable_presets else "no preset is stable at this rate: fit the gains")
+        print(f"warning: {what} is unstable at this log's rate (nominal period {rate.nominal_period:g} s, baro on 1 of "
+              f"{rate.steps_per_baro:.2f} steps: Jury's test at {rate.stability_period:g} s fails): such steps are "
+              f"gaps, where the estimate is the raw baro; {advice}",
               file=sys.stderr)
 
 

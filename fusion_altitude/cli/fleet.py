@@ -220,7 +220,6 @@ def _check_output_directory(path: str) -> None:
 
 def _cmd_run(args: argparse.Namespace) -> int:
     from .. import fleet
-    from .._fleet_adapter import resolve_settings
 
     fleet._fleet_imports()
     _check_numbers(args)
@@ -228,7 +227,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     _client_argument(args)
     _check_output_directory(args.output)
     try:
-        resolve_settings(args.estimator, args.preset)
+        fleet.resolve_settings(args.estimator, args.preset)
     except (ValueError, TypeError) as error:
         raise _cli_error(_flag_message(error)) from None
     _check_inputs("DIR_OR_GLOB", args.paths)

@@ -17,6 +17,9 @@ MOVED_MODULES = {
     **{f"fusion_altitude.{name}": f"fusion_altitude._core.{name}" for name in _CORE},
     **{f"fusion_altitude.{name}": f"fusion_altitude.sim.{name}" for name in ("imu_sim", "rocket_sim", "scenarios")},
     "fusion_altitude.fleet_cli": "fusion_altitude.cli.fleet",
+    # the rocket layer's one stem is "rocket" (docs/architecture.md, "Names"); its reference module keeps the file
+    # name of its header, fusion_altitude_flight.h, and answers to the stem as well
+    "fusion_altitude.reference.rocket": "fusion_altitude.reference.flight",
 }
 
 

@@ -192,6 +192,16 @@ class InsBatch:
         return iter((self.altitude, self.vertical_velocity, self.quaternion, self.global_quaternion, self.gyro_bias,
                      self.accel_z_bias, self.baro_bias, self.is_stationary, self.baro_timed_out))
 
+    @property
+    def height_above_start(self) -> np.ndarray:
+        """Height above the start, m, shape (N,): the INS's name for :attr:`altitude` (see docs/architecture.md)."""
+        return self.altitude
+
+    @property
+    def baro_datum_altitude(self) -> np.ndarray:
+        """Altitude in the baro's datum, m, shape (N,): ``altitude + baro_bias`` (float32), as ``run -o`` writes it."""
+        return self.altitude + self.baro_bias
+
     @classmethod
     def empty(cls, n: int) -> "InsBatch":
         """Newly allocated outputs for n steps."""

@@ -580,6 +580,19 @@ class InsEstimator(Checkpointable):
         return float(self.distance)
 
     @property
+    def height_above_start(self) -> float:
+        """Height above the start (the INS's reference d = 0, set by the first baro sample), m, +up. The INS's own
+        name for what its ``altitude`` holds: ``altitude`` means the baro's datum in every other estimator, and
+        ``height_above_start + baro_bias`` is the INS's altitude in that datum (the ``altitude`` column of
+        ``run -o``); see docs/architecture.md, "Names"."""
+        return self.altitude
+
+    @property
+    def baro_datum_altitude(self) -> float:
+        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum)."""
+        return float(np.float32(self.altitude) + np.float32(self.baro_bias))
+
+    @property
     def vertical_velocity(self) -> float:
         """m/s, +up."""
         return float(self.velocity)

@@ -9,11 +9,11 @@ extension.
 
 Vertical is +up everywhere; NED users negate.
 
-Layers (see docs/architecture.md): the C core (``csrc/``); the thin binding
-(``_<estimator>.pyx`` with generated ``_<estimator>_fields.pxi``, ``_c_tables.py``);
-shared pure-Python pieces (``_common.py``, ``_<estimator>_glue.py``, the settings
-classes in ``reference/``); the reference; the applications (simulator,
-scenarios, logs, tuning, comparison, CLI).
+Layers (see docs/architecture.md, checked by import-linter): the C core (``csrc/``); ``_core/`` (the thin
+bindings ``_<estimator>.pyx``, their generated files and the glue); ``reference/``; the shared helpers
+(``sensors``, ``metrics``, ``health``, ``outputs``); ``tuning``; ``logs/``; ``sim/``; the applications
+(``estimators``, the registry; ``adapters``; ``runner``; ``comparison``; ``fleet``; ``rocket``; ``plotting``);
+``cli/``.
 """
 
 from . import _aliases

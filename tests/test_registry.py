@@ -78,3 +78,41 @@ def test_the_observer_rate_computes_the_default_preset_and_its_advice_once(baro_
     assert rate.steps_per_baro == pytest.approx(baro_every)
     assert rate.stability_period == pytest.approx(0.01 * baro_every)
     assert rate.is_stable(rate.default_preset) == (rate.default_preset in rate.stable_presets)
+
+
+def _hand_written_files_naming_every_estimator():
+    import subprocess
+
+    classes = [entry.estimator_class for entry in ESTIMATORS.values() if entry.name in BUILT_IN]
+    files = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.split()
+    found = set()
+    for name in files:
+        path = ROOT / name
+        if path.suffix not in (".py", ".pyx", ".pxi", ".md", ".c", ".h") or not path.is_file():
+            continue
+        text = path.read_text(encoding="utf-8", errors="replace")
+        if "do not edit; run the script instead" in text[:200]:
+            continue  # generated
+        if all(re.search(rf"\b{cls}\b", text) for cls in classes):
+            found.add(name)
+    return found
+
+
+def test_the_files_that_list_every_estimator_are_the_ones_architecture_md_names():
+    # a new parallel list of estimators must read the registry instead, or be counted in docs/architecture.md
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    named = text[text.index("The\nPython files that name every estimator's class are exactly"):]
+    named = named[:named.index("(and the")]
+    listed = {("fusion_altitude/" + n if not n.startswith(("tools/", "tests/")) else n)
+              for n in re.findall(r"`([\w/]+\.py)`", named)}
+    assert _hand_written_files_naming_every_estimator() - {"docs/architecture.md"} == listed
+
+
+def test_the_count_of_hand_written_files_for_a_new_estimator_matches_its_table():
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    section = text[text.index("## Adding an estimator"):]
+    table = [line for line in section.splitlines() if line.startswith("| ") and not line.startswith("| step")]
+    # the files of the hand-written column: backticked names with an extension, or the Makefile
+    count = sum(len(re.findall(r"`[^`]*(?:\.\w+|Makefile)`", line.split(" | ")[1])) for line in table)
+    stated = int(re.search(r"That is (\d+) hand-written files", section).group(1))
+    assert count == stated

@@ -34,9 +34,13 @@ def _binding_modules():
     ``_estimator``): read from the installed package, so that the list cannot drift from the build."""
     import importlib.machinery
 
+    import os
+
+    import fusion_altitude._core
+
     suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
-    names = {entry.name.split(".")[0] for entry in importlib.resources.files("fusion_altitude._core").iterdir()
-             if entry.name.endswith(suffixes)}
+    names = {name.split(".")[0] for folder in fusion_altitude._core.__path__  # with the installed copy's, if added
+             for name in os.listdir(folder) if name.endswith(suffixes)}
     return sorted(names - {"_common", "_estimator"})
 
 

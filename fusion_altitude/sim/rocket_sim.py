@@ -367,7 +367,7 @@ def flight_log(flight: RocketFlight, kind: str = "imu", indices: Optional[np.nda
 
 def summary(seeds: int = 20) -> str:
     """The event and height figures of :func:`fusion_altitude.rocket.run_rocket` (default settings)
-    over ``seeds`` simulated flights, as a Markdown table (``python -m fusion_altitude.rocket_sim``)."""
+    over ``seeds`` simulated flights, as a Markdown table (``python -m fusion_altitude.sim.rocket_sim``)."""
     from ..rocket import run_rocket
 
     rows = {"apogee delay after the true apogee (s)": [], "apogee height error (%)": [],
@@ -400,7 +400,7 @@ def summary(seeds: int = 20) -> str:
 def kalman_comparison(seeds: int = 5) -> str:
     """RMS height error over whole simulated flights (m): the Kalman filter with its default and its rocket
     settings (accel as given, baro above the pad) and the rocket flight layer
-    (``python -m fusion_altitude.rocket_sim --kalman``)."""
+    (``python -m fusion_altitude.sim.rocket_sim --kalman``)."""
     from .._core._kalman import KalmanEstimator, KalmanSettings
     from ..metrics import error_statistics
     from ..rocket import rocket_kalman_settings, run_rocket

@@ -208,7 +208,8 @@ def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
         raise ValueError(f"{path}: this log needs csv_options ({error})") from None
 
 
-def _fleet_imports():
+def require_fleet_packages():
+    """Raise ImportError naming the [fleet] extra when Dask distributed or pyarrow is missing."""
     try:
         import distributed  # noqa: F401  (pyflakes)
         import pyarrow  # noqa: F401
@@ -563,7 +564,7 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
     """A Dask client: ``client`` itself (a ``Client``), one connected to a scheduler address
     (``"tcp://HOST:8786"``), or, with None, a ``LocalCluster`` of ``workers`` processes (default: one
     per core) closed on exit. ``cluster_options`` go to ``LocalCluster``."""
-    _fleet_imports()
+    require_fleet_packages()
     from distributed import Client, LocalCluster
 
     if client is not None and not isinstance(client, str):
@@ -700,7 +701,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     ValueError, TypeError
         Bad estimator, settings or workers, or a glob matching nothing (before any work).
     """
-    _fleet_imports()
+    require_fleet_packages()
     import fsspec
     from distributed import as_completed
 
@@ -753,7 +754,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
 
 def summary(output_dir: str):
     """The summary table (``pyarrow.Table``) of a :func:`run_many` output directory."""
-    _fleet_imports()
+    require_fleet_packages()
     import fsspec
     import pyarrow.parquet as pq
 
@@ -940,7 +941,7 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
     ValueError
         No usable training log, a glob matching nothing, a bad search range.
     """
-    _fleet_imports()
+    require_fleet_packages()
     _check_workers(workers)
     train_urls = expand_paths(paths_or_globs)
     if not train_urls:

@@ -221,7 +221,7 @@ def _check_output_directory(path: str) -> None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from .. import fleet
 
-    fleet._fleet_imports()
+    fleet.require_fleet_packages()
     _check_numbers(args)
     csv_options = _csv_options(args)
     _client_argument(args)
@@ -266,7 +266,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
     from .common import MAX_OMEGA, check_output as _check_output, number as _number
 
-    fleet._fleet_imports()
+    fleet.require_fleet_packages()
     _check_numbers(args)
     csv_options = _csv_options(args)
     _client_argument(args)

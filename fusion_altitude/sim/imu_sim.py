@@ -104,7 +104,7 @@ def _with_rest(trajectory: sim.Trajectory, rest: float, ramp: float) -> sim.Traj
     altitude = trajectory.altitude[0] + weight * (altitude - trajectory.altitude[0])
     velocity = np.gradient(altitude, time)
     accel = np.gradient(velocity, time)
-    altitude, velocity = sim._from_acceleration(time, accel, float(altitude[0]))
+    altitude, velocity = sim.from_acceleration(time, accel, float(altitude[0]))
     attitude = np.concatenate([np.repeat(trajectory.attitude[:1], extra, axis=0), trajectory.attitude])
     return sim.Trajectory(time, altitude, velocity, accel, attitude, trajectory.name + " with a stationary start")
 
@@ -149,7 +149,7 @@ def simulate_raw_imu(scenario: str = "realistic", seed: int = 0, rest_duration: 
 
     if not rest_duration >= 0:
         raise ValueError(f"rest_duration must be >= 0 s, got {rest_duration!r}")
-    spec = scenarios._spec(scenario)
+    spec = scenarios.spec(scenario)
     rng = np.random.default_rng(seed)
     trajectory = _with_rest(spec.trajectory(), rest_duration, ramp)
     if rocking_deg:

@@ -26,7 +26,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .trajectories import GRAVITY, Trajectory, _from_acceleration, _level
+from .trajectories import GRAVITY, Trajectory, from_acceleration, level_trajectory
 
 #: Speed of sound at the pad (15 °C), m/s; the simulator uses it for the Mach number.
 SPEED_OF_SOUND = 340.3
@@ -194,12 +194,12 @@ def rocket_trajectory(model: RocketFlightModel, duration: Optional[float] = None
         if phase == "landed":
             v = 0.0
     t = np.arange(n) * dt
-    height, velocity = _from_acceleration(t, a)
+    height, velocity = from_acceleration(t, a)
     if landed_at is not None:
         height[landed_at:] = height[landed_at]
         velocity[landed_at:] = 0.0
         a[landed_at:] = 0.0
-    return Trajectory(t, height, velocity, a, _level(n), "rocket (transonic)")
+    return Trajectory(t, height, velocity, a, level_trajectory(n), "rocket (transonic)")
 
 
 def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = None, randomise: bool = True,

@@ -111,13 +111,14 @@ def _grid(duration: float, rate: float) -> np.ndarray:
     return np.arange(int(round(duration * rate))) / rate
 
 
-def _level(n: int) -> np.ndarray:
+def level_trajectory(n: int) -> np.ndarray:
+    """Attitude quaternions (w, x, y, z) of a level vehicle for n samples: the identity, shape (n, 4)."""
     q = np.zeros((n, 4))
     q[:, 0] = 1.0
     return q
 
 
-def _from_acceleration(time: np.ndarray, accel: np.ndarray, altitude0: float = 0.0,
+def from_acceleration(time: np.ndarray, accel: np.ndarray, altitude0: float = 0.0,
                        velocity0: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
     """Integrate a (m/s²) twice with the trapezoid rule: (h m, v m/s), consistent to O(dt²)."""
     dt = np.diff(time)
@@ -141,14 +142,14 @@ def _velocity_profile(time: np.ndarray, legs: Sequence[Tuple[float, float]], ram
         velocity += (target - previous) * _smooth_step(time, start, ramp)
         previous = target
     accel = np.gradient(velocity, time)
-    altitude, velocity = _from_acceleration(time, accel, altitude0)
-    return Trajectory(time, altitude, velocity, accel, _level(time.size), name)
+    altitude, velocity = from_acceleration(time, accel, altitude0)
+    return Trajectory(time, altitude, velocity, accel, level_trajectory(time.size), name)
 
 
 def hover(duration: float = 60.0, rate: float = 100.0, altitude: float = 10.0) -> Trajectory:
     """Stationary hover at ``altitude`` (m) for ``duration`` (s), sampled at ``rate`` (Hz)."""
     t = _grid(duration, rate)
-    return Trajectory(t, np.full_like(t, altitude), np.zeros_like(t), np.zeros_like(t), _level(t.size), "hover")
+    return Trajectory(t, np.full_like(t, altitude), np.zeros_like(t), np.zeros_like(t), level_trajectory(t.size), "hover")
 
 
 def sinusoid(duration: float = 60.0, rate: float = 100.0, amplitude: float = 5.0,
@@ -160,7 +161,7 @@ def sinusoid(duration: float = 60.0, rate: float = 100.0, amplitude: float = 5.0
     t = _grid(duration, rate)
     w = 2 * np.pi * frequency
     return Trajectory(t, amplitude * np.sin(w * t), amplitude * w * np.cos(w * t),
-                      -amplitude * w * w * np.sin(w * t), _level(t.size), "sinusoid")
+                      -amplitude * w * w * np.sin(w * t), level_trajectory(t.size), "sinusoid")
 
 
 def climb_cruise_descend(duration: float = 120.0, rate: float = 100.0, climb_rate: float = 3.0,
@@ -269,10 +270,10 @@ def rocket(duration: float = 60.0, rate: float = 100.0, boost_accel: float = 150
             v[i] = 0.0
     a[-1] = a[-2]
     # Re-derive v, h from a with the same trapezoid rule as the other trajectories.
-    h, v = _from_acceleration(t, a)
+    h, v = from_acceleration(t, a)
     landed = np.maximum.accumulate((h < 0) & (t > pad_time + burn_time))
     h[landed], v[landed], a[landed] = 0.0, 0.0, 0.0
-    return Trajectory(t, h, v, a, _level(t.size), "rocket")
+    return Trajectory(t, h, v, a, level_trajectory(t.size), "rocket")
 
 
 #: Trajectory builders by name, for the simulator's scenario table and CLI.

@@ -23,21 +23,21 @@ else:
 # reorder floating-point operations: the same bits.
 EXTRA_ARGS = {} if sys.platform == "win32" else {"_ins": ["-funroll-loops"]}
 
-# One extension per binding module fusion_altitude/_NAME.pyx; each wraps
+# One extension per binding module fusion_altitude/_core/_NAME.pyx; each wraps
 # headers from csrc/ and holds no copy of an algorithm. The _NAME_fields.pxi
 # they include are generated from the headers: python tools/generate_bindings.py.
 extensions = [
     Extension(
-        f"fusion_altitude.{path.stem}",
+        f"fusion_altitude._core.{path.stem}",
         [str(path)],
         include_dirs=["csrc"],
-        depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude").glob("*.px[di]"))],
+        depends=[str(p) for p in sorted(Path("csrc").glob("*.h")) + sorted(Path("fusion_altitude/_core").glob("*.px[di]"))],
         extra_compile_args=compile_args + EXTRA_ARGS.get(path.stem, []),
     )
-    for path in sorted(Path("fusion_altitude").glob("_*.pyx"))
+    for path in sorted(Path("fusion_altitude/_core").glob("_*.pyx"))
 ]
 # The shared helpers are plain Python (the reference runs on them without any build); compiled as
 # well, they cost less per call (the update argument shim, conversions). The .py stays the source.
-extensions.append(Extension("fusion_altitude._common", ["fusion_altitude/_common.py"], extra_compile_args=compile_args))
+extensions.append(Extension("fusion_altitude._core._common", ["fusion_altitude/_core/_common.py"], extra_compile_args=compile_args))
 
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": "3"}))

@@ -33,7 +33,7 @@ import time
 
 import numpy as np
 
-from fusion_altitude import _csv_write
+from fusion_altitude._core import _csv_write
 from fusion_altitude.logs import _csv_fast, load_log, read_csv_log
 from fusion_altitude.logs._table import numeric_columns, read_text, split_header
 from fusion_altitude.runner import run_log, write_csv

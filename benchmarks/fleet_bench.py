@@ -66,18 +66,18 @@ def sequential(paths, output: Path) -> dict:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    from fusion_altitude import _fleet_adapter as adapter
+    from fusion_altitude import fleet, runner
 
     output.mkdir()
-    settings = adapter.resolve_settings("observer", None)
+    settings = fleet.resolve_settings("observer", None)
     costs = {}
     for path in paths:
         cpu = [time.thread_time()]
         wall = [time.perf_counter()]
-        data = adapter.read_log(path, CSV_OPTIONS if path.endswith(".csv") else {})
+        data = fleet.read_log(path, CSV_OPTIONS if path.endswith(".csv") else {})
         cpu.append(time.thread_time())
         wall.append(time.perf_counter())
-        columns = adapter.run_columns(adapter.run_log(data, "observer", settings))
+        columns = fleet.run_columns(runner.run_log(data, estimator="observer", settings=settings))
         cpu.append(time.thread_time())
         wall.append(time.perf_counter())
         pq.write_table(pa.table({name: values for name, values in columns}), output / (Path(path).name + ".parquet"))
@@ -152,16 +152,16 @@ def main(argv=None) -> int:
         print()
         print("| log | size (MB) | samples | read (ms) | estimate (ms) | write (ms) | read MB/s |")
         print("|---|---:|---:|---:|---:|---:|---:|")
-        from fusion_altitude import _fleet_adapter as adapter
+        from fusion_altitude import fleet
         for kind, group in kinds.items():
             split = np.mean([costs[p] for p in group], axis=0)
             size = os.path.getsize(group[0]) / 1e6
-            samples = adapter.read_log(group[0], CSV_OPTIONS if group[0].endswith(".csv") else {}).time.size
+            samples = fleet.read_log(group[0], CSV_OPTIONS if group[0].endswith(".csv") else {}).time.size
             print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} ({split[3] * 1e3:.1f}) | "
                   f"{split[1] * 1e3:.2f} ({split[4] * 1e3:.2f}) | {split[2] * 1e3:.1f} ({split[5] * 1e3:.1f}) | "
                   f"{size / split[3]:.1f} |")
         written = sum(p.stat().st_size for p in (tmp / f"fleet{args.workers[-1]}" / "logs").iterdir()) / 1e6
-        samples_total = sum(adapter.read_log(p, CSV_OPTIONS if p.endswith(".csv") else {}).time.size for p in paths)
+        samples_total = sum(fleet.read_log(p, CSV_OPTIONS if p.endswith(".csv") else {}).time.size for p in paths)
         print()
         print(f"outputs: {written:.1f} MB of Parquet for {samples_total} samples "
               f"({written * 1e6 / samples_total:.1f} bytes per sample)")

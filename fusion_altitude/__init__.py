@@ -9,22 +9,26 @@ extension.
 
 Vertical is +up everywhere; NED users negate.
 
-Layers (see docs/architecture.md): the C core (``csrc/``); the thin binding
-(``_<estimator>.pyx`` with generated ``_<estimator>_fields.pxi``, ``_c_tables.py``);
-shared pure-Python pieces (``_common.py``, ``_<estimator>_glue.py``, the settings
-classes in ``reference/``); the reference; the applications (simulator,
-scenarios, logs, tuning, comparison, CLI).
+Layers (see docs/architecture.md, checked by import-linter): the C core (``csrc/``); ``_core/`` (the thin
+bindings ``_<estimator>.pyx``, their generated files and the glue); ``reference/``; the shared helpers
+(``sensors``, ``metrics``, ``health``, ``outputs``); ``tuning``; ``logs/``; ``sim/``; the applications
+(``estimators``, the registry; ``adapters``; ``runner``; ``comparison``; ``fleet``; ``rocket``; ``plotting``);
+``cli/``.
 """
 
-from ._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, RocketStatus, Status
-from ._common import GRAVITY
+from . import _aliases
+
+_aliases.install()
+
+from ._core._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, RocketStatus, Status
+from ._core._common import GRAVITY
 from ._version import __version__
-from ._observer_glue import AltitudeBatch, DiscretisationWarning
-from ._kalman_glue import KalmanBatch, KalmanSensors
-from ._complementary_glue import ComplementaryBatch
-from ._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
-from ._ins_glue import InsBatch, InsStatus
-from ._flight_glue import RocketBatch
+from ._core._observer_glue import AltitudeBatch, DiscretisationWarning
+from ._core._kalman_glue import KalmanBatch, KalmanSensors
+from ._core._complementary_glue import ComplementaryBatch
+from ._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from ._core._ins_glue import InsBatch, InsStatus
+from ._core._flight_glue import RocketBatch
 from .reference.observer import AltitudeSettings
 from .reference.kalman import KalmanSettings
 from .reference.complementary import ComplementarySettings
@@ -37,36 +41,14 @@ from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_accele
 _COMPILED = ("AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator",
              "RocketEstimator", "ins_run", "FitResult", "SweepResult", "fit", "sweep")
 
-def _add_installed_extension_to_path() -> None:
-    """Run from a source checkout (``python -m fusion_altitude`` in the repository root after a plain
-    ``pip install .``), this source folder shadows the installed package and holds no compiled extension:
-    add the installed copy's folder (the first other ``fusion_altitude`` on ``sys.path`` with a compiled
-    ``_observer``) to this package's search path, so the compiled modules load from there."""
-    import importlib.machinery
-    import os
-    import sys
-
-    here = os.path.realpath(os.path.dirname(__file__))
-    suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
-    if any(name.startswith("_observer.") and name.endswith(suffixes) for name in os.listdir(here)):
-        return  # built in place: nothing shadows anything
-    for entry in sys.path:
-        candidate = os.path.realpath(os.path.join(entry or os.getcwd(), "fusion_altitude"))
-        if candidate != here and os.path.isdir(candidate) and any(
-                name.startswith("_observer.") and name.endswith(suffixes) for name in os.listdir(candidate)):
-            __path__.append(candidate)  # type: ignore[name-defined]  # noqa: F821
-            return
-
-
-_add_installed_extension_to_path()
 
 try:
-    from ._observer import AltitudeEstimator
-    from ._kalman import KalmanEstimator
-    from ._complementary import ComplementaryFilter
-    from ._alphabeta import AlphaBetaFusion
-    from ._ins import InsEstimator
-    from ._flight import RocketEstimator
+    from ._core._observer import AltitudeEstimator
+    from ._core._kalman import KalmanEstimator
+    from ._core._complementary import ComplementaryFilter
+    from ._core._alphabeta import AlphaBetaFusion
+    from ._core._ins import InsEstimator
+    from ._core._flight import RocketEstimator
     from .ins_run import ins_run
     from .tuning import FitResult, SweepResult, fit, sweep
 except ImportError as _error:  # not built: fusion_altitude.reference and the tables still import

@@ -41,22 +41,24 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._alphabeta import AlphaBetaFusion, AlphaBetaSettings
-from ._complementary import ComplementaryFilter
-from ._kalman import KalmanEstimator
-from ._observer import AltitudeEstimator, AltitudeSettings
+from ._core._alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from ._core._complementary import ComplementaryFilter
+from ._core._kalman import KalmanEstimator
+from ._core._observer import AltitudeEstimator, AltitudeSettings
+from .estimators import ESTIMATORS as REGISTRY
 from .health import check_estimate
 from .metrics import error_statistics, settling_time
-from .scenarios import ScenarioResult, run_scenario
+from .sim.scenarios import ScenarioResult, run_scenario
 
 __all__ = ["ESTIMATORS", "SCENARIOS", "estimators_for", "Row", "compare", "compare_scenario", "compare_log", "format_markdown",
            "plot_comparison", "plot_log_comparison", "table_cells", "header", "HEADER"]
 
-#: Estimator names, in table order.
-ESTIMATORS = ("observer", "observer (fit)", "Kalman", "complementary", "alpha-beta", "INS", "rocket layer",
+#: Estimator names, in table order: the registry's labels (:mod:`fusion_altitude.estimators`), the observer with
+#: fitted gains after the observer, and the raw baro last.
+ESTIMATORS = ("observer", "observer (fit)", *(entry.table_label for entry in REGISTRY.values() if entry.name != "observer"),
               "raw baro")
-#: Estimators that only run on some scenarios.
-_ONLY_ON = {"rocket layer": ("rocket",)}
+#: Estimators that only run on some scenarios: those made for one vehicle, on the scenario of that name.
+_ONLY_ON = {entry.table_label: (entry.vehicle,) for entry in REGISTRY.values() if entry.vehicle}
 #: The scenarios of the table.
 SCENARIOS = ("realistic", "clean", "balloon", "fixed-wing", "ground-effect", "baro-glitches", "terrain-step",
              "gps-outage")
@@ -201,7 +203,7 @@ class _InsAltitude:
 
 def _ins_runner(result: ScenarioResult, baro: np.ndarray, dt: np.float32):
     """A call running the INS on the scenario's raw IMU (gyro °/s, accel g, magnetometer) and baro."""
-    from ._ins import InsEstimator
+    from ._core._ins import InsEstimator
 
     gyro, accel, mag = result.imu.gyro, result.imu.accel, result.imu.mag   # float64: converted by the binding
     return lambda: _InsAltitude(InsEstimator(gyro_units="deg/s", accel_units="g").update_batch(gyro, accel, dt, baro,
@@ -218,7 +220,7 @@ class _RocketAltitude:
 
 def _rocket_runner(result: ScenarioResult):
     """A call running the rocket flight layer on the scenario's long-axis accelerometer and baro."""
-    from ._flight import RocketEstimator
+    from ._core._flight import RocketEstimator
     from .runner import sample_periods
 
     dt = sample_periods(result.time)
@@ -232,7 +234,7 @@ def _rocket_runner(result: ScenarioResult):
 
 
 def _preset(name: str) -> str:
-    from .scenarios import spec
+    from .sim.scenarios import spec
 
     return spec(name).preset
 
@@ -269,7 +271,7 @@ def table_cells(rows: Sequence[Row]) -> List[List[str]]:
 
 def header(rows: Sequence[Row]) -> Tuple[str, ...]:
     """:data:`HEADER`, with "log" as the first column's name when the rows come from :func:`compare_log`."""
-    from .scenarios import scenario_names
+    from .sim.scenarios import scenario_names
 
     if rows and not any(r.scenario in scenario_names() for r in rows):
         return ("log",) + HEADER[1:]

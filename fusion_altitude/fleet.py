@@ -49,6 +49,7 @@ it must be storage every worker and the client see.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import json
 import math
@@ -61,8 +62,10 @@ from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Se
 
 import numpy as np
 
-from . import _fleet_adapter as adapter
-from . import health
+from . import health, runner, tuning
+from ._core._observer import AltitudeSettings
+from .estimators import estimator_names
+from .outputs import csv_columns, write_csv
 from ._version import __version__
 
 __all__ = ["FORMAT_VERSION", "LOG_EXTENSIONS", "SUMMARY_FIELDS", "FleetRun", "FleetFit", "expand_paths", "log_id",
@@ -122,7 +125,91 @@ SUMMARY_FIELDS: Tuple[Tuple[str, str, str], ...] = (
 # filter's final_baro_offset, m)
 
 
-def _fleet_imports():
+# ----------------------------------------------------------------------------
+# one log, as `fusion-altitude run` reads and runs it
+
+
+#: Exceptions that mean "this log cannot be used", as opposed to a problem of
+#: the machine (a missing package, a full disk): the first kind is recorded and
+#: not retried with the same settings, the second is reported and retried.
+LOG_ERRORS: Tuple[type, ...] = (ValueError,)  # logs.LogError is a ValueError
+
+
+def resolve_settings(estimator: str, settings: Any) -> Any:
+    """The settings object for ``estimator``: None (its default), a preset name, or a settings object."""
+    if estimator not in estimator_names():
+        raise ValueError(f"estimator must be one of {', '.join(estimator_names())}, got {estimator!r}")
+    if estimator == "observer":
+        from ._core._observer import AltitudeSettings
+        if settings is None:
+            return AltitudeSettings()
+        if isinstance(settings, str):
+            return AltitudeSettings.preset(settings)
+        if not isinstance(settings, AltitudeSettings):
+            raise TypeError(f"settings must be an AltitudeSettings or a preset name, got {type(settings).__name__}")
+        return settings
+    if isinstance(settings, str):
+        raise ValueError(f"settings: presets by name exist for the observer only, got {settings!r} for {estimator}")
+    return settings
+
+
+def run_columns(run) -> List[Tuple[str, np.ndarray]]:
+    """The per-step columns ``run -o`` writes (:func:`fusion_altitude.outputs.csv_columns`), each in its native dtype."""
+    return [(name, np.asarray(values)) for name, values in csv_columns(run)]
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, float):
+        return value.hex() if math.isfinite(value) else repr(value)
+    if isinstance(value, (np.floating,)):
+        return float(value).hex()
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in sorted(value.items())}
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    return repr(value)
+
+
+def settings_key(estimator: str, settings: Any) -> Dict[str, Any]:
+    """A JSON-able, exact description of the settings (floats as hex), for the settings hash."""
+    if settings is None:
+        values: Any = None
+    elif hasattr(settings, "as_tuple"):
+        values = list(settings.as_tuple())
+    elif dataclasses.is_dataclass(settings):
+        values = dataclasses.asdict(settings)
+    else:
+        values = repr(settings)
+    return {"estimator": estimator, "type": type(settings).__name__, "values": _jsonable(values)}
+
+
+def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
+    """Read one local log file as ``fusion-altitude run`` does (``LogData``); ``csv_options``
+    go to the logs that need column names (generic CSV) only.
+
+    A CSV log without the column options its reader needs raises ``ValueError``
+    (a property of the log and the options, like any reader error).
+    """
+    from . import logs
+
+    options = dict(csv_options or {})
+    if options and hasattr(logs, "sniff_format") and hasattr(logs, "FORMATS"):
+        # the readers package rejects column options for formats that know their columns
+        if not getattr(logs.FORMATS[logs.sniff_format(path)], "needs_columns", False):
+            options = {}
+    try:
+        from .logs._data import quiet_warnings
+
+        with quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
+            return logs.load_log(path, **options)
+    except TypeError as error:
+        raise ValueError(f"{path}: this log needs csv_options ({error})") from None
+
+
+def require_fleet_packages():
+    """Raise ImportError naming the [fleet] extra when Dask distributed or pyarrow is missing."""
     try:
         import distributed  # noqa: F401  (pyflakes)
         import pyarrow  # noqa: F401
@@ -233,8 +320,8 @@ def log_id(path: str) -> str:
 def settings_hash(estimator: str, settings: Any, csv_options: Optional[Dict[str, Any]] = None) -> str:
     """16 hex digits identifying what a run computes: estimator, exact settings, CSV options,
     package version and output format version. Equal hashes ⇒ equal outputs for the same log."""
-    key = {"format": FORMAT_VERSION, "version": __version__, "settings": adapter.settings_key(estimator, settings),
-           "csv_options": adapter._jsonable(dict(csv_options or {}))}
+    key = {"format": FORMAT_VERSION, "version": __version__, "settings": settings_key(estimator, settings),
+           "csv_options": _jsonable(dict(csv_options or {}))}
     return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
 
 
@@ -316,8 +403,8 @@ def _describe(data, run) -> Dict[str, Any]:
     baro_span = float(baro_time[-1] - baro_time[0]) if baro_time.size > 1 else math.nan
     imu_gaps, max_dt = _gaps(time)
     baro_gaps, max_baro_interval = _gaps(baro_time)
-    fused, raw = adapter.compare(run)
-    columns = dict(adapter.run_columns(run))
+    fused, raw = run.comparison(), run.baro_comparison()
+    columns = dict(run_columns(run))
     row = {
         "source": data.source,
         "samples": int(time.size),
@@ -452,17 +539,17 @@ def _process_log(job: _Job) -> Dict[str, Any]:
     try:
         tick = _time.perf_counter()
         with _local_copy(log_fs, log_path) as local:
-            data = adapter.read_log(local, job.csv_options)
+            data = read_log(local, job.csv_options)
         costs["read_s"] = _time.perf_counter() - tick
         tick = _time.perf_counter()
-        run = adapter.run_log(data, job.estimator, job.settings)
+        run = runner.run_log(data, estimator=job.estimator, settings=job.settings)
         problem = health.check_estimate(run, run.estimate.altitude, run.estimate.vertical_velocity)
         if problem is not None:  # never an "ok" row with an estimate that cannot be trusted
             raise ValueError(f"{data.source}: estimator {job.estimator}: {problem}: the estimate cannot be trusted")
         row.update(_describe(data, run))
-        columns = adapter.run_columns(run)
+        columns = run_columns(run)
         costs["estimate_s"] = _time.perf_counter() - tick
-    except adapter.LOG_ERRORS as error:  # the log itself is bad: record it, do not retry
+    except LOG_ERRORS as error:  # the log itself is bad: record it, do not retry
         row["error"] = _one_line(error)
         record = {"settings_hash": job.settings_hash, "fingerprint": fingerprint, "row": row}
         _atomic_write(out_fs, failed_path, json.dumps(record, indent=1).encode())
@@ -479,14 +566,14 @@ def _process_log(job: _Job) -> Dict[str, Any]:
             os.makedirs(os.path.dirname(csv_path), exist_ok=True)
             temporary = os.path.join(os.path.dirname(csv_path), f".{job.log_id}.csv.tmp-{uuid.uuid4().hex}")
             try:
-                adapter.write_csv(run, temporary)
+                write_csv(run, temporary)
                 os.replace(temporary, csv_path)
             finally:
                 with contextlib.suppress(OSError):
                     os.remove(temporary)
         else:
             with tempfile.TemporaryDirectory() as directory:
-                adapter.write_csv(run, os.path.join(directory, "run.csv"))
+                write_csv(run, os.path.join(directory, "run.csv"))
                 with open(os.path.join(directory, "run.csv"), "rb") as handle:
                     _atomic_write(out_fs, csv_path, handle.read())
     _atomic_write(out_fs, parquet_path, _parquet_bytes(_estimates_table(job.log_id, columns, record)))
@@ -507,7 +594,7 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
     """A Dask client: ``client`` itself (a ``Client``), one connected to a scheduler address
     (``"tcp://HOST:8786"``), or, with None, a ``LocalCluster`` of ``workers`` processes (default: one
     per core) closed on exit. ``cluster_options`` go to ``LocalCluster``."""
-    _fleet_imports()
+    require_fleet_packages()
     from distributed import Client, LocalCluster
 
     if client is not None and not isinstance(client, str):
@@ -644,7 +731,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     ValueError, TypeError
         Bad estimator, settings or workers, or a glob matching nothing (before any work).
     """
-    _fleet_imports()
+    require_fleet_packages()
     import fsspec
     from distributed import as_completed
 
@@ -653,7 +740,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     if not urls:
         raise ValueError("paths_or_globs is empty")
     check_output_apart(paths_or_globs, urls, output_dir)
-    resolved = adapter.resolve_settings(estimator, settings)
+    resolved = resolve_settings(estimator, settings)
     csv_options = dict(csv_options or {})
     digest = settings_hash(estimator, resolved, csv_options)
     ids = [log_id(url) for url in urls]
@@ -698,7 +785,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
 
 def summary(output_dir: str):
     """The summary table (``pyarrow.Table``) of a :func:`run_many` output directory."""
-    _fleet_imports()
+    require_fleet_packages()
     import fsspec
     import pyarrow.parquet as pq
 
@@ -753,17 +840,17 @@ def _fit_inputs(url: str, csv_options: Dict[str, Any], skip: float) -> Union[_Fi
     try:
         fs, path = fsspec.core.url_to_fs(url)
         with _local_copy(fs, path) as local:
-            data = adapter.read_log(local, csv_options)
+            data = read_log(local, csv_options)
         if data.reference_altitude is None:
             raise ValueError(f"{data.source} has no reference altitude")
         time = np.asarray(data.time, dtype=float)
-        dt = adapter.sample_periods(time)
-        steps = adapter.steps_per_baro(data.baro_altitude)
+        dt = tuning.sample_periods(time)
+        steps = tuning.steps_per_baro(data.baro_altitude)
         inputs = _FitInputs(identifier, url, data.vertical_acceleration, data.baro_altitude, dt,
-                            data.reference_altitude, adapter.without_gap_transients(dt, adapter.fit_mask(time, skip)), steps,
-                            adapter.stability_period(dt, steps))
-        adapter.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [adapter.default_settings()],
-                      inputs.reference, inputs.mask)  # checks the inputs once, naming the problem
+                            data.reference_altitude, tuning.without_gap_transients(dt, tuning.training_mask(time, skip)), steps,
+                            tuning.stability_period(dt, steps))
+        tuning.sweep(inputs.accel, inputs.baro_altitude, inputs.dt, [AltitudeSettings()], reference=inputs.reference,
+                     mask=inputs.mask, threads=1)  # checks the inputs once, naming the problem (a worker is one core)
         return inputs
     except Exception as error:
         return _FitMeta(identifier, url, _one_line(error), 0, math.nan)
@@ -778,8 +865,8 @@ def _fit_meta(inputs: Union[_FitInputs, _FitMeta]) -> _FitMeta:
 def _sweep_sums(inputs: _FitInputs, gains: np.ndarray) -> Tuple[int, np.ndarray]:
     """(metric samples, float32 sums of squared altitude − reference per setting, m²) of one log, for designed
     gains (K, 3): tuning.fit's own metric (tuning.score: the gains times the log's steps per baro sample)."""
-    result = adapter.fit_score(inputs.accel, inputs.baro_altitude, inputs.dt, inputs.reference, inputs.mask, gains,
-                               inputs.steps_per_baro)
+    result = tuning.score(inputs.accel, inputs.baro_altitude, inputs.dt, inputs.reference, inputs.mask, gains,
+                          inputs.steps_per_baro, threads=1)
     return result.metric_samples, result.sum_squared_error
 
 
@@ -885,7 +972,7 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
     ValueError
         No usable training log, a glob matching nothing, a bad search range.
     """
-    _fleet_imports()
+    require_fleet_packages()
     _check_workers(workers)
     train_urls = expand_paths(paths_or_globs)
     if not train_urls:
@@ -916,16 +1003,16 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
             samples_seen["count"] = sum(samples for samples, _ in parts)
             return _pooled_rms(parts)
 
-        ranked = adapter.fit_search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
+        ranked = tuning.search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
         (omega, zeta, omega_b), best_rms = ranked[0]
-        fitted = adapter.settings_from_bandwidth(omega, zeta, omega_b)
-        default_rms = float(evaluate_rms(np.array([adapter.default_settings().as_tuple()], dtype=np.float64))[0])
+        fitted = AltitudeSettings.from_bandwidth(omega, zeta, omega_b)
+        default_rms = float(evaluate_rms(np.array([AltitudeSettings().as_tuple()], dtype=np.float64))[0])
         metric_samples = samples_seen["count"]
 
         held: List[Dict[str, Any]] = []
         pooled = [math.nan, math.nan]
         if holdout_urls:
-            gains = np.array([fitted.as_tuple(), adapter.default_settings().as_tuple()], dtype=np.float64)
+            gains = np.array([fitted.as_tuple(), AltitudeSettings().as_tuple()], dtype=np.float64)
             inputs = dask_client.map(_fit_inputs, holdout_urls, csv_options=csv_options, skip=skip, pure=False)
             metas = dask_client.gather(dask_client.map(_fit_meta, inputs, pure=False))
             parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
@@ -937,6 +1024,6 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
                              "rms_error_m": float(rms[0]), "default_rms_error_m": float(rms[1]), "error": meta.error})
             if good:
                 pooled = [float(value) for value in _pooled_rms(good)]
-    landscape = np.array([(*key, value) for key, value in ranked], dtype=adapter.fit_landscape_dtype())
+    landscape = np.array([(*key, value) for key, value in ranked], dtype=tuning.LANDSCAPE_DTYPE)
     return FleetFit(fitted, omega, zeta, omega_b, best_rms, default_rms, landscape, train_ids, excluded,
                     metric_samples, held, pooled[0], pooled[1])

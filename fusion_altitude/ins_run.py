@@ -11,8 +11,8 @@ from typing import Optional
 
 import numpy as np
 
-from ._ins import InsEstimator, InsSettings
-from ._ins_glue import InsBatch
+from ._core._ins import InsEstimator, InsSettings
+from ._core._ins_glue import InsBatch
 
 __all__ = ["ins_run", "step_periods"]
 

@@ -49,7 +49,7 @@ def check_plot_path(path: str) -> None:
 
 def save_figure(figure, path: str, **options) -> None:
     """``figure.savefig(path)`` through a temporary file renamed onto ``path`` (no half-written plot)."""
-    from .runner import atomic_output
+    from .outputs import atomic_output
 
     with atomic_output(path) as temporary:
         figure.savefig(temporary, **options)

@@ -131,7 +131,7 @@ def _kalman_gate(run) -> Optional[float]:
         if getattr(run, "vehicle", "") == "rocket":
             from .rocket import rocket_kalman_settings
             return float(rocket_kalman_settings().gate)
-        from ._kalman import KalmanSettings
+        from ._core._kalman import KalmanSettings
         return float(KalmanSettings().gate)
     except (ImportError, AttributeError):
         return None
@@ -161,14 +161,14 @@ def _spans(run, x: np.ndarray, merge: float) -> Dict[str, Tuple[np.ndarray, np.n
     lockout = np.zeros(time.size, bool)
     fate = getattr(run.estimate, "baro_fate", None)
     if fate is not None:
-        from ._flight_glue import BaroFate
+        from ._core._flight_glue import BaroFate
 
         fate = np.asarray(fate)
         rejected |= fate == BaroFate.SPIKE
         lockout |= fate == BaroFate.LOCKED_OUT
     result = getattr(run.estimate, "result", None)
     if result is not None and np.ndim(result) == 2:
-        from ._c_tables import KalmanResult
+        from ._core._c_tables import KalmanResult
 
         rejected |= np.asarray(result[:, 0]) == KalmanResult.REJECTED
     spans["rejected"] = _intervals(x, rejected, merge)
@@ -181,7 +181,7 @@ def _phase_bands(run, x: np.ndarray) -> List[Tuple[str, float, float, str]]:
     phase = getattr(run.estimate, "phase", None)
     if phase is None:
         return []
-    from ._flight_glue import Phase
+    from ._core._flight_glue import Phase
 
     phase = np.asarray(phase, int)
     change = np.flatnonzero(np.diff(phase)) + 1

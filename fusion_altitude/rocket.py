@@ -23,9 +23,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ._common import GRAVITY, as_float
-from ._flight import RocketEstimator
-from ._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
+from ._core._common import GRAVITY, as_float
+from ._core._flight import RocketEstimator
+from ._core._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
 from .reference.flight import RocketSettings
 
 #: Observer gains of the rocket preset (Kh 1/s, Kv 1/s², Kb 1/s³): ω = 1 rad/s,
@@ -46,7 +46,7 @@ def rocket_altitude_settings():
     leak into it); set it from a pad calibration with ``reset(..., accel_bias=...)``
     or use :class:`RocketEstimator`, which learns it on the pad.
     """
-    from . import AltitudeSettings
+    from .reference.observer import AltitudeSettings
     return AltitudeSettings.preset("rocket")
 
 
@@ -65,7 +65,7 @@ def rocket_kalman_settings(**overrides: object):
     - ``accel_bias_random_walk`` 0.001 m/s³/√Hz: the bias is not observable
       through the baro errors of a boost.
     """
-    from . import KalmanSettings
+    from .reference.kalman import KalmanSettings
     values = {"accel_noise": 0.5, "baro_noise": 2.0, "baro_offset_random_walk": 3.0, "gate": 10.0,
               "rejection_timeout": 0.3, "accel_bias_random_walk": 0.001}
     values.update(overrides)
@@ -408,6 +408,56 @@ def _held(values: np.ndarray, time: np.ndarray, hold: float = ACCEL_HOLD) -> np.
     return out
 
 
+def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0,
+                     long_axis: Optional[Tuple[int, float]] = None) -> Tuple[int, float]:
+    """The rocket's long axis in a body-frame accelerometer: (column, sign) of :func:`fusion_altitude.rocket.long_axis_accel`.
+
+    On the pad the long axis is the one that carries gravity: among the live
+    columns (not constant, not all NaN; any column if none is) the one with the largest median
+    |specific force| over the first ``seconds`` s (all samples if
+    ``seconds_time`` is None), signed so that it reads +g (nose up).
+
+    Parameters
+    ----------
+    accel_body : array_like, shape (N, 3)
+        Specific force, m/s², body frame.
+    seconds_time : array_like, shape (N,), optional
+        Sample times, s.
+    seconds : float, default 1.0
+        Length of the pad window, s.
+    long_axis : (int, float), optional
+        The user's (column, sign): checked against gravity instead of chosen.
+
+    Raises
+    ------
+    LogError
+        ``long_axis`` contradicts gravity on the pad: that axis does not read
+        ≈ +9.81 m/s² (0.7–1.3 g) at rest, it is dead (constant), or another
+        axis carries more than 0.5 g.
+    """
+    from .logs import LogError
+
+    mean, alive = pad_levels(accel_body, seconds_time, seconds)
+    if long_axis is not None:
+        axis, sign = int(long_axis[0]), float(long_axis[1])
+        name = f"{'+' if sign > 0 else '-'}{'XYZ'[axis]}"
+        reading = sign * mean[axis]
+        others = [(abs(mean[k]), k) for k in range(3) if k != axis and alive[k]]
+        other, other_axis = max(others) if others else (0.0, axis)
+        if not alive[axis]:
+            raise LogError(f"long axis {name}: that accelerometer column is constant (dead); it cannot be the "
+                           f"rocket's long axis")
+        if not (0.7 * GRAVITY <= reading <= 1.3 * GRAVITY) or other > 0.5 * GRAVITY:
+            carrier = (f"; {'XYZ'[other_axis]} reads {mean[other_axis]:+.2f} m/s² and carries gravity"
+                       if other > 0.5 * GRAVITY else "")
+            raise LogError(f"long axis {name} reads {reading:+.2f} m/s² at rest on the pad (first {seconds:g} s), "
+                           f"not about +9.81: the nose-up axis reads +g at rest{carrier}")
+        return axis, sign
+    candidates = np.where(alive | ~alive.any(), np.abs(np.nan_to_num(mean)), -1.0)  # all columns dead: any
+    axis = int(np.argmax(candidates))
+    return axis, (1.0 if not mean[axis] < 0 else -1.0)
+
+
 def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = None) -> Tuple[np.ndarray, str]:
     """The flight layer's accel input for a log, and a one-line note of what it is.
 
@@ -417,7 +467,7 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
         A rocket log.
     long_axis : (int, float), optional
         The IMU column along the nose and its sign (``--long-axis``); checked
-        against gravity on the pad (:func:`fusion_altitude.runner.rocket_long_axis`).
+        against gravity on the pad (:func:`rocket_long_axis`).
 
     Returns
     -------
@@ -444,8 +494,6 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
     LogError
         ``long_axis`` contradicts gravity on the pad.
     """
-    from .runner import rocket_long_axis
-
     time = np.asarray(data.time, dtype=np.float64)
     n = time.size
     none = np.full(n, np.nan)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import GRAVITY
+from ._core._common import GRAVITY
 
 __all__ = [
     "ISA_SEA_LEVEL_PRESSURE",

@@ -15,11 +15,11 @@ from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _sweep, _observer_glue, _sweep_glue
-from ._c_tables import FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_MAXIMUM_GAIN
-from ._observer_glue import Status
-from ._sweep_glue import SweepResult
-from ._observer import AltitudeSettings
+from ._core import _sweep, _observer_glue, _sweep_glue
+from ._core._c_tables import FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_MAXIMUM_GAIN
+from ._core._observer_glue import Status
+from ._core._sweep_glue import SweepResult
+from ._core._observer import AltitudeSettings
 
 #: Settings per thread below which a sweep stays on one thread. Measured on the
 #: 2-core dev machine (``python benchmarks/compare.py``, 10^5 samples, metrics
@@ -247,7 +247,7 @@ class FitResult(NamedTuple):
     landscape: np.ndarray
 
 
-_LANDSCAPE = np.dtype([("omega", "f8"), ("zeta", "f8"), ("omega_b", "f8"), ("rms_error", "f8")])
+LANDSCAPE_DTYPE = np.dtype([("omega", "f8"), ("zeta", "f8"), ("omega_b", "f8"), ("rms_error", "f8")])
 
 
 def _stable_candidates(candidates: Sequence[Tuple[float, float, float]], dt_check: float) -> List[Tuple]:
@@ -255,14 +255,14 @@ def _stable_candidates(candidates: Sequence[Tuple[float, float, float]], dt_chec
     for omega, zeta, omega_b in candidates:
         try:
             settings = AltitudeSettings.from_bandwidth(omega, zeta, omega_b)
-            if _stable_at(settings, dt_check):
+            if stable_at(settings, dt_check):
                 stable.append((omega, zeta, omega_b, settings.as_tuple()))
         except ValueError:
             continue
     return stable
 
 
-def _stable_at(settings: AltitudeSettings, dt_check: float) -> bool:
+def stable_at(settings: AltitudeSettings, dt_check: float) -> bool:
     """Jury's test at ``dt_check`` (s) and the core's stability rule there (``FusionAltitudeIsStepStable``: Jury
     with the 1.5 margin): gains past the rule would make every baro step a gap, in a sweep for every setting."""
     import warnings
@@ -341,7 +341,7 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     default = score(accel, baro_altitude, dt, reference, mask, np.array([AltitudeSettings().as_tuple()]),
                     steps_per_baro)
     tick()
-    landscape = np.array([(*key, value) for key, value in ranked], dtype=_LANDSCAPE)
+    landscape = np.array([(*key, value) for key, value in ranked], dtype=LANDSCAPE_DTYPE)
     return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
                      float(default.rms_error[0]), landscape)
 
@@ -699,15 +699,32 @@ def settings_for_baro_rate(settings: AltitudeSettings, steps_per_baro: float) ->
     if steps_per_baro <= 1.0:
         return settings
     kh, kv, kb = settings.as_tuple()
-    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro, **_other_fields(settings))
+    return AltitudeSettings(kh * steps_per_baro, kv * steps_per_baro, kb * steps_per_baro, **other_fields(settings))
 
 
-def _other_fields(settings: AltitudeSettings) -> dict:
+def other_fields(settings: AltitudeSettings) -> dict:
     """Settings other than the three gains (the gap period and the baro timeout, where the core has them), to carry
     over."""
     return {name: getattr(settings, name) for name in ("gap_period", "baro_timeout") if hasattr(settings, name)}
 
 
-def _bandwidth_of(settings: AltitudeSettings) -> float:
+def bandwidth_of(settings: AltitudeSettings) -> float:
     """Position-loop bandwidth ω (rad/s) of gains built with ζ = 0.7, ω_b = ω/5 (inverts Kh = 1.6·ω)."""
     return settings.position_gain / 1.6
+
+
+def sample_periods(time) -> np.ndarray:
+    """Per-sample dt, s, from timestamps: dt[i] = time[i] − time[i−1], and dt[0] = dt[1]
+    (the first sample only sets the reference)."""
+    time = np.asarray(time, dtype=float)
+    dt = np.empty(time.size)
+    dt[1:] = np.diff(time)
+    dt[:1] = dt[1] if time.size > 1 else 0.01
+    return dt
+
+
+def nominal_period(time) -> float:
+    """The log's nominal sample period, s: the median of its positive steps (gaps do not move it)."""
+    steps = np.diff(np.asarray(time, dtype=float))
+    steps = steps[steps > 0]
+    return float(np.median(steps)) if steps.size else 0.01

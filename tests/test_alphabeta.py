@@ -340,18 +340,18 @@ def test_the_gps_carries_the_fusion_on_a_log_whose_baro_stops():
 
 
 def test_a_2hz_baro_filter_spans_3_s_not_60_samples_on_a_log():
-    from fusion_altitude import runner
+    from fusion_altitude import adapters
     from fusion_altitude._alphabeta import AlphaBetaSettings
 
-    changes = runner._alphabeta_log_sensors(_log(baro_rate=2.0), AlphaBetaSettings())
+    changes = adapters.alphabeta_log_sensors(_log(baro_rate=2.0), AlphaBetaSettings())
     assert changes["baro"]["quality_max"] == 10  # round(3 s × 2 Hz) = 6, raised to Qmin = 10
 
 
 def test_a_20hz_baro_keeps_the_write_ups_depth_on_a_log():
-    from fusion_altitude import runner
+    from fusion_altitude import adapters
     from fusion_altitude._alphabeta import AlphaBetaSettings
 
-    changes = runner._alphabeta_log_sensors(_log(seconds=30.0, baro_rate=20.0), AlphaBetaSettings())
+    changes = adapters.alphabeta_log_sensors(_log(seconds=30.0, baro_rate=20.0), AlphaBetaSettings())
     assert changes["baro"]["quality_max"] == AlphaBetaSettings().baro.quality_max
 
 

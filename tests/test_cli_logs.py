@@ -8,10 +8,12 @@ import pytest
 
 from fusion_altitude import comparison, logs, runner
 from fusion_altitude.cli import main
+from fusion_altitude.estimators import ESTIMATORS as REGISTRY
 from fusion_altitude.logs import LogData
 
 ROOT = Path(__file__).resolve().parents[1]
-ESTIMATORS = ["observer", "kalman", "complementary", "alphabeta"]
+#: The estimators that run on any baro + accel log (no raw IMU needed, no vehicle of their own), from the registry.
+ESTIMATORS = [entry.name for entry in REGISTRY.values() if not entry.needs and not entry.vehicle]
 
 
 @pytest.fixture(scope="module")

@@ -160,10 +160,10 @@ def test_fit_runners_up_print_no_row_twice_nor_the_winner(capsys):
 
 
 def test_runners_up_skip_candidates_that_print_alike():
-    from fusion_altitude.tuning import _LANDSCAPE
+    from fusion_altitude.tuning import LANDSCAPE_DTYPE
 
     landscape = np.array([(1.0, 0.7, 0.2, 0.1), (1.0000001, 0.7, 0.2, 0.1), (1.2, 0.7, 0.0, 0.2),
-                          (1.2, 0.7, 1e-9, 0.2), (2.0, 0.5, 0.1, 0.3)], dtype=_LANDSCAPE)
+                          (1.2, 0.7, 1e-9, 0.2), (2.0, 0.5, 0.1, 0.3)], dtype=LANDSCAPE_DTYPE)
     rows = cli._runners_up(landscape)
     assert [row[:3] for row in rows] == [["1.2", "0.7", "0"], ["1.2", "0.7", "1e-09"], ["2", "0.5", "0.1"]]
 

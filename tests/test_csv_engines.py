@@ -22,10 +22,12 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import fuzz_readers  # noqa: E402
 import logfixtures as fx  # noqa: E402
-from fusion_altitude import _csv_write, logs  # noqa: E402
+from fusion_altitude import logs  # noqa: E402
+from fusion_altitude._core import _csv_write  # noqa: E402
 from fusion_altitude.logs import _csv_fast  # noqa: E402
-from fusion_altitude.runner import _write_csv_stream_python, csv_columns, run_log, write_csv  # noqa: E402
-from fusion_altitude._csv_write import write_csv_stream  # noqa: E402
+from fusion_altitude.outputs import _write_csv_stream_python, csv_columns, write_csv  # noqa: E402
+from fusion_altitude.runner import run_log  # noqa: E402
+from fusion_altitude._core._csv_write import write_csv_stream  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(os.environ.get("FUSION_ALTITUDE_SHARED_DATA", str(ROOT / ".." / "shared" / "data")))

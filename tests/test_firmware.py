@@ -174,7 +174,7 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
 
 
 # Functions of fusion_altitude_kalman.h that are helpers of the public ones
-# (documented as internal, not in fusion_altitude/ckalman.pxd): sized through
+# (documented as internal, not in fusion_altitude/_core/ckalman.pxd): sized through
 # the public functions that inline them. A new function must be listed here
 # or be public.
 KALMAN_INTERNAL = {"FusionAltitudeKalmanIsNonNegative", "FusionAltitudeKalmanIsPositive", "FusionAltitudeKalmanPredict",
@@ -192,7 +192,7 @@ def test_every_public_kalman_function_is_built_and_sized():
     assert KALMAN_INTERNAL <= functions, KALMAN_INTERNAL - functions
     public = functions - KALMAN_INTERNAL
     assert {"FusionAltitudeKalmanUpdate", "FusionAltitudeKalmanGetSensor"} <= public
-    declared = set(re.findall(r"\b(FusionAltitudeKalman\w+)\(", (ROOT / "fusion_altitude" / "ckalman.pxd").read_text()))
+    declared = set(re.findall(r"\b(FusionAltitudeKalman\w+)\(", (ROOT / "fusion_altitude" / "_core" / "ckalman.pxd").read_text()))
     assert declared <= public, "a function of ckalman.pxd is listed as internal"
     sized = set(re.findall(r"\bSized(FusionAltitudeKalman\w+)\(", (FIRMWARE / "sized_kalman.c").read_text()))
     called = set(re.findall(r"\b(FusionAltitudeKalman\w+)\(", (FIRMWARE / "firmware_kalman.c").read_text()))
@@ -223,7 +223,7 @@ def test_every_public_hobby_function_is_built_and_sized(name):
     assert internal <= functions, internal - functions
     public = functions - internal
     assert f"{prefix}Update" in public
-    declared = set(re.findall(rf"\b({prefix}\w+)\(", (ROOT / "fusion_altitude" / f"c{name}.pxd").read_text()))
+    declared = set(re.findall(rf"\b({prefix}\w+)\(", (ROOT / "fusion_altitude" / "_core" / f"c{name}.pxd").read_text()))
     assert declared <= public, "a function of the .pxd is listed as internal"
     sized = set(re.findall(rf"\bSized({prefix}\w+)\(", (FIRMWARE / f"sized_{name}.c").read_text()))
     called = set(re.findall(rf"\b({prefix}\w+)\(", (FIRMWARE / f"firmware_{name}.c").read_text()))
@@ -233,7 +233,7 @@ def test_every_public_hobby_function_is_built_and_sized(name):
     assert public - set(getattr(table, table_name)) == set(), f"add these to {table_name} in csrc/firmware/size_table.py"
 
 
-# Internal helpers of fusion_altitude_ins.h (not in fusion_altitude/cins.pxd,
+# Internal helpers of fusion_altitude_ins.h (not in fusion_altitude/_core/cins.pxd,
 # inlined into the public functions). A new function must be listed or public.
 INS_INTERNAL = {"FusionAltitudeInsIsNonNegative", "FusionAltitudeInsIsPositive", "FusionAltitudeInsResetCovariance",
                 "FusionAltitudeInsIsBounded", "FusionAltitudeInsIsBoundedVector", "FusionAltitudeInsNormalise",
@@ -253,7 +253,7 @@ def test_every_public_ins_function_is_built_and_sized():
     assert INS_INTERNAL <= functions, INS_INTERNAL - functions
     public = functions - INS_INTERNAL
     assert {"FusionAltitudeInsUpdate", "FusionAltitudeInsGetGlobalQuaternion"} <= public
-    declared = set(re.findall(r"\b(FusionAltitudeIns\w+)\(", (ROOT / "fusion_altitude" / "cins.pxd").read_text()))
+    declared = set(re.findall(r"\b(FusionAltitudeIns\w+)\(", (ROOT / "fusion_altitude" / "_core" / "cins.pxd").read_text()))
     assert declared <= public, "a function of cins.pxd is listed as internal"
     sized = set(re.findall(r"\bSized(FusionAltitudeIns\w+)\(", (FIRMWARE / "sized_ins.c").read_text()))
     called = set(re.findall(r"\b(FusionAltitudeIns\w+)\(", (FIRMWARE / "firmware_ins.c").read_text()))

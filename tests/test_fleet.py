@@ -22,7 +22,7 @@ import pytest
 import distributed  # noqa: E402
 import pyarrow.parquet as pq  # noqa: E402
 
-from fusion_altitude import _fleet_adapter as adapter  # noqa: E402
+from fusion_altitude import runner  # noqa: E402
 from fusion_altitude import cli, fleet, tuning  # noqa: E402
 from fusion_altitude.scenarios import run_scenario  # noqa: E402
 
@@ -102,8 +102,8 @@ def first_run(fleet_dir, client, tmp_path_factory):
 def _single_log_columns(path):
     """The columns of a single-log run, computed here without Dask."""
     options = CSV_OPTIONS if path.endswith(".csv") else {}
-    return adapter.run_columns(adapter.run_log(adapter.read_log(path, options), "observer",
-                                               adapter.resolve_settings("observer", None)))
+    return fleet.run_columns(runner.run_log(fleet.read_log(path, options), estimator="observer",
+                                               settings=fleet.resolve_settings("observer", None)))
 
 
 def _bits(values):
@@ -156,9 +156,7 @@ def test_every_good_log_equals_its_single_log_run_bit_for_bit(first_run):
 
 
 @pytest.mark.parametrize("estimator", [  # the INS needs raw gyro + accel; the rocket layer is for rocket logs
-    name for name in adapter.estimator_names()
-    if not getattr(__import__("fusion_altitude.runner").runner.ESTIMATORS.get(name), "needs", ())
-    and not getattr(__import__("fusion_altitude.runner").runner.ESTIMATORS.get(name), "vehicle", "")])
+    entry.name for entry in runner.ESTIMATORS.values() if not entry.needs and not entry.vehicle])
 def test_every_estimator_of_this_build_equals_its_single_log_run(estimator, fleet_dir, client, tmp_path):
     logs = [fleet_dir / "px4" / "day1" / "flight3.ulg", fleet_dir / "ardupilot" / "plane2.BIN",
             fleet_dir / "sim" / "sim10.csv"]
@@ -167,8 +165,8 @@ def test_every_estimator_of_this_build_equals_its_single_log_run(estimator, flee
     assert result.failed == [] and set(result.summary.column("estimator").to_pylist()) == {estimator}
     for path in map(str, logs):
         table = pq.read_table(tmp_path / "logs" / f"{fleet.log_id(path)}.parquet")
-        run = adapter.run_log(adapter.read_log(path, CSV_OPTIONS), estimator, adapter.resolve_settings(estimator, None))
-        for name, values in adapter.run_columns(run):
+        run = runner.run_log(fleet.read_log(path, CSV_OPTIONS), estimator=estimator, settings=fleet.resolve_settings(estimator, None))
+        for name, values in fleet.run_columns(run):
             np.testing.assert_array_equal(_bits(table.column(name).to_numpy()), _bits(values), err_msg=name)
 
 
@@ -207,9 +205,9 @@ def test_corrupt_logs_are_rows_with_a_one_line_error(first_run):
 def test_summary_row_describes_the_log_and_its_run(first_run, fleet_dir):
     path = str(fleet_dir / "sim" / "sim03.csv")
     row = next(row for row in first_run.summary.to_pylist() if row["path"] == path)
-    data = adapter.read_log(path, CSV_OPTIONS)
-    run = adapter.run_log(data, "observer", adapter.resolve_settings("observer", None))
-    fused, raw = adapter.compare(run)
+    data = fleet.read_log(path, CSV_OPTIONS)
+    run = runner.run_log(data, estimator="observer", settings=fleet.resolve_settings("observer", None))
+    fused, raw = run.comparison(), run.baro_comparison()
     finite = np.isfinite(data.baro_altitude)
     assert row["samples"] == data.time.size and row["baro_samples"] == int(finite.sum())
     assert row["duration_s"] == data.time[-1] - data.time[0]
@@ -250,8 +248,8 @@ def test_changed_settings_recompute(fleet_dir, client, tmp_path):
     assert sorted(racing.computed) == sorted(vtol.computed) == sorted(fleet.log_id(path) for path in logs)
     assert racing.settings_hash != vtol.settings_hash
     table = pq.read_table(tmp_path / "logs" / f"{fleet.log_id(logs[0])}.parquet")
-    expected = adapter.run_log(adapter.read_log(logs[0], CSV_OPTIONS), "observer",
-                               adapter.resolve_settings("observer", "racing"))
+    expected = runner.run_log(fleet.read_log(logs[0], CSV_OPTIONS), estimator="observer",
+                               settings=fleet.resolve_settings("observer", "racing"))
     np.testing.assert_array_equal(table.column("altitude").to_numpy(), expected.estimate.altitude)
 
 
@@ -345,10 +343,10 @@ def test_an_interrupted_write_leaves_the_old_file_and_no_temporary(tmp_path, mon
 
 
 def test_settings_hash_follows_what_is_computed():
-    base = fleet.settings_hash("observer", adapter.resolve_settings("observer", None), CSV_OPTIONS)
-    assert base == fleet.settings_hash("observer", adapter.resolve_settings("observer", "vtol"), dict(CSV_OPTIONS))
-    assert base != fleet.settings_hash("observer", adapter.resolve_settings("observer", "racing"), CSV_OPTIONS)
-    assert base != fleet.settings_hash("observer", adapter.resolve_settings("observer", None),
+    base = fleet.settings_hash("observer", fleet.resolve_settings("observer", None), CSV_OPTIONS)
+    assert base == fleet.settings_hash("observer", fleet.resolve_settings("observer", "vtol"), dict(CSV_OPTIONS))
+    assert base != fleet.settings_hash("observer", fleet.resolve_settings("observer", "racing"), CSV_OPTIONS)
+    assert base != fleet.settings_hash("observer", fleet.resolve_settings("observer", None),
                                        {**CSV_OPTIONS, "accel_units": "g"})
 
 
@@ -391,9 +389,9 @@ def test_worst_logs_puts_failed_first_then_largest_rms(first_run):
 
 def _fit_arrays(path, skip=5.0):
     """(accel, baro, dt, reference, mask) of a log as ``fusion-altitude fit --skip`` scores it."""
-    data = adapter.read_log(path, CSV_OPTIONS)
+    data = fleet.read_log(path, CSV_OPTIONS)
     mask = tuning.training_mask(data.time, skip)
-    return data.vertical_acceleration, data.baro_altitude, adapter.sample_periods(data.time), data.reference_altitude, mask
+    return data.vertical_acceleration, data.baro_altitude, tuning.sample_periods(data.time), data.reference_altitude, mask
 
 
 def _same_fit(fleet_fit, single):
@@ -421,8 +419,8 @@ def test_fleet_fit_of_the_px4_log_equals_the_cli_fit_with_the_same_skip(data_dir
     assert status == 0, out
     (single,) = results
     monkeypatch.undo()
-    data = adapter.read_log(path)
-    dt = adapter.sample_periods(data.time)
+    data = fleet.read_log(path)
+    dt = tuning.sample_periods(data.time)
     assert tuning.steps_per_baro(data.baro_altitude) > 5 and dt.max() > 10 * np.median(dt)  # what the test is about
     _same_fit(fleet.fit_many(path, client=client, skip=1.0), single)
 
@@ -459,7 +457,7 @@ def test_fleet_fit_scores_held_out_logs(fleet_dir, client):
     for row, path in zip(result.holdout, held):
         accel, baro, dt, reference, mask = _fit_arrays(path)
         one = tuning.score(accel, baro, dt, reference, mask,
-                           [result.settings.as_tuple(), adapter.default_settings().as_tuple()],
+                           [result.settings.as_tuple(), fleet.AltitudeSettings().as_tuple()],
                            tuning.steps_per_baro(baro))
         assert (row["rms_error_m"], row["default_rms_error_m"]) == tuple(one.rms_error)
     assert min(r["rms_error_m"] for r in result.holdout) <= result.holdout_rms_error <= max(
@@ -520,7 +518,7 @@ def test_cli_fleet_run_takes_every_preset_of_run_including_rocket(fleet_dir, clu
     (parquet,) = (tmp_path / "logs").glob("*.parquet")
     from fusion_altitude import AltitudeSettings
 
-    alone = adapter.run_log(adapter.read_log(str(path), CSV_OPTIONS), "observer", AltitudeSettings.preset("rocket"))
+    alone = runner.run_log(fleet.read_log(str(path), CSV_OPTIONS), estimator="observer", settings=AltitudeSettings.preset("rocket"))
     np.testing.assert_array_equal(pq.read_table(parquet).column("altitude").to_numpy(), alone.estimate.altitude)
 
 

@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
+from fusion_altitude.estimators import ESTIMATORS as REGISTRY
 import fusion_altitude as fa
 from fusion_altitude import reference
 from fusion_altitude.scenarios import run_scenario
@@ -42,7 +43,8 @@ IMPLEMENTATIONS = {
                                  complementary=(reference.ComplementaryFilter, reference.ComplementarySettings),
                                  alphabeta=(reference.AlphaBetaFusion, reference.AlphaBetaSettings)),
 }
-ESTIMATORS = ("observer", "kalman", "complementary", "alphabeta")
+#: The estimators with a gap period, read from the registry.
+ESTIMATORS = tuple(entry.name for entry in REGISTRY.values() if entry.has_gap_period)
 #: The documented default gap periods, s.
 DEFAULT_GAP_PERIODS = {"observer": 0.5, "kalman": 0.5, "complementary": 0.5, "alphabeta": 1.5}
 

@@ -29,12 +29,31 @@ def test_gravity_is_standard_gravity_in_both_layers():
     assert _observer.C_GRAVITY == float.__new__(float, __import__("numpy").float32(9.80665))
 
 
-BINDINGS = ["_observer", "_kalman", "_complementary", "_alphabeta", "_sweep"]
+def _binding_modules():
+    """The compiled binding modules that pip installs in ``fusion_altitude/_core`` (not the shared ``_common`` and
+    ``_estimator``): read from the installed package, so that the list cannot drift from the build."""
+    import importlib.machinery
+
+    import os
+
+    import fusion_altitude._core
+
+    suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
+    names = {name.split(".")[0] for folder in fusion_altitude._core.__path__  # with the installed copy's, if added
+             for name in os.listdir(folder) if name.endswith(suffixes)}
+    return sorted(names - {"_common", "_estimator"})
+
+
+BINDINGS = _binding_modules()
+
+
+def test_every_binding_module_is_installed():
+    assert {"_observer", "_kalman", "_complementary", "_alphabeta", "_ins", "_flight", "_sweep"} <= set(BINDINGS)
 
 
 def test_type_stubs_and_marker_are_installed():
-    package = importlib.resources.files("fusion_altitude")
-    assert (package / "py.typed").is_file()
+    assert (importlib.resources.files("fusion_altitude") / "py.typed").is_file()
+    package = importlib.resources.files("fusion_altitude._core")
     for binding in BINDINGS:
         assert (package / f"{binding}.pyi").is_file(), binding
 
@@ -42,9 +61,9 @@ def test_type_stubs_and_marker_are_installed():
 def test_type_stubs_declare_every_public_name_and_method():
     import importlib
     import re
-    package = importlib.resources.files("fusion_altitude")
+    package = importlib.resources.files("fusion_altitude._core")
     for binding in BINDINGS:
-        module = importlib.import_module(f"fusion_altitude.{binding}")
+        module = importlib.import_module(f"fusion_altitude._core.{binding}")
         stub = (package / f"{binding}.pyi").read_text()
         for name in (n for n in dir(module) if not n.startswith("_")):
             value = getattr(module, name)

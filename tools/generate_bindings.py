@@ -3,12 +3,12 @@
 
 From every ``csrc/fusion_altitude*.h`` listed in :data:`MODULES` this writes
 
-- ``fusion_altitude/_c_tables.py`` (pure Python, used by the binding *and* the
+- ``fusion_altitude/_core/_c_tables.py`` (pure Python, used by the binding *and* the
   reference): every ``typedef enum`` as an ``enum.IntEnum``, every status
   message (``...StatusMessage``), and each settings struct as a table of
   ``(python_name, c_name, kind, default)`` with the defaults of
   ``...SettingsDefault()``;
-- ``fusion_altitude/_<module>_fields.pxi`` (Cython, included at module level
+- ``fusion_altitude/_core/_<module>_fields.pxi`` (Cython, included at module level
   of ``_<module>.pyx``): ``C_STATUS_VALUES`` and the other enum values as the
   compiler sees them, the conversions settings dict ⇄ C struct, and the
   estimator state ⇄ tuple (``_get_state``/``_set_state`` layout: the struct's
@@ -49,7 +49,15 @@ import settings_words  # noqa: E402  (tools/settings_words.py: the settings as w
 
 ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
-PACKAGE = ROOT / "fusion_altitude"
+PACKAGE = ROOT / "fusion_altitude" / "_core"  # the generated files sit beside the bindings
+PACKAGE_NAME = "fusion_altitude._core"
+
+
+def _relative_to_package(module_name: str) -> str:
+    """``module_name`` as a relative import from the generated files' package (``fusion_altitude._core``)."""
+    if module_name.startswith(PACKAGE_NAME + "."):
+        return "." + module_name[len(PACKAGE_NAME) + 1:]
+    return ".." + module_name[len("fusion_altitude."):]
 
 #: module name → (header, C prefix, settings struct, state struct).
 MODULES = {
@@ -421,7 +429,7 @@ def _py_of(kind: str, expr: str) -> str:
 
 def generate_pxi(module: str, header: Header) -> str:
     _, prefix, settings, state = MODULES[module]
-    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_{module}.pyx, after its cimports.", ""]
+    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_core/_{module}.pyx, after its cimports.", ""]
     for enum in header.enums.values():
         if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix):
             continue
@@ -587,7 +595,7 @@ def generate_pxd(module: str, header: Header, pxi: str) -> str:
     foreign = sorted({f.ctype for fields in own.structs.values() for f in fields
                       if f.ctype in header.structs and f.ctype not in own.structs})
     if foreign:  # structs of fusion_altitude.h that this header's structs hold
-        out += [f"from fusion_altitude.cobserver cimport {', '.join(foreign)}", ""]
+        out += [f"from {PACKAGE_NAME}.cobserver cimport {', '.join(foreign)}", ""]
     out += ["", f'cdef extern from "{header.path.name}" nogil:']
     for name, value in re.findall(r"^#define\s+(FUSION_ALTITUDE_\w+)\s+\(([-\d.e]+f?)\)\s*$", text, flags=re.M):
         out.append(f"    {'float' if value.endswith('f') else 'int'} {name}")
@@ -710,10 +718,10 @@ def generate_stub(module: str, header: Header) -> str:
              f'the reference\'s, :mod:`fusion_altitude.reference.{module}`)."""', "",
              "from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union", "",
              "import numpy as np", ""]
-    lines += [f"from {local[n].__module__.replace('fusion_altitude', '', 1) or '.'} import {n} as {n}"
+    lines += [f"from {_relative_to_package(local[n].__module__)} import {n} as {n}"
               for n in used if local[n].__module__.startswith("fusion_altitude")]
     if settings_name not in used:
-        lines.append(f"from .reference.{module} import {settings_name} as {settings_name}")
+        lines.append(f"from ..reference.{module} import {settings_name} as {settings_name}")
     lines.append("")
     enum_lines = [line for line in generate_pxi(module, header).splitlines() if re.match(r"C_\w+_VALUES = ", line)]
     lines += [f"{line.split(' = ')[0]}: Dict[str, int]" for line in enum_lines]

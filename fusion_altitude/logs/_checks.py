@@ -32,7 +32,7 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .._common import GRAVITY
+from .._core._common import GRAVITY
 from ._data import LogError, _fmt
 
 #: Plausible baro / reference altitude, m (below the Dead Sea shore … well above any balloon).

@@ -7,7 +7,7 @@ from typing import Callable, Optional, Union
 
 import numpy as np
 
-from .._common import GRAVITY
+from .._core._common import GRAVITY
 from ..sensors import height_above_ground
 from ._checks import ALTITUDE_RANGE, ALTOS_MISSING, PRESSURE_RANGE, absurd_columns, dead_message, is_dead
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps

@@ -15,7 +15,7 @@ from typing import Callable, Dict, Optional, Union
 
 import numpy as np
 
-from .._common import GRAVITY
+from .._core._common import GRAVITY
 from ..sensors import gyro_attitude, height_above_ground, vertical_acceleration
 from ._checks import PRESSURE_RANGE, absurd_columns
 from ._data import LogData, LogError, _align, _fmt, finish, merge_repeated_timestamps

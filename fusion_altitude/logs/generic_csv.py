@@ -7,7 +7,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from .._common import GRAVITY
+from .._core._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps

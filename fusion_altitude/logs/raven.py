@@ -16,7 +16,7 @@ from typing import Callable, List, Optional
 
 import numpy as np
 
-from .._common import GRAVITY
+from .._core._common import GRAVITY
 from ._checks import ALTITUDE_RANGE, drop_absurd
 from ._data import LogData, LogError, _align, _fmt, finish
 from ._table import numeric_columns, read_text, split_header

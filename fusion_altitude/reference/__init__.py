@@ -6,13 +6,13 @@ operation order as the C, so its outputs match the C core bit for bit. It is
 slow (a Python loop); use it to understand, test and port the algorithm.
 """
 
-from .._common import GRAVITY
-from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
-from .._observer_glue import AltitudeBatch, DiscretisationWarning, Status
-from .._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
-from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
-from .._flight_glue import RocketBatch, RocketStatus
-from .._ins_glue import InsBatch, InsStatus
+from .._core._common import GRAVITY
+from .._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from .._core._observer_glue import AltitudeBatch, DiscretisationWarning, Status
+from .._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
+from .._core._complementary_glue import ComplementaryBatch, ComplementaryStatus
+from .._core._flight_glue import RocketBatch, RocketStatus
+from .._core._ins_glue import InsBatch, InsStatus
 from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from .complementary import ComplementaryFilter, ComplementarySettings
 from .flight import RocketEstimator, RocketSettings

@@ -8,7 +8,7 @@ does the same, so the two implementations restore each other's checkpoints.
 
 from __future__ import annotations
 
-from .. import _c_tables, _common
+from .._core import _c_tables, _common
 
 
 class Checkpointable:

@@ -12,7 +12,7 @@ Every settings class has ``as_dict``, ``replace``, equality, hashing, a repr, pi
 
 from __future__ import annotations
 
-from .._c_tables import OBSERVER_SETTINGS
+from .._core._c_tables import OBSERVER_SETTINGS
 
 
 class Settings:

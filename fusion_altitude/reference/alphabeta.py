@@ -18,8 +18,8 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _c_tables, _common, _alphabeta_glue
-from .._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
+from .._core import _c_tables, _common, _alphabeta_glue
+from .._core._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors,
                                AlphaBetaSensorSettings, AlphaBetaStatus)
 
 from ._checkpoint import Checkpointable

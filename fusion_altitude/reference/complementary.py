@@ -18,8 +18,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .. import _common, _complementary_glue, _observer_glue
-from .._complementary_glue import ComplementaryBatch, ComplementaryStatus
+from .._core import _common, _complementary_glue, _observer_glue
+from .._core._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 from ._checkpoint import Checkpointable
 from ._diagnostics import BaroGapDiagnostics

@@ -15,8 +15,8 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from .. import _common, _flight_glue
-from .._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
+from .._core import _common, _flight_glue
+from .._core._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
                             prepare_batch, raise_update_error)
 from ._checkpoint import Checkpointable
 from ._settings import KeywordSettings

@@ -32,8 +32,8 @@ from typing import Optional
 
 import numpy as np
 
-from .. import _c_tables, _ins_glue
-from .._ins_glue import InsBatch, InsStatus
+from .._core import _c_tables, _ins_glue
+from .._core._ins_glue import InsBatch, InsStatus
 from ._checkpoint import Checkpointable
 from ._settings import KeywordSettings
 
@@ -585,6 +585,19 @@ class InsEstimator(Checkpointable):
     def altitude(self) -> float:
         """Height above the reference d, m, +up (the baro reads d + baro_bias)."""
         return float(self.distance)
+
+    @property
+    def height_above_start(self) -> float:
+        """Height above the start (the INS's reference d = 0, set by the first baro sample), m, +up. The INS's own
+        name for what its ``altitude`` holds: ``altitude`` means the baro's datum in every other estimator, and
+        ``height_above_start + baro_bias`` is the INS's altitude in that datum (the ``altitude`` column of
+        ``run -o``); see docs/architecture.md, "Names"."""
+        return self.altitude
+
+    @property
+    def baro_datum_altitude(self) -> float:
+        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum)."""
+        return float(np.float32(self.altitude) + np.float32(self.baro_bias))
 
     @property
     def vertical_velocity(self) -> float:

@@ -26,9 +26,9 @@ from typing import List, Optional
 
 import numpy as np
 
-from .. import _common, _kalman_glue
-from .._c_tables import KalmanStateIndex
-from .._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
+from .._core import _common, _kalman_glue
+from .._core._c_tables import KalmanStateIndex
+from .._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 from ._checkpoint import Checkpointable
 from ._settings import KeywordSettings

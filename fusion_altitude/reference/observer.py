@@ -19,8 +19,8 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .. import _c_tables, _common, _observer_glue
-from .._observer_glue import AltitudeBatch, Status
+from .._core import _c_tables, _common, _observer_glue
+from .._core._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
 from ._diagnostics import BaroGapDiagnostics

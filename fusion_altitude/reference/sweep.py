@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _observer_glue, _sweep_glue
-from .._observer_glue import AltitudeBatch
-from .._sweep_glue import SweepResult
+from .._core import _observer_glue, _sweep_glue
+from .._core._observer_glue import AltitudeBatch
+from .._core._sweep_glue import SweepResult
 from .observer import AltitudeEstimator, AltitudeSettings, step_stable
 
 f32 = np.float32

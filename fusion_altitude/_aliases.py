@@ -1,0 +1,50 @@
+"""The module paths from before the package had layer folders, kept importable: ``fusion_altitude.scenarios``
+is :mod:`fusion_altitude.sim.scenarios`, ``fusion_altitude._observer`` is ``fusion_altitude._core._observer``
+(old pickles name it), and so on. An old name is the very module object of the new one (not a copy), loaded only
+when imported."""
+
+import importlib
+import importlib.abc
+import importlib.util
+import sys
+
+_CORE = ("_alphabeta", "_alphabeta_glue", "_c_tables", "_common", "_complementary", "_complementary_glue", "_estimator",
+         "_flight", "_flight_glue", "_ins", "_ins_glue", "_kalman", "_kalman_glue", "_observer", "_observer_glue",
+         "_sweep", "_sweep_glue")
+
+#: old module name → the module it now is.
+MOVED_MODULES = {
+    **{f"fusion_altitude.{name}": f"fusion_altitude._core.{name}" for name in _CORE},
+    **{f"fusion_altitude.{name}": f"fusion_altitude.sim.{name}" for name in ("imu_sim", "rocket_sim", "scenarios")},
+    "fusion_altitude.fleet_cli": "fusion_altitude.cli.fleet",
+    # the rocket layer's one stem is "rocket" (docs/architecture.md, "Names"); its reference module keeps the file
+    # name of its header, fusion_altitude_flight.h, and answers to the stem as well
+    "fusion_altitude.reference.rocket": "fusion_altitude.reference.flight",
+}
+
+
+class _AliasLoader(importlib.abc.Loader):
+    """Loads an old name as the module it moved to."""
+
+    def create_module(self, spec):
+        module = importlib.import_module(MOVED_MODULES[spec.name])
+        self._spec = module.__spec__  # the import system sets __spec__ to the alias's; exec_module puts it back
+        return module
+
+    def exec_module(self, module):
+        module.__spec__ = self._spec  # already executed under its new name; keep __spec__.parent == __package__
+
+
+class _AliasFinder(importlib.abc.MetaPathFinder):
+    """Finds the old names of :data:`MOVED_MODULES` (and only those)."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname not in MOVED_MODULES:
+            return None
+        return importlib.util.spec_from_loader(fullname, _AliasLoader())
+
+
+def install() -> None:
+    """Put the finder on ``sys.meta_path`` once."""
+    if not any(isinstance(finder, _AliasFinder) for finder in sys.meta_path):
+        sys.meta_path.append(_AliasFinder())

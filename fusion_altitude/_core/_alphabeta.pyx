@@ -1,0 +1,315 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Cython binding of the quality-weighted alpha-beta fusion in csrc/fusion_altitude_alphabeta.h.
+
+This module converts and checks Python arguments, calls the C functions and
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.AlphaBetaSettings`),
+converted to the C struct here; conversions, enums and the state layout are
+generated from the header (``_alphabeta_fields.pxi``).
+"""
+
+import math
+
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from libc.math cimport NAN
+from libc.stdint cimport int32_t
+
+from fusion_altitude._core.calphabeta cimport *
+
+from fusion_altitude import _alphabeta_glue, _common
+from fusion_altitude._core._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.alphabeta import AlphaBetaSettings
+
+include "_alphabeta_fields.pxi"
+
+C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
+C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
+status_message = c_status_message
+
+#: An argument left out (update's keywords default to it, so that a name given twice in the deprecated
+#: positional order is caught).
+cdef object _UNSET = _common.UNSET
+_UPDATE_KEYWORDS = ("baro_altitude", "dt", "lidar_altitude", "sonar_altitude", "gps_altitude")
+_BATCH_KEYWORDS = _UPDATE_KEYWORDS + ("out",)
+
+
+cdef object _float_or_nan(object value):
+    return math.nan if value is _UNSET else float(value)
+
+
+def gains(int quality):
+    """(alpha, beta) of the least-squares alpha-beta filter of depth ``quality`` (C FusionAltitudeAlphaBetaGains)."""
+    cdef float alpha, beta
+    FusionAltitudeAlphaBetaGains(<int32_t>quality, &alpha, &beta)
+    return alpha, beta
+
+
+def _settings_dict(values):
+    """{"sensors": [{field: value} per sensor], other field: value} (from C) → {sensor: AlphaBetaSensorSettings,
+    other field: value}, as ``AlphaBetaSettings.as_dict()``."""
+    result = {name: AlphaBetaSensorSettings(**fields) for name, fields in zip(ALPHABETA_SENSORS, values["sensors"])}
+    result.update((name, value) for name, value in values.items() if name != "sensors")
+    return result
+
+
+def c_default_settings():
+    """The header's FusionAltitudeAlphaBetaSettingsDefault() as {sensor: AlphaBetaSensorSettings}."""
+    return _settings_dict(_c_default_settings())
+
+
+def _c_values(settings):
+    """AlphaBetaSettings (or a {sensor: ...} dict, checked) → what ``_settings_to_c`` takes."""
+    if not isinstance(settings, AlphaBetaSettings):
+        settings = AlphaBetaSettings.coerce(settings) if hasattr(settings, "as_dict") else AlphaBetaSettings(**settings)
+    values = settings.as_dict()
+    result = {name: value for name, value in values.items() if name not in ALPHABETA_SENSORS}
+    result["sensors"] = [values[name]._asdict() for name in ALPHABETA_SENSORS]
+    return result
+
+
+cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
+                     const float *accel, Py_ssize_t sa, const float *dt, Py_ssize_t sd,
+                     const float *baro, Py_ssize_t sb, const float *lidar, Py_ssize_t sl,
+                     const float *sonar, Py_ssize_t ss, const float *gps, Py_ssize_t sg,
+                     float *h, float *v, float *weight, int32_t *quality) noexcept nogil:
+    """Run n steps on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected step, or -1.
+    """
+    cdef FusionAltitudeAlphaBeta local = state[0]
+    cdef FusionAltitudeAlphaBetaMeasurements m
+    cdef Py_ssize_t i
+    cdef int j
+    for i in range(n):
+        m.baroAltitude = baro[i * sb]
+        m.lidarAltitude = lidar[i * sl]
+        m.sonarAltitude = sonar[i * ss]
+        m.gpsAltitude = gps[i * sg]
+        if FusionAltitudeAlphaBetaUpdate(&local, accel[i * sa], dt[i * sd], &m) != FusionAltitudeAlphaBetaStatusOk:
+            return i
+        h[i] = local.altitude
+        v[i] = local.verticalVelocity
+        for j in range(5):
+            weight[i * 5 + j] = local.filters[j].weight
+            quality[i * 5 + j] = local.filters[j].quality
+    state[0] = local
+    return -1
+
+
+cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
+    """Quality-weighted alpha-beta fusion of IMU-integrated altitude, baro, lidar, sonar and GPS.
+
+    Each sensor runs an alpha-beta filter of depth Q (its quality), which
+    rises by one while the sensor agrees with the fused prediction within its
+    threshold and falls by one otherwise; alpha = 2(2Q−1)/(Q(Q+1)), beta =
+    6/(Q(Q+1)). The output is the mean of the filters weighted by
+    Q · confidence, a sensor's weight zeroed outside its altitude band, while
+    its latest sample is further than its gap maximum from the prediction, or
+    after its timeout.
+
+    Parameters
+    ----------
+    settings : AlphaBetaSettings, optional
+        Default: the write-up's tables.
+
+    Notes
+    -----
+    NaN means "no sample this step" for every input, accel (the IMU channel)
+    included. No offsets are estimated: every sensor is taken to measure the
+    same altitude. Copies and pickles carry the full state.
+    """
+
+
+    def __init__(self, settings=None):
+        cdef FusionAltitudeAlphaBetaSettings c
+        FusionAltitudeAlphaBetaInitialise(&self._c)
+        if settings is not None:
+            c = _settings_to_c(_c_values(settings))
+            FusionAltitudeAlphaBetaInitialiseWith(&self._c, &c)
+
+    def update(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET, sonar_altitude=_UNSET,
+               gps_altitude=_UNSET):
+        """Process one step.
+
+        Parameters
+        ----------
+        accel : float
+            Vertical acceleration, m/s², +up, gravity removed; NaN: no IMU sample.
+        dt : float
+            Time since the previous step, s.
+        baro_altitude, lidar_altitude, sonar_altitude, gps_altitude : float
+            Each sensor's altitude, m; NaN (the default): no sample this step.
+
+        Raises
+        ------
+        ValueError
+            An infinite input or dt not finite and > 0, naming it; the state is unchanged.
+        """
+        # Parsed here, not by a Python wrapper: keywords after accel (the contract) are the fast path;
+        # update(accel, baro_altitude, dt=...) is the contract too; other positional arguments after accel
+        # are the deprecated old order (_common.positional_after_accel: the same rules as the reference).
+        if args:
+            baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude = _common.positional_after_accel(
+                type(self).__name__, "update", _UPDATE_KEYWORDS, _alphabeta_glue.ALPHABETA_INPUTS[1:], args,
+                (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude), _UNSET)
+        self._update(accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude)
+
+    cdef int _update(self, accel, baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude) except -1:
+        """update() after argument parsing: _UNSET is an argument left out (NaN: no sample; dt: None)."""
+        cdef double a = _as_double(accel, "accel")
+        cdef double t = _as_double(None if dt is _UNSET else dt, "dt")
+        cdef FusionAltitudeAlphaBetaMeasurements m
+        m.baroAltitude = NAN if baro_altitude is _UNSET else <float>_as_double(baro_altitude, "baro_altitude")
+        m.lidarAltitude = NAN if lidar_altitude is _UNSET else <float>_as_double(lidar_altitude, "lidar_altitude")
+        m.sonarAltitude = NAN if sonar_altitude is _UNSET else <float>_as_double(sonar_altitude, "sonar_altitude")
+        m.gpsAltitude = NAN if gps_altitude is _UNSET else <float>_as_double(gps_altitude, "gps_altitude")
+        cdef FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaUpdate(&self._c, <float>a, <float>t, &m)
+        if status != FusionAltitudeAlphaBetaStatusOk:
+            _alphabeta_glue.raise_alphabeta_update_error(status, {
+                "accel": float(a), "dt": float(t), "baro_altitude": _float_or_nan(baro_altitude),
+                "lidar_altitude": _float_or_nan(lidar_altitude), "sonar_altitude": _float_or_nan(sonar_altitude),
+                "gps_altitude": _float_or_nan(gps_altitude)})
+        return 0
+
+    def update_batch(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET,
+                     sonar_altitude=_UNSET, gps_altitude=_UNSET, out=_UNSET):
+        """Process arrays of steps, continuing from the current state.
+
+        Parameters
+        ----------
+        accel : array_like
+            Vertical acceleration per step, m/s² (NaN: no IMU sample).
+        dt : float or array_like
+            Step period, s: one value or one per step.
+        baro_altitude, lidar_altitude, sonar_altitude, gps_altitude : array_like, float or None
+            Per step, m; NaN where a sensor has no sample. A scalar applies to
+            every step; None means no samples.
+        out : AlphaBetaBatch, optional
+            Preallocated contiguous output arrays of the right shapes and dtypes.
+
+        Returns
+        -------
+        AlphaBetaBatch
+
+        Raises
+        ------
+        ValueError
+            A bad step, naming the argument and its first bad index; nothing
+            is applied to the state.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each step. The loop
+        runs with the GIL released.
+        """
+        values = (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out)
+        if args:  # as in update
+            values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
+                                                    _alphabeta_glue.ALPHABETA_INPUTS[1:] + ("out",), args, values,
+                                                    _UNSET)
+        baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out = [
+            None if value is _UNSET else value for value in values]  # left out: None (no samples)
+        n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
+                                                                    sonar_altitude, gps_altitude, out)
+        cdef const float[::1] a = inputs["accel"]
+        cdef const float[::1] t = inputs["dt"]
+        cdef const float[::1] zb = inputs["baro_altitude"]
+        cdef const float[::1] zl = inputs["lidar_altitude"]
+        cdef const float[::1] zs = inputs["sonar_altitude"]
+        cdef const float[::1] zg = inputs["gps_altitude"]
+        cdef float[::1] h = result.altitude
+        cdef float[::1] v = result.vertical_velocity
+        cdef float[:, ::1] w = result.weight
+        cdef int32_t[:, ::1] q = result.quality
+        cdef Py_ssize_t count = n
+        cdef Py_ssize_t bad = -1
+        cdef Py_ssize_t sa = steps["accel"], sd = steps["dt"], sb = steps["baro_altitude"]
+        cdef Py_ssize_t sl = steps["lidar_altitude"], ss = steps["sonar_altitude"], sg = steps["gps_altitude"]
+        cdef FusionAltitudeAlphaBetaMeasurements m
+        if out is not None:
+            result = out  # the caller's object itself, filled
+        if count == 0:
+            return result
+        with nogil:
+            bad = _run(&self._c, count, &a[0], sa, &t[0], sd, &zb[0], sb, &zl[0], sl, &zs[0], ss, &zg[0], sg,
+                       &h[0], &v[0], &w[0, 0], &q[0, 0])
+        if bad >= 0:
+            m.baroAltitude = zb[bad * sb]
+            m.lidarAltitude = zl[bad * sl]
+            m.sonarAltitude = zs[bad * ss]
+            m.gpsAltitude = zg[bad * sg]
+            status = FusionAltitudeAlphaBetaCheckInputs(a[bad * sa], t[bad * sd], &m)
+            values = {"accel": float(a[bad * sa]), "dt": float(t[bad * sd]), "baro_altitude": float(zb[bad * sb]),
+                      "lidar_altitude": float(zl[bad * sl]), "sonar_altitude": float(zs[bad * ss]),
+                      "gps_altitude": float(zg[bad * sg])}
+            _alphabeta_glue.raise_alphabeta_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
+        return result
+
+    @property
+    def total_weight(self):
+        """Sum of the weights of the latest step (0: dead reckoning)."""
+        return self._c.totalWeight
+
+    @property
+    def weights(self):
+        """Each sensor's weight in the latest step (0: not used)."""
+        return AlphaBetaSensors(*[self._c.filters[i].weight for i in range(5)])
+
+    @property
+    def qualities(self):
+        """Each sensor's quality Q (filter depth, samples)."""
+        return AlphaBetaSensors(*[int(self._c.filters[i].quality) for i in range(5)])
+
+    @property
+    def filter_altitudes(self):
+        """Each sensor's filtered altitude x, m."""
+        return AlphaBetaSensors(*[self._c.filters[i].altitude for i in range(5)])
+
+    @property
+    def gaps(self):
+        """Each sensor's gap z − predicted fused altitude at its latest sample, m."""
+        return AlphaBetaSensors(*[self._c.filters[i].gap for i in range(5)])
+
+    @property
+    def timed_out(self):
+        """Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next
+        sample (FusionAltitudeAlphaBetaIsTimedOut)."""
+        return AlphaBetaSensors(*[bool(self._c.filters[i].timedOut) for i in range(5)])
+
+    @property
+    def timeout_counts(self):
+        """Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once."""
+        return AlphaBetaSensors(*[int(self._c.filters[i].timeouts) for i in range(5)])
+
+    @property
+    def settings(self):
+        """The settings; assign new :class:`AlphaBetaSettings` to retune (qualities clamped to the new ranges)."""
+        return AlphaBetaSettings(**_settings_dict(_settings_from_c(&self._c.settings)))
+
+    @settings.setter
+    def settings(self, settings):
+        cdef FusionAltitudeAlphaBetaSettings c = _settings_to_c(_c_values(settings))
+        FusionAltitudeAlphaBetaSetSettings(&self._c, &c)
+
+    def _get_state(self):
+        return _state_get(&self._c, _settings_dict)
+
+    def _set_state(self, state):
+        state = tuple(state)
+        if len(state) > 1 and state[1] and len(state[1][0]) == 7:  # from before the interval and timeout fields
+            state = (state[0], tuple((*row[:3], 0.0, *row[3:6], 0, row[6], False) for row in state[1]), *state[2:])
+        _state_set(&self._c, state, _c_values)
+
+    def __repr__(self):
+        return (f"AlphaBetaFusion(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
+                f"weights={tuple(self.weights)!r})")
+
+
+_common.share_signatures(AlphaBetaFusion, _alphabeta_glue.AlphaBetaContract, ("update", "update_batch"))
+
+
+def _restore(state):
+    """A new fusion holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(AlphaBetaFusion, state)

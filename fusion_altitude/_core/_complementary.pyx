@@ -1,0 +1,181 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Cython binding of the two-stage complementary filter in csrc/fusion_altitude_complementary.h.
+
+This module converts and checks Python arguments, calls the C functions and
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.ComplementarySettings`),
+converted to the C struct here; conversions, enums and the state layout are
+generated from the header (``_complementary_fields.pxi``).
+"""
+
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+
+from fusion_altitude._core.ccomplementary cimport *
+
+from fusion_altitude import _common, _complementary_glue
+from fusion_altitude._core._complementary_glue import ComplementaryBatch
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.complementary import ComplementarySettings
+
+include "_complementary_fields.pxi"
+
+status_message = c_status_message
+
+
+def _checked_settings(values):
+    return ComplementarySettings(**values).as_dict()
+
+
+cdef Py_ssize_t _run(FusionAltitudeComplementary *state, const float *accel, const float *baro, const float *dt,
+                     Py_ssize_t dt_step, Py_ssize_t n, float *altitude, float *velocity, float *baro_filtered,
+                     float *baro_velocity) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitudeComplementary local = state[0]
+    cdef Py_ssize_t i
+    for i in range(n):
+        if FusionAltitudeComplementaryUpdate(&local, accel[i], baro[i], dt[i * dt_step]) != FusionAltitudeComplementaryStatusOk:
+            return i
+        altitude[i] = local.altitude
+        velocity[i] = local.verticalVelocity
+        baro_filtered[i] = local.baroFiltered
+        baro_velocity[i] = local.baroVelocity
+    state[0] = local
+    return -1
+
+
+cdef class ComplementaryFilter(_ComplementaryFilterGetters):
+    """The hobbyist two-stage complementary filter: baro altitude + vertical acceleration.
+
+    Low-passes both signals, blends the integrated acceleration with a
+    finite-difference baro velocity, then the predicted altitude with the baro
+    altitude. It has no accelerometer-bias state: a constant bias b leaves an
+    altitude error of b·T_v·T_h (5.9 m for 12 mg with the defaults).
+
+    Parameters
+    ----------
+    settings : ComplementarySettings, optional
+        Default: time constants T_v = 9.99 s, T_h = 4.99 s (the write-up's
+        0.999 and 0.998 at 100 Hz).
+
+    Notes
+    -----
+    Inputs as for :class:`fusion_altitude.AltitudeEstimator`: acceleration
+    m/s² (+up, gravity removed), baro altitude m (NaN: no sample this step),
+    dt s. The first baro sample sets the reference. Copies and pickles carry
+    the full state.
+    """
+
+
+    def __init__(self, settings=None):
+        FusionAltitudeComplementaryInitialise(&self._c)
+        if settings is not None:
+            self.settings = settings
+
+    def update(self, accel, baro_altitude, dt):
+        """Process one sample: accel m/s², baro_altitude m (NaN: none), dt s.
+
+        Raises
+        ------
+        ValueError
+            accel not finite, baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        cdef double a = _as_double(accel, "accel")
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        cdef double t = _as_double(dt, "dt")
+        cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementaryUpdate(&self._c, <float>a, <float>z,
+                                                                                          <float>t)
+        if status != FusionAltitudeComplementaryStatusOk:
+            _complementary_glue.raise_complementary_update_error(status, a, z, t)
+
+    def reset(self, baro_altitude):
+        """Set the reference: altitude = filtered baro = ``baro_altitude`` (m), velocities 0.
+
+        Raises
+        ------
+        ValueError
+            baro_altitude not finite; the state is unchanged.
+        """
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        if FusionAltitudeComplementaryReset(&self._c, <float>z) != FusionAltitudeComplementaryStatusOk:
+            raise ValueError(f"baro_altitude must be finite (m), got {z!r}")
+
+    def update_batch(self, accel, baro_altitude, dt, out=None):
+        """Process arrays of samples, continuing from the current state.
+
+        Parameters
+        ----------
+        accel, baro_altitude : array_like
+            1-D, per sample (m/s², m; NaN baro where there is no sample).
+        dt : float or array_like
+            Sample period, s: one value or one per sample.
+        out : ComplementaryBatch or sequence of 4 arrays, optional
+            Preallocated contiguous float32 arrays of the input's length.
+
+        Returns
+        -------
+        ComplementaryBatch
+
+        Raises
+        ------
+        ValueError
+            A bad sample, naming the argument and its first bad index; nothing
+            is applied to the state.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each sample. The loop
+        runs with the GIL released.
+        """
+        accel32, baro32, dt32, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
+        result = _complementary_glue.complementary_outputs(accel32.shape[0], out)
+        cdef const float[::1] a = accel32
+        cdef const float[::1] z = baro32
+        cdef const float[::1] t = dt32
+        cdef float[::1] h = result.altitude
+        cdef float[::1] v = result.vertical_velocity
+        cdef float[::1] zf = result.baro_filtered
+        cdef float[::1] vb = result.baro_velocity
+        cdef Py_ssize_t n = a.shape[0]
+        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+        cdef Py_ssize_t bad = -1
+        if n == 0:
+            return result if out is None else out  # out=: the caller's object itself
+        with nogil:
+            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &zf[0], &vb[0])
+        if bad >= 0:
+            _complementary_glue.raise_complementary_update_error(
+                FusionAltitudeComplementaryCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+                a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        return result if out is None else out  # out=: the caller's object itself
+
+    @property
+    def settings(self):
+        """The settings; assign new :class:`ComplementarySettings` to retune, keeping the state."""
+        return ComplementarySettings(**_settings_from_c(&self._c.settings))
+
+    @settings.setter
+    def settings(self, settings):
+        cdef FusionAltitudeComplementarySettings c = _settings_to_c(ComplementarySettings.coerce(settings).as_dict())
+        cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySetSettings(&self._c, &c)
+        if status != FusionAltitudeComplementaryStatusOk:
+            _complementary_glue.raise_complementary_settings_error(status, _settings_from_c(&c))
+
+    def _get_state(self):
+        return _state_get(&self._c, dict)
+
+    def _set_state(self, state):
+        _state_set(&self._c, tuple(state), _checked_settings)
+
+    def __repr__(self):
+        return (f"ComplementaryFilter(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
+                f"settings={self.settings!r})")
+
+
+def _restore(state):
+    """A new filter holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(ComplementaryFilter, state)

@@ -1,0 +1,209 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h.
+
+Converts and checks Python arguments, calls the C functions and raises for the
+statuses they return. It holds no copy of the algorithm. The settings class is
+the reference's (:class:`fusion_altitude.reference.flight.RocketSettings`),
+converted to the C struct here; the enums, conversions, state layout and scalar
+getters are generated from the header (``_flight_fields.pxi``); the
+``FlightEvents`` result lives in ``_flight_glue``.
+"""
+
+from libc.string cimport memcpy
+
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from fusion_altitude._core.cflight cimport *
+
+from fusion_altitude import _flight_glue
+from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.flight import RocketSettings
+
+include "_flight_fields.pxi"
+
+#: The C values, for checking that the Python constants match.
+C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
+C_NUMBER_OF_EVENTS = FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
+
+status_message = c_status_message
+
+
+def _checked_settings(values):
+    return RocketSettings(**values).as_dict()
+
+
+cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const float *baro, const float *dt,
+                     Py_ssize_t dt_step, Py_ssize_t n, bint vertical, float *height, float *velocity, float *bias,
+                     unsigned char *phase, unsigned char *baro_fate) noexcept nogil:
+    """n updates on a private copy of *state, committed only if all succeed; the first bad index or -1."""
+    cdef FusionAltitudeRocket local
+    memcpy(&local, state, sizeof(FusionAltitudeRocket))
+    cdef Py_ssize_t i
+    cdef FusionAltitudeRocketStatus status
+    for i in range(n):
+        if vertical:
+            status = FusionAltitudeRocketUpdateWithVerticalAccel(&local, accel[i], baro[i], dt[i * dt_step])
+        else:
+            status = FusionAltitudeRocketUpdate(&local, accel[i], baro[i], dt[i * dt_step])
+        if status != FusionAltitudeRocketStatusOk:
+            return i
+        height[i] = FusionAltitudeRocketGetHeight(&local)
+        velocity[i] = FusionAltitudeRocketGetVerticalVelocity(&local)
+        bias[i] = FusionAltitudeRocketGetAccelBias(&local)
+        phase[i] = <unsigned char>FusionAltitudeRocketGetPhase(&local)
+        baro_fate[i] = <unsigned char>FusionAltitudeRocketGetBaro(&local)
+    memcpy(state, &local, sizeof(FusionAltitudeRocket))
+    return -1
+
+
+cdef class RocketEstimator(_RocketEstimatorGetters):
+    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
+
+    Parameters
+    ----------
+    settings : RocketSettings, optional
+        Defaults if omitted.
+
+    Notes
+    -----
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
+    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
+    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
+    above the pad learned while stationary. See docs/rocket.md.
+    """
+
+    def __init__(self, settings=None):
+        settings = RocketSettings() if settings is None else RocketSettings.coerce(settings)
+        cdef FusionAltitudeRocketSettings c = _settings_to_c(settings.as_dict())
+        cdef FusionAltitudeRocketStatus status = FusionAltitudeRocketInitialise(&self._c, &c)
+        if status != FusionAltitudeRocketStatusOk:  # cannot happen: RocketSettings checked them
+            _flight_glue.raise_settings_error(status, _settings_from_c(&c))
+
+    def update(self, accel, baro_altitude, dt, *, accel_is_vertical=False):
+        """Process one step.
+
+        Parameters
+        ----------
+        accel : float
+            m/s², gravity removed, +up: the long-axis accelerometer minus g
+            (used as vertical until apogee, ignored after it) or, with
+            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
+            from an INS (used in every phase). NaN: no accelerometer sample
+            (in flight the layer is baro-led from then on).
+        baro_altitude : float
+            Pressure altitude, m; NaN when no baro sample arrived this step.
+        dt : float
+            s since the previous step.
+        accel_is_vertical : bool, default False
+            See ``accel``.
+
+        Raises
+        ------
+        ValueError
+            accel or baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """
+        cdef double a = _as_double(accel, "accel")
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        cdef double t = _as_double(dt, "dt")
+        cdef FusionAltitudeRocketStatus status
+        if accel_is_vertical:
+            status = FusionAltitudeRocketUpdateWithVerticalAccel(&self._c, <float>a, <float>z, <float>t)
+        else:
+            status = FusionAltitudeRocketUpdate(&self._c, <float>a, <float>z, <float>t)
+        if status != FusionAltitudeRocketStatusOk:
+            _flight_glue.raise_update_error(status, a, z, t)
+
+    def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical=False, out=None):
+        """Process arrays, continuing from the current state (GIL released).
+
+        Parameters
+        ----------
+        accel, baro_altitude : array_like
+            Per step, as for :meth:`update` (m/s², m; NaN = no baro); 1-D, any real dtype.
+        dt : float or array_like
+            s, one value or one per step.
+        accel_is_vertical : bool, default False
+            As for :meth:`update`, for every step.
+        out : RocketBatch or sequence of 5 arrays, optional
+            Preallocated contiguous arrays (float32 ×3, uint8 ×2) of the input's length.
+
+        Returns
+        -------
+        RocketBatch
+            Height, vertical velocity, accel bias, phase and baro fate after each step.
+
+        Raises
+        ------
+        ValueError
+            A bad step, naming the argument and its first bad index; nothing is
+            applied to the state.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each step and to the
+        reference :class:`fusion_altitude.reference.flight.RocketEstimator`.
+        """
+        accel32, baro32, dt32, dt_is_array, result = _flight_glue.prepare_batch(accel, baro_altitude, dt, out)
+        cdef const float[::1] a = accel32
+        cdef const float[::1] z = baro32
+        cdef const float[::1] t = dt32
+        cdef float[::1] h = result.height
+        cdef float[::1] v = result.vertical_velocity
+        cdef float[::1] b = result.accel_bias
+        cdef unsigned char[::1] p = result.phase
+        cdef unsigned char[::1] f = result.baro
+        cdef Py_ssize_t n = a.shape[0]
+        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+        cdef Py_ssize_t bad = -1
+        cdef bint vertical = bool(accel_is_vertical)
+        if n == 0:
+            return result if out is None else out  # out=: the caller's object itself
+        with nogil:
+            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, vertical, &h[0], &v[0], &b[0], &p[0], &f[0])
+        if bad >= 0:
+            _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+                                            a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        return result if out is None else out  # out=: the caller's object itself
+
+    @property
+    def settings(self):
+        """The :class:`RocketSettings` given at construction."""
+        return RocketSettings(**_settings_from_c(&self._c.settings))
+
+    @property
+    def phase(self):
+        """The current :class:`Phase`."""
+        return Phase(<int>FusionAltitudeRocketGetPhase(&self._c))
+
+    @property
+    def baro(self):
+        """:class:`BaroFate` of the latest step's baro sample."""
+        return BaroFate(<int>FusionAltitudeRocketGetBaro(&self._c))
+
+    @property
+    def events(self):
+        """:class:`FlightEvents` so far (time in s since initialise)."""
+        cdef FusionAltitudeRocketEvent e
+        rows = []
+        for index in range(FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS):
+            e = FusionAltitudeRocketGetEvent(&self._c, <FusionAltitudeRocketEventId>index)
+            rows.append((e.occurred, e.sample, e.time, e.height, e.velocity))
+        return _flight_glue.events_from_tuples(rows)
+
+    def _get_state(self):
+        """The fields of FusionAltitudeRocket in order (structs as tuples, the settings as ``as_dict()``)."""
+        return _state_get(&self._c, dict)
+
+    def _set_state(self, state):
+        _state_set(&self._c, tuple(state), _checked_settings)
+
+    def __repr__(self):
+        return (f"RocketEstimator(phase={self.phase.name}, height={self.height!r}, "
+                f"vertical_velocity={self.vertical_velocity!r})")
+
+
+def _restore(state):
+    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(RocketEstimator, state)

@@ -1,0 +1,215 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
+"""Cython binding of the observer in csrc/fusion_altitude.h.
+
+This module converts and checks Python arguments, calls the C functions and
+raises for the statuses they return. It holds no copy of the algorithm. The
+settings class is the reference's (:class:`fusion_altitude.reference.AltitudeSettings`),
+converted to the C struct here; conversions, enums and the state layout are
+generated from the header (``_observer_fields.pxi``).
+"""
+
+from fusion_altitude._core._convert cimport as_double as _as_double
+from fusion_altitude._core._estimator cimport Estimator
+from fusion_altitude._core.cobserver cimport *
+
+from fusion_altitude import _common, _observer_glue
+from fusion_altitude._core._observer_glue import AltitudeBatch
+from fusion_altitude.reference._checkpoint import restore
+from fusion_altitude.reference.observer import AltitudeSettings
+
+include "_observer_fields.pxi"
+
+GRAVITY = _common.GRAVITY
+C_GRAVITY = FUSION_ALTITUDE_GRAVITY
+C_VERSION = FUSION_ALTITUDE_VERSION
+status_message = c_status_message
+
+
+def c_settings_from_bandwidth(float omega, float zeta, float omega_b):
+    """FusionAltitudeSettingsFromBandwidth, from C: (status, gains dict)."""
+    cdef FusionAltitudeSettings c
+    cdef FusionAltitudeStatus status = FusionAltitudeSettingsFromBandwidth(&c, omega, zeta, omega_b)
+    return int(status), (_settings_from_c(&c) if status == FusionAltitudeStatusOk else None)
+
+
+_observer_glue.use_c_settings_functions(from_bandwidth=c_settings_from_bandwidth)
+
+
+def c_settings_from_preset(int preset):
+    """FusionAltitudeSettingsFromPreset, from C: the gains dict."""
+    cdef FusionAltitudeSettings c
+    FusionAltitudeSettingsFromPreset(&c, <FusionAltitudePreset>preset)
+    return _settings_from_c(&c)
+
+
+def c_settings_validate(values, float dt):
+    """FusionAltitudeSettingsValidate (Jury's test at dt), from C: the status."""
+    cdef FusionAltitudeSettings c = _settings_to_c(values)
+    return int(FusionAltitudeSettingsValidate(&c, dt))
+
+
+cdef Py_ssize_t _run(FusionAltitude *state, const float *accel, const float *baro, const float *dt,
+                     Py_ssize_t dt_step, Py_ssize_t n, float *altitude, float *velocity, float *bias,
+                     float *residual) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitude local = state[0]
+    cdef Py_ssize_t i
+    for i in range(n):
+        if FusionAltitudeUpdate(&local, accel[i], baro[i], dt[i * dt_step]) != FusionAltitudeStatusOk:
+            return i
+        altitude[i] = local.altitude
+        velocity[i] = local.verticalVelocity
+        bias[i] = local.accelBias
+        residual[i] = local.baroResidual
+    state[0] = local
+    return -1
+
+
+def _gains(values):
+    return tuple(values.values())
+
+
+def _checked_gains(gains):
+    return AltitudeSettings(*gains).as_dict()
+
+
+cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
+    """3rd-order complementary observer: baro altitude + vertical acceleration.
+
+    Estimates altitude (m), vertical velocity (m/s, +up) and the
+    accelerometer's vertical bias (m/s², +up).
+
+    Parameters
+    ----------
+    settings : AltitudeSettings, optional
+        Gains; the defaults (VTOL multirotor) if omitted.
+
+    Notes
+    -----
+    Inputs: vertical acceleration (m/s², earth frame, +up, gravity removed),
+    baro altitude (m; NaN for "no baro this step") and dt (s). The first baro
+    sample sets the reference (auto-zero). NED users negate. Copies and
+    pickles carry the full state, so a run can be checkpointed and resumed.
+    """
+
+
+    def __init__(self, settings=None):
+        FusionAltitudeInitialise(&self._c)
+        if settings is not None:
+            self.settings = settings
+
+    def update(self, accel, baro_altitude, dt):
+        cdef double a = _as_double(accel, "accel")
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        cdef double t = _as_double(dt, "dt")
+        cdef FusionAltitudeStatus status = FusionAltitudeUpdate(&self._c, <float>a, <float>z, <float>t)
+        if status != FusionAltitudeStatusOk:
+            _observer_glue.raise_update_error(status, a, z, t)
+
+    def reset(self, baro_altitude, accel_bias=None):
+        """Set the reference: altitude = ``baro_altitude`` (m), velocity 0, residual 0.
+
+        The bias estimate is kept unless ``accel_bias`` (m/s², +up) is given
+        (warm start from a ground calibration).
+
+        Raises
+        ------
+        ValueError
+            baro_altitude or accel_bias not finite; the state is unchanged.
+        """
+        cdef double z = _as_double(baro_altitude, "baro_altitude")
+        cdef double b = 0.0
+        cdef FusionAltitudeStatus status
+        if accel_bias is None:
+            status = FusionAltitudeReset(&self._c, <float>z)
+        else:
+            b = _as_double(accel_bias, "accel_bias")
+            status = FusionAltitudeResetWithBias(&self._c, <float>z, <float>b)
+        if status != FusionAltitudeStatusOk:
+            _observer_glue.raise_reset_error(status, z, b)
+
+    def update_batch(self, accel, baro_altitude, dt, out=None):
+        """Process arrays of samples, continuing from the current state.
+
+        Parameters
+        ----------
+        accel : array_like
+            Vertical acceleration per sample, m/s², earth frame, +up, gravity
+            removed; 1-D, any real dtype and stride (converted to float32).
+        baro_altitude : array_like
+            Barometric altitude per sample, m; NaN where there is no sample.
+        dt : float or array_like
+            Sample period, s: one value for all samples or one per sample.
+        out : AltitudeBatch or sequence of 4 arrays, optional
+            Preallocated contiguous float32 arrays of the input's length for
+            altitude, vertical_velocity, accel_bias and baro_residual.
+
+        Returns
+        -------
+        AltitudeBatch
+            The state after each sample (``out`` if given).
+
+        Raises
+        ------
+        ValueError
+            A bad sample (as for :meth:`update`), naming the argument and its
+            first bad index; nothing is applied to the state. ``out`` may hold
+            the samples before the bad one.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each sample. The loop
+        runs with the GIL released.
+        """
+        accel32, baro32, dt32, dt_is_array, result = _observer_glue.prepare_batch(accel, baro_altitude, dt, out)
+        cdef const float[::1] a = accel32
+        cdef const float[::1] z = baro32
+        cdef const float[::1] t = dt32
+        cdef float[::1] h = result.altitude
+        cdef float[::1] v = result.vertical_velocity
+        cdef float[::1] b = result.accel_bias
+        cdef float[::1] r = result.baro_residual
+        cdef Py_ssize_t n = a.shape[0]
+        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+        cdef Py_ssize_t bad = -1
+        if n == 0:
+            return result if out is None else out  # out=: the caller's object itself
+        with nogil:
+            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &b[0], &r[0])
+        if bad >= 0:
+            _observer_glue.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+                                              a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        return result if out is None else out  # out=: the caller's object itself
+
+    @property
+    def settings(self):
+        """The gains; assign new :class:`AltitudeSettings` to retune without losing the state."""
+        return AltitudeSettings(*_gains(_settings_from_c(&self._c.settings)))
+
+    @settings.setter
+    def settings(self, settings):
+        cdef FusionAltitudeSettings c = _settings_to_c(AltitudeSettings.coerce(settings).as_dict())
+        cdef FusionAltitudeStatus status = FusionAltitudeSetSettings(&self._c, &c)
+        if status != FusionAltitudeStatusOk:
+            _observer_glue.raise_settings_error(status, _gains(_settings_from_c(&c)))
+
+    def _get_state(self):
+        return _state_get(&self._c, _gains)
+
+    def _set_state(self, state):
+        _state_set(&self._c, tuple(state), _checked_gains)
+
+    def __repr__(self):
+        return (f"AltitudeEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
+                f"accel_bias={self.accel_bias!r}, baro_residual={self.baro_residual!r}, settings={self.settings!r})")
+
+
+_common.share_docstrings(AltitudeEstimator, _observer_glue.AltitudeContract)
+
+
+def _restore(state):
+    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
+    return restore(AltitudeEstimator, state)

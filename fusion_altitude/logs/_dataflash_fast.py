@@ -223,7 +223,8 @@ class ArrayRows:
         order = np.argsort(offsets, kind="stable")
         self.size = offsets.size
         first_part = int(np.searchsorted(np.cumsum([p[0].size for p in parts]), order[0], side="right"))
-        self.first_fields = list(parts[first_part][1].colhash)
+        # as pymavlink's to_dict: its type name first, then each column once
+        self.first_fields = ["mavpackettype"] + list(parts[first_part][1].colhash)
         self.columns = {}
         for field in fields_used:
             if not any(field in fmt.colhash for _, fmt, _ in parts):

@@ -32,7 +32,7 @@ def _first(topic, *names):
 
 
 def read_ulog(path: str, instance: Optional[int] = None,
-              progress: Optional[Callable[[int, int], None]] = None) -> LogData:
+              progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
     """Read a PX4 ULog (.ulg) through pyulog (the ``[logs]`` extra).
 
     Topics and fields (older and newer PX4 names both accepted; the grid
@@ -59,13 +59,22 @@ def read_ulog(path: str, instance: Optional[int] = None,
     * ``vehicle_status`` ``arming_state`` → ``flight_state``
       ("armed"/"disarmed"), ``vehicle_type`` → ``vehicle``.
 
+    ``decoder``: "fast" or "pyulog"; the fast ULog decoder is not written
+    yet, so both read through pyulog today (the argument is accepted so that
+    ``load_log(decoder=...)`` and the CLI's ``--decoder`` work for every
+    format).
+
     Raises
     ------
     LogError
         Not a ULog, a needed topic or instance missing, time going backwards.
     ImportError
         pyulog is not installed.
+    ValueError
+        ``decoder`` is not "fast" or "pyulog".
     """
+    if decoder not in ("fast", "pyulog"):
+        raise ValueError(f"decoder must be 'fast' or 'pyulog', got {decoder!r}")
     try:
         from pyulog import ULog
     except ImportError as error:

@@ -15,6 +15,7 @@ caller reads them with pymavlink, so the result is the same either way.
 
 from __future__ import annotations
 
+import re
 import struct
 from typing import Dict, Iterable, List, Optional, Sequence
 
@@ -33,6 +34,10 @@ TEXT_CHARS = set("anNZ")
 #: Types pymavlink's ``recv_match`` always walks besides the asked-for ones (it stops at the first cut-off one).
 ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
 _FMT_STRUCT = struct.Struct("<BB4s16s64s")
+#: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
+CLOCK_FIELDS = {"TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
+                "MainState", "Default", "BU"}
+_NAME = re.compile(r"[A-Za-z0-9_]+\Z")
 
 
 class NeedsReference(Exception):
@@ -75,17 +80,47 @@ class DataFlashIndex:
         self.data = np.frombuffer(data, dtype=np.uint8)
         self.size = self.data.size
         self.path = path
-        offsets, types, bad, status, stop, _ = _decode.dataflash_index(self.data)
+        offsets, types, bad, status, stop, lengths = _decode.dataflash_index(self.data)
         if status != "ok":
             # pymavlink's indexer ends the program here (exit status 1); the fast reader refuses the log
             raise ValueError(f"{status} at byte {stop} (where pymavlink's indexer stops the program)")
         if bad:
             raise NeedsReference(f"{bad} bytes start no message")
         self.offsets, self.types = offsets, types
+        self.final_lengths = lengths
         self.formats: Dict[int, Format] = {}
         self.name_to_id: Dict[str, int] = {}
         self._read_formats()
         self._check_units()
+
+    def check_clock(self, names: Iterable[str]) -> None:
+        """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
+        "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
+        without the partner of their week field or without a boot time."""
+        for name in set(names) | set(ALWAYS_WALKED):
+            if name not in self.name_to_id:
+                continue
+            fmt = self.formats[self.name_to_id[name]]
+            for column_name in fmt.columns:
+                if not _NAME.match(column_name):
+                    raise NeedsReference(f"{name}: column name {column_name!r}")
+                if column_name in CLOCK_FIELDS and fmt.char_of(column_name) in TEXT_CHARS:
+                    raise NeedsReference(f"{name}.{column_name} holds text")
+            if name in ("GPS", "GPS2"):
+                have = set(fmt.columns)
+                if ("Week" in have and "TimeMS" not in have) or \
+                        ("Week" not in have and "GWk" in have and "GMS" not in have) or \
+                        ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
+                        ("T" not in have and "TimeUS" not in have):
+                    raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
+
+    def missing_bytes(self, blob: bytes):
+        """:func:`_truncation.dataflash_missing_bytes` of the log, walking only from its last message on."""
+        from ._truncation import dataflash_missing_bytes
+        if not self.offsets.size:
+            return dataflash_missing_bytes(self.path, blob)
+        lengths = {k: int(v) for k, v in enumerate(self.final_lengths.tolist()) if v}
+        return dataflash_missing_bytes(self.path, blob, int(self.offsets[-1]), lengths)
 
     def _bodies(self, type_id: int, length: int) -> np.ndarray:
         from . import _decode
@@ -112,7 +147,7 @@ class DataFlashIndex:
                 raise NeedsReference(f"two types named {fmt.name}")
             self.formats[type_id] = fmt
             self.name_to_id[fmt.name] = type_id
-        for type_id in np.unique(self.types).tolist():
+        for type_id in np.flatnonzero(np.bincount(self.types, minlength=256)).tolist():
             if type_id != 0x80 and type_id not in self.formats:
                 raise NeedsReference(f"messages of type {type_id} without a readable FMT")
 
@@ -145,8 +180,9 @@ class DataFlashIndex:
 
     def messages(self, names: Iterable[str]):
         """Offsets and types of the messages pymavlink's ``recv_match(type=names)`` returns, in file order."""
-        wanted = [self.name_to_id[n] for n in set(names) | set(ALWAYS_WALKED) if n in self.name_to_id]
-        mask = np.isin(self.types, np.array(wanted, dtype=np.uint8))
+        wanted = np.zeros(256, dtype=bool)
+        wanted[[self.name_to_id[n] for n in set(names) | set(ALWAYS_WALKED) if n in self.name_to_id]] = True
+        mask = wanted[self.types]
         offsets, types = self.offsets[mask], self.types[mask]
         lengths = np.zeros(256, dtype=np.uint64)
         for type_id, fmt in self.formats.items():
@@ -220,7 +256,8 @@ class ArrayRows:
             self.time = np.zeros(0)
             return
         offsets = np.concatenate([p[0] for p in parts])
-        order = np.argsort(offsets, kind="stable")
+        # one type: already in file order; several (IMU and IMU2): merged by offset
+        order = np.arange(offsets.size) if len(parts) == 1 else np.argsort(offsets, kind="stable")
         self.size = offsets.size
         first_part = int(np.searchsorted(np.cumsum([p[0].size for p in parts]), order[0], side="right"))
         # as pymavlink's to_dict: its type name first, then each column once
@@ -273,10 +310,11 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     """The reader's rows per family and the firmware text, from the messages ``recv_match(type=kinds)`` gives.
 
     ``select(kind, fmt, table)`` → (family or None, boolean mask of the messages kept)."""
+    index.check_clock(kinds)
     offsets, types = index.messages(kinds)
     parts: Dict[str, List[tuple]] = {}
     firmware = ""
-    for type_id in np.unique(types).tolist():
+    for type_id in np.flatnonzero(np.bincount(types, minlength=256)).tolist():
         fmt = index.formats[type_id]
         if fmt.name not in kinds:
             continue

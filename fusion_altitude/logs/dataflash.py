@@ -186,7 +186,7 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     parts, firmware = fast.read_families(index, KINDS, FIELDS_USED, select)
     rows = {family: fast.ArrayRows(parts.get(family, []), FIELDS_USED) for family in FAMILIES}
     size = len(data)
-    return _build_checked(path, rows, firmware, "", want, progress, size)
+    return _build_checked(path, rows, firmware, "", want, progress, size, lambda _: index.missing_bytes(data))
 
 
 def _read_pymavlink(path: str, want: int, progress) -> LogData:
@@ -248,10 +248,11 @@ def _read_pymavlink(path: str, want: int, progress) -> LogData:
                           chatter.getvalue(), want, progress, size)
 
 
-def _build_checked(path, rows, firmware, chatter_text, want, progress, size) -> LogData:
+def _build_checked(path, rows, firmware, chatter_text, want, progress, size,
+                   missing_bytes=dataflash_missing_bytes) -> LogData:
     """:func:`_build`, its errors on odd content as LogError naming the file."""
     try:
-        return _build(path, rows, firmware, chatter_text, want, progress, size)
+        return _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes)
     except LogError:
         raise
     except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
@@ -323,7 +324,7 @@ def _fields_of(rows) -> List[str]:
     return list(rows.rows[0]) if isinstance(rows, DictRows) else list(rows.first_fields)
 
 
-def _build(path, rows, firmware, chatter_text, want, progress, size) -> LogData:
+def _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
     """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
         if not len(rows[needed]):
@@ -365,7 +366,7 @@ def _build(path, rows, firmware, chatter_text, want, progress, size) -> LogData:
     _add_ekf_reference(data, messages, time, t0, baro)
     if progress is not None:
         progress(size, size)
-    _warn_if_truncated(data, path, dataflash_missing_bytes)
+    _warn_if_truncated(data, path, missing_bytes)
     return finish(data)
 
 

@@ -29,6 +29,8 @@ FORMAT_CHARS = {
     "E": ("<u4", 0.01), "L": ("<i4", 1.0e-7), "d": ("<f8", None), "M": ("<i1", None), "q": ("<i8", None),
     "Q": ("<u8", None),
 }
+#: Bytes of each format character.
+_SIZES = {char: np.dtype(kind).itemsize for char, (kind, _) in FORMAT_CHARS.items()}
 #: Characters whose values are text (or pymavlink's int16 array): not numbers.
 TEXT_CHARS = set("anNZ")
 #: Types pymavlink's ``recv_match`` always walks besides the asked-for ones (it stops at the first cut-off one).
@@ -63,9 +65,16 @@ class Format:
         self.colhash = {column: index for index, column in enumerate(self.columns)}
         if len(self.columns) > len(chars):
             raise NeedsReference(f"{name}: more columns than format characters")
-        self.dtype = np.dtype([(f"f{k}", FORMAT_CHARS[c][0]) for k, c in enumerate(chars)])
-        if self.dtype.itemsize + 3 != length:
+        if sum(_SIZES[c] for c in chars) + 3 != length:
             raise NeedsReference(f"{name}: length {length} is not that of its format")
+        self._dtype = None
+
+    @property
+    def dtype(self) -> np.dtype:
+        """The structured dtype of a body (fields f0, f1, … in format order), built when first asked for."""
+        if self._dtype is None:
+            self._dtype = np.dtype([(f"f{k}", FORMAT_CHARS[c][0]) for k, c in enumerate(self.chars)])
+        return self._dtype
 
     def char_of(self, field: str) -> str:
         """Format character of ``field``."""

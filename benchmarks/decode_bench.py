@@ -1,0 +1,144 @@
+"""Decoding speed of the log readers, MB/s of CPU time (best of 3), the fast decoder against pymavlink and pyulog
+measured in the same run.
+
+Run::
+
+    python benchmarks/decode_bench.py [--data ../shared/data] [--repeat 3] [--fixture-seconds 120]
+
+For each DataFlash log (every ``*.BIN``/``*.bin`` in the shared data, plus
+one TimeUS fixture of ``--fixture-seconds`` s at 400 Hz IMU written by
+tests/logfixtures.py, since the shared DataFlash log is only 64 kB) it
+prints:
+
+* ``decode``: the messages the reader asks for, as pymavlink's
+  ``recv_match(type=...)`` returns them, decoded into float64 columns —
+  fast: ``_dataflash_fast`` (C index + gather + columns); pymavlink:
+  ``DFReader_binary`` + ``recv_match`` + ``to_dict`` (what the reader did
+  before);
+* ``read``: the whole ``read_dataflash`` (decoding, grid alignment, checks)
+  with either decoder;
+
+and the ratio fast/pymavlink. For each ULog it prints pyulog's own read
+(``ULog(path)``) and ``read_ulog``: the fast ULog decoder is not written
+yet, so there is no ratio to print for ULog.
+CPU time is ``time.process_time`` (this process, all threads), the best of
+``--repeat`` runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import os
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def best_cpu(run, repeat: int) -> float:
+    """Minimum CPU time of ``run()`` over ``repeat`` calls, s."""
+    best = None
+    for _ in range(repeat):
+        start = time.process_time()
+        run()
+        elapsed = time.process_time() - start
+        best = elapsed if best is None else min(best, elapsed)
+    return best
+
+
+def decode_fast(path: str) -> dict:
+    """The reader's message families as float64 columns, by the fast decoder."""
+    from fusion_altitude.logs import _dataflash_fast as fast
+    from fusion_altitude.logs import dataflash
+
+    data = Path(path).read_bytes()
+    index = fast.DataFlashIndex(data, path)
+    parts, _ = fast.read_families(index, dataflash.KINDS, dataflash.FIELDS_USED,
+                                  lambda kind, fmt, table: (kind, np.ones(table.size, dtype=bool)))
+    return {family: fast.ArrayRows(parts.get(family, []), dataflash.FIELDS_USED) for family in parts}
+
+
+def decode_pymavlink(path: str) -> dict:
+    """The same messages by pymavlink, as the reader took them: ``recv_match`` and ``to_dict``."""
+    from pymavlink import DFReader
+
+    from fusion_altitude.logs import dataflash
+
+    chatter = io.StringIO()
+    with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+        reader = DFReader.DFReader_binary(path, zero_time_base=True)
+        rows = {}
+        while True:
+            message = reader.recv_match(type=dataflash.KINDS)
+            if message is None:
+                break
+            rows.setdefault(message.get_type(), []).append(message.to_dict())
+        reader.filehandle.close()
+    return {kind: {field: np.array([r.get(field, np.nan) for r in found], dtype=float)
+                   for field in dataflash.FIELDS_USED if field in found[0]} for kind, found in rows.items()}
+
+
+def dataflash_rows(path: str, repeat: int) -> list:
+    from fusion_altitude.logs import dataflash
+
+    size = os.path.getsize(path) / 1e6
+    rows = []
+    fast = best_cpu(lambda: decode_fast(path), repeat)
+    reference = best_cpu(lambda: decode_pymavlink(path), repeat)
+    rows.append((os.path.basename(path), "decode", size / fast, size / reference))
+    fast = best_cpu(lambda: dataflash.read_dataflash(path, decoder="fast"), repeat)
+    reference = best_cpu(lambda: dataflash.read_dataflash(path, decoder="pymavlink"), repeat)
+    rows.append((os.path.basename(path), "read_dataflash", size / fast, size / reference))
+    return rows
+
+
+def ulog_rows(path: str, repeat: int) -> list:
+    from pyulog import ULog
+
+    from fusion_altitude.logs import ulog
+
+    size = os.path.getsize(path) / 1e6
+    return [(os.path.basename(path), "pyulog ULog()", None, size / best_cpu(lambda: ULog(path), repeat)),
+            (os.path.basename(path), "read_ulog", None, size / best_cpu(lambda: ulog.read_ulog(path), repeat))]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", default=os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
+                                                         str(ROOT / ".." / "shared" / "data")))
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--fixture-seconds", type=float, default=120.0)
+    args = parser.parse_args(argv)
+    warnings.simplefilter("ignore")
+    data = Path(args.data)
+    if not data.is_dir():
+        print(f"shared data not found at {data}", file=sys.stderr)
+        return 1
+    rows = []
+    with tempfile.TemporaryDirectory() as directory:
+        sys.path.insert(0, str(ROOT / "tests"))
+        import logfixtures as fx
+
+        fixture = Path(directory) / f"fixture_TimeUS_{args.fixture_seconds:g}s_400Hz.bin"
+        fx.write_dataflash(fixture, style="TimeUS", duration=args.fixture_seconds, imu_rate=400.0)
+        for path in sorted(data.glob("*.[Bb][Ii][Nn]")) + [fixture]:
+            rows += dataflash_rows(str(path), args.repeat)
+    for path in sorted(data.glob("*.ulg")):
+        rows += ulog_rows(str(path), args.repeat)
+    print(f"{'log':42s} {'step':16s} {'fast MB/s':>10s} {'reference MB/s':>15s} {'ratio':>7s}")
+    for name, step, fast, reference in rows:
+        fast_text = f"{fast:10.1f}" if fast is not None else f"{'—':>10s}"
+        ratio = f"{fast / reference:6.1f}x" if fast is not None else f"{'—':>7s}"
+        print(f"{name:42s} {step:16s} {fast_text} {reference:15.2f} {ratio}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -42,7 +42,7 @@ extensions.append(Extension("fusion_altitude._common", ["fusion_altitude/_common
 
 # The fast log decoder (not part of the MCU core): fusion_altitude/logs/_decode.pyx over the C scanners beside it.
 extensions.append(Extension("fusion_altitude.logs._decode", ["fusion_altitude/logs/_decode.pyx"],
-                            include_dirs=["fusion_altitude/logs"], depends=["fusion_altitude/logs/_dataflash_scan.h"],
+                            include_dirs=["fusion_altitude/logs"], depends=["fusion_altitude/logs/_dataflash_scan.h", "fusion_altitude/logs/_ulog_scan.h"],
                             extra_compile_args=["-O2"] if sys.platform != "win32" else []))
 
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": "3"}))

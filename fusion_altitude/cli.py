@@ -1408,7 +1408,7 @@ def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> Non
     group.add_argument("--instance", type=int, default=None, metavar="N",
                        help=".bin/.ulg: sensor instance to read (default: the primary)")
     group.add_argument("--decoder", default="fast", choices=("fast", "pymavlink", "pyulog"),
-                       help="log decoder: fast (default; .bin decoded in C) or the reference library of one "
+                       help="log decoder: fast (default; .bin and .ulg decoded in C) or the reference library of one "
                             "format, pymavlink (.bin) or pyulog (.ulg), kept for one release")
     if agl:
         group.add_argument("--agl", action="store_true",

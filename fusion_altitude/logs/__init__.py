@@ -151,8 +151,9 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     progress : callable(done, total), optional
         Called while reading.
     decoder : {"fast", "pymavlink", "pyulog"}
-        "fast" (default): DataFlash decoded in C (the extension); ULog and CSV
-        as before (their fast decoders are not written yet). "pymavlink":
+        "fast" (default): DataFlash and ULog decoded in C (the extension;
+        damaged logs are left to the reference library, so results do not
+        depend on the decoder); CSV as before. "pymavlink":
         DataFlash through pymavlink, "pyulog": ULog through pyulog — the
         references, kept for one release; each only for its own format.
     **options

@@ -88,3 +88,44 @@ def dataflash_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, size_
     with nogil:
         complete = DataFlashGather(&data[0], data.shape[0], &offsets[0], count, length, &out_view[0, 0])
     return out, int(complete)
+
+
+cdef extern from "_ulog_scan.h":
+    ctypedef struct ULogScanResult:
+        size_t count
+        size_t endOffset
+        int full
+    void ULogScan(const uint8_t *data, size_t size, size_t start, uint64_t *offsets, uint8_t *types,
+                  unsigned short *sizes, size_t capacity, ULogScanResult *result) nogil
+
+
+def ulog_index(const uint8_t[::1] data, size_t start=16):
+    """Where each whole message of a ULog starts (from byte ``start``), its type and payload size, in one pass.
+
+    Returns
+    -------
+    offsets : ndarray of uint64
+        Byte offset of each message's 3-byte header.
+    types : ndarray of uint8
+        Message type (``ord('D')`` for data, …).
+    sizes : ndarray of uint16
+        Payload size of each, bytes.
+    end : int
+        Byte after the last whole message (a cut message after it is not read, as pyulog).
+    """
+    cdef size_t size = data.shape[0]
+    cdef size_t capacity = (size - start) // 3 + 1 if size > start else 1
+    offsets = np.empty(capacity, dtype=np.uint64)
+    types = np.empty(capacity, dtype=np.uint8)
+    sizes = np.empty(capacity, dtype=np.uint16)
+    cdef uint64_t[::1] offsets_view = offsets
+    cdef uint8_t[::1] types_view = types
+    cdef unsigned short[::1] sizes_view = sizes
+    cdef ULogScanResult result
+    if size <= start:
+        return offsets[:0], types[:0], sizes[:0], int(start)
+    with nogil:
+        ULogScan(&data[0], size, start, &offsets_view[0], &types_view[0], &sizes_view[0], capacity, &result)
+    if result.full:
+        raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
+    return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)

@@ -123,3 +123,24 @@ def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, shared_logs, 
 def test_unknown_decoder_is_refused_naming_the_argument(shared_logs):
     with pytest.raises(ValueError, match="decoder"):
         ulog.read_ulog(str(shared_logs / SHARED[0]), decoder="pymavlink")
+
+
+def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
+    """csrc/fuzz/fuzz_ulog.c over csrc/fuzz/corpus_ulog: the C scanner walks the messages as pyulog does and
+    reads nothing outside the log."""
+    import subprocess
+
+    root = Path(__file__).resolve().parents[1]
+    binary = tmp_path / "fuzz_ulog"
+    build = subprocess.run(["clang", "-std=c99", "-g", "-O1", "-fsanitize=fuzzer,address,undefined",
+                            "-fno-sanitize-recover=all", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+                            f"-I{root / 'fusion_altitude' / 'logs'}", str(root / "csrc" / "fuzz" / "fuzz_ulog.c"),
+                            "-o", str(binary)], capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr
+    files = sorted((root / "csrc" / "fuzz" / "corpus_ulog").iterdir())
+    assert len(files) >= 2
+    run = subprocess.run([str(binary), "-runs=0", *map(str, files)], capture_output=True, text=True, timeout=600,
+                         cwd=tmp_path)
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert run.stderr.count("Executed ") == len(files)
+    assert "ERROR" not in run.stderr

@@ -77,6 +77,34 @@ def _info_ok(payload: bytes, multiple: bool = False, default: bool = False) -> b
     return len(payload) - 1 - key_length == struct.calcsize("<" + _STRUCT[kind])
 
 
+def _infos_ok(array: np.ndarray, blob: bytes, offsets: np.ndarray, sizes: np.ndarray, skip: int) -> bool:
+    """:func:`_info_ok` of many I/P messages at once (``skip``: bytes before the key length, 1 for M and Q):
+    the common ones (a basic type word) checked in numpy, the rest one by one."""
+    if not offsets.size:
+        return True
+    if np.any(sizes < 1 + skip):
+        return False
+    starts = offsets.astype(np.int64) + 3 + skip
+    key_length = array[starts].astype(np.int64)
+    value_size = sizes.astype(np.int64) - skip - 1 - key_length
+    width = 10  # the longest type word ("uint64_t") and its space
+    index = np.minimum(starts[:, None] + 1 + np.arange(width), array.size - 1)
+    heads = array[index]
+    checked = np.zeros(offsets.size, dtype=bool)
+    for kind, code in _STRUCT.items():
+        word = np.frombuffer(kind.encode() + b" ", dtype=np.uint8)
+        match = (key_length >= word.size) & (value_size >= 0) & np.all(heads[:, :word.size] == word, axis=1)
+        if np.any(match & (value_size != struct.calcsize("<" + code))):
+            return False
+        checked |= match
+    for k in np.flatnonzero(~checked).tolist():
+        offset, size = int(offsets[k]), int(sizes[k])
+        payload = blob[offset + 3:offset + 3 + size]
+        if not _info_ok(payload, multiple=skip == 1):
+            return False
+    return True
+
+
 class Subscription:
     """An A message: msg_id, multi_id, topic name, the flattened fields and pyulog's dtype."""
 
@@ -152,11 +180,13 @@ class ULogTopics:
         section = int(ends[0]) if ends.size else types.size
         if not ends.size:
             raise NeedsReference("no data section")
-        for k in range(section):
+        head_types = types[:section]
+        if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
+            raise NeedsReference("a message type that does not belong in the definitions")
+        self._check_infos(offsets[:section], head_types, sizes[:section])
+        for k in np.flatnonzero((head_types == ord("F")) | (head_types == ord("B"))).tolist():
             kind, offset, size = int(types[k]), int(offsets[k]), int(sizes[k])
             payload = self._payload(offset, size)
-            if kind not in _DEFINITION_TYPES:
-                raise NeedsReference(f"message type {kind} in the definitions")
             try:
                 if kind == ord("F"):
                     name, fields = _parse_format(payload)
@@ -166,11 +196,17 @@ class ULogTopics:
                         raise NeedsReference("flag bits not first or short")
                     if any(payload[8:16]) or any(payload[16:40]):
                         raise NeedsReference("incompatible flags or appended data")
-                elif not _info_ok(payload, multiple=kind == ord("M"), default=kind == ord("Q")):
-                    raise NeedsReference("an info or parameter message pyulog cannot parse")
             except (IndexError, ValueError, KeyError, OverflowError, struct.error):
                 raise NeedsReference("a definition pyulog cannot parse") from None
         return section
+
+    def _check_infos(self, offsets, types, sizes) -> None:
+        """Decline if an I/M/P/Q message would make pyulog raise."""
+        for kind in b"IMPQ":
+            mine = types == kind
+            if np.any(mine) and not _infos_ok(self.array, self.blob, offsets[mine], sizes[mine],
+                                              skip=1 if kind in b"MQ" else 0):
+                raise NeedsReference("an info or parameter message pyulog cannot parse")
 
     def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
         from . import _decode
@@ -182,10 +218,7 @@ class ULogTopics:
                 raise NeedsReference(f"a {chr(kind)} message too short for pyulog")
         if np.any(sizes[types == ord("O")] != 2):
             raise NeedsReference("a dropout message that is not 2 bytes")
-        for kind in b"IMPQ":
-            for offset, size in zip(offsets[types == kind].tolist(), sizes[types == kind].tolist()):
-                if not _info_ok(self._payload(offset, size), multiple=kind == ord("M"), default=kind == ord("Q")):
-                    raise NeedsReference("an info or parameter message pyulog cannot parse")
+        self._check_infos(offsets, types, sizes)
         subscriptions: Dict[int, Subscription] = {}
         seen_ids = set()
         for offset, size in zip(offsets[types == ord("A")].tolist(), sizes[types == ord("A")].tolist()):

@@ -18,9 +18,10 @@ prints:
 * ``read``: the whole ``read_dataflash`` (decoding, grid alignment, checks)
   with either decoder;
 
-and the ratio fast/pymavlink. For each ULog it prints pyulog's own read
-(``ULog(path)``) and ``read_ulog``: the fast ULog decoder is not written
-yet, so there is no ratio to print for ULog.
+and the ratio fast/pymavlink. For each shared ULog (and a ULog fixture of
+``--fixture-seconds`` s at 400 Hz) likewise: ``decode`` (the topics the
+reader asks for: ``_ulog_fast.ULogTopics`` against pyulog's
+``ULog(path, topics).data_list``) and ``read_ulog`` with either decoder.
 CPU time is ``time.process_time`` (this process, all threads), the best of
 ``--repeat`` runs.
 """
@@ -99,14 +100,34 @@ def dataflash_rows(path: str, repeat: int) -> list:
     return rows
 
 
-def ulog_rows(path: str, repeat: int) -> list:
+def decode_pyulog(path: str) -> dict:
+    """The reader's topics by pyulog, as the reader took them: ``ULog(path, topics).data_list``."""
     from pyulog import ULog
 
     from fusion_altitude.logs import ulog
 
+    with contextlib.redirect_stdout(io.StringIO()):
+        log = ULog(path, ulog._TOPICS)
+    return {(d.name, d.multi_id): d.data for d in log.data_list}
+
+
+def decode_ulog_fast(path: str) -> dict:
+    """The same topics by the fast decoder."""
+    from fusion_altitude.logs import _ulog_fast, ulog
+
+    return _ulog_fast.ULogTopics(Path(path).read_bytes(), ulog._TOPICS).data
+
+
+def ulog_rows(path: str, repeat: int) -> list:
+    from fusion_altitude.logs import ulog
+
     size = os.path.getsize(path) / 1e6
-    return [(os.path.basename(path), "pyulog ULog()", None, size / best_cpu(lambda: ULog(path), repeat)),
-            (os.path.basename(path), "read_ulog", None, size / best_cpu(lambda: ulog.read_ulog(path), repeat))]
+    rows = [(os.path.basename(path), "decode", size / best_cpu(lambda: decode_ulog_fast(path), repeat),
+             size / best_cpu(lambda: decode_pyulog(path), repeat))]
+    fast = best_cpu(lambda: ulog.read_ulog(path, decoder="fast"), repeat)
+    reference = best_cpu(lambda: ulog.read_ulog(path, decoder="pyulog"), repeat)
+    rows.append((os.path.basename(path), "read_ulog", size / fast, size / reference))
+    return rows
 
 
 def main(argv=None) -> int:
@@ -130,8 +151,10 @@ def main(argv=None) -> int:
         fx.write_dataflash(fixture, style="TimeUS", duration=args.fixture_seconds, imu_rate=400.0)
         for path in sorted(data.glob("*.[Bb][Ii][Nn]")) + [fixture]:
             rows += dataflash_rows(str(path), args.repeat)
-    for path in sorted(data.glob("*.ulg")):
-        rows += ulog_rows(str(path), args.repeat)
+        ulog_fixture = Path(directory) / f"fixture_{args.fixture_seconds:g}s_400Hz.ulg"
+        fx.write_ulog(ulog_fixture, duration=args.fixture_seconds, imu_rate=400.0)
+        for path in sorted(data.glob("*.ulg")) + [ulog_fixture]:
+            rows += ulog_rows(str(path), args.repeat)
     print(f"{'log':42s} {'step':16s} {'fast MB/s':>10s} {'reference MB/s':>15s} {'ratio':>7s}")
     for name, step, fast, reference in rows:
         fast_text = f"{fast:10.1f}" if fast is not None else f"{'—':>10s}"

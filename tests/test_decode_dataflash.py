@@ -197,3 +197,16 @@ def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
     assert run.returncode == 0, run.stderr[-3000:]
     assert run.stderr.count("Executed ") == len(files)
     assert "ERROR" not in run.stderr
+
+
+def test_without_the_extension_the_fast_decoder_leaves_the_log_to_pymavlink(shared_logs, monkeypatch):
+    path = str(shared_logs / "ardupilot_test.BIN")
+    reference = dataflash.read_dataflash(path, decoder="pymavlink")
+
+    def missing():
+        raise fast.NeedsReference("the extension fusion_altitude.logs._decode is not built")
+
+    monkeypatch.setattr(fast, "decoder_module", missing)
+    with pytest.raises(fast.NeedsReference):
+        dataflash._read_fast(path, 0, None)
+    assert dataflash.read_dataflash(path).time.tobytes() == reference.time.tobytes()

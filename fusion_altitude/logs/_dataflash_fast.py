@@ -46,6 +46,16 @@ class NeedsReference(Exception):
     """The log needs pymavlink's own reading to give the same result (the reason is the message)."""
 
 
+def decoder_module():
+    """The compiled scanners (``fusion_altitude.logs._decode``); NeedsReference if the extension is not built
+    (a source checkout without ``build_ext``: the reference libraries read every log then)."""
+    try:
+        from . import _decode
+    except ImportError:
+        raise NeedsReference("the extension fusion_altitude.logs._decode is not built") from None
+    return _decode
+
+
 def _null_term(raw: bytes) -> str:
     """pymavlink's ``null_term`` of bytes: decoded with backslash escapes, cut at the first NUL."""
     text = raw.decode(errors="backslashreplace")
@@ -85,7 +95,7 @@ class DataFlashIndex:
     """The messages of a DataFlash log: where each starts, of which type, and the formats (from FMT)."""
 
     def __init__(self, data, path: str) -> None:
-        from . import _decode
+        _decode = decoder_module()
         self.data = np.frombuffer(data, dtype=np.uint8)
         self.size = self.data.size
         self.path = path
@@ -132,7 +142,7 @@ class DataFlashIndex:
         return dataflash_missing_bytes(self.path, blob, int(self.offsets[-1]), lengths)
 
     def _bodies(self, type_id: int, length: int) -> np.ndarray:
-        from . import _decode
+        _decode = decoder_module()
         offsets = np.ascontiguousarray(self.offsets[self.types == type_id])
         bodies, _ = _decode.dataflash_gather(self.data, offsets, length)
         return offsets, bodies
@@ -328,7 +338,7 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
         if fmt.name not in kinds:
             continue
         mine = np.ascontiguousarray(offsets[types == type_id])
-        from . import _decode
+        _decode = decoder_module()
         bodies, _ = _decode.dataflash_gather(index.data, mine, fmt.length)
         table = bodies.view(fmt.dtype).reshape(-1)
         if fmt.name == "MSG":

@@ -17,7 +17,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._dataflash_fast import NeedsReference
+from ._dataflash_fast import NeedsReference, decoder_module
 
 HEADER_BYTES = b"\x55\x4c\x6f\x67\x01\x12\x35"
 #: pyulog's basic types: (bytes, numpy dtype).
@@ -150,7 +150,7 @@ class ULogTopics:
     the names asked for (only those subscriptions are materialised)."""
 
     def __init__(self, blob: bytes, names: Optional[Sequence[str]]) -> None:
-        from . import _decode
+        _decode = decoder_module()
         if len(blob) < 16 or blob[:7] != HEADER_BYTES:
             raise NeedsReference("not a ULog header (pyulog's error)")
         if blob[7] > 1:
@@ -209,7 +209,7 @@ class ULogTopics:
                 raise NeedsReference("an info or parameter message pyulog cannot parse")
 
     def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
-        from . import _decode
+        _decode = decoder_module()
         present = set(np.flatnonzero(np.bincount(types, minlength=256)).tolist())
         if not present <= _DATA_TYPES:
             raise NeedsReference(f"message types {sorted(present - _DATA_TYPES)} in the data section")

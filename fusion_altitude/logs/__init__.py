@@ -191,8 +191,8 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
             raise LogError(f"{path}: not a ULog, DataFlash, AltOS, Raven, RRC3 or CATS log; as a generic CSV it "
                            f"needs its "
                            f"columns named (time_column, accel_column, baro_column or pressure_column)")
-    accepted = {"ulog": {"instance", "decoder"}, "dataflash": {"instance", "decoder"}, "altos": {"ground_temperature_k"},
-                "raven": set(), "rrc3": set(),
+    accepted = {"ulog": {"instance", "decoder"}, "dataflash": {"instance", "decoder"},
+                "altos": {"ground_temperature_k"}, "raven": set(), "rrc3": set(),
                 "cats": {"instance", "ground_temperature_k", "accel_range"}}
     if name in accepted:
         extra = sorted(set(options) - accepted[name])

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import re
 import struct
-from typing import Dict, Iterable, List, Optional, Sequence
+from typing import Dict, Iterable, List, Sequence
 
 import numpy as np
 

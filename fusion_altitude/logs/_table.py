@@ -1,8 +1,9 @@
 """Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS).
 
-The fast path hands the numeric columns a reader needs to numpy's C parser
-(:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a progress callback
-can follow. Only if that parser refuses the text does a slow pure-Python
+The fast path hands the numeric columns a reader needs to pyarrow's columnar
+CSV parser when pyarrow is installed and the text is plain numbers, else to
+numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
+progress callback can follow. Only if that parser refuses the text does a slow pure-Python
 pass run, to find the first bad line and name it — or to accept what the
 fast path cannot (``NA`` cells, spaces around empty cells).
 """
@@ -119,7 +120,46 @@ def _row_lines(table: Table) -> np.ndarray:
     return lines + table.first_line
 
 
+def _arrow(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+    """The numeric ``columns`` by pyarrow's columnar CSV parser (optional), or None when pyarrow is missing or
+    refuses the text (anything but plain numbers and empty cells: the numpy path decides then). Accepts
+    exactly what :func:`_numpy` accepts, with the same values (tests/test_decode_csv.py)."""
+    try:
+        import pyarrow as pa
+        import pyarrow.csv as pacsv
+    except ImportError:
+        return None
+    width = len(table.header)
+    names = [f"c{k}" for k in range(width)]
+    wanted = sorted(set(columns))
+    if not table.body.strip() or any(k >= width for k in wanted):
+        return None
+    try:
+        parsed = pacsv.read_csv(
+            io.BytesIO(table.body.encode("utf-8")),
+            read_options=pacsv.ReadOptions(column_names=names, use_threads=False, block_size=1 << 26),
+            parse_options=pacsv.ParseOptions(delimiter=",", quote_char='"', ignore_empty_lines=True),
+            convert_options=pacsv.ConvertOptions(column_types={names[k]: pa.float64() for k in wanted},
+                                                 include_columns=[names[k] for k in wanted], null_values=[""],
+                                                 strings_can_be_null=False, quoted_strings_can_be_null=True))
+    except (pa.ArrowInvalid, pa.ArrowNotImplementedError, ValueError):
+        return None
+    arrays = {k: parsed.column(names[k]).to_numpy(zero_copy_only=False).astype(np.float64, copy=False)
+              for k in wanted}
+    if progress is not None:
+        progress(len(table.body), len(table.body))
+    return np.column_stack([arrays[k] for k in columns]) if columns else np.zeros((parsed.num_rows, 0))
+
+
 def _fast(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+    """The numeric ``columns`` by a C parser: pyarrow's (columnar, when installed and the text is plain), else
+    numpy's; None if neither accepts the text."""
+    data = _arrow(table, columns, progress)
+    return data if data is not None else _numpy(table, columns, progress)
+
+
+def _numpy(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+    """The numeric ``columns`` by numpy's C parser (:func:`numpy.loadtxt`) in chunks; None if it refuses."""
     body = table.body
     total = len(body)
     parts = []

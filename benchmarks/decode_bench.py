@@ -22,6 +22,9 @@ and the ratio fast/pymavlink. For each shared ULog (and a ULog fixture of
 ``--fixture-seconds`` s at 400 Hz) likewise: ``decode`` (the topics the
 reader asks for: ``_ulog_fast.ULogTopics`` against pyulog's
 ``ULog(path, topics).data_list``) and ``read_ulog`` with either decoder.
+For three shared CSVs and a 1-million-row generic CSV
+(``benchmarks/log_read_bench.py``'s) it prints ``load_log`` with the
+columnar (pyarrow) parser and with numpy's parser only (the path before).
 CPU time is ``time.process_time`` (this process, all threads), the best of
 ``--repeat`` runs.
 """
@@ -130,6 +133,22 @@ def ulog_rows(path: str, repeat: int) -> list:
     return rows
 
 
+def csv_rows(path: str, repeat: int, **options) -> list:
+    """``load_log`` of a CSV with the columnar (pyarrow) path and with numpy's parser only (the path before)."""
+    from fusion_altitude import logs
+    from fusion_altitude.logs import _table
+
+    size = os.path.getsize(path) / 1e6
+    fast = best_cpu(lambda: logs.load_log(path, **options), repeat)
+    columnar = _table._arrow
+    _table._arrow = lambda *arguments: None
+    try:
+        reference = best_cpu(lambda: logs.load_log(path, **options), repeat)
+    finally:
+        _table._arrow = columnar
+    return [(os.path.basename(path), "load_log (CSV)", size / fast, size / reference)]
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", default=os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
@@ -155,6 +174,16 @@ def main(argv=None) -> int:
         fx.write_ulog(ulog_fixture, duration=args.fixture_seconds, imu_rate=400.0)
         for path in sorted(data.glob("*.ulg")) + [ulog_fixture]:
             rows += ulog_rows(str(path), args.repeat)
+        for name in ("hedy_baro.csv", "rrc3_juno3.csv", "raven_ndrt2020.csv"):
+            rows += csv_rows(str(data / name), args.repeat)
+        sys.path.insert(0, str(ROOT / "benchmarks"))
+        import log_read_bench
+
+        generic = Path(directory) / "generic_1M_rows.csv"
+        log_read_bench.write_csv(str(generic), 1_000_000)
+        rows += csv_rows(str(generic), args.repeat, time_column="time", accel_column="accel", baro_column="baro",
+                         reference_column="reference")
+    print("reference: pymavlink (.bin), pyulog (.ulg), numpy's loadtxt path (.csv)")
     print(f"{'log':42s} {'step':16s} {'fast MB/s':>10s} {'reference MB/s':>15s} {'ratio':>7s}")
     for name, step, fast, reference in rows:
         fast_text = f"{fast:10.1f}" if fast is not None else f"{'—':>10s}"

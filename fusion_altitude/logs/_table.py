@@ -10,9 +10,11 @@ fast path cannot (``NA`` cells, spaces around empty cells).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import os
+import signal
 from dataclasses import dataclass
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
@@ -120,10 +122,35 @@ def _row_lines(table: Table) -> np.ndarray:
     return lines + table.first_line
 
 
+@contextlib.contextmanager
+def _native_threads_without_signals():
+    """SIGTERM and SIGINT blocked in this thread while pyarrow starts its native threads, which inherit the
+    mask: those threads must never take a process signal, or the CLI's hold on signals around creating an
+    output file (runner._atomic_output, which blocks them in the main thread only) would not hold. A signal
+    that arrives meanwhile is delivered when the mask is restored."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    try:
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _arrow(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
     """The numeric ``columns`` by pyarrow's columnar CSV parser (optional), or None when pyarrow is missing or
     refuses the text (anything but plain numbers and empty cells: the numpy path decides then). Accepts
     exactly what :func:`_numpy` accepts, with the same values (tests/test_decode_csv.py)."""
+    with _native_threads_without_signals():
+        return _arrow_parse(table, columns, progress)
+
+
+def _arrow_parse(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
     try:
         import pyarrow as pa
         import pyarrow.csv as pacsv

@@ -22,7 +22,8 @@ and the ratio fast/pymavlink. For each shared ULog (and a ULog fixture of
 ``--fixture-seconds`` s at 400 Hz) likewise: ``decode`` (the topics the
 reader asks for: ``_ulog_fast.ULogTopics`` against pyulog's
 ``ULog(path, topics).data_list``) and ``read_ulog`` with either decoder.
-For three shared CSVs and a 1-million-row generic CSV
+For the shared CSVs (the CATS set ``hedy_*.csv`` as one read of its three
+files) and a 1-million-row generic CSV
 (``benchmarks/log_read_bench.py``'s) it prints ``load_log`` with the
 columnar (pyarrow) parser and with numpy's parser only (the path before).
 CPU time is ``time.process_time`` (this process, all threads), the best of
@@ -133,12 +134,13 @@ def ulog_rows(path: str, repeat: int) -> list:
     return rows
 
 
-def csv_rows(path: str, repeat: int, **options) -> list:
-    """``load_log`` of a CSV with the columnar (pyarrow) path and with numpy's parser only (the path before)."""
+def csv_rows(path: str, repeat: int, siblings=(), **options) -> list:
+    """``load_log`` of a CSV with the columnar (pyarrow) path and with numpy's parser only (the path before);
+    MB/s over the bytes of ``path`` and the ``siblings`` the reader also reads (a CATS set)."""
     from fusion_altitude import logs
     from fusion_altitude.logs import _table
 
-    size = os.path.getsize(path) / 1e6
+    size = sum(os.path.getsize(p) for p in (path, *siblings)) / 1e6
     fast = best_cpu(lambda: logs.load_log(path, **options), repeat)
     columnar = _table._arrow
     _table._arrow = lambda *arguments: None
@@ -174,7 +176,9 @@ def main(argv=None) -> int:
         fx.write_ulog(ulog_fixture, duration=args.fixture_seconds, imu_rate=400.0)
         for path in sorted(data.glob("*.ulg")) + [ulog_fixture]:
             rows += ulog_rows(str(path), args.repeat)
-        for name in ("hedy_baro.csv", "rrc3_juno3.csv", "raven_ndrt2020.csv"):
+        rows += csv_rows(str(data / "hedy_baro.csv"), args.repeat,
+                         siblings=[str(data / "hedy_imu.csv"), str(data / "hedy_flight_info.csv")])
+        for name in ("rrc3_juno3.csv", "raven_ndrt2020.csv"):
             rows += csv_rows(str(data / name), args.repeat)
         sys.path.insert(0, str(ROOT / "benchmarks"))
         import log_read_bench

@@ -40,4 +40,9 @@ extensions = [
 # well, they cost less per call (the update argument shim, conversions). The .py stays the source.
 extensions.append(Extension("fusion_altitude._core._common", ["fusion_altitude/_core/_common.py"], extra_compile_args=compile_args))
 
+# The fast log decoder (not part of the MCU core): fusion_altitude/logs/_decode.pyx over the C scanners beside it.
+extensions.append(Extension("fusion_altitude.logs._decode", ["fusion_altitude/logs/_decode.pyx"],
+                            include_dirs=["fusion_altitude/logs"], depends=["fusion_altitude/logs/_dataflash_scan.h", "fusion_altitude/logs/_ulog_scan.h"],
+                            extra_compile_args=["-O2"] if sys.platform != "win32" else []))
+
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": "3"}))

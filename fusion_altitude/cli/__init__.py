@@ -354,6 +354,8 @@ def _read_log(args: argparse.Namespace, options: dict, progress: _Progress):
         if "instance" not in load_parameters:
             raise CliError("--instance is not supported by this version's readers")
         options["instance"] = args.instance
+    if getattr(args, "decoder", "fast") != "fast":
+        options["decoder"] = args.decoder
     with progress.stage("reading") as bar:
         if "progress" in load_parameters:
             options["progress"] = bar
@@ -1215,6 +1217,9 @@ def _add_log_arguments(parser: argparse.ArgumentParser, agl: bool = True) -> Non
                             "temperature)")
     group.add_argument("--instance", type=int, default=None, metavar="N",
                        help=".bin/.ulg: sensor instance to read (default: the primary)")
+    group.add_argument("--decoder", default="fast", choices=("fast", "pymavlink", "pyulog"),
+                       help="log decoder: fast (default; .bin and .ulg decoded in C) or the reference library of one "
+                            "format, pymavlink (.bin) or pyulog (.ulg), kept for one release")
     if agl:
         group.add_argument("--agl", action="store_true",
                            help="heights above the start (or the pad): estimate, baro and reference alike")

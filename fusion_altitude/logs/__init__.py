@@ -131,8 +131,12 @@ def sniff_format(path: str) -> str:
     return "csv"
 
 
+#: Decoders of :func:`load_log`: the fast one (default), or the reference library of one format, kept for a release.
+DECODERS = {"fast": None, "pymavlink": "dataflash", "pyulog": "ulog"}
+
+
 def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = None,
-             progress: Optional[Callable[[int, int], None]] = None, **options) -> LogData:
+             progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast", **options) -> LogData:
     """Read a log of any known format.
 
     Parameters
@@ -146,6 +150,12 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         default the primary.
     progress : callable(done, total), optional
         Called while reading.
+    decoder : {"fast", "pymavlink", "pyulog"}
+        "fast" (default): DataFlash and ULog decoded in C (the extension;
+        damaged logs are left to the reference library, so results do not
+        depend on the decoder); CSV as before. "pymavlink":
+        DataFlash through pymavlink, "pyulog": ULog through pyulog — the
+        references, kept for one release; each only for its own format.
     **options
         Passed to the reader: the column options of :func:`read_csv_log` for
         generic CSV; ``ground_temperature_k`` for AltOS / CATS / CSV.
@@ -154,8 +164,13 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     Raises
     ------
     LogError
-        Missing file, unknown format, unreadable or inconsistent content.
+        Missing file, unknown format, unreadable or inconsistent content, a
+        reference decoder of another format.
+    ValueError
+        ``decoder`` is not a known decoder.
     """
+    if decoder not in DECODERS:
+        raise ValueError(f"decoder must be one of {', '.join(DECODERS)}, got {decoder!r}")
     if not os.path.exists(path):
         raise LogError(f"{path}: no such file")
     name = format or sniff_format(path)
@@ -176,12 +191,17 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
             raise LogError(f"{path}: not a ULog, DataFlash, AltOS, Raven, RRC3 or CATS log; as a generic CSV it "
                            f"needs its "
                            f"columns named (time_column, accel_column, baro_column or pressure_column)")
-    accepted = {"ulog": {"instance"}, "dataflash": {"instance"}, "altos": {"ground_temperature_k"},
-                "raven": set(), "rrc3": set(),
+    accepted = {"ulog": {"instance", "decoder"}, "dataflash": {"instance", "decoder"},
+                "altos": {"ground_temperature_k"}, "raven": set(), "rrc3": set(),
                 "cats": {"instance", "ground_temperature_k", "accel_range"}}
     if name in accepted:
         extra = sorted(set(options) - accepted[name])
         if extra:
             raise LogError(f"{path} is a {FORMATS[name].description}, which takes no {', '.join(extra)} option"
                            f"{'s' if len(extra) > 1 else ''} (its columns are known)")
+    if DECODERS[decoder] is not None and DECODERS[decoder] != name:
+        raise LogError(f"{path}: the {decoder} decoder reads only {FORMATS[DECODERS[decoder]].description} logs; "
+                       f"this is a {FORMATS[name].description} log")
+    if name in ("dataflash", "ulog"):
+        options["decoder"] = decoder
     return FORMATS[name].read(path, progress=progress, **options)

@@ -1,17 +1,20 @@
 """Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS).
 
-The fast path hands the numeric columns a reader needs to numpy's C parser
-(:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a progress callback
-can follow. Only if that parser refuses the text does a slow pure-Python
+The fast path hands the numeric columns a reader needs to pyarrow's columnar
+CSV parser when pyarrow is installed and the text is plain numbers
+(:mod:`._csv_fast`), else to numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
+progress callback can follow. Only if that parser refuses the text does a slow pure-Python
 pass run, to find the first bad line and name it — or to accept what the
 fast path cannot (``NA`` cells, spaces around empty cells).
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import os
+import signal
 from dataclasses import dataclass
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
@@ -120,7 +123,28 @@ def _row_lines(table: Table) -> np.ndarray:
     return lines + table.first_line
 
 
+@contextlib.contextmanager
+def _native_threads_without_signals():
+    """SIGTERM and SIGINT blocked in this thread while pyarrow starts its native threads, which inherit the
+    mask: those threads must never take a process signal, or the CLI's hold on signals around creating an
+    output file (runner._atomic_output, which blocks them in the main thread only) would not hold. A signal
+    that arrives meanwhile is delivered when the mask is restored."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    try:
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _fast(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+    """The numeric ``columns`` by numpy's C parser (:func:`numpy.loadtxt`) in chunks; None if it refuses."""
     body = table.body
     total = len(body)
     parts = []
@@ -214,7 +238,8 @@ def numeric_columns(table: Table, columns: Sequence[int],
     LogError
         The first line with a bad cell, naming file line and column.
     """
-    data = _csv_fast.read_columns(table.body, columns, MISSING, progress)  # pyarrow, or None (issue 25)
+    with _native_threads_without_signals():
+        data = _csv_fast.read_columns(table.body, columns, MISSING, progress)  # pyarrow, or None (issue 25)
     if data is None:
         data = _fast(table, columns, progress)
     if data is not None:
@@ -232,7 +257,8 @@ def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
     """The raw (stripped) cells of one column for the given file lines (object array of str)."""
     rows = lines.size
     if rows and int(lines[0]) == table.first_line and int(lines[-1]) == table.first_line + rows - 1:
-        cells = _csv_fast.read_text_column(table.body, column, rows)  # pyarrow, or None (issue 25)
+        with _native_threads_without_signals():
+            cells = _csv_fast.read_text_column(table.body, column, rows)  # pyarrow, or None (issue 25)
         if cells is not None:
             return cells
     body = table.body.split("\n")

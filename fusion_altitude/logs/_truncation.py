@@ -29,13 +29,19 @@ def ulog_missing_bytes(path: str) -> Optional[int]:
     return offset - size if offset > size else 3 - (size - offset)
 
 
-def dataflash_missing_bytes(path: str) -> Optional[int]:
+def dataflash_missing_bytes(path: str, blob: Optional[bytes] = None, start: int = 0,
+                            lengths: Optional[dict] = None) -> Optional[int]:
     """Bytes missing from the last DataFlash message (lengths from the FMT messages), or None when the file
-    ends on a message boundary (or in bytes that are no message start, which pymavlink skips as garbage)."""
-    with open(path, "rb") as handle:
-        blob = handle.read()
-    lengths = {DATAFLASH_FMT: DATAFLASH_FMT_LENGTH}
-    offset, size = 0, len(blob)
+    ends on a message boundary (or in bytes that are no message start, which pymavlink skips as garbage).
+
+    ``blob``: the file's bytes if already read; ``start`` (byte offset of a message) and ``lengths`` (type →
+    length, bytes, as the FMT messages before ``start`` defined them): continue a walk there (the fast
+    decoder's index has walked the rest)."""
+    if blob is None:
+        with open(path, "rb") as handle:
+            blob = handle.read()
+    lengths = {DATAFLASH_FMT: DATAFLASH_FMT_LENGTH} if lengths is None else dict(lengths)
+    offset, size = start, len(blob)
     while offset + 3 <= size:
         if blob[offset:offset + 2] != DATAFLASH_HEAD:
             following = blob.find(DATAFLASH_HEAD, offset + 1)  # resynchronise as pymavlink does

@@ -73,9 +73,28 @@ def _time_spikes(time: np.ndarray) -> np.ndarray:
     return np.array([i for i in jumps if i == time.size - 1 or time[i + 1] < time[i]], dtype=int)
 
 
+#: Message types the reader asks for.
+KINDS = ["IMU", "IMU2", "IMU3", "ATT", "BARO", "BAR2", "BAR3", "GPS", "GPS2", "GPA", "RFND",
+         "XKF1", "NKF1", "EKF1", "ARM", "MSG"]
+#: Families of rows the reader builds (IMU2 and IMU3 join IMU, and so on).
+FAMILIES = ("IMU", "ATT", "BARO", "GPS", "GPA", "RFND", "XKF1", "NKF1", "EKF1", "ARM")
+#: Every field the reader reads (the rest are never materialised by the fast decoder).
+FIELDS_USED = ("TimeUS", "TimeMS", "T", "Week", "I", "C", "AccX", "AccY", "AccZ", "GyrX", "GyrY", "GyrZ",
+               "Roll", "Pitch", "Yaw", "Alt", "Press", "Temp", "Status", "NSats", "VAcc", "Dist", "Dist1",
+               "Stat", "PD", "VD", "ArmState")
+#: Decoders of ``read_dataflash``: the C decoder, or pymavlink (the reference, kept for one release).
+DECODERS = ("fast", "pymavlink")
+
+
 def read_dataflash(path: str, instance: Optional[int] = None,
-                   progress: Optional[Callable[[int, int], None]] = None) -> LogData:
-    """Read an ArduPilot DataFlash log (.bin) of any generation (the ``[logs]`` extra: pymavlink).
+                   progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
+    """Read an ArduPilot DataFlash log (.bin) of any generation.
+
+    ``decoder="fast"`` (default) decodes in C (the extension); logs whose
+    reading depends on pymavlink's internals (damaged bytes, redefined
+    types) are then read with pymavlink, so the result never depends on the
+    decoder. ``decoder="pymavlink"`` always reads with pymavlink (the
+    ``[logs]`` extra), the reference the fast decoder is tested against.
 
     Time stamps: ``TimeUS`` (µs) in current logs, ``TimeMS`` (ms) in
     ArduCopter ≤ 3.3 logs (GPS: its ``T`` boot-time field); the grid starts
@@ -105,22 +124,80 @@ def read_dataflash(path: str, instance: Optional[int] = None,
         Not a DataFlash log, or no ``IMU``/``ATT``/``BARO`` data (for that
         instance), time going backwards.
     ImportError
-        pymavlink is not installed.
+        pymavlink is not installed (``decoder="pymavlink"``, or a log the fast decoder leaves to it).
+    ValueError
+        ``decoder`` is not one of "fast", "pymavlink".
     """
+    if decoder not in DECODERS:
+        raise ValueError(f"decoder must be one of {', '.join(DECODERS)}, got {decoder!r}")
+    want = 0 if instance is None else int(instance)
+    if want < 0:
+        raise LogError(f"instance must be 0 or more, got {want}")
+    if os.path.isdir(path):
+        raise LogError(f"{path}: is a directory, not an ArduPilot DataFlash log")
+    if decoder == "fast":
+        from ._dataflash_fast import NeedsReference
+        try:
+            return _read_fast(path, want, progress)
+        except NeedsReference:
+            pass
+    return _read_pymavlink(path, want, progress)
+
+
+def _read_fast(path: str, want: int, progress) -> LogData:
+    """``read_dataflash`` with the C decoder; raises NeedsReference for a log it leaves to pymavlink."""
+    from . import _dataflash_fast as fast
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError as error:
+        raise LogError(f"cannot read {path} as an ArduPilot DataFlash log: {type(error).__name__}: {error}") \
+            from None
+    if data[:2] != DATAFLASH_MAGIC:
+        raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
+    try:
+        index = fast.DataFlashIndex(data, path)
+    except ValueError as error:
+        raise LogError(f"cannot read {path} as an ArduPilot DataFlash log: {error}") from None
+
+    def select(kind, fmt, table):
+        for family, names in _OLD_INSTANCE_NAMES.items():
+            if kind in names:
+                if kind != family:
+                    return family, np.full(table.size, names.index(kind) == want)
+                if "I" in fmt.colhash:
+                    return family, _integer_column(fmt, table, "I") == want
+                return family, np.full(table.size, want == 0)
+        if kind == "XKF1" and "C" in fmt.colhash:
+            return kind, _integer_column(fmt, table, "C") == 0
+        if kind == "GPA":
+            if "I" in fmt.colhash:
+                return kind, _integer_column(fmt, table, "I") == want
+            return kind, np.full(table.size, want == 0)
+        return kind, np.ones(table.size, dtype=bool)
+
+    def _integer_column(fmt, table, name):
+        # the reader's int(...) of the value: declined unless every value is a finite number
+        values = fast.column(fmt, table, name)
+        if not np.all(np.isfinite(values)):
+            raise fast.NeedsReference(f"{fmt.name}.{name} is not finite")
+        return np.trunc(values)
+
+    parts, firmware = fast.read_families(index, KINDS, FIELDS_USED, select)
+    rows = {family: fast.ArrayRows(parts.get(family, []), FIELDS_USED) for family in FAMILIES}
+    size = len(data)
+    return _build_checked(path, rows, firmware, "", want, progress, size, lambda _: index.missing_bytes(data))
+
+
+def _read_pymavlink(path: str, want: int, progress) -> LogData:
+    """``read_dataflash`` with pymavlink's DFReader (the reference decoder)."""
     try:
         from pymavlink import DFReader
     except ImportError as error:
         raise ImportError("reading .bin logs needs pymavlink: pip install 'fusion-altitude[logs]'") from error
-    want = 0 if instance is None else int(instance)
-    if want < 0:
-        raise LogError(f"instance must be 0 or more, got {want}")
-    kinds = ["IMU", "IMU2", "IMU3", "ATT", "BARO", "BAR2", "BAR3", "GPS", "GPS2", "GPA", "RFND",
-             "XKF1", "NKF1", "EKF1", "ARM", "MSG"]
-    rows: Dict[str, List[dict]] = {kind: [] for kind in ("IMU", "ATT", "BARO", "GPS", "GPA", "RFND",
-                                                          "XKF1", "NKF1", "EKF1", "ARM")}
+    kinds = KINDS
+    rows: Dict[str, List[dict]] = {kind: [] for kind in FAMILIES}
     firmware = ""
-    if os.path.isdir(path):
-        raise LogError(f"{path}: is a directory, not an ArduPilot DataFlash log")
     try:
         size = os.path.getsize(path)
         with open(path, "rb") as handle:
@@ -167,12 +244,50 @@ def read_dataflash(path: str, instance: Optional[int] = None,
         handle = getattr(locals().get("log"), "filehandle", None)
         if handle is not None:
             handle.close()
+    return _build_checked(path, {family: DictRows(found) for family, found in rows.items()}, firmware,
+                          chatter.getvalue(), want, progress, size)
+
+
+def _build_checked(path, rows, firmware, chatter_text, want, progress, size,
+                   missing_bytes=dataflash_missing_bytes) -> LogData:
+    """:func:`_build`, its errors on odd content as LogError naming the file."""
     try:
-        return _build(path, rows, firmware, chatter, want, progress, size)
+        return _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes)
     except LogError:
         raise
     except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
         raise LogError(f"{path}: unexpected DataFlash content: {type(error).__name__}: {error}") from None
+
+
+class DictRows:
+    """The messages of one family as pymavlink's dicts, answering what :class:`_dataflash_fast.ArrayRows` answers."""
+
+    def __init__(self, rows: List[dict]) -> None:
+        self.rows = rows
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def has(self, field: str) -> bool:
+        """Whether the first message has ``field``."""
+        return field in self.rows[0]
+
+    def values(self, field: str) -> np.ndarray:
+        """``field`` of every message as float64 (NaN where missing); TypeError/ValueError if not numbers."""
+        return np.array([r.get(field, np.nan) for r in self.rows], dtype=float)
+
+    def times(self) -> np.ndarray:
+        """:func:`_time_of` of every message, s."""
+        return np.array([_time_of(r) for r in self.rows], dtype=float)
+
+    def truthy(self, field: str) -> np.ndarray:
+        """Whether ``field`` is true in each message."""
+        return np.array([bool(r.get(field)) for r in self.rows], dtype=bool)
+
+    def keep(self, mask: np.ndarray) -> "DictRows":
+        """Only the messages where ``mask`` is true."""
+        self.rows = [r for r, k in zip(self.rows, mask) if k]
+        return self
 
 
 class _Messages:
@@ -184,7 +299,7 @@ class _Messages:
     def times(self, kind: str) -> np.ndarray:
         """The time stamps of the ``kind`` messages, in the log's unit (µs or ms)."""
         try:
-            values = np.array([_time_of(r) for r in self.rows[kind]], dtype=float)
+            values = self.rows[kind].times()
         except (TypeError, ValueError):
             raise LogError(f"{self.path}: {kind} messages with a time stamp that is not a number") from None
         if not np.all(np.isfinite(values)):
@@ -195,22 +310,27 @@ class _Messages:
         """The first of the fields ``names`` that the ``kind`` messages have, as float64."""
         rows = self.rows[kind]
         for name in names:
-            if name in rows[0]:
+            if rows.has(name):
                 try:
-                    return np.array([r.get(name, np.nan) for r in rows], dtype=float)
+                    return rows.values(name)
                 except (TypeError, ValueError):
                     raise LogError(f"{self.path}: {kind}.{name}: not a number in every message") from None
         raise LogError(f"{self.path}: {kind} messages have no field {' or '.join(names)}; "
-                       f"fields are {', '.join(rows[0])}")
+                       f"fields are {', '.join(_fields_of(rows))}")
 
 
-def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
+def _fields_of(rows) -> List[str]:
+    """The field names of the first message of ``rows``."""
+    return list(rows.rows[0]) if isinstance(rows, DictRows) else list(rows.first_fields)
+
+
+def _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
     """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
-        if not rows[needed]:
+        if not len(rows[needed]):
             raise LogError(f"{path}: no {needed} messages" + (f" for instance {want}" if want else "") + " in the log")
     messages = _Messages(path, rows)
-    stamp = "TimeUS" if "TimeUS" in rows["IMU"][0] else "TimeMS"
+    stamp = "TimeUS" if rows["IMU"].has("TimeUS") else "TimeMS"
     imu_time_raw, damaged = _imu_times_without_spikes(messages)
     t0 = float(imu_time_raw[0])
     imu = {"accel": np.column_stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"]),
@@ -232,22 +352,21 @@ def _build(path, rows, firmware, chatter, want, progress, size) -> LogData:
                    notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
                    + ([firmware] if firmware else []),
                    accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
-    chatter_text = chatter.getvalue()
     skipped = chatter_text.count("bad msg") + chatter_text.count("Skipped") + damaged
     if "bad header" in chatter_text:
         data.warn(f"{path}: damaged bytes skipped ({chatter_text.count('bad header')} bad message headers)")
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
-    if "Press" in rows["BARO"][0]:
+    if rows["BARO"].has("Press"):
         data.pressure = _align(time, baro_time, messages.column("BARO", "Press"))
-    if "Temp" in rows["BARO"][0]:
+    if rows["BARO"].has("Temp"):
         data.temperature = _align(time, baro_time, messages.column("BARO", "Temp") + 273.15)
     _add_gps(data, messages, time, t0)
     _add_rangefinder_and_arming(data, messages, time, t0)
     _add_ekf_reference(data, messages, time, t0, baro)
     if progress is not None:
         progress(size, size)
-    _warn_if_truncated(data, path, dataflash_missing_bytes)
+    _warn_if_truncated(data, path, missing_bytes)
     return finish(data)
 
 
@@ -260,23 +379,23 @@ def _imu_times_without_spikes(messages: _Messages):
         return imu_time_raw, 0
     keep = np.ones(imu_time_raw.size, dtype=bool)
     keep[spikes] = False
-    messages.rows["IMU"] = [r for r, k in zip(messages.rows["IMU"], keep) if k]
+    messages.rows["IMU"].keep(keep)
     return imu_time_raw[keep], spikes.size
 
 
 def _add_gps(data: LogData, messages: _Messages, time: np.ndarray, t0: float) -> None:
     """GPS altitude (m) and satellites where Status ≥ 3D fix, and GPA vertical accuracy (m), on the grid."""
     rows = messages.rows
-    if not rows["GPS"]:
+    if not len(rows["GPS"]):
         return
     gps_time = messages.times("GPS") - t0
     status = messages.column("GPS", "Status")
     altitude = np.where(status >= GPS_3D_FIX, messages.column("GPS", "Alt"), np.nan)
     data.gps_altitude = _align(time, gps_time, altitude)
-    if "NSats" in rows["GPS"][0]:
+    if rows["GPS"].has("NSats"):
         data.gps_satellites = _align(time, gps_time, np.where(status >= GPS_3D_FIX, messages.column("GPS", "NSats"),
                                                               np.nan))
-    if rows["GPA"] and "VAcc" in rows["GPA"][0]:
+    if len(rows["GPA"]) and rows["GPA"].has("VAcc"):
         data.gps_accuracy = _align(time, messages.times("GPA") - t0, messages.column("GPA", "VAcc"))
     data.notes.append("GPS.Alt where Status ≥ 3")
 
@@ -284,13 +403,13 @@ def _add_gps(data: LogData, messages: _Messages, time: np.ndarray, t0: float) ->
 def _add_rangefinder_and_arming(data: LogData, messages: _Messages, time: np.ndarray, t0: float) -> None:
     """Rangefinder distance (m, where Stat is 4 = good) and the armed/disarmed state, on the grid."""
     rows = messages.rows
-    if rows["RFND"]:
+    if len(rows["RFND"]):
         distance = messages.column("RFND", "Dist", "Dist1")
-        if "Stat" in rows["RFND"][0]:
+        if rows["RFND"].has("Stat"):
             distance = np.where(messages.column("RFND", "Stat") == 4, distance, np.nan)
         data.rangefinder = _align(time, messages.times("RFND") - t0, distance)
-    if rows["ARM"] and "ArmState" in rows["ARM"][0]:
-        states = np.array(["armed" if r.get("ArmState") else "disarmed" for r in rows["ARM"]], dtype=object)
+    if len(rows["ARM"]) and rows["ARM"].has("ArmState"):
+        states = np.where(rows["ARM"].truthy("ArmState"), "armed", "disarmed").astype(object)
         arm_time = messages.times("ARM") - t0
         index = np.searchsorted(arm_time, time, side="right") - 1
         data.flight_state = np.where(index >= 0, states[np.clip(index, 0, None)], "disarmed").astype(object)
@@ -301,10 +420,10 @@ def _add_ekf_reference(data: LogData, messages: _Messages, time: np.ndarray, t0:
     NKF1, EKF1 present."""
     rows = messages.rows
     for kind in ("XKF1", "NKF1", "EKF1"):
-        if rows[kind]:
+        if len(rows[kind]):
             ref_time = messages.times(kind) - t0
             down = messages.column(kind, "PD")
-            velocity = -messages.column(kind, "VD") if "VD" in rows[kind][0] else np.gradient(-down, ref_time)
+            velocity = -messages.column(kind, "VD") if rows[kind].has("VD") else np.gradient(-down, ref_time)
             if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
                 data.reference_altitude, data.reference_velocity = _reference_on_grid(
                     time, baro, ref_time, -down, velocity)

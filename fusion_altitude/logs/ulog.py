@@ -1,4 +1,4 @@
-"""PX4 ULog (.ulg) through pyulog (the ``[logs]`` extra)."""
+"""PX4 ULog (.ulg): decoded in C (the extension), pyulog (the ``[logs]`` extra) as the reference."""
 
 from __future__ import annotations
 
@@ -32,8 +32,8 @@ def _first(topic, *names):
 
 
 def read_ulog(path: str, instance: Optional[int] = None,
-              progress: Optional[Callable[[int, int], None]] = None) -> LogData:
-    """Read a PX4 ULog (.ulg) through pyulog (the ``[logs]`` extra).
+              progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
+    """Read a PX4 ULog (.ulg).
 
     Topics and fields (older and newer PX4 names both accepted; the grid
     starts at the first IMU sample, 0 s):
@@ -59,35 +59,49 @@ def read_ulog(path: str, instance: Optional[int] = None,
     * ``vehicle_status`` ``arming_state`` → ``flight_state``
       ("armed"/"disarmed"), ``vehicle_type`` → ``vehicle``.
 
+    ``decoder="fast"`` (default) decodes in C (the extension); logs whose
+    reading depends on pyulog's recovery paths (corrupt or unknown messages,
+    appended data) are then read with pyulog, so the result never depends
+    on the decoder. ``decoder="pyulog"`` always reads with pyulog (the
+    ``[logs]`` extra), the reference the fast decoder is tested against.
+
     Raises
     ------
     LogError
         Not a ULog, a needed topic or instance missing, time going backwards.
     ImportError
         pyulog is not installed.
+    ValueError
+        ``decoder`` is not "fast" or "pyulog".
     """
-    try:
-        from pyulog import ULog
-    except ImportError as error:
-        raise ImportError("reading .ulg logs needs pyulog: pip install 'fusion-altitude[logs]'") from error
+    if decoder not in ("fast", "pyulog"):
+        raise ValueError(f"decoder must be 'fast' or 'pyulog', got {decoder!r}")
     want = 0 if instance is None else int(instance)
     if want < 0:
         raise LogError(f"instance must be 0 or more, got {want}")
     if os.path.isdir(path):
         raise LogError(f"{path}: is a directory, not a PX4 ULog")
+    missing_bytes = ulog_missing_bytes
     try:
         with open(path, "rb") as handle:
-            if handle.read(len(ULOG_MAGIC)) != ULOG_MAGIC:
-                raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            ulog = ULog(path, _TOPICS)  # pyulog prints what it skips in a damaged file
-    except LogError:
-        raise
-    except Exception as error:  # pyulog raises a variety of errors on a bad file
+            blob = handle.read()
+    except OSError as error:
         raise LogError(f"cannot read {path} as a PX4 ULog: {type(error).__name__}: {error}") from None
+    if blob[:len(ULOG_MAGIC)] != ULOG_MAGIC:
+        raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
+    topics = None
+    if decoder == "fast":
+        from ._ulog_fast import NeedsReference, ULogTopics
+        try:
+            decoded = ULogTopics(blob, _TOPICS)
+            topics = decoded.data
+            missing_bytes = lambda _: decoded.missing_bytes()  # noqa: E731
+        except NeedsReference:
+            pass
+    if topics is None:
+        topics = _read_pyulog(path)
     if progress is not None:
         progress(1, 2)
-    topics = {(d.name, d.multi_id): d.data for d in ulog.data_list if len(d.data.get("timestamp", ())) > 0}
     names = sorted({name for name, _ in topics})
 
     def topic(name, multi=0, needed=True):
@@ -100,14 +114,30 @@ def read_ulog(path: str, instance: Optional[int] = None,
         return None
 
     try:
-        return _build(path, want, topic, progress)
+        return _build(path, want, topic, progress, missing_bytes)
     except LogError:
         raise
     except (KeyError, IndexError, ValueError) as error:  # a topic with unexpected fields
         raise LogError(f"{path}: unexpected ULog content: {type(error).__name__}: {error}") from None
 
 
-def _build(path, want, topic, progress) -> LogData:
+def _read_pyulog(path: str) -> dict:
+    """The topics of a ULog through pyulog (the reference decoder): (name, multi_id) → {field: array}."""
+    try:
+        from pyulog import ULog
+    except ImportError as error:
+        raise ImportError("reading .ulg logs needs pyulog: pip install 'fusion-altitude[logs]'") from error
+    try:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            ulog = ULog(path, _TOPICS)  # pyulog prints what it skips in a damaged file
+    except LogError:
+        raise
+    except Exception as error:  # pyulog raises a variety of errors on a bad file
+        raise LogError(f"cannot read {path} as a PX4 ULog: {type(error).__name__}: {error}") from None
+    return {(d.name, d.multi_id): d.data for d in ulog.data_list if len(d.data.get("timestamp", ())) > 0}
+
+
+def _build(path, want, topic, progress, missing_bytes=ulog_missing_bytes) -> LogData:
     """Assemble the LogData of a ULog from ``topic(name, instance=0, needed=True)`` (see :func:`read_ulog`)."""
     notes = []
     accel_instance = want > 0 and topic("sensor_accel", want, needed=False) is not None
@@ -149,7 +179,7 @@ def _build(path, want, topic, progress) -> LogData:
         data.reference_name = "PX4 EKF (vehicle_local_position)"
     if progress is not None:
         progress(2, 2)
-    _warn_if_truncated(data, path, ulog_missing_bytes)
+    _warn_if_truncated(data, path, missing_bytes)
     return finish(data)
 
 

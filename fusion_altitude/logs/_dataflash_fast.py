@@ -1,0 +1,361 @@
+"""ArduPilot DataFlash messages decoded at memory speed: one C pass finds every message
+(:func:`fusion_altitude.logs._decode.dataflash_index`, the walk of pymavlink's indexer), then the
+asked-for types are gathered and read as numpy structured arrays, one column per field.
+
+The values are those pymavlink's ``DFMessage.to_dict`` gives, bit for bit: integers as they are,
+``c``/``C``/``e``/``E`` divided by 100, ``L`` by 10⁷, floats widened to float64; the messages are
+those pymavlink's ``recv_match(type=...)`` returns (a message cut off by the end of the file, and
+everything after it, is not read).
+
+Logs whose reading depends on pymavlink's internals beyond that (bytes that start no message,
+types redefined by a second FMT, two types of one name, a field the reader uses that holds text,
+FMT/FMTU content that makes pymavlink raise) are declined with :class:`NeedsReference`, and the
+caller reads them with pymavlink, so the result is the same either way.
+"""
+
+from __future__ import annotations
+
+import re
+import struct
+from typing import Dict, Iterable, List, Sequence
+
+import numpy as np
+
+#: Format characters: (numpy dtype, multiplier as pymavlink's FORMAT_TO_STRUCT has it).
+FORMAT_CHARS = {
+    "a": ("V64", None), "b": ("<i1", None), "B": ("<u1", None), "g": ("<f2", None), "h": ("<i2", None),
+    "H": ("<u2", None), "i": ("<i4", None), "I": ("<u4", None), "f": ("<f4", None), "n": ("S4", None),
+    "N": ("S16", None), "Z": ("S64", None), "c": ("<i2", 0.01), "C": ("<u2", 0.01), "e": ("<i4", 0.01),
+    "E": ("<u4", 0.01), "L": ("<i4", 1.0e-7), "d": ("<f8", None), "M": ("<i1", None), "q": ("<i8", None),
+    "Q": ("<u8", None),
+}
+#: Bytes of each format character.
+_SIZES = {char: np.dtype(kind).itemsize for char, (kind, _) in FORMAT_CHARS.items()}
+#: Characters whose values are text (or pymavlink's int16 array): not numbers.
+TEXT_CHARS = set("anNZ")
+#: Types pymavlink's ``recv_match`` always walks besides the asked-for ones (it stops at the first cut-off one).
+ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
+_FMT_STRUCT = struct.Struct("<BB4s16s64s")
+#: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
+CLOCK_FIELDS = {"TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
+                "MainState", "Default", "BU"}
+_NAME = re.compile(r"[A-Za-z0-9_]+\Z")
+
+
+class NeedsReference(Exception):
+    """The log needs pymavlink's own reading to give the same result (the reason is the message)."""
+
+
+def decoder_module():
+    """The compiled scanners (``fusion_altitude.logs._decode``); NeedsReference if the extension is not built
+    (a source checkout without ``build_ext``: the reference libraries read every log then)."""
+    try:
+        from . import _decode
+    except ImportError:
+        raise NeedsReference("the extension fusion_altitude.logs._decode is not built") from None
+    return _decode
+
+
+def _null_term(raw: bytes) -> str:
+    """pymavlink's ``null_term`` of bytes: decoded with backslash escapes, cut at the first NUL."""
+    text = raw.decode(errors="backslashreplace")
+    cut = text.find("\0")
+    return text if cut == -1 else text[:cut]
+
+
+class Format:
+    """One FMT message: type number, name, length (bytes, header included), format characters, columns."""
+
+    def __init__(self, type_id: int, name: str, length: int, chars: str, columns: Sequence[str]) -> None:
+        self.type_id, self.name, self.length, self.chars = type_id, name, length, chars
+        self.columns = list(columns)
+        for char in chars:
+            if char not in FORMAT_CHARS:
+                raise NeedsReference(f"unsupported format character {char!r} in {name}")
+        self.colhash = {column: index for index, column in enumerate(self.columns)}
+        if len(self.columns) > len(chars):
+            raise NeedsReference(f"{name}: more columns than format characters")
+        if sum(_SIZES[c] for c in chars) + 3 != length:
+            raise NeedsReference(f"{name}: length {length} is not that of its format")
+        self._dtype = None
+
+    @property
+    def dtype(self) -> np.dtype:
+        """The structured dtype of a body (fields f0, f1, … in format order), built when first asked for."""
+        if self._dtype is None:
+            self._dtype = np.dtype([(f"f{k}", FORMAT_CHARS[c][0]) for k, c in enumerate(self.chars)])
+        return self._dtype
+
+    def char_of(self, field: str) -> str:
+        """Format character of ``field``."""
+        return self.chars[self.colhash[field]]
+
+
+class DataFlashIndex:
+    """The messages of a DataFlash log: where each starts, of which type, and the formats (from FMT)."""
+
+    def __init__(self, data, path: str) -> None:
+        _decode = decoder_module()
+        self.data = np.frombuffer(data, dtype=np.uint8)
+        self.size = self.data.size
+        self.path = path
+        offsets, types, bad, status, stop, lengths = _decode.dataflash_index(self.data)
+        if status != "ok":
+            # pymavlink's indexer ends the program here (exit status 1); the fast reader refuses the log
+            raise ValueError(f"{status} at byte {stop} (where pymavlink's indexer stops the program)")
+        if bad:
+            raise NeedsReference(f"{bad} bytes start no message")
+        self.offsets, self.types = offsets, types
+        self.final_lengths = lengths
+        self.formats: Dict[int, Format] = {}
+        self.name_to_id: Dict[str, int] = {}
+        self._read_formats()
+        self._check_units()
+
+    def check_clock(self, names: Iterable[str]) -> None:
+        """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
+        "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
+        without the partner of their week field or without a boot time."""
+        for name in set(names) | set(ALWAYS_WALKED):
+            if name not in self.name_to_id:
+                continue
+            fmt = self.formats[self.name_to_id[name]]
+            for column_name in fmt.columns:
+                if not _NAME.match(column_name):
+                    raise NeedsReference(f"{name}: column name {column_name!r}")
+                if column_name in CLOCK_FIELDS and fmt.char_of(column_name) in TEXT_CHARS:
+                    raise NeedsReference(f"{name}.{column_name} holds text")
+            if name in ("GPS", "GPS2"):
+                have = set(fmt.columns)
+                if ("Week" in have and "TimeMS" not in have) or \
+                        ("Week" not in have and "GWk" in have and "GMS" not in have) or \
+                        ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
+                        ("T" not in have and "TimeUS" not in have):
+                    raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
+
+    def missing_bytes(self, blob: bytes):
+        """:func:`_truncation.dataflash_missing_bytes` of the log, walking only from its last message on."""
+        from ._truncation import dataflash_missing_bytes
+        if not self.offsets.size:
+            return dataflash_missing_bytes(self.path, blob)
+        lengths = {k: int(v) for k, v in enumerate(self.final_lengths.tolist()) if v}
+        return dataflash_missing_bytes(self.path, blob, int(self.offsets[-1]), lengths)
+
+    def _bodies(self, type_id: int, length: int) -> np.ndarray:
+        _decode = decoder_module()
+        offsets = np.ascontiguousarray(self.offsets[self.types == type_id])
+        bodies, _ = _decode.dataflash_gather(self.data, offsets, length)
+        return offsets, bodies
+
+    def _read_formats(self) -> None:
+        """The FMT messages, in file order, as pymavlink's indexer reads them (it stops at a cut-off one)."""
+        offsets = self.offsets[self.types == 0x80]
+        seen = set()
+        for offset in offsets.tolist():
+            body = self.data[offset + 3:offset + 89].tobytes()
+            if len(body) + 3 < 89:
+                break
+            type_id, length, name, chars, columns = _FMT_STRUCT.unpack(body)
+            if type_id in seen:
+                raise NeedsReference(f"type {type_id} defined twice")
+            seen.add(type_id)
+            columns_text = _null_term(columns)
+            fmt = Format(type_id, _null_term(name), length, _null_term(chars),
+                         [] if columns_text == "" else columns_text.split(","))
+            if fmt.name in self.name_to_id:
+                raise NeedsReference(f"two types named {fmt.name}")
+            self.formats[type_id] = fmt
+            self.name_to_id[fmt.name] = type_id
+        for type_id in np.flatnonzero(np.bincount(self.types, minlength=256)).tolist():
+            if type_id != 0x80 and type_id not in self.formats:
+                raise NeedsReference(f"messages of type {type_id} without a readable FMT")
+
+    def _check_units(self) -> None:
+        """FMTU/UNIT/MULT only name units (no value changes), but odd ones make pymavlink raise: decline those."""
+        if "FMTU" in self.name_to_id:
+            fmtu = self.formats[self.name_to_id["FMTU"]]
+            for char in ("UnitIds", "MultIds"):
+                if char in fmtu.colhash and fmtu.char_of(char) not in "nNZ":
+                    raise NeedsReference(f"FMTU.{char} is not text")
+            if "MultIds" in fmtu.colhash and "UnitIds" not in fmtu.colhash:
+                raise NeedsReference("FMTU with multipliers but no units")
+            if "UnitIds" in fmtu.colhash:
+                if len(fmtu.columns) < 2 or fmtu.chars[1] in TEXT_CHARS:
+                    raise NeedsReference("FMTU without a numeric second field")
+                fields = [fmtu.columns[1]] + [c for c in ("UnitIds", "MultIds") if c in fmtu.colhash]
+                for record in self.records("FMTU", fields):
+                    target = self.formats.get(int(record[fmtu.columns[1]]))  # pymavlink: int(elements[1])
+                    if target is None:
+                        continue
+                    if "#" in record["UnitIds"]:
+                        raise NeedsReference("FMTU with an instance field")
+                    if "MultIds" in record and len(record["MultIds"]) < len(target.columns):
+                        raise NeedsReference("FMTU with fewer multipliers than columns")
+        for name in ("UNIT", "MULT"):
+            if name in self.name_to_id:
+                chars = self.formats[self.name_to_id[name]].chars
+                if len(chars) < 3 or chars[1] in TEXT_CHARS or chars[2] in TEXT_CHARS:
+                    raise NeedsReference(f"{name} without numeric second and third fields")
+
+    def messages(self, names: Iterable[str]):
+        """Offsets and types of the messages pymavlink's ``recv_match(type=names)`` returns, in file order."""
+        wanted = np.zeros(256, dtype=bool)
+        wanted[[self.name_to_id[n] for n in set(names) | set(ALWAYS_WALKED) if n in self.name_to_id]] = True
+        mask = wanted[self.types]
+        offsets, types = self.offsets[mask], self.types[mask]
+        lengths = np.zeros(256, dtype=np.uint64)
+        for type_id, fmt in self.formats.items():
+            lengths[type_id] = fmt.length
+        cut = np.flatnonzero(offsets + lengths[types] > self.size)
+        if cut.size:  # pymavlink returns None at a message cut off by the end: nothing after it is read
+            offsets, types = offsets[:cut[0]], types[:cut[0]]
+        return offsets, types
+
+    def records(self, name: str, fields: Sequence[str]) -> List[dict]:
+        """Text-friendly, slow path for a few messages: the ``fields`` of every ``name`` message as dicts."""
+        type_id = self.name_to_id[name]
+        fmt = self.formats[type_id]
+        offsets, bodies = self._bodies(type_id, fmt.length)
+        complete = offsets + fmt.length <= self.size
+        table = bodies[complete].view(fmt.dtype).reshape(-1)
+        out = []
+        for row in table:
+            out.append({field: _python_value(fmt, field, row[f"f{fmt.colhash[field]}"]) for field in fields})
+        return out
+
+
+def _python_value(fmt: Format, field: str, value):
+    """A value as pymavlink's ``DFMessage.__getattr__`` gives it (text decoded, multiplier applied)."""
+    char = fmt.char_of(field)
+    if char in "nNZ":
+        raw = bytes(value)
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            text = raw.decode("ISO-8859-1")
+        cut = text.find("\0")
+        return text if cut == -1 else text[:cut]
+    if char == "a":
+        return bytes(value)
+    multiplier = FORMAT_CHARS[char][1]
+    if multiplier is None:
+        return value.item()
+    if 0.0 < multiplier < 1.0:
+        return float(value) / (1 / multiplier)
+    return float(value) * multiplier
+
+
+def column(fmt: Format, table: np.ndarray, field: str) -> np.ndarray:
+    """One numeric field of a structured table as float64, the value pymavlink gives converted to float."""
+    char = fmt.char_of(field)
+    if char in TEXT_CHARS:
+        raise NeedsReference(f"{fmt.name}.{field} holds text")
+    values = table[f"f{fmt.colhash[field]}"].astype(np.float64)
+    multiplier = FORMAT_CHARS[char][1]
+    if multiplier is None:
+        return values
+    if 0.0 < multiplier < 1.0:
+        return values / (1 / multiplier)
+    return values * multiplier
+
+
+class ArrayRows:
+    """The messages of one reader family (e.g. IMU and IMU2), in file order, as float64 columns.
+
+    The same questions as a list of pymavlink dicts answers: ``len``, the fields of the first message,
+    a column (NaN where a message's type lacks the field), the time stamps (``_time_of``)."""
+
+    def __init__(self, parts: List[tuple], fields_used: Sequence[str]) -> None:
+        # parts: (offsets, fmt, table) per type, merged here by offset
+        self.first_fields: List[str] = []
+        if not parts:
+            self.order = np.zeros(0, dtype=np.intp)
+            self.size = 0
+            self.columns: Dict[str, np.ndarray] = {}
+            self.time = np.zeros(0)
+            return
+        offsets = np.concatenate([p[0] for p in parts])
+        # one type: already in file order; several (IMU and IMU2): merged by offset
+        order = np.arange(offsets.size) if len(parts) == 1 else np.argsort(offsets, kind="stable")
+        self.size = offsets.size
+        first_part = int(np.searchsorted(np.cumsum([p[0].size for p in parts]), order[0], side="right"))
+        # as pymavlink's to_dict: its type name first, then each column once
+        self.first_fields = ["mavpackettype"] + list(parts[first_part][1].colhash)
+        self.columns = {}
+        for field in fields_used:
+            if not any(field in fmt.colhash for _, fmt, _ in parts):
+                continue
+            pieces = [column(fmt, table, field) if field in fmt.colhash else np.full(table.size, np.nan)
+                      for _, fmt, table in parts]
+            self.columns[field] = np.concatenate(pieces)[order]
+        pieces = [_times(fmt, table) for _, fmt, table in parts]
+        self.time = np.concatenate(pieces)[order]
+
+    def __len__(self) -> int:
+        return self.size
+
+    def has(self, field: str) -> bool:
+        return field in self.first_fields
+
+    def values(self, field: str) -> np.ndarray:
+        return self.columns.get(field, np.full(self.size, np.nan))
+
+    def times(self) -> np.ndarray:
+        return self.time
+
+    def truthy(self, field: str) -> np.ndarray:
+        return self.values(field) != 0
+
+    def keep(self, mask: np.ndarray) -> "ArrayRows":
+        self.columns = {k: v[mask] for k, v in self.columns.items()}
+        self.time = self.time[mask]
+        self.size = int(np.count_nonzero(mask))
+        return self
+
+
+def _times(fmt: Format, table: np.ndarray) -> np.ndarray:
+    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3."""
+    if "TimeUS" in fmt.colhash:
+        return column(fmt, table, "TimeUS") * 1e-6
+    if "T" in fmt.colhash and "Week" in fmt.colhash:
+        return column(fmt, table, "T") * 1e-3
+    if "TimeMS" in fmt.colhash:
+        return column(fmt, table, "TimeMS") * 1e-3
+    return np.full(table.size, np.nan)
+
+
+def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequence[str],
+                  select) -> tuple:
+    """The reader's rows per family and the firmware text, from the messages ``recv_match(type=kinds)`` gives.
+
+    ``select(kind, fmt, table)`` → (family or None, boolean mask of the messages kept)."""
+    index.check_clock(kinds)
+    offsets, types = index.messages(kinds)
+    parts: Dict[str, List[tuple]] = {}
+    firmware = ""
+    for type_id in np.flatnonzero(np.bincount(types, minlength=256)).tolist():
+        fmt = index.formats[type_id]
+        if fmt.name not in kinds:
+            continue
+        mine = np.ascontiguousarray(offsets[types == type_id])
+        _decode = decoder_module()
+        bodies, _ = _decode.dataflash_gather(index.data, mine, fmt.length)
+        table = bodies.view(fmt.dtype).reshape(-1)
+        if fmt.name == "MSG":
+            if "Message" in fmt.colhash:
+                if fmt.char_of("Message") not in "nNZ":
+                    raise NeedsReference("MSG.Message is not text")
+                for row in table:
+                    text = _python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
+                    if text.startswith(("Ardu", "APM:")):
+                        firmware = text  # earliest in file order wins below
+                        break
+                parts.setdefault("MSG", []).append((mine, fmt, table))
+            continue
+        for field in fields_used:
+            if field in fmt.colhash and fmt.char_of(field) in TEXT_CHARS:
+                raise NeedsReference(f"{fmt.name}.{field} holds text")
+        family, mask = select(fmt.name, fmt, table)
+        if family is not None and np.any(mask):
+            parts.setdefault(family, []).append((mine[mask], fmt, table[mask]))
+    return parts, firmware

@@ -1,0 +1,131 @@
+# cython: boundscheck=False, wraparound=False
+"""The fast log decoder's C loops (fusion_altitude/logs/_dataflash_scan.h): the message index of a DataFlash log
+and the bodies of one message type gathered into one array. Used by :mod:`fusion_altitude.logs._dataflash_fast`."""
+
+import numpy as np
+
+from libc.stdint cimport uint8_t, uint64_t
+
+cdef extern from "_dataflash_scan.h":
+    ctypedef enum DataFlashScanStatus:
+        DataFlashScanOk
+        DataFlashScanBadFmtLength
+        DataFlashScanUnknownType
+        DataFlashScanFull
+    ctypedef struct DataFlashScanResult:
+        size_t count
+        size_t badHeaders
+        size_t stopOffset
+        uint8_t lengths[256]
+    DataFlashScanStatus DataFlashScan(const uint8_t *data, size_t size, uint64_t *offsets, uint8_t *types,
+                                      size_t capacity, DataFlashScanResult *result) nogil
+    size_t DataFlashGather(const uint8_t *data, size_t size, const uint64_t *offsets, size_t count, size_t length,
+                           uint8_t *out) nogil
+
+#: Status names of :func:`dataflash_index`.
+STATUS = {0: "ok", 1: "bad FMT length", 2: "unknown type", 3: "full"}
+
+
+def dataflash_index(const uint8_t[::1] data):
+    """Where each message of a DataFlash log starts and its type, in one pass (as pymavlink's indexer).
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+
+    Returns
+    -------
+    offsets : ndarray of uint64
+        Start of each message (byte offset of its 0xA3 0x95 header), in file order.
+    types : ndarray of uint8
+        Message type of each.
+    bad_headers : int
+        Bytes stepped over that start no header (not counted in the last 528 bytes of a file of 528 or more).
+    status : str
+        "ok", or where pymavlink's indexer would stop the program: "bad FMT length", "unknown type".
+    stop_offset : int
+        Byte where an error status was met (else the size).
+    lengths : ndarray of uint8, shape (256,)
+        Message length (bytes, header included) of each type at the end of the scan; 0 for undefined types.
+    """
+    cdef size_t size = data.shape[0]
+    cdef size_t capacity = size // 3 + 1
+    offsets = np.empty(capacity, dtype=np.uint64)
+    types = np.empty(capacity, dtype=np.uint8)
+    cdef uint64_t[::1] offsets_view = offsets
+    cdef uint8_t[::1] types_view = types
+    cdef DataFlashScanResult result
+    cdef DataFlashScanStatus status
+    cdef const uint8_t *start = &data[0] if size > 0 else NULL
+    if size == 0:
+        return offsets[:0], types[:0], 0, "ok", 0, np.zeros(256, dtype=np.uint8)
+    with nogil:
+        status = DataFlashScan(start, size, &offsets_view[0], &types_view[0], capacity, &result)
+    lengths = np.array([result.lengths[k] for k in range(256)], dtype=np.uint8)
+    return (offsets[:result.count], types[:result.count], int(result.badHeaders), STATUS[<int> status],
+            int(result.stopOffset), lengths)
+
+
+def dataflash_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, size_t length):
+    """The bodies of the messages at ``offsets`` (each ``length`` bytes with its 3-byte header), one row each.
+
+    Returns
+    -------
+    bodies : ndarray of uint8, shape (len(offsets), length - 3)
+        Bodies running past the end of ``data`` are zero-padded.
+    complete : int
+        How many bodies lie wholly inside ``data``.
+    """
+    cdef size_t count = offsets.shape[0]
+    if length < 3:
+        raise ValueError(f"length must be at least 3 bytes, got {length}")
+    out = np.empty((count, length - 3), dtype=np.uint8)
+    if count == 0 or length == 3:
+        return out, count
+    cdef uint8_t[:, ::1] out_view = out
+    cdef size_t complete
+    with nogil:
+        complete = DataFlashGather(&data[0], data.shape[0], &offsets[0], count, length, &out_view[0, 0])
+    return out, int(complete)
+
+
+cdef extern from "_ulog_scan.h":
+    ctypedef struct ULogScanResult:
+        size_t count
+        size_t endOffset
+        int full
+    void ULogScan(const uint8_t *data, size_t size, size_t start, uint64_t *offsets, uint8_t *types,
+                  unsigned short *sizes, size_t capacity, ULogScanResult *result) nogil
+
+
+def ulog_index(const uint8_t[::1] data, size_t start=16):
+    """Where each whole message of a ULog starts (from byte ``start``), its type and payload size, in one pass.
+
+    Returns
+    -------
+    offsets : ndarray of uint64
+        Byte offset of each message's 3-byte header.
+    types : ndarray of uint8
+        Message type (``ord('D')`` for data, …).
+    sizes : ndarray of uint16
+        Payload size of each, bytes.
+    end : int
+        Byte after the last whole message (a cut message after it is not read, as pyulog).
+    """
+    cdef size_t size = data.shape[0]
+    cdef size_t capacity = (size - start) // 3 + 1 if size > start else 1
+    offsets = np.empty(capacity, dtype=np.uint64)
+    types = np.empty(capacity, dtype=np.uint8)
+    sizes = np.empty(capacity, dtype=np.uint16)
+    cdef uint64_t[::1] offsets_view = offsets
+    cdef uint8_t[::1] types_view = types
+    cdef unsigned short[::1] sizes_view = sizes
+    cdef ULogScanResult result
+    if size <= start:
+        return offsets[:0], types[:0], sizes[:0], int(start)
+    with nogil:
+        ULogScan(&data[0], size, start, &offsets_view[0], &types_view[0], &sizes_view[0], capacity, &result)
+    if result.full:
+        raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
+    return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)

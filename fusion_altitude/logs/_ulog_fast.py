@@ -1,0 +1,254 @@
+"""PX4 ULog topics decoded at memory speed: one C pass finds every message
+(:func:`fusion_altitude.logs._decode.ulog_index`), the definitions (formats, nested types flattened as
+pyulog flattens them) and subscriptions are read in Python, and the data messages of each asked-for
+subscription are gathered by msg_id into one numpy structured array (the dtype pyulog builds), so each
+field is bit for bit what pyulog's ``ULog(path, names).data_list`` holds.
+
+Logs whose reading depends on pyulog's recovery paths (a cut or unknown message in the definitions,
+unknown message types, sync recovery, appended data, flags it refuses, a subscription re-using a msg_id,
+messages whose parsing would make pyulog stop or flag corruption) are declined with
+:class:`NeedsReference`, and the caller reads them with pyulog, so the result is the same either way.
+"""
+
+from __future__ import annotations
+
+import struct
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._dataflash_fast import NeedsReference, decoder_module
+
+HEADER_BYTES = b"\x55\x4c\x6f\x67\x01\x12\x35"
+#: pyulog's basic types: (bytes, numpy dtype).
+TYPES = {"int8_t": (1, np.int8), "uint8_t": (1, np.uint8), "int16_t": (2, np.int16), "uint16_t": (2, np.uint16),
+         "int32_t": (4, np.int32), "uint32_t": (4, np.uint32), "int64_t": (8, np.int64), "uint64_t": (8, np.uint64),
+         "float": (4, np.float32), "double": (8, np.float64), "bool": (1, np.int8), "char": (1, np.int8)}
+_STRUCT = {"int8_t": "b", "uint8_t": "B", "int16_t": "h", "uint16_t": "H", "int32_t": "i", "uint32_t": "I",
+           "int64_t": "q", "uint64_t": "Q", "float": "f", "double": "d", "bool": "?", "char": "c"}
+_DEFINITION_TYPES = set(b"IMFPQB")
+_SECTION_END = set(b"ALC")
+_DATA_TYPES = set(b"IMPQALCDOS")
+
+
+def _text(raw: bytes) -> str:
+    """pyulog's ``parse_string`` (UTF-8, undecodable bytes dropped)."""
+    return str(raw, "utf-8", "ignore")
+
+
+def _parse_format(payload: bytes) -> Tuple[str, List[tuple]]:
+    """An F message: (name, [(type, array size, field name), …]) as pyulog's MessageFormat; raises on what
+    makes pyulog flag corruption."""
+    parts = _text(payload).split(":")
+    name = parts[0]
+    fields = []
+    for item in parts[1].split(";"):
+        if not item:
+            continue
+        words = item.split(" ")
+        type_text, field = words[0], words[1]
+        at = type_text.find("[")
+        if at == -1:
+            fields.append((type_text, 0, field))
+        else:
+            size = int(type_text[at + 1:type_text.find("]")])
+            if size < 0 or size > 0xFFFF:
+                raise ValueError("invalid array size")
+            fields.append((type_text[:at], size, field))
+    return name, fields
+
+
+def _info_ok(payload: bytes, multiple: bool = False, default: bool = False) -> bool:
+    """Whether pyulog parses an I/M/P/Q message without an exception (one would flag corruption, and a
+    struct.error in the data section stops reading)."""
+    if multiple or default:
+        payload = payload[1:]
+        if len(payload) < 1:
+            return False
+    if len(payload) < 1:
+        return False
+    key_length = payload[0]
+    words = _text(payload[1:1 + key_length]).split(" ")
+    if len(words) < 2:
+        return False
+    kind = words[0]
+    if kind.startswith("char[") or kind not in _STRUCT:
+        return True
+    return len(payload) - 1 - key_length == struct.calcsize("<" + _STRUCT[kind])
+
+
+def _infos_ok(array: np.ndarray, blob: bytes, offsets: np.ndarray, sizes: np.ndarray, skip: int) -> bool:
+    """:func:`_info_ok` of many I/P messages at once (``skip``: bytes before the key length, 1 for M and Q):
+    the common ones (a basic type word) checked in numpy, the rest one by one."""
+    if not offsets.size:
+        return True
+    if np.any(sizes < 1 + skip):
+        return False
+    starts = offsets.astype(np.int64) + 3 + skip
+    key_length = array[starts].astype(np.int64)
+    value_size = sizes.astype(np.int64) - skip - 1 - key_length
+    width = 10  # the longest type word ("uint64_t") and its space
+    index = np.minimum(starts[:, None] + 1 + np.arange(width), array.size - 1)
+    heads = array[index]
+    checked = np.zeros(offsets.size, dtype=bool)
+    for kind, code in _STRUCT.items():
+        word = np.frombuffer(kind.encode() + b" ", dtype=np.uint8)
+        match = (key_length >= word.size) & (value_size >= 0) & np.all(heads[:, :word.size] == word, axis=1)
+        if np.any(match & (value_size != struct.calcsize("<" + code))):
+            return False
+        checked |= match
+    for k in np.flatnonzero(~checked).tolist():
+        offset, size = int(offsets[k]), int(sizes[k])
+        payload = blob[offset + 3:offset + 3 + size]
+        if not _info_ok(payload, multiple=skip == 1):
+            return False
+    return True
+
+
+class Subscription:
+    """An A message: msg_id, multi_id, topic name, the flattened fields and pyulog's dtype."""
+
+    def __init__(self, payload: bytes, formats: Dict[str, List[tuple]], offset: int) -> None:
+        self.multi_id = payload[0]
+        self.msg_id = payload[1] | (payload[2] << 8)
+        self.name = _text(payload[3:])
+        self.offset = offset
+        self.fields: List[tuple] = []
+        self._flatten("", self.name, formats)
+        while self.fields and self.fields[-1][0].startswith("_padding"):
+            self.fields.pop()
+        self.dtype = np.dtype([(name, TYPES[kind][1]) for name, kind in self.fields]).newbyteorder("<")
+        self.timestamp_offset = 0
+        for name, kind in self.fields:
+            if name == "timestamp":
+                if kind != "uint64_t":
+                    raise NeedsReference(f"{self.name}: timestamp is {kind}")
+                break
+            self.timestamp_offset += TYPES[kind][0]
+        else:
+            raise NeedsReference(f"{self.name}: no timestamp field")
+
+    def _flatten(self, prefix: str, type_name: str, formats) -> None:
+        """pyulog's ``_parse_nested_type``: arrays as ``name[i]``, nested types as ``outer.inner``."""
+        if type_name not in formats:
+            raise NeedsReference(f"no format {type_name!r}")
+        for kind, size, field in formats[type_name]:
+            if kind in TYPES:
+                if size > 0:
+                    self.fields += [(f"{prefix}{field}[{i}]", kind) for i in range(size)]
+                else:
+                    self.fields.append((prefix + field, kind))
+            elif size > 0:
+                for i in range(size):
+                    self._flatten(f"{prefix}{field}[{i}].", kind, formats)
+            else:
+                self._flatten(f"{prefix}{field}.", kind, formats)
+
+
+class ULogTopics:
+    """The topics of a ULog: ``data[(name, multi_id)]`` → {field: array}, what pyulog's data_list holds for
+    the names asked for (only those subscriptions are materialised)."""
+
+    def __init__(self, blob: bytes, names: Optional[Sequence[str]]) -> None:
+        _decode = decoder_module()
+        if len(blob) < 16 or blob[:7] != HEADER_BYTES:
+            raise NeedsReference("not a ULog header (pyulog's error)")
+        if blob[7] > 1:
+            raise NeedsReference("unknown ULog version")
+        self.blob = blob
+        self.array = np.frombuffer(blob, dtype=np.uint8)
+        offsets, types, sizes, self.end = _decode.ulog_index(self.array)
+        section = self._definitions(offsets, types, sizes)
+        self.data = self._data_section(offsets[section:], types[section:], sizes[section:], names)
+
+    def missing_bytes(self) -> Optional[int]:
+        """:func:`_truncation.ulog_missing_bytes` from the index: bytes missing from a cut last message."""
+        size = len(self.blob)
+        if self.end == size:
+            return None
+        if size - self.end >= 3:  # the payload is cut
+            return self.end + 3 + (self.blob[self.end] | (self.blob[self.end + 1] << 8)) - size
+        return 3 - (size - self.end)  # the header is cut
+
+    def _payload(self, offset: int, size: int) -> bytes:
+        return self.blob[offset + 3:offset + 3 + size]
+
+    def _definitions(self, offsets, types, sizes) -> int:
+        """Read the definitions section; return the index of its first data-section message."""
+        self.formats: Dict[str, List[tuple]] = {}
+        ends = np.flatnonzero(np.isin(types, np.frombuffer(bytes(_SECTION_END), dtype=np.uint8)))
+        section = int(ends[0]) if ends.size else types.size
+        if not ends.size:
+            raise NeedsReference("no data section")
+        head_types = types[:section]
+        if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
+            raise NeedsReference("a message type that does not belong in the definitions")
+        self._check_infos(offsets[:section], head_types, sizes[:section])
+        for k in np.flatnonzero((head_types == ord("F")) | (head_types == ord("B"))).tolist():
+            kind, offset, size = int(types[k]), int(offsets[k]), int(sizes[k])
+            payload = self._payload(offset, size)
+            try:
+                if kind == ord("F"):
+                    name, fields = _parse_format(payload)
+                    self.formats[name] = fields
+                elif kind == ord("B"):
+                    if k != 0 or size < 40:
+                        raise NeedsReference("flag bits not first or short")
+                    if any(payload[8:16]) or any(payload[16:40]):
+                        raise NeedsReference("incompatible flags or appended data")
+            except (IndexError, ValueError, KeyError, OverflowError, struct.error):
+                raise NeedsReference("a definition pyulog cannot parse") from None
+        return section
+
+    def _check_infos(self, offsets, types, sizes) -> None:
+        """Decline if an I/M/P/Q message would make pyulog raise."""
+        for kind in b"IMPQ":
+            mine = types == kind
+            if np.any(mine) and not _infos_ok(self.array, self.blob, offsets[mine], sizes[mine],
+                                              skip=1 if kind in b"MQ" else 0):
+                raise NeedsReference("an info or parameter message pyulog cannot parse")
+
+    def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
+        _decode = decoder_module()
+        present = set(np.flatnonzero(np.bincount(types, minlength=256)).tolist())
+        if not present <= _DATA_TYPES:
+            raise NeedsReference(f"message types {sorted(present - _DATA_TYPES)} in the data section")
+        for kind, minimum in ((ord("L"), 9), (ord("C"), 11), (ord("A"), 3), (ord("D"), 2)):
+            if np.any(sizes[types == kind] < minimum):
+                raise NeedsReference(f"a {chr(kind)} message too short for pyulog")
+        if np.any(sizes[types == ord("O")] != 2):
+            raise NeedsReference("a dropout message that is not 2 bytes")
+        self._check_infos(offsets, types, sizes)
+        subscriptions: Dict[int, Subscription] = {}
+        seen_ids = set()
+        for offset, size in zip(offsets[types == ord("A")].tolist(), sizes[types == ord("A")].tolist()):
+            payload = self._payload(offset, size)
+            msg_id = payload[1] | (payload[2] << 8)
+            if msg_id in seen_ids:
+                raise NeedsReference(f"msg_id {msg_id} subscribed twice")
+            seen_ids.add(msg_id)
+            name = _text(payload[3:])
+            if names is not None and name not in names:
+                continue
+            try:
+                subscriptions[msg_id] = Subscription(payload, self.formats, offset)
+            except (ValueError, TypeError) as error:  # e.g. two fields of one name: pyulog flags corruption
+                raise NeedsReference(f"subscription {name}: {error}") from None
+        data_offsets = offsets[types == ord("D")]
+        data_sizes = sizes[types == ord("D")]
+        ids = self.array[data_offsets + 3].astype(np.uint16) | (self.array[data_offsets + 4].astype(np.uint16) << 8)
+        out: Dict[tuple, Dict[str, np.ndarray]] = {}
+        for msg_id, subscription in subscriptions.items():
+            mine = (ids == msg_id) & (data_offsets > subscription.offset) & \
+                   (data_sizes.astype(np.int64) - 2 == subscription.dtype.itemsize)
+            if not np.any(mine):
+                continue
+            key = (subscription.name, subscription.multi_id)
+            if key in out:
+                raise NeedsReference(f"{key} subscribed twice")
+            starts = np.ascontiguousarray(data_offsets[mine] + 2)  # the payload after the msg_id
+            bodies, _ = _decode.dataflash_gather(self.array, starts, subscription.dtype.itemsize + 3)
+            table = np.frombuffer(bodies.tobytes() if not bodies.flags.c_contiguous else bodies.data,
+                                  dtype=subscription.dtype)
+            out[key] = {name: table[name] for name in table.dtype.names}
+        return out

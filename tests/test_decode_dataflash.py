@@ -1,0 +1,212 @@
+"""The fast DataFlash decoder (C, fusion_altitude/logs/_decode.pyx) reads what pymavlink reads, bit for bit.
+
+pymavlink is the reference: on the shared log, every fixture generation and
+the reader-fuzz mutations of the fixtures, ``read_dataflash(decoder="fast")``
+and ``read_dataflash(decoder="pymavlink")`` give the same LogData (every array
+compared by its bytes, time stamps included), the same warnings and the same
+errors; and the decoded messages themselves (every field the reader uses, of
+every type it asks for) equal pymavlink's ``to_dict`` values. The C scanner's
+libFuzzer corpus is replayed under ASan + UBSan.
+"""
+
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
+import logfixtures as fx  # noqa: E402
+from fusion_altitude import logs  # noqa: E402
+from fusion_altitude.logs import _dataflash_fast as fast  # noqa: E402
+from fusion_altitude.logs import _decode, dataflash  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+FIXTURES = {
+    "TimeMS": dict(style="TimeMS"),
+    "TimeUS": dict(style="TimeUS"),
+    "TimeUS-gap-repeats": dict(style="TimeUS", gap=(5.0, 6.0), repeat_every=7),
+    "TimeMS-corrupt-tail": dict(style="TimeMS", corrupt_tail=True),
+    "TimeUS-corrupt-tail": dict(style="TimeUS", corrupt_tail=True),
+}
+
+
+def _read(path, decoder, **options):
+    """(LogData or the error as (type name, message), warning texts) of one read."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = dataflash.read_dataflash(str(path), decoder=decoder, **options)
+        except Exception as error:  # compared between the decoders
+            result = (type(error).__name__, str(error))
+    # pymavlink's unclosed files (ResourceWarning, collected at random moments) are not the reader's warnings
+    return result, [str(w.message) for w in caught if not issubclass(w.category, ResourceWarning)]
+
+
+def _assert_same_log(path, **options):
+    """Both decoders give the same LogData bit for bit, the same warnings, or the same error."""
+    mine, my_warnings = _read(path, "fast", **options)
+    theirs, their_warnings = _read(path, "pymavlink", **options)
+    assert my_warnings == their_warnings
+    if isinstance(theirs, tuple) or isinstance(mine, tuple):
+        assert mine == theirs
+        return
+    mine_fields, their_fields = vars(mine), vars(theirs)
+    assert set(mine_fields) == set(their_fields)
+    for name, value in their_fields.items():
+        other = mine_fields[name]
+        if isinstance(value, np.ndarray):
+            assert isinstance(other, np.ndarray) and other.dtype == value.dtype and other.shape == value.shape, name
+            if value.dtype == object:
+                assert list(other) == list(value), name
+            else:
+                assert other.tobytes() == value.tobytes(), name
+        else:
+            assert other == value, name
+
+
+def _pymavlink_messages(path):
+    """pymavlink's ``to_dict`` of every message the reader asks for, by type name, in file order."""
+    from pymavlink import DFReader
+
+    reader = DFReader.DFReader_binary(str(path), zero_time_base=True)
+    out = {}
+    try:
+        while True:
+            message = reader.recv_match(type=dataflash.KINDS)
+            if message is None:
+                return out
+            out.setdefault(message.get_type(), []).append(message.to_dict())
+    finally:
+        reader.filehandle.close()
+
+
+def _fast_messages(path):
+    """The fast decoder's columns of every field the reader uses, by type name."""
+    index = fast.DataFlashIndex(Path(path).read_bytes(), str(path))
+    offsets, types = index.messages(dataflash.KINDS)
+    out = {}
+    for type_id in np.unique(types).tolist():
+        fmt = index.formats[type_id]
+        if fmt.name not in dataflash.KINDS:
+            continue
+        bodies, _ = _decode.dataflash_gather(index.data, np.ascontiguousarray(offsets[types == type_id]), fmt.length)
+        table = bodies.view(fmt.dtype).reshape(-1)
+        out[fmt.name] = {field: fast.column(fmt, table, field) for field in dataflash.FIELDS_USED
+                         if field in fmt.colhash}
+        if "Message" in fmt.colhash:
+            out[fmt.name]["Message"] = [fast._python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
+                                        for row in table]
+    return out
+
+
+def _assert_same_messages(path):
+    theirs = _pymavlink_messages(path)
+    mine = _fast_messages(path)
+    assert set(mine) == set(theirs)
+    for kind, rows in theirs.items():
+        for field, values in mine[kind].items():
+            if field == "Message":
+                assert values == [r[field] for r in rows], f"{kind}.{field}"
+            else:
+                expected = np.array([r[field] for r in rows], dtype=float)
+                assert values.tobytes() == expected.tobytes(), f"{kind}.{field}"
+
+
+def _fixture(tmp_path, name):
+    path = tmp_path / f"{name}.bin"
+    fx.write_dataflash(path, duration=12.0, **FIXTURES[name])
+    return path
+
+
+def test_shared_log_decodes_field_for_field_as_pymavlink(shared_logs):
+    _assert_same_messages(shared_logs / "ardupilot_test.BIN")
+
+
+def test_shared_log_reads_the_same_with_both_decoders(shared_logs):
+    _assert_same_log(shared_logs / "ardupilot_test.BIN")
+
+
+def test_shared_log_is_decoded_in_c_not_left_to_pymavlink(shared_logs):
+    data = dataflash._read_fast(str(shared_logs / "ardupilot_test.BIN"), 0, None)
+    assert data.time.size > 0
+
+
+@pytest.mark.parametrize("name", sorted(FIXTURES))
+def test_fixture_decodes_field_for_field_as_pymavlink(tmp_path, name):
+    _assert_same_messages(_fixture(tmp_path, name))
+
+
+@pytest.mark.parametrize("name", sorted(FIXTURES))
+@pytest.mark.parametrize("instance", [0, 1])
+def test_fixture_reads_the_same_with_both_decoders(tmp_path, name, instance):
+    _assert_same_log(_fixture(tmp_path, name), instance=instance)
+
+
+@pytest.mark.parametrize("name", ["TimeMS", "TimeUS"])
+def test_clean_fixture_is_decoded_in_c_not_left_to_pymavlink(tmp_path, name):
+    data = dataflash._read_fast(str(_fixture(tmp_path, name)), 0, None)
+    assert data.time.size > 0
+
+
+@pytest.mark.parametrize("name", ["TimeMS", "TimeUS"])
+def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, name):
+    """The reader fuzz's mutations (truncations, bit flips, random bytes, deleted runs; seed 1, 60 per
+    generation) of the fuzz seeds. Mutations on which pymavlink's indexer would end the process (an FMT
+    length below 3, a type without FMT) are read by the fast decoder only, which must raise LogError."""
+    seed = tmp_path / "seed.bin"
+    fx.write_dataflash(seed, style=name, duration=2.0, imu_rate=25.0)
+    rng = np.random.default_rng(1)
+    for number, data in enumerate(fx.mutations(seed.read_bytes(), rng, 60)):
+        path = Path(fx.write_bytes(tmp_path / f"mutation{number}.bin", data))
+        _, _, _, status, _, _ = _decode.dataflash_index(np.frombuffer(data, dtype=np.uint8)) if data else \
+            (None, None, None, "ok", None, None)
+        if status != "ok":
+            with pytest.raises(logs.LogError, match="where pymavlink's indexer stops the program"):
+                dataflash.read_dataflash(str(path))
+            continue
+        _assert_same_log(path)
+
+
+def test_unknown_decoder_is_refused_naming_the_argument(shared_logs):
+    with pytest.raises(ValueError, match="decoder"):
+        logs.load_log(str(shared_logs / "ardupilot_test.BIN"), decoder="mavlink")
+
+
+def test_the_other_formats_reference_decoder_is_refused(shared_logs):
+    with pytest.raises(logs.LogError, match="pyulog decoder reads only PX4 ULog"):
+        logs.load_log(str(shared_logs / "ardupilot_test.BIN"), decoder="pyulog")
+
+
+def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
+    """csrc/fuzz/fuzz_dataflash.c over csrc/fuzz/corpus_dataflash: the C scanner equals its byte-at-a-time
+    transcription of pymavlink's indexer and reads nothing outside the log."""
+    binary = tmp_path / "fuzz_dataflash"
+    build = subprocess.run(["clang", "-std=c99", "-g", "-O1", "-fsanitize=fuzzer,address,undefined",
+                            "-fno-sanitize-recover=all", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+                            f"-I{ROOT / 'fusion_altitude' / 'logs'}", str(ROOT / "csrc" / "fuzz" / "fuzz_dataflash.c"),
+                            "-o", str(binary)], capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr
+    corpus = ROOT / "csrc" / "fuzz" / "corpus_dataflash"
+    files = sorted(corpus.iterdir())
+    assert len(files) >= 3
+    run = subprocess.run([str(binary), "-runs=0", *map(str, files)], capture_output=True, text=True, timeout=600,
+                         cwd=tmp_path)
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert run.stderr.count("Executed ") == len(files)
+    assert "ERROR" not in run.stderr
+
+
+def test_without_the_extension_the_fast_decoder_leaves_the_log_to_pymavlink(shared_logs, monkeypatch):
+    path = str(shared_logs / "ardupilot_test.BIN")
+    reference = dataflash.read_dataflash(path, decoder="pymavlink")
+
+    def missing():
+        raise fast.NeedsReference("the extension fusion_altitude.logs._decode is not built")
+
+    monkeypatch.setattr(fast, "decoder_module", missing)
+    with pytest.raises(fast.NeedsReference):
+        dataflash._read_fast(path, 0, None)
+    assert dataflash.read_dataflash(path).time.tobytes() == reference.time.tobytes()

@@ -1050,7 +1050,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_compare_parser(commands)
     from .fleet import add_fleet_parser
     add_fleet_parser(commands)
-    from .report_cli import add_report_parser
+    from .report import add_report_parser
     add_report_parser(commands)
     return parser
 

@@ -97,7 +97,7 @@ def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
     summary.add_argument("output", metavar="OUT/", help="output directory of `fleet run`")
     summary.add_argument("--worst", type=int, default=10, help="worst logs to print (default 10)")
     summary.add_argument("--all", action="store_true", help="print every log, not only the worst")
-    from .report_cli import add_fleet_report_parser
+    from .report import add_fleet_report_parser
     add_fleet_report_parser(commands)
     return fleet
 

@@ -4,7 +4,9 @@
   vectors (the same as on the host and the Cortex-M4F) on rv32imac (soft float) and rv32imafc (hardware single
   precision), at -Os and -O2, bit for bit; and the retired instructions of each Update path (minstret under
   QEMU -icount);
-- AVR under simavr (atmega1284p): the CPU cycles of each Update path (Timer1), every path taking its status;
+- AVR under simavr (atmega1284p): the same replays at -Os and -O2, bit for bit, the records streamed from a
+  libsimavr host over the UART (they fit no AVR's memory); the CPU cycles of each Update path (Timer1), every
+  path taking its status;
 - the Arduino library archive and its sketches, compiled warning-free for an ATmega328P and a Cortex-M4F.
 
 A missing tool fails the test (never a skip): .ci/run installs them with apt.
@@ -23,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FIRMWARE = ROOT / "csrc" / "firmware"
 ESTIMATORS = ["observer", "kalman", "complementary", "alphabeta", "flight", "ins"]
 SKETCHES = ["Observer", "Kalman", "Complementary", "AlphaBeta", "Rocket", "Ins"]
-TOOLS = ("make", "riscv64-unknown-elf-gcc", "qemu-system-riscv32", "avr-gcc", "avr-g++", "avr-size", "simavr",
+TOOLS = ("make", "gcc", "riscv64-unknown-elf-gcc", "qemu-system-riscv32", "avr-gcc", "avr-g++", "avr-size", "simavr",
          "arm-none-eabi-g++", "timeout")
 #: Update paths of cycles_<name>.c, in call order (their comments list them)
 PATHS = {"observer": 3, "kalman": 5, "complementary": 4, "alphabeta": 4, "flight": 5, "ins": 6}
@@ -67,6 +69,32 @@ def test_a_corrupted_record_fails_the_riscv_replay(tmp_path):
                              "riscv-run/rv32imafc/replay_kalman-Os"], capture_output=True, text=True, timeout=600)
     assert result.returncode != 0
     assert f"replay: {record_count('kalman')} records, 1 mismatches" in result.stdout
+
+
+@pytest.mark.slow
+def test_replays_on_avr_under_simavr_are_bit_exact(build):
+    assert Path("/usr/include/simavr/sim_avr.h").is_file(), "libsimavr-dev is not installed (.ci/run installs it)"
+    output = make(build, "replay-avr")
+    for name in ESTIMATORS:
+        for optimisation in ("Os", "O2"):
+            line = f"avr replay_{name}-{optimisation}: replay: {record_count(name)} records, 0 mismatches"
+            assert line in output.splitlines(), line
+            # every byte of the streams was asked for: the replay read all records and checkpoints
+            sent = re.search(rf"^avr replay_{name}-{optimisation}: avr cycles \d+, records sent (\d+) of (\d+) B, "
+                             rf"checkpoints (\d+) of (\d+) B$", output, re.M)
+            assert sent is not None and sent.group(1) == sent.group(2) and sent.group(3) == sent.group(4), name
+
+
+@pytest.mark.slow
+def test_a_corrupted_record_fails_the_avr_replay(tmp_path):
+    """The check above can fail: one flipped expected bit is a mismatch and a non-zero exit on the AVR too."""
+    missing = [tool for tool in TOOLS if shutil.which(tool) is None]
+    assert not missing, missing
+    result = subprocess.run(["make", "-C", str(FIRMWARE), f"BUILD={tmp_path}", f"PYTHON={sys.executable}",
+                             "REPLAY_DEFINES=-DREPLAY_CORRUPT_RECORD=5", "avr-run/replay_complementary-Os"],
+                            capture_output=True, text=True, timeout=600)
+    assert result.returncode != 0
+    assert f"replay: {record_count('complementary')} records, 1 mismatches" in result.stdout
 
 
 def steps(output: str, prefix: str, unit: str) -> dict:

@@ -7,9 +7,9 @@ Makefile's outputs (make chips-table runs the builds, then this).
 RISC-V: the replay result of each estimator's vectors (rv32imac and rv32imafc, -Os and -O2: "bit-exact" when
 every record's status and state bits equal the reference's), the code size of its Update (the nm size of
 Sized...Update, -Os, flattened as in sized_<name>.c) and the instructions QEMU retired in each Update path
-(minstret under -icount: instructions, not cycles; QEMU models no pipeline). AVR (atmega1284p under simavr,
--Os): the code size of Sized...Update and the CPU cycles of each path, counted by Timer1 (simavr is cycle
-accurate per instruction). Sketches: avr-size / arm-none-eabi-size of each example sketch (flash = text + data,
+(minstret under -icount: instructions, not cycles; QEMU models no pipeline). AVR (atmega1284p under simavr):
+the replay of each estimator's vectors (streamed, -Os and -O2), the code size of Sized...Update and the CPU cycles of each path, counted by Timer1 (simavr is cycle
+accurate per instruction); the replay verdict as for RISC-V. Sketches: avr-size / arm-none-eabi-size of each example sketch (flash = text + data,
 RAM = data + bss).
 """
 
@@ -69,13 +69,20 @@ def tables(build: Path) -> str:
                                                                         "instructions")))
         out.append(f"| {title} | {records} | {results[0]} | {results[1]} | {sizes[0]} | {sizes[1]} | {counts[0]} "
                    f"| {counts[1]} |")
-    out += ["", "AVR (atmega1284p, 16 MHz) under simavr (`make -C csrc/firmware steps-avr`): Update code size (-Os) "
-            "and CPU cycles per Update path (same order), every path returning its expected status:", "",
-            "| Header | AVR Update (B) | AVR cycles per path | slowest accepted path at 16 MHz (µs) |", "|---|---:|---|---:|"]
+    out += ["", "AVR (atmega1284p, 16 MHz) under simavr (`make -C csrc/firmware replay-avr steps-avr`): the replays "
+            "(records streamed from the host) at -Os and -O2, Update code size (-Os) and CPU cycles per Update path "
+            "(same order), every path returning its expected status:", "",
+            "| Header | Records | AVR replay | AVR Update (B) | AVR cycles per path | slowest accepted path at 16 MHz (µs) |",
+            "|---|---:|---|---:|---|---:|"]
     for name, (title, symbol) in ESTIMATORS.items():
+        logs = [build / "avr" / f"replay_{name}-{opt}.log" for opt in ("Os", "O2")]
+        verdicts = {replay_result(log) for log in logs}
+        verdict = verdicts.pop() if len(verdicts) == 1 else " / ".join(replay_result(log) for log in logs)
+        records = re.search(r"^replay: (\d+) records", logs[0].read_text(), re.M).group(1)
         cycles = step_counts(build / "avr" / f"steps_{name}.log", "cycles")
         size = symbol_size(build / "avr" / f"steps_{name}.nm", symbol)
-        out.append(f"| {title} | {size} | {', '.join(map(str, cycles))} | {max(cycles[:-1]) / 16:.0f} |")
+        out.append(f"| {title} | {records} | {verdict} | {size} | {', '.join(map(str, cycles))} "
+                   f"| {max(cycles[:-1]) / 16:.0f} |")
     out += ["", "Arduino example sketches (`make -C csrc/firmware arduino-sketches`, -Os, warning-free), "
             "flash and RAM in bytes:", "", "| Sketch | ATmega328P flash | ATmega328P RAM | Cortex-M4F flash | Cortex-M4F RAM |",
             "|---|---:|---:|---:|---:|"]

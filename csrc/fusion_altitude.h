@@ -72,6 +72,14 @@ extern "C" {
 /** Standard gravity, m/s^2. Multiply an acceleration in g by this. */
 #define FUSION_ALTITUDE_GRAVITY (9.80665f)
 
+/* The version of the headers: fusion_altitude/_version.py is its one source,
+ * written here (and into the firmware package manifests) by
+ * tools/sync_version.py; tests/test_distribution.py checks they agree. */
+#define FUSION_ALTITUDE_VERSION_MAJOR (0)
+#define FUSION_ALTITUDE_VERSION_MINOR (1)
+#define FUSION_ALTITUDE_VERSION_PATCH (0)
+#define FUSION_ALTITUDE_VERSION_STRING "0.1.0"
+
 /** Version of this header, major * 10000 + minor * 100 + patch. */
 #define FUSION_ALTITUDE_VERSION (100)
 

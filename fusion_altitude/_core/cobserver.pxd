@@ -7,6 +7,9 @@ from libc.stdint cimport int32_t, uint8_t, uint32_t
 
 cdef extern from "fusion_altitude.h" nogil:
     float FUSION_ALTITUDE_GRAVITY
+    int FUSION_ALTITUDE_VERSION_MAJOR
+    int FUSION_ALTITUDE_VERSION_MINOR
+    int FUSION_ALTITUDE_VERSION_PATCH
     int FUSION_ALTITUDE_VERSION
     float FUSION_ALTITUDE_DEFAULT_GAP_PERIOD
     float FUSION_ALTITUDE_MAXIMUM_GAIN

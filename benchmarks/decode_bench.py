@@ -184,11 +184,13 @@ def main(argv=None) -> int:
         rows += csv_rows(str(generic), args.repeat, time_column="time", accel_column="accel", baro_column="baro",
                          reference_column="reference")
     print("reference: pymavlink (.bin), pyulog (.ulg), numpy's loadtxt path (.csv)")
-    print(f"{'log':42s} {'step':16s} {'fast MB/s':>10s} {'reference MB/s':>15s} {'ratio':>7s}")
+    print()
+    print("| log | step | fast MB/s | reference MB/s | ratio |")
+    print("|---|---|---:|---:|---:|")
     for name, step, fast, reference in rows:
-        fast_text = f"{fast:10.1f}" if fast is not None else f"{'—':>10s}"
-        ratio = f"{fast / reference:6.1f}x" if fast is not None else f"{'—':>7s}"
-        print(f"{name:42s} {step:16s} {fast_text} {reference:15.2f} {ratio}")
+        fast_text = f"{fast:.1f}" if fast is not None else "—"
+        ratio = f"{fast / reference:.1f}×" if fast is not None else "—"
+        print(f"| {name} | {step} | {fast_text} | {reference:.2f} | {ratio} |")
     return 0
 
 

@@ -172,7 +172,7 @@ def main(argv=None) -> int:
                   f"({100 * part[0] / part.sum():.0f} / {100 * part[1] / part.sum():.1f} / "
                   f"{100 * part[2] / part.sum():.0f} %)")
         ulog, csv = (np.mean([costs[p] for p in kinds[kind]], axis=0) for kind in ("PX4 ULog", "Hedy CSV (245 s)"))
-        csv_samples = adapter.read_log(kinds["Hedy CSV (245 s)"][0], CSV_OPTIONS).time.size
+        csv_samples = fleet.read_log(kinds["Hedy CSV (245 s)"][0], CSV_OPTIONS).time.size
         print()
         print(fleet_cost_table(os.path.getsize(kinds["PX4 ULog"][0]) / 1e6 / ulog[3], csv[4] / csv_samples,
                                csv[5] / csv_samples, written * 1e6 / samples_total))

@@ -215,12 +215,15 @@ def keep_measurements(shown, printed, measured):
         return printed
     header = cells(shown[0])
     varying = set(range(1, len(header))) if measured == ["*"] else {header.index(name) for name in measured}
-    old = {cells(row)[0]: cells(row) for row in shown[2:]}
+    def key(row):  # a row is known by its cells that are not measurements
+        return tuple(cell for k, cell in enumerate(row) if k not in varying)
+
+    old = {key(cells(row)): cells(row) for row in shown[2:]}
     rows = printed[:2]
     for row in printed[2:]:
         new = cells(row)
-        if new[0] in old:
-            new = [old[new[0]][k] if k in varying else cell for k, cell in enumerate(new)]
+        if key(new) in old:
+            new = [old[key(new)][k] if k in varying else cell for k, cell in enumerate(new)]
         rows.append("| " + " | ".join(new) + " |")
     return rows
 

@@ -38,7 +38,7 @@ def engine(name: str) -> Iterator[None]:
 def available() -> bool:
     """True when the extension's formatter (``fusion_altitude._core._csv_format``) is built."""
     try:
-        from . import _csv_format  # noqa: F401
+        from ._csv_format import format_rows  # noqa: F401
     except ImportError:
         return False
     return True

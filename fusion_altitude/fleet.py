@@ -261,6 +261,16 @@ def expand_paths(paths_or_globs: Union[str, Sequence[str]]) -> List[str]:
     return _flights(sorted(found))
 
 
+def _output_folders(output_dir: str):
+    """The file system and root of ``output_dir``, with its ``logs/`` and ``failed/`` folders made."""
+    import fsspec
+
+    out_fs, root = fsspec.core.url_to_fs(output_dir)
+    for sub in ("logs", "failed"):
+        out_fs.makedirs(f"{root}/{sub}", exist_ok=True)
+    return out_fs, root
+
+
 def _inside(path: str, directory: str) -> bool:
     path, directory = os.path.realpath(path), os.path.realpath(directory)
     return path == directory or path.startswith(directory.rstrip(os.sep) + os.sep)
@@ -744,9 +754,7 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     csv_options = dict(csv_options or {})
     digest = settings_hash(estimator, resolved, csv_options)
     ids = [log_id(url) for url in urls]
-    out_fs, root = fsspec.core.url_to_fs(output_dir)
-    for sub in ("logs", "failed"):
-        out_fs.makedirs(f"{root}/{sub}", exist_ok=True)
+    out_fs, root = _output_folders(output_dir)
     jobs = [_Job(url, identifier, output_dir, estimator, resolved, csv_options, digest, write_csv, retry_failed)
             for url, identifier in zip(urls, ids)]
     results: Dict[str, Dict[str, Any]] = {}

@@ -177,6 +177,14 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     if name not in FORMATS:
         raise LogError(f"unknown log format {name!r}; known: {', '.join(FORMATS)}")
     options = {key: value for key, value in options.items() if value is not None}
+    _check_options(path, name, options, instance, decoder)
+    if name in ("dataflash", "ulog"):
+        options["decoder"] = decoder
+    return FORMATS[name].read(path, progress=progress, **options)
+
+
+def _check_options(path: str, name: str, options: dict, instance: Optional[int], decoder: str) -> None:
+    """Refuse options the format ``name`` does not take (``options`` gains ``instance`` where it does)."""
     if instance is not None:
         if name in ("altos", "csv", "raven", "rrc3"):
             raise LogError(f"{path}: a {FORMATS[name].description} has one sensor instance; instance not supported")
@@ -202,6 +210,3 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     if DECODERS[decoder] is not None and DECODERS[decoder] != name:
         raise LogError(f"{path}: the {decoder} decoder reads only {FORMATS[DECODERS[decoder]].description} logs; "
                        f"this is a {FORMATS[name].description} log")
-    if name in ("dataflash", "ulog"):
-        options["decoder"] = decoder
-    return FORMATS[name].read(path, progress=progress, **options)

@@ -81,25 +81,7 @@ def read_ulog(path: str, instance: Optional[int] = None,
         raise LogError(f"instance must be 0 or more, got {want}")
     if os.path.isdir(path):
         raise LogError(f"{path}: is a directory, not a PX4 ULog")
-    missing_bytes = ulog_missing_bytes
-    try:
-        with open(path, "rb") as handle:
-            blob = handle.read()
-    except OSError as error:
-        raise LogError(f"cannot read {path} as a PX4 ULog: {type(error).__name__}: {error}") from None
-    if blob[:len(ULOG_MAGIC)] != ULOG_MAGIC:
-        raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
-    topics = None
-    if decoder == "fast":
-        from ._ulog_fast import NeedsReference, ULogTopics
-        try:
-            decoded = ULogTopics(blob, _TOPICS)
-            topics = decoded.data
-            missing_bytes = lambda _: decoded.missing_bytes()  # noqa: E731
-        except NeedsReference:
-            pass
-    if topics is None:
-        topics = _read_pyulog(path)
+    topics, missing_bytes = _decode_topics(path, decoder)
     if progress is not None:
         progress(1, 2)
     names = sorted({name for name, _ in topics})
@@ -119,6 +101,27 @@ def read_ulog(path: str, instance: Optional[int] = None,
         raise
     except (KeyError, IndexError, ValueError) as error:  # a topic with unexpected fields
         raise LogError(f"{path}: unexpected ULog content: {type(error).__name__}: {error}") from None
+
+
+def _decode_topics(path: str, decoder: str):
+    """The topics of the ULog at ``path``, (name, multi_id) → {field: array}, and the function that tells how
+    many bytes its last message lacks: by the C decoder, or by pyulog where the log needs its recovery paths
+    (or ``decoder`` is "pyulog")."""
+    try:
+        with open(path, "rb") as handle:
+            blob = handle.read()
+    except OSError as error:
+        raise LogError(f"cannot read {path} as a PX4 ULog: {type(error).__name__}: {error}") from None
+    if blob[:len(ULOG_MAGIC)] != ULOG_MAGIC:
+        raise LogError(f"{path}: not a PX4 ULog (it does not start with the ULog magic bytes)")
+    if decoder == "fast":
+        from ._ulog_fast import NeedsReference, ULogTopics
+        try:
+            decoded = ULogTopics(blob, _TOPICS)
+            return decoded.data, lambda _: decoded.missing_bytes()
+        except NeedsReference:
+            pass
+    return _read_pyulog(path), ulog_missing_bytes
 
 
 def _read_pyulog(path: str) -> dict:

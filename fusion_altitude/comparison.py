@@ -197,7 +197,7 @@ class _InsAltitude:
     """The INS outputs a comparison row reads: altitude in the baro's frame (m) and vertical velocity (m/s)."""
 
     def __init__(self, batch):
-        self.altitude = batch.altitude + batch.baro_bias
+        self.altitude = batch.altitude
         self.vertical_velocity = batch.vertical_velocity
 
 

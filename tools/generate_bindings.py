@@ -107,6 +107,7 @@ GETTER_NAMES = {
     "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
     "FusionAltitudeInsIsBaroRejecting": "is_baro_rejecting",
     "FusionAltitudeInsGetAccelZBias": "accel_z_bias",
+    "FusionAltitudeInsGetAltitude": "height_above_start",  # the INS's `altitude` is the baro datum's (docs/ins.md)
 }
 
 #: C scalar type → kind: "f" float32, "b" bool, "i" signed int, "u" unsigned int, "e" enum (as int).

@@ -198,7 +198,7 @@ cdef class _InsEstimatorGetters(Estimator):
         return FusionAltitudeInsGetBaroTimeouts(&self._c)
 
     @property
-    def altitude(self):
+    def height_above_start(self):
         """The height above the reference d, m, +up (the baro reads d + baro bias)."""
         return FusionAltitudeInsGetAltitude(&self._c)
 

@@ -569,7 +569,7 @@ class InsEstimator(Checkpointable):
             for i in range(n):
                 self._step(inputs["gyro"][i], inputs["accel"][i], inputs["mag"][i], inputs["baro_altitude"][i],
                            inputs["dt"][i])
-                result.altitude[i] = self.distance
+                result.height_above_start[i] = self.distance
                 result.vertical_velocity[i] = self.velocity
                 result.quaternion[i] = self.q
                 result.global_quaternion[i] = self.global_quaternion
@@ -583,21 +583,19 @@ class InsEstimator(Checkpointable):
     # -- getters -------------------------------------------------------------------------------
     @property
     def altitude(self) -> float:
-        """Height above the reference d, m, +up (the baro reads d + baro_bias)."""
-        return float(self.distance)
-
-    @property
-    def height_above_start(self) -> float:
-        """Height above the start (the INS's reference d = 0, set by the first baro sample), m, +up. The INS's own
-        name for what its ``altitude`` holds: ``altitude`` means the baro's datum in every other estimator, and
-        ``height_above_start + baro_bias`` is the INS's altitude in that datum (the ``altitude`` column of
-        ``run -o``); see docs/architecture.md, "Names"."""
-        return self.altitude
+        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum), as every
+        estimator's ``altitude`` (in 0.1.0 it was the height above the start; see docs/ins.md)."""
+        return float(f32(self.distance) + f32(self.baro_bias_))
 
     @property
     def baro_datum_altitude(self) -> float:
-        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum)."""
-        return float(np.float32(self.altitude) + np.float32(self.baro_bias))
+        """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
+        return self.altitude
+
+    @property
+    def height_above_start(self) -> float:
+        """The height above the reference d, m, +up (the baro reads d + baro bias)."""
+        return float(self.distance)
 
     @property
     def vertical_velocity(self) -> float:

@@ -340,14 +340,19 @@ def test_rocket_scenario_clips_the_thrust_peak():
 
 def test_compare_rocket_scenario_rocket_layer_row_beats_the_observer_row():
     rows = {r.estimator: r for r in comparison.compare_scenario("rocket", repeat=0,
-                                                                 estimators=("observer", "rocket layer"))}
-    assert rows["rocket layer"].altitude_rms < rows["observer"].altitude_rms / 3
+                                                                 estimators=("observer", "rocket"))}
+    assert rows["rocket"].altitude_rms < rows["observer"].altitude_rms / 3
 
 
 def test_compare_has_a_rocket_layer_row_on_the_rocket_scenario_only():
-    assert "rocket layer" in comparison.estimators_for("rocket")
-    assert "rocket layer" not in comparison.estimators_for("realistic")
+    assert "rocket" in comparison.estimators_for("rocket")
+    assert "rocket" not in comparison.estimators_for("realistic")
     assert "INS" in comparison.estimators_for("realistic")
+
+
+def test_compare_accepts_the_old_rocket_layer_label_with_a_deprecation_warning():
+    with pytest.warns(DeprecationWarning, match="'rocket layer' is now 'rocket'"):
+        assert comparison.estimators_for("rocket", ("observer", "rocket layer")) == ["observer", "rocket"]
 
 
 def test_kalman_on_a_rocket_log_runs_with_the_rocket_settings(hedy):

@@ -58,20 +58,7 @@ cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const floa
 
 
 cdef class RocketEstimator(_RocketEstimatorGetters):
-    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
-
-    Parameters
-    ----------
-    settings : RocketSettings, optional
-        Defaults if omitted.
-
-    Notes
-    -----
-    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
-    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
-    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
-    above the pad learned while stationary. See docs/rocket.md.
-    """
+    __doc__ = DOC_RocketEstimator  # generated from the reference's docstring (_flight_fields.pxi)
 
     def __init__(self, settings=None):
         settings = RocketSettings() if settings is None else RocketSettings.coerce(settings)

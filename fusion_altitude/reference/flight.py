@@ -122,7 +122,7 @@ class RocketSettings(KeywordSettings):
 
 
 class RocketEstimator(Checkpointable):
-    """Rocket flight computer: observer + pad calibration + baro gate + flight phases.
+    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
 
     Parameters
     ----------
@@ -131,9 +131,10 @@ class RocketEstimator(Checkpointable):
 
     Notes
     -----
-    Inputs per step: ``accel`` (m/s², gravity removed, +up: the long-axis
-    accelerometer minus g without an INS), ``baro_altitude`` (m, pressure
-    altitude; NaN for no sample) and ``dt`` (s). Heights are above the pad.
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
+    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
+    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
+    above the pad learned while stationary. See docs/rocket.md.
     """
 
     __slots__ = ("_settings", "_obs", "_phase", "_baro", "_events", "_candidate", "_sample", "_gap_count", "_windows",

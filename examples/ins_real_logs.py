@@ -110,13 +110,13 @@ def hedy(data: Path) -> dict:
     row = summarise("Hedy rocket (IMU 100 Hz, saturates in the boost; baro 100 Hz)", t, result, height, velocity,
                     baro_altitude)
     apogee = int(np.argmax(height))
-    row["apogee (m): log / INS / baro"] = (f"{height[apogee]:.0f} / {np.max(result.altitude):.0f} / "
-                                          f"{np.nanmax(baro_altitude):.0f}")
+    row["apogee (m): log / INS / baro"] = (f"{height[apogee]:.0f} / "
+                                          f"{np.max(result.height_above_start):.0f} / {np.nanmax(baro_altitude):.0f}")
     return row
 
 
 def summarise(name, t, result, height, velocity, baro, tilt=None) -> dict:
-    altitude = result.altitude.astype(float)
+    altitude = result.height_above_start.astype(float)
     error = (altitude - altitude[0]) - (height - height[0])
     velocity_error = result.vertical_velocity - velocity
     sampled = np.isfinite(baro)

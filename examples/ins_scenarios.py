@@ -26,7 +26,7 @@ def twenty_seeds(rocking_deg: float, rest_duration: float = 10.0):
             return error_statistics(flight.trajectory.time[e], error, transient=-np.inf).rms
 
         rows.append([
-            100 * rms((ins.altitude + ins.baro_bias - truth)[e]),
+            100 * rms((ins.altitude - truth)[e]),
             100 * rms((observer.altitude - truth)[e]),
             rms(imu_sim.attitude_error_deg(ins.global_quaternion, attitude)[e]),
             rms(imu_sim.attitude_error_deg(ahrs, attitude)[e]),

@@ -245,7 +245,7 @@ class InsLogBatch(NamedTuple):
     vertical_velocity : numpy.ndarray
         m/s, +up.
     height : numpy.ndarray
-        m, the INS's own height above its reference d (``InsBatch.altitude``).
+        m, the INS's own height above its reference d (``InsBatch.height_above_start``).
     roll, pitch, yaw : numpy.ndarray
         Local attitude, degrees (ZYX Euler, body → local NWU earth; yaw starts
         at 0 and is integrated).
@@ -307,7 +307,7 @@ def run_ins_log(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
                                "not dead-reckoned")
     _done(options, data.time.size)
     euler = batch.euler.astype(np.float32)
-    return InsLogBatch(batch.baro_datum_altitude, batch.vertical_velocity, batch.height_above_start,
+    return InsLogBatch(batch.altitude, batch.vertical_velocity, batch.height_above_start,
                        euler[:, 0], euler[:, 1], euler[:, 2], *(batch.quaternion[:, i] for i in range(4)),
                        *(batch.gyro_bias[:, i] for i in range(3)), batch.accel_z_bias, batch.baro_bias,
                        batch.is_stationary, batch.baro_timed_out)

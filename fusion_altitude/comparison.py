@@ -17,9 +17,10 @@ Estimators, each fed what it can use from one :func:`~fusion_altitude.scenarios.
   rows' vertical acceleration is made) and baro; its altitude in the baro's frame (INS height + baro bias). The
   scenarios start moving at once, so the INS never sees the rest it learns its accel z bias in
   (docs/ins.md: with a stationary start it beats the two-step pipeline, without one it does not);
-- ``rocket layer`` (the ``rocket`` scenario only): :func:`fusion_altitude.rocket.run_rocket` (defaults: pad
-  calibration, baro lockout, spike gate, baro-led descent) on the long-axis accelerometer and the baro, its
-  height above the pad plus the pad altitude it learned;
+- ``rocket``, the rocket flight layer (the ``rocket`` scenario only; labelled ``rocket layer`` in 0.1.0, a
+  label still accepted): :func:`fusion_altitude.rocket.run_rocket` (defaults: pad calibration, baro lockout,
+  spike gate, baro-led descent) on the long-axis accelerometer and the baro, its height above the pad plus the
+  pad altitude it learned;
 - ``raw baro``: the baro samples themselves.
 
 Metrics after the scenario's transient: altitude RMS and max |error| (m), velocity RMS (m/s), time to
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -115,9 +117,21 @@ def _fit_settings(name: str, fit_seed: int, attitude: str):
                training.trajectory.altitude, mask=mask, steps_per_baro=steps_per_baro(training.baro_altitude)).settings
 
 
+#: Old estimator labels → their names now; accepted with a DeprecationWarning.
+OLD_LABELS = {"rocket layer": "rocket"}
+
+
+def _current_labels(estimators: Sequence[str]) -> List[str]:
+    """``estimators`` with every old label of :data:`OLD_LABELS` replaced by its name (a DeprecationWarning each)."""
+    for old in sorted(set(estimators) & OLD_LABELS.keys()):
+        warnings.warn(f"the estimator label {old!r} is now {OLD_LABELS[old]!r}", DeprecationWarning, stacklevel=3)
+    return [OLD_LABELS.get(e, e) for e in estimators]
+
+
 def estimators_for(name: str, estimators: Sequence[str] = ESTIMATORS) -> List[str]:
-    """The ``estimators`` that run on scenario ``name`` (the rocket layer only on ``rocket``), in order."""
-    return [e for e in estimators if name in _ONLY_ON.get(e, (name,))]
+    """The ``estimators`` that run on scenario ``name`` (the rocket layer, ``rocket``, only on ``rocket``), in
+    order; an old label of :data:`OLD_LABELS` is accepted with a DeprecationWarning."""
+    return [e for e in _current_labels(estimators) if name in _ONLY_ON.get(e, (name,))]
 
 
 def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str = "truth", repeat: int = 3,
@@ -148,8 +162,8 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
                                                                               gps_altitude=gps)
     if "INS" in estimators:
         runners["INS"] = _ins_runner(result, baro, dt)
-    if "rocket layer" in estimators:
-        runners["rocket layer"] = _rocket_runner(result)
+    if "rocket" in estimators:
+        runners["rocket"] = _rocket_runner(result)
 
     truth_h = result.trajectory.altitude
     truth_v = result.trajectory.vertical_velocity
@@ -197,7 +211,7 @@ class _InsAltitude:
     """The INS outputs a comparison row reads: altitude in the baro's frame (m) and vertical velocity (m/s)."""
 
     def __init__(self, batch):
-        self.altitude = batch.altitude + batch.baro_bias
+        self.altitude = batch.altitude
         self.vertical_velocity = batch.vertical_velocity
 
 

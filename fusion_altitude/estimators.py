@@ -141,7 +141,7 @@ for _entry in (
                               "baro bias)", "adapters:run_ins_log", needs=("gyro", "accel"), label="INS",
                        estimator_class="InsEstimator"),
         EstimatorEntry("rocket", "rocket flight layer (long-axis accel + baro: pad calibration, baro lockout, "
-                                 "flight events)", "adapters:run_rocket_log", vehicle="rocket", label="rocket layer",
+                                 "flight events)", "adapters:run_rocket_log", vehicle="rocket",
                        estimator_class="RocketEstimator")):
     register_estimator(_entry)
 del _entry

@@ -59,9 +59,9 @@ def ins_run(time, gyro, accel, baro_altitude=None, mag=None, settings: Optional[
     Returns
     -------
     InsBatch
-        Per step: ``altitude`` (m above the first baro sample's height, +up; add ``baro_bias`` for the
-        baro's frame), ``vertical_velocity`` (m/s, +up), local and global quaternions, gyro bias,
-        accel z bias, baro bias, stationary flag.
+        Per step: ``altitude`` (m, +up, in the baro's datum), ``height_above_start`` (m above the
+        first baro sample's height, +up; ``altitude`` is it plus ``baro_bias``), ``vertical_velocity``
+        (m/s, +up), local and global quaternions, gyro bias, accel z bias, baro bias, stationary flag.
     """
     dt = step_periods(time)
     return InsEstimator(settings, gyro_units=gyro_units, accel_units=accel_units).update_batch(

@@ -92,7 +92,7 @@ def test_run_ins_output_is_the_binding_on_the_logs_raw_imu(px4):
     flu = np.array([1.0, -1.0, -1.0])  # the log's FRD axes as FLU
     direct = InsEstimator().update_batch(data.gyro * flu, data.accel * flu, runner.sample_periods(data.time),
                                          data.baro_altitude)
-    assert np.array_equal(run.estimate.height, direct.altitude)
+    assert np.array_equal(run.estimate.height, direct.height_above_start)
     assert np.array_equal(run.estimate.gyro_bias_z, direct.gyro_bias[:, 2])
 
 
@@ -155,7 +155,7 @@ def test_compare_scenario_ins_row_is_the_ins_on_the_scenarios_raw_imu():
     batch = InsEstimator(gyro_units="deg/s", accel_units="g").update_batch(
         result.imu.gyro, result.imu.accel, np.float32(result.trajectory.dt),
         np.asarray(result.baro_altitude, np.float32), result.imu.mag)
-    assert np.array_equal(row.altitude, (batch.altitude + batch.baro_bias).astype(float))
+    assert np.array_equal(row.altitude, batch.altitude.astype(float))
 
 
 def test_compare_scenario_ins_row_beats_the_raw_baro_on_the_clean_scenario():
@@ -340,14 +340,19 @@ def test_rocket_scenario_clips_the_thrust_peak():
 
 def test_compare_rocket_scenario_rocket_layer_row_beats_the_observer_row():
     rows = {r.estimator: r for r in comparison.compare_scenario("rocket", repeat=0,
-                                                                 estimators=("observer", "rocket layer"))}
-    assert rows["rocket layer"].altitude_rms < rows["observer"].altitude_rms / 3
+                                                                 estimators=("observer", "rocket"))}
+    assert rows["rocket"].altitude_rms < rows["observer"].altitude_rms / 3
 
 
 def test_compare_has_a_rocket_layer_row_on_the_rocket_scenario_only():
-    assert "rocket layer" in comparison.estimators_for("rocket")
-    assert "rocket layer" not in comparison.estimators_for("realistic")
+    assert "rocket" in comparison.estimators_for("rocket")
+    assert "rocket" not in comparison.estimators_for("realistic")
     assert "INS" in comparison.estimators_for("realistic")
+
+
+def test_compare_accepts_the_old_rocket_layer_label_with_a_deprecation_warning():
+    with pytest.warns(DeprecationWarning, match="'rocket layer' is now 'rocket'"):
+        assert comparison.estimators_for("rocket", ("observer", "rocket layer")) == ["observer", "rocket"]
 
 
 def test_kalman_on_a_rocket_log_runs_with_the_rocket_settings(hedy):
@@ -399,7 +404,7 @@ def test_run_ins_on_a_raw_imu_csv_is_the_binding_on_its_columns(tmp_path, degree
     assert data.imu_frame == "FLU" and data.gyro.shape == data.accel.shape
     run = runner.run_log(data, estimator="ins")
     direct = InsEstimator().update_batch(data.gyro, data.accel, runner.sample_periods(data.time), data.baro_altitude)
-    assert np.array_equal(run.estimate.height, direct.altitude)
+    assert np.array_equal(run.estimate.height, direct.height_above_start)
     assert run.gap_count == 0
 
 

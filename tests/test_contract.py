@@ -198,6 +198,12 @@ def test_every_estimator_has_the_contract_methods(impl, row):
 
 
 @by_row
+def test_binding_and_reference_classes_have_one_docstring(row):
+    c_class, reference_class = getattr(fusion_altitude, row.estimator), getattr(fusion_altitude.reference, row.estimator)
+    assert reference_class.__doc__ and c_class.__doc__ == reference_class.__doc__
+
+
+@by_row
 def test_binding_has_the_references_public_methods_with_the_same_parameters(row):
     c_class, reference_class = getattr(fusion_altitude, row.estimator), getattr(fusion_altitude.reference, row.estimator)
     public = {name for name in dir(reference_class) if not name.startswith("_")}

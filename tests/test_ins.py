@@ -90,8 +90,8 @@ def test_reference_equals_the_c_bit_for_bit_over_a_long_flight():
     dt[700] = 0.5  # a gap
     c = fa.InsEstimator().update_batch(gyro, accel, dt, baro, mag)
     r = reference.InsEstimator().update_batch(gyro, accel, dt, baro, mag)
-    for field in ("altitude", "vertical_velocity", "quaternion", "global_quaternion", "gyro_bias", "accel_z_bias",
-                  "baro_bias", "is_stationary"):
+    for field in ("height_above_start", "altitude", "vertical_velocity", "quaternion", "global_quaternion", "gyro_bias",
+                  "accel_z_bias", "baro_bias", "is_stationary"):
         assert np.array_equal(bits(getattr(c, field)), bits(getattr(r, field))), field
 
 
@@ -121,7 +121,7 @@ def test_batch_writes_into_out():
 def test_batch_rejects_a_wrong_out_naming_the_field():
     gyro, accel, dt, baro, mag = flight(10)
     out = fa.InsBatch.empty(11)
-    with pytest.raises(ValueError, match="out.altitude"):
+    with pytest.raises(ValueError, match="out.height_above_start"):
         fa.InsEstimator().update_batch(gyro, accel, dt, baro, mag, out=out)
 
 
@@ -345,13 +345,13 @@ def test_beyond_the_horizon_the_ins_stops_dead_reckoning_and_stays_near_the_last
     """A 0.2 m/s² accelerometer error dead-reckoned for 30 s is 90 m; stopped after the 5 s horizon the height
     moves at most |v| × 5 s more: within 10 m, the velocity decayed towards 0."""
     ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan))
-    assert ins.height_held and abs(ins.altitude) < 10.0 and abs(ins.vertical_velocity) < 0.05
+    assert ins.height_held and abs(ins.height_above_start) < 10.0 and abs(ins.vertical_velocity) < 0.05
 
 
 def test_without_the_horizon_the_same_silence_dead_reckons_far(impl):
     ins = run_level(impl.InsEstimator(impl.InsSettings(dead_reckoning_horizon=1e6, **NO_STATIONARY)),
                     (2.0, 0.0), (30.0, math.nan))
-    assert not ins.height_held and ins.altitude > 50.0
+    assert not ins.height_held and ins.height_above_start > 50.0
 
 
 def test_the_height_variance_grows_while_dead_reckoning_is_stopped(impl):
@@ -366,7 +366,7 @@ def test_the_height_variance_grows_while_dead_reckoning_is_stopped(impl):
 def test_the_first_baro_reading_after_the_horizon_sets_the_height_again(impl):
     ins = run_level(impl.InsEstimator(impl.InsSettings(**NO_STATIONARY)), (2.0, 0.0), (30.0, math.nan))
     ins.update(np.zeros(3), [0.0, 0.0, G + 0.2], 0.01, baro_altitude=0.0)
-    assert not ins.baro_timed_out and not ins.height_held and abs(ins.altitude) < 0.5
+    assert not ins.baro_timed_out and not ins.height_held and abs(ins.height_above_start) < 0.5
 
 
 def test_baro_timeout_and_horizon_c_equals_the_reference_bit_for_bit():

@@ -29,7 +29,7 @@ def _hold(ins, baro, seconds, gyro=(0.002, 0.0, 0.0)):
     altitudes = []
     for k in range(int(round(seconds / DT))):
         ins.update(gyro, LEVEL, DT, baro if k % 2 == 0 else NAN)
-        altitudes.append(ins.altitude)
+        altitudes.append(ins.height_above_start)
     return np.array(altitudes)
 
 
@@ -42,7 +42,7 @@ def test_defaults_are_five_sigma_and_one_second_as_the_kalman_filter():
 def test_a_glitch_burst_is_rejected_and_the_height_does_not_follow_it():
     ins = _estimator()
     _hold(ins, 100.0, 2.0)
-    before = ins.altitude
+    before = ins.height_above_start
     during = _hold(ins, 180.0, 0.5)  # 80 m for 0.5 s: shorter than the timeout
     assert ins.baro_rejections == 25
     assert ins.is_baro_rejecting
@@ -77,7 +77,7 @@ def test_a_zero_timeout_resets_on_the_second_rejected_reading():
     _hold(ins, 100.0, 2.0)
     _hold(ins, 130.0, 0.04)  # readings at 0 (rejected, streak starts) and 0.02 s (streak older than 0: reset)
     assert (ins.baro_rejections, ins.baro_resets) == (2, 1)
-    assert abs(ins.altitude - 30.0) < 0.3
+    assert abs(ins.height_above_start - 30.0) < 0.3
 
 
 def test_a_logging_gap_ends_a_rejection_streak():
@@ -88,7 +88,7 @@ def test_a_logging_gap_ends_a_rejection_streak():
     ins.update((0.0, 0.0, 0.0), LEVEL, 2.0, 130.0)  # a 2 s gap: the height is unknown, the reading sets it
     assert not ins.is_baro_rejecting
     assert ins.baro_resets == 0
-    assert abs(ins.altitude - 30.0) < 0.3
+    assert abs(ins.height_above_start - 30.0) < 0.3
 
 
 def test_the_counters_survive_pickle_and_reset_with_reset():
@@ -143,7 +143,7 @@ def _climbing_from_the_first_sample(**settings):
     accel = np.tile(LEVEL, (steps, 1)) + 0.05 * rng.standard_normal((steps, 3))
     ins = fa.InsEstimator(fa.InsSettings(**settings))
     batch = ins.update_batch(np.zeros((steps, 3)), accel, DT, baro)
-    return ins, time, np.abs(batch.altitude + batch.baro_bias - altitude)
+    return ins, time, np.abs(batch.altitude - altitude)
 
 
 def test_a_log_that_starts_in_a_fast_climb_is_caught_by_the_first_reset():

@@ -26,7 +26,7 @@ def twenty_realistic_flights():
         truth = flight.trajectory.altitude + flight.baro_offset  # both estimates are in the baro's frame
         e = flight.evaluated
         rows.append((
-            rms((ins.altitude + ins.baro_bias - truth)[e]),
+            rms((ins.altitude - truth)[e]),
             rms((observer.altitude - truth)[e]),
             rms(imu_sim.attitude_error_deg(ins.global_quaternion, flight.trajectory.attitude)[e]),
             rms(imu_sim.attitude_error_deg(ahrs_quaternion, flight.trajectory.attitude)[e]),
@@ -165,7 +165,7 @@ def test_after_a_2_s_logging_gap_the_next_baro_sets_the_height_without_a_velocit
     dt = np.diff(time, prepend=time[0] - flight.dt).astype(np.float32)
     batch = InsEstimator().update_batch(flight.gyro[keep], flight.accel[keep], dt, flight.baro_altitude[keep])
     truth = (flight.trajectory.altitude + flight.baro_offset)[keep]
-    error = batch.altitude + batch.baro_bias - truth
+    error = batch.altitude - truth
     first_baro = np.flatnonzero((time >= 17.0) & ~np.isnan(flight.baro_altitude[keep]))[0]
     after = (time >= time[first_baro]) & (time < 20.0)
     assert np.abs(error[after]).max() < 0.5, np.abs(error[after]).max()
@@ -191,7 +191,7 @@ def test_an_80_m_baro_glitch_burst_does_not_move_the_height():
     for gate in (5.0, 1e6):
         ins = InsEstimator(InsSettings(baro_gate=gate))
         batch = ins.update_batch(flight.gyro, flight.accel, flight.dt, baro)
-        errors[gate] = np.abs(batch.altitude + batch.baro_bias - truth)[window].max()
+        errors[gate] = np.abs(batch.altitude - truth)[window].max()
         if gate == 5.0:
             assert ins.baro_rejections >= int(burst.sum()) and ins.baro_resets == 0
     assert errors[5.0] < 0.3, errors

@@ -107,6 +107,7 @@ GETTER_NAMES = {
     "FusionAltitudeInsIsAccelRejected": "is_accel_rejected",
     "FusionAltitudeInsIsBaroRejecting": "is_baro_rejecting",
     "FusionAltitudeInsGetAccelZBias": "accel_z_bias",
+    "FusionAltitudeInsGetAltitude": "height_above_start",  # the INS's `altitude` is the baro datum's (docs/ins.md)
 }
 
 #: C scalar type → kind: "f" float32, "b" bool, "i" signed int, "u" unsigned int, "e" enum (as int).
@@ -494,7 +495,30 @@ def generate_pxi(module: str, header: Header) -> str:
             f"    return int({settings}Check(&c))", "", ""]
     out += state_functions(header, state, settings)
     out += getter_class(module, header, state)
-    return "\n".join(out).rstrip() + "\n"
+    return "\n".join(out + class_doc(module)).rstrip() + "\n"
+
+
+def _reference_module(module: str):
+    """``fusion_altitude.reference.<module>``, imported from this checkout."""
+    import importlib
+    sys.path.insert(0, str(ROOT))
+    try:
+        return importlib.import_module(f"fusion_altitude.reference.{module}")
+    finally:
+        sys.path.pop(0)
+
+
+def class_doc(module: str) -> List[str]:
+    """``DOC_<Estimator>``: the reference class's docstring, written once there; the binding's class takes it as its
+    ``__doc__`` (``__doc__ = DOC_<Estimator>`` in the ``cdef class`` body: an extension type's docstring cannot be
+    set after the class is made)."""
+    name = ESTIMATORS[module]
+    doc = getattr(_reference_module(module), name).__doc__
+    if not doc:
+        raise SystemExit(f"fusion_altitude/reference/{module}.py: {name} has no docstring")
+    literal = f'"""{doc}"""' if '"""' not in doc and "\\" not in doc and not doc.endswith('"') else repr(doc)
+    return ["", "", f"#: The docstring of {name} (binding and reference), from fusion_altitude/reference/{module}.py.",
+            f"DOC_{name} = {literal}", ""]
 
 
 def _struct_get(header: Header, ctype: str, access: str) -> str:
@@ -684,13 +708,8 @@ def _stub_signature(name: str, function, indent: str = "    ") -> List[str]:
 def generate_stub(module: str, header: Header) -> str:
     """The stub of ``_<module>``: generated names, the hand-written extras, and the estimator class with the
     reference class's public signatures (the contract tests hold the binding to the same parameters)."""
-    import importlib
     import inspect
-    sys.path.insert(0, str(ROOT))
-    try:
-        reference = importlib.import_module(f"fusion_altitude.reference.{module}")
-    finally:
-        sys.path.pop(0)
+    reference = _reference_module(module)
     estimator = getattr(reference, ESTIMATORS[module])
     settings_name = f"{ESTIMATORS[module].replace('Estimator', '').replace('Filter', '').replace('Fusion', '')}Settings"
     settings_name = "AltitudeSettings" if module == "observer" else settings_name

@@ -141,3 +141,28 @@ cdef class _AlphaBetaFusionGetters(Estimator):
     def started(self):
         """True once the fusion has started (first non-IMU sample); false from a gap or a dead-reckoning timeout to the next sample."""
         return FusionAltitudeAlphaBetaIsStarted(&self._c)
+
+
+
+#: The docstring of AlphaBetaFusion (binding and reference), from fusion_altitude/reference/alphabeta.py.
+DOC_AlphaBetaFusion = """Quality-weighted alpha-beta fusion of IMU-integrated altitude, baro, lidar, sonar and GPS.
+
+    Each sensor runs an alpha-beta filter of depth Q (its quality), which
+    rises by one while the sensor agrees with the fused prediction within its
+    threshold and falls by one otherwise; alpha = 2(2Q−1)/(Q(Q+1)), beta =
+    6/(Q(Q+1)). The output is the mean of the filters weighted by
+    Q · confidence, a sensor's weight zeroed outside its altitude band, while
+    its latest sample is further than its gap maximum from the prediction, or
+    after its timeout.
+
+    Parameters
+    ----------
+    settings : AlphaBetaSettings, optional
+        Default: the write-up's tables.
+
+    Notes
+    -----
+    NaN means "no sample this step" for every input, accel (the IMU channel)
+    included. No offsets are estimated: every sensor is taken to measure the
+    same altitude. Copies and pickles carry the full state.
+    """

@@ -15,7 +15,7 @@ from fusion_altitude._core._convert cimport as_double as _as_double
 from fusion_altitude._core._estimator cimport Estimator
 from fusion_altitude._core.cflight cimport *
 
-from fusion_altitude import _flight_glue
+from fusion_altitude import _common, _flight_glue
 from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.flight import RocketSettings
@@ -58,20 +58,7 @@ cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const floa
 
 
 cdef class RocketEstimator(_RocketEstimatorGetters):
-    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
-
-    Parameters
-    ----------
-    settings : RocketSettings, optional
-        Defaults if omitted.
-
-    Notes
-    -----
-    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
-    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
-    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
-    above the pad learned while stationary. See docs/rocket.md.
-    """
+    __doc__ = DOC_RocketEstimator  # generated from the reference's docstring (_flight_fields.pxi)
 
     def __init__(self, settings=None):
         settings = RocketSettings() if settings is None else RocketSettings.coerce(settings)
@@ -81,29 +68,6 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
             _flight_glue.raise_settings_error(status, _settings_from_c(&c))
 
     def update(self, accel, baro_altitude, dt, *, accel_is_vertical=False):
-        """Process one step.
-
-        Parameters
-        ----------
-        accel : float
-            m/s², gravity removed, +up: the long-axis accelerometer minus g
-            (used as vertical until apogee, ignored after it) or, with
-            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
-            from an INS (used in every phase). NaN: no accelerometer sample
-            (in flight the layer is baro-led from then on).
-        baro_altitude : float
-            Pressure altitude, m; NaN when no baro sample arrived this step.
-        dt : float
-            s since the previous step.
-        accel_is_vertical : bool, default False
-            See ``accel``.
-
-        Raises
-        ------
-        ValueError
-            accel or baro_altitude infinite, dt not finite or <= 0;
-            the state is unchanged.
-        """
         cdef double a = _as_double(accel, "accel")
         cdef double z = _as_double(baro_altitude, "baro_altitude")
         cdef double t = _as_double(dt, "dt")
@@ -207,3 +171,6 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
 def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(RocketEstimator, state)
+
+
+_common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)

@@ -292,3 +292,21 @@ cdef class _RocketEstimatorGetters(Estimator):
     def time(self):
         """S since initialise (compensated sum of the accepted dt)."""
         return FusionAltitudeRocketGetTime(&self._c)
+
+
+
+#: The docstring of RocketEstimator (binding and reference), from fusion_altitude/reference/flight.py.
+DOC_RocketEstimator = """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
+
+    Parameters
+    ----------
+    settings : RocketSettings, optional
+        Defaults if omitted.
+
+    Notes
+    -----
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
+    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
+    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
+    above the pad learned while stationary. See docs/rocket.md.
+    """

@@ -283,3 +283,33 @@ def observer_settings(observer: object) -> Tuple[float, ...]:
                              f"{len(values)} values")
     with np.errstate(over="ignore"):
         return tuple(float(np.float32(as_float(v, "observer"))) for v in values)  # type: ignore[return-value]
+
+
+class RocketContract:
+    """The public methods whose docstring the RocketEstimator binding and reference share, written once here:
+    ``_common.share_docstrings`` gives them to both classes."""
+
+    def update(self, accel: float, baro_altitude: float, dt: float, *, accel_is_vertical: bool = False) -> None:
+        """Process one step.
+
+        Parameters
+        ----------
+        accel : float
+            m/s², gravity removed, +up: the long-axis accelerometer minus g
+            (used as vertical until apogee, ignored after it) or, with
+            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
+            from an INS (used in every phase). NaN: no accelerometer sample
+            (in flight the layer is baro-led from then on).
+        baro_altitude : float
+            Pressure altitude, m; NaN when no baro sample arrived this step.
+        dt : float
+            s since the previous step.
+        accel_is_vertical : bool, default False
+            See ``accel``.
+
+        Raises
+        ------
+        ValueError
+            accel or baro_altitude infinite, dt not finite or <= 0;
+            the state is unchanged.
+        """

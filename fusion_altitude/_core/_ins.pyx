@@ -47,7 +47,7 @@ cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsV
 
 
 cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, const float *accel, const float *mag,
-                     const float *baro, const float *dt, float *altitude, float *velocity, float *quaternion,
+                     const float *baro, const float *dt, float *height, float *velocity, float *quaternion,
                      float *global_quaternion, float *gyro_bias, float *accel_z_bias, float *baro_bias,
                      uint8_t *stationary, uint8_t *timed_out, FusionAltitudeInsStatus *status) noexcept nogil:
     """The batch loop: one FusionAltitudeInsUpdate per row; returns the first rejected row (its status in *status)
@@ -68,7 +68,7 @@ cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, co
         status[0] = FusionAltitudeInsUpdate(ins, g, a, m, baro[i], dt[i])
         if status[0] != FusionAltitudeInsStatusOk:
             return i
-        altitude[i] = FusionAltitudeInsGetAltitude(ins)
+        height[i] = FusionAltitudeInsGetAltitude(ins)
         velocity[i] = FusionAltitudeInsGetVerticalVelocity(ins)
         q = FusionAltitudeInsGetQuaternion(ins)
         quaternion[4 * i] = q.w
@@ -92,31 +92,7 @@ cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, co
 
 
 cdef class InsEstimator(_InsEstimatorGetters):
-    """Inertial navigation filter: attitude, gyro bias, height and vertical velocity from a raw IMU and a baro.
-
-    An error-state EKF (csrc/fusion_altitude_ins.h). Body axes: any
-    right-handed set, the same for gyro, accel and mag. Earth frame: NWU
-    (x north, y west, z up), so a level IMU at rest reads accel (0, 0, +g).
-    The local attitude (``quaternion``; yaw integrated from 0) drives the
-    vertical channel and never sees the magnetometer; the magnetometer only
-    sets the local-to-global yaw (``global_quaternion``).
-
-    Parameters
-    ----------
-    settings : InsSettings, optional
-        Defaults when omitted.
-    gyro_units : {"rad/s", "deg/s"}
-        Unit of the ``gyro`` input ("°/s" and "dps" also accepted), as imufusion users have it in °/s.
-    accel_units : {"m/s^2", "g"}
-        Unit of the ``accel`` input ("m/s²" also accepted).
-
-    Notes
-    -----
-    ``altitude`` is the height d above the reference, m, +up; the baro reads
-    ``altitude + baro_bias``. The first baro sample sets ``baro_bias``; while
-    stationary every baro reading goes to ``baro_bias`` (the height is held by
-    a zero-velocity update) and the accel z bias is learned.
-    """
+    __doc__ = DOC_InsEstimator  # generated from the reference's docstring (_ins_fields.pxi)
 
     cdef double _gyro_scale
     cdef double _accel_scale
@@ -130,17 +106,16 @@ cdef class InsEstimator(_InsEstimatorGetters):
         FusionAltitudeInsInitialiseWith(&self._c, &c)  # settings already checked by InsSettings
 
     @property
-    def height_above_start(self):
-        """Height above the start (the INS's reference d = 0, set by the first baro sample), m, +up. The INS's own
-        name for what its ``altitude`` holds: ``altitude`` means the baro's datum in every other estimator, and
-        ``height_above_start + baro_bias`` is the INS's altitude in that datum (the ``altitude`` column of
-        ``run -o``); see docs/architecture.md, "Names"."""
-        return self.altitude
+    def altitude(self):
+        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum), as every
+        estimator's ``altitude`` (in 0.1.0 it was the height above the start; see docs/ins.md)."""
+        cdef float altitude = FusionAltitudeInsGetAltitude(&self._c) + FusionAltitudeInsGetBaroBias(&self._c)
+        return altitude
 
     @property
     def baro_datum_altitude(self):
-        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum)."""
-        return float(np.float32(self.altitude) + np.float32(self.baro_bias))
+        """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
+        return self.altitude
 
     @property
     def settings(self):
@@ -237,7 +212,7 @@ cdef class InsEstimator(_InsEstimatorGetters):
         cdef const float[:, ::1] m = inputs["mag"]
         cdef const float[::1] b = inputs["baro_altitude"]
         cdef const float[::1] t = inputs["dt"]
-        cdef float[::1] h = result.altitude
+        cdef float[::1] h = result.height_above_start
         cdef float[::1] v = result.vertical_velocity
         cdef float[:, ::1] q = result.quaternion
         cdef float[:, ::1] qg = result.global_quaternion

@@ -198,7 +198,7 @@ cdef class _InsEstimatorGetters(Estimator):
         return FusionAltitudeInsGetBaroTimeouts(&self._c)
 
     @property
-    def altitude(self):
+    def height_above_start(self):
         """The height above the reference d, m, +up (the baro reads d + baro bias)."""
         return FusionAltitudeInsGetAltitude(&self._c)
 
@@ -246,3 +246,33 @@ cdef class _InsEstimatorGetters(Estimator):
     def gap_count(self):
         """The number of steps with dt > gapPeriod (not integrated)."""
         return FusionAltitudeInsGetGapCount(&self._c)
+
+
+
+#: The docstring of InsEstimator (binding and reference), from fusion_altitude/reference/ins.py.
+DOC_InsEstimator = """Inertial navigation filter: attitude, gyro bias, height and vertical velocity from a raw IMU and a baro.
+
+    An error-state EKF (csrc/fusion_altitude_ins.h). Body axes: any
+    right-handed set, the same for gyro, accel and mag. Earth frame: NWU
+    (x north, y west, z up), so a level IMU at rest reads accel (0, 0, +g).
+    The local attitude (``quaternion``; yaw integrated from 0) drives the
+    vertical channel and never sees the magnetometer; the magnetometer only
+    sets the local-to-global yaw (``global_quaternion``).
+
+    Parameters
+    ----------
+    settings : InsSettings, optional
+        Defaults when omitted.
+    gyro_units : {"rad/s", "deg/s"}
+        Unit of the ``gyro`` input ("°/s" and "dps" also accepted), as imufusion users have it in °/s.
+    accel_units : {"m/s^2", "g"}
+        Unit of the ``accel`` input ("m/s²" also accepted).
+
+    Notes
+    -----
+    ``height_above_start`` is the height d above the reference, m, +up; the
+    baro reads ``height_above_start + baro_bias``, which is ``altitude`` (the
+    baro's datum, as for every estimator). The first baro sample sets ``baro_bias``; while
+    stationary every baro reading goes to ``baro_bias`` (the height is held by
+    a zero-velocity update) and the accel z bias is learned.
+    """

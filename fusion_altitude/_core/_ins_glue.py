@@ -156,8 +156,8 @@ class InsBatch:
 
     Attributes
     ----------
-    altitude : numpy.ndarray
-        Height above the reference d, m, +up, shape (N,).
+    height_above_start : numpy.ndarray
+        Height above the reference d (≈ 0 at the first baro sample), m, +up, shape (N,).
     vertical_velocity : numpy.ndarray
         m/s, +up, shape (N,).
     quaternion : numpy.ndarray
@@ -175,9 +175,15 @@ class InsBatch:
     baro_timed_out : numpy.ndarray
         bool, shape (N,): not baro-aided, no baro reading for longer than ``baro_timeout`` s
         (``InsEstimator.baro_timed_out`` after each step).
+
+    Notes
+    -----
+    ``altitude`` (a property, not a field) is in the baro's datum, ``height_above_start + baro_bias``, as every
+    estimator's; in 0.1.0 the first field was named ``altitude`` and held the height (docs/ins.md). The fields, and
+    so ``tuple(batch)`` and the sequence ``out=`` takes, are the state the C loop writes.
     """
 
-    altitude: np.ndarray
+    height_above_start: np.ndarray
     vertical_velocity: np.ndarray
     quaternion: np.ndarray
     global_quaternion: np.ndarray
@@ -189,18 +195,20 @@ class InsBatch:
 
     def __iter__(self):
         """The arrays in field order, as for the other estimators' batch results (``tuple(batch)``)."""
-        return iter((self.altitude, self.vertical_velocity, self.quaternion, self.global_quaternion, self.gyro_bias,
-                     self.accel_z_bias, self.baro_bias, self.is_stationary, self.baro_timed_out))
+        return iter((self.height_above_start, self.vertical_velocity, self.quaternion, self.global_quaternion,
+                     self.gyro_bias, self.accel_z_bias, self.baro_bias, self.is_stationary, self.baro_timed_out))
 
     @property
-    def height_above_start(self) -> np.ndarray:
-        """Height above the start, m, shape (N,): the INS's name for :attr:`altitude` (see docs/architecture.md)."""
-        return self.altitude
+    def altitude(self) -> np.ndarray:
+        """Altitude in the baro's datum, m, +up, shape (N,): ``height_above_start + baro_bias`` (float32), as
+        ``run -o`` writes it; a new array on each access."""
+        return self.height_above_start + self.baro_bias
 
     @property
     def baro_datum_altitude(self) -> np.ndarray:
-        """Altitude in the baro's datum, m, shape (N,): ``altitude + baro_bias`` (float32), as ``run -o`` writes it."""
-        return self.altitude + self.baro_bias
+        """The same as :attr:`altitude` (altitude in the baro's datum, m, shape (N,)), kept from the release that
+        added it."""
+        return self.altitude
 
     @classmethod
     def empty(cls, n: int) -> "InsBatch":
@@ -220,8 +228,8 @@ class InsBatch:
         return quaternion_to_euler(self.global_quaternion)
 
 
-_SHAPES = {"altitude": ((), np.float32), "vertical_velocity": ((), np.float32), "quaternion": ((4,), np.float32),
-           "global_quaternion": ((4,), np.float32), "gyro_bias": ((3,), np.float32), "accel_z_bias": ((), np.float32),
+_SHAPES = {"height_above_start": ((), np.float32), "vertical_velocity": ((), np.float32),
+           "quaternion": ((4,), np.float32), "global_quaternion": ((4,), np.float32), "gyro_bias": ((3,), np.float32), "accel_z_bias": ((), np.float32),
            "baro_bias": ((), np.float32), "is_stationary": ((), np.bool_), "baro_timed_out": ((), np.bool_)}
 
 

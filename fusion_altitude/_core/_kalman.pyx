@@ -96,25 +96,7 @@ cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
 
 
 cdef class KalmanEstimator(_KalmanEstimatorGetters):
-    """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with vertical acceleration.
-
-    Estimates height above ground (m), baro-referenced altitude (m), vertical
-    velocity (m/s, +up), the accelerometer's vertical bias (m/s², +up) and the
-    baro and GPS offsets to the ground (m).
-
-    Parameters
-    ----------
-    settings : KalmanSettings, optional
-        The defaults if omitted.
-
-    Notes
-    -----
-    Starts on the ground at rest with unknown baro and GPS offsets; each
-    sensor's first sample sets its offset (no start-up phase). ``altitude``
-    is h + baro_offset: what a noise-free baro would read, comparable to
-    :class:`AltitudeEstimator`'s altitude. Copies and pickles carry the full
-    state.
-    """
+    __doc__ = DOC_KalmanEstimator  # generated from the reference's docstring (_kalman_fields.pxi)
 
 
     def __init__(self, settings=None):

@@ -212,3 +212,26 @@ cdef class _KalmanEstimatorGetters(Estimator):
     def gps_timed_out(self):
         """True while the GPS is timed out: no usable fix for longer than gpsTimeout (s)."""
         return FusionAltitudeKalmanIsGpsTimedOut(&self._c)
+
+
+
+#: The docstring of KalmanEstimator (binding and reference), from fusion_altitude/reference/kalman.py.
+DOC_KalmanEstimator = """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with vertical acceleration.
+
+    Estimates height above ground (m), baro-referenced altitude (m), vertical
+    velocity (m/s, +up), the accelerometer's vertical bias (m/s², +up) and the
+    baro and GPS offsets to the ground (m).
+
+    Parameters
+    ----------
+    settings : KalmanSettings, optional
+        The defaults if omitted.
+
+    Notes
+    -----
+    Starts on the ground at rest with unknown baro and GPS offsets; each
+    sensor's first sample sets its offset (no start-up phase). ``altitude``
+    is h + baro_offset: what a noise-free baro would read, comparable to
+    :class:`AltitudeEstimator`'s altitude. Copies and pickles carry the full
+    state.
+    """

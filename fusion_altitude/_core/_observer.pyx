@@ -77,23 +77,7 @@ def _checked_gains(gains):
 
 
 cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
-    """3rd-order complementary observer: baro altitude + vertical acceleration.
-
-    Estimates altitude (m), vertical velocity (m/s, +up) and the
-    accelerometer's vertical bias (m/s², +up).
-
-    Parameters
-    ----------
-    settings : AltitudeSettings, optional
-        Gains; the defaults (VTOL multirotor) if omitted.
-
-    Notes
-    -----
-    Inputs: vertical acceleration (m/s², earth frame, +up, gravity removed),
-    baro altitude (m; NaN for "no baro this step") and dt (s). The first baro
-    sample sets the reference (auto-zero). NED users negate. Copies and
-    pickles carry the full state, so a run can be checkpointed and resumed.
-    """
+    __doc__ = DOC_AltitudeEstimator  # generated from the reference's docstring (_observer_fields.pxi)
 
 
     def __init__(self, settings=None):

@@ -152,3 +152,24 @@ cdef class _AltitudeEstimatorGetters(Estimator):
     def reference_set(self):
         """True once the reference is set (first baro sample or reset); false again from a gap to the next baro sample."""
         return FusionAltitudeIsReferenceSet(&self._c)
+
+
+
+#: The docstring of AltitudeEstimator (binding and reference), from fusion_altitude/reference/observer.py.
+DOC_AltitudeEstimator = """3rd-order complementary observer: baro altitude + vertical acceleration.
+
+    Estimates altitude (m), vertical velocity (m/s, +up) and the
+    accelerometer's vertical bias (m/s², +up).
+
+    Parameters
+    ----------
+    settings : AltitudeSettings, optional
+        Gains; the defaults (VTOL multirotor) if omitted.
+
+    Notes
+    -----
+    Inputs: vertical acceleration (m/s², earth frame, +up, gravity removed),
+    baro altitude (m; NaN for "no baro this step") and dt (s). The first baro
+    sample sets the reference (auto-zero). NED users negate. Copies and
+    pickles carry the full state, so a run can be checkpointed and resumed.
+    """

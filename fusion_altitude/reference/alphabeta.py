@@ -138,7 +138,27 @@ class _Filter:
 
 
 class AlphaBetaFusion(Checkpointable):
-    """Quality-weighted alpha-beta fusion; see :class:`fusion_altitude.AlphaBetaFusion`."""
+    """Quality-weighted alpha-beta fusion of IMU-integrated altitude, baro, lidar, sonar and GPS.
+
+    Each sensor runs an alpha-beta filter of depth Q (its quality), which
+    rises by one while the sensor agrees with the fused prediction within its
+    threshold and falls by one otherwise; alpha = 2(2Q−1)/(Q(Q+1)), beta =
+    6/(Q(Q+1)). The output is the mean of the filters weighted by
+    Q · confidence, a sensor's weight zeroed outside its altitude band, while
+    its latest sample is further than its gap maximum from the prediction, or
+    after its timeout.
+
+    Parameters
+    ----------
+    settings : AlphaBetaSettings, optional
+        Default: the write-up's tables.
+
+    Notes
+    -----
+    NaN means "no sample this step" for every input, accel (the IMU channel)
+    included. No offsets are estimated: every sensor is taken to measure the
+    same altitude. Copies and pickles carry the full state.
+    """
 
     __slots__ = ("_settings", "_filters", "_h", "_v", "_total", "_coasting", "_gap_time", "_gap_count", "_started")
 

@@ -122,7 +122,7 @@ class RocketSettings(KeywordSettings):
 
 
 class RocketEstimator(Checkpointable):
-    """Rocket flight computer: observer + pad calibration + baro gate + flight phases.
+    """Rocket flight computer: altitude observer + pad calibration + baro gate + flight phases.
 
     Parameters
     ----------
@@ -131,9 +131,10 @@ class RocketEstimator(Checkpointable):
 
     Notes
     -----
-    Inputs per step: ``accel`` (m/s², gravity removed, +up: the long-axis
-    accelerometer minus g without an INS), ``baro_altitude`` (m, pressure
-    altitude; NaN for no sample) and ``dt`` (s). Heights are above the pad.
+    Inputs per step: ``accel`` (m/s², gravity removed, +up: without an INS the
+    long-axis accelerometer minus g, ≈ 0 at rest on the pad), ``baro_altitude``
+    (m, pressure altitude; NaN for no sample) and ``dt`` (s). Heights are
+    above the pad learned while stationary. See docs/rocket.md.
     """
 
     __slots__ = ("_settings", "_obs", "_phase", "_baro", "_events", "_candidate", "_sample", "_gap_count", "_windows",
@@ -505,29 +506,6 @@ class RocketEstimator(Checkpointable):
     # -- public API --------------------------------------------------------
 
     def update(self, accel: float, baro_altitude: float, dt: float, *, accel_is_vertical: bool = False) -> None:
-        """Process one step.
-
-        Parameters
-        ----------
-        accel : float
-            m/s², gravity removed, +up: the long-axis accelerometer minus g
-            (used as vertical until apogee, ignored after it) or, with
-            ``accel_is_vertical``, a trusted earth-frame vertical acceleration
-            from an INS (used in every phase). NaN: no accelerometer sample
-            (in flight the layer is baro-led from then on).
-        baro_altitude : float
-            Pressure altitude, m; NaN when no baro sample arrived this step.
-        dt : float
-            s since the previous step.
-        accel_is_vertical : bool, default False
-            See ``accel``.
-
-        Raises
-        ------
-        ValueError
-            accel or baro_altitude infinite, dt not finite or <= 0;
-            the state is unchanged.
-        """
         with np.errstate(over="ignore"):
             a = f32(_common.as_float(accel, "accel"))
             z = f32(_common.as_float(baro_altitude, "baro_altitude"))
@@ -654,3 +632,6 @@ class RocketEstimator(Checkpointable):
          self._pad_baro_age, self._baro_peak, self._contradiction_time, self._baro_peak_age) = (f32(x) for x in floats)
         (self._window_stationary, self._pad_altitude_set, self._last_baro_set, self._baro_admitted, self._lockout,
          self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart) = (bool(x) for x in flags)
+
+
+_common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)

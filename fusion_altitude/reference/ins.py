@@ -164,14 +164,31 @@ def _up_in_body(q: np.ndarray):
 
 
 class InsEstimator(Checkpointable):
-    """Reference twin of :class:`fusion_altitude.InsEstimator` (same API, bit-identical results).
+    """Inertial navigation filter: attitude, gyro bias, height and vertical velocity from a raw IMU and a baro.
+
+    An error-state EKF (csrc/fusion_altitude_ins.h). Body axes: any
+    right-handed set, the same for gyro, accel and mag. Earth frame: NWU
+    (x north, y west, z up), so a level IMU at rest reads accel (0, 0, +g).
+    The local attitude (``quaternion``; yaw integrated from 0) drives the
+    vertical channel and never sees the magnetometer; the magnetometer only
+    sets the local-to-global yaw (``global_quaternion``).
 
     Parameters
     ----------
     settings : InsSettings, optional
+        Defaults when omitted.
     gyro_units : {"rad/s", "deg/s"}
+        Unit of the ``gyro`` input ("°/s" and "dps" also accepted), as imufusion users have it in °/s.
     accel_units : {"m/s^2", "g"}
-        Units of the ``gyro`` and ``accel`` inputs (converted in double, then float32).
+        Unit of the ``accel`` input ("m/s²" also accepted).
+
+    Notes
+    -----
+    ``height_above_start`` is the height d above the reference, m, +up; the
+    baro reads ``height_above_start + baro_bias``, which is ``altitude`` (the
+    baro's datum, as for every estimator). The first baro sample sets ``baro_bias``; while
+    stationary every baro reading goes to ``baro_bias`` (the height is held by
+    a zero-velocity update) and the accel z bias is learned.
     """
 
     def __init__(self, settings: Optional[InsSettings] = None, *, gyro_units: str = "rad/s",
@@ -569,7 +586,7 @@ class InsEstimator(Checkpointable):
             for i in range(n):
                 self._step(inputs["gyro"][i], inputs["accel"][i], inputs["mag"][i], inputs["baro_altitude"][i],
                            inputs["dt"][i])
-                result.altitude[i] = self.distance
+                result.height_above_start[i] = self.distance
                 result.vertical_velocity[i] = self.velocity
                 result.quaternion[i] = self.q
                 result.global_quaternion[i] = self.global_quaternion
@@ -583,21 +600,19 @@ class InsEstimator(Checkpointable):
     # -- getters -------------------------------------------------------------------------------
     @property
     def altitude(self) -> float:
-        """Height above the reference d, m, +up (the baro reads d + baro_bias)."""
-        return float(self.distance)
-
-    @property
-    def height_above_start(self) -> float:
-        """Height above the start (the INS's reference d = 0, set by the first baro sample), m, +up. The INS's own
-        name for what its ``altitude`` holds: ``altitude`` means the baro's datum in every other estimator, and
-        ``height_above_start + baro_bias`` is the INS's altitude in that datum (the ``altitude`` column of
-        ``run -o``); see docs/architecture.md, "Names"."""
-        return self.altitude
+        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum), as every
+        estimator's ``altitude`` (in 0.1.0 it was the height above the start; see docs/ins.md)."""
+        return float(f32(self.distance) + f32(self.baro_bias_))
 
     @property
     def baro_datum_altitude(self) -> float:
-        """Altitude in the baro's datum, m, +up: ``height_above_start + baro_bias`` (float32 sum)."""
-        return float(np.float32(self.altitude) + np.float32(self.baro_bias))
+        """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
+        return self.altitude
+
+    @property
+    def height_above_start(self) -> float:
+        """The height above the reference d, m, +up (the baro reads d + baro bias)."""
+        return float(self.distance)
 
     @property
     def vertical_velocity(self) -> float:

@@ -234,7 +234,11 @@ class _Sensor:
 
 
 class KalmanEstimator(Checkpointable):
-    """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with accel.
+    """Multi-sensor altitude Kalman filter: baro, rangefinder and GPS altitude with vertical acceleration.
+
+    Estimates height above ground (m), baro-referenced altitude (m), vertical
+    velocity (m/s, +up), the accelerometer's vertical bias (m/s², +up) and the
+    baro and GPS offsets to the ground (m).
 
     Parameters
     ----------
@@ -244,8 +248,10 @@ class KalmanEstimator(Checkpointable):
     Notes
     -----
     Starts on the ground at rest with unknown baro and GPS offsets; each
-    sensor's first sample sets its offset. ``altitude`` is baro-referenced:
-    h + baro_offset, what a noise-free baro would read.
+    sensor's first sample sets its offset (no start-up phase). ``altitude``
+    is h + baro_offset: what a noise-free baro would read, comparable to
+    :class:`AltitudeEstimator`'s altitude. Copies and pickles carry the full
+    state.
     """
 
     __slots__ = ("_settings", "_s", "_x", "_P", "_sensors", "_since_fused", "_gap_count", "_baro_initialised",

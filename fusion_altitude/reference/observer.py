@@ -326,6 +326,9 @@ class AltitudeSettings(GainSettings):
 class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     """3rd-order complementary observer: baro altitude + vertical acceleration.
 
+    Estimates altitude (m), vertical velocity (m/s, +up) and the
+    accelerometer's vertical bias (m/s², +up).
+
     Parameters
     ----------
     settings : AltitudeSettings, optional
@@ -335,7 +338,8 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     -----
     Inputs: vertical acceleration (m/s², earth frame, +up, gravity removed),
     baro altitude (m; NaN for "no baro this step") and dt (s). The first baro
-    sample sets the reference (auto-zero). NED users negate.
+    sample sets the reference (auto-zero). NED users negate. Copies and
+    pickles carry the full state, so a run can be checkpointed and resumed.
     """
 
     __slots__ = ("_settings", "_h", "_v", "_b", "_r", "_gap_time", "_since_restart", "_since_baro", "_gap_count",

@@ -11,7 +11,7 @@ import argparse
 import math
 import os
 import sys
-from typing import Any, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Sequence
 
 __all__ = ["add_fleet_parser", "run_fleet_command"]
 
@@ -50,8 +50,9 @@ def _add_csv_arguments(parser: argparse.ArgumentParser, reference: bool = False)
         parser.add_argument("--reference", help="CSV logs: reference altitude column, m")
 
 
-def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Add ``fleet`` (with ``run``, ``fit``, ``summary``) to the subparsers of ``fusion-altitude``."""
+def add_fleet_parser(subparsers: Any, more: Sequence[Callable[[Any], Any]] = ()) -> argparse.ArgumentParser:
+    """Add ``fleet`` (with ``run``, ``fit``, ``summary``, then each of ``more``, called with the subparsers of
+    ``fleet``) to the subparsers of ``fusion-altitude``."""
     fleet = subparsers.add_parser(
         "fleet", help="run, summarise or fit over many logs on Dask (needs the [fleet] extra)",
         description="Fleet processing on dask.distributed: one task per log, on a local cluster sized to this "
@@ -97,8 +98,8 @@ def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
     summary.add_argument("output", metavar="OUT/", help="output directory of `fleet run`")
     summary.add_argument("--worst", type=int, default=10, help="worst logs to print (default 10)")
     summary.add_argument("--all", action="store_true", help="print every log, not only the worst")
-    from .report import add_fleet_report_parser
-    add_fleet_report_parser(commands)
+    for add_more in more:  # e.g. `fleet report` (cli/report.py), handed in by cli/__init__.py
+        add_more(commands)
     return fleet
 
 

@@ -271,22 +271,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _cmd_fit(args: argparse.Namespace) -> int:
     from .. import fleet
 
-    from .common import MAX_OMEGA, check_output as _check_output, number as _number
-
     fleet.require_fleet_packages()
     _check_numbers(args)
     csv_options = _csv_options(args)
     _client_argument(args)
-    if args.holdout and args.holdout_every:
-        raise _cli_error("give --holdout or --holdout-every, not both")
-    if args.holdout_every is not None and args.holdout_every < 2:
-        raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
-    _number("--skip", args.skip, 0.0, strict=False)
-    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
-    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
-    if args.omega_min >= args.omega_max:
-        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
-    _check_output(args.output, "-o", extensions=(".json",))
+    _check_fit_arguments(args)
     every = _check_inputs("DIR_OR_GLOB", args.paths)
     if args.holdout:
         _check_inputs("--holdout", args.holdout)
@@ -303,8 +292,32 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                                     omega_range=(args.omega_min, args.omega_max))
     except (ValueError, TypeError) as error:
         raise _cli_error(_flag_message(error)) from None
+    _print_fit(result, args.skip)
+    if args.output:
+        _write_fit(result, args.output)
+    return 0
+
+
+def _check_fit_arguments(args: argparse.Namespace) -> None:
+    """CliError for ``fleet fit`` flags out of range or contradicting each other, and for an unwritable ``-o``."""
+    from .common import MAX_OMEGA, check_output as _check_output, number as _number
+
+    if args.holdout and args.holdout_every:
+        raise _cli_error("give --holdout or --holdout-every, not both")
+    if args.holdout_every is not None and args.holdout_every < 2:
+        raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
+    _number("--skip", args.skip, 0.0, strict=False)
+    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
+    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
+    if args.omega_min >= args.omega_max:
+        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    _check_output(args.output, "-o", extensions=(".json",))
+
+
+def _print_fit(result, skip: float) -> None:
+    """The fleet fit's gains and its RMS tables (m): training logs, and held-out logs when there are some."""
     gains = result.settings
-    print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {args.skip:g} s each), "
+    print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {skip:g} s each), "
           f"{len(result.excluded)} left out")
     for path, reason in result.excluded:
         print(f"  left out {path}: {_flag_message(reason)}")
@@ -326,22 +339,25 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         for row in result.holdout:
             if row["error"]:
                 print(f"  {row['log_id']}: {_flag_message(row['error'])}")
-    if args.output:
-        record = {"omega": result.omega, "zeta": result.zeta, "omega_b": result.omega_b,
-                  "position_gain": gains.position_gain, "velocity_gain": gains.velocity_gain,
-                  "bias_gain": gains.bias_gain, "rms_error_m": result.rms_error,
-                  "default_rms_error_m": result.default_rms_error, "metric_samples": result.metric_samples,
-                  "logs": result.logs, "excluded": [list(item) for item in result.excluded],
-                  "holdout": result.holdout, "holdout_rms_error_m": result.holdout_rms_error,
-                  "holdout_default_rms_error_m": result.holdout_default_rms_error}
-        import json
 
-        from ..outputs import atomic_output
 
-        with atomic_output(args.output) as temporary, open(temporary, "w") as handle:
-            json.dump(record, handle, indent=1, allow_nan=True)
-        print(f"fit written to {args.output}")
-    return 0
+def _write_fit(result, path: str) -> None:
+    """The fleet fit as JSON at ``path`` (written atomically)."""
+    gains = result.settings
+    record = {"omega": result.omega, "zeta": result.zeta, "omega_b": result.omega_b,
+              "position_gain": gains.position_gain, "velocity_gain": gains.velocity_gain,
+              "bias_gain": gains.bias_gain, "rms_error_m": result.rms_error,
+              "default_rms_error_m": result.default_rms_error, "metric_samples": result.metric_samples,
+              "logs": result.logs, "excluded": [list(item) for item in result.excluded],
+              "holdout": result.holdout, "holdout_rms_error_m": result.holdout_rms_error,
+              "holdout_default_rms_error_m": result.holdout_default_rms_error}
+    import json
+
+    from ..outputs import atomic_output
+
+    with atomic_output(path) as temporary, open(temporary, "w") as handle:
+        json.dump(record, handle, indent=1, allow_nan=True)
+    print(f"fit written to {path}")
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:

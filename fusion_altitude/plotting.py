@@ -13,7 +13,7 @@ from typing import Optional
 import numpy as np
 
 __all__ = ["plot_scenario", "plot_log_run", "plot_fit_landscape", "decimate", "save_figure", "check_plot_path",
-           "COLUMNS"]
+           "relative_time", "COLUMNS"]
 
 #: Pixel columns a long series is decimated to (a 10-inch figure at 110 dpi is 1100 px wide; 2000 leaves margin).
 COLUMNS = 2000
@@ -107,12 +107,29 @@ def _decimated_style(args, kwargs, decimated: bool):
     return ("-",) + tuple(args[1:]), kwargs
 
 
-def _relative_time(time):
-    """Times for the x axis, s: epoch-like times (> 10^6 s) as seconds since the first sample, with the label."""
+def relative_time(time):
+    """Times for a plot's x axis and their axis label.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times, s.
+
+    Returns
+    -------
+    x : numpy.ndarray
+        ``time`` as float, s; epoch-like times (|first| > 10^6 s) as seconds since the first sample.
+    label : str
+        The x axis label: "time (s)", or "time (s) since t = <first> s".
+    """
     time = np.asarray(time, dtype=float)
     if time.size and abs(time[0]) > 1e6:
         return time - time[0], f"time (s) since t = {time[0]:.3f} s"
     return time, "time (s)"
+
+
+#: The old private name of :func:`relative_time`, kept for one release.
+_relative_time = relative_time
 
 
 def plot_scenario(result, path: str) -> None:
@@ -175,7 +192,7 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
         Figure title; default the log's source.
     """
     plt = _pyplot()
-    t, time_label = _relative_time(run.time)
+    t, time_label = relative_time(run.time)
     estimate = run.estimate
     label = f"{getattr(run, 'estimator', 'observer')} estimate"
     fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True, constrained_layout=True)
@@ -239,7 +256,7 @@ def mark_events(axis, events, offset: float = 0.0, labels: bool = True) -> list:
     events : fusion_altitude.rocket.FlightEvents
         Times in the log's seconds.
     offset : float, default 0
-        Subtracted from each event time (s), as the x axis of :func:`_relative_time`.
+        Subtracted from each event time (s), as the x axis of :func:`relative_time`.
     labels : bool, default True
         Write each event's name next to its line, each on the highest row where it does not
         overlap a name to its left (events close in time, e.g. launch, max_speed and burnout on a

@@ -29,7 +29,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .plotting import COLUMNS, _relative_time, decimate
+from .plotting import COLUMNS, decimate, relative_time
 
 __all__ = ["log_report", "fleet_report", "save", "report_title", "PLOT_HEIGHT", "COLUMNS"]
 
@@ -221,39 +221,59 @@ def _header_html(runs, settings: Dict[str, Any], health) -> str:
     """The report's header: the log, its sensor health, the settings used and the error table."""
     first = runs[0]
     time = np.asarray(first.time, float)
+    parts = [_STYLE, "<div class='fa-head'>", f"<h2>{html.escape(str(first.source))}</h2>", _facts_html(first, time),
+             _health_html(first, health, time), _settings_html(runs, settings), _comparison_html(runs),
+             _events_html(runs), _notes_html(first)]
+    parts.append("<div class='fa-note'>Drag to pan, scroll to zoom: every plot shares the time axis. Lines are "
+                 "decimated per pixel column (min and max) on long logs.</div></div>")
+    return "".join(parts)
+
+
+def _facts_html(first, time: np.ndarray) -> str:
+    """One line of facts about the log: format, vehicle, duration (s), samples, datum, its own estimate."""
     duration = float(time[-1] - time[0])
     source = str(first.source)
     fmt = source[source.find("(") + 1:source.rfind(")")] if "(" in source and source.endswith(")") else ""
-    parts = [_STYLE, "<div class='fa-head'>", f"<h2>{html.escape(source)}</h2>"]
     facts = [("format", fmt or "–"), ("vehicle", getattr(first, "vehicle", "") or "unknown"),
              ("duration", f"{duration:.2f} s ({time[0]:.3f} … {time[-1]:.3f} s)"), ("samples", f"{time.size}"),
              ("datum", f"above the start ({first.datum:.2f} m)" if first.datum else
               (getattr(first, "altitude_reference", "") or "the log's")),
              ("log's own estimate", first.reference_name if first.reference_altitude is not None else "none")]
-    parts.append(" · ".join(f"<b>{html.escape(k)}</b>: {html.escape(v)}" for k, v in facts))
-    parts.append("<h3>Sensor health</h3>")  # the table of `run` (health.format_health), as HTML
-    rows = []
-    for s in health:
-        notes = []
-        if s.samples == 0:
-            notes.append("no sample")
-        else:
-            if s.dead:
-                notes.append("dead: constant value")
-            if s.saturated:
-                notes.append(f"saturated on {s.saturated} samples")
-            if s.stopped:
-                notes.append(f"stops {time[-1] - s.last:.1f} s before the log's end")
-            if s.started_late:
-                notes.append(f"starts {s.first - time[0]:.1f} s after the log")
-        rows.append([s.name, s.samples, s.rate, s.first, s.last, s.longest_outage, "; ".join(notes)])
+    return " · ".join(f"<b>{html.escape(k)}</b>: {html.escape(v)}" for k, v in facts)
+
+
+def _health_notes(s, time: np.ndarray) -> str:
+    """What is wrong with one sensor stream (:class:`fusion_altitude.health.SensorHealth`), "; "-joined."""
+    notes = []
+    if s.samples == 0:
+        notes.append("no sample")
+    else:
+        if s.dead:
+            notes.append("dead: constant value")
+        if s.saturated:
+            notes.append(f"saturated on {s.saturated} samples")
+        if s.stopped:
+            notes.append(f"stops {time[-1] - s.last:.1f} s before the log's end")
+        if s.started_late:
+            notes.append(f"starts {s.first - time[0]:.1f} s after the log")
+    return "; ".join(notes)
+
+
+def _health_html(first, health, time: np.ndarray) -> str:
+    """The sensor health table of ``run`` (:func:`fusion_altitude.health.format_health`) as HTML, and the gaps."""
+    parts = ["<h3>Sensor health</h3>"]
+    rows = [[s.name, s.samples, s.rate, s.first, s.last, s.longest_outage, _health_notes(s, time)] for s in health]
     parts.append(_table(["sensor", "samples", "rate (Hz)", "first (s)", "last (s)", "longest outage (s)", "notes"],
                         rows))
     gaps = list(getattr(first, "gaps", []) or [])
     if gaps:
         parts.append(f"<div class='fa-note'>logging gaps: {len(gaps)}, longest {max(g[1] for g in gaps):.3f} s at "
                      f"{max(gaps, key=lambda g: g[1])[0]:.3f} s</div>")
-    parts.append("<h3>Estimators and settings</h3>")
+    return "".join(parts)
+
+
+def _settings_html(runs, settings: Dict[str, Any]) -> str:
+    """The estimators, the settings each ran with, their gaps and rejections, and what their residual is."""
     rows = []
     for run in runs:
         extra = []
@@ -265,44 +285,57 @@ def _header_html(runs, settings: Dict[str, Any], health) -> str:
         described = settings.get(run.estimator)
         rows.append([run.estimator, "defaults" if described is None else str(described), "; ".join(extra),
                      _residual(run)[2]])
-    parts.append(_table(["estimator", "settings", "during the run", "baro residual plotted"], rows))
-    if first.reference_altitude is not None and np.isfinite(first.reference_altitude).any():
-        from .metrics import error_statistics
+    return "<h3>Estimators and settings</h3>" + _table(
+        ["estimator", "settings", "during the run", "baro residual plotted"], rows)
 
-        parts.append(f"<h3>Against the log's own estimate ({html.escape(first.reference_name)})</h3>")
-        rows = []
-        for run in runs:
-            stats = run.comparison()
-            velocity = math.nan
-            if run.reference_velocity is not None and np.isfinite(run.reference_velocity).any():
-                velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
-                                            - run.reference_velocity, 0.0).rms
-            rows.append([f"{run.estimator} − ref", stats.mean, stats.rms, stats.max, stats.p95, velocity])
-        raw = first.baro_comparison()
-        rows.append(["baro − ref", raw.mean, raw.rms, raw.max, raw.p95, math.nan])
-        parts.append(_table(["", "mean (m)", "RMS (m)", "max |·| (m)", "p95 |·| (m)", "velocity RMS (m/s)"], rows))
+
+def _comparison_html(runs) -> str:
+    """The error table (m, m/s) of each estimate and the raw baro against the log's own estimate; "" without one."""
+    first = runs[0]
+    if first.reference_altitude is None or not np.isfinite(first.reference_altitude).any():
+        return ""
+    from .metrics import error_statistics
+
+    rows = []
+    for run in runs:
+        stats = run.comparison()
+        velocity = math.nan
+        if run.reference_velocity is not None and np.isfinite(run.reference_velocity).any():
+            velocity = error_statistics(run.time, np.asarray(run.estimate.vertical_velocity, float)
+                                        - run.reference_velocity, 0.0).rms
+        rows.append([f"{run.estimator} − ref", stats.mean, stats.rms, stats.max, stats.p95, velocity])
+    raw = first.baro_comparison()
+    rows.append(["baro − ref", raw.mean, raw.rms, raw.max, raw.p95, math.nan])
+    return (f"<h3>Against the log's own estimate ({html.escape(first.reference_name)})</h3>"
+            + _table(["", "mean (m)", "RMS (m)", "max |·| (m)", "p95 |·| (m)", "velocity RMS (m/s)"], rows))
+
+
+def _events_html(runs) -> str:
+    """The rocket layer's flight events (s, m) beside the flight computer's; "" when no run has events."""
     events = [run for run in runs if run.events is not None]
-    if events:
-        from .rocket import flight_computer_events
+    if not events:
+        return ""
+    from .rocket import flight_computer_events
 
-        theirs, how = flight_computer_events(first, pad_altitude=None)
-        parts.append("<h3>Flight events</h3>")
-        rows = []
-        for event in events[0].events:
-            row = [event.name, event.time if event.occurred else math.nan, event.height if event.occurred else math.nan]
-            if theirs is not None:
-                other = theirs[event.name]
-                row += [other.time if other.occurred else math.nan, other.height if other.occurred else math.nan]
-            rows.append(row)
-        header = ["event", "time (s)", "height (m)"] + (["FC time (s)", "FC height (m)"] if theirs is not None else [])
-        parts.append(_table(header, rows) + f"<div class='fa-note'>flight computer's events: {html.escape(how)}</div>")
+    theirs, how = flight_computer_events(runs[0], pad_altitude=None)
+    rows = []
+    for event in events[0].events:
+        row = [event.name, event.time if event.occurred else math.nan, event.height if event.occurred else math.nan]
+        if theirs is not None:
+            other = theirs[event.name]
+            row += [other.time if other.occurred else math.nan, other.height if other.occurred else math.nan]
+        rows.append(row)
+    header = ["event", "time (s)", "height (m)"] + (["FC time (s)", "FC height (m)"] if theirs is not None else [])
+    return ("<h3>Flight events</h3>" + _table(header, rows)
+            + f"<div class='fa-note'>flight computer's events: {html.escape(how)}</div>")
+
+
+def _notes_html(first) -> str:
+    """The reader's notes and warnings; "" without any."""
     notes = list(getattr(first, "notes", []) or []) + [f"warning: {w}" for w in getattr(first, "warnings", []) or []]
-    if notes:
-        parts.append("<h3>Reader notes</h3><div class='fa-note'>" + "<br>".join(html.escape(n) for n in notes)
-                     + "</div>")
-    parts.append("<div class='fa-note'>Drag to pan, scroll to zoom: every plot shares the time axis. Lines are "
-                 "decimated per pixel column (min and max) on long logs.</div></div>")
-    return "".join(parts)
+    if not notes:
+        return ""
+    return "<h3>Reader notes</h3><div class='fa-note'>" + "<br>".join(html.escape(n) for n in notes) + "</div>"
 
 
 # ----------------------------------------------------------------------------
@@ -404,6 +437,47 @@ def log_report(runs, title: Optional[str] = None, settings: Optional[Dict[str, A
     ImportError
         Bokeh is missing (the ``[report]`` extra).
     """
+    runs = _checked_runs(runs, columns)
+    _bokeh()
+    from bokeh.layouts import column
+
+    first = runs[0]
+    x, x_label = relative_time(first.time)
+    shift = float(x[0] - np.asarray(first.time, float)[0])
+    merge = float(x[-1] - x[0]) / columns if x.size > 1 else 0.0
+    spans = _spans(first, x, merge)
+    phases = next((_phase_bands(r, x) for r in runs if getattr(r.estimate, "phase", None) is not None), [])
+    header = _header_div(runs, title, settings)
+    lines: list = []  # every data line drawn: the hover tool and the y range follow them
+    altitude = _altitude_plot(runs, x, x_label, columns, lines)
+    plots = [altitude, _velocity_plot(runs, x, x_label, columns, lines, altitude.x_range),
+             _bias_plot(runs, x, x_label, columns, lines, altitude.x_range),
+             _residual_plot(runs, x, x_label, columns, lines, altitude.x_range)]
+    theirs = None
+    if any(r.events is not None for r in runs):
+        from .rocket import flight_computer_events
+
+        theirs, _ = flight_computer_events(first, pad_altitude=None)
+    for plot in plots:
+        _finish_plot(plot, runs, lines, spans, phases, theirs, shift, plot is altitude)
+    return column([header] + plots, sizing_mode="stretch_width")
+
+
+def _header_div(runs, title: Optional[str], settings: Optional[Dict[str, Any]]):
+    """The header ``Div`` of a log report (:func:`_header_html`), under ``title`` when one is given."""
+    from bokeh.models import Div
+
+    from .health import sensor_health
+
+    header = Div(text=_header_html(runs, dict(settings or {}), sensor_health(runs[0])), sizing_mode="stretch_width",
+                 name=HEADER_NAME)
+    if title:
+        header.text = f"<h1 style='font:bold 18px sans-serif'>{html.escape(title)}</h1>" + header.text
+    return header
+
+
+def _checked_runs(runs, columns: int) -> list:
+    """``runs`` of :func:`log_report` as a list of LogRun of one log; TypeError or ValueError naming the argument."""
     from .runner import LogRun
 
     runs = [runs] if isinstance(runs, LogRun) else list(runs) if isinstance(runs, (list, tuple)) else runs
@@ -415,25 +489,19 @@ def log_report(runs, title: Optional[str] = None, settings: Optional[Dict[str, A
         raise ValueError("runs must all be of one log (the same time stamps)")
     if not isinstance(columns, (int, np.integer)) or columns < 1:
         raise ValueError(f"columns must be an integer >= 1, got {columns!r}")
-    _bokeh()
-    from bokeh.layouts import column
-    from bokeh.models import Div, HoverTool
+    return runs
 
-    from .health import sensor_health
 
+def _colour(k: int) -> str:
+    """The line colour of the ``k``-th estimate."""
+    return ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)]
+
+
+def _altitude_plot(runs, x: np.ndarray, x_label: str, columns: int, lines: list):
+    """Altitude (m): the baro, the log's own estimate, GPS, rangefinder and each estimate; lines drawn → ``lines``."""
     first = runs[0]
-    x, x_label = _relative_time(first.time)
-    shift = float(x[0] - np.asarray(first.time, float)[0])
-    merge = float(x[-1] - x[0]) / columns if x.size > 1 else 0.0
-    spans = _spans(first, x, merge)
-    phases = next((_phase_bands(r, x) for r in runs if getattr(r.estimate, "phase", None) is not None), [])
-    header = Div(text=_header_html(runs, dict(settings or {}), sensor_health(first)), sizing_mode="stretch_width",
-                 name=HEADER_NAME)
-    if title:
-        header.text = f"<h1 style='font:bold 18px sans-serif'>{html.escape(title)}</h1>" + header.text
-
     altitude = _figure("Altitude", "altitude above the start (m)" if first.datum else "altitude (m)", None, x_label)
-    lines = [_line(altitude, _series(x, first.baro_altitude, columns), "baro altitude", "#999999", dots=True)]
+    lines.append(_line(altitude, _series(x, first.baro_altitude, columns), "baro altitude", "#999999", dots=True))
     if first.reference_altitude is not None:
         lines.append(_line(altitude, _series(x, first.reference_altitude, columns),
                            first.reference_name or "log's own estimate", "black", 1.5))
@@ -443,36 +511,47 @@ def log_report(runs, title: Optional[str] = None, settings: Optional[Dict[str, A
         lines.append(_line(altitude, _series(x, first.rangefinder, columns), "rangefinder (distance to ground)",
                            "#17becf", dots=True))
     for k, run in enumerate(runs):
-        lines.append(_line(altitude, _series(x, run.estimate.altitude, columns), _estimate_label(run),
-                           ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)]))
+        lines.append(_line(altitude, _series(x, run.estimate.altitude, columns), _estimate_label(run), _colour(k)))
+    return altitude
 
-    velocity = _figure("Vertical velocity", "vertical velocity (m/s)", altitude.x_range, x_label)
+
+def _velocity_plot(runs, x: np.ndarray, x_label: str, columns: int, lines: list, x_range):
+    """Vertical velocity (m/s): the log's own and each estimate's; lines drawn → ``lines``."""
+    first = runs[0]
+    velocity = _figure("Vertical velocity", "vertical velocity (m/s)", x_range, x_label)
     if first.reference_velocity is not None:
         lines.append(_line(velocity, _series(x, first.reference_velocity, columns),
                            first.reference_name or "log's own estimate", "black", 1.5))
     for k, run in enumerate(runs):
         lines.append(_line(velocity, _series(x, run.estimate.vertical_velocity, columns), _estimate_label(run),
-                           ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)]))
+                           _colour(k)))
+    return velocity
 
-    bias = _figure("Accelerometer bias", "accel bias (m/s²)", altitude.x_range, x_label)
+
+def _bias_plot(runs, x: np.ndarray, x_label: str, columns: int, lines: list, x_range):
+    """Each estimate's accelerometer bias (m/s²), or the vertical acceleration input when none estimates one."""
+    bias = _figure("Accelerometer bias", "accel bias (m/s²)", x_range, x_label)
     drawn_bias = False
     for k, run in enumerate(runs):
         values = getattr(run.estimate, "accel_bias", getattr(run.estimate, "accel_z_bias", None))
         if values is not None:
-            drawn = _line(bias, _series(x, values, columns), f"{run.estimator} accel bias",
-                          ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)])
+            drawn = _line(bias, _series(x, values, columns), f"{run.estimator} accel bias", _colour(k))
             lines.append(drawn)
             drawn_bias = drawn_bias or drawn is not None
     if not drawn_bias:  # no estimator with a bias: the input it would learn it from
         bias.title.text = "Vertical acceleration input (no estimator here estimates an accelerometer bias)"
         bias.yaxis.axis_label = "vertical acceleration (m/s²)"
-        lines.append(_line(bias, _series(x, first.vertical_acceleration, columns), "vertical acceleration",
+        lines.append(_line(bias, _series(x, runs[0].vertical_acceleration, columns), "vertical acceleration",
                            "#ff7f0e", 0.8))
+    return bias
 
-    residual_plot = _figure("Baro residual (innovation)", "residual (m)", altitude.x_range, x_label)
+
+def _residual_plot(runs, x: np.ndarray, x_label: str, columns: int, lines: list, x_range):
+    """Each estimator's baro residual (m) and its gate (±, where it has one); lines drawn → ``lines``."""
+    residual_plot = _figure("Baro residual (innovation)", "residual (m)", x_range, x_label)
     for k, run in enumerate(runs):
         residual, gate, _ = _residual(run)
-        colour = ESTIMATE_COLOURS[k % len(ESTIMATE_COLOURS)]
+        colour = _colour(k)
         lines.append(_line(residual_plot, _series(x, residual, columns), f"{run.estimator} residual", colour,
                            dots=True))
         if gate is not None and np.isfinite(gate).any():
@@ -480,34 +559,33 @@ def log_report(runs, title: Optional[str] = None, settings: Optional[Dict[str, A
                 lines.append(_line(residual_plot, _series(x, sign * gate, columns), f"{run.estimator} gate ({name})",
                                    colour, 1.0, dash="dashed", legend=f"{run.estimator} gate (±)"))
     residual_plot.title.text += " (what each estimator's is: the header's estimator table)"
+    return residual_plot
 
-    plots = [altitude, velocity, bias, residual_plot]
-    theirs = None
-    if any(r.events is not None for r in runs):
-        from .rocket import flight_computer_events
 
-        theirs, _ = flight_computer_events(first, pad_altitude=None)
-    for plot in plots:
-        _shade(plot, spans, phases)
-        for run in runs:
-            if run.events is not None:
-                _mark_events(plot, run.events, shift, "#d62728", "solid", "our", plot is altitude)
-                break
-        if theirs is not None:
-            _mark_events(plot, theirs, shift, "black", "dashed", "flight computer", plot is altitude)
-        data_lines = [r for r in plot.renderers if r in lines]
-        plot.add_tools(HoverTool(renderers=data_lines, tooltips=[("", "$name"), ("time (s)", "@x{0.000}"),
-                                                                 ("value", "@y{0.000}")]))
-        legend = plot.legend[0]
-        legend.click_policy = "hide"
-        legend.label_text_font_size = "10px"
-        legend.label_height = 12
-        legend.glyph_height = 12
-        legend.spacing = 0
-        legend.padding = 4
-        plot.add_layout(legend, "right")  # beside the plot: it never hides the data
-        plot.y_range.renderers = data_lines or "auto"
-    return column([header] + plots, sizing_mode="stretch_width")
+def _finish_plot(plot, runs, lines: list, spans, phases, theirs, shift: float, top: bool) -> None:
+    """Shade the spans and phases, mark our and the flight computer's events (labelled on the ``top`` plot), add
+    the hover tool over the data ``lines``, put the legend beside the plot and fit the y range to the data."""
+    from bokeh.models import HoverTool
+
+    _shade(plot, spans, phases)
+    for run in runs:
+        if run.events is not None:
+            _mark_events(plot, run.events, shift, "#d62728", "solid", "our", top)
+            break
+    if theirs is not None:
+        _mark_events(plot, theirs, shift, "black", "dashed", "flight computer", top)
+    data_lines = [r for r in plot.renderers if r in lines]
+    plot.add_tools(HoverTool(renderers=data_lines, tooltips=[("", "$name"), ("time (s)", "@x{0.000}"),
+                                                             ("value", "@y{0.000}")]))
+    legend = plot.legend[0]
+    legend.click_policy = "hide"
+    legend.label_text_font_size = "10px"
+    legend.label_height = 12
+    legend.glyph_height = 12
+    legend.spacing = 0
+    legend.padding = 4
+    plot.add_layout(legend, "right")  # beside the plot: it never hides the data
+    plot.y_range.renderers = data_lines or "auto"
 
 
 # ----------------------------------------------------------------------------
@@ -573,10 +651,29 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
         raise TypeError("summary must be a pyarrow.Table, a list of dict rows or an output directory")
     _bokeh()
     from bokeh.layouts import column, row as layout_row
-    from bokeh.models import (BooleanFilter, CDSView, ColumnDataSource, CustomJS, DataTable, Div, HTMLTemplateFormatter,
-                              NumberFormatter, Select, TableColumn, TextInput)
+    from bokeh.models import Div
 
-    links = dict(links or {})
+    source, view, table = _fleet_table(rows, dict(links or {}))
+    text, status = _fleet_filters(source, view)
+    ok = [row for row in rows if row.get("status") == "ok"]
+    failed = len(rows) - len(ok)
+    header = Div(text=_STYLE + f"<div class='fa-head'><h2>{html.escape(title)}</h2><b>logs</b>: {len(rows)} · "
+                 f"<b>ok</b>: {len(ok)} · <b>failed</b>: {failed}. Click a heading to sort; a log's name opens its "
+                 "report.</div>", sizing_mode="stretch_width")
+    gaps = [float(row.get("imu_gaps") or 0) + float(row.get("baro_gaps") or 0) for row in ok]
+    histograms = layout_row(
+        _histogram("RMS against the log's own estimate", "RMS (m)", [row.get("rms_error_m") for row in ok]),
+        _histogram("Final accelerometer bias", "bias (m/s²)", [row.get("final_accel_bias_m_s2") for row in ok]),
+        _histogram("Gaps (IMU + baro)", "gaps per log", gaps))
+    return column(header, layout_row(text, status), table, histograms, sizing_mode="stretch_width")
+
+
+def _fleet_table(rows: List[Dict[str, Any]], links: Dict[str, str]):
+    """The fleet's sortable table of :data:`FLEET_COLUMNS` (a log's name links to its report in ``links``):
+    (its ColumnDataSource, its CDSView, the DataTable)."""
+    from bokeh.models import (BooleanFilter, CDSView, ColumnDataSource, DataTable, HTMLTemplateFormatter,
+                              NumberFormatter, TableColumn)
+
     data: Dict[str, list] = {}
     for name, _ in FLEET_COLUMNS:
         values = [row.get(name) for row in rows]
@@ -602,6 +699,13 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
         table_columns.append(TableColumn(field=name, title=heading, **options))
     table = DataTable(source=source, view=view, columns=table_columns, sortable=True, sizing_mode="stretch_width",
                       height=min(600, 60 + 26 * max(len(rows), 1)), index_position=None)
+    return source, view, table
+
+
+def _fleet_filters(source, view):
+    """The text filter (log, path, error) and the status filter over the table's ``source`` and ``view``."""
+    from bokeh.models import CustomJS, Select, TextInput
+
     text = TextInput(title="filter (log, path, error)", value="", width=320)
     status = Select(title="status", value="all", options=["all", "ok", "failed"], width=140)
     refilter = CustomJS(args={"source": source, "view": view, "text": text, "status": status}, code="""
@@ -618,17 +722,7 @@ def fleet_report(summary, links: Optional[Dict[str, str]] = None, title: str = "
     """)
     text.js_on_change("value", refilter)
     status.js_on_change("value", refilter)
-    ok = [row for row in rows if row.get("status") == "ok"]
-    failed = len(rows) - len(ok)
-    header = Div(text=_STYLE + f"<div class='fa-head'><h2>{html.escape(title)}</h2><b>logs</b>: {len(rows)} · "
-                 f"<b>ok</b>: {len(ok)} · <b>failed</b>: {failed}. Click a heading to sort; a log's name opens its "
-                 "report.</div>", sizing_mode="stretch_width")
-    gaps = [float(row.get("imu_gaps") or 0) + float(row.get("baro_gaps") or 0) for row in ok]
-    histograms = layout_row(
-        _histogram("RMS against the log's own estimate", "RMS (m)", [row.get("rms_error_m") for row in ok]),
-        _histogram("Final accelerometer bias", "bias (m/s²)", [row.get("final_accel_bias_m_s2") for row in ok]),
-        _histogram("Gaps (IMU + baro)", "gaps per log", gaps))
-    return column(header, layout_row(text, status), table, histograms, sizing_mode="stretch_width")
+    return text, status
 
 
 # ----------------------------------------------------------------------------

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from fusion_altitude import cli, fleet_cli
+from fusion_altitude import fleet_cli
 from fusion_altitude.cli import main
 
 
@@ -160,11 +160,12 @@ def test_fit_runners_up_print_no_row_twice_nor_the_winner(capsys):
 
 
 def test_runners_up_skip_candidates_that_print_alike():
+    from fusion_altitude.cli.fit import _runners_up  # fit's own helper (cli/fit.py since the CLI split)
     from fusion_altitude.tuning import LANDSCAPE_DTYPE
 
     landscape = np.array([(1.0, 0.7, 0.2, 0.1), (1.0000001, 0.7, 0.2, 0.1), (1.2, 0.7, 0.0, 0.2),
                           (1.2, 0.7, 1e-9, 0.2), (2.0, 0.5, 0.1, 0.3)], dtype=LANDSCAPE_DTYPE)
-    rows = cli._runners_up(landscape)
+    rows = _runners_up(landscape)
     assert [row[:3] for row in rows] == [["1.2", "0.7", "0"], ["1.2", "0.7", "1e-09"], ["2", "0.5", "0.1"]]
 
 
@@ -177,9 +178,9 @@ def test_run_prints_the_readers_warnings_on_stderr(tmp_path, capsys):
 
 
 def test_epoch_time_axis_label_gives_its_unit_once():
-    from fusion_altitude.plotting import _relative_time
+    from fusion_altitude.plotting import relative_time
 
-    _, label = _relative_time(1_700_000_000.0 + np.arange(3.0))
+    _, label = relative_time(1_700_000_000.0 + np.arange(3.0))
     assert "s (s)" not in label and label.startswith("time (s)") and "1700000000.000" in label
 
 

@@ -45,7 +45,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/fleet.py:_process_log': 77,
     'fusion_altitude/rocket.py:rocket_accel_input': 74,
     'fusion_altitude/logs/ulog.py:read_ulog': 74,
-    'fusion_altitude/cli/fleet.py:_cmd_fit': 74,
     'fusion_altitude/plotting.py:plot_log_run': 71,
     'fusion_altitude/logs/cats.py:read_cats': 71,
     'fusion_altitude/sim/trajectories.py:apply_log_faults': 70,

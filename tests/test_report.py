@@ -56,6 +56,14 @@ def test_report_refuses_a_preset_without_the_observer(shared_logs, tmp_path, cap
     assert status == 2 and "--preset" in err
 
 
+def test_report_runs_the_observer_with_the_preset_run_picks_on_a_slow_baro(shared_logs, tmp_path, capsys):
+    # the 2 Hz baro is too slow for vtol: `run` picks fixed_wing and says so; the report does the same
+    log = str(shared_logs / "px4_octorotor_2hz_baro.ulg")
+    status, _, err = _run(["report", log, "--estimator", "observer", "-o", str(tmp_path / "r.html")], capsys)
+    assert status == 0 and "running preset fixed_wing" in err
+    assert "preset fixed_wing" in (tmp_path / "r.html").read_text()
+
+
 def test_report_without_bokeh_says_which_extra_to_install(shared_logs, tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "bokeh", None)
     status, _, err = _run(["report", str(shared_logs / "rrc3_juno3.csv"), "-o", str(tmp_path / "r.html")], capsys)

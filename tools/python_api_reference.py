@@ -75,7 +75,8 @@ MODULES: Tuple[Tuple[str, str, Optional[Tuple[str, ...]]], ...] = (
     ("rocket", "fusion_altitude.rocket", None),
     ("rocket", "fusion_altitude.rocket_sim", (
         "RocketFlightModel", "RocketFlight", "simulate_rocket_flight", "rocket_trajectory", "flight_log",
-        "kalman_comparison", "summary", "telemetry_indices", "LOG_KINDS", "SPEED_OF_SOUND")),
+        "telemetry_indices", "LOG_KINDS", "SPEED_OF_SOUND")),
+    ("rocket", "fusion_altitude.rocket_study", None),
     ("fleet", "fusion_altitude.fleet", None),
     ("applications", "fusion_altitude.runner", None),
     ("applications", "fusion_altitude.comparison", None),

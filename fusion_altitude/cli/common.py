@@ -1,6 +1,6 @@
 """What every subcommand of the CLI shares: the limits of its numeric options, its errors (one line on stderr, exit
-status 2; 3 for a refused estimate), number and output-path checks, and the plain-text table. The subcommand
-modules (``cli/__init__.py``, ``cli/fleet.py``) import it; it imports none of them."""
+status 2; 3 for a refused estimate), number, output-path and extra checks, and the plain-text table. Every other
+module of ``cli/`` imports it; it imports none of them."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from typing import List, Optional, Sequence
 
 __all__ = ["PROGRESS_MINIMUM", "MAX_TUNE_RATE", "MIN_TUNE_RATE", "MAX_OMEGA", "MAX_ZETA", "CliError", "EstimateError",
            "format_table", "number", "same_file", "input_files", "is_sibling_name", "RUN_OUTPUT_EXTENSIONS",
-           "check_output", "try_create", "check_plot"]
+           "check_output", "try_create", "check_plot", "same_file_name", "check_attitude"]
 
 #: Logs with at least this many samples get progress bars on stderr.
 PROGRESS_MINIMUM = 100_000
@@ -75,6 +75,11 @@ def number(flag: str, value: Optional[float], minimum: Optional[float] = None, s
         raise CliError(f"{flag} must be {'>' if strict else '>='} {minimum:g}, got {value:g}")
     if maximum is not None and value > maximum:
         raise CliError(f"{flag} must be <= {maximum:g}, got {value:g}")
+
+
+def same_file_name(a: str, b: str) -> bool:
+    """``a`` and ``b`` name the same path (after making them absolute; neither need exist)."""
+    return os.path.abspath(a) == os.path.abspath(b)
 
 
 def same_file(a: str, b: str) -> bool:
@@ -198,5 +203,10 @@ def check_plot(path: Optional[str], inputs: Sequence[str] = ()) -> None:
         raise CliError(f"--plot {path}: {error}") from None
 
 
-# ----------------------------------------------------------------------------
-# progress on stderr
+def check_attitude(attitude: str) -> None:
+    """Before any work: ``--attitude ahrs`` has imufusion (the ``[ahrs]`` extra)."""
+    if attitude == "ahrs":
+        try:
+            import imufusion  # noqa: F401
+        except ImportError:
+            raise CliError("--attitude ahrs needs imufusion: pip install 'fusion-altitude[ahrs]'") from None

@@ -11,7 +11,7 @@ import argparse
 import math
 import os
 import sys
-from typing import Any, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Sequence
 
 __all__ = ["add_fleet_parser", "run_fleet_command"]
 
@@ -50,8 +50,9 @@ def _add_csv_arguments(parser: argparse.ArgumentParser, reference: bool = False)
         parser.add_argument("--reference", help="CSV logs: reference altitude column, m")
 
 
-def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Add ``fleet`` (with ``run``, ``fit``, ``summary``) to the subparsers of ``fusion-altitude``."""
+def add_fleet_parser(subparsers: Any, more: Sequence[Callable[[Any], Any]] = ()) -> argparse.ArgumentParser:
+    """Add ``fleet`` (with ``run``, ``fit``, ``summary``, then each of ``more``, called with the subparsers of
+    ``fleet``) to the subparsers of ``fusion-altitude``."""
     fleet = subparsers.add_parser(
         "fleet", help="run, summarise or fit over many logs on Dask (needs the [fleet] extra)",
         description="Fleet processing on dask.distributed: one task per log, on a local cluster sized to this "
@@ -97,8 +98,8 @@ def add_fleet_parser(subparsers: Any) -> argparse.ArgumentParser:
     summary.add_argument("output", metavar="OUT/", help="output directory of `fleet run`")
     summary.add_argument("--worst", type=int, default=10, help="worst logs to print (default 10)")
     summary.add_argument("--all", action="store_true", help="print every log, not only the worst")
-    from .report import add_fleet_report_parser
-    add_fleet_report_parser(commands)
+    for add_more in more:  # e.g. `fleet report` (cli/report.py), handed in by cli/__init__.py
+        add_more(commands)
     return fleet
 
 
@@ -270,22 +271,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _cmd_fit(args: argparse.Namespace) -> int:
     from .. import fleet
 
-    from .common import MAX_OMEGA, check_output as _check_output, number as _number
-
     fleet.require_fleet_packages()
     _check_numbers(args)
     csv_options = _csv_options(args)
     _client_argument(args)
-    if args.holdout and args.holdout_every:
-        raise _cli_error("give --holdout or --holdout-every, not both")
-    if args.holdout_every is not None and args.holdout_every < 2:
-        raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
-    _number("--skip", args.skip, 0.0, strict=False)
-    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
-    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
-    if args.omega_min >= args.omega_max:
-        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
-    _check_output(args.output, "-o", extensions=(".json",))
+    _check_fit_arguments(args)
     every = _check_inputs("DIR_OR_GLOB", args.paths)
     if args.holdout:
         _check_inputs("--holdout", args.holdout)
@@ -302,8 +292,32 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                                     omega_range=(args.omega_min, args.omega_max))
     except (ValueError, TypeError) as error:
         raise _cli_error(_flag_message(error)) from None
+    _print_fit(result, args.skip)
+    if args.output:
+        _write_fit(result, args.output)
+    return 0
+
+
+def _check_fit_arguments(args: argparse.Namespace) -> None:
+    """CliError for ``fleet fit`` flags out of range or contradicting each other, and for an unwritable ``-o``."""
+    from .common import MAX_OMEGA, check_output as _check_output, number as _number
+
+    if args.holdout and args.holdout_every:
+        raise _cli_error("give --holdout or --holdout-every, not both")
+    if args.holdout_every is not None and args.holdout_every < 2:
+        raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
+    _number("--skip", args.skip, 0.0, strict=False)
+    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
+    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
+    if args.omega_min >= args.omega_max:
+        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    _check_output(args.output, "-o", extensions=(".json",))
+
+
+def _print_fit(result, skip: float) -> None:
+    """The fleet fit's gains and its RMS tables (m): training logs, and held-out logs when there are some."""
     gains = result.settings
-    print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {args.skip:g} s each), "
+    print(f"{len(result.logs)} training logs ({result.metric_samples} samples after {skip:g} s each), "
           f"{len(result.excluded)} left out")
     for path, reason in result.excluded:
         print(f"  left out {path}: {_flag_message(reason)}")
@@ -325,22 +339,25 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         for row in result.holdout:
             if row["error"]:
                 print(f"  {row['log_id']}: {_flag_message(row['error'])}")
-    if args.output:
-        record = {"omega": result.omega, "zeta": result.zeta, "omega_b": result.omega_b,
-                  "position_gain": gains.position_gain, "velocity_gain": gains.velocity_gain,
-                  "bias_gain": gains.bias_gain, "rms_error_m": result.rms_error,
-                  "default_rms_error_m": result.default_rms_error, "metric_samples": result.metric_samples,
-                  "logs": result.logs, "excluded": [list(item) for item in result.excluded],
-                  "holdout": result.holdout, "holdout_rms_error_m": result.holdout_rms_error,
-                  "holdout_default_rms_error_m": result.holdout_default_rms_error}
-        import json
 
-        from ..outputs import atomic_output
 
-        with atomic_output(args.output) as temporary, open(temporary, "w") as handle:
-            json.dump(record, handle, indent=1, allow_nan=True)
-        print(f"fit written to {args.output}")
-    return 0
+def _write_fit(result, path: str) -> None:
+    """The fleet fit as JSON at ``path`` (written atomically)."""
+    gains = result.settings
+    record = {"omega": result.omega, "zeta": result.zeta, "omega_b": result.omega_b,
+              "position_gain": gains.position_gain, "velocity_gain": gains.velocity_gain,
+              "bias_gain": gains.bias_gain, "rms_error_m": result.rms_error,
+              "default_rms_error_m": result.default_rms_error, "metric_samples": result.metric_samples,
+              "logs": result.logs, "excluded": [list(item) for item in result.excluded],
+              "holdout": result.holdout, "holdout_rms_error_m": result.holdout_rms_error,
+              "holdout_default_rms_error_m": result.holdout_default_rms_error}
+    import json
+
+    from ..outputs import atomic_output
+
+    with atomic_output(path) as temporary, open(temporary, "w") as handle:
+        json.dump(record, handle, indent=1, allow_nan=True)
+    print(f"fit written to {path}")
 
 
 def _cmd_summary(args: argparse.Namespace) -> int:

@@ -19,12 +19,16 @@ import warnings
 from types import SimpleNamespace
 from typing import Any, Dict, List
 
+from .choice import default_preset, run_estimator
+from .common import CliError, EstimateError, check_output
+from .logargs import add_log_arguments, load
+from .progress import Progress
+
 __all__ = ["add_report_parser", "add_fleet_report_parser", "run_report", "run_fleet_report", "log_runs"]
 
 
 def add_report_parser(subcommands: Any) -> argparse.ArgumentParser:
     """Add ``report LOG [-o report.html] [--estimator NAME ... | --all-estimators]`` to ``subcommands``."""
-    from .. import cli
     from ..runner import ESTIMATORS
 
     report = subcommands.add_parser(
@@ -34,7 +38,7 @@ def add_report_parser(subcommands: Any) -> argparse.ArgumentParser:
                     "velocity, accelerometer bias, baro residual) with gaps, timeouts, rejections, rocket phases "
                     "and events marked. Opens offline.")
     report.add_argument("file", help="the log: PX4 .ulg, ArduPilot .bin, AltOS or CATS CSV, or a generic CSV")
-    cli._add_log_arguments(report)
+    add_log_arguments(report)
     which = report.add_mutually_exclusive_group()
     which.add_argument("--estimator", action="append", default=None, choices=list(ESTIMATORS),
                        help="estimator to show; repeat for several (default: the one `run` picks)")
@@ -96,18 +100,18 @@ def log_runs(data, estimators: List[str], preset=None, agl: bool = False) -> Dic
 
 def run_report(args: argparse.Namespace) -> int:
     """Handler of ``fusion-altitude report``."""
-    from .. import cli, runner
+    from .. import runner
     from ..health import sensor_health
     from ..report import log_report, report_title, save
 
     output = args.output or _default_output(args.file)
-    cli._check_output(output, "-o", [args.file], extensions=(".html", ".htm"))
+    check_output(output, "-o", [args.file], extensions=(".html", ".htm"))
     try:
         import bokeh  # noqa: F401
     except ImportError:
-        raise cli.CliError("report needs bokeh: pip install 'fusion-altitude[report]'") from None
-    progress = cli._Progress()
-    data = cli._load(args, progress)
+        raise CliError("report needs bokeh: pip install 'fusion-altitude[report]'") from None
+    progress = Progress()
+    data = load(args, progress)
     health = sensor_health(data)
     if args.all_estimators:
         estimators = runner.applicable_estimators(data)
@@ -116,22 +120,22 @@ def run_report(args: argparse.Namespace) -> int:
         for name in estimators:
             missing = runner.missing_inputs(data, name)
             if missing:
-                raise cli.CliError(f"--estimator {name} needs raw {' and '.join(missing)} in the log; {data.source} "
+                raise CliError(f"--estimator {name} needs raw {' and '.join(missing)} in the log; {data.source} "
                                    f"has no {' or '.join(missing)}")
     else:  # the estimator `run` picks, by `run`'s own rule
         choice = SimpleNamespace(estimator=None, rocket=False, preset=args.preset, events_csv=None, long_axis=None)
-        estimators = [cli._run_estimator(choice, data, health)]
+        estimators = [run_estimator(choice, data, health)]
     if args.preset is not None and "observer" not in estimators:
-        raise cli.CliError("--preset names observer gains; add --estimator observer")
+        raise CliError("--preset names observer gains; add --estimator observer")
     preset = args.preset
     if "observer" in estimators and preset is None:
-        preset = cli._default_preset(data)
+        preset = default_preset(runner.observer_rate(data))
     with progress.stage("estimating"):
         result = log_runs(data, estimators, preset, agl=args.agl)
     for name, reason in result["refused"]:
         print(f"warning: estimator {name} left out of the report: {reason}", file=sys.stderr)
     if not result["runs"]:
-        raise cli.EstimateError(f"{data.source}: no estimate can be trusted ("
+        raise EstimateError(f"{data.source}: no estimate can be trusted ("
                                 + "; ".join(f"{n}: {r}" for n, r in result["refused"]) + "): no report written")
     with progress.stage("writing"):
         layout = log_report(result["runs"], settings=result["settings"])
@@ -166,23 +170,22 @@ def _fleet_log_report(row: Dict[str, Any], path: str) -> str:
 
 def run_fleet_report(args: argparse.Namespace) -> int:
     """Handler of ``fusion-altitude fleet report``."""
-    from .. import cli
     from ..report import fleet_report, save
 
     if not os.path.isdir(args.output_dir):
-        raise cli.CliError(f"OUT/ {args.output_dir}: no such directory")
+        raise CliError(f"OUT/ {args.output_dir}: no such directory")
     output = args.output or os.path.join(args.output_dir, "fleet.html")
-    cli._check_output(output, "-o", extensions=(".html", ".htm"))
+    check_output(output, "-o", extensions=(".html", ".htm"))
     try:
         import bokeh  # noqa: F401
     except ImportError:
-        raise cli.CliError("fleet report needs bokeh: pip install 'fusion-altitude[report]'") from None
+        raise CliError("fleet report needs bokeh: pip install 'fusion-altitude[report]'") from None
     from .. import fleet
 
     try:
         table = fleet.summary(args.output_dir)
     except ValueError as error:
-        raise cli.CliError(str(error)) from None
+        raise CliError(str(error)) from None
     rows = table.to_pylist()
     reports = os.path.join(args.output_dir, "reports")
     links = {}

@@ -22,9 +22,22 @@ MOVED_MODULES = {
     "fusion_altitude.reference.rocket": "fusion_altitude.reference.flight",
 }
 
+#: old ``python -m`` names → the module of the same package that now does that job (runpy runs its code).
+RUN_AS = {"fusion_altitude.rocket_sim": "fusion_altitude.rocket_study"}
 
-class _AliasLoader(importlib.abc.Loader):
+
+class _AliasLoader(importlib.abc.InspectLoader):
     """Loads an old name as the module it moved to."""
+
+    def get_code(self, fullname):
+        """``python -m OLD_NAME``: the code of the module that now does the job (:data:`RUN_AS`)."""
+        if fullname not in RUN_AS:
+            raise ImportError(f"python -m {fullname} has moved: run python -m {MOVED_MODULES[fullname]}")
+        target = importlib.util.find_spec(RUN_AS[fullname])
+        return target.loader.get_code(RUN_AS[fullname])
+
+    def get_source(self, fullname):
+        return None
 
     def create_module(self, spec):
         module = importlib.import_module(MOVED_MODULES[spec.name])

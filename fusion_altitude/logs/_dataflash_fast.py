@@ -15,6 +15,7 @@ caller reads them with pymavlink, so the result is the same either way.
 
 from __future__ import annotations
 
+import importlib
 import re
 import struct
 from typing import Dict, Iterable, List, Sequence
@@ -50,10 +51,12 @@ def decoder_module():
     """The compiled scanners (``fusion_altitude.logs._decode``); NeedsReference if the extension is not built
     (a source checkout without ``build_ext``: the reference libraries read every log then)."""
     try:
-        from . import _decode
+        # the compiled submodule itself (grimp, which has no source for an extension, would read a static
+        # import as one of this package's __init__)
+        decode = importlib.import_module(f"{__package__}._decode")
     except ImportError:
         raise NeedsReference("the extension fusion_altitude.logs._decode is not built") from None
-    return _decode
+    return decode
 
 
 def _null_term(raw: bytes) -> str:

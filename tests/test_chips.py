@@ -76,7 +76,8 @@ def test_replays_on_avr_under_simavr_are_bit_exact(build):
     assert Path("/usr/include/simavr/sim_avr.h").is_file(), "libsimavr-dev is not installed (.ci/run installs it)"
     output = make(build, "replay-avr")
     for name in ESTIMATORS:
-        for optimisation in ("Os", "O2"):
+        # the INS at -O2 needs more stack than its replay leaves on the atmega1284p (Makefile: AVR_NOT_REPLAYED)
+        for optimisation in ("Os",) if name == "ins" else ("Os", "O2"):
             line = f"avr replay_{name}-{optimisation}: replay: {record_count(name)} records, 0 mismatches"
             assert line in output.splitlines(), line
             # every byte of the streams was asked for: the replay read all records and checkpoints

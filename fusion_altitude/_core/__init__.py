@@ -3,25 +3,31 @@
 (``_common.py``, ``_<estimator>_glue.py``). Private: users import :mod:`fusion_altitude`."""
 
 
-def _add_installed_extension_to_path() -> None:
+def installed_extension_folder(init_file: str, subpackage: str, module: str):
     """Run from a source checkout (``python -m fusion_altitude`` in the repository root after a plain
-    ``pip install .``), this source folder shadows the installed package and holds no compiled extension:
-    add the installed copy's folder (the first other ``fusion_altitude/_core`` on ``sys.path`` with a compiled
-    ``_observer``) to this package's search path, so the compiled modules load from there."""
+    ``pip install .``), the source folder of ``fusion_altitude.<subpackage>`` shadows the installed package and
+    holds no compiled extension: the installed copy's folder (the first other ``fusion_altitude/<subpackage>``
+    on ``sys.path`` with a compiled ``module``), to add to the package's ``__path__`` so that the compiled
+    modules load from there; None when built in place or not installed."""
     import importlib.machinery
     import os
     import sys
 
-    here = os.path.realpath(os.path.dirname(__file__))
+    here = os.path.realpath(os.path.dirname(init_file))
     suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
-    if any(name.startswith("_observer.") and name.endswith(suffixes) for name in os.listdir(here)):
-        return  # built in place: nothing shadows anything
+
+    def compiled(folder):
+        return any(name.startswith(module + ".") and name.endswith(suffixes) for name in os.listdir(folder))
+
+    if compiled(here):
+        return None  # built in place: nothing shadows anything
     for entry in sys.path:
-        candidate = os.path.realpath(os.path.join(entry or os.getcwd(), "fusion_altitude", "_core"))
-        if candidate != here and os.path.isdir(candidate) and any(
-                name.startswith("_observer.") and name.endswith(suffixes) for name in os.listdir(candidate)):
-            __path__.append(candidate)  # type: ignore[name-defined]  # noqa: F821
-            return
+        candidate = os.path.realpath(os.path.join(entry or os.getcwd(), "fusion_altitude", subpackage))
+        if candidate != here and os.path.isdir(candidate) and compiled(candidate):
+            return candidate
+    return None
 
 
-_add_installed_extension_to_path()
+_installed = installed_extension_folder(__file__, "_core", "_observer")
+if _installed is not None:
+    __path__.append(_installed)  # type: ignore[name-defined]  # noqa: F821

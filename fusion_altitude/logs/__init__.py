@@ -48,6 +48,7 @@ import os
 from dataclasses import dataclass
 from typing import Callable, Dict, Optional
 
+from .._core import installed_extension_folder
 from ._data import LogData, LogError, LogWarning, find_gaps, merge_repeated_timestamps
 from .altos import looks_like_altos, read_altos_csv
 from .cats import find_cats_files, looks_like_cats, read_cats
@@ -56,6 +57,10 @@ from .generic_csv import read_csv_log
 from .raven import looks_like_raven, read_raven
 from .rrc3 import looks_like_rrc3, read_rrc3
 from .ulog import ULOG_MAGIC, read_ulog
+
+# a source checkout shadowing an installed copy: the compiled decoder (_decode) loads from the installed one
+if installed_extension_folder(__file__, "logs", "_decode") is not None:
+    __path__.append(installed_extension_folder(__file__, "logs", "_decode"))  # type: ignore[name-defined]  # noqa: F821
 
 __all__ = ["LogError", "LogWarning", "LogData", "Format", "FORMATS", "read_csv_log", "read_ulog",
            "read_dataflash", "read_altos_csv", "read_cats", "read_raven", "read_rrc3", "find_cats_files",

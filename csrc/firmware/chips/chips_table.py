@@ -75,9 +75,12 @@ def tables(build: Path) -> str:
             "| Header | Records | AVR replay | AVR Update (B) | AVR cycles per path | slowest accepted path at 16 MHz (µs) |",
             "|---|---:|---|---:|---|---:|"]
     for name, (title, symbol) in ESTIMATORS.items():
-        logs = [build / "avr" / f"replay_{name}-{opt}.log" for opt in ("Os", "O2")]
+        # the INS at -O2 does not fit the atmega1284p's stack beside its settings table (Makefile: AVR_NOT_REPLAYED)
+        logs = [build / "avr" / f"replay_{name}-{opt}.log" for opt in (("Os",) if name == "ins" else ("Os", "O2"))]
         verdicts = {replay_result(log) for log in logs}
         verdict = verdicts.pop() if len(verdicts) == 1 else " / ".join(replay_result(log) for log in logs)
+        if name == "ins":
+            verdict += " (-Os; -O2 needs more stack than the replay leaves)"
         records = re.search(r"^replay: (\d+) records", logs[0].read_text(), re.M).group(1)
         cycles = step_counts(build / "avr" / f"steps_{name}.log", "cycles")
         size = symbol_size(build / "avr" / f"steps_{name}.nm", symbol)

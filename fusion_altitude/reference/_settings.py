@@ -12,6 +12,8 @@ Every settings class has ``as_dict``, ``replace``, equality, hashing, a repr, pi
 
 from __future__ import annotations
 
+from typing import Callable
+
 from .._core._c_tables import OBSERVER_SETTINGS
 
 
@@ -77,6 +79,15 @@ class KeywordSettings(Settings):
 
     def __hash__(self) -> int:
         return hash(tuple(self._values.items()))
+
+    def _keep_checked(self, values: dict, check: Callable[[dict], int],
+                      raise_error: Callable[[int, dict], None]) -> None:
+        """Keep ``values`` (converted by the glue) when ``check(values)``, the twin of the header's
+        ``…SettingsCheck``, returns OK (0); otherwise ``raise_error(status, values)`` raises, naming the setting."""
+        status = check(values)
+        if status != 0:
+            raise_error(status, values)
+        self._values = values
 
 
 #: The observer's gains, in the order of FusionAltitudeSettings.

@@ -23,6 +23,7 @@ from .._core._alphabeta_glue import (ALPHABETA_MAX_QUALITY, ALPHABETA_SENSORS, A
                                AlphaBetaSensorSettings, AlphaBetaStatus)
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import channels_property, state_property
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -121,16 +122,10 @@ class _Filter:
     __slots__ = ("x", "v", "since", "interval", "gap", "weight", "quality", "timeouts", "started", "timed_out")
 
     def __init__(self, quality: int) -> None:
-        self.x = f32(0)
-        self.v = f32(0)
-        self.since = f32(0)
-        self.interval = f32(0)
-        self.gap = f32(0)
-        self.weight = f32(0)
+        self.x = self.v = self.since = self.interval = self.gap = self.weight = f32(0)
         self.quality = quality
         self.timeouts = 0
-        self.started = False
-        self.timed_out = False
+        self.started = self.timed_out = False
 
     def state(self) -> tuple:
         return (float(self.x), float(self.v), float(self.since), float(self.interval), float(self.gap),
@@ -169,11 +164,7 @@ class AlphaBetaFusion(Checkpointable):
 
     def _clear(self) -> None:
         self._filters = [_Filter(self._settings._values[name].quality_min) for name in ALPHABETA_SENSORS]
-        self._h = f32(0)
-        self._v = f32(0)
-        self._total = f32(0)
-        self._coasting = f32(0)
-        self._gap_time = f32(0)
+        self._h = self._v = self._total = self._coasting = self._gap_time = f32(0)
         self._gap_count = 0
         self._started = False
 
@@ -370,45 +361,15 @@ class AlphaBetaFusion(Checkpointable):
         self._set_state(trial._get_state())
         return result if out is None else out  # out=: the caller's object itself
 
-    @property
-    def altitude(self) -> float:
-        """Fused altitude h, m (0 until started)."""
-        return float(self._h)
-
-    @property
-    def vertical_velocity(self) -> float:
-        """Fused vertical velocity v, m/s."""
-        return float(self._v)
-
-    @property
-    def started(self) -> bool:
-        """Whether the fusion has started."""
-        return self._started
-
-    @property
-    def total_weight(self) -> float:
-        """Sum of the weights of the latest step (0: dead reckoning)."""
-        return float(self._total)
-
-    @property
-    def weights(self) -> AlphaBetaSensors:
-        """Each sensor's weight in the latest step."""
-        return AlphaBetaSensors(*[float(f.weight) for f in self._filters])
-
-    @property
-    def qualities(self) -> AlphaBetaSensors:
-        """Each sensor's quality Q."""
-        return AlphaBetaSensors(*[f.quality for f in self._filters])
-
-    @property
-    def filter_altitudes(self) -> AlphaBetaSensors:
-        """Each sensor's filtered altitude x, m."""
-        return AlphaBetaSensors(*[float(f.x) for f in self._filters])
-
-    @property
-    def gaps(self) -> AlphaBetaSensors:
-        """Each sensor's gap z − predicted fused altitude at its latest sample, m."""
-        return AlphaBetaSensors(*[float(f.gap) for f in self._filters])
+    altitude = state_property("_h", "Fused altitude h, m (0 until started).")
+    vertical_velocity = state_property("_v", "Fused vertical velocity v, m/s.")
+    started = state_property("_started", "Whether the fusion has started.", bool)
+    total_weight = state_property("_total", "Sum of the weights of the latest step (0: dead reckoning).")
+    weights = channels_property("_filters", "weight", AlphaBetaSensors, "Each sensor's weight in the latest step.")
+    qualities = channels_property("_filters", "quality", AlphaBetaSensors, "Each sensor's quality Q.", int)
+    filter_altitudes = channels_property("_filters", "x", AlphaBetaSensors, "Each sensor's filtered altitude x, m.")
+    gaps = channels_property("_filters", "gap", AlphaBetaSensors,
+                             "Each sensor's gap z − predicted fused altitude at its latest sample, m.")
 
     @property
     def settings(self) -> AlphaBetaSettings:
@@ -423,21 +384,16 @@ class AlphaBetaFusion(Checkpointable):
             s = self._sensor(i)
             f.quality = min(max(f.quality, s.quality_min), s.quality_max)
 
-    @property
-    def timed_out(self) -> AlphaBetaSensors:
-        """Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next
-        sample (FusionAltitudeAlphaBetaIsTimedOut)."""
-        return AlphaBetaSensors(*[f.timed_out for f in self._filters])
-
-    @property
-    def timeout_counts(self) -> AlphaBetaSensors:
-        """Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once."""
-        return AlphaBetaSensors(*[f.timeouts for f in self._filters])
-
-    @property
-    def gap_count(self) -> int:
-        """Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started."""
-        return self._gap_count
+    timed_out = channels_property(
+        "_filters", "timed_out", AlphaBetaSensors,
+        "Each sensor's timeout flag: it had samples, then none for longer than its ``timeout`` (s), until its next\n"
+        "        sample (FusionAltitudeAlphaBetaIsTimedOut).", bool)
+    timeout_counts = channels_property(
+        "_filters", "timeouts", AlphaBetaSensors,
+        "Each sensor's number of timeouts so far, each silence longer than its ``timeout`` counted once.", int)
+    gap_count = state_property(
+        "_gap_count", "Number of time gaps so far: updates whose dt exceeded ``settings.gap_period`` once started.",
+        int)
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), tuple(f.state() for f in self._filters), float(self._h), float(self._v),

@@ -22,7 +22,7 @@ from .._core import _common, _complementary_glue, _observer_glue
 from .._core._complementary_glue import ComplementaryBatch, ComplementaryStatus
 
 from ._checkpoint import Checkpointable
-from ._diagnostics import BaroGapDiagnostics
+from ._diagnostics import BaroGapDiagnostics, settings_property, state_property
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -89,11 +89,8 @@ class ComplementarySettings(KeywordSettings):
     _DISTINCT = "per_sample_coefficients"
 
     def __init__(self, **kwargs) -> None:
-        values = _complementary_glue.convert_complementary_settings(kwargs)
-        status = _check(values)
-        if status != ComplementaryStatus.OK:
-            _complementary_glue.raise_complementary_settings_error(status, values)
-        self._values = values
+        self._keep_checked(_complementary_glue.convert_complementary_settings(kwargs), _check,
+                           _complementary_glue.raise_complementary_settings_error)
 
     @classmethod
     def from_coefficients(cls, velocity_coefficient=0.999, altitude_coefficient=0.998, **kwargs):
@@ -140,44 +137,27 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
     def __init__(self, settings: Optional[ComplementarySettings] = None) -> None:
         # FusionAltitudeComplementaryInitialise
         self._settings = ComplementarySettings() if settings is None else ComplementarySettings.coerce(settings)
-        self._h = f32(0)
-        self._v = f32(0)
-        self._a = f32(0)
-        self._zf = f32(0)
-        self._vb = f32(0)
-        self._since = f32(0)
-        self._gap_time = f32(0)
-        self._gap_count = 0
-        self._baro_timeouts = 0
-        self._reference_set = False
-        self._baro_timed_out = False
+        self._h = self._v = self._a = self._zf = self._vb = self._since = self._gap_time = f32(0)
+        self._gap_count = self._baro_timeouts = 0
+        self._reference_set = self._baro_timed_out = False
 
     # FusionAltitudeComplementaryReset
     def _reset(self, z: np.float32) -> ComplementaryStatus:
         if not np.isfinite(z):
             return ComplementaryStatus.INVALID_BARO_ALTITUDE
-        self._h = z
-        self._zf = z
-        self._v = f32(0)
-        self._vb = f32(0)
-        self._since = f32(0)
-        self._gap_time = f32(0)
-        self._reference_set = True
-        self._baro_timed_out = False
+        self._h = self._zf = z
+        self._v = self._vb = self._since = self._gap_time = f32(0)
+        self._reference_set, self._baro_timed_out = True, False
         return ComplementaryStatus.OK
 
     # FusionAltitudeComplementaryRestart: after a gap, v = vBaro = mean velocity over it
     def _restart(self, z: np.float32) -> None:
         velocity = (z - self._h) / self._gap_time
         velocity = velocity if np.isfinite(velocity) else f32(0)  # overflow: a gap of a few ulps
-        self._h = z
-        self._zf = z
-        self._v = velocity
-        self._vb = velocity
-        self._since = f32(0)
-        self._gap_time = f32(0)
-        self._reference_set = True
-        self._baro_timed_out = False
+        self._h = self._zf = z
+        self._v = self._vb = velocity
+        self._since = self._gap_time = f32(0)
+        self._reference_set, self._baro_timed_out = True, False
 
     # FusionAltitudeComplementaryUpdate
     def _update(self, a: np.float32, z: np.float32, dt: np.float32) -> ComplementaryStatus:
@@ -288,39 +268,13 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
         self._set_state(trial._get_state())
         return result if out is None else out  # out=: the caller's object itself
 
-    @property
-    def altitude(self) -> float:
-        """Altitude estimate h, m."""
-        return float(self._h)
-
-    @property
-    def vertical_velocity(self) -> float:
-        """Vertical velocity estimate v, m/s."""
-        return float(self._v)
-
-    @property
-    def baro_filtered(self) -> float:
-        """Low-passed baro altitude, m."""
-        return float(self._zf)
-
-    @property
-    def baro_velocity(self) -> float:
-        """Finite-difference baro velocity of the latest step, m/s (NaN without baro)."""
-        return float(self._vb)
-
-    @property
-    def reference_set(self) -> bool:
-        """Whether the reference is set (False from a gap to the next baro sample)."""
-        return self._reference_set
-
-    @property
-    def settings(self) -> ComplementarySettings:
-        """The settings; assign new ones to retune, keeping the state."""
-        return self._settings
-
-    @settings.setter
-    def settings(self, settings: ComplementarySettings) -> None:
-        self._settings = ComplementarySettings.coerce(settings)
+    altitude = state_property("_h", "Altitude estimate h, m.")
+    vertical_velocity = state_property("_v", "Vertical velocity estimate v, m/s.")
+    baro_filtered = state_property("_zf", "Low-passed baro altitude, m.")
+    baro_velocity = state_property("_vb", "Finite-difference baro velocity of the latest step, m/s (NaN without baro).")
+    reference_set = state_property(
+        "_reference_set", "Whether the reference is set (False from a gap to the next baro sample).", bool)
+    settings = settings_property(ComplementarySettings, "The settings; assign new ones to retune, keeping the state.")
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), float(self._h), float(self._v), float(self._a), float(self._zf),

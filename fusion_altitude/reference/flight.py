@@ -19,6 +19,7 @@ from .._core import _common, _flight_glue
 from .._core._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
                             prepare_batch, raise_update_error)
 from ._checkpoint import Checkpointable
+from ._diagnostics import state_property
 from ._settings import KeywordSettings
 from .observer import AltitudeEstimator, AltitudeSettings, Status, _check_gains, check_inputs
 
@@ -154,43 +155,22 @@ class RocketEstimator(Checkpointable):
         self._baro = BaroFate.NONE
         self._events: List[list] = [_event() for _ in range(6)]
         self._candidate = _event()
-        self._sample = 0
-        self._gap_count = 0
-        self._windows = 0
-        self._time = _ZERO
-        self._time_c = _ZERO
-        self._accel_bias = _ZERO
-        self._pad_altitude = _ZERO
-        self._run_time = _ZERO
-        self._spike_time = _ZERO
-        self._last_baro = _ZERO
-        self._last_baro_age = _ZERO
-        self._pad_altitude_set = False
-        self._last_baro_set = False
-        self._baro_offset = _ZERO
-        self._offset_applied = _ZERO
-        self._baro_admitted = False
-        self._lockout = False
-        self._accel_trusted = False
-        self._pad_baro_previous = _ZERO
-        self._pad_baro_age = _ZERO
-        self._baro_peak = _ZERO
-        self._contradiction_time = _ZERO
-        self._baro_peak_age = _ZERO
-        self._pad_baro_previous_set = False
-        self._baro_led = False
-        self._gap_restart = False
+        self._sample = self._gap_count = self._windows = 0
+        self._time = self._time_c = self._accel_bias = self._pad_altitude = _ZERO  # s, s, m/s², m
+        self._run_time = self._spike_time = self._last_baro = self._last_baro_age = _ZERO  # s, s, m, s
+        self._baro_offset = self._offset_applied = _ZERO  # m
+        self._pad_baro_previous = self._pad_baro_age = _ZERO  # m, s
+        self._baro_peak = self._contradiction_time = self._baro_peak_age = _ZERO  # m, s, s
+        self._pad_altitude_set = self._last_baro_set = self._baro_admitted = self._lockout = False
+        self._accel_trusted = self._pad_baro_previous_set = self._baro_led = self._gap_restart = False
         self._clear_window()
 
     # FusionAltitudeRocketClearWindow
     def _clear_window(self) -> None:
-        self._window_samples = 0
-        self._window_baro_samples = 0
-        self._window_time = _ZERO
-        self._window_accel_first = _ZERO
-        self._window_accel_sum = _ZERO
-        self._window_baro_first = _ZERO
-        self._window_baro_sum = _ZERO
+        self._window_samples = self._window_baro_samples = 0
+        self._window_time = _ZERO  # s
+        self._window_accel_first = self._window_accel_sum = _ZERO  # m/s²
+        self._window_baro_first = self._window_baro_sum = _ZERO  # m
         self._window_stationary = True
 
     def _reset_observer(self) -> None:
@@ -544,46 +524,19 @@ class RocketEstimator(Checkpointable):
         """Height above the pad, m (observer height + applied baro offset)."""
         return float(self._obs._h + self._offset_applied)
 
-    @property
-    def vertical_velocity(self) -> float:
-        """m/s, +up."""
-        return float(self._obs._v)
-
-    @property
-    def accel_bias(self) -> float:
-        """Accelerometer bias in use, m/s² (pad-learned, frozen after apogee)."""
-        return float(self._obs._b)
-
-    @property
-    def pad_altitude(self) -> float:
-        """Pad pressure altitude learned on the pad, m."""
-        return float(self._pad_altitude)
-
-    @property
-    def phase(self) -> Phase:
-        return Phase(self._phase)
-
-    @property
-    def baro(self) -> BaroFate:
-        """What happened to the latest step's baro sample."""
-        return BaroFate(self._baro)
-
-    @property
-    def locked_out(self) -> bool:
-        return self._lockout
+    vertical_velocity = state_property("_obs._v", "m/s, +up.")
+    accel_bias = state_property("_obs._b", "Accelerometer bias in use, m/s² (pad-learned, frozen after apogee).")
+    pad_altitude = state_property("_pad_altitude", "Pad pressure altitude learned on the pad, m.")
+    phase = state_property("_phase", None, Phase)
+    baro = state_property("_baro", "What happened to the latest step's baro sample.", BaroFate)
+    locked_out = state_property("_lockout", None, bool)
 
     @property
     def calibrated(self) -> bool:
         return self._windows > 0
 
-    @property
-    def gap_count(self) -> int:
-        return self._gap_count
-
-    @property
-    def time(self) -> float:
-        """s since initialise (compensated sum of dt)."""
-        return float(self._time)
+    gap_count = state_property("_gap_count", None, int)
+    time = state_property("_time", "s since initialise (compensated sum of dt).")
 
     @property
     def events(self) -> FlightEvents:

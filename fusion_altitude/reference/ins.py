@@ -35,6 +35,7 @@ import numpy as np
 from .._core import _c_tables, _ins_glue
 from .._core._ins_glue import InsBatch, InsStatus
 from ._checkpoint import Checkpointable
+from ._diagnostics import settings_property, state_property
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -209,33 +210,19 @@ class InsEstimator(Checkpointable):
         self.baro_bias_ = _ZERO
         self.yaw_cos = _ONE
         self.yaw_sin = _ZERO
-        self.stationary_time = _ZERO
-        self.rejection_time = _ZERO
-        self.baro_elapsed = _ZERO
-        self.mag_elapsed = _ZERO
+        self.stationary_time = self.rejection_time = self.baro_elapsed = self.mag_elapsed = _ZERO
         self.baro_rejecting_for = _ZERO
-        self.gap_count_ = 0
-        self.baro_rejections_ = 0
-        self.baro_resets_ = 0
-        self.baro_timeouts_ = 0
-        self.baro_rejecting = False
-        self.aligned = False
-        self.baro_initialised = False
-        self.mag_initialised = False
-        self.stationary = False
-        self.accel_rejected = False
+        self.gap_count_ = self.baro_rejections_ = self.baro_resets_ = self.baro_timeouts_ = 0
+        self.baro_rejecting = self.aligned = self.baro_initialised = self.mag_initialised = False
+        self.stationary = self.accel_rejected = False
         self._restart_stationary()
         self._reset_covariance()
 
     def _restart_stationary(self) -> None:
         """FusionAltitudeInsRestartStationary: the still timer (s) and the baro half-window test."""
-        self.stationary_time = _ZERO
-        self.stationary_half_time = _ZERO
-        self.stationary_baro_sum = _ZERO
-        self.stationary_baro_count = _ZERO
-        self.stationary_baro_previous = _ZERO
-        self.stationary_half_done = False
-        self.stationary_has_previous = False
+        self.stationary_time = self.stationary_half_time = _ZERO  # s
+        self.stationary_baro_sum = self.stationary_baro_count = self.stationary_baro_previous = _ZERO  # m, 1, m
+        self.stationary_half_done = self.stationary_has_previous = False
         self.stationary_baro_still = True  # no baro reading yet: no veto
 
     def _detect_stationary(self, gyro: np.ndarray, norm_error: np.float32, baro: np.float32, dt: np.float32) -> None:
@@ -284,14 +271,7 @@ class InsEstimator(Checkpointable):
             self.P[3 + i, 3 + i] = bias
         self.P[7, 7] = s.f32("initial_velocity_sigma") * s.f32("initial_velocity_sigma")
 
-    @property
-    def settings(self) -> InsSettings:
-        return self._s
-
-    @settings.setter
-    def settings(self, settings: InsSettings) -> None:
-        """FusionAltitudeInsSetSettings: state kept."""
-        self._s = InsSettings.coerce(settings)
+    settings = settings_property(InsSettings, None, attribute="_s")  # FusionAltitudeInsSetSettings: state kept
 
     def reset(self) -> None:
         """Back to the start state (not aligned, FusionAltitudeInsInitialiseWith), keeping the settings and units."""
@@ -609,15 +589,9 @@ class InsEstimator(Checkpointable):
         """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
         return self.altitude
 
-    @property
-    def height_above_start(self) -> float:
-        """The height above the reference d, m, +up (the baro reads d + baro bias)."""
-        return float(self.distance)
-
-    @property
-    def vertical_velocity(self) -> float:
-        """m/s, +up."""
-        return float(self.velocity)
+    height_above_start = state_property(
+        "distance", "The height above the reference d, m, +up (the baro reads d + baro bias).")
+    vertical_velocity = state_property("velocity", "m/s, +up.")
 
     @property
     def quaternion(self) -> np.ndarray:
@@ -657,38 +631,15 @@ class InsEstimator(Checkpointable):
         """rad/s, body frame, float32 copy."""
         return self.gyro_bias_.copy()
 
-    @property
-    def accel_z_bias(self) -> float:
-        """m/s², body z (learned while stationary)."""
-        return float(self.accel_z_bias_)
-
-    @property
-    def baro_bias(self) -> float:
-        """m: the baro altitude at d = 0."""
-        return float(self.baro_bias_)
-
-    @property
-    def is_stationary(self) -> bool:
-        return bool(self.stationary)
-
-    @property
-    def is_accel_rejected(self) -> bool:
-        return bool(self.accel_rejected)
-
-    @property
-    def gap_count(self) -> int:
-        """Steps with dt > gap_period, not integrated."""
-        return int(self.gap_count_)
-
-    @property
-    def baro_rejections(self) -> int:
-        """Baro readings rejected by the innovation gate, in total."""
-        return int(self.baro_rejections_)
-
-    @property
-    def baro_resets(self) -> int:
-        """Height resets from the baro after a rejection streak longer than baro_rejection_timeout."""
-        return int(self.baro_resets_)
+    accel_z_bias = state_property("accel_z_bias_", "m/s², body z (learned while stationary).")
+    baro_bias = state_property("baro_bias_", "m: the baro altitude at d = 0.")
+    is_stationary = state_property("stationary", None, bool)
+    is_accel_rejected = state_property("accel_rejected", None, bool)
+    gap_count = state_property("gap_count_", "Steps with dt > gap_period, not integrated.", int)
+    baro_rejections = state_property("baro_rejections_", "Baro readings rejected by the innovation gate, in total.",
+                                     int)
+    baro_resets = state_property(
+        "baro_resets_", "Height resets from the baro after a rejection streak longer than baro_rejection_timeout.", int)
 
     @property
     def baro_timed_out(self) -> bool:
@@ -702,15 +653,9 @@ class InsEstimator(Checkpointable):
         to 0 and the height variance grows (FusionAltitudeInsIsHeightHeld)."""
         return self._baro_silent_for(self._s.f32("dead_reckoning_horizon"))
 
-    @property
-    def baro_timeouts(self) -> int:
-        """Baro silences longer than ``baro_timeout`` so far, each counted once."""
-        return int(self.baro_timeouts_)
-
-    @property
-    def is_baro_rejecting(self) -> bool:
-        """A baro rejection streak is in progress."""
-        return bool(self.baro_rejecting)
+    baro_timeouts = state_property(
+        "baro_timeouts_", "Baro silences longer than ``baro_timeout`` so far, each counted once.", int)
+    is_baro_rejecting = state_property("baro_rejecting", "A baro rejection streak is in progress.", bool)
 
     @property
     def covariance(self) -> np.ndarray:

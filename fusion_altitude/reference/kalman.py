@@ -31,6 +31,7 @@ from .._core._c_tables import KalmanStateIndex
 from .._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 from ._checkpoint import Checkpointable
+from ._diagnostics import channels_property, state_property
 from ._settings import KeywordSettings
 
 f32 = np.float32
@@ -107,11 +108,8 @@ class KalmanSettings(KeywordSettings):
     _DISTINCT = "gps_min_satellites"
 
     def __init__(self, **kwargs) -> None:
-        values = _kalman_glue.convert_kalman_settings(kwargs)
-        status = _settings_check(values)
-        if status != KalmanStatus.OK:
-            _kalman_glue.raise_kalman_settings_error(status, values)
-        self._values = values
+        self._keep_checked(_kalman_glue.convert_kalman_settings(kwargs), _settings_check,
+                           _kalman_glue.raise_kalman_settings_error)
 
     def replace(self, **changes) -> "KalmanSettings":
         """A copy with some settings changed."""
@@ -184,18 +182,11 @@ class _Sensor:
                  "timeouts", "result", "rejecting", "sampled", "timed_out")
 
     def __init__(self) -> None:
-        self.innovation = _NAN
-        self.innovation_variance = _NAN
-        self.nis = _NAN
-        self.rejecting_for = _ZERO
-        self.since_sample = _ZERO
-        self.rejections = 0
-        self.resets = 0
-        self.timeouts = 0
+        self.innovation = self.innovation_variance = self.nis = _NAN
+        self.rejecting_for = self.since_sample = _ZERO
+        self.rejections = self.resets = self.timeouts = 0
         self.result = KalmanResult.NO_SAMPLE
-        self.rejecting = False
-        self.sampled = False
-        self.timed_out = False
+        self.rejecting = self.sampled = self.timed_out = False
 
     def no_sample(self, result: KalmanResult) -> None:
         """FusionAltitudeKalmanNoSample."""
@@ -574,10 +565,7 @@ class KalmanEstimator(Checkpointable):
             result.nis[i, k] = sensor.nis
             result.result[i, k] = sensor.result
 
-    @property
-    def height_above_ground(self) -> float:
-        """Height above ground h, m."""
-        return float(self._x[HEIGHT])
+    height_above_ground = state_property("_x", "Height above ground h, m.", index=HEIGHT)
 
     @property
     def altitude(self) -> float:
@@ -590,25 +578,12 @@ class KalmanEstimator(Checkpointable):
         P = self._P
         return float(P[HEIGHT][HEIGHT] + f32(2) * P[HEIGHT][BARO_OFFSET] + P[BARO_OFFSET][BARO_OFFSET])
 
-    @property
-    def vertical_velocity(self) -> float:
-        """Vertical velocity v, m/s, +up."""
-        return float(self._x[VELOCITY])
-
-    @property
-    def accel_bias(self) -> float:
-        """Accelerometer bias b, m/s², +up (subtracted from the input)."""
-        return float(self._x[ACCEL_BIAS])
-
-    @property
-    def baro_offset(self) -> float:
-        """Baro offset (baro reads h + offset), m; 0 before the first baro sample."""
-        return float(self._x[BARO_OFFSET])
-
-    @property
-    def gps_offset(self) -> float:
-        """GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample."""
-        return float(self._x[GPS_OFFSET])
+    vertical_velocity = state_property("_x", "Vertical velocity v, m/s, +up.", index=VELOCITY)
+    accel_bias = state_property("_x", "Accelerometer bias b, m/s², +up (subtracted from the input).", index=ACCEL_BIAS)
+    baro_offset = state_property("_x", "Baro offset (baro reads h + offset), m; 0 before the first baro sample.",
+                                 index=BARO_OFFSET)
+    gps_offset = state_property("_x", "GPS offset (GPS reads h + offset), m; 0 before the first usable GPS sample.",
+                                index=GPS_OFFSET)
 
     @property
     def state(self) -> np.ndarray:
@@ -620,40 +595,21 @@ class KalmanEstimator(Checkpointable):
         """Covariance P (5×5, order of :attr:`state`), float32 copy."""
         return np.array(self._P, dtype=np.float32)
 
-    @property
-    def innovations(self) -> KalmanSensors:
-        """Latest innovation y = z − H·x per sensor, m (NaN: no tested sample)."""
-        return KalmanSensors(*(float(s.innovation) for s in self._sensors))
-
-    @property
-    def innovation_variances(self) -> KalmanSensors:
-        """Latest innovation variance S per sensor, m² (NaN: no tested sample)."""
-        return KalmanSensors(*(float(s.innovation_variance) for s in self._sensors))
-
-    @property
-    def nis(self) -> KalmanSensors:
-        """Latest normalized innovation squared y²/S per sensor (NaN: no tested sample)."""
-        return KalmanSensors(*(float(s.nis) for s in self._sensors))
-
-    @property
-    def rejections(self) -> KalmanSensors:
-        """Samples rejected by the gate so far, per sensor."""
-        return KalmanSensors(*(s.rejections for s in self._sensors))
-
-    @property
-    def resets(self) -> KalmanSensors:
-        """Resets after rejection streaks longer than the timeout, per sensor."""
-        return KalmanSensors(*(s.resets for s in self._sensors))
-
-    @property
-    def results(self) -> KalmanSensors:
-        """What the latest update did with each sensor (:class:`KalmanResult`)."""
-        return KalmanSensors(*(KalmanResult(s.result) for s in self._sensors))
-
-    @property
-    def timeout_counts(self) -> KalmanSensors:
-        """Silences longer than the sensor's timeout so far, per sensor (each counted once)."""
-        return KalmanSensors(*(s.timeouts for s in self._sensors))
+    innovations = channels_property("_sensors", "innovation", KalmanSensors,
+                                    "Latest innovation y = z − H·x per sensor, m (NaN: no tested sample).")
+    innovation_variances = channels_property("_sensors", "innovation_variance", KalmanSensors,
+                                             "Latest innovation variance S per sensor, m² (NaN: no tested sample).")
+    nis = channels_property("_sensors", "nis", KalmanSensors,
+                            "Latest normalized innovation squared y²/S per sensor (NaN: no tested sample).")
+    rejections = channels_property("_sensors", "rejections", KalmanSensors,
+                                   "Samples rejected by the gate so far, per sensor.", int)
+    resets = channels_property("_sensors", "resets", KalmanSensors,
+                               "Resets after rejection streaks longer than the timeout, per sensor.", int)
+    results = channels_property("_sensors", "result", KalmanSensors,
+                                "What the latest update did with each sensor (:class:`KalmanResult`).", KalmanResult)
+    timeout_counts = channels_property(
+        "_sensors", "timeouts", KalmanSensors,
+        "Silences longer than the sensor's timeout so far, per sensor (each counted once).", int)
 
     @property
     def baro_timed_out(self) -> bool:
@@ -670,15 +626,10 @@ class KalmanEstimator(Checkpointable):
         """Whether the GPS is timed out: no usable fix for longer than ``gps_timeout`` s."""
         return self._sensors[2].timed_out
 
-    @property
-    def baro_initialised(self) -> bool:
-        """Whether the baro offset is set (first baro sample seen)."""
-        return self._baro_initialised
-
-    @property
-    def gps_initialised(self) -> bool:
-        """Whether the GPS offset is set (first usable GPS sample seen)."""
-        return self._gps_initialised
+    baro_initialised = state_property(
+        "_baro_initialised", "Whether the baro offset is set (first baro sample seen).", bool)
+    gps_initialised = state_property(
+        "_gps_initialised", "Whether the GPS offset is set (first usable GPS sample seen).", bool)
 
     @property
     def settings(self) -> KalmanSettings:
@@ -698,10 +649,8 @@ class KalmanEstimator(Checkpointable):
                 self._P[ACCEL_BIAS][ACCEL_BIAS] = s.accel_bias_initial_sigma * s.accel_bias_initial_sigma
         self._settings, self._s = new, s
 
-    @property
-    def gap_count(self) -> int:
-        """Number of gaps so far: updates whose dt exceeded ``settings.gap_period``."""
-        return self._gap_count
+    gap_count = state_property(
+        "_gap_count", "Number of gaps so far: updates whose dt exceeded ``settings.gap_period``.", int)
 
     def _get_state(self) -> tuple:
         return (self._settings.as_dict(), [float(v) for v in self._x], [float(v) for row in self._P for v in row],

@@ -23,7 +23,7 @@ from .._core import _c_tables, _common, _observer_glue
 from .._core._observer_glue import AltitudeBatch, Status
 
 from ._checkpoint import Checkpointable
-from ._diagnostics import BaroGapDiagnostics
+from ._diagnostics import BaroGapDiagnostics, settings_property, state_property
 from ._settings import GainSettings
 
 f32 = np.float32
@@ -321,6 +321,16 @@ class AltitudeSettings(GainSettings):
         return (type(self), (*self.as_tuple(), self.gap_period, self.baro_timeout))
 
 
+def _as_settings(settings: object) -> AltitudeSettings:
+    if isinstance(settings, AltitudeSettings):
+        return settings
+    if hasattr(settings, "as_tuple"):
+        return AltitudeSettings(*settings.as_tuple(),  # type: ignore[attr-defined]
+                                gap_period=getattr(settings, "gap_period", DEFAULT_GAP_PERIOD),
+                                baro_timeout=getattr(settings, "baro_timeout", DEFAULT_BARO_TIMEOUT))
+    raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
+
+
 # -- estimator ---------------------------------------------------------------
 
 class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
@@ -348,17 +358,10 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     def __init__(self, settings: Optional[AltitudeSettings] = None) -> None:
         # FusionAltitudeInitialise
         self._settings = AltitudeSettings() if settings is None else _as_settings(settings)
-        self._h = f32(0)
-        self._v = f32(0)
-        self._b = f32(0)
-        self._r = f32(0)
-        self._gap_time = f32(0)
-        self._since_restart = f32(-1)
-        self._since_baro = f32(0)
-        self._gap_count = 0
-        self._baro_timeouts = 0
-        self._reference_set = False
-        self._baro_timed_out = False
+        self._h = self._v = self._b = self._r = self._gap_time = self._since_baro = f32(0)
+        self._since_restart = f32(-1)  # no restart yet
+        self._gap_count = self._baro_timeouts = 0
+        self._reference_set = self._baro_timed_out = False
 
     # FusionAltitudeTiming: gaps (dt > gap period), stability gaps (an unstable baro step), then the baro timeout
     def _timing(self, dt: np.float32, baro_sample: bool, unstable: bool) -> None:
@@ -432,13 +435,9 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
         if not _is_finite(z):
             return Status.INVALID_BARO_ALTITUDE
         self._h = z
-        self._v = f32(0)
-        self._r = f32(0)
-        self._gap_time = f32(0)
-        self._since_restart = f32(-1)
-        self._since_baro = f32(0)
-        self._reference_set = True
-        self._baro_timed_out = False
+        self._v = self._r = self._gap_time = self._since_baro = f32(0)
+        self._since_restart = f32(-1)  # no bias hold
+        self._reference_set, self._baro_timed_out = True, False
         return Status.OK
 
     # FusionAltitudeRestart: v = mean velocity over the gap (0 on the first sample ever)
@@ -451,10 +450,8 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
             velocity = velocity if _is_finite(velocity) else f32(0)  # overflow: a gap of a few ulps
         self._v = velocity
         self._h = z
-        self._r = f32(0)
-        self._gap_time = f32(0)
-        self._reference_set = True
-        self._baro_timed_out = False
+        self._r = self._gap_time = f32(0)
+        self._reference_set, self._baro_timed_out = True, False
 
     def update(self, accel: float, baro_altitude: float, dt: float) -> None:
         with np.errstate(over="ignore"):
@@ -508,39 +505,18 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
         self._baro_timed_out = trial._baro_timed_out
         return result if out is None else out  # out=: the caller's object itself
 
-    @property
-    def altitude(self) -> float:
-        """Altitude estimate h, m (0 until the reference is set)."""
-        return float(self._h)
-
-    @property
-    def vertical_velocity(self) -> float:
-        """Vertical velocity estimate v, m/s, +up."""
-        return float(self._v)
-
-    @property
-    def accel_bias(self) -> float:
-        """Accelerometer bias estimate b, m/s², +up (subtracted from the input)."""
-        return float(self._b)
-
-    @property
-    def baro_residual(self) -> float:
-        """Baro residual z − h of the last update before its correction, m (0 after reset, NaN without baro)."""
-        return float(self._r)
-
-    @property
-    def reference_set(self) -> bool:
-        """Whether the reference is set (first baro sample or reset); False again from a gap to the next baro sample."""
-        return self._reference_set
-
-    @property
-    def settings(self) -> AltitudeSettings:
-        """The gains; assign new :class:`AltitudeSettings` to retune without losing the state."""
-        return self._settings
-
-    @settings.setter
-    def settings(self, settings: AltitudeSettings) -> None:
-        self._settings = _as_settings(settings)
+    altitude = state_property("_h", "Altitude estimate h, m (0 until the reference is set).")
+    vertical_velocity = state_property("_v", "Vertical velocity estimate v, m/s, +up.")
+    accel_bias = state_property("_b", "Accelerometer bias estimate b, m/s², +up (subtracted from the input).")
+    baro_residual = state_property(
+        "_r", "Baro residual z − h of the last update before its correction, m (0 after reset, NaN without baro).")
+    reference_set = state_property(
+        "_reference_set",
+        "Whether the reference is set (first baro sample or reset); False again from a gap to the next baro sample.",
+        bool)
+    settings = settings_property(
+        AltitudeSettings, "The gains; assign new :class:`AltitudeSettings` to retune without losing the state.",
+        _as_settings)
 
     def _get_state(self) -> tuple:
         return ((*self._settings.as_tuple(), self._settings.gap_period, self._settings.baro_timeout), float(self._h),
@@ -571,16 +547,6 @@ class AltitudeEstimator(BaroGapDiagnostics, Checkpointable):
     def __repr__(self) -> str:
         return (f"AltitudeEstimator(altitude={self._h}, vertical_velocity={self._v}, accel_bias={self._b}, "
                 f"baro_residual={self._r}, settings={self._settings!r})")
-
-
-def _as_settings(settings: object) -> AltitudeSettings:
-    if isinstance(settings, AltitudeSettings):
-        return settings
-    if hasattr(settings, "as_tuple"):
-        return AltitudeSettings(*settings.as_tuple(),  # type: ignore[attr-defined]
-                                gap_period=getattr(settings, "gap_period", DEFAULT_GAP_PERIOD),
-                                baro_timeout=getattr(settings, "baro_timeout", DEFAULT_BARO_TIMEOUT))
-    raise TypeError(f"settings must be AltitudeSettings, got {type(settings).__name__}")
 
 
 _common.share_docstrings(AltitudeEstimator, _observer_glue.AltitudeContract)

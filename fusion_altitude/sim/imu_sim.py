@@ -31,7 +31,7 @@ __all__ = ["RawImuFlight", "simulate_raw_imu", "run_ins", "run_two_step", "attit
 
 
 @dataclass
-class RawImuFlight:
+class RawImuFlight(sim.TrajectoryFlight):
     """A simulated flight with a raw IMU.
 
     Attributes
@@ -80,11 +80,6 @@ class RawImuFlight:
     mag_disturbance: Optional[Tuple[float, float, Tuple[float, float, float]]]
     transient: float
     scenario: str
-
-    @property
-    def time(self) -> np.ndarray:
-        """IMU-grid times, s."""
-        return self.trajectory.time
 
     @property
     def evaluated(self) -> np.ndarray:

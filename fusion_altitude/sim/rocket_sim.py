@@ -26,7 +26,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .trajectories import GRAVITY, Trajectory, from_acceleration, level_trajectory
+from .trajectories import GRAVITY, Trajectory, TrajectoryFlight, from_acceleration, level_trajectory
 
 #: Speed of sound at the pad (15 °C), m/s; the simulator uses it for the Mach number.
 SPEED_OF_SOUND = 340.3
@@ -100,7 +100,7 @@ class RocketFlightModel:
 
 
 @dataclass
-class RocketFlight:
+class RocketFlight(TrajectoryFlight):
     """One simulated flight.
 
     Attributes
@@ -133,10 +133,6 @@ class RocketFlight:
     burnout_time: float
     landed_time: float
     model: RocketFlightModel
-
-    @property
-    def time(self) -> np.ndarray:
-        return self.trajectory.time
 
     @property
     def dt(self) -> float:
@@ -219,16 +215,7 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
         s; long enough to land and rest 10 s if omitted.
     """
     rng = np.random.default_rng(seed)
-    base = RocketFlightModel() if model is None else model
-    params = dict(base.__dict__)
-    if randomise:
-        params["thrust_accel"] = base.thrust_accel * rng.uniform(0.85, 1.15)
-        params["burn_time"] = base.burn_time * rng.uniform(0.85, 1.15)
-        params["drag_k"] = base.drag_k * rng.uniform(0.8, 1.2)
-        params["static_port_coefficient"] = rng.uniform(0.04, 0.08)
-        params["accel_bias"] = rng.uniform(-0.5, 0.5)
-        params["accel_scale_error"] = rng.uniform(-0.005, 0.005)
-    model = RocketFlightModel(**params)
+    model = _drawn_model(RocketFlightModel() if model is None else model, rng if randomise else None)
     trajectory = rocket_trajectory(model, duration)
     if duration is None:  # trim to 10 s after landing
         still = np.nonzero((trajectory.vertical_velocity != 0.0) | (trajectory.time < model.pad_time + 1.0))[0]
@@ -247,16 +234,8 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
     moving = np.nonzero(v != 0.0)[0]
     k_landed = int(moving[-1] + 1) if moving.size else n - 1
     burnout_time = model.pad_time + model.burn_time
-
-    # accelerometer: long-axis specific force (a + g along the axis) with scale, bias, noise, saturation
-    specific = trajectory.vertical_acceleration + GRAVITY
     ejection_time = apogee_time + model.ejection_delay
-    tumble_phase = 2 * np.pi * 0.7 * (t - ejection_time)
-    tumbling = GRAVITY * np.cos(tumble_phase) + model.tumble_amplitude * np.sin(2.3 * tumble_phase)
-    specific = np.where((t >= ejection_time) & (t < t[k_landed]), tumbling, specific)
-    reading = specific * (1.0 + model.accel_scale_error) + model.accel_bias + model.accel_noise * rng.standard_normal(n)
-    reading = np.clip(reading, -model.saturation, model.saturation)
-    accel = reading - GRAVITY
+    accel = _accelerometer(trajectory, model, ejection_time, float(t[k_landed]), rng)
 
     # barometer: static-port error ∝ dynamic pressure, transonic bump, pyro spikes, noise
     mach = np.abs(v) / SPEED_OF_SOUND
@@ -269,6 +248,36 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
             baro[k] += rng.choice((-1.0, 1.0)) * rng.uniform(*model.pyro_spike)
     return RocketFlight(trajectory, accel, baro, static_error, apogee_time, apogee_height, float(t[k_main]),
                         model.pad_time, burnout_time, float(t[k_landed]), model)
+
+
+def _drawn_model(base: RocketFlightModel, rng: Optional[np.random.Generator]) -> RocketFlightModel:
+    """``base`` with thrust, burn time, drag, static-port coefficient, accel bias and scale error drawn from ``rng``
+    (in that order), as :func:`simulate_rocket_flight`'s ``randomise`` describes; ``base`` itself without ``rng``."""
+    params = dict(base.__dict__)
+    if rng is not None:
+        params["thrust_accel"] = base.thrust_accel * rng.uniform(0.85, 1.15)
+        params["burn_time"] = base.burn_time * rng.uniform(0.85, 1.15)
+        params["drag_k"] = base.drag_k * rng.uniform(0.8, 1.2)
+        params["static_port_coefficient"] = rng.uniform(0.04, 0.08)
+        params["accel_bias"] = rng.uniform(-0.5, 0.5)
+        params["accel_scale_error"] = rng.uniform(-0.005, 0.005)
+    return RocketFlightModel(**params)
+
+
+def _accelerometer(trajectory: Trajectory, model: RocketFlightModel, ejection_time: float, landed_time: float,
+                   rng: np.random.Generator) -> np.ndarray:
+    """Long-axis accelerometer minus g, m/s²: the specific force (a + g along the axis; from the drogue charge at
+    ``ejection_time`` to ``landed_time``, s, a tumbling airframe's) with scale error, bias, noise (one normal draw
+    per sample) and saturation."""
+    t = trajectory.time
+    specific = trajectory.vertical_acceleration + GRAVITY
+    tumble_phase = 2 * np.pi * 0.7 * (t - ejection_time)
+    tumbling = GRAVITY * np.cos(tumble_phase) + model.tumble_amplitude * np.sin(2.3 * tumble_phase)
+    specific = np.where((t >= ejection_time) & (t < landed_time), tumbling, specific)
+    noise = model.accel_noise * rng.standard_normal(t.size)
+    reading = specific * (1.0 + model.accel_scale_error) + model.accel_bias + noise
+    reading = np.clip(reading, -model.saturation, model.saturation)
+    return reading - GRAVITY
 
 
 def telemetry_indices(flight: RocketFlight, seed: int = 0, step: float = 0.1, gap_probability: float = 0.07,

@@ -141,6 +141,11 @@ _REALISTIC_IMU = sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.0
 
 
 def _specs() -> Dict[str, ScenarioSpec]:
+    return {**_vehicle_specs(), **_comparison_specs()}
+
+
+def _vehicle_specs() -> Dict[str, ScenarioSpec]:
+    """The published examples and one scenario per vehicle."""
     return {
         "realistic": ScenarioSpec(
             "published realistic_noise: 60 s of h = 5 sin(2π·0.1·t) at 100 Hz, MEMS biases and noise, "
@@ -185,7 +190,12 @@ def _specs() -> Dict[str, ScenarioSpec]:
             sim.ImuModel(accel_bias=(0.005, -0.008, 0.012), accel_noise=0.01, accel_range=16.0,
                          gyro_noise=0.1, mag_noise=0.05),
             sim.BaroModel(noise=0.5, lag=0.02), preset="racing", transient=2.0),
-        # -- the estimator comparison's scenarios ---------------------------------------------------
+    }
+
+
+def _comparison_specs() -> Dict[str, ScenarioSpec]:
+    """The estimator comparison's scenarios."""
+    return {
         "fixed-wing": ScenarioSpec(
             "180 s fixed wing: climb at 4 m/s to 100 m, cruise, descend; 25 Hz lagged drifting baro, 5 Hz GPS; "
             "fixed-wing gains",
@@ -271,28 +281,13 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
     scenario = spec(name)
-    if attitude == "auto":
-        try:
-            import imufusion  # noqa: F401
-            attitude = "ahrs"
-        except ImportError:
-            attitude = "truth"
-    if attitude not in ("ahrs", "truth"):
-        raise ValueError(f"attitude must be 'auto', 'ahrs' or 'truth'; got {attitude!r}")
+    attitude = _attitude_source(attitude)
     if name == "rocket":
         return _run_rocket_scenario(scenario, seed, settings, attitude)
     rng = np.random.default_rng(seed)
     trajectory = scenario.trajectory()
     imu = sim.simulate_imu(trajectory, scenario.imu, rng)
-    if scenario.baro_override is not None:
-        value = scenario.baro_override(trajectory)
-        from ..sensors import altitude_to_pressure
-        baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
-    else:
-        baro = sim.simulate_baro(trajectory, scenario.baro, rng)
-    if scenario.baro_fault is not None:
-        start, end, offset = scenario.baro_fault
-        baro.value = baro.value + np.where((baro.time >= start) & (baro.time < end), offset, 0.0)
+    baro = _scenario_baro(scenario, trajectory, rng)
     rangefinder = sim.simulate_rangefinder(trajectory, scenario.rangefinder, rng) if scenario.rangefinder else None
     gps = sim.simulate_gps(trajectory, scenario.gps, rng)[0] if scenario.gps else None
     if attitude == "ahrs":
@@ -308,6 +303,35 @@ def run_scenario(name: str = "realistic", seed: int = 0, settings: Optional[Alti
     return ScenarioResult(name, seed, trajectory, imu, baro, accel, baro_altitude, estimate,
                           scenario.imu.accel_bias[2] * GRAVITY, scenario.transient, attitude, rangefinder, gps,
                           scenario.description, scenario.fault_end)
+
+
+def _attitude_source(attitude: str) -> str:
+    """``"ahrs"`` or ``"truth"`` for :func:`run_scenario`'s ``attitude`` (``"auto"``: the AHRS if imufusion is
+    installed)."""
+    if attitude == "auto":
+        try:
+            import imufusion  # noqa: F401
+            attitude = "ahrs"
+        except ImportError:
+            attitude = "truth"
+    if attitude not in ("ahrs", "truth"):
+        raise ValueError(f"attitude must be 'auto', 'ahrs' or 'truth'; got {attitude!r}")
+    return attitude
+
+
+def _scenario_baro(scenario: ScenarioSpec, trajectory: sim.Trajectory, rng: np.random.Generator) -> sim.BaroStream:
+    """The scenario's baro (altitude m, pressure Pa): simulated from ``rng`` (the draws after the IMU's) or the
+    scenario's override, plus its pressure glitch (``baro_fault``: start s, end s, offset m)."""
+    if scenario.baro_override is not None:
+        value = scenario.baro_override(trajectory)
+        from ..sensors import altitude_to_pressure
+        baro = sim.BaroStream(trajectory.time.copy(), value, altitude_to_pressure(value))
+    else:
+        baro = sim.simulate_baro(trajectory, scenario.baro, rng)
+    if scenario.baro_fault is not None:
+        start, end, offset = scenario.baro_fault
+        baro.value = baro.value + np.where((baro.time >= start) & (baro.time < end), offset, 0.0)
+    return baro
 
 
 def _run_rocket_scenario(scenario: ScenarioSpec, seed: int, settings: Optional[AltitudeSettings],

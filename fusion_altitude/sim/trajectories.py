@@ -105,6 +105,16 @@ class Trajectory:
         return int(self.time.shape[0])
 
 
+class TrajectoryFlight:
+    """Base of a simulated flight that keeps its truth as ``trajectory`` (a :class:`Trajectory` on the
+    flight's sample grid)."""
+
+    @property
+    def time(self) -> np.ndarray:
+        """Sample times of the flight (its truth trajectory's grid), s."""
+        return self.trajectory.time  # type: ignore[attr-defined]
+
+
 def _grid(duration: float, rate: float) -> np.ndarray:
     if not (duration > 0 and rate > 0):
         raise ValueError(f"duration (s) and rate (Hz) must be > 0, got {duration!r}, {rate!r}")
@@ -821,19 +831,8 @@ def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
         that of ``time`` (naming the column).
     """
     time = np.asarray(time, dtype=float)
-    if model.gap_duration < 0 or not np.isfinite(model.gap_duration):
-        raise ValueError(f"gap_duration must be a non-negative number of s, got {model.gap_duration}")
-    if not 0.0 <= model.repeat_probability <= 1.0:
-        raise ValueError(f"repeat_probability must be in [0, 1], got {model.repeat_probability}")
-    if model.timestamp_resolution < 0:
-        raise ValueError(f"timestamp_resolution must be ≥ 0 s, got {model.timestamp_resolution}")
-    columns = {name: np.asarray(values) for name, values in columns.items()}
-    for name, values in columns.items():
-        if values.shape[:1] != time.shape:
-            raise ValueError(f"column {name!r} has {values.shape[0] if values.ndim else 0} rows, time {time.size}")
-    for name in list(model.stops) + list(model.dead_columns):
-        if name not in columns:
-            raise ValueError(f"LogFaultModel names column {name!r}, not in the log ({', '.join(columns)})")
+    _check_log_fault_model(model)
+    columns = _log_columns(time, columns, model)
     for name, stop in model.stops.items():
         values = columns[name].astype(float)
         values[time >= stop] = np.nan
@@ -845,6 +844,36 @@ def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
         keep &= ~((time >= model.gap_start) & (time < model.gap_start + model.gap_duration))
     time = time[keep]
     columns = {name: values[keep] for name, values in columns.items()}
+    written = _written_timestamps(time, model, rng)
+    repeated = int(np.sum(np.diff(written) == 0))
+    return written, columns, repeated
+
+
+def _check_log_fault_model(model: LogFaultModel) -> None:
+    """ValueError naming the first field of ``model`` out of range."""
+    if model.gap_duration < 0 or not np.isfinite(model.gap_duration):
+        raise ValueError(f"gap_duration must be a non-negative number of s, got {model.gap_duration}")
+    if not 0.0 <= model.repeat_probability <= 1.0:
+        raise ValueError(f"repeat_probability must be in [0, 1], got {model.repeat_probability}")
+    if model.timestamp_resolution < 0:
+        raise ValueError(f"timestamp_resolution must be ≥ 0 s, got {model.timestamp_resolution}")
+
+
+def _log_columns(time: np.ndarray, columns: Dict[str, np.ndarray], model: LogFaultModel) -> Dict[str, np.ndarray]:
+    """The columns as arrays, each one row per time, holding every column ``model`` names (else ValueError)."""
+    columns = {name: np.asarray(values) for name, values in columns.items()}
+    for name, values in columns.items():
+        if values.shape[:1] != time.shape:
+            raise ValueError(f"column {name!r} has {values.shape[0] if values.ndim else 0} rows, time {time.size}")
+    for name in list(model.stops) + list(model.dead_columns):
+        if name not in columns:
+            raise ValueError(f"LogFaultModel names column {name!r}, not in the log ({', '.join(columns)})")
+    return columns
+
+
+def _written_timestamps(time: np.ndarray, model: LogFaultModel, rng: Optional[np.random.Generator]) -> np.ndarray:
+    """The timestamps the logger writes, s: truncated to ``timestamp_resolution``, and a row's repeated from the row
+    before with ``repeat_probability`` (one uniform draw of ``rng`` per row)."""
     written = time.copy()
     if model.timestamp_resolution > 0:
         written = np.floor(written / model.timestamp_resolution + 1e-9) * model.timestamp_resolution
@@ -855,8 +884,7 @@ def apply_log_faults(time, columns: Dict[str, np.ndarray], model: LogFaultModel,
         repeat[0] = False
         for i in np.flatnonzero(repeat):
             written[i] = written[i - 1]
-    repeated = int(np.sum(np.diff(written) == 0))
-    return written, columns, repeated
+    return written
 
 
 def write_log_csv(path: str, time, columns: Dict[str, np.ndarray], time_column: str = "time") -> None:

@@ -165,16 +165,7 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
         if status != ComplementaryStatus.OK:
             return status
         baro_sample = bool(np.isfinite(z))
-        if self._reference_set and dt > f32(self._settings._values["gap_period"]):  # a gap
-            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
-            self._reference_set = False
-            self._gap_time = dt
-        elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
-            self._gap_time += dt
-        if (not baro_sample and (self._reference_set or self._gap_time > 0) and not self._baro_timed_out
-                and (self._since + dt) > f32(self._settings._values["baro_timeout"])):  # a baro timeout
-            self._baro_timeouts = (self._baro_timeouts + 1) & 0xFFFFFFFF
-            self._baro_timed_out = True
+        self._timing(dt, baro_sample)
         if not self._reference_set:
             if baro_sample and self._gap_time > 0:
                 self._restart(z)
@@ -185,20 +176,42 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
                 self._since += dt
             self._vb = _NAN
             return ComplementaryStatus.OK
-        if self._baro_timed_out:  # no dead reckoning: v decays to 0; the next baro sample restarts h at it
-            if baro_sample:
-                self._h = z
-                self._zf = z
-                self._vb = self._v
-                self._since = f32(0)
-                self._baro_timed_out = False
-                return ComplementaryStatus.OK
-            timeout = f32(self._settings._values["baro_timeout"])
-            self._v *= timeout / (timeout + dt)
-            self._h += self._v * dt
-            self._vb = _NAN
-            self._since += dt
-            return ComplementaryStatus.OK
+        if self._baro_timed_out:
+            self._timed_out_step(z, dt, baro_sample)
+        else:
+            self._blend(a, z, dt, baro_sample)
+        return ComplementaryStatus.OK
+
+    # FusionAltitudeComplementaryUpdate: a gap (dt > gap_period, s) ends the reference, a baro silence longer than
+    # baro_timeout (s) is a timeout
+    def _timing(self, dt: np.float32, baro_sample: bool) -> None:
+        if self._reference_set and dt > f32(self._settings._values["gap_period"]):  # a gap
+            self._gap_count = (self._gap_count + 1) & 0xFFFFFFFF
+            self._reference_set = False
+            self._gap_time = dt
+        elif not self._reference_set and self._gap_time > 0:  # still waiting for the baro after a gap
+            self._gap_time += dt
+        if (not baro_sample and (self._reference_set or self._gap_time > 0) and not self._baro_timed_out
+                and (self._since + dt) > f32(self._settings._values["baro_timeout"])):  # a baro timeout
+            self._baro_timeouts = (self._baro_timeouts + 1) & 0xFFFFFFFF
+            self._baro_timed_out = True
+
+    # FusionAltitudeComplementaryUpdate, timed out: no dead reckoning, v decays to 0; the next baro sample restarts h
+    def _timed_out_step(self, z: np.float32, dt: np.float32, baro_sample: bool) -> None:
+        if baro_sample:
+            self._h = self._zf = z
+            self._vb = self._v
+            self._since = f32(0)
+            self._baro_timed_out = False
+            return
+        timeout = f32(self._settings._values["baro_timeout"])
+        self._v *= timeout / (timeout + dt)
+        self._h += self._v * dt
+        self._vb = _NAN
+        self._since += dt
+
+    # FusionAltitudeComplementaryUpdate, referenced: low-passed accel and baro, then the two blends
+    def _blend(self, a: np.float32, z: np.float32, dt: np.float32, baro_sample: bool) -> None:
         s = self._settings._values
         tau_a = f32(s["accel_time_constant"])
         # first-order low-pass of the acceleration: aLp += dt/(tauA + dt) * (a - aLp)
@@ -211,7 +224,7 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
             self._h = altitude_predicted
             self._vb = _NAN
             self._since += dt
-            return ComplementaryStatus.OK
+            return
         interval = self._since + dt  # D: time since the previous baro sample
         baro_previous = self._zf
         tau_b = f32(s["baro_time_constant"])
@@ -229,7 +242,6 @@ class ComplementaryFilter(BaroGapDiagnostics, Checkpointable):
         self._h = c_h * altitude_predicted + (_ONE - c_h) * self._zf
         self._vb = baro_velocity
         self._since = f32(0)
-        return ComplementaryStatus.OK
 
     def update(self, accel: float, baro_altitude: float, dt: float) -> None:
         """Process one sample: accel m/s², baro_altitude m (NaN: none), dt s."""

@@ -247,6 +247,11 @@ class RocketEstimator(Checkpointable):
         if gap:
             self._clear_window()
             return
+        self._calibration_step(a, z, has_baro, dt)
+
+    # FusionAltitudeRocketCalibrationStep
+    def _calibration_step(self, a: np.float32, z: np.float32, has_baro: bool, dt: np.float32) -> None:
+        s = self._s
         if not np.isnan(a):
             if self._window_samples == 0:
                 self._window_accel_first = a
@@ -325,19 +330,26 @@ class RocketEstimator(Checkpointable):
             self._baro_admitted = True
         return height - self._baro_offset
 
-    # FusionAltitudeRocketLandedStep
-    def _landed_step(self, v: np.float32, dt: np.float32) -> None:
-        s = self._s
-        if not self._lockout and v < s["landed_speed"] and v > -s["landed_speed"]:
+    # FusionAltitudeRocketBurnoutStep and FusionAltitudeRocketLandedStep: the run of a detector
+    def _detector_run(self, holds: bool, dt: np.float32, duration: np.float32, event: int, phase: Phase) -> None:
+        """While ``holds``, the run grows by dt (s), its first sample the candidate event; after ``duration`` s the
+        candidate is ``event`` and the flight moves to ``phase``. Otherwise the run restarts."""
+        if holds:
             if self._run_time == 0:
                 self._record(self._candidate)
             self._run_time += dt
-            if self._run_time >= s["landed_time"]:
-                self._events[LANDED] = list(self._candidate)
-                self._phase = Phase.LANDED
+            if self._run_time >= duration:
+                self._events[event] = list(self._candidate)
+                self._phase = phase
                 self._run_time = _ZERO
         else:
             self._run_time = _ZERO
+
+    # FusionAltitudeRocketLandedStep: |v| < landed_speed (m/s) for landed_time s
+    def _landed_step(self, v: np.float32, dt: np.float32) -> None:
+        s = self._s
+        still = not self._lockout and v < s["landed_speed"] and v > -s["landed_speed"]
+        self._detector_run(still, dt, s["landed_time"], LANDED, Phase.LANDED)
 
     # FusionAltitudeRocketInput
     def _input(self, a: np.float32, accel_vertical: bool) -> np.float32:
@@ -364,81 +376,83 @@ class RocketEstimator(Checkpointable):
 
     # FusionAltitudeRocketFlightStep
     def _flight_step(self, a: np.float32, z: np.float32, dt: np.float32, gap: bool, accel_vertical: bool) -> None:
-        s = self._s
         if np.isnan(a) and not self._baro_led:  # the accelerometer is lost: baro-led from here
-            self._baro_led = True
-            if self._phase == Phase.BOOST:
-                self._phase = Phase.COAST
-                self._run_time = _ZERO
+            self._lead_with_baro()
         if gap and not self._baro_led and self._phase < Phase.DROGUE and (self._lockout or self._phase == Phase.BOOST):
-            self._baro_led = True  # a gap in boost or in the lockout: the integrated velocity is lost
-            if self._phase == Phase.BOOST:
-                self._phase = Phase.COAST
-                self._run_time = _ZERO
+            self._lead_with_baro()  # a gap in boost or in the lockout: the integrated velocity is lost
         accel_input = self._input(a, accel_vertical)
-        if gap:  # FusionAltitudeRocketGapStep
-            steps = 1
-            step = dt
-            while step > s["gap_period"] and steps < MAX_GAP_STEPS:
-                steps *= 2
-                step = dt / f32(steps)
-            hold = self._phase != Phase.BOOST and dt <= GAP_HOLD  # accel held over gaps up to 4 s
-            gap_input = accel_input if hold else self._obs._b
-            hold_top = self._baro_led and self._phase == Phase.COAST  # no extrapolated descent the baro has not shown
-            for _ in range(steps):
-                top = hold_top and not self._obs._v > 0
-                self._obs._update(self._obs._b if top else gap_input, _NAN, step)
-            if self._baro_led or not hold:
-                self._gap_restart = True  # the extrapolation is a guess: the next sample restarts the observer
-            else:
-                self._baro_admitted = False  # held: the height error goes through the offset
-            self._last_baro_age += dt
-            self._baro_peak_age += dt
-            if self._phase == Phase.BOOST:
-                self._run_time = _ZERO  # the burnout run restarts; a landed run goes on
-            self._baro = BaroFate.NONE
+        if gap:
+            self._gap_step(accel_input, dt)
             return
         fused = self._gate(z, dt)
         height_before = self._obs._h
         self._obs._update(accel_input, fused, dt)
-
-        # offset_applied -> baro_offset while climbing: up by at most offset_rate·|v|·dt (m), down by at most
-        # offset_rate times the observer's rise in this step (m; none if it did not rise): the output height
-        # never falls by absorbing the offset. At once in the descent.
         v = self._obs._v
+        self._apply_offset(v, height_before, dt)
+        self._phase_step(a, v, dt)
+        if self._phase in (Phase.BOOST, Phase.COAST) and (
+                not self._events[MAX_SPEED][0] or v > self._events[MAX_SPEED][4]):
+            self._record(self._events[MAX_SPEED])
+
+    def _lead_with_baro(self) -> None:
+        """The flight is baro-led from here; in boost it goes on in coast (no burnout event)."""
+        self._baro_led = True
+        if self._phase == Phase.BOOST:
+            self._phase = Phase.COAST
+            self._run_time = _ZERO
+
+    # FusionAltitudeRocketGapStep
+    def _gap_step(self, accel_input: np.float32, dt: np.float32) -> None:
+        s = self._s
+        steps = 1
+        step = dt
+        while step > s["gap_period"] and steps < MAX_GAP_STEPS:
+            steps *= 2
+            step = dt / f32(steps)
+        hold = self._phase != Phase.BOOST and dt <= GAP_HOLD  # accel held over gaps up to 4 s
+        gap_input = accel_input if hold else self._obs._b
+        hold_top = self._baro_led and self._phase == Phase.COAST  # no extrapolated descent the baro has not shown
+        for _ in range(steps):
+            top = hold_top and not self._obs._v > 0
+            self._obs._update(self._obs._b if top else gap_input, _NAN, step)
+        if self._baro_led or not hold:
+            self._gap_restart = True  # the extrapolation is a guess: the next sample restarts the observer
+        else:
+            self._baro_admitted = False  # held: the height error goes through the offset
+        self._last_baro_age += dt
+        self._baro_peak_age += dt
+        if self._phase == Phase.BOOST:
+            self._run_time = _ZERO  # the burnout run restarts; a landed run goes on
+        self._baro = BaroFate.NONE
+
+    # FusionAltitudeRocketApplyOffset
+    def _apply_offset(self, v: np.float32, height_before: np.float32, dt: np.float32) -> None:
+        """offset_applied -> baro_offset while climbing: up by at most offset_rate·|v|·dt (m), down by at most
+        offset_rate times the observer's rise in this step (m; none if it did not rise): the output height never
+        falls by absorbing the offset. In the descent at most offset_rate·(|v| + landed_speed)·dt either way."""
+        s = self._s
         speed = -v if v < 0 else v
         offset_step = s["offset_rate"] * speed * dt
         rise = self._obs._h - height_before
         offset_step_down = s["offset_rate"] * rise if rise > 0 else _ZERO
         offset_left = self._baro_offset - self._offset_applied
-        if self._phase >= Phase.DROGUE:  # in the descent: at most offset_rate·(|v| + landed_speed)·dt either way
+        up, down = offset_step, offset_step_down  # the largest moves this step, m
+        if self._phase >= Phase.DROGUE:
             left = -offset_left if offset_left < 0 else offset_left
-            descent_step = (s["offset_rate"] * (speed + s["landed_speed"]) + OFFSET_DECAY * left) * dt
-            if offset_left > descent_step:
-                self._offset_applied += descent_step
-            elif offset_left < -descent_step:
-                self._offset_applied -= descent_step
-            else:
-                self._offset_applied = self._baro_offset
-        elif offset_left > offset_step:
-            self._offset_applied += offset_step
-        elif offset_left < -offset_step_down:
-            self._offset_applied -= offset_step_down
+            up = down = (s["offset_rate"] * (speed + s["landed_speed"]) + OFFSET_DECAY * left) * dt
+        if offset_left > up:
+            self._offset_applied += up
+        elif offset_left < -down:
+            self._offset_applied -= down
         else:
             self._offset_applied = self._baro_offset
+
+    # FusionAltitudeRocketPhaseStep: burnout, apogee, main, landing
+    def _phase_step(self, a: np.float32, v: np.float32, dt: np.float32) -> None:
+        s = self._s
         h = self._obs._h + self._baro_offset  # the baro-corrected height decides main
-        net = a - self._accel_bias
-        if self._phase == Phase.BOOST:
-            if net < s["burnout_accel"]:
-                if self._run_time == 0:
-                    self._record(self._candidate)
-                self._run_time += dt
-                if self._run_time >= s["burnout_time"]:
-                    self._events[BURNOUT] = list(self._candidate)
-                    self._phase = Phase.COAST
-                    self._run_time = _ZERO
-            else:
-                self._run_time = _ZERO
+        if self._phase == Phase.BOOST:  # FusionAltitudeRocketBurnoutStep
+            self._detector_run(a - self._accel_bias < s["burnout_accel"], dt, s["burnout_time"], BURNOUT, Phase.COAST)
         elif self._phase == Phase.COAST:
             contradicted = self._last_baro_set and self._last_baro < self._baro_peak - s["spike_threshold"]
             self._contradiction_time = self._contradiction_time + dt if contradicted else _ZERO
@@ -457,9 +471,6 @@ class RocketEstimator(Checkpointable):
                 self._landed_step(v, dt)
         elif self._phase == Phase.MAIN:
             self._landed_step(v, dt)
-        if self._phase in (Phase.BOOST, Phase.COAST) and (
-                not self._events[MAX_SPEED][0] or v > self._events[MAX_SPEED][4]):
-            self._record(self._events[MAX_SPEED])
 
     # FusionAltitudeRocketStep
     def _step(self, a: np.float32, z: np.float32, dt: np.float32, accel_vertical: bool) -> RocketStatus:

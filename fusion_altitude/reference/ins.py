@@ -394,25 +394,8 @@ class InsEstimator(Checkpointable):
         g = GRAVITY
         accel_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2])
         norm_error = (accel_norm - g) if accel_norm > g else (g - accel_norm)
-        if not self.aligned:
-            if not (norm_error <= s.f32("accel_norm_rejection")) or not self._align(accel):
-                return  # wait for a usable gravity direction
-        elif dt > s.f32("gap_period"):
-            self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
-            attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
-            for i in range(3):
-                self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
-            self._forget_height()  # the vehicle moved during the gap: the next baro sets the height
-            self._restart_stationary()
-            self.baro_rejecting, self.baro_rejecting_for = False, _ZERO  # the gap ends a baro rejection streak
-        else:
-            w = gyro - self.gyro_bias_
-            f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
-            d0, v0 = self.distance, self.velocity
-            self._predict(w, f, dt)
-            if self._baro_silent_for(s.f32("dead_reckoning_horizon")):
-                self._hold_height(d0, v0, dt)  # beyond the horizon: dead reckoning stops
-            self._detect_stationary(gyro, norm_error, baro, dt)
+        if not self._propagate(gyro, accel, norm_error, baro, dt):
+            return
         self.stationary = bool(self.stationary_time >= s.f32("stationary_window")) and self.stationary_baro_still
         baro_was_timed_out = self._baro_silent_for(s.f32("baro_timeout"))
         self.baro_elapsed = self.baro_elapsed + dt
@@ -424,9 +407,56 @@ class InsEstimator(Checkpointable):
 
         dx = np.zeros(N_STATES, dtype=f32)
         r = _up_in_body(self.q)
-        fz = accel[2] - self.accel_z_bias_
+        self._fuse_gravity(dx, accel, r, norm_error, dt)
+        self._limit_yaw(dx, r)
+        if self.stationary:
+            self._fuse_stationary(dx, gyro, accel, r, dt)
+        if not np.isnan(baro):
+            self._fuse_baro(dx, baro)
+            self.baro_elapsed = _ZERO
+        # once per step, after the prediction and every correction
+        self.P = self._condition_covariance(self.P)
+        self._inject(dx)
+        if not np.isnan(mag).all():
+            self._fuse_mag(mag)
 
-        # accel: gravity direction, with acceleration rejection
+    def _propagate(self, gyro: np.ndarray, accel: np.ndarray, norm_error: np.float32, baro: np.float32,
+                   dt: np.float32) -> bool:
+        """FusionAltitudeInsPropagate: alignment, a gap, or the prediction over dt (s) and stationary detection;
+        False while not aligned (the step ends)."""
+        s = self._s
+        if not self.aligned:
+            if not (norm_error <= s.f32("accel_norm_rejection")) or not self._align(accel):
+                return False  # wait for a usable gravity direction
+        elif dt > s.f32("gap_period"):
+            self._gap()
+        else:
+            w = gyro - self.gyro_bias_
+            f = np.array([accel[0], accel[1], accel[2] - self.accel_z_bias_], dtype=f32)
+            d0, v0 = self.distance, self.velocity
+            self._predict(w, f, dt)
+            if self._baro_silent_for(s.f32("dead_reckoning_horizon")):
+                self._hold_height(d0, v0, dt)  # beyond the horizon: dead reckoning stops
+            self._detect_stationary(gyro, norm_error, baro, dt)
+        return True
+
+    def _gap(self) -> None:
+        """FusionAltitudeInsGap: counted; the attitude variance raised to at least initial_attitude_sigma² (rad²),
+        the height forgotten, stationary detection restarted, a baro rejection streak ended."""
+        s = self._s
+        self.gap_count_ = (self.gap_count_ + 1) & 0xFFFFFFFF
+        attitude = s.f32("initial_attitude_sigma") * s.f32("initial_attitude_sigma")
+        for i in range(3):
+            self.P[i, i] = self.P[i, i] if self.P[i, i] > attitude else attitude
+        self._forget_height()  # the vehicle moved during the gap: the next baro sets the height
+        self._restart_stationary()
+        self.baro_rejecting, self.baro_rejecting_for = False, _ZERO  # the gap ends a baro rejection streak
+
+    def _fuse_gravity(self, dx: np.ndarray, accel: np.ndarray, r, norm_error: np.float32, dt: np.float32) -> None:
+        """FusionAltitudeInsFuseGravity: the accel's direction against the predicted up r, with acceleration
+        rejection (norm error, m/s², and chord gates; recovery after recovery_trigger_period s)."""
+        s = self._s
+        fz = accel[2] - self.accel_z_bias_
         f_norm = np.sqrt(accel[0] * accel[0] + accel[1] * accel[1] + fz * fz)
         rejected = not (norm_error <= s.f32("accel_norm_rejection")) or not f_norm > 0  # |f| = 0: no direction
         if not rejected:
@@ -450,54 +480,47 @@ class InsEstimator(Checkpointable):
         self.rejection_time = (self.rejection_time + dt) if rejected else _ZERO
         self.accel_rejected = rejected
 
-        self._limit_yaw(dx, r)
+    def _fuse_stationary(self, dx: np.ndarray, gyro: np.ndarray, accel: np.ndarray, r, dt: np.float32) -> None:
+        """FusionAltitudeInsFuseStationary: zero rate, zero velocity, and the accel z bias low-passed towards
+        accel_z − g·r_z (m/s²)."""
+        s = self._s
+        R = s.f32("zero_rate_noise") * s.f32("zero_rate_noise")
+        for i in range(3):
+            self._fuse(dx, 3 + i, _ONE, -1, _ZERO, gyro[i] - self.gyro_bias_[i], R)
+        self._fuse(dx, 7, _ONE, -1, _ZERO, -self.velocity, s.f32("zero_velocity_noise") * s.f32("zero_velocity_noise"))
+        k = dt / (s.f32("accel_bias_time_constant") + dt)
+        self.accel_z_bias_ = self.accel_z_bias_ + k * ((accel[2] - GRAVITY * r[2]) - self.accel_z_bias_)
 
-        # stationary: zero rate, zero velocity, accel z bias
-        if self.stationary:
-            R = s.f32("zero_rate_noise") * s.f32("zero_rate_noise")
-            for i in range(3):
-                self._fuse(dx, 3 + i, _ONE, -1, _ZERO, gyro[i] - self.gyro_bias_[i], R)
-            self._fuse(dx, 7, _ONE, -1, _ZERO, -self.velocity,
-                       s.f32("zero_velocity_noise") * s.f32("zero_velocity_noise"))
-            k = dt / (s.f32("accel_bias_time_constant") + dt)
-            self.accel_z_bias_ = self.accel_z_bias_ + k * ((accel[2] - g * r[2]) - self.accel_z_bias_)
-
-        # baro
-        if not np.isnan(baro):
-            self._fuse_baro(dx, baro)
-            self.baro_elapsed = _ZERO
-
-        # once per step, after the prediction and every correction
-        self.P = self._condition_covariance(self.P)
-
-        # inject the error state
+    def _inject(self, dx: np.ndarray) -> None:
+        """FusionAltitudeInsInject: the error state into the nominal state."""
         self.q = _rotate(self.q, _HALF * dx[0], _HALF * dx[1], _HALF * dx[2])
         self.gyro_bias_ = self.gyro_bias_ + dx[3:6]
         self.distance = self.distance + dx[6]
         self.velocity = self.velocity + dx[7]
 
-        # magnetometer: local → global yaw offset only
-        if not np.isnan(mag).all():
-            w, x, y, z = self.q
-            mx = (_ONE - _TWO * (y * y + z * z)) * mag[0] + _TWO * (x * y - w * z) * mag[1] + _TWO * (x * z + w * y) * mag[2]
-            my = _TWO * (x * y + w * z) * mag[0] + (_ONE - _TWO * (x * x + z * z)) * mag[1] + _TWO * (y * z - w * x) * mag[2]
-            horizontal = np.sqrt(mx * mx + my * my)
-            if horizontal > 0:
-                target_cos = mx / horizontal
-                target_sin = -my / horizontal
-                if not self.mag_initialised:
-                    self.yaw_cos, self.yaw_sin = target_cos, target_sin
-                    self.mag_initialised = True
-                else:
-                    k = self.mag_elapsed / (s.f32("mag_time_constant") + self.mag_elapsed)
-                    c = self.yaw_cos + k * (target_cos - self.yaw_cos)
-                    sn = self.yaw_sin + k * (target_sin - self.yaw_sin)
-                    norm = np.sqrt(c * c + sn * sn)
-                    if norm > f32(1e-3):
-                        self.yaw_cos, self.yaw_sin = c / norm, sn / norm
-                    else:
-                        self.yaw_cos, self.yaw_sin = target_cos, target_sin
-                self.mag_elapsed = _ZERO
+    def _fuse_mag(self, mag: np.ndarray) -> None:
+        """FusionAltitudeInsFuseMag (a reading present): the local → global yaw offset only."""
+        w, x, y, z = self.q
+        mx = (_ONE - _TWO * (y * y + z * z)) * mag[0] + _TWO * (x * y - w * z) * mag[1] + _TWO * (x * z + w * y) * mag[2]
+        my = _TWO * (x * y + w * z) * mag[0] + (_ONE - _TWO * (x * x + z * z)) * mag[1] + _TWO * (y * z - w * x) * mag[2]
+        horizontal = np.sqrt(mx * mx + my * my)
+        if not horizontal > 0:
+            return
+        target_cos = mx / horizontal
+        target_sin = -my / horizontal
+        if not self.mag_initialised:
+            self.yaw_cos, self.yaw_sin = target_cos, target_sin
+            self.mag_initialised = True
+        else:
+            k = self.mag_elapsed / (self._s.f32("mag_time_constant") + self.mag_elapsed)
+            c = self.yaw_cos + k * (target_cos - self.yaw_cos)
+            sn = self.yaw_sin + k * (target_sin - self.yaw_sin)
+            norm = np.sqrt(c * c + sn * sn)
+            if norm > f32(1e-3):
+                self.yaw_cos, self.yaw_sin = c / norm, sn / norm
+            else:
+                self.yaw_cos, self.yaw_sin = target_cos, target_sin
+        self.mag_elapsed = _ZERO
 
     def _baro_silent_for(self, timeout: np.float32) -> bool:
         """FusionAltitudeInsIsBaroSilentFor: a baro reading once, none for longer than ``timeout`` s since."""

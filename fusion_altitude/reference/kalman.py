@@ -446,33 +446,40 @@ class KalmanEstimator(Checkpointable):
             return KalmanStatus.INVALID_GPS_ALTITUDE
         if gps_present and not _is_nan(accuracy) and not (_is_finite(accuracy) and accuracy > 0):
             return KalmanStatus.INVALID_GPS_ACCURACY
-        s, x = self._s, self._x
-        if dt > s.gap_period:
+        if dt > self._s.gap_period:
             self._gap(dt)
         else:
             self._predict(a, dt)
+        self._process_baro(baro, baro_present, ground_effect)
+        self._process_range(rng)
+        self._process_gps(gps, gps_present, accuracy, satellites)
+        return KalmanStatus.OK
 
-        # Barometer: z = h + ob
-        sensor = self._sensors[0]
+    def _process_baro(self, baro: np.float32, baro_present: bool, ground_effect: bool) -> None:
+        """FusionAltitudeKalmanProcessBaro: z = h + ob (m), R = baro_noise² (m², times ground_effect_noise_scale²
+        in ground effect, where a negative innovation y is min(y + ground_effect_dead_zone, 0)); the first sample
+        sets ob."""
+        s, x, sensor = self._s, self._x, self._sensors[0]
         if not baro_present:
             sensor.silent(KalmanResult.NO_SAMPLE, s.baro_timeout)
-        else:
-            sigma = s.baro_noise * s.ground_effect_noise_scale if ground_effect else s.baro_noise
-            R = sigma * sigma
-            self._resume(sensor, s.baro_timeout)
-            if not self._baro_initialised:
-                self._set_offset(BARO_OFFSET, baro, R)
-                self._baro_initialised = True
-                sensor.no_sample(KalmanResult.INITIALISED)
-            else:
-                y = baro - (x[HEIGHT] + x[BARO_OFFSET])
-                if ground_effect and y < 0:
-                    shifted = y + s.ground_effect_dead_zone
-                    y = shifted if shifted < 0 else _ZERO
-                self._process(sensor, BARO_OFFSET, baro, y, R)
+            return
+        sigma = s.baro_noise * s.ground_effect_noise_scale if ground_effect else s.baro_noise
+        R = sigma * sigma
+        self._resume(sensor, s.baro_timeout)
+        if not self._baro_initialised:
+            self._first_offset_sample(sensor, BARO_OFFSET, baro, R)
+            self._baro_initialised = True
+            return
+        y = baro - (x[HEIGHT] + x[BARO_OFFSET])
+        if ground_effect and y < 0:
+            shifted = y + s.ground_effect_dead_zone
+            y = shifted if shifted < 0 else _ZERO
+        self._process(sensor, BARO_OFFSET, baro, y, R)
 
-        # Rangefinder: z = h
-        sensor = self._sensors[1]
+    def _process_range(self, rng: np.float32) -> None:
+        """FusionAltitudeKalmanProcessRange: z = h (m); NaN or outside [range_min, range_max] (m) not fused;
+        R = range_noise² (m²)."""
+        s, sensor = self._s, self._sensors[1]
         if _is_nan(rng):
             sensor.silent(KalmanResult.NO_SAMPLE, s.range_timeout)
         elif not rng >= s.range_min or not rng <= s.range_max:
@@ -480,10 +487,12 @@ class KalmanEstimator(Checkpointable):
         else:
             R = s.range_noise * s.range_noise
             self._resume(sensor, s.range_timeout)
-            self._process(sensor, -1, rng, rng - x[HEIGHT], R)
+            self._process(sensor, -1, rng, rng - self._x[HEIGHT], R)
 
-        # GPS: z = h + og
-        sensor = self._sensors[2]
+    def _process_gps(self, gps: np.float32, gps_present: bool, accuracy: np.float32, satellites: int) -> None:
+        """FusionAltitudeKalmanProcessGps: z = h + og (m); fewer than gps_min_satellites (when known) not fused;
+        R = sigma² (m², :meth:`_gps_sigma`); the first sample sets og."""
+        s, x, sensor = self._s, self._x, self._sensors[2]
         if not gps_present:
             sensor.silent(KalmanResult.NO_SAMPLE, s.gps_timeout)
         elif 0 <= satellites < s.gps_min_satellites:
@@ -493,13 +502,16 @@ class KalmanEstimator(Checkpointable):
             R = sigma * sigma
             self._resume(sensor, s.gps_timeout)
             if not self._gps_initialised:
-                self._set_offset(GPS_OFFSET, gps, R)
+                self._first_offset_sample(sensor, GPS_OFFSET, gps, R)
                 self._gps_initialised = True
-                sensor.no_sample(KalmanResult.INITIALISED)
             else:
-                y = gps - (x[HEIGHT] + x[GPS_OFFSET])
-                self._process(sensor, GPS_OFFSET, gps, y, R)
-        return KalmanStatus.OK
+                self._process(sensor, GPS_OFFSET, gps, gps - (x[HEIGHT] + x[GPS_OFFSET]), R)
+
+    def _first_offset_sample(self, sensor: _Sensor, o: int, z: np.float32, R: np.float32) -> None:
+        """The first sample z (m, variance R m²) of a sensor that reads h + x[o] sets its offset
+        (FusionAltitudeKalmanSetOffset); nothing is fused (result INITIALISED)."""
+        self._set_offset(o, z, R)
+        sensor.no_sample(KalmanResult.INITIALISED)
 
     # -- public API -----------------------------------------------------------------
 

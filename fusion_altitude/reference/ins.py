@@ -27,13 +27,12 @@ Corrections (sequential scalar, accumulated in dx, injected at the end):
 
 from __future__ import annotations
 
-import math
 from typing import Optional
 
 import numpy as np
 
 from .._core import _c_tables, _ins_glue
-from .._core._ins_glue import InsBatch, InsStatus
+from .._core._ins_glue import InsBatch
 from ._checkpoint import Checkpointable
 from ._diagnostics import settings_property, state_property
 from ._settings import KeywordSettings

@@ -225,3 +225,9 @@ def test_rocket_preset_is_the_flight_layers_observer_gains(impl):
     settings = impl.AltitudeSettings.preset("rocket")
     assert settings.as_tuple() == tuple(float(np.float32(g)) for g in rocket.ROCKET_OBSERVER_GAINS)
     assert settings.bias_gain == 0.0
+
+
+def test_a_simulated_flight_cut_short_in_the_air_has_no_landing_time():
+    flight = simulate_rocket_flight(seed=0, duration=5.0)
+    assert flight.landed_time == math.inf
+    assert flight.time[-1] < 5.0 and np.all(np.isfinite(flight.accel)) and np.all(np.isfinite(flight.baro_altitude))

@@ -21,6 +21,7 @@ specific force minus g (m/s², ≈ 0 at rest on the pad, +up while the nose is u
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Optional, Tuple
 
@@ -117,8 +118,10 @@ class RocketFlight(TrajectoryFlight):
         True apogee, s and m above the pad.
     main_time : float
         True main-deployment time (height crosses main_altitude going down), s.
-    launch_time, burnout_time, landed_time : float
+    launch_time, burnout_time : float
         s.
+    landed_time : float
+        s; ``inf`` when the rocket is still moving at the end of a ``duration`` too short to land.
     model : RocketFlightModel
     """
 
@@ -212,7 +215,8 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
         Draw thrust (±15 %), burn time (±15 %), drag (±20 %), static-port
         coefficient (0.04–0.08: 0.064 fitted on the Hedy flight), accel bias (±0.5 m/s²) and scale error (±0.5 %) from ``seed``.
     duration : float, optional
-        s; long enough to land and rest 10 s if omitted.
+        s; long enough to land and rest 10 s if omitted. A shorter one ends the flight in the air
+        (``landed_time`` is then ``inf``).
     """
     rng = np.random.default_rng(seed)
     model = _drawn_model(RocketFlightModel() if model is None else model, rng if randomise else None)
@@ -233,9 +237,10 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
     k_main = int(np.argmax(below_main)) if below_main.any() else n - 1
     moving = np.nonzero(v != 0.0)[0]
     k_landed = int(moving[-1] + 1) if moving.size else n - 1
+    landed_time = float(t[k_landed]) if k_landed < n else math.inf  # still moving when the run ends
     burnout_time = model.pad_time + model.burn_time
     ejection_time = apogee_time + model.ejection_delay
-    accel = _accelerometer(trajectory, model, ejection_time, float(t[k_landed]), rng)
+    accel = _accelerometer(trajectory, model, ejection_time, landed_time, rng)
 
     # barometer: static-port error ∝ dynamic pressure, transonic bump, pyro spikes, noise
     mach = np.abs(v) / SPEED_OF_SOUND
@@ -247,7 +252,7 @@ def simulate_rocket_flight(seed: int = 0, model: Optional[RocketFlightModel] = N
         if k < n:
             baro[k] += rng.choice((-1.0, 1.0)) * rng.uniform(*model.pyro_spike)
     return RocketFlight(trajectory, accel, baro, static_error, apogee_time, apogee_height, float(t[k_main]),
-                        model.pad_time, burnout_time, float(t[k_landed]), model)
+                        model.pad_time, burnout_time, landed_time, model)
 
 
 def _drawn_model(base: RocketFlightModel, rng: Optional[np.random.Generator]) -> RocketFlightModel:

@@ -42,7 +42,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/adapters.py:run_observer': 90,  # 86 in runner.py; the registry's preset and advice (issue 22)
     'fusion_altitude/logs/raven.py:read_raven': 82,
     'fusion_altitude/sim/scenarios.py:_specs': 78,
-    'fusion_altitude/fleet.py:_process_log': 77,
     'fusion_altitude/rocket.py:rocket_accel_input': 74,
     'fusion_altitude/logs/ulog.py:read_ulog': 74,
     'fusion_altitude/plotting.py:plot_log_run': 71,

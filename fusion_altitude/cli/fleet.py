@@ -55,7 +55,7 @@ def add_fleet_parser(subparsers: Any, more: Sequence[Callable[[Any], Any]] = ())
     ``fleet``) to the subparsers of ``fusion-altitude``."""
     fleet = subparsers.add_parser(
         "fleet", help="run, summarise or fit over many logs on Dask (needs the [fleet] extra)",
-        description="Fleet processing on dask.distributed: one task per log, on a local cluster sized to this "
+        description="Fleet processing on dask.distributed: a batch of logs per task, on a local cluster sized to this "
                     "machine or on an existing cluster (--scheduler).")
     commands = fleet.add_subparsers(dest="fleet_command", metavar="SUBCOMMAND")
     fleet.set_defaults(handler=run_fleet_command, fleet_parser=fleet)

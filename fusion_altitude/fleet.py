@@ -65,7 +65,7 @@ import numpy as np
 from . import health, runner, tuning
 from ._core._observer import AltitudeSettings
 from .estimators import estimator_names
-from .outputs import csv_columns, write_csv
+from .outputs import atomic_output, csv_columns, write_csv
 from ._version import __version__
 
 __all__ = ["FORMAT_VERSION", "LOG_EXTENSIONS", "SUMMARY_FIELDS", "FleetRun", "FleetFit", "expand_paths", "log_id",
@@ -200,9 +200,7 @@ def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
         if not getattr(logs.FORMATS[logs.sniff_format(path)], "needs_columns", False):
             options = {}
     try:
-        from .logs._data import quiet_warnings
-
-        with quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
+        with logs.quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
             return logs.load_log(path, **options)
     except TypeError as error:
         raise ValueError(f"{path}: this log needs csv_options ({error})") from None
@@ -348,19 +346,11 @@ def _fingerprint(fs, path: str) -> Tuple[str, int]:
 def _atomic_write(fs, path: str, payload: bytes) -> None:
     """Write ``payload`` so that ``path`` is either absent, its old content, or all of ``payload``."""
     if _is_local(fs):
-        directory = os.path.dirname(path)
-        os.makedirs(directory, exist_ok=True)
-        temporary = os.path.join(directory, f".{os.path.basename(path)}.tmp-{uuid.uuid4().hex}")
-        try:
-            with open(temporary, "wb") as handle:
-                handle.write(payload)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.replace(temporary, path)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.remove(temporary)
-            raise
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with atomic_output(path) as temporary, open(temporary, "wb") as handle:
+            handle.write(payload)
+            handle.flush()
+            os.fsync(handle.fileno())
     else:
         fs.pipe_file(path, payload)  # an object store publishes an object only once it is complete
 
@@ -373,6 +363,12 @@ def _write_if_changed(fs, path: str, payload: bytes) -> bool:
     return True
 
 
+def _is_temporary(name: str) -> bool:
+    """A temporary file of an interrupted write: ``outputs.atomic_output``'s ``.NAME.XXXX.part.EXT``, or the
+    ``.NAME.tmp-HEX`` of earlier versions."""
+    return ".tmp-" in name or (name.startswith(".") and ".part" in name)
+
+
 def _remove_leftovers(fs, root: str) -> int:
     """Remove temporary files of interrupted writes under ``root``; returns how many."""
     removed = 0
@@ -381,7 +377,7 @@ def _remove_leftovers(fs, root: str) -> int:
         if not fs.exists(directory):
             continue
         for path in fs.ls(directory, detail=False):
-            if ".tmp-" in os.path.basename(path):
+            if _is_temporary(os.path.basename(path)):
                 fs.rm_file(path)
                 removed += 1
     return removed
@@ -648,13 +644,7 @@ def _write_run_csv(fs, path: str, run) -> None:
     """The ``fusion-altitude run -o`` CSV of ``run`` at ``path``, atomically."""
     if _is_local(fs):
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        temporary = os.path.join(os.path.dirname(path), f".{os.path.basename(path)}.tmp-{uuid.uuid4().hex}")
-        try:
-            write_csv(run, temporary)
-            os.replace(temporary, path)
-        finally:
-            with contextlib.suppress(OSError):
-                os.remove(temporary)
+        write_csv(run, path)  # through outputs.atomic_output: a temporary file renamed into place
         return
     with tempfile.TemporaryDirectory() as directory:
         write_csv(run, os.path.join(directory, "run.csv"))
@@ -811,6 +801,25 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     """
     require_fleet_packages()
     _check_workers(workers)
+    jobs = _jobs(paths_or_globs, estimator, settings, output_dir, csv_options, write_csv, retry_failed)
+    out_fs, root = _output_folders(output_dir)
+    with open_client(client, workers) as dask_client:
+        results = _run_jobs(dask_client, jobs, progress, on_result)
+    _remove_leftovers(out_fs, root)
+    ids = [job.log_id for job in jobs]
+    table = _summary_table([results[i]["row"] for i in ids])
+    _write_if_changed(out_fs, f"{root}/summary.parquet", _parquet_bytes(table))
+    _write_if_changed(out_fs, f"{root}/summary.csv", _csv_bytes(table))
+    return FleetRun(table, output_dir, jobs[0].settings_hash,
+                    computed=[i for i in ids if results[i]["action"] == "computed"],
+                    reused=[i for i in ids if results[i]["action"] == "reused" and results[i]["row"]["status"] == "ok"],
+                    failed=[i for i in ids if results[i]["row"]["status"] != "ok"], costs=_costs_table(ids, results))
+
+
+def _jobs(paths_or_globs, estimator: str, settings: Any, output_dir: str, csv_options: Optional[Dict[str, Any]],
+          write_csv: bool, retry_failed: bool) -> List[_Job]:
+    """One :class:`_Job` per log of :func:`run_many`, in path order; ValueError or TypeError (before any work)
+    for no log, an output directory among the logs, or a bad estimator or settings."""
     urls = expand_paths(paths_or_globs)
     if not urls:
         raise ValueError("paths_or_globs is empty")
@@ -818,20 +827,8 @@ def run_many(paths_or_globs: Union[str, Sequence[str]], estimator: str = "observ
     resolved = resolve_settings(estimator, settings)
     csv_options = dict(csv_options or {})
     digest = settings_hash(estimator, resolved, csv_options)
-    ids = [log_id(url) for url in urls]
-    out_fs, root = _output_folders(output_dir)
-    jobs = [_Job(url, identifier, output_dir, estimator, resolved, csv_options, digest, write_csv, retry_failed)
-            for url, identifier in zip(urls, ids)]
-    with open_client(client, workers) as dask_client:
-        results = _run_jobs(dask_client, jobs, progress, on_result)
-    _remove_leftovers(out_fs, root)
-    table = _summary_table([results[i]["row"] for i in ids])
-    _write_if_changed(out_fs, f"{root}/summary.parquet", _parquet_bytes(table))
-    _write_if_changed(out_fs, f"{root}/summary.csv", _csv_bytes(table))
-    return FleetRun(table, output_dir, digest,
-                    computed=[i for i in ids if results[i]["action"] == "computed"],
-                    reused=[i for i in ids if results[i]["action"] == "reused" and results[i]["row"]["status"] == "ok"],
-                    failed=[i for i in ids if results[i]["row"]["status"] != "ok"], costs=_costs_table(ids, results))
+    return [_Job(url, log_id(url), output_dir, estimator, resolved, csv_options, digest, write_csv, retry_failed)
+            for url in urls]
 
 
 #: The most logs one Dask task runs (see :func:`_batches`).
@@ -989,7 +986,13 @@ def _pooled_rms(parts: Sequence[Tuple[int, np.ndarray]]) -> np.ndarray:
         return np.sqrt(total / float(count))
 
 
-class FleetFit(NamedTuple):
+#: FleetFit's fields: tuning.FitResult's, then the fleet's own.
+_FLEET_FIT_FIELDS = [(name, tuning.FitResult.__annotations__[name]) for name in tuning.FitResult._fields] + [
+    ("logs", List[str]), ("excluded", List[Tuple[str, str]]), ("metric_samples", int),
+    ("holdout", List[Dict[str, Any]]), ("holdout_rms_error", float), ("holdout_default_rms_error", float)]
+
+
+class FleetFit(NamedTuple("FleetFit", _FLEET_FIT_FIELDS)):  # type: ignore[misc]  (fields computed)
     """What :func:`fit_many` returns.
 
     Attributes
@@ -1015,19 +1018,7 @@ class FleetFit(NamedTuple):
         Pooled RMS over the held-out logs, m, for the fit and the default gains (NaN without any).
     """
 
-    settings: Any
-    omega: float
-    zeta: float
-    omega_b: float
-    rms_error: float
-    default_rms_error: float
-    landscape: np.ndarray
-    logs: List[str]
-    excluded: List[Tuple[str, str]]
-    metric_samples: int
-    holdout: List[Dict[str, Any]]
-    holdout_rms_error: float
-    holdout_default_rms_error: float
+    __slots__ = ()
 
 
 def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str, Sequence[str]] = None,
@@ -1081,6 +1072,20 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
     """
     require_fleet_packages()
     _check_workers(workers)
+    train_urls, holdout_urls = _fit_paths(paths_or_globs, holdout)
+    csv_options = dict(csv_options or {})
+    if not math.isfinite(skip) or skip < 0:
+        raise ValueError(f"skip must be finite and >= 0 (s), got {skip!r}")
+    with open_client(client, workers) as dask_client:
+        training = _Training(dask_client, train_urls, csv_options, skip)
+        fit = training.fit(omega_range, zetas, bias_ratios, refinements)
+        held, pooled = _score_holdout(dask_client, holdout_urls, csv_options, skip, fit.settings)
+    return FleetFit(*fit, training.log_ids, training.excluded, training.metric_samples, held, *pooled)
+
+
+def _fit_paths(paths_or_globs, holdout) -> Tuple[List[str], List[str]]:
+    """The training and held-out log paths of :func:`fit_many`; ValueError when there is no training log or
+    a log is in both."""
     train_urls = expand_paths(paths_or_globs)
     if not train_urls:
         raise ValueError("paths_or_globs is empty")
@@ -1088,49 +1093,64 @@ def fit_many(paths_or_globs: Union[str, Sequence[str]], holdout: Union[None, str
     overlap = sorted(set(train_urls) & set(holdout_urls))
     if overlap:
         raise ValueError(f"holdout: {overlap[0]!r} is also a training log")
-    csv_options = dict(csv_options or {})
-    if not math.isfinite(skip) or skip < 0:
-        raise ValueError(f"skip must be finite and >= 0 (s), got {skip!r}")
-    with open_client(client, workers) as dask_client:
-        train = dask_client.map(_fit_inputs, train_urls, csv_options=csv_options, skip=skip, pure=False)
-        metas = dask_client.gather(dask_client.map(_fit_meta, train, pure=False))
-        usable = [(future, meta) for future, meta in zip(train, metas) if not meta.error]
-        excluded = [(meta.path, meta.error) for meta in metas if meta.error]
-        train_ids = [meta.log_id for meta in metas if not meta.error]
+    return train_urls, holdout_urls
+
+
+class _Training:
+    """The training logs of a fleet fit, each read once by a worker and kept in its memory, and the search.
+
+    For every round of :func:`fusion_altitude.tuning.search` each worker scores all candidate gains on its logs
+    (:func:`_sweep_sums`) and returns only per-candidate sums and the sample count; the client adds them in log
+    order in float64 (:func:`_pooled_rms`), so the result does not depend on the cluster.
+    """
+
+    def __init__(self, dask_client, urls: Sequence[str], csv_options: Dict[str, Any], skip: float):
+        self.client = dask_client
+        inputs = dask_client.map(_fit_inputs, urls, csv_options=csv_options, skip=skip, pure=False)
+        metas = dask_client.gather(dask_client.map(_fit_meta, inputs, pure=False))
+        self.inputs = [future for future, meta in zip(inputs, metas) if not meta.error]
+        self.excluded = [(meta.path, meta.error) for meta in metas if meta.error]
+        usable = [meta for meta in metas if not meta.error]
+        self.log_ids = [meta.log_id for meta in usable]
         if not usable:
             raise ValueError("paths_or_globs: no usable training log"
-                             + (f"; first: {excluded[0][0]}: {excluded[0][1]}" if excluded else ""))
+                             + (f"; first: {self.excluded[0][0]}: {self.excluded[0][1]}" if self.excluded else ""))
         # every log's own check period (tuning.fit's: median dt · steps per baro); the gains must be stable on all
-        dt_check = max(meta.stability_dt for _, meta in usable)
-        samples_seen = {}
+        self.dt_check = max(meta.stability_dt for meta in usable)
+        self.metric_samples = 0
 
-        def evaluate_rms(gains: np.ndarray) -> np.ndarray:
-            parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
-                                        for future, _ in usable])
-            samples_seen["count"] = sum(samples for samples, _ in parts)
-            return _pooled_rms(parts)
+    def evaluate_rms(self, gains: np.ndarray) -> np.ndarray:
+        """Pooled RMS of altitude − reference over all training logs, m, per row of designed gains (K, 3)."""
+        parts = self.client.gather([self.client.submit(_sweep_sums, future, gains, pure=False)
+                                    for future in self.inputs])
+        self.metric_samples = sum(samples for samples, _ in parts)
+        return _pooled_rms(parts)
 
-        ranked = tuning.search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements)
+    def fit(self, omega_range, zetas, bias_ratios, refinements: int) -> tuning.FitResult:
+        """The best stable gains of the search, the default gains' RMS, and the landscape (best first)."""
+        ranked = tuning.search(self.evaluate_rms, self.dt_check, omega_range, zetas, bias_ratios, refinements)
         (omega, zeta, omega_b), best_rms = ranked[0]
         fitted = AltitudeSettings.from_bandwidth(omega, zeta, omega_b)
-        default_rms = float(evaluate_rms(np.array([AltitudeSettings().as_tuple()], dtype=np.float64))[0])
-        metric_samples = samples_seen["count"]
+        default_rms = float(self.evaluate_rms(np.array([AltitudeSettings().as_tuple()], dtype=np.float64))[0])
+        landscape = np.array([(*key, value) for key, value in ranked], dtype=tuning.LANDSCAPE_DTYPE)
+        return tuning.FitResult(fitted, omega, zeta, omega_b, best_rms, default_rms, landscape)
 
-        held: List[Dict[str, Any]] = []
-        pooled = [math.nan, math.nan]
-        if holdout_urls:
-            gains = np.array([fitted.as_tuple(), AltitudeSettings().as_tuple()], dtype=np.float64)
-            inputs = dask_client.map(_fit_inputs, holdout_urls, csv_options=csv_options, skip=skip, pure=False)
-            metas = dask_client.gather(dask_client.map(_fit_meta, inputs, pure=False))
-            parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
-                                        if not meta.error else None for future, meta in zip(inputs, metas)])
-            good = [part for part in parts if part is not None]
-            for meta, part in zip(metas, parts):
-                rms = _pooled_rms([part]) if part is not None else (math.nan, math.nan)
-                held.append({"log_id": meta.log_id, "path": meta.path, "samples": part[0] if part else 0,
-                             "rms_error_m": float(rms[0]), "default_rms_error_m": float(rms[1]), "error": meta.error})
-            if good:
-                pooled = [float(value) for value in _pooled_rms(good)]
-    landscape = np.array([(*key, value) for key, value in ranked], dtype=tuning.LANDSCAPE_DTYPE)
-    return FleetFit(fitted, omega, zeta, omega_b, best_rms, default_rms, landscape, train_ids, excluded,
-                    metric_samples, held, pooled[0], pooled[1])
+
+def _score_holdout(dask_client, urls: Sequence[str], csv_options: Dict[str, Any], skip: float,
+                   fitted: AltitudeSettings) -> Tuple[List[Dict[str, Any]], List[float]]:
+    """Per held-out log its row (log_id, path, samples, rms_error_m, default_rms_error_m, error), and the
+    pooled RMS over them, m, of the fitted and the default gains (NaN without any)."""
+    if not urls:
+        return [], [math.nan, math.nan]
+    gains = np.array([fitted.as_tuple(), AltitudeSettings().as_tuple()], dtype=np.float64)
+    inputs = dask_client.map(_fit_inputs, urls, csv_options=csv_options, skip=skip, pure=False)
+    metas = dask_client.gather(dask_client.map(_fit_meta, inputs, pure=False))
+    parts = dask_client.gather([dask_client.submit(_sweep_sums, future, gains, pure=False)
+                                if not meta.error else None for future, meta in zip(inputs, metas)])
+    held = []
+    for meta, part in zip(metas, parts):
+        rms = _pooled_rms([part]) if part is not None else (math.nan, math.nan)
+        held.append({"log_id": meta.log_id, "path": meta.path, "samples": part[0] if part else 0,
+                     "rms_error_m": float(rms[0]), "default_rms_error_m": float(rms[1]), "error": meta.error})
+    good = [part for part in parts if part is not None]
+    return held, ([float(value) for value in _pooled_rms(good)] if good else [math.nan, math.nan])

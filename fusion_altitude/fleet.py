@@ -1129,11 +1129,8 @@ class _Training:
     def fit(self, omega_range, zetas, bias_ratios, refinements: int) -> tuning.FitResult:
         """The best stable gains of the search, the default gains' RMS, and the landscape (best first)."""
         ranked = tuning.search(self.evaluate_rms, self.dt_check, omega_range, zetas, bias_ratios, refinements)
-        (omega, zeta, omega_b), best_rms = ranked[0]
-        fitted = AltitudeSettings.from_bandwidth(omega, zeta, omega_b)
         default_rms = float(self.evaluate_rms(np.array([AltitudeSettings().as_tuple()], dtype=np.float64))[0])
-        landscape = np.array([(*key, value) for key, value in ranked], dtype=tuning.LANDSCAPE_DTYPE)
-        return tuning.FitResult(fitted, omega, zeta, omega_b, best_rms, default_rms, landscape)
+        return tuning.fit_result(ranked, default_rms)
 
 
 def _score_holdout(dask_client, urls: Sequence[str], csv_options: Dict[str, Any], skip: float,

@@ -35,7 +35,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/reference/ins.py:InsEstimator._step': 109,
     'fusion_altitude/logs/altos.py:read_altos_csv': 106,
     'fusion_altitude/logs/rrc3.py:read_rrc3': 101,
-    'fusion_altitude/tuning.py:sweep': 98,
     'fusion_altitude/reference/flight.py:RocketEstimator._flight_step': 97,
     'fusion_altitude/adapters.py:run_observer': 90,  # 86 in runner.py; the registry's preset and advice (issue 22)
     'fusion_altitude/logs/raven.py:read_raven': 82,
@@ -51,7 +50,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/comparison.py:compare_log': 68,
     'fusion_altitude/sim/rocket_sim.py:simulate_rocket_flight': 67,
     'fusion_altitude/logs/_data.py:merge_repeated_timestamps': 67,
-    'fusion_altitude/tuning.py:fit': 66,
     'fusion_altitude/sim/scenarios.py:run_scenario': 64,
     'fusion_altitude/reference/flight.py:RocketEstimator._pad_step': 61,
     'fusion_altitude/comparison.py:compare_scenario': 61,

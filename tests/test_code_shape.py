@@ -36,7 +36,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/logs/altos.py:read_altos_csv': 106,
     'fusion_altitude/logs/rrc3.py:read_rrc3': 101,
     'fusion_altitude/reference/flight.py:RocketEstimator._flight_step': 97,
-    'fusion_altitude/adapters.py:run_observer': 90,  # 86 in runner.py; the registry's preset and advice (issue 22)
     'fusion_altitude/logs/raven.py:read_raven': 82,
     'fusion_altitude/sim/scenarios.py:_specs': 78,
     'fusion_altitude/rocket.py:rocket_accel_input': 74,

@@ -9,8 +9,8 @@ directory from the shared real logs (FUSION_ALTITUDE_SHARED_DATA, else ../shared
 and the simulator: the PX4 ULog (0.9 MB, 6.5 s), the ArduPilot DataFlash log (64 KB,
 1 s), the Hedy rocket flight as one CSV (245 s at 100 Hz) and a simulated 60 s
 multirotor CSV (100 Hz). The sequential loop reads, runs and writes each log's Parquet
-file in this process (what a user writes without the fleet); the fleet runs on a
-``LocalCluster`` of worker processes started (and warmed up: imports done) before the
+file in this process (what a user writes without the fleet, with the fleet's Parquet writer options); the fleet runs on a
+``LocalCluster`` of worker processes started (and warmed up: one log of each kind run) before the
 clock starts, into a fresh output directory each time. One run each: the machine is
 shared, so figures move by ±20 % between runs.
 """
@@ -80,19 +80,25 @@ def sequential(paths, output: Path) -> dict:
         columns = fleet.run_columns(runner.run_log(data, estimator="observer", settings=settings))
         cpu.append(time.thread_time())
         wall.append(time.perf_counter())
-        pq.write_table(pa.table({name: values for name, values in columns}), output / (Path(path).name + ".parquet"))
+        table = pa.table({name: values for name, values in columns})
+        pq.write_table(table, output / (Path(path).name + ".parquet"), **fleet._estimates_parquet_options(table))
         cpu.append(time.thread_time())
         wall.append(time.perf_counter())
         costs[path] = tuple(np.diff(wall)) + tuple(np.diff(cpu))
     return costs
 
 
-def warm_up():
-    """Import what a task imports, so worker start-up is not timed."""
-    import importlib
+def warm_up(paths):
+    """Run ``paths`` (one log of each kind) through the fleet in a throwaway directory, so that imports and
+    first-call costs are not timed."""
+    from fusion_altitude import fleet
 
-    for module in ("fusion_altitude.fleet", "fusion_altitude.logs", "pymavlink.mavutil", "pyulog"):
-        importlib.import_module(module)
+    with tempfile.TemporaryDirectory(prefix="fleet-bench-warm-") as out:
+        settings = fleet.resolve_settings("observer", None)
+        digest = fleet.settings_hash("observer", settings, CSV_OPTIONS)
+        fleet._output_folders(out)
+        fleet._process_batch([fleet._Job(path, fleet.log_id(path), out, "observer", settings, CSV_OPTIONS, digest,
+                                         False, False) for path in paths])
     return os.getpid()
 
 
@@ -121,6 +127,9 @@ def main(argv=None) -> int:
         print(f"{len(paths)} logs, {megabytes:.1f} MB; {os.cpu_count()} CPUs")
         print()
         rows = []
+        firsts = [group[0] for group in kinds.values()]
+        warm_up(firsts)
+        sequential(firsts, tmp / "warm")
         load = os.getloadavg()[0]
         start = time.perf_counter()
         costs = sequential(paths, tmp / "sequential")
@@ -131,7 +140,7 @@ def main(argv=None) -> int:
             with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                           dashboard_address=":0", silence_logs=40) as cluster, \
                     distributed.Client(cluster) as client:
-                client.run(warm_up)
+                client.run(warm_up, firsts)
                 start = time.perf_counter()
                 result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / f"fleet{workers}"),
                                         csv_options=CSV_OPTIONS)
@@ -142,11 +151,7 @@ def main(argv=None) -> int:
             rows.append((f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}", elapsed, busy, cpu))
         print(f"load average (1 min) at the start: {load:.1f} on {os.cpu_count()} CPUs")
         print()
-        print("| run | wall time (s) | logs/s | MB/s | per-log wall time, summed (s) | per-log CPU time, summed (s) |")
-        print("|---|---:|---:|---:|---:|---:|")
-        for name, seconds, busy, cpu in rows:
-            print(f"| {name} | {seconds:.2f} | {len(paths) / seconds:.1f} | {megabytes / seconds:.2f} | {busy:.2f} "
-                  f"| {cpu:.2f} |")
+        print_runs(rows, len(paths), megabytes)
         print()
         print("Per log, sequential loop (mean; wall ms, CPU ms in brackets; read MB/s from CPU time):")
         print()
@@ -177,6 +182,23 @@ def main(argv=None) -> int:
         print(fleet_cost_table(os.path.getsize(kinds["PX4 ULog"][0]) / 1e6 / ulog[3], csv[4] / csv_samples,
                                csv[5] / csv_samples, written * 1e6 / samples_total))
     return 0
+
+
+def print_runs(rows, logs, megabytes):
+    """The table of runs, then the throughput of each cluster against the first (one-worker) cluster."""
+    print("| run | wall time (s) | logs/s | MB/s | per-log wall time, summed (s) | per-log CPU time, summed (s) "
+          "| CPU ms per log |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for name, seconds, busy, cpu in rows:
+        print(f"| {name} | {seconds:.2f} | {logs / seconds:.1f} | {megabytes / seconds:.2f} | {busy:.2f} "
+              f"| {cpu:.2f} | {1e3 * cpu / logs:.2f} |")
+    print()
+    sequential, *clusters = rows
+    for name, seconds, _, cpu in clusters:
+        print(f"{name}: {sequential[1] / seconds:.2f}x the sequential loop's throughput, "
+              f"{cpu / sequential[3]:.2f}x its CPU time per log")
+    for name, seconds, _, _ in clusters[1:]:
+        print(f"ratio: {name} / {clusters[0][0]}: {clusters[0][1] / seconds:.2f}x the throughput")
 
 
 #: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),

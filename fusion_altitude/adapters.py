@@ -376,8 +376,8 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     Parameters
     ----------
     time : array_like
-        Sample times, s, strictly increasing; dt[i] = time[i] − time[i−1]
-        (the first step uses the second step's dt; it only sets the reference).
+        Sample times, s, strictly increasing; dt[i] = time[i] − time[i−1] (the first step uses the second
+        step's dt; it only sets the reference).
     vertical_acceleration : array_like
         m/s², +up, gravity removed.
     baro_altitude : array_like
@@ -387,26 +387,22 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
     clipped : array_like of bool, optional
         Samples whose accelerometer reading hit its range. See Notes.
     clipped_settings : AltitudeSettings, optional
-        Gains on clipped samples; default ``settings`` with the position loop
-        4× faster (ω·4, ζ 0.7) and **bias estimation off** (Kb = 0).
+        Gains on clipped samples; default :func:`clipping_settings` of ``settings`` (the position loop 4×
+        faster, ω·4 and ζ 0.7, and **bias estimation off**, Kb = 0).
     progress : callable(done, total), optional
         Called after each chunk of samples.
     compensate_baro_rate : bool, default True
-        Scale the gains by (samples / baro samples) when the baro is slower
-        than the grid (:func:`fusion_altitude.tuning.settings_for_baro_rate`),
-        so ``settings`` keeps its designed bandwidth.
+        Scale the gains by (samples / baro samples) when the baro is slower than the grid
+        (:func:`fusion_altitude.tuning.settings_for_baro_rate`), so ``settings`` keeps its designed bandwidth.
     dt : array_like, optional
-        Per-sample periods, s; default :func:`sample_periods` of ``time``.
-        The gap period used is ``max(settings.gap_period, 10 × nominal dt)``
-        (:func:`fusion_altitude.tuning.gap_period_for`), the baro timeout
-        ``max(settings.baro_timeout, 5 × the baro period)``
-        (:func:`fusion_altitude.tuning.baro_timeout_for`).
+        Per-sample periods, s; default :func:`sample_periods` of ``time``. The gap period used is
+        ``max(settings.gap_period, 10 × nominal dt)`` (:func:`fusion_altitude.tuning.gap_period_for`), the
+        baro timeout ``max(settings.baro_timeout, 5 × the baro period)`` (:func:`~fusion_altitude.tuning.baro_timeout_for`).
     steps : float, optional
         Grid steps per baro sample when the caller has it (:attr:`fusion_altitude.estimators.ObserverRate.steps_per_baro`);
         computed from ``baro_altitude`` if None.
     info : dict, optional
-        Receives ``gap_period`` (s, as float32 holds it), ``gap_count``,
-        ``baro_timeout`` (s) and ``baro_timeouts``.
+        Receives ``gap_period`` (s, as float32 holds it), ``gap_count``, ``baro_timeout`` (s) and ``baro_timeouts``.
 
     Returns
     -------
@@ -414,35 +410,59 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
 
     Notes
     -----
-    **Clipping.** A clipped accelerometer under-reports the acceleration, and
-    the observer would integrate that error and push it into its bias
-    estimate. On clipped samples the observer therefore (1) still uses the
-    clipped reading (a lower bound of the true magnitude), (2) switches to
-    baro-trusting gains so the baro pulls the estimate back quickly, and
-    (3) freezes the bias estimate (Kb = 0) so the bias learned before the
-    clipping survives it. The normal gains return on the first unclipped
-    sample, with the state carried over.
+    **Clipping.** A clipped accelerometer under-reports, and the observer would integrate that error into its bias
+    estimate. On clipped samples it therefore keeps the clipped reading (a lower bound), switches to baro-trusting
+    gains and freezes the bias (Kb = 0) so the bias learned before the clipping survives it; the normal gains
+    return on the first unclipped sample, with the state carried over.
     """
     time = np.asarray(time, dtype=float)
-    accel = np.asarray(vertical_acceleration, dtype=float)
     baro = np.asarray(baro_altitude, dtype=float)
-    n = time.size
     dt = sample_periods(time) if dt is None else np.asarray(dt, dtype=float)
-    settings = settings or AltitudeSettings()
+    estimator = AltitudeEstimator(_log_settings(settings or AltitudeSettings(), time, baro, dt,
+                                                compensate_baro_rate, steps))
+    clipped = np.zeros(time.size, dtype=bool) if clipped is None else np.asarray(clipped, dtype=bool)
+    out = _run_clipping_segments(estimator, clipped_settings, clipped, np.asarray(vertical_acceleration, dtype=float),
+                                 baro, dt, chunk, progress)
+    if info is not None:
+        _observer_info(info, estimator)
+    return out
+
+
+def _observer_info(info: dict, estimator: AltitudeEstimator) -> None:
+    """Put the gap period (s, float32) and count, the baro timeout (s) and the baro timeouts into ``info``."""
+    _gaps(info, estimator, estimator.settings.gap_period)
+    info["baro_timeout"] = float(np.float32(estimator.settings.baro_timeout))
+    info["baro_timeouts"] = int(estimator.baro_timeouts)
+
+
+def _log_settings(settings: AltitudeSettings, time: np.ndarray, baro: np.ndarray, dt: np.ndarray,
+                  compensate_baro_rate: bool, steps: Optional[float]) -> AltitudeSettings:
+    """``settings`` for this log: its gap period and baro timeout widened to the log's rates, and the gains
+    scaled to its baro rate when asked (see :func:`run_observer`)."""
     settings = settings.replace(gap_period=gap_period_for(dt, settings.gap_period),
                                 baro_timeout=baro_timeout_for(time, baro, settings.baro_timeout))
     if compensate_baro_rate:
         settings = settings_for_baro_rate(settings, steps_per_baro(baro) if steps is None else steps)
-    estimator = AltitudeEstimator(settings)
+    return settings
+
+
+def clipping_settings(settings: AltitudeSettings) -> AltitudeSettings:
+    """The gains :func:`run_observer` uses on clipped samples by default: ``settings``' other fields with the
+    position loop 4× faster (ω·4 rad/s, ζ 0.7) and bias estimation off (ω_b = 0)."""
+    return AltitudeSettings.from_bandwidth(4 * bandwidth_of(settings), 0.7, 0.0, **other_fields(settings))
+
+
+def _run_clipping_segments(estimator: AltitudeEstimator, clipped_settings: Optional[AltitudeSettings],
+                           clipped: np.ndarray, accel: np.ndarray, baro: np.ndarray, dt: np.ndarray, chunk: int,
+                           progress: Optional[Callable[[int, int], None]]) -> AltitudeBatch:
+    """Run ``estimator`` over segments of constant clipping state (``clipped_settings``, default
+    :func:`clipping_settings`, on clipped ones, its own settings elsewhere), cut into chunks of ``chunk``
+    samples for ``progress(done, total)``; the estimator ends with its own settings."""
+    n = accel.size
     normal = estimator.settings
-    if clipped is None:
-        clipped = np.zeros(n, dtype=bool)
-    clipped = np.asarray(clipped, dtype=bool)
     if clipped.any() and clipped_settings is None:
-        omega = bandwidth_of(normal)
-        clipped_settings = AltitudeSettings.from_bandwidth(4 * omega, 0.7, 0.0, **other_fields(normal))
+        clipped_settings = clipping_settings(normal)
     out = AltitudeBatch(*(np.empty(n, dtype=np.float32) for _ in range(4)))
-    # Segments of constant clipping state, further cut into chunks for progress.
     edges = np.flatnonzero(np.diff(clipped.astype(np.int8))) + 1
     bounds = np.unique(np.concatenate([[0], edges, np.arange(0, n, chunk), [n]]))
     for start, stop in zip(bounds[:-1], bounds[1:]):
@@ -451,8 +471,5 @@ def run_observer(time, vertical_acceleration, baro_altitude, settings: Optional[
         estimator.update_batch(accel[start:stop], baro[start:stop], dt[start:stop], out=views)
         if progress is not None:
             progress(int(stop), n)
-    if info is not None:
-        _gaps(info, estimator, normal.gap_period)
-        info["baro_timeout"] = float(np.float32(normal.baro_timeout))
-        info["baro_timeouts"] = int(estimator.baro_timeouts)
+    estimator.settings = normal
     return out

@@ -39,7 +39,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -138,13 +138,22 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
                      estimators: Sequence[str] = ESTIMATORS, recovery_tolerance: float = 0.5) -> List[Row]:
     """Run every estimator of ``estimators`` that applies to the scenario (:func:`estimators_for`) on one
     scenario; one :class:`Row` each, in that order."""
-    from .tuning import settings_for_baro_rate, steps_per_baro
-
     estimators = estimators_for(name, estimators)
     result = run_scenario(name, seed=seed, attitude=attitude)
-    accel, baro, rangefinder, gps, dt = _inputs(result)
-    n = accel.size
-    runners: Dict[str, object] = {}
+    inputs = _inputs(result)
+    runners = _scenario_runners(name, estimators, result, inputs, fit_seed, attitude)
+    return [_scenario_row(name, estimator, result, inputs[1], None if estimator == "raw baro" else runners[estimator],
+                          repeat, recovery_tolerance) for estimator in estimators]
+
+
+def _scenario_runners(name: str, estimators: Sequence[str], result, inputs, fit_seed: int,
+                      attitude: str) -> Dict[str, Any]:
+    """Per estimator row of :func:`compare_scenario`, a function that runs it over the scenario's ``inputs``
+    (:func:`_inputs`)."""
+    from .tuning import settings_for_baro_rate, steps_per_baro
+
+    accel, baro, rangefinder, gps, dt = inputs
+    runners: Dict[str, Any] = {}
     observer_settings = settings_for_baro_rate(AltitudeSettings.preset(_preset(name)), steps_per_baro(baro))
     runners["observer"] = lambda: AltitudeEstimator(observer_settings).update_batch(accel, baro, dt)
     if "observer (fit)" in estimators:
@@ -164,37 +173,34 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
         runners["INS"] = _ins_runner(result, baro, dt)
     if "rocket" in estimators:
         runners["rocket"] = _rocket_runner(result)
+    return runners
 
+
+def _scenario_row(name: str, estimator: str, result, baro: np.ndarray, run, repeat: int,
+                  recovery_tolerance: float) -> Row:
+    """One row of :func:`compare_scenario`: ``estimator`` (``run`` runs it; None for the raw baro) against the
+    scenario's truth after its transient: altitude RMS and max (m), velocity RMS (m/s), recovery time (s)."""
     truth_h = result.trajectory.altitude
-    truth_v = result.trajectory.vertical_velocity
-    rows = []
-    for estimator in estimators:
-        if estimator == "raw baro":
-            altitude = baro.astype(float)
-            velocity = None
-            ns = None
-        else:
-            out = runners[estimator]()
-            altitude = np.asarray(out.altitude, float)
-            velocity = np.asarray(out.vertical_velocity, float)
-            ns = _best_ns(runners[estimator], n, repeat)
-        error = altitude - truth_h
-        statistics = error_statistics(result.time, error, result.transient)
-        rms, worst = statistics.rms, statistics.max
-        velocity_rms = error_statistics(result.time, velocity - truth_v, result.transient).rms \
-            if velocity is not None else math.nan
-        recovery = None
-        if result.fault_end is not None and estimator != "raw baro":  # the raw baro has no memory to recover
-            window = (result.time >= result.fault_end) & (result.time <= result.fault_end + RECOVERY_WINDOW)
-            settle = settling_time(result.time[window], error[window], recovery_tolerance)
-            recovery = settle if math.isfinite(settle) else math.inf
-        problem = None if estimator == "raw baro" else check_estimate(
-            _Heights(result.time, baro, truth_h), altitude, velocity)
-        if problem is not None:  # never a figure from an estimate that cannot be trusted
-            rows.append(Row(name, estimator, math.nan, math.nan, math.nan, None, ns, altitude, str(problem)))
-        else:
-            rows.append(Row(name, estimator, rms, worst, velocity_rms, recovery, ns, altitude))
-    return rows
+    if run is None:  # the raw baro
+        altitude, velocity, ns = baro.astype(float), None, None
+    else:
+        out = run()
+        altitude = np.asarray(out.altitude, float)
+        velocity = np.asarray(out.vertical_velocity, float)
+        ns = _best_ns(run, baro.size, repeat)
+    error = altitude - truth_h
+    statistics = error_statistics(result.time, error, result.transient)
+    velocity_rms = error_statistics(result.time, velocity - result.trajectory.vertical_velocity,
+                                    result.transient).rms if velocity is not None else math.nan
+    recovery = None
+    if result.fault_end is not None and run is not None:  # the raw baro has no memory to recover
+        window = (result.time >= result.fault_end) & (result.time <= result.fault_end + RECOVERY_WINDOW)
+        settle = settling_time(result.time[window], error[window], recovery_tolerance)
+        recovery = settle if math.isfinite(settle) else math.inf
+    problem = None if run is None else check_estimate(_Heights(result.time, baro, truth_h), altitude, velocity)
+    if problem is not None:  # never a figure from an estimate that cannot be trusted
+        return Row(name, estimator, math.nan, math.nan, math.nan, None, ns, altitude, str(problem))
+    return Row(name, estimator, statistics.rms, statistics.max, velocity_rms, recovery, ns, altitude)
 
 
 @dataclass(frozen=True)
@@ -348,25 +354,30 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
     run = None
     for k, name in enumerate(names):
         run = runner.run_log(data, estimator=name, agl=agl)
-        altitude = np.asarray(run.estimate.altitude, float)
-        velocity = np.asarray(run.estimate.vertical_velocity, float)
-        problem = check_estimate(run, altitude, velocity)
-        statistics = error_statistics(run.time, altitude - run.reference_altitude, skip)
-        velocity_rms = error_statistics(run.time, velocity - run.reference_velocity, skip).rms \
-            if run.reference_velocity is not None and np.isfinite(run.reference_velocity).any() else math.nan
         ns = _best_ns(lambda: runner.run_log(data, estimator=name, agl=agl), data.time.size, int(repeat))
-        if problem is not None:  # never a figure from an estimate that cannot be trusted
-            rows.append(Row(label, name, math.nan, math.nan, math.nan, None, ns, altitude, str(problem)))
-        else:
-            rows.append(Row(label, name, statistics.rms, statistics.max, velocity_rms, None, ns, altitude))
+        rows.append(_log_row(run, label, name, skip, ns))
         if progress is not None:
             progress(k + 1, len(names))
-    if run is None:
-        run = runner.run_log(data, agl=agl)
-    baro = np.asarray(run.baro_altitude, float)
-    statistics = error_statistics(run.time, baro - run.reference_altitude, skip)
+    baro_run = run if run is not None else runner.run_log(data, agl=agl)
+    baro = np.asarray(baro_run.baro_altitude, float)
+    statistics = error_statistics(baro_run.time, baro - baro_run.reference_altitude, skip)
     rows.append(Row(label, "raw baro", statistics.rms, statistics.max, math.nan, None, None, baro))
     return rows
+
+
+def _log_row(run, label: str, name: str, skip: float, ns: Optional[float]) -> Row:
+    """The row of one estimator's run on a log: altitude RMS and max error (m) and velocity RMS error (m/s)
+    against the log's own estimate after ``skip`` s; NaN figures and the problem when the estimate cannot be
+    trusted."""
+    altitude = np.asarray(run.estimate.altitude, float)
+    velocity = np.asarray(run.estimate.vertical_velocity, float)
+    problem = check_estimate(run, altitude, velocity)
+    if problem is not None:  # never a figure from an estimate that cannot be trusted
+        return Row(label, name, math.nan, math.nan, math.nan, None, ns, altitude, str(problem))
+    statistics = error_statistics(run.time, altitude - run.reference_altitude, skip)
+    velocity_rms = error_statistics(run.time, velocity - run.reference_velocity, skip).rms \
+        if run.reference_velocity is not None and np.isfinite(run.reference_velocity).any() else math.nan
+    return Row(label, name, statistics.rms, statistics.max, velocity_rms, None, ns, altitude)
 
 
 def plot_log_comparison(data, rows: Sequence[Row], path: str, agl: bool = False) -> None:

@@ -19,7 +19,7 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 __all__ = ["StreamHealth", "sensor_health", "baro_timeout_for", "not_baro_aided", "row_flags", "FLAG_BITS",
-           "EstimateProblem", "check_estimate", "RUNAWAY_MARGIN", "format_health", "stopped_streams"]
+           "EstimateProblem", "check_estimate", "RUNAWAY_MARGIN", "format_health", "stream_notes", "stopped_streams"]
 
 #: Longest silence of a stream that is still "the same stream", in nominal periods of that stream ...
 OUTAGE_PERIODS = 10.0
@@ -259,25 +259,31 @@ def _cell(value: float, digits: str = ".2f") -> str:
     return "—" if not np.isfinite(value) else format(value, digits)
 
 
+def stream_notes(s: StreamHealth, log_start: float, log_end: float, stop_word: str = "stops") -> List[str]:
+    """What is wrong with one sensor stream, as short notes: no sample, dead, saturated, stops (s before the
+    log's end, introduced by ``stop_word``), starts late (s after the log's start ``log_start``)."""
+    if s.samples == 0:
+        return ["no sample"]
+    notes = []
+    if s.dead:
+        notes.append("dead: constant value")
+    if s.saturated:
+        notes.append(f"saturated on {s.saturated} samples")
+    if s.stopped:
+        notes.append(f"{stop_word} {log_end - s.last:.1f} s before the log's end")
+    if s.started_late:
+        notes.append(f"starts {s.first - log_start:.1f} s after the log")
+    return notes
+
+
 def format_health(health: Sequence[StreamHealth], log_start: float, log_end: float) -> List[str]:
     """Lines of the sensor table ``run`` prints: per stream rate, first and last sample, longest outage, notes."""
     lines = [f"{'sensor':20s} {'samples':>8s} {'rate (Hz)':>9s} {'first (s)':>10s} {'last (s)':>10s} "
              f"{'longest outage (s)':>18s}  notes"]
     for s in health:
-        notes = []
-        if s.samples == 0:
-            notes.append("no sample")
-        else:
-            if s.dead:
-                notes.append("dead: constant value")
-            if s.saturated:
-                notes.append(f"saturated on {s.saturated} samples")
-            if s.stopped:
-                notes.append(f"STOPS {log_end - s.last:.1f} s before the log's end")
-            if s.started_late:
-                notes.append(f"starts {s.first - log_start:.1f} s after the log")
-            if s.longest_outage > s.timeout and not (s.stopped and s.outage_start == s.last):
-                notes.append(f"outage from {s.outage_start:.2f} s")
+        notes = stream_notes(s, log_start, log_end, stop_word="STOPS")
+        if s.samples and s.longest_outage > s.timeout and not (s.stopped and s.outage_start == s.last):
+            notes.append(f"outage from {s.outage_start:.2f} s")
         lines.append(f"{s.name:20s} {s.samples:8d} {_cell(s.rate, '.1f'):>9s} {_cell(s.first):>10s} "
                      f"{_cell(s.last):>10s} {_cell(s.longest_outage):>18s}  {'; '.join(notes)}".rstrip())
     return lines

@@ -193,50 +193,19 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
     """
     plt = _pyplot()
     t, time_label = relative_time(run.time)
-    estimate = run.estimate
     label = f"{getattr(run, 'estimator', 'observer')} estimate"
     fig, axes = plt.subplots(4, 1, figsize=(10, 10), sharex=True, constrained_layout=True)
+    line = _line_plotter(t)
     baro = ~np.isnan(run.baro_altitude)
-
-    def line(axis, values, *args, mask=None, **kwargs):
-        values = np.asarray(values, dtype=float)
-        x, y = decimate(t if mask is None else t[mask], values if mask is None else values[mask])
-        decimated = x.size < (t.size if mask is None else int(mask.sum()))
-        args, kwargs = _decimated_style(args, kwargs, decimated)
-        axis.plot(x, y, *args, **kwargs)
-
     line(axes[0], run.baro_altitude, ".", mask=baro, ms=1.5, color="0.6", label="baro altitude", zorder=1)
     if run.reference_altitude is not None:
         line(axes[0], run.reference_altitude, color="k", lw=1.2, label=run.reference_name or "reference", zorder=2)
-    line(axes[0], estimate.altitude, color="C0", lw=1.0, label=label, zorder=3)
+    line(axes[0], run.estimate.altitude, color="C0", lw=1.0, label=label, zorder=3)
     axes[0].set_ylabel("altitude above start (m)" if getattr(run, "datum", 0.0) else "altitude (m)")
     axes[0].legend(loc="best", fontsize=8)
     axes[0].set_title(title or run.source)
-    if run.reference_altitude is not None:
-        line(axes[1], run.baro_altitude - run.reference_altitude, ".", mask=baro, ms=1.5, color="0.6",
-             label="baro − reference", zorder=1)
-        line(axes[1], np.asarray(estimate.altitude, float) - run.reference_altitude, color="C0", lw=1.0,
-             label="estimate − reference", zorder=3)
-        axes[1].set_ylabel("difference (m)")
-    elif hasattr(estimate, "baro_residual"):
-        line(axes[1], estimate.baro_residual, ".", ms=1.5, color="C3", label="baro residual")
-        axes[1].set_ylabel("residual (m)")
-    else:
-        line(axes[1], run.baro_altitude - np.asarray(estimate.altitude, float), ".", mask=baro, ms=1.5,
-             color="C3", label="baro − estimate")
-        axes[1].set_ylabel("baro − estimate (m)")
-    axes[1].legend(loc="best", fontsize=8)
-    line(axes[2], estimate.vertical_velocity, color="C0", lw=1.0, label=label)
-    if run.reference_velocity is not None:
-        line(axes[2], run.reference_velocity, color="k", lw=1.0, label=run.reference_name or "reference")
-    axes[2].set_ylabel("vertical velocity (m/s)")
-    axes[2].legend(loc="best", fontsize=8)
-    if hasattr(estimate, "accel_bias"):
-        line(axes[3], estimate.accel_bias, color="C1")
-        axes[3].set_ylabel("accel bias (m/s²)")
-    else:
-        line(axes[3], run.vertical_acceleration, color="C1", lw=0.5)
-        axes[3].set_ylabel("vertical accel (m/s²)")
+    _difference_panel(line, axes[1], run, baro)
+    _velocity_and_bias_panels(line, axes[2], axes[3], run, label)
     axes[3].set_xlabel(time_label)
     events = getattr(run, "events", None)
     if events is not None:
@@ -245,6 +214,56 @@ def plot_log_run(run, path: str, title: Optional[str] = None) -> None:
             mark_events(axis, events, offset, labels=axis is axes[0])
     save_figure(fig, path, dpi=110)
     plt.close(fig)
+
+
+def _line_plotter(t: np.ndarray):
+    """``line(axis, values, *args, mask=None, **kwargs)``: plot ``values`` (at ``mask``) against the times
+    ``t``, thinned by :func:`decimate`, in the thinned style when thinned."""
+
+    def line(axis, values, *args, mask=None, **kwargs):
+        values = np.asarray(values, dtype=float)
+        x, y = decimate(t if mask is None else t[mask], values if mask is None else values[mask])
+        decimated = x.size < (t.size if mask is None else int(mask.sum()))
+        args, kwargs = _decimated_style(args, kwargs, decimated)
+        axis.plot(x, y, *args, **kwargs)
+
+    return line
+
+
+def _difference_panel(line, axis, run, baro: np.ndarray) -> None:
+    """Fused − reference and baro − reference (m); without a reference the baro residual, else baro − estimate."""
+    estimate = run.estimate
+    if run.reference_altitude is not None:
+        line(axis, run.baro_altitude - run.reference_altitude, ".", mask=baro, ms=1.5, color="0.6",
+             label="baro − reference", zorder=1)
+        line(axis, np.asarray(estimate.altitude, float) - run.reference_altitude, color="C0", lw=1.0,
+             label="estimate − reference", zorder=3)
+        axis.set_ylabel("difference (m)")
+    elif hasattr(estimate, "baro_residual"):
+        line(axis, estimate.baro_residual, ".", ms=1.5, color="C3", label="baro residual")
+        axis.set_ylabel("residual (m)")
+    else:
+        line(axis, run.baro_altitude - np.asarray(estimate.altitude, float), ".", mask=baro, ms=1.5,
+             color="C3", label="baro − estimate")
+        axis.set_ylabel("baro − estimate (m)")
+    axis.legend(loc="best", fontsize=8)
+
+
+def _velocity_and_bias_panels(line, velocity_axis, bias_axis, run, label: str) -> None:
+    """Vertical velocity (m/s), ours and the reference's; the accelerometer bias (m/s²), else the vertical
+    acceleration (m/s²)."""
+    estimate = run.estimate
+    line(velocity_axis, estimate.vertical_velocity, color="C0", lw=1.0, label=label)
+    if run.reference_velocity is not None:
+        line(velocity_axis, run.reference_velocity, color="k", lw=1.0, label=run.reference_name or "reference")
+    velocity_axis.set_ylabel("vertical velocity (m/s)")
+    velocity_axis.legend(loc="best", fontsize=8)
+    if hasattr(estimate, "accel_bias"):
+        line(bias_axis, estimate.accel_bias, color="C1")
+        bias_axis.set_ylabel("accel bias (m/s²)")
+    else:
+        line(bias_axis, run.vertical_acceleration, color="C1", lw=0.5)
+        bias_axis.set_ylabel("vertical accel (m/s²)")
 
 
 def mark_events(axis, events, offset: float = 0.0, labels: bool = True) -> list:

@@ -244,19 +244,9 @@ def _facts_html(first, time: np.ndarray) -> str:
 
 def _health_notes(s, time: np.ndarray) -> str:
     """What is wrong with one sensor stream (:class:`fusion_altitude.health.SensorHealth`), "; "-joined."""
-    notes = []
-    if s.samples == 0:
-        notes.append("no sample")
-    else:
-        if s.dead:
-            notes.append("dead: constant value")
-        if s.saturated:
-            notes.append(f"saturated on {s.saturated} samples")
-        if s.stopped:
-            notes.append(f"stops {time[-1] - s.last:.1f} s before the log's end")
-        if s.started_late:
-            notes.append(f"starts {s.first - time[0]:.1f} s after the log")
-    return "; ".join(notes)
+    from .health import stream_notes
+
+    return "; ".join(stream_notes(s, time[0], time[-1]))
 
 
 def _health_html(first, health, time: np.ndarray) -> str:

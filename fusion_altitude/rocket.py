@@ -19,7 +19,7 @@ See docs/rocket.md.
 
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -495,38 +495,55 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
         ``long_axis`` contradicts gravity on the pad.
     """
     time = np.asarray(data.time, dtype=np.float64)
-    n = time.size
-    none = np.full(n, np.nan)
+    none = np.full(time.size, np.nan)
     if getattr(data, "baro_only", False):
         return none, "rocket layer: no accelerometer in the log: baro-only flight (events from the baro)"
-    skipped = []
+    skipped: List[str] = []
     axial = getattr(data, "axial_acceleration", None)
     if axial is not None:
-        axial = np.asarray(axial, dtype=np.float64)
-        mean, alive = pad_levels(axial, time)
-        if alive[0] and mean[0] >= 0.5 * GRAVITY:  # more than +g when the log starts in boost (a Raven's)
-            return _held(axial, time) - GRAVITY, "rocket layer: the flight computer's along-axis accelerometer"
-        skipped.append("its along-axis accelerometer is dead" if not alive[0] else
-                       f"its along-axis accelerometer reads {mean[0]:+.2f} m/s² on the pad, not +g")
+        found = _axial_accel(np.asarray(axial, dtype=np.float64), time, skipped)
+        if found is not None:
+            return found
     if data.accel is not None:
-        accel = np.asarray(data.accel, dtype=np.float64)
-        axis, sign = rocket_long_axis(accel, time, long_axis=long_axis)
-        mean, alive = pad_levels(accel, time)
-        name = f"{'+' if sign > 0 else '-'}{'XYZ'[axis]}"
-        if alive[axis] and 0.5 * GRAVITY <= sign * mean[axis] <= 1.5 * GRAVITY:
-            values = long_axis_accel(accel, axis, sign)
-            saturated = saturated_samples(accel[:, axis], getattr(data, "clipped", None))
-            if saturated.any():
-                first = int(np.argmax(saturated))
-                values[first:] = np.nan
-                return values, (f"rocket layer: IMU axis {name}, saturated from t = {time[first]:.2f} s on: "
-                                f"baro-led from there")
-            return values, f"rocket layer: IMU axis {name}"
-        skipped.append("the IMU is dead (constant)" if not alive.any() else
-                       f"no IMU axis reads +g on the pad (means {', '.join(f'{m:+.2f}' for m in mean)} m/s²)")
+        found = _imu_accel(np.asarray(data.accel, dtype=np.float64), time, long_axis, getattr(data, "clipped", None),
+                           skipped)
+        if found is not None:
+            return found
     elif not skipped:
         vertical = np.asarray(data.vertical_acceleration, dtype=np.float64)
         if pad_levels(vertical, time)[1][0]:
             return vertical, "rocket layer: the reader's vertical acceleration, taken along the long axis"
         skipped.append("its vertical acceleration is constant")
     return none, f"rocket layer: no usable accelerometer ({'; '.join(skipped)}): baro-led flight (events from the baro)"
+
+
+def _axial_accel(axial: np.ndarray, time: np.ndarray, skipped: List[str]) -> Optional[Tuple[np.ndarray, str]]:
+    """:func:`rocket_accel_input` from the flight computer's along-axis accelerometer (m/s²), or None with the
+    reason appended to ``skipped``."""
+    mean, alive = pad_levels(axial, time)
+    if alive[0] and mean[0] >= 0.5 * GRAVITY:  # more than +g when the log starts in boost (a Raven's)
+        return _held(axial, time) - GRAVITY, "rocket layer: the flight computer's along-axis accelerometer"
+    skipped.append("its along-axis accelerometer is dead" if not alive[0] else
+                   f"its along-axis accelerometer reads {mean[0]:+.2f} m/s² on the pad, not +g")
+    return None
+
+
+def _imu_accel(accel: np.ndarray, time: np.ndarray, long_axis: Optional[Tuple[int, float]], clipped,
+               skipped: List[str]) -> Optional[Tuple[np.ndarray, str]]:
+    """:func:`rocket_accel_input` from the raw IMU's long axis (m/s², NaN from its first saturated sample), or
+    None with the reason appended to ``skipped``."""
+    axis, sign = rocket_long_axis(accel, time, long_axis=long_axis)
+    mean, alive = pad_levels(accel, time)
+    name = f"{'+' if sign > 0 else '-'}{'XYZ'[axis]}"
+    if alive[axis] and 0.5 * GRAVITY <= sign * mean[axis] <= 1.5 * GRAVITY:
+        values = long_axis_accel(accel, axis, sign)
+        saturated = saturated_samples(accel[:, axis], clipped)
+        if saturated.any():
+            first = int(np.argmax(saturated))
+            values[first:] = np.nan
+            return values, (f"rocket layer: IMU axis {name}, saturated from t = {time[first]:.2f} s on: "
+                            f"baro-led from there")
+        return values, f"rocket layer: IMU axis {name}"
+    skipped.append("the IMU is dead (constant)" if not alive.any() else
+                   f"no IMU axis reads +g on the pad (means {', '.join(f'{m:+.2f}' for m in mean)} m/s²)")
+    return None

@@ -164,9 +164,8 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
 
     Notes
     -----
-    The settings share one timeline: a baro step that the stability rule
-    (``FusionAltitudeIsStepStable``) makes a gap for any setting is a gap for
-    all of them, so column k equals its own observer except at such steps.
+    The settings share one timeline: a baro step that the stability rule (``FusionAltitudeIsStepStable``) makes
+    a gap for any setting is a gap for all of them, so column k equals its own observer except at such steps.
 
     Raises
     ------
@@ -175,26 +174,57 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
         ``update_batch``), an unstable setting (naming ``settings[k]``), or
         neither ``reference`` nor ``outputs``.
     """
-    outputs = outputs or out is not None
-    accel32, baro32, dt32, dt_is_array, gains, reference32, mask8 = _sweep_glue.prepare_sweep(
-        accel, baro_altitude, dt, settings, reference, mask, outputs)
-    if not _all_gains_valid(gains):  # the first bad row raises with AltitudeSettings' own message
-        given = np.asarray(settings, dtype=float).reshape(gains.shape)  # the values as given, not as float32
-        for k, row in enumerate(given):
-            try:
-                AltitudeSettings(*row.tolist())
-            except ValueError as error:
-                raise ValueError(f"settings[{k}]: {error}") from None
-    n, count = accel32.shape[0], gains.shape[0]
-    gap_period = gap_period_for(dt32 if dt_is_array else dt32[:1]) if gap_period is None else float(gap_period)
+    inputs = _SweepInputs(*_sweep_glue.prepare_sweep(accel, baro_altitude, dt, settings, reference, mask,
+                                                     outputs or out is not None))
+    _check_sweep_gains(inputs.gains, settings)
+    gap_period = _sweep_gap_period(inputs, gap_period, baro_timeout)
+    return _run_sweep(inputs, outputs or out is not None, out, threads, gap_period, float(baro_timeout))
+
+
+class _SweepInputs(NamedTuple):
+    """:func:`sweep`'s inputs as the kernel takes them (``_sweep_glue.prepare_sweep``)."""
+
+    accel: np.ndarray  # float32 (T,), m/s²
+    baro_altitude: np.ndarray  # float32 (T,), m, NaN without a sample
+    dt: np.ndarray  # float32 (T,) or (1,), s
+    dt_is_array: bool
+    gains: np.ndarray  # float32 (K, 3)
+    reference: Optional[np.ndarray]  # float32 (T,), m, or None
+    mask: Optional[np.ndarray]  # uint8 (T,), or None
+
+
+def _check_sweep_gains(gains: np.ndarray, settings) -> None:
+    """ValueError naming ``settings[k]`` (with AltitudeSettings' own message) for the first bad row of gains."""
+    if _all_gains_valid(gains):
+        return
+    given = np.asarray(settings, dtype=float).reshape(gains.shape)  # the values as given, not as float32
+    for k, row in enumerate(given):
+        try:
+            AltitudeSettings(*row.tolist())
+        except ValueError as error:
+            raise ValueError(f"settings[{k}]: {error}") from None
+
+
+def _sweep_gap_period(inputs: _SweepInputs, gap_period: Optional[float], baro_timeout: float) -> float:
+    """The sweep's gap period, s (default :func:`gap_period_for` of dt); ValueError for a bad period or timeout."""
+    if gap_period is None:
+        gap_period = gap_period_for(inputs.dt if inputs.dt_is_array else inputs.dt[:1])
+    gap_period = float(gap_period)
     if not gap_period > 0:
         raise ValueError(f"gap_period must be > 0 (s; +inf: never a gap), got {gap_period!r}")
     if not float(baro_timeout) > 0:
         raise ValueError(f"baro_timeout must be > 0 (s; +inf: never times out), got {baro_timeout!r}")
-    gains_by_row = np.ascontiguousarray(gains.T)
+    return gap_period
+
+
+def _run_sweep(inputs: _SweepInputs, outputs: bool, out, threads: Optional[int], gap_period: float,
+               baro_timeout: float) -> SweepResult:
+    """Run the sweep kernel over the settings, split across ``threads``; raise the first sample's input error."""
+    n, count = inputs.accel.shape[0], inputs.gains.shape[0]
+    gains_by_row = np.ascontiguousarray(inputs.gains.T)
     state = np.empty((4, count), np.float32)
     output_arrays = _observer_glue.output_arrays((n, count), out) if outputs else None
-    metric_arrays = [np.zeros(count, np.float32) for _ in range(5)] if reference32 is not None else None
+    metric_arrays = [np.zeros(count, np.float32) for _ in range(5)] if inputs.reference is not None else None
     if metric_arrays is not None:
         metric_arrays[2][:] = 0.0  # max |error| starts at 0
     if threads is None:
@@ -203,8 +233,9 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
     bounds = np.linspace(0, count, threads + 1).astype(int)
 
     def run(part: int) -> Tuple[int, int, int]:
-        return _sweep.run(accel32, baro32, dt32, dt_is_array, gains_by_row, int(bounds[part]), int(bounds[part + 1]),
-                          state, output_arrays, metric_arrays, reference32, mask8, gap_period, float(baro_timeout))
+        return _sweep.run(inputs.accel, inputs.baro_altitude, inputs.dt, inputs.dt_is_array, gains_by_row,
+                          int(bounds[part]), int(bounds[part + 1]), state, output_arrays, metric_arrays,
+                          inputs.reference, inputs.mask, gap_period, baro_timeout)
 
     if threads == 1:
         results = [run(0)]
@@ -213,10 +244,11 @@ def sweep(accel, baro_altitude, dt, settings, reference=None, mask=None, outputs
             results = list(pool.map(run, range(threads)))
     status, bad, metric_samples = results[0]
     if status != Status.OK:
-        t = dt32[bad if dt_is_array else 0]
-        _observer_glue.raise_update_error(status, float(accel32[bad]), float(baro32[bad]), float(t), bad, dt_is_array)
+        t = inputs.dt[bad if inputs.dt_is_array else 0]
+        _observer_glue.raise_update_error(status, float(inputs.accel[bad]), float(inputs.baro_altitude[bad]),
+                                          float(t), bad, inputs.dt_is_array)
     sums = tuple(metric_arrays[:3]) if metric_arrays is not None else None
-    return _sweep_glue.sweep_result(gains, metric_samples, sums, output_arrays)
+    return _sweep_glue.sweep_result(inputs.gains, metric_samples, sums, output_arrays)
 
 
 class FitResult(NamedTuple):
@@ -325,25 +357,37 @@ def fit(accel, baro_altitude, dt, reference, mask=None, omega_range: Tuple[float
     """
     dt_check = stability_period(dt, steps_per_baro, stability_dt)
     mask = without_gap_transients(dt, mask)
-    done = [0]
-    total = refinements + 2
-
-    def tick():
-        done[0] += 1
-        if progress is not None:
-            progress(done[0], total)
+    tick = _round_counter(progress, refinements + 2)
 
     def evaluate_rms(gains: np.ndarray) -> np.ndarray:
         return score(accel, baro_altitude, dt, reference, mask, gains, steps_per_baro, threads).rms_error
 
     ranked = search(evaluate_rms, dt_check, omega_range, zetas, bias_ratios, refinements, tick)
-    (omega, zeta, omega_b), best_rms = ranked[0]
     default = score(accel, baro_altitude, dt, reference, mask, np.array([AltitudeSettings().as_tuple()]),
                     steps_per_baro)
     tick()
+    return fit_result(ranked, float(default.rms_error[0]))
+
+
+def _round_counter(progress: Optional[Callable[[int, int], None]], total: int) -> Callable[[], None]:
+    """A function that counts the search rounds done and reports each to ``progress(done, total)``, if given."""
+    done = [0]
+
+    def tick() -> None:
+        done[0] += 1
+        if progress is not None:
+            progress(done[0], total)
+
+    return tick
+
+
+def fit_result(ranked: Sequence[Tuple[Tuple[float, float, float], float]], default_rms_error: float) -> FitResult:
+    """The :class:`FitResult` of :func:`search`'s ranked candidates ((ω, ζ, ω_b), RMS m; best first) and the
+    default gains' RMS error, m."""
+    (omega, zeta, omega_b), best_rms = ranked[0]
     landscape = np.array([(*key, value) for key, value in ranked], dtype=LANDSCAPE_DTYPE)
     return FitResult(AltitudeSettings.from_bandwidth(omega, zeta, omega_b), omega, zeta, omega_b, best_rms,
-                     float(default.rms_error[0]), landscape)
+                     default_rms_error, landscape)
 
 
 # The pieces of :func:`fit`, public so that the fleet fit (fusion_altitude.fleet.fit_many) runs the very same

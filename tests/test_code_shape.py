@@ -33,22 +33,12 @@ GENERATED_PYTHON = {"fusion_altitude/_c_tables.py"}
 LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/logs/generic_csv.py:read_csv_log': 183,
     'fusion_altitude/logs/altos.py:read_altos_csv': 106,
-    'fusion_altitude/fleet.py:fit_many': 104,
     'fusion_altitude/logs/rrc3.py:read_rrc3': 101,
-    'fusion_altitude/tuning.py:sweep': 98,
-    'fusion_altitude/fleet.py:run_many': 87,
-    'fusion_altitude/adapters.py:run_observer': 90,  # 86 in runner.py; the registry's preset and advice (issue 22)
     'fusion_altitude/logs/raven.py:read_raven': 82,
-    'fusion_altitude/fleet.py:_process_log': 77,
-    'fusion_altitude/rocket.py:rocket_accel_input': 74,
     'fusion_altitude/logs/ulog.py:read_ulog': 74,
-    'fusion_altitude/plotting.py:plot_log_run': 71,
     'fusion_altitude/logs/cats.py:read_cats': 71,
     'tools/generate_bindings.py:generate_pxi': 68,
-    'fusion_altitude/comparison.py:compare_log': 68,
     'fusion_altitude/logs/_data.py:merge_repeated_timestamps': 67,
-    'fusion_altitude/tuning.py:fit': 66,
-    'fusion_altitude/comparison.py:compare_scenario': 61,
 }
 LONG_C: Dict[str, int] = {
     'csrc/fusion_altitude_sweep.h:FusionAltitudeSweepChunk8': 160,

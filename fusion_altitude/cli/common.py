@@ -77,6 +77,16 @@ def number(flag: str, value: Optional[float], minimum: Optional[float] = None, s
         raise CliError(f"{flag} must be <= {maximum:g}, got {value:g}")
 
 
+def check_search_flags(args) -> None:
+    """CliError for the search flags ``fit`` and ``fleet fit`` share: ``--skip`` (s, >= 0) and the omega range
+    (rad/s, ``--omega-min`` below ``--omega-max``, both in (0, MAX_OMEGA])."""
+    number("--skip", args.skip, 0.0, strict=False)
+    number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
+    number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
+    if args.omega_min >= args.omega_max:
+        raise CliError(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+
+
 def same_file_name(a: str, b: str) -> bool:
     """``a`` and ``b`` name the same path (after making them absolute; neither need exist)."""
     return os.path.abspath(a) == os.path.abspath(b)

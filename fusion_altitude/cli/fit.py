@@ -8,7 +8,7 @@ import math
 import sys
 from typing import Optional
 
-from .common import MAX_OMEGA, CliError, EstimateError, check_plot, format_table, number
+from .common import MAX_OMEGA, CliError, EstimateError, check_plot, check_search_flags, format_table
 from .logargs import add_log_arguments, load
 from .progress import Progress
 
@@ -90,11 +90,7 @@ def _check_fit_arguments(args: argparse.Namespace) -> None:
         raise CliError("give a log FILE or --scenario, not both")
     if args.seed < 0:
         raise CliError(f"--seed must be >= 0, got {args.seed}")
-    number("--skip", args.skip, 0.0, strict=False)
-    number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
-    number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
-    if args.omega_min >= args.omega_max:
-        raise CliError(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    check_search_flags(args)
     check_plot(args.plot, [args.file] if args.file else [])
     _parse_train_until(args.train_until)
 

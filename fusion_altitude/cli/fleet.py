@@ -55,7 +55,7 @@ def add_fleet_parser(subparsers: Any, more: Sequence[Callable[[Any], Any]] = ())
     ``fleet``) to the subparsers of ``fusion-altitude``."""
     fleet = subparsers.add_parser(
         "fleet", help="run, summarise or fit over many logs on Dask (needs the [fleet] extra)",
-        description="Fleet processing on dask.distributed: one task per log, on a local cluster sized to this "
+        description="Fleet processing on dask.distributed: a batch of logs per task, on a local cluster sized to this "
                     "machine or on an existing cluster (--scheduler).")
     commands = fleet.add_subparsers(dest="fleet_command", metavar="SUBCOMMAND")
     fleet.set_defaults(handler=run_fleet_command, fleet_parser=fleet)
@@ -300,17 +300,13 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 def _check_fit_arguments(args: argparse.Namespace) -> None:
     """CliError for ``fleet fit`` flags out of range or contradicting each other, and for an unwritable ``-o``."""
-    from .common import MAX_OMEGA, check_output as _check_output, number as _number
+    from .common import check_output as _check_output, check_search_flags
 
     if args.holdout and args.holdout_every:
         raise _cli_error("give --holdout or --holdout-every, not both")
     if args.holdout_every is not None and args.holdout_every < 2:
         raise _cli_error(f"--holdout-every must be >= 2, got {args.holdout_every}")
-    _number("--skip", args.skip, 0.0, strict=False)
-    _number("--omega-min", args.omega_min, 0.0, maximum=MAX_OMEGA)
-    _number("--omega-max", args.omega_max, 0.0, maximum=MAX_OMEGA)
-    if args.omega_min >= args.omega_max:
-        raise _cli_error(f"--omega-min ({args.omega_min:g}) must be below --omega-max ({args.omega_max:g})")
+    check_search_flags(args)
     _check_output(args.output, "-o", extensions=(".json",))
 
 

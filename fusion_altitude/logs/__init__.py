@@ -50,6 +50,7 @@ from typing import Callable, Dict, Optional
 
 from .._core import installed_extension_folder
 from ._data import LogData, LogError, LogWarning, find_gaps, merge_repeated_timestamps
+from ._data import quiet_warnings  # noqa: F401  (the fleet quiets the readers with it; their warnings are in LogData)
 from .altos import looks_like_altos, read_altos_csv
 from .cats import find_cats_files, looks_like_cats, read_cats
 from .dataflash import DATAFLASH_MAGIC, read_dataflash

@@ -1,0 +1,94 @@
+"""How the fleet hands logs to Dask and writes them (fusion_altitude.fleet): batches of consecutive logs per
+task, the Parquet writer options of the per-log estimates, and the clean-up of interrupted writes.
+
+These run without a cluster: ``fleet._batches`` is what ``run_many`` submits, and ``fleet._process_batch`` is the
+task body a worker runs.
+"""
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from fusion_altitude import fleet, runner
+from fusion_altitude.scenarios import run_scenario
+
+CSV_OPTIONS = dict(time_column="t", accel_column="accel", baro_column="baro", reference_column="ref")
+
+
+@pytest.mark.parametrize("logs", [1, 7, 42, 240, 1000])
+@pytest.mark.parametrize("workers", [1, 2, 8])
+def test_batches_give_out_every_log_once_in_path_order(logs, workers):
+    batches = fleet._batches(list(range(logs)), workers)
+    assert [job for batch in batches for job in batch] == list(range(logs))
+
+
+@pytest.mark.parametrize("logs, workers", [(240, 1), (240, 2), (1000, 2), (42, 2)])
+def test_batches_are_long_first_and_short_last_so_workers_finish_together(logs, workers):
+    sizes = [len(batch) for batch in fleet._batches(list(range(logs)), workers)]
+    assert sizes == sorted(sizes, reverse=True)
+    assert sizes[-1] == 1 and max(sizes) <= fleet.BATCH_LOGS
+    assert sizes[0] == min(fleet.BATCH_LOGS, logs // (4 * workers))
+
+
+def test_a_fleet_of_240_logs_on_2_workers_is_far_fewer_tasks_than_logs():
+    assert len(fleet._batches(list(range(240)), 2)) <= 240 // 6
+
+
+@pytest.fixture
+def one_log(tmp_path):
+    sim = run_scenario("realistic", seed=3)
+    path = tmp_path / "sim3.csv"
+    np.savetxt(path, np.column_stack([sim.time, sim.vertical_acceleration, sim.baro_altitude, sim.trajectory.altitude]),
+               delimiter=",", header="t,accel,baro,ref", comments="", fmt="%.9g")
+    return str(path)
+
+
+def _jobs(paths, output_dir):
+    settings = fleet.resolve_settings("observer", None)
+    digest = fleet.settings_hash("observer", settings, CSV_OPTIONS)
+    fleet._output_folders(output_dir)
+    return [fleet._Job(path, fleet.log_id(path), output_dir, "observer", settings, CSV_OPTIONS, digest, False, False)
+            for path in paths]
+
+
+def test_a_batch_records_a_failed_log_in_its_own_row_and_runs_the_others(one_log, tmp_path):
+    missing = str(tmp_path / "missing.csv")
+    results = fleet._process_batch(_jobs([one_log, missing, one_log], str(tmp_path / "out")))
+    assert [r["row"]["status"] for r in results] == ["ok", "failed", "ok"]
+    assert [r["action"] for r in results] == ["computed", "failed", "reused"]
+    assert "missing.csv" in results[1]["row"]["error"]
+
+
+def test_estimate_files_store_float_columns_byte_stream_split_without_a_dictionary(one_log, tmp_path):
+    (job,) = _jobs([one_log], str(tmp_path / "out"))
+    assert fleet._process_log(job)["action"] == "computed"
+    handle = pq.ParquetFile(tmp_path / "out" / "logs" / f"{job.log_id}.parquet")
+    group = handle.metadata.row_group(0)
+    floats = [group.column(i) for i in range(group.num_columns) if group.column(i).physical_type in ("FLOAT", "DOUBLE")]
+    assert floats and all("BYTE_STREAM_SPLIT" in column.encodings for column in floats)
+    assert not [column.path_in_schema for column in floats if any("DICTIONARY" in e for e in column.encodings)]
+
+
+def test_estimate_files_hold_the_single_log_run_bit_for_bit(one_log, tmp_path):
+    (job,) = _jobs([one_log], str(tmp_path / "out"))
+    fleet._process_log(job)
+    table = pq.read_table(tmp_path / "out" / "logs" / f"{job.log_id}.parquet")
+    expected = fleet.run_columns(runner.run_log(fleet.read_log(one_log, CSV_OPTIONS), estimator="observer"))
+    assert table.column_names == ["log_id"] + [name for name, _ in expected]
+    for name, values in expected:
+        column = table.column(name).to_numpy()
+        assert column.dtype == values.dtype
+        np.testing.assert_array_equal(column.view(np.uint8), values.view(np.uint8))
+
+
+def test_leftovers_of_interrupted_writes_are_removed_and_outputs_kept(tmp_path):
+    import fsspec
+
+    logs = tmp_path / "logs"
+    logs.mkdir()
+    kept = logs / "a.csv-12345678.parquet"
+    kept.write_bytes(b"output")
+    (logs / ".a.csv-12345678.parquet.k2j3h4.part.parquet").write_bytes(b"half")  # outputs.atomic_output's
+    (logs / ".b.csv-12345678.parquet.tmp-0123abcd").write_bytes(b"half")  # earlier versions'
+    assert fleet._remove_leftovers(fsspec.filesystem("file"), str(tmp_path)) == 2
+    assert [p.name for p in logs.iterdir()] == [kept.name]

@@ -129,3 +129,80 @@ def ulog_index(const uint8_t[::1] data, size_t start=16):
     if result.full:
         raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
     return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)
+
+
+# Bytes of each DataFlash format character (0: not a format character pymavlink reads).
+cdef unsigned char[256] _FORMAT_SIZE
+_FORMAT_SIZE[:] = [0] * 256
+for _char, _size in {"a": 64, "b": 1, "B": 1, "g": 2, "h": 2, "H": 2, "i": 4, "I": 4, "f": 4, "n": 4, "N": 16,
+                     "Z": 64, "c": 2, "C": 2, "e": 4, "E": 4, "L": 4, "d": 8, "M": 1, "q": 8, "Q": 8}.items():
+    _FORMAT_SIZE[ord(_char)] = _size
+
+
+cdef size_t _text_length(const uint8_t *text, size_t limit) noexcept nogil:
+    """Bytes of a NUL-padded text field before its first NUL."""
+    cdef size_t k = 0
+    while k < limit and text[k] != 0:
+        k += 1
+    return k
+
+
+def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
+    """The FMT messages at ``offsets`` (in file order), checked as pymavlink's ``DFFormat`` would take them.
+
+    Reading stops at an FMT cut off by the end of ``data`` (as pymavlink's indexer). Each FMT is checked in C:
+    its format characters are ones pymavlink reads, their sizes add up to its length (bytes, header included),
+    it names no more columns than it has characters, and its type was not defined before.
+
+    Returns
+    -------
+    problem : str or None
+        Why pymavlink's own reading is needed (the first FMT that fails a check), else None.
+    formats : dict
+        type → (name, length, format characters, column text) of each FMT: the name cut at its first NUL and
+        decoded as pymavlink's ``null_term`` (backslash escapes), the characters and column text as bytes cut at
+        their first NUL.
+    names : dict
+        name → type.
+    lengths : ndarray of uint64, shape (256,)
+        Length of each type (bytes, header included), 0 for types no FMT defines.
+    """
+    cdef size_t size = data.shape[0]
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, nchars, ncolumns, ncommas, total
+    cdef const uint8_t *body
+    cdef int seen[256]
+    formats = {}
+    names = {}
+    lengths = np.zeros(256, dtype=np.uint64)
+    for k in range(256):
+        seen[k] = 0
+    for k in range(count):
+        if offsets[k] + 89 > size:
+            break
+        body = &data[0] + offsets[k] + 3
+        if seen[body[0]]:
+            return f"type {body[0]} defined twice", formats, names, lengths
+        seen[body[0]] = 1
+        nchars = _text_length(body + 6, 16)
+        total = 3
+        for j in range(nchars):
+            if _FORMAT_SIZE[body[6 + j]] == 0:
+                problem = f"unsupported format character {chr(body[6 + j])!r} in type {body[0]}"
+                return problem, formats, names, lengths
+            total += _FORMAT_SIZE[body[6 + j]]
+        if total != body[1]:
+            return f"type {body[0]}: length {body[1]} is not that of its format", formats, names, lengths
+        ncolumns = _text_length(body + 22, 64)
+        ncommas = 0
+        for j in range(ncolumns):
+            if body[22 + j] == 44:  # ','
+                ncommas += 1
+        if ncolumns > 0 and ncommas + 1 > nchars:
+            return f"type {body[0]}: more columns than format characters", formats, names, lengths
+        name = body[2:2 + _text_length(body + 2, 4)].decode("utf-8", "backslashreplace")
+        if names.setdefault(name, body[0]) != body[0]:
+            return f"two types named {name}", formats, names, lengths
+        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns])
+        lengths[body[0]] = body[1]
+    return None, formats, names, lengths

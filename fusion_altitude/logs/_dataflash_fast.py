@@ -82,7 +82,7 @@ class Format:
         self.type_id, self.name, self.length, self.chars = type_id, name, length, chars
         self.columns = list(columns)
         # (the characters, the length and the column count were checked in C by _decode.dataflash_formats)
-        self.colhash = {column: index for index, column in enumerate(self.columns)}
+        self.colhash = dict(zip(self.columns, range(len(self.columns))))
         self._dtype = None
 
     @property
@@ -116,10 +116,10 @@ class Formats(Mapping):
     def __getitem__(self, type_id: int) -> Format:
         fmt = self._built.get(type_id)
         if fmt is None:
+            # the fields are cut at their first NUL already, so pymavlink's null_term is the decoding alone
             name, length, chars, columns = self._raw[type_id]
-            columns_text = _null_term(columns)
-            fmt = Format(type_id, name, length, _null_term(chars),
-                         [] if columns_text == "" else columns_text.split(","))
+            fmt = Format(type_id, name, length, chars.decode("utf-8", "backslashreplace"),
+                         columns.decode("utf-8", "backslashreplace").split(",") if columns else [])
             self._built[type_id] = fmt
         return fmt
 
@@ -277,11 +277,12 @@ def column(fmt: Format, table: np.ndarray, field: str) -> np.ndarray:
         raise NeedsReference(f"{fmt.name}.{field} holds text")
     values = table[f"f{fmt.colhash[field]}"].astype(np.float64)
     multiplier = FORMAT_CHARS[char][1]
-    if multiplier is None:
-        return values
-    if 0.0 < multiplier < 1.0:
-        return values / (1 / multiplier)
-    return values * multiplier
+    if multiplier is not None:
+        if 0.0 < multiplier < 1.0:
+            values /= 1 / multiplier
+        else:
+            values *= multiplier
+    return values
 
 
 class ArrayRows:
@@ -324,7 +325,7 @@ class ArrayRows:
         self.size = offsets.size
         self.first_fields = ["mavpackettype"] + fmt.columns_once
         self.columns = {field: column(fmt, table, field) for field in fields_used if field in fmt.colhash}
-        self.time = _times(fmt, table)
+        self.time = _times(fmt, table, self.columns)
 
     def __len__(self) -> int:
         return self.size
@@ -348,14 +349,16 @@ class ArrayRows:
         return self
 
 
-def _times(fmt: Format, table: np.ndarray) -> np.ndarray:
-    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3."""
+def _times(fmt: Format, table: np.ndarray, columns=None) -> np.ndarray:
+    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3
+    (from ``columns``, the float64 columns of ``table`` already converted, where they hold the field)."""
+    columns = columns or {}
     if "TimeUS" in fmt.colhash:
-        return column(fmt, table, "TimeUS") * 1e-6
+        return (columns["TimeUS"] if "TimeUS" in columns else column(fmt, table, "TimeUS")) * 1e-6
     if "T" in fmt.colhash and "Week" in fmt.colhash:
-        return column(fmt, table, "T") * 1e-3
+        return (columns["T"] if "T" in columns else column(fmt, table, "T")) * 1e-3
     if "TimeMS" in fmt.colhash:
-        return column(fmt, table, "TimeMS") * 1e-3
+        return (columns["TimeMS"] if "TimeMS" in columns else column(fmt, table, "TimeMS")) * 1e-3
     return np.full(table.size, np.nan)
 
 
@@ -368,13 +371,13 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     offsets, types = index.messages(kinds)
     parts: Dict[str, List[tuple]] = {}
     firmware = ""
-    for type_id in np.flatnonzero(np.bincount(types, minlength=256)).tolist():
+    kind_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
+    keep = np.zeros(256, dtype=bool)
+    keep[kind_ids] = True
+    keep = keep[types]
+    tables = decoder_module().dataflash_tables(index.data, offsets[keep], types[keep], index.lengths)
+    for type_id, (mine, bodies) in sorted(tables.items()):
         fmt = index.formats[type_id]
-        if fmt.name not in kinds:
-            continue
-        mine = np.ascontiguousarray(offsets[types == type_id])
-        _decode = decoder_module()
-        bodies, _ = _decode.dataflash_gather(index.data, mine, fmt.length)
         table = bodies.view(fmt.dtype).reshape(-1)
         if fmt.name == "MSG":
             if "Message" in fmt.colhash:

@@ -5,6 +5,7 @@ and the bodies of one message type gathered into one array. Used by :mod:`fusion
 import numpy as np
 
 from libc.stdint cimport uint8_t, uint64_t
+from libc.string cimport memcpy
 
 cdef extern from "_dataflash_scan.h":
     ctypedef enum DataFlashScanStatus:
@@ -206,3 +207,71 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
         formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns])
         lengths[body[0]] = body[1]
     return None, formats, names, lengths
+
+
+def dataflash_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                     const uint64_t[::1] lengths):
+    """The messages at ``offsets`` grouped by type in one pass: each type's offsets and bodies.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    offsets, types : ndarray of uint64, ndarray of uint8
+        Start and type of each message, in file order (each wholly inside ``data``).
+    lengths : ndarray of uint64, shape (256,)
+        Length of each type, bytes with the 3-byte header (at least 3 for every type in ``types``).
+
+    Returns
+    -------
+    dict
+        type → (offsets of its messages in file order, ndarray of uint8 of shape (count, length - 3): their
+        bodies).
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t size = data.shape[0]
+    cdef size_t k, body
+    cdef size_t counts[256]
+    cdef size_t filled[256]
+    cdef uint64_t *offset_rows[256]
+    cdef uint8_t *body_rows[256]
+    cdef uint64_t[::1] offset_view
+    cdef uint8_t[:, ::1] body_view
+    cdef uint8_t kind
+    if offsets.shape[0] != types.shape[0] or lengths.shape[0] != 256:
+        raise ValueError("offsets and types must have one length, lengths 256 entries")
+    for k in range(256):
+        counts[k] = 0
+        filled[k] = 0
+    for k in range(count):
+        counts[types[k]] += 1
+    out = {}
+    for k in range(256):
+        if counts[k] == 0:
+            continue
+        if lengths[k] < 3:
+            raise ValueError(f"type {k} has a length below 3 bytes")
+        mine = np.empty(counts[k], dtype=np.uint64)
+        bodies = np.empty((counts[k], lengths[k] - 3), dtype=np.uint8)
+        offset_view = mine
+        offset_rows[k] = &offset_view[0]
+        if lengths[k] > 3:
+            body_view = bodies
+            body_rows[k] = &body_view[0, 0]
+        else:
+            body_rows[k] = NULL
+        out[k] = (mine, bodies)
+    for k in range(count):
+        kind = types[k]
+        body = lengths[kind] - 3
+        if offsets[k] + 3 + body > size:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+    with nogil:
+        for k in range(count):
+            kind = types[k]
+            body = lengths[kind] - 3
+            offset_rows[kind][filled[kind]] = offsets[k]
+            if body > 0:
+                memcpy(body_rows[kind] + filled[kind] * body, &data[0] + offsets[k] + 3, body)
+            filled[kind] += 1
+    return out

@@ -16,7 +16,6 @@ caller reads them with pymavlink, so the result is the same either way.
 from __future__ import annotations
 
 import importlib
-import re
 from collections.abc import Mapping
 from typing import Dict, Iterable, List, Sequence
 
@@ -39,8 +38,6 @@ ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
 #: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
 CLOCK_FIELDS = {"TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
                 "MainState", "Default", "BU"}
-#: Column names pymavlink's bookkeeping reads: words of letters, digits and "_", joined by commas.
-_NAMES = re.compile(r"[A-Za-z0-9_]+(?:,[A-Za-z0-9_]+)*\Z")
 
 
 class NeedsReference(Exception):
@@ -84,6 +81,8 @@ class Format:
         # (the characters, the length and the column count were checked in C by _decode.dataflash_formats)
         self.colhash = dict(zip(self.columns, range(len(self.columns))))
         self._dtype = None
+        #: Whether every column name is a word of letters, digits and "_" (checked in C).
+        self.columns_are_words = True
 
     @property
     def columns_once(self) -> List[str]:
@@ -117,9 +116,10 @@ class Formats(Mapping):
         fmt = self._built.get(type_id)
         if fmt is None:
             # the fields are cut at their first NUL already, so pymavlink's null_term is the decoding alone
-            name, length, chars, columns = self._raw[type_id]
+            name, length, chars, columns, words = self._raw[type_id]
             fmt = Format(type_id, name, length, chars.decode("utf-8", "backslashreplace"),
                          columns.decode("utf-8", "backslashreplace").split(",") if columns else [])
+            fmt.columns_are_words = words
             self._built[type_id] = fmt
         return fmt
 
@@ -157,7 +157,7 @@ class DataFlashIndex:
             if name not in self.name_to_id:
                 continue
             fmt = self.formats[self.name_to_id[name]]
-            if fmt.columns and not _NAMES.match(",".join(fmt.columns)):
+            if fmt.columns and not fmt.columns_are_words:
                 raise NeedsReference(f"{name}: a column name that is not a word")
             for column_name in CLOCK_FIELDS.intersection(fmt.colhash):
                 if fmt.char_of(column_name) in TEXT_CHARS:

@@ -148,6 +148,24 @@ cdef size_t _text_length(const uint8_t *text, size_t limit) noexcept nogil:
     return k
 
 
+cdef bint _columns_are_words(const uint8_t *text, size_t length) noexcept nogil:
+    """Whether ``text`` is words of ``[A-Za-z0-9_]`` joined by single commas (no empty word)."""
+    cdef size_t k
+    cdef size_t word = 0
+    cdef uint8_t c
+    for k in range(length):
+        c = text[k]
+        if c == 44:  # ','
+            if word == 0:
+                return False
+            word = 0
+        elif (48 <= c <= 57) or (65 <= c <= 90) or (97 <= c <= 122) or c == 95:
+            word += 1
+        else:
+            return False
+    return word > 0
+
+
 def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
     """The FMT messages at ``offsets`` (in file order), checked as pymavlink's ``DFFormat`` would take them.
 
@@ -160,7 +178,8 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
     problem : str or None
         Why pymavlink's own reading is needed (the first FMT that fails a check), else None.
     formats : dict
-        type → (name, length, format characters, column text) of each FMT: the name cut at its first NUL and
+        type → (name, length, format characters, column text, whether the column names are words of
+        letters, digits and "_" joined by commas, as pymavlink's bookkeeping needs) of each FMT: the name cut at its first NUL and
         decoded as pymavlink's ``null_term`` (backslash escapes), the characters and column text as bytes cut at
         their first NUL.
     names : dict
@@ -171,6 +190,7 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
     cdef size_t size = data.shape[0]
     cdef size_t count = offsets.shape[0]
     cdef size_t k, j, nchars, ncolumns, ncommas, total
+    cdef bint words
     cdef const uint8_t *body
     cdef int seen[256]
     formats = {}
@@ -199,12 +219,13 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
         for j in range(ncolumns):
             if body[22 + j] == 44:  # ','
                 ncommas += 1
+        words = _columns_are_words(body + 22, ncolumns)
         if ncolumns > 0 and ncommas + 1 > nchars:
             return f"type {body[0]}: more columns than format characters", formats, names, lengths
         name = body[2:2 + _text_length(body + 2, 4)].decode("utf-8", "backslashreplace")
         if names.setdefault(name, body[0]) != body[0]:
             return f"two types named {name}", formats, names, lengths
-        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns])
+        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns], words)
         lengths[body[0]] = body[1]
     return None, formats, names, lengths
 
@@ -275,3 +296,134 @@ def dataflash_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const
                 memcpy(body_rows[kind] + filled[kind] * body, &data[0] + offsets[k] + 3, body)
             filled[kind] += 1
     return out
+
+
+# pyulog's basic type names and their sizes (bytes), for the info and parameter checks.
+_ULOG_TYPE_SIZES = {b"int8_t": 1, b"uint8_t": 1, b"int16_t": 2, b"uint16_t": 2, b"int32_t": 4, b"uint32_t": 4,
+                    b"int64_t": 8, b"uint64_t": 8, b"float": 4, b"double": 8, b"bool": 1, b"char": 1}
+
+
+def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes,
+                  size_t skip):
+    """Whether pyulog parses the I/M/P/Q messages at ``offsets`` without an exception.
+
+    Each payload (``sizes`` bytes after a message's 3-byte header, from byte ``skip``: 1 for M and Q, whose
+    first byte pyulog skips) must hold a key length, a key of at least two words (type, name) and, for a basic
+    type, a value of exactly that type's size.
+
+    Returns
+    -------
+    ok : bool
+        False if some message surely makes pyulog raise.
+    undecided : list of int
+        Indices of the messages whose key is not ASCII (pyulog drops undecodable bytes first): for the caller to
+        check in Python.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, available, space
+    cdef const uint8_t *payload
+    cdef size_t key_length
+    cdef bint ascii
+    undecided = []
+    for k in range(count):
+        if sizes[k] < 1 + skip or offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            return False, undecided
+        payload = &data[0] + offsets[k] + 3 + skip
+        available = sizes[k] - skip  # bytes of the payload pyulog reads
+        key_length = payload[0]
+        if key_length > available - 1:
+            key_length = available - 1
+        ascii = True
+        space = key_length
+        for j in range(key_length):
+            if payload[1 + j] >= 0x80:
+                ascii = False
+                break
+            if payload[1 + j] == 32 and space == key_length:
+                space = j
+        if not ascii:
+            undecided.append(k)
+            continue
+        if space == key_length:  # one word: pyulog's split(" ") gives no name
+            return False, undecided
+        kind = payload[1:1 + space]
+        if kind.startswith(b"char["):
+            continue
+        kind_size = _ULOG_TYPE_SIZES.get(kind)
+        if kind_size is not None and <long> available - 1 - <long> payload[0] != <long> kind_size:
+            return False, undecided
+    return True, undecided
+
+
+cdef bint _ulog_field_simple(const uint8_t *item, size_t length) noexcept nogil:
+    """Whether one ``type name`` item of a format parses in pyulog without an exception, surely: a space after
+    the type, and an array size (if any) of 1 to 4 digits closed by ``]``."""
+    cdef size_t space = length
+    cdef size_t k, at, close
+    for k in range(length):
+        if item[k] == 32:
+            space = k
+            break
+    if space == length:
+        return False
+    at = space
+    for k in range(space):
+        if item[k] == 91:  # '['
+            at = k
+            break
+    if at == space:
+        return True
+    close = space
+    for k in range(space):
+        if item[k] == 93:  # ']'
+            close = k
+            break
+    if close == space or close <= at + 1 or close > at + 5:  # (no "]": pyulog's slice would end at -1)
+        return False
+    for k in range(at + 1, close):
+        if not (48 <= item[k] <= 57):
+            return False
+    return True
+
+
+def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
+    """The name of each F (format) message at ``offsets`` whose parsing by pyulog surely succeeds, else None.
+
+    Surely succeeds: ASCII, a ``:`` after the name, and every non-empty ``;``-separated item of the field list
+    a type and a name separated by a space, with an array size of 1 to 4 digits if the type has ``[``. The
+    others (None) are for the caller to parse in Python, where an exception means pyulog flags corruption.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, colon, end, item
+    cdef const uint8_t *payload
+    cdef size_t size
+    cdef bint simple
+    names = []
+    for k in range(count):
+        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+        payload = &data[0] + offsets[k] + 3
+        size = sizes[k]
+        simple = True
+        colon = size
+        for j in range(size):
+            if payload[j] >= 0x80:
+                simple = False
+                break
+            if payload[j] == 58 and colon == size:  # ':'
+                colon = j
+        if not simple or colon == size:
+            names.append(None)
+            continue
+        end = colon + 1
+        while end < size and payload[end] != 58:
+            end += 1
+        item = colon + 1
+        for j in range(colon + 1, end + 1):
+            if j == end or payload[j] == 59:  # ';' or the end of the field list
+                if j > item and not _ulog_field_simple(payload + item, j - item):
+                    simple = False
+                    break
+                item = j + 1
+        names.append(payload[:colon].decode("ascii") if simple else None)
+    return names

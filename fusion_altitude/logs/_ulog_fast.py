@@ -13,6 +13,7 @@ messages whose parsing would make pyulog stop or flag corruption) are declined w
 from __future__ import annotations
 
 import struct
+from collections.abc import Mapping
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -79,30 +80,50 @@ def _info_ok(payload: bytes, multiple: bool = False, default: bool = False) -> b
 
 def _infos_ok(array: np.ndarray, blob: bytes, offsets: np.ndarray, sizes: np.ndarray, skip: int) -> bool:
     """:func:`_info_ok` of many I/P messages at once (``skip``: bytes before the key length, 1 for M and Q):
-    the common ones (a basic type word) checked in numpy, the rest one by one."""
+    checked in C (:func:`_decode.ulog_infos_ok`), the few with a non-ASCII key one by one here."""
     if not offsets.size:
         return True
-    if np.any(sizes < 1 + skip):
+    ok, undecided = decoder_module().ulog_infos_ok(array, np.ascontiguousarray(offsets),
+                                                    np.ascontiguousarray(sizes), skip)
+    if not ok:
         return False
-    starts = offsets.astype(np.int64) + 3 + skip
-    key_length = array[starts].astype(np.int64)
-    value_size = sizes.astype(np.int64) - skip - 1 - key_length
-    width = 10  # the longest type word ("uint64_t") and its space
-    index = np.minimum(starts[:, None] + 1 + np.arange(width), array.size - 1)
-    heads = array[index]
-    checked = np.zeros(offsets.size, dtype=bool)
-    for kind, code in _STRUCT.items():
-        word = np.frombuffer(kind.encode() + b" ", dtype=np.uint8)
-        match = (key_length >= word.size) & (value_size >= 0) & np.all(heads[:, :word.size] == word, axis=1)
-        if np.any(match & (value_size != struct.calcsize("<" + code))):
-            return False
-        checked |= match
-    for k in np.flatnonzero(~checked).tolist():
+    for k in undecided:
         offset, size = int(offsets[k]), int(sizes[k])
-        payload = blob[offset + 3:offset + 3 + size]
-        if not _info_ok(payload, multiple=skip == 1):
+        if not _info_ok(blob[offset + 3:offset + 3 + size], multiple=skip == 1):
             return False
     return True
+
+
+class Formats(Mapping):
+    """name → fields of a ULog's F messages (the last of a name wins, as pyulog's dict), each parsed by
+    :func:`_parse_format` when first asked for; the C check (:func:`_decode.ulog_format_names`) already
+    vouched that it parses."""
+
+    def __init__(self) -> None:
+        self._payloads: Dict[str, bytes] = {}
+        self._parsed: Dict[str, List[tuple]] = {}
+
+    def add_payload(self, name: str, payload: bytes) -> None:
+        self._parsed.pop(name, None)
+        self._payloads[name] = payload
+
+    def add_parsed(self, name: str, fields: List[tuple]) -> None:
+        self._payloads.pop(name, None)
+        self._parsed[name] = fields
+
+    def __getitem__(self, name: str) -> List[tuple]:
+        if name not in self._parsed:
+            self._parsed[name] = _parse_format(self._payloads.pop(name))[1]
+        return self._parsed[name]
+
+    def __contains__(self, name) -> bool:
+        return name in self._parsed or name in self._payloads
+
+    def __iter__(self):
+        return iter(list(self._parsed) + list(self._payloads))
+
+    def __len__(self) -> int:
+        return len(self._parsed) + len(self._payloads)
 
 
 class Subscription:
@@ -175,7 +196,6 @@ class ULogTopics:
 
     def _definitions(self, offsets, types, sizes) -> int:
         """Read the definitions section; return the index of its first data-section message."""
-        self.formats: Dict[str, List[tuple]] = {}
         ends = np.flatnonzero(np.isin(types, np.frombuffer(bytes(_SECTION_END), dtype=np.uint8)))
         section = int(ends[0]) if ends.size else types.size
         if not ends.size:
@@ -184,20 +204,25 @@ class ULogTopics:
         if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
             raise NeedsReference("a message type that does not belong in the definitions")
         self._check_infos(offsets[:section], head_types, sizes[:section])
-        for k in np.flatnonzero((head_types == ord("F")) | (head_types == ord("B"))).tolist():
-            kind, offset, size = int(types[k]), int(offsets[k]), int(sizes[k])
-            payload = self._payload(offset, size)
+        self.formats = Formats()
+        format_rows = np.flatnonzero(head_types == ord("F"))
+        names = decoder_module().ulog_format_names(self.array, np.ascontiguousarray(offsets[format_rows]),
+                                                   np.ascontiguousarray(sizes[format_rows]))
+        for k, name in zip(format_rows.tolist(), names):
+            payload = self._payload(int(offsets[k]), int(sizes[k]))
+            if name is not None:
+                self.formats.add_payload(name, payload)
+                continue
             try:
-                if kind == ord("F"):
-                    name, fields = _parse_format(payload)
-                    self.formats[name] = fields
-                elif kind == ord("B"):
-                    if k != 0 or size < 40:
-                        raise NeedsReference("flag bits not first or short")
-                    if any(payload[8:16]) or any(payload[16:40]):
-                        raise NeedsReference("incompatible flags or appended data")
+                self.formats.add_parsed(*_parse_format(payload))
             except (IndexError, ValueError, KeyError, OverflowError, struct.error):
                 raise NeedsReference("a definition pyulog cannot parse") from None
+        for k in np.flatnonzero(head_types == ord("B")).tolist():
+            if k != 0 or int(sizes[k]) < 40:
+                raise NeedsReference("flag bits not first or short")
+            payload = self._payload(int(offsets[k]), int(sizes[k]))
+            if any(payload[8:16]) or any(payload[16:40]):
+                raise NeedsReference("incompatible flags or appended data")
         return section
 
     def _check_infos(self, offsets, types, sizes) -> None:

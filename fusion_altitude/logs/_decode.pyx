@@ -6,6 +6,7 @@ import numpy as np
 
 from libc.stdint cimport uint8_t, uint64_t
 from libc.string cimport memcpy
+from cpython.mem cimport PyMem_Calloc, PyMem_Free, PyMem_Malloc
 
 cdef extern from "_dataflash_scan.h":
     ctypedef enum DataFlashScanStatus:
@@ -427,3 +428,119 @@ def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
                 item = j + 1
         names.append(payload[:colon].decode("ascii") if simple else None)
     return names
+
+
+def ulog_type_counts(const uint8_t[::1] types):
+    """How many messages of each type (ndarray of int64, shape (256,)), in one pass."""
+    counts = np.zeros(256, dtype=np.int64)
+    cdef long long[::1] view = counts
+    cdef Py_ssize_t k
+    for k in range(types.shape[0]):
+        view[types[k]] += 1
+    return counts
+
+
+def ulog_first_of(const uint8_t[::1] types, bytes wanted):
+    """Index of the first message whose type is one of the bytes of ``wanted``, or the count if none."""
+    cdef bint hit[256]
+    cdef Py_ssize_t k
+    for k in range(256):
+        hit[k] = False
+    for k in range(len(wanted)):
+        hit[<uint8_t> wanted[k]] = True
+    for k in range(types.shape[0]):
+        if hit[types[k]]:
+            return k
+    return types.shape[0]
+
+
+def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                     const unsigned short[::1] sizes, subscriptions):
+    """The data messages of each subscription, gathered in one pass, as pyulog reads them.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    offsets, types, sizes : ndarrays
+        Start, type and payload size (bytes) of each message of the data section (each wholly inside ``data``).
+    subscriptions : sequence of (msg_id, offset, itemsize)
+        Per subscription, its msg_id (each at most once), the offset of its A message (only later data
+        messages count) and the bytes of one sample (a data message of another size is not one of its samples).
+
+    Returns
+    -------
+    list of ndarray of uint8, shape (count, itemsize)
+        Per subscription, the payloads after the 2-byte msg_id of its data messages, in file order.
+    """
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    # slot + 1 of each msg_id (0: not asked for); calloc'd, so only the pages of the msg_ids used are touched
+    cdef unsigned short *slot_of = <unsigned short *> PyMem_Calloc(65536, sizeof(unsigned short))
+    if slot_of == NULL:
+        raise MemoryError()
+    try:
+        return _ulog_data_tables(data, offsets, types, sizes, subscriptions, slot_of)
+    finally:
+        PyMem_Free(slot_of)
+
+
+cdef _ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                       const unsigned short[::1] sizes, subscriptions, unsigned short *slot_of):
+    """:func:`ulog_data_tables` with its msg_id table (``slot_of``, zeroed) allocated."""
+    cdef size_t count = offsets.shape[0]
+    cdef size_t nsub = len(subscriptions)
+    cdef size_t k, slot, msg_id
+    if nsub >= 65535:
+        raise ValueError("too many subscriptions")
+    starts = np.zeros(nsub + 1, dtype=np.uint64)
+    itemsizes = np.zeros(nsub + 1, dtype=np.uint64)
+    counts = np.zeros(nsub + 1, dtype=np.uint64)
+    cdef uint64_t[::1] start_of = starts
+    cdef uint64_t[::1] itemsize_of = itemsizes
+    cdef uint64_t[::1] count_of = counts
+    for k, (msg_id_value, start, itemsize) in enumerate(subscriptions):
+        if not 0 <= msg_id_value < 65536 or slot_of[msg_id_value] != 0:
+            raise ValueError(f"msg_id {msg_id_value} out of range or given twice")
+        slot_of[msg_id_value] = k + 1
+        start_of[k] = start
+        itemsize_of[k] = itemsize
+    for k in range(count):
+        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+    with nogil:
+        for k in range(count):
+            if types[k] != 68 or sizes[k] < 2:  # 'D'
+                continue
+            msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
+            if slot_of[msg_id] == 0:
+                continue
+            slot = <size_t> slot_of[msg_id] - 1
+            if offsets[k] > start_of[slot] and <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
+                count_of[slot] += 1
+    tables = [np.empty((count_of[k], itemsize_of[k]), dtype=np.uint8) for k in range(nsub)]
+    cdef uint8_t **rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
+    cdef uint8_t[:, ::1] view
+    if rows == NULL:
+        raise MemoryError()
+    try:
+        for k in range(nsub):
+            rows[k] = NULL
+            if count_of[k] > 0 and itemsize_of[k] > 0:
+                view = tables[k]
+                rows[k] = &view[0, 0]
+        with nogil:
+            for k in range(count):
+                if types[k] != 68 or sizes[k] < 2:
+                    continue
+                msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
+                if slot_of[msg_id] == 0:
+                    continue
+                slot = <size_t> slot_of[msg_id] - 1
+                if rows[slot] != NULL and offsets[k] > start_of[slot] and \
+                        <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
+                    memcpy(rows[slot], &data[0] + offsets[k] + 5, itemsize_of[slot])
+                    rows[slot] += itemsize_of[slot]
+    finally:
+        PyMem_Free(rows)
+    return tables

@@ -196,9 +196,8 @@ class ULogTopics:
 
     def _definitions(self, offsets, types, sizes) -> int:
         """Read the definitions section; return the index of its first data-section message."""
-        ends = np.flatnonzero(np.isin(types, np.frombuffer(bytes(_SECTION_END), dtype=np.uint8)))
-        section = int(ends[0]) if ends.size else types.size
-        if not ends.size:
+        section = decoder_module().ulog_first_of(types, bytes(_SECTION_END))
+        if section == types.size:
             raise NeedsReference("no data section")
         head_types = types[:section]
         if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
@@ -225,9 +224,11 @@ class ULogTopics:
                 raise NeedsReference("incompatible flags or appended data")
         return section
 
-    def _check_infos(self, offsets, types, sizes) -> None:
-        """Decline if an I/M/P/Q message would make pyulog raise."""
+    def _check_infos(self, offsets, types, sizes, counts=None) -> None:
+        """Decline if an I/M/P/Q message would make pyulog raise (``counts``: messages per type, if known)."""
         for kind in b"IMPQ":
+            if counts is not None and not counts[kind]:
+                continue
             mine = types == kind
             if np.any(mine) and not _infos_ok(self.array, self.blob, offsets[mine], sizes[mine],
                                               skip=1 if kind in b"MQ" else 0):
@@ -235,18 +236,36 @@ class ULogTopics:
 
     def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
         _decode = decoder_module()
-        present = set(np.flatnonzero(np.bincount(types, minlength=256)).tolist())
+        counts = _decode.ulog_type_counts(types)
+        present = set(np.flatnonzero(counts).tolist())
         if not present <= _DATA_TYPES:
             raise NeedsReference(f"message types {sorted(present - _DATA_TYPES)} in the data section")
         for kind, minimum in ((ord("L"), 9), (ord("C"), 11), (ord("A"), 3), (ord("D"), 2)):
-            if np.any(sizes[types == kind] < minimum):
+            if counts[kind] and np.any(sizes[types == kind] < minimum):
                 raise NeedsReference(f"a {chr(kind)} message too short for pyulog")
-        if np.any(sizes[types == ord("O")] != 2):
+        if counts[ord("O")] and np.any(sizes[types == ord("O")] != 2):
             raise NeedsReference("a dropout message that is not 2 bytes")
-        self._check_infos(offsets, types, sizes)
-        subscriptions: Dict[int, Subscription] = {}
+        self._check_infos(offsets, types, sizes, counts)
+        subscriptions = self._subscriptions(offsets[types == ord("A")].tolist(),
+                                            sizes[types == ord("A")].tolist(), names)
+        tables = _decode.ulog_data_tables(self.array, offsets, types, sizes,
+                                          [(msg_id, s.offset, s.dtype.itemsize) for msg_id, s in subscriptions])
+        out: Dict[tuple, Dict[str, np.ndarray]] = {}
+        for (_, subscription), bodies in zip(subscriptions, tables):
+            if not bodies.shape[0]:
+                continue
+            key = (subscription.name, subscription.multi_id)
+            if key in out:
+                raise NeedsReference(f"{key} subscribed twice")
+            table = np.frombuffer(bodies.data, dtype=subscription.dtype)
+            out[key] = {name: table[name] for name in table.dtype.names}
+        return out
+
+    def _subscriptions(self, offsets: List[int], sizes: List[int], names) -> List[Tuple[int, Subscription]]:
+        """(msg_id, :class:`Subscription`) of the A messages at ``offsets`` whose topic is in ``names``."""
+        subscriptions = []
         seen_ids = set()
-        for offset, size in zip(offsets[types == ord("A")].tolist(), sizes[types == ord("A")].tolist()):
+        for offset, size in zip(offsets, sizes):
             payload = self._payload(offset, size)
             msg_id = payload[1] | (payload[2] << 8)
             if msg_id in seen_ids:
@@ -256,24 +275,7 @@ class ULogTopics:
             if names is not None and name not in names:
                 continue
             try:
-                subscriptions[msg_id] = Subscription(payload, self.formats, offset)
+                subscriptions.append((msg_id, Subscription(payload, self.formats, offset)))
             except (ValueError, TypeError) as error:  # e.g. two fields of one name: pyulog flags corruption
                 raise NeedsReference(f"subscription {name}: {error}") from None
-        data_offsets = offsets[types == ord("D")]
-        data_sizes = sizes[types == ord("D")]
-        ids = self.array[data_offsets + 3].astype(np.uint16) | (self.array[data_offsets + 4].astype(np.uint16) << 8)
-        out: Dict[tuple, Dict[str, np.ndarray]] = {}
-        for msg_id, subscription in subscriptions.items():
-            mine = (ids == msg_id) & (data_offsets > subscription.offset) & \
-                   (data_sizes.astype(np.int64) - 2 == subscription.dtype.itemsize)
-            if not np.any(mine):
-                continue
-            key = (subscription.name, subscription.multi_id)
-            if key in out:
-                raise NeedsReference(f"{key} subscribed twice")
-            starts = np.ascontiguousarray(data_offsets[mine] + 2)  # the payload after the msg_id
-            bodies, _ = _decode.dataflash_gather(self.array, starts, subscription.dtype.itemsize + 3)
-            table = np.frombuffer(bodies.tobytes() if not bodies.flags.c_contiguous else bodies.data,
-                                  dtype=subscription.dtype)
-            out[key] = {name: table[name] for name in table.dtype.names}
-        return out
+        return subscriptions

@@ -44,7 +44,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/sim/scenarios.py:_specs': 78,
     'fusion_altitude/fleet.py:_process_log': 77,
     'fusion_altitude/rocket.py:rocket_accel_input': 74,
-    'fusion_altitude/logs/ulog.py:read_ulog': 74,
     'fusion_altitude/plotting.py:plot_log_run': 71,
     'fusion_altitude/logs/cats.py:read_cats': 71,
     'fusion_altitude/sim/trajectories.py:apply_log_faults': 70,

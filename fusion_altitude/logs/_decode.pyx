@@ -356,29 +356,26 @@ def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const un
     return True, undecided
 
 
+cdef size_t _find(const uint8_t *text, size_t length, uint8_t wanted) noexcept nogil:
+    """Index of the first ``wanted`` byte of ``text[0 .. length)``, or ``length`` if there is none."""
+    cdef size_t k
+    for k in range(length):
+        if text[k] == wanted:
+            return k
+    return length
+
+
 cdef bint _ulog_field_simple(const uint8_t *item, size_t length) noexcept nogil:
     """Whether one ``type name`` item of a format parses in pyulog without an exception, surely: a space after
     the type, and an array size (if any) of 1 to 4 digits closed by ``]``."""
-    cdef size_t space = length
+    cdef size_t space = _find(item, length, 32)
     cdef size_t k, at, close
-    for k in range(length):
-        if item[k] == 32:
-            space = k
-            break
     if space == length:
         return False
-    at = space
-    for k in range(space):
-        if item[k] == 91:  # '['
-            at = k
-            break
+    at = _find(item, space, 91)  # '['
     if at == space:
         return True
-    close = space
-    for k in range(space):
-        if item[k] == 93:  # ']'
-            close = k
-            break
+    close = _find(item, space, 93)  # ']'
     if close == space or close <= at + 1 or close > at + 5:  # (no "]": pyulog's slice would end at -1)
         return False
     for k in range(at + 1, close):

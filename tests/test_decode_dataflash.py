@@ -139,6 +139,18 @@ def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, name):
         _assert_same_log(path)
 
 
+@pytest.mark.parametrize("renamed", [b"GWk", b"GMS", b"TimeUS"])
+def test_gps_without_a_clock_field_pymavlink_reads_gives_the_same_warnings(tmp_path, renamed):
+    """A GPS format whose week (or week time, or boot time) column is renamed (as a bit flip does: GWk → CWk):
+    pymavlink's clock fails on every GPS message ("bad msg"), and the fast decoder leaves the log to it."""
+    data = _fixture(tmp_path, "TimeUS").read_bytes()
+    gps = data.index(b"GPS\0")
+    columns = data.index(renamed, gps)
+    assert columns < gps + 86  # inside the GPS FMT message
+    path = fx.write_bytes(tmp_path / "renamed.bin", data[:columns] + b"C" + data[columns + 1:])
+    _assert_same_log(path)
+
+
 def test_unknown_decoder_is_refused_naming_the_argument(shared_logs):
     with pytest.raises(ValueError, match="decoder"):
         logs.load_log(str(shared_logs / "ardupilot_test.BIN"), decoder="mavlink")

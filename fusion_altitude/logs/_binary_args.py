@@ -20,7 +20,7 @@ def checked_instance(path: str, instance: Optional[int], decoder: str, decoders:
         ``instance`` below 0, or ``path`` a directory (not ``what``, e.g. "a PX4 ULog").
     """
     if decoder not in decoders:
-        raise ValueError(f"decoder must be {_one_of(decoders)}, got {decoder!r}")
+        raise ValueError(f"decoder must be one of {', '.join(decoders)}, got {decoder!r}")
     want = 0 if instance is None else int(instance)
     if want < 0:
         raise LogError(f"instance must be 0 or more, got {want}")
@@ -28,9 +28,3 @@ def checked_instance(path: str, instance: Optional[int], decoder: str, decoders:
         raise LogError(f"{path}: is a directory, not {what}")
     return want
 
-
-def _one_of(names: Sequence[str]) -> str:
-    """``'fast' or 'pyulog'`` for two names, ``one of a, b, c`` for more (the readers' messages)."""
-    if len(names) == 2:
-        return f"{names[0]!r} or {names[1]!r}"
-    return f"one of {', '.join(names)}"

@@ -152,7 +152,8 @@ class DataFlashIndex:
     def check_clock(self, names: Iterable[str]) -> None:
         """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
         "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
-        without the partner of their week field or without a boot time."""
+        without the partner of their week field, without any week field (its GPS-interpolated clock multiplies
+        a missing week) or without a boot time."""
         for name in set(names) | set(ALWAYS_WALKED):
             if name not in self.name_to_id:
                 continue
@@ -167,6 +168,7 @@ class DataFlashIndex:
                 if ("Week" in have and "TimeMS" not in have) or \
                         ("Week" not in have and "GWk" in have and "GMS" not in have) or \
                         ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
+                        ("Week" not in have and "GWk" not in have and "Wk" not in have and "GPSTime" not in have) or \
                         ("T" not in have and "TimeUS" not in have):
                     raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
 

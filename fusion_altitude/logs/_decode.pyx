@@ -1,6 +1,8 @@
 # cython: boundscheck=False, wraparound=False
-"""The fast log decoder's C loops (fusion_altitude/logs/_dataflash_scan.h): the message index of a DataFlash log
-and the bodies of one message type gathered into one array. Used by :mod:`fusion_altitude.logs._dataflash_fast`."""
+"""The fast log decoders' C loops. DataFlash (:mod:`fusion_altitude.logs._dataflash_fast`): the message index
+(``_dataflash_scan.h``), the FMT messages checked and read, the bodies of the asked-for types grouped by type.
+ULog (:mod:`fusion_altitude.logs._ulog_fast`): the message walk (``_ulog_scan.h``), the info/parameter and format
+checks, the samples of each subscription gathered from the data section."""
 
 import numpy as np
 

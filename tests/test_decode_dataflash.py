@@ -9,9 +9,7 @@ every type it asks for) equal pymavlink's ``to_dict`` values. The C scanner's
 libFuzzer corpus is replayed under ASan + UBSan.
 """
 
-import subprocess
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -19,11 +17,11 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import logfixtures as fx  # noqa: E402
+from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log  # noqa: E402
 from fusion_altitude import logs  # noqa: E402
 from fusion_altitude.logs import _dataflash_fast as fast  # noqa: E402
 from fusion_altitude.logs import _decode, dataflash  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = {
     "TimeMS": dict(style="TimeMS"),
     "TimeUS": dict(style="TimeUS"),
@@ -33,38 +31,9 @@ FIXTURES = {
 }
 
 
-def _read(path, decoder, **options):
-    """(LogData or the error as (type name, message), warning texts) of one read."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            result = dataflash.read_dataflash(str(path), decoder=decoder, **options)
-        except Exception as error:  # compared between the decoders
-            result = (type(error).__name__, str(error))
-    # pymavlink's unclosed files (ResourceWarning, collected at random moments) are not the reader's warnings
-    return result, [str(w.message) for w in caught if not issubclass(w.category, ResourceWarning)]
-
-
 def _assert_same_log(path, **options):
     """Both decoders give the same LogData bit for bit, the same warnings, or the same error."""
-    mine, my_warnings = _read(path, "fast", **options)
-    theirs, their_warnings = _read(path, "pymavlink", **options)
-    assert my_warnings == their_warnings
-    if isinstance(theirs, tuple) or isinstance(mine, tuple):
-        assert mine == theirs
-        return
-    mine_fields, their_fields = vars(mine), vars(theirs)
-    assert set(mine_fields) == set(their_fields)
-    for name, value in their_fields.items():
-        other = mine_fields[name]
-        if isinstance(value, np.ndarray):
-            assert isinstance(other, np.ndarray) and other.dtype == value.dtype and other.shape == value.shape, name
-            if value.dtype == object:
-                assert list(other) == list(value), name
-            else:
-                assert other.tobytes() == value.tobytes(), name
-        else:
-            assert other == value, name
+    assert_same_log(dataflash.read_dataflash, path, "pymavlink", **options)
 
 
 def _pymavlink_messages(path):
@@ -170,6 +139,18 @@ def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, name):
         _assert_same_log(path)
 
 
+@pytest.mark.parametrize("renamed", [b"GWk", b"GMS", b"TimeUS"])
+def test_gps_without_a_clock_field_pymavlink_reads_gives_the_same_warnings(tmp_path, renamed):
+    """A GPS format whose week (or week time, or boot time) column is renamed (as a bit flip does: GWk → CWk):
+    pymavlink's clock fails on every GPS message ("bad msg"), and the fast decoder leaves the log to it."""
+    data = _fixture(tmp_path, "TimeUS").read_bytes()
+    gps = data.index(b"GPS\0")
+    columns = data.index(renamed, gps)
+    assert columns < gps + 86  # inside the GPS FMT message
+    path = fx.write_bytes(tmp_path / "renamed.bin", data[:columns] + b"C" + data[columns + 1:])
+    _assert_same_log(path)
+
+
 def test_unknown_decoder_is_refused_naming_the_argument(shared_logs):
     with pytest.raises(ValueError, match="decoder"):
         logs.load_log(str(shared_logs / "ardupilot_test.BIN"), decoder="mavlink")
@@ -183,20 +164,7 @@ def test_the_other_formats_reference_decoder_is_refused(shared_logs):
 def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
     """csrc/fuzz/fuzz_dataflash.c over csrc/fuzz/corpus_dataflash: the C scanner equals its byte-at-a-time
     transcription of pymavlink's indexer and reads nothing outside the log."""
-    binary = tmp_path / "fuzz_dataflash"
-    build = subprocess.run(["clang", "-std=c99", "-g", "-O1", "-fsanitize=fuzzer,address,undefined",
-                            "-fno-sanitize-recover=all", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
-                            f"-I{ROOT / 'fusion_altitude' / 'logs'}", str(ROOT / "csrc" / "fuzz" / "fuzz_dataflash.c"),
-                            "-o", str(binary)], capture_output=True, text=True)
-    assert build.returncode == 0, build.stderr
-    corpus = ROOT / "csrc" / "fuzz" / "corpus_dataflash"
-    files = sorted(corpus.iterdir())
-    assert len(files) >= 3
-    run = subprocess.run([str(binary), "-runs=0", *map(str, files)], capture_output=True, text=True, timeout=600,
-                         cwd=tmp_path)
-    assert run.returncode == 0, run.stderr[-3000:]
-    assert run.stderr.count("Executed ") == len(files)
-    assert "ERROR" not in run.stderr
+    assert_fuzz_corpus_replays_clean("dataflash", tmp_path, minimum_files=3)
 
 
 def test_without_the_extension_the_fast_decoder_leaves_the_log_to_pymavlink(shared_logs, monkeypatch):

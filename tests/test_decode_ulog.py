@@ -11,7 +11,6 @@ nested types flattened) equal pyulog's ``data_list``.
 import contextlib
 import io
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -19,43 +18,16 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import logfixtures as fx  # noqa: E402
+from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log  # noqa: E402
 from fusion_altitude.logs import _ulog_fast, ulog  # noqa: E402
 
 SHARED = ["px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg"]
 FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "gap": dict(style="new", gap=(3.0, 4.0))}
 
 
-def _read(path, decoder, **options):
-    """(LogData or the error as (type name, message), warning texts) of one read."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            result = ulog.read_ulog(str(path), decoder=decoder, **options)
-        except Exception as error:  # compared between the decoders
-            result = (type(error).__name__, str(error))
-    return result, [str(w.message) for w in caught if not issubclass(w.category, ResourceWarning)]
-
-
 def _assert_same_log(path, **options):
     """Both decoders give the same LogData bit for bit, the same warnings, or the same error."""
-    mine, my_warnings = _read(path, "fast", **options)
-    theirs, their_warnings = _read(path, "pyulog", **options)
-    assert my_warnings == their_warnings
-    if isinstance(theirs, tuple) or isinstance(mine, tuple):
-        assert mine == theirs
-        return
-    mine_fields, their_fields = vars(mine), vars(theirs)
-    assert set(mine_fields) == set(their_fields)
-    for name, value in their_fields.items():
-        other = mine_fields[name]
-        if isinstance(value, np.ndarray):
-            assert isinstance(other, np.ndarray) and other.dtype == value.dtype and other.shape == value.shape, name
-            if value.dtype == object:
-                assert list(other) == list(value), name
-            else:
-                assert other.tobytes() == value.tobytes(), name
-        else:
-            assert other == value, name
+    assert_same_log(ulog.read_ulog, path, "pyulog", **options)
 
 
 def _assert_same_topics(path):
@@ -128,19 +100,4 @@ def test_unknown_decoder_is_refused_naming_the_argument(shared_logs):
 def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
     """csrc/fuzz/fuzz_ulog.c over csrc/fuzz/corpus_ulog: the C scanner walks the messages as pyulog does and
     reads nothing outside the log."""
-    import subprocess
-
-    root = Path(__file__).resolve().parents[1]
-    binary = tmp_path / "fuzz_ulog"
-    build = subprocess.run(["clang", "-std=c99", "-g", "-O1", "-fsanitize=fuzzer,address,undefined",
-                            "-fno-sanitize-recover=all", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
-                            f"-I{root / 'fusion_altitude' / 'logs'}", str(root / "csrc" / "fuzz" / "fuzz_ulog.c"),
-                            "-o", str(binary)], capture_output=True, text=True)
-    assert build.returncode == 0, build.stderr
-    files = sorted((root / "csrc" / "fuzz" / "corpus_ulog").iterdir())
-    assert len(files) >= 2
-    run = subprocess.run([str(binary), "-runs=0", *map(str, files)], capture_output=True, text=True, timeout=600,
-                         cwd=tmp_path)
-    assert run.returncode == 0, run.stderr[-3000:]
-    assert run.stderr.count("Executed ") == len(files)
-    assert "ERROR" not in run.stderr
+    assert_fuzz_corpus_replays_clean("ulog", tmp_path, minimum_files=2)

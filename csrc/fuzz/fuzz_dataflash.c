@@ -5,7 +5,7 @@
  * AddressSanitizer + UndefinedBehaviorSanitizer:
  *
  *   clang -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
- *       -Ifusion_altitude/logs csrc/fuzz/fuzz_dataflash.c -o fuzz_dataflash
+ *       -Ifusion_altitude/logs -Icsrc csrc/fuzz/fuzz_dataflash.c -o fuzz_dataflash
  *   ./fuzz_dataflash -max_total_time=600 csrc/fuzz/corpus_dataflash
  *
  * The input is a whole log file (seeds: csrc/fuzz/make_seeds_dataflash.py, the
@@ -21,19 +21,7 @@
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
 #include "_dataflash_scan.h"
-
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
+#include "fuzz_common.h" /* CHECK */
 
 /* pymavlink's scan_offsets, one byte at a time (its process exit becomes a status). */
 static DataFlashScanStatus ReferenceScan(const uint8_t *data, size_t size, uint64_t *offsets, uint8_t *types,

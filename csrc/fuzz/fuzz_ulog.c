@@ -5,7 +5,7 @@
  * AddressSanitizer + UndefinedBehaviorSanitizer:
  *
  *   clang -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
- *       -Ifusion_altitude/logs csrc/fuzz/fuzz_ulog.c -o fuzz_ulog
+ *       -Ifusion_altitude/logs -Icsrc csrc/fuzz/fuzz_ulog.c -o fuzz_ulog
  *   ./fuzz_ulog -max_total_time=600 csrc/fuzz/corpus_ulog
  *
  * The input is a whole ULog file (seeds: csrc/fuzz/make_seeds_ulog.py, the
@@ -18,19 +18,7 @@
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
 #include "_ulog_scan.h"
-
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-#define CHECK(condition)                                                                \
-    do {                                                                                \
-        if (!(condition)) {                                                             \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #condition); \
-            abort();                                                                    \
-        }                                                                               \
-    } while (0)
+#include "fuzz_common.h" /* CHECK */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     const size_t start = (size > ULOG_FILE_HEADER) ? ULOG_FILE_HEADER : size;

@@ -16,8 +16,7 @@ caller reads them with pymavlink, so the result is the same either way.
 from __future__ import annotations
 
 import importlib
-import re
-import struct
+from collections.abc import Mapping
 from typing import Dict, Iterable, List, Sequence
 
 import numpy as np
@@ -36,26 +35,33 @@ _SIZES = {char: np.dtype(kind).itemsize for char, (kind, _) in FORMAT_CHARS.item
 TEXT_CHARS = set("anNZ")
 #: Types pymavlink's ``recv_match`` always walks besides the asked-for ones (it stops at the first cut-off one).
 ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
-_FMT_STRUCT = struct.Struct("<BB4s16s64s")
 #: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
 CLOCK_FIELDS = {"TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
                 "MainState", "Default", "BU"}
-_NAME = re.compile(r"[A-Za-z0-9_]+\Z")
 
 
 class NeedsReference(Exception):
     """The log needs pymavlink's own reading to give the same result (the reason is the message)."""
 
 
+_DECODE = None
+#: Structured dtype of each format string met so far (a function of the string alone, so kept between logs).
+_DTYPES: Dict[str, np.dtype] = {}
+
+
 def decoder_module():
     """The compiled scanners (``fusion_altitude.logs._decode``); NeedsReference if the extension is not built
     (a source checkout without ``build_ext``: the reference libraries read every log then)."""
+    global _DECODE
+    if _DECODE is not None:
+        return _DECODE
     try:
         # the compiled submodule itself (grimp, which has no source for an extension, would read a static
         # import as one of this package's __init__)
         decode = importlib.import_module(f"{__package__}._decode")
     except ImportError:
         raise NeedsReference("the extension fusion_altitude.logs._decode is not built") from None
+    _DECODE = decode
     return decode
 
 
@@ -72,26 +78,56 @@ class Format:
     def __init__(self, type_id: int, name: str, length: int, chars: str, columns: Sequence[str]) -> None:
         self.type_id, self.name, self.length, self.chars = type_id, name, length, chars
         self.columns = list(columns)
-        for char in chars:
-            if char not in FORMAT_CHARS:
-                raise NeedsReference(f"unsupported format character {char!r} in {name}")
-        self.colhash = {column: index for index, column in enumerate(self.columns)}
-        if len(self.columns) > len(chars):
-            raise NeedsReference(f"{name}: more columns than format characters")
-        if sum(_SIZES[c] for c in chars) + 3 != length:
-            raise NeedsReference(f"{name}: length {length} is not that of its format")
+        # (the characters, the length and the column count were checked in C by _decode.dataflash_formats)
+        self.colhash = dict(zip(self.columns, range(len(self.columns))))
         self._dtype = None
+        #: Whether every column name is a word of letters, digits and "_" (checked in C).
+        self.columns_are_words = True
+
+    @property
+    def columns_once(self) -> List[str]:
+        """The column names, each once, in order (the keys of pymavlink's ``to_dict`` after its type name)."""
+        return list(self.colhash)
 
     @property
     def dtype(self) -> np.dtype:
         """The structured dtype of a body (fields f0, f1, … in format order), built when first asked for."""
         if self._dtype is None:
-            self._dtype = np.dtype([(f"f{k}", FORMAT_CHARS[c][0]) for k, c in enumerate(self.chars)])
+            self._dtype = _DTYPES.get(self.chars)
+            if self._dtype is None:
+                self._dtype = np.dtype([(f"f{k}", FORMAT_CHARS[c][0]) for k, c in enumerate(self.chars)])
+                if len(_DTYPES) < 4096:
+                    _DTYPES[self.chars] = self._dtype
         return self._dtype
 
     def char_of(self, field: str) -> str:
         """Format character of ``field``."""
         return self.chars[self.colhash[field]]
+
+
+class Formats(Mapping):
+    """type → :class:`Format` of a log's FMT messages, each built from its raw fields when first asked for."""
+
+    def __init__(self, raw: Dict[int, tuple]) -> None:
+        self._raw = raw
+        self._built: Dict[int, Format] = {}
+
+    def __getitem__(self, type_id: int) -> Format:
+        fmt = self._built.get(type_id)
+        if fmt is None:
+            # the fields are cut at their first NUL already, so pymavlink's null_term is the decoding alone
+            name, length, chars, columns, words = self._raw[type_id]
+            fmt = Format(type_id, name, length, chars.decode("utf-8", "backslashreplace"),
+                         columns.decode("utf-8", "backslashreplace").split(",") if columns else [])
+            fmt.columns_are_words = words
+            self._built[type_id] = fmt
+        return fmt
+
+    def __iter__(self):
+        return iter(self._raw)
+
+    def __len__(self) -> int:
+        return len(self._raw)
 
 
 class DataFlashIndex:
@@ -110,29 +146,29 @@ class DataFlashIndex:
             raise NeedsReference(f"{bad} bytes start no message")
         self.offsets, self.types = offsets, types
         self.final_lengths = lengths
-        self.formats: Dict[int, Format] = {}
-        self.name_to_id: Dict[str, int] = {}
         self._read_formats()
         self._check_units()
 
     def check_clock(self, names: Iterable[str]) -> None:
         """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
         "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
-        without the partner of their week field or without a boot time."""
+        without the partner of their week field, without any week field (its GPS-interpolated clock multiplies
+        a missing week) or without a boot time."""
         for name in set(names) | set(ALWAYS_WALKED):
             if name not in self.name_to_id:
                 continue
             fmt = self.formats[self.name_to_id[name]]
-            for column_name in fmt.columns:
-                if not _NAME.match(column_name):
-                    raise NeedsReference(f"{name}: column name {column_name!r}")
-                if column_name in CLOCK_FIELDS and fmt.char_of(column_name) in TEXT_CHARS:
+            if fmt.columns and not fmt.columns_are_words:
+                raise NeedsReference(f"{name}: a column name that is not a word")
+            for column_name in CLOCK_FIELDS.intersection(fmt.colhash):
+                if fmt.char_of(column_name) in TEXT_CHARS:
                     raise NeedsReference(f"{name}.{column_name} holds text")
             if name in ("GPS", "GPS2"):
                 have = set(fmt.columns)
                 if ("Week" in have and "TimeMS" not in have) or \
                         ("Week" not in have and "GWk" in have and "GMS" not in have) or \
                         ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
+                        ("Week" not in have and "GWk" not in have and "Wk" not in have and "GPSTime" not in have) or \
                         ("T" not in have and "TimeUS" not in have):
                     raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
 
@@ -151,27 +187,18 @@ class DataFlashIndex:
         return offsets, bodies
 
     def _read_formats(self) -> None:
-        """The FMT messages, in file order, as pymavlink's indexer reads them (it stops at a cut-off one)."""
-        offsets = self.offsets[self.types == 0x80]
-        seen = set()
-        for offset in offsets.tolist():
-            body = self.data[offset + 3:offset + 89].tobytes()
-            if len(body) + 3 < 89:
-                break
-            type_id, length, name, chars, columns = _FMT_STRUCT.unpack(body)
-            if type_id in seen:
-                raise NeedsReference(f"type {type_id} defined twice")
-            seen.add(type_id)
-            columns_text = _null_term(columns)
-            fmt = Format(type_id, _null_term(name), length, _null_term(chars),
-                         [] if columns_text == "" else columns_text.split(","))
-            if fmt.name in self.name_to_id:
-                raise NeedsReference(f"two types named {fmt.name}")
-            self.formats[type_id] = fmt
-            self.name_to_id[fmt.name] = type_id
-        for type_id in np.flatnonzero(np.bincount(self.types, minlength=256)).tolist():
-            if type_id != 0x80 and type_id not in self.formats:
-                raise NeedsReference(f"messages of type {type_id} without a readable FMT")
+        """The FMT messages, in file order, as pymavlink's indexer reads them (it stops at a cut-off one): checked
+        in C (:func:`_decode.dataflash_formats`), made :class:`Format` objects only when a type is asked for."""
+        fmt_offsets = np.ascontiguousarray(self.offsets[self.types == 0x80])
+        problem, raw, self.name_to_id, self.lengths = decoder_module().dataflash_formats(self.data, fmt_offsets)
+        if problem is not None:
+            raise NeedsReference(problem)
+        self.formats = Formats(raw)
+        present = np.bincount(self.types, minlength=256).astype(bool)
+        present[0x80] = False
+        present[list(raw)] = False
+        if present.any():
+            raise NeedsReference(f"messages of type {int(np.flatnonzero(present)[0])} without a readable FMT")
 
     def _check_units(self) -> None:
         """FMTU/UNIT/MULT only name units (no value changes), but odd ones make pymavlink raise: decline those."""
@@ -206,10 +233,7 @@ class DataFlashIndex:
         wanted[[self.name_to_id[n] for n in set(names) | set(ALWAYS_WALKED) if n in self.name_to_id]] = True
         mask = wanted[self.types]
         offsets, types = self.offsets[mask], self.types[mask]
-        lengths = np.zeros(256, dtype=np.uint64)
-        for type_id, fmt in self.formats.items():
-            lengths[type_id] = fmt.length
-        cut = np.flatnonzero(offsets + lengths[types] > self.size)
+        cut = np.flatnonzero(offsets + self.lengths[types] > self.size)
         if cut.size:  # pymavlink returns None at a message cut off by the end: nothing after it is read
             offsets, types = offsets[:cut[0]], types[:cut[0]]
         return offsets, types
@@ -255,11 +279,12 @@ def column(fmt: Format, table: np.ndarray, field: str) -> np.ndarray:
         raise NeedsReference(f"{fmt.name}.{field} holds text")
     values = table[f"f{fmt.colhash[field]}"].astype(np.float64)
     multiplier = FORMAT_CHARS[char][1]
-    if multiplier is None:
-        return values
-    if 0.0 < multiplier < 1.0:
-        return values / (1 / multiplier)
-    return values * multiplier
+    if multiplier is not None:
+        if 0.0 < multiplier < 1.0:
+            values /= 1 / multiplier
+        else:
+            values *= multiplier
+    return values
 
 
 class ArrayRows:
@@ -277,9 +302,12 @@ class ArrayRows:
             self.columns: Dict[str, np.ndarray] = {}
             self.time = np.zeros(0)
             return
+        if len(parts) == 1:  # one type: already in file order
+            self._one_part(*parts[0], fields_used)
+            return
         offsets = np.concatenate([p[0] for p in parts])
-        # one type: already in file order; several (IMU and IMU2): merged by offset
-        order = np.arange(offsets.size) if len(parts) == 1 else np.argsort(offsets, kind="stable")
+        # several types (IMU and IMU2): merged by offset
+        order = np.argsort(offsets, kind="stable")
         self.size = offsets.size
         first_part = int(np.searchsorted(np.cumsum([p[0].size for p in parts]), order[0], side="right"))
         # as pymavlink's to_dict: its type name first, then each column once
@@ -293,6 +321,13 @@ class ArrayRows:
             self.columns[field] = np.concatenate(pieces)[order]
         pieces = [_times(fmt, table) for _, fmt, table in parts]
         self.time = np.concatenate(pieces)[order]
+
+    def _one_part(self, offsets: np.ndarray, fmt: Format, table: np.ndarray, fields_used: Sequence[str]) -> None:
+        """The rows of a family of one message type (no merge)."""
+        self.size = offsets.size
+        self.first_fields = ["mavpackettype"] + fmt.columns_once
+        self.columns = {field: column(fmt, table, field) for field in fields_used if field in fmt.colhash}
+        self.time = _times(fmt, table, self.columns)
 
     def __len__(self) -> int:
         return self.size
@@ -316,14 +351,16 @@ class ArrayRows:
         return self
 
 
-def _times(fmt: Format, table: np.ndarray) -> np.ndarray:
-    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3."""
+def _times(fmt: Format, table: np.ndarray, columns=None) -> np.ndarray:
+    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3
+    (from ``columns``, the float64 columns of ``table`` already converted, where they hold the field)."""
+    columns = columns or {}
     if "TimeUS" in fmt.colhash:
-        return column(fmt, table, "TimeUS") * 1e-6
+        return (columns["TimeUS"] if "TimeUS" in columns else column(fmt, table, "TimeUS")) * 1e-6
     if "T" in fmt.colhash and "Week" in fmt.colhash:
-        return column(fmt, table, "T") * 1e-3
+        return (columns["T"] if "T" in columns else column(fmt, table, "T")) * 1e-3
     if "TimeMS" in fmt.colhash:
-        return column(fmt, table, "TimeMS") * 1e-3
+        return (columns["TimeMS"] if "TimeMS" in columns else column(fmt, table, "TimeMS")) * 1e-3
     return np.full(table.size, np.nan)
 
 
@@ -336,13 +373,13 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     offsets, types = index.messages(kinds)
     parts: Dict[str, List[tuple]] = {}
     firmware = ""
-    for type_id in np.flatnonzero(np.bincount(types, minlength=256)).tolist():
+    kind_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
+    keep = np.zeros(256, dtype=bool)
+    keep[kind_ids] = True
+    keep = keep[types]
+    tables = decoder_module().dataflash_tables(index.data, offsets[keep], types[keep], index.lengths)
+    for type_id, (mine, bodies) in sorted(tables.items()):
         fmt = index.formats[type_id]
-        if fmt.name not in kinds:
-            continue
-        mine = np.ascontiguousarray(offsets[types == type_id])
-        _decode = decoder_module()
-        bodies, _ = _decode.dataflash_gather(index.data, mine, fmt.length)
         table = bodies.view(fmt.dtype).reshape(-1)
         if fmt.name == "MSG":
             if "Message" in fmt.colhash:
@@ -355,10 +392,12 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
                         break
                 parts.setdefault("MSG", []).append((mine, fmt, table))
             continue
-        for field in fields_used:
-            if field in fmt.colhash and fmt.char_of(field) in TEXT_CHARS:
+        for field in fmt.colhash.keys() & fields_used:
+            if fmt.char_of(field) in TEXT_CHARS:
                 raise NeedsReference(f"{fmt.name}.{field} holds text")
         family, mask = select(fmt.name, fmt, table)
-        if family is not None and np.any(mask):
+        if family is not None and mask.all():
+            parts.setdefault(family, []).append((mine, fmt, table))
+        elif family is not None and mask.any():
             parts.setdefault(family, []).append((mine[mask], fmt, table[mask]))
     return parts, firmware

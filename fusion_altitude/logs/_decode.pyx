@@ -1,10 +1,14 @@
 # cython: boundscheck=False, wraparound=False
-"""The fast log decoder's C loops (fusion_altitude/logs/_dataflash_scan.h): the message index of a DataFlash log
-and the bodies of one message type gathered into one array. Used by :mod:`fusion_altitude.logs._dataflash_fast`."""
+"""The fast log decoders' C loops. DataFlash (:mod:`fusion_altitude.logs._dataflash_fast`): the message index
+(``_dataflash_scan.h``), the FMT messages checked and read, the bodies of the asked-for types grouped by type.
+ULog (:mod:`fusion_altitude.logs._ulog_fast`): the message walk (``_ulog_scan.h``), the info/parameter and format
+checks, the samples of each subscription gathered from the data section."""
 
 import numpy as np
 
 from libc.stdint cimport uint8_t, uint64_t
+from libc.string cimport memcpy
+from cpython.mem cimport PyMem_Calloc, PyMem_Free, PyMem_Malloc
 
 cdef extern from "_dataflash_scan.h":
     ctypedef enum DataFlashScanStatus:
@@ -129,3 +133,413 @@ def ulog_index(const uint8_t[::1] data, size_t start=16):
     if result.full:
         raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
     return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)
+
+
+# Bytes of each DataFlash format character (0: not a format character pymavlink reads).
+cdef unsigned char[256] _FORMAT_SIZE
+_FORMAT_SIZE[:] = [0] * 256
+for _char, _size in {"a": 64, "b": 1, "B": 1, "g": 2, "h": 2, "H": 2, "i": 4, "I": 4, "f": 4, "n": 4, "N": 16,
+                     "Z": 64, "c": 2, "C": 2, "e": 4, "E": 4, "L": 4, "d": 8, "M": 1, "q": 8, "Q": 8}.items():
+    _FORMAT_SIZE[ord(_char)] = _size
+
+
+cdef size_t _text_length(const uint8_t *text, size_t limit) noexcept nogil:
+    """Bytes of a NUL-padded text field before its first NUL."""
+    cdef size_t k = 0
+    while k < limit and text[k] != 0:
+        k += 1
+    return k
+
+
+cdef bint _columns_are_words(const uint8_t *text, size_t length) noexcept nogil:
+    """Whether ``text`` is words of ``[A-Za-z0-9_]`` joined by single commas (no empty word)."""
+    cdef size_t k
+    cdef size_t word = 0
+    cdef uint8_t c
+    for k in range(length):
+        c = text[k]
+        if c == 44:  # ','
+            if word == 0:
+                return False
+            word = 0
+        elif (48 <= c <= 57) or (65 <= c <= 90) or (97 <= c <= 122) or c == 95:
+            word += 1
+        else:
+            return False
+    return word > 0
+
+
+def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
+    """The FMT messages at ``offsets`` (in file order), checked as pymavlink's ``DFFormat`` would take them.
+
+    Reading stops at an FMT cut off by the end of ``data`` (as pymavlink's indexer). Each FMT is checked in C:
+    its format characters are ones pymavlink reads, their sizes add up to its length (bytes, header included),
+    it names no more columns than it has characters, and its type was not defined before.
+
+    Returns
+    -------
+    problem : str or None
+        Why pymavlink's own reading is needed (the first FMT that fails a check), else None.
+    formats : dict
+        type → (name, length, format characters, column text, whether the column names are words of
+        letters, digits and "_" joined by commas, as pymavlink's bookkeeping needs) of each FMT: the name cut at its first NUL and
+        decoded as pymavlink's ``null_term`` (backslash escapes), the characters and column text as bytes cut at
+        their first NUL.
+    names : dict
+        name → type.
+    lengths : ndarray of uint64, shape (256,)
+        Length of each type (bytes, header included), 0 for types no FMT defines.
+    """
+    cdef size_t size = data.shape[0]
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, nchars, ncolumns, ncommas, total
+    cdef bint words
+    cdef const uint8_t *body
+    cdef int seen[256]
+    formats = {}
+    names = {}
+    lengths = np.zeros(256, dtype=np.uint64)
+    for k in range(256):
+        seen[k] = 0
+    for k in range(count):
+        if offsets[k] + 89 > size:
+            break
+        body = &data[0] + offsets[k] + 3
+        if seen[body[0]]:
+            return f"type {body[0]} defined twice", formats, names, lengths
+        seen[body[0]] = 1
+        nchars = _text_length(body + 6, 16)
+        total = 3
+        for j in range(nchars):
+            if _FORMAT_SIZE[body[6 + j]] == 0:
+                problem = f"unsupported format character {chr(body[6 + j])!r} in type {body[0]}"
+                return problem, formats, names, lengths
+            total += _FORMAT_SIZE[body[6 + j]]
+        if total != body[1]:
+            return f"type {body[0]}: length {body[1]} is not that of its format", formats, names, lengths
+        ncolumns = _text_length(body + 22, 64)
+        ncommas = 0
+        for j in range(ncolumns):
+            if body[22 + j] == 44:  # ','
+                ncommas += 1
+        words = _columns_are_words(body + 22, ncolumns)
+        if ncolumns > 0 and ncommas + 1 > nchars:
+            return f"type {body[0]}: more columns than format characters", formats, names, lengths
+        name = body[2:2 + _text_length(body + 2, 4)].decode("utf-8", "backslashreplace")
+        if names.setdefault(name, body[0]) != body[0]:
+            return f"two types named {name}", formats, names, lengths
+        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns], words)
+        lengths[body[0]] = body[1]
+    return None, formats, names, lengths
+
+
+def dataflash_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                     const uint64_t[::1] lengths):
+    """The messages at ``offsets`` grouped by type in one pass: each type's offsets and bodies.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    offsets, types : ndarray of uint64, ndarray of uint8
+        Start and type of each message, in file order (each wholly inside ``data``).
+    lengths : ndarray of uint64, shape (256,)
+        Length of each type, bytes with the 3-byte header (at least 3 for every type in ``types``).
+
+    Returns
+    -------
+    dict
+        type → (offsets of its messages in file order, ndarray of uint8 of shape (count, length - 3): their
+        bodies).
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t size = data.shape[0]
+    cdef size_t k, body
+    cdef size_t counts[256]
+    cdef size_t filled[256]
+    cdef uint64_t *offset_rows[256]
+    cdef uint8_t *body_rows[256]
+    cdef uint64_t[::1] offset_view
+    cdef uint8_t[:, ::1] body_view
+    cdef uint8_t kind
+    if offsets.shape[0] != types.shape[0] or lengths.shape[0] != 256:
+        raise ValueError("offsets and types must have one length, lengths 256 entries")
+    for k in range(256):
+        counts[k] = 0
+        filled[k] = 0
+    for k in range(count):
+        counts[types[k]] += 1
+    out = {}
+    for k in range(256):
+        if counts[k] == 0:
+            continue
+        if lengths[k] < 3:
+            raise ValueError(f"type {k} has a length below 3 bytes")
+        mine = np.empty(counts[k], dtype=np.uint64)
+        bodies = np.empty((counts[k], lengths[k] - 3), dtype=np.uint8)
+        offset_view = mine
+        offset_rows[k] = &offset_view[0]
+        if lengths[k] > 3:
+            body_view = bodies
+            body_rows[k] = &body_view[0, 0]
+        else:
+            body_rows[k] = NULL
+        out[k] = (mine, bodies)
+    for k in range(count):
+        kind = types[k]
+        body = lengths[kind] - 3
+        if offsets[k] + 3 + body > size:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+    with nogil:
+        for k in range(count):
+            kind = types[k]
+            body = lengths[kind] - 3
+            offset_rows[kind][filled[kind]] = offsets[k]
+            if body > 0:
+                memcpy(body_rows[kind] + filled[kind] * body, &data[0] + offsets[k] + 3, body)
+            filled[kind] += 1
+    return out
+
+
+# pyulog's basic type names and their sizes (bytes), for the info and parameter checks.
+_ULOG_TYPE_SIZES = {b"int8_t": 1, b"uint8_t": 1, b"int16_t": 2, b"uint16_t": 2, b"int32_t": 4, b"uint32_t": 4,
+                    b"int64_t": 8, b"uint64_t": 8, b"float": 4, b"double": 8, b"bool": 1, b"char": 1}
+
+
+def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes,
+                  size_t skip):
+    """Whether pyulog parses the I/M/P/Q messages at ``offsets`` without an exception.
+
+    Each payload (``sizes`` bytes after a message's 3-byte header, from byte ``skip``: 1 for M and Q, whose
+    first byte pyulog skips) must hold a key length, a key of at least two words (type, name) and, for a basic
+    type, a value of exactly that type's size.
+
+    Returns
+    -------
+    ok : bool
+        False if some message surely makes pyulog raise.
+    undecided : list of int
+        Indices of the messages whose key is not ASCII (pyulog drops undecodable bytes first): for the caller to
+        check in Python.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, available, space
+    cdef const uint8_t *payload
+    cdef size_t key_length
+    cdef bint ascii
+    undecided = []
+    for k in range(count):
+        if sizes[k] < 1 + skip or offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            return False, undecided
+        payload = &data[0] + offsets[k] + 3 + skip
+        available = sizes[k] - skip  # bytes of the payload pyulog reads
+        key_length = payload[0]
+        if key_length > available - 1:
+            key_length = available - 1
+        ascii = True
+        space = key_length
+        for j in range(key_length):
+            if payload[1 + j] >= 0x80:
+                ascii = False
+                break
+            if payload[1 + j] == 32 and space == key_length:
+                space = j
+        if not ascii:
+            undecided.append(k)
+            continue
+        if space == key_length:  # one word: pyulog's split(" ") gives no name
+            return False, undecided
+        kind = payload[1:1 + space]
+        if kind.startswith(b"char["):
+            continue
+        kind_size = _ULOG_TYPE_SIZES.get(kind)
+        if kind_size is not None and <long> available - 1 - <long> payload[0] != <long> kind_size:
+            return False, undecided
+    return True, undecided
+
+
+cdef size_t _find(const uint8_t *text, size_t length, uint8_t wanted) noexcept nogil:
+    """Index of the first ``wanted`` byte of ``text[0 .. length)``, or ``length`` if there is none."""
+    cdef size_t k
+    for k in range(length):
+        if text[k] == wanted:
+            return k
+    return length
+
+
+cdef bint _ulog_field_simple(const uint8_t *item, size_t length) noexcept nogil:
+    """Whether one ``type name`` item of a format parses in pyulog without an exception, surely: a space after
+    the type, and an array size (if any) of 1 to 4 digits closed by ``]``."""
+    cdef size_t space = _find(item, length, 32)
+    cdef size_t k, at, close
+    if space == length:
+        return False
+    at = _find(item, space, 91)  # '['
+    if at == space:
+        return True
+    close = _find(item, space, 93)  # ']'
+    if close == space or close <= at + 1 or close > at + 5:  # (no "]": pyulog's slice would end at -1)
+        return False
+    for k in range(at + 1, close):
+        if not (48 <= item[k] <= 57):
+            return False
+    return True
+
+
+def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
+    """The name of each F (format) message at ``offsets`` whose parsing by pyulog surely succeeds, else None.
+
+    Surely succeeds: ASCII, a ``:`` after the name, and every non-empty ``;``-separated item of the field list
+    a type and a name separated by a space, with an array size of 1 to 4 digits if the type has ``[``. The
+    others (None) are for the caller to parse in Python, where an exception means pyulog flags corruption.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, j, colon, end, item
+    cdef const uint8_t *payload
+    cdef size_t size
+    cdef bint simple
+    names = []
+    for k in range(count):
+        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+        payload = &data[0] + offsets[k] + 3
+        size = sizes[k]
+        simple = True
+        colon = size
+        for j in range(size):
+            if payload[j] >= 0x80:
+                simple = False
+                break
+            if payload[j] == 58 and colon == size:  # ':'
+                colon = j
+        if not simple or colon == size:
+            names.append(None)
+            continue
+        end = colon + 1
+        while end < size and payload[end] != 58:
+            end += 1
+        item = colon + 1
+        for j in range(colon + 1, end + 1):
+            if j == end or payload[j] == 59:  # ';' or the end of the field list
+                if j > item and not _ulog_field_simple(payload + item, j - item):
+                    simple = False
+                    break
+                item = j + 1
+        names.append(payload[:colon].decode("ascii") if simple else None)
+    return names
+
+
+def ulog_type_counts(const uint8_t[::1] types):
+    """How many messages of each type (ndarray of int64, shape (256,)), in one pass."""
+    counts = np.zeros(256, dtype=np.int64)
+    cdef long long[::1] view = counts
+    cdef Py_ssize_t k
+    for k in range(types.shape[0]):
+        view[types[k]] += 1
+    return counts
+
+
+def ulog_first_of(const uint8_t[::1] types, bytes wanted):
+    """Index of the first message whose type is one of the bytes of ``wanted``, or the count if none."""
+    cdef bint hit[256]
+    cdef Py_ssize_t k
+    for k in range(256):
+        hit[k] = False
+    for k in range(len(wanted)):
+        hit[<uint8_t> wanted[k]] = True
+    for k in range(types.shape[0]):
+        if hit[types[k]]:
+            return k
+    return types.shape[0]
+
+
+def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                     const unsigned short[::1] sizes, subscriptions):
+    """The data messages of each subscription, gathered in one pass, as pyulog reads them.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    offsets, types, sizes : ndarrays
+        Start, type and payload size (bytes) of each message of the data section (each wholly inside ``data``).
+    subscriptions : sequence of (msg_id, offset, itemsize)
+        Per subscription, its msg_id (each at most once), the offset of its A message (only later data
+        messages count) and the bytes of one sample (a data message of another size is not one of its samples).
+
+    Returns
+    -------
+    list of ndarray of uint8, shape (count, itemsize)
+        Per subscription, the payloads after the 2-byte msg_id of its data messages, in file order.
+    """
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    # slot + 1 of each msg_id (0: not asked for); calloc'd, so only the pages of the msg_ids used are touched
+    cdef unsigned short *slot_of = <unsigned short *> PyMem_Calloc(65536, sizeof(unsigned short))
+    if slot_of == NULL:
+        raise MemoryError()
+    try:
+        return _ulog_data_tables(data, offsets, types, sizes, subscriptions, slot_of)
+    finally:
+        PyMem_Free(slot_of)
+
+
+cdef _ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                       const unsigned short[::1] sizes, subscriptions, unsigned short *slot_of):
+    """:func:`ulog_data_tables` with its msg_id table (``slot_of``, zeroed) allocated."""
+    cdef size_t count = offsets.shape[0]
+    cdef size_t nsub = len(subscriptions)
+    cdef size_t k, slot, msg_id
+    if nsub >= 65535:
+        raise ValueError("too many subscriptions")
+    starts = np.zeros(nsub + 1, dtype=np.uint64)
+    itemsizes = np.zeros(nsub + 1, dtype=np.uint64)
+    counts = np.zeros(nsub + 1, dtype=np.uint64)
+    cdef uint64_t[::1] start_of = starts
+    cdef uint64_t[::1] itemsize_of = itemsizes
+    cdef uint64_t[::1] count_of = counts
+    for k, (msg_id_value, start, itemsize) in enumerate(subscriptions):
+        if not 0 <= msg_id_value < 65536 or slot_of[msg_id_value] != 0:
+            raise ValueError(f"msg_id {msg_id_value} out of range or given twice")
+        slot_of[msg_id_value] = k + 1
+        start_of[k] = start
+        itemsize_of[k] = itemsize
+    for k in range(count):
+        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
+            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
+    with nogil:
+        for k in range(count):
+            if types[k] != 68 or sizes[k] < 2:  # 'D'
+                continue
+            msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
+            if slot_of[msg_id] == 0:
+                continue
+            slot = <size_t> slot_of[msg_id] - 1
+            if offsets[k] > start_of[slot] and <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
+                count_of[slot] += 1
+    tables = [np.empty((count_of[k], itemsize_of[k]), dtype=np.uint8) for k in range(nsub)]
+    cdef uint8_t **rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
+    cdef uint8_t[:, ::1] view
+    if rows == NULL:
+        raise MemoryError()
+    try:
+        for k in range(nsub):
+            rows[k] = NULL
+            if count_of[k] > 0 and itemsize_of[k] > 0:
+                view = tables[k]
+                rows[k] = &view[0, 0]
+        with nogil:
+            for k in range(count):
+                if types[k] != 68 or sizes[k] < 2:
+                    continue
+                msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
+                if slot_of[msg_id] == 0:
+                    continue
+                slot = <size_t> slot_of[msg_id] - 1
+                if rows[slot] != NULL and offsets[k] > start_of[slot] and \
+                        <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
+                    memcpy(rows[slot], &data[0] + offsets[k] + 5, itemsize_of[slot])
+                    rows[slot] += itemsize_of[slot]
+    finally:
+        PyMem_Free(rows)
+    return tables

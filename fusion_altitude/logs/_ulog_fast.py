@@ -13,6 +13,7 @@ messages whose parsing would make pyulog stop or flag corruption) are declined w
 from __future__ import annotations
 
 import struct
+from collections.abc import Mapping
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -79,30 +80,50 @@ def _info_ok(payload: bytes, multiple: bool = False, default: bool = False) -> b
 
 def _infos_ok(array: np.ndarray, blob: bytes, offsets: np.ndarray, sizes: np.ndarray, skip: int) -> bool:
     """:func:`_info_ok` of many I/P messages at once (``skip``: bytes before the key length, 1 for M and Q):
-    the common ones (a basic type word) checked in numpy, the rest one by one."""
+    checked in C (:func:`_decode.ulog_infos_ok`), the few with a non-ASCII key one by one here."""
     if not offsets.size:
         return True
-    if np.any(sizes < 1 + skip):
+    ok, undecided = decoder_module().ulog_infos_ok(array, np.ascontiguousarray(offsets),
+                                                    np.ascontiguousarray(sizes), skip)
+    if not ok:
         return False
-    starts = offsets.astype(np.int64) + 3 + skip
-    key_length = array[starts].astype(np.int64)
-    value_size = sizes.astype(np.int64) - skip - 1 - key_length
-    width = 10  # the longest type word ("uint64_t") and its space
-    index = np.minimum(starts[:, None] + 1 + np.arange(width), array.size - 1)
-    heads = array[index]
-    checked = np.zeros(offsets.size, dtype=bool)
-    for kind, code in _STRUCT.items():
-        word = np.frombuffer(kind.encode() + b" ", dtype=np.uint8)
-        match = (key_length >= word.size) & (value_size >= 0) & np.all(heads[:, :word.size] == word, axis=1)
-        if np.any(match & (value_size != struct.calcsize("<" + code))):
-            return False
-        checked |= match
-    for k in np.flatnonzero(~checked).tolist():
+    for k in undecided:
         offset, size = int(offsets[k]), int(sizes[k])
-        payload = blob[offset + 3:offset + 3 + size]
-        if not _info_ok(payload, multiple=skip == 1):
+        if not _info_ok(blob[offset + 3:offset + 3 + size], multiple=skip == 1):
             return False
     return True
+
+
+class Formats(Mapping):
+    """name → fields of a ULog's F messages (the last of a name wins, as pyulog's dict), each parsed by
+    :func:`_parse_format` when first asked for; the C check (:func:`_decode.ulog_format_names`) already
+    vouched that it parses."""
+
+    def __init__(self) -> None:
+        self._payloads: Dict[str, bytes] = {}
+        self._parsed: Dict[str, List[tuple]] = {}
+
+    def add_payload(self, name: str, payload: bytes) -> None:
+        self._parsed.pop(name, None)
+        self._payloads[name] = payload
+
+    def add_parsed(self, name: str, fields: List[tuple]) -> None:
+        self._payloads.pop(name, None)
+        self._parsed[name] = fields
+
+    def __getitem__(self, name: str) -> List[tuple]:
+        if name not in self._parsed:
+            self._parsed[name] = _parse_format(self._payloads.pop(name))[1]
+        return self._parsed[name]
+
+    def __contains__(self, name) -> bool:
+        return name in self._parsed or name in self._payloads
+
+    def __iter__(self):
+        return iter(list(self._parsed) + list(self._payloads))
+
+    def __len__(self) -> int:
+        return len(self._parsed) + len(self._payloads)
 
 
 class Subscription:
@@ -175,34 +196,39 @@ class ULogTopics:
 
     def _definitions(self, offsets, types, sizes) -> int:
         """Read the definitions section; return the index of its first data-section message."""
-        self.formats: Dict[str, List[tuple]] = {}
-        ends = np.flatnonzero(np.isin(types, np.frombuffer(bytes(_SECTION_END), dtype=np.uint8)))
-        section = int(ends[0]) if ends.size else types.size
-        if not ends.size:
+        section = decoder_module().ulog_first_of(types, bytes(_SECTION_END))
+        if section == types.size:
             raise NeedsReference("no data section")
         head_types = types[:section]
         if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
             raise NeedsReference("a message type that does not belong in the definitions")
         self._check_infos(offsets[:section], head_types, sizes[:section])
-        for k in np.flatnonzero((head_types == ord("F")) | (head_types == ord("B"))).tolist():
-            kind, offset, size = int(types[k]), int(offsets[k]), int(sizes[k])
-            payload = self._payload(offset, size)
+        self.formats = Formats()
+        format_rows = np.flatnonzero(head_types == ord("F"))
+        names = decoder_module().ulog_format_names(self.array, np.ascontiguousarray(offsets[format_rows]),
+                                                   np.ascontiguousarray(sizes[format_rows]))
+        for k, name in zip(format_rows.tolist(), names):
+            payload = self._payload(int(offsets[k]), int(sizes[k]))
+            if name is not None:
+                self.formats.add_payload(name, payload)
+                continue
             try:
-                if kind == ord("F"):
-                    name, fields = _parse_format(payload)
-                    self.formats[name] = fields
-                elif kind == ord("B"):
-                    if k != 0 or size < 40:
-                        raise NeedsReference("flag bits not first or short")
-                    if any(payload[8:16]) or any(payload[16:40]):
-                        raise NeedsReference("incompatible flags or appended data")
+                self.formats.add_parsed(*_parse_format(payload))
             except (IndexError, ValueError, KeyError, OverflowError, struct.error):
                 raise NeedsReference("a definition pyulog cannot parse") from None
+        for k in np.flatnonzero(head_types == ord("B")).tolist():
+            if k != 0 or int(sizes[k]) < 40:
+                raise NeedsReference("flag bits not first or short")
+            payload = self._payload(int(offsets[k]), int(sizes[k]))
+            if any(payload[8:16]) or any(payload[16:40]):
+                raise NeedsReference("incompatible flags or appended data")
         return section
 
-    def _check_infos(self, offsets, types, sizes) -> None:
-        """Decline if an I/M/P/Q message would make pyulog raise."""
+    def _check_infos(self, offsets, types, sizes, counts=None) -> None:
+        """Decline if an I/M/P/Q message would make pyulog raise (``counts``: messages per type, if known)."""
         for kind in b"IMPQ":
+            if counts is not None and not counts[kind]:
+                continue
             mine = types == kind
             if np.any(mine) and not _infos_ok(self.array, self.blob, offsets[mine], sizes[mine],
                                               skip=1 if kind in b"MQ" else 0):
@@ -210,18 +236,36 @@ class ULogTopics:
 
     def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
         _decode = decoder_module()
-        present = set(np.flatnonzero(np.bincount(types, minlength=256)).tolist())
+        counts = _decode.ulog_type_counts(types)
+        present = set(np.flatnonzero(counts).tolist())
         if not present <= _DATA_TYPES:
             raise NeedsReference(f"message types {sorted(present - _DATA_TYPES)} in the data section")
         for kind, minimum in ((ord("L"), 9), (ord("C"), 11), (ord("A"), 3), (ord("D"), 2)):
-            if np.any(sizes[types == kind] < minimum):
+            if counts[kind] and np.any(sizes[types == kind] < minimum):
                 raise NeedsReference(f"a {chr(kind)} message too short for pyulog")
-        if np.any(sizes[types == ord("O")] != 2):
+        if counts[ord("O")] and np.any(sizes[types == ord("O")] != 2):
             raise NeedsReference("a dropout message that is not 2 bytes")
-        self._check_infos(offsets, types, sizes)
-        subscriptions: Dict[int, Subscription] = {}
+        self._check_infos(offsets, types, sizes, counts)
+        subscriptions = self._subscriptions(offsets[types == ord("A")].tolist(),
+                                            sizes[types == ord("A")].tolist(), names)
+        tables = _decode.ulog_data_tables(self.array, offsets, types, sizes,
+                                          [(msg_id, s.offset, s.dtype.itemsize) for msg_id, s in subscriptions])
+        out: Dict[tuple, Dict[str, np.ndarray]] = {}
+        for (_, subscription), bodies in zip(subscriptions, tables):
+            if not bodies.shape[0]:
+                continue
+            key = (subscription.name, subscription.multi_id)
+            if key in out:
+                raise NeedsReference(f"{key} subscribed twice")
+            table = np.frombuffer(bodies.data, dtype=subscription.dtype)
+            out[key] = {name: table[name] for name in table.dtype.names}
+        return out
+
+    def _subscriptions(self, offsets: List[int], sizes: List[int], names) -> List[Tuple[int, Subscription]]:
+        """(msg_id, :class:`Subscription`) of the A messages at ``offsets`` whose topic is in ``names``."""
+        subscriptions = []
         seen_ids = set()
-        for offset, size in zip(offsets[types == ord("A")].tolist(), sizes[types == ord("A")].tolist()):
+        for offset, size in zip(offsets, sizes):
             payload = self._payload(offset, size)
             msg_id = payload[1] | (payload[2] << 8)
             if msg_id in seen_ids:
@@ -231,24 +275,7 @@ class ULogTopics:
             if names is not None and name not in names:
                 continue
             try:
-                subscriptions[msg_id] = Subscription(payload, self.formats, offset)
+                subscriptions.append((msg_id, Subscription(payload, self.formats, offset)))
             except (ValueError, TypeError) as error:  # e.g. two fields of one name: pyulog flags corruption
                 raise NeedsReference(f"subscription {name}: {error}") from None
-        data_offsets = offsets[types == ord("D")]
-        data_sizes = sizes[types == ord("D")]
-        ids = self.array[data_offsets + 3].astype(np.uint16) | (self.array[data_offsets + 4].astype(np.uint16) << 8)
-        out: Dict[tuple, Dict[str, np.ndarray]] = {}
-        for msg_id, subscription in subscriptions.items():
-            mine = (ids == msg_id) & (data_offsets > subscription.offset) & \
-                   (data_sizes.astype(np.int64) - 2 == subscription.dtype.itemsize)
-            if not np.any(mine):
-                continue
-            key = (subscription.name, subscription.multi_id)
-            if key in out:
-                raise NeedsReference(f"{key} subscribed twice")
-            starts = np.ascontiguousarray(data_offsets[mine] + 2)  # the payload after the msg_id
-            bodies, _ = _decode.dataflash_gather(self.array, starts, subscription.dtype.itemsize + 3)
-            table = np.frombuffer(bodies.tobytes() if not bodies.flags.c_contiguous else bodies.data,
-                                  dtype=subscription.dtype)
-            out[key] = {name: table[name] for name in table.dtype.names}
-        return out
+        return subscriptions

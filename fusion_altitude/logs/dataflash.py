@@ -10,6 +10,7 @@ from typing import Callable, Dict, List, Optional
 import numpy as np
 
 from ..sensors import vertical_acceleration
+from ._binary_args import checked_instance
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
 from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 
@@ -128,13 +129,7 @@ def read_dataflash(path: str, instance: Optional[int] = None,
     ValueError
         ``decoder`` is not one of "fast", "pymavlink".
     """
-    if decoder not in DECODERS:
-        raise ValueError(f"decoder must be one of {', '.join(DECODERS)}, got {decoder!r}")
-    want = 0 if instance is None else int(instance)
-    if want < 0:
-        raise LogError(f"instance must be 0 or more, got {want}")
-    if os.path.isdir(path):
-        raise LogError(f"{path}: is a directory, not an ArduPilot DataFlash log")
+    want = checked_instance(path, instance, decoder, DECODERS, "an ArduPilot DataFlash log")
     if decoder == "fast":
         from ._dataflash_fast import NeedsReference
         try:

@@ -10,6 +10,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..sensors import pressure_to_altitude, vertical_acceleration
+from ._binary_args import checked_instance
 from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
 from ._truncation import ulog_missing_bytes, warn_if_truncated as _warn_if_truncated
 
@@ -17,6 +18,8 @@ from ._truncation import ulog_missing_bytes, warn_if_truncated as _warn_if_trunc
 ULOG_MAGIC = b"ULog\x01\x12\x35"
 _TOPICS = ["vehicle_air_data", "sensor_combined", "vehicle_attitude", "vehicle_local_position", "sensor_baro",
            "sensor_accel", "sensor_gyro", "vehicle_gps_position", "sensor_gps", "distance_sensor", "vehicle_status"]
+#: The decoders :func:`read_ulog` takes.
+DECODERS = ("fast", "pyulog")
 #: ``vehicle_status.vehicle_type`` → vehicle hint.
 _VEHICLE_TYPES = {1: "copter", 2: "plane", 3: "rover"}
 #: ``vehicle_status.arming_state`` value for "armed".
@@ -74,16 +77,21 @@ def read_ulog(path: str, instance: Optional[int] = None,
     ValueError
         ``decoder`` is not "fast" or "pyulog".
     """
-    if decoder not in ("fast", "pyulog"):
-        raise ValueError(f"decoder must be 'fast' or 'pyulog', got {decoder!r}")
-    want = 0 if instance is None else int(instance)
-    if want < 0:
-        raise LogError(f"instance must be 0 or more, got {want}")
-    if os.path.isdir(path):
-        raise LogError(f"{path}: is a directory, not a PX4 ULog")
+    want = checked_instance(path, instance, decoder, DECODERS, "a PX4 ULog")
     topics, missing_bytes = _decode_topics(path, decoder)
     if progress is not None:
         progress(1, 2)
+    try:
+        return _build(path, want, _topic_lookup(path, topics), progress, missing_bytes)
+    except LogError:
+        raise
+    except (KeyError, IndexError, ValueError) as error:  # a topic with unexpected fields
+        raise LogError(f"{path}: unexpected ULog content: {type(error).__name__}: {error}") from None
+
+
+def _topic_lookup(path: str, topics: dict):
+    """``topic(name, multi=0, needed=True)``: the data of one topic instance of ``topics``; a LogError naming the
+    topics the log has when a needed one is missing, None for a missing one not needed."""
     names = sorted({name for name, _ in topics})
 
     def topic(name, multi=0, needed=True):
@@ -95,12 +103,7 @@ def read_ulog(path: str, instance: Optional[int] = None,
                               else " not in the log; the log has no topic with data"))
         return None
 
-    try:
-        return _build(path, want, topic, progress, missing_bytes)
-    except LogError:
-        raise
-    except (KeyError, IndexError, ValueError) as error:  # a topic with unexpected fields
-        raise LogError(f"{path}: unexpected ULog content: {type(error).__name__}: {error}") from None
+    return topic
 
 
 def _decode_topics(path: str, decoder: str):

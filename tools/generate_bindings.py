@@ -671,12 +671,15 @@ EXTRA_STUBS = {
                  "def c_settings_from_bandwidth(omega: float, zeta: float, omega_b: float)"
                  " -> Tuple[int, Optional[Dict[str, float]]]: ...",
                  "def c_settings_from_preset(preset: int) -> Dict[str, float]: ...",
-                 "def c_settings_validate(values: Mapping[str, float], dt: float) -> int: ..."],
+                 "def c_settings_validate(values: Mapping[str, float], dt: float) -> int: ...",
+                 "def c_gains_check(position_gain: float, velocity_gain: float, bias_gain: float) -> int: ..."],
     "kalman": ["def kalman_status_message(status: int) -> str: ..."],
     "complementary": ["def status_message(status: int) -> str: ..."],
     "alphabeta": ["C_SENSOR_COUNT: int", "C_MAX_QUALITY: int", "def status_message(status: int) -> str: ...",
                   "def gains(quality: int) -> Tuple[float, float]: ...",
-                  "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ..."],
+                  "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ...",
+                  "def c_sensor_settings_check(sensor: AlphaBetaSensorSettings) -> int: ...",
+                  "def c_gap_period_check(gap_period: float) -> int: ..."],
     "ins": [],
     "flight": ["C_MACH_LOCKOUT: float", "C_NUMBER_OF_EVENTS: int", "def status_message(status: int) -> str: ..."],
 }

@@ -59,6 +59,24 @@ def c_default_settings():
     return _settings_dict(_c_default_settings())
 
 
+def c_sensor_settings_check(sensor):
+    """FusionAltitudeAlphaBetaSensorSettingsCheck of one sensor's settings (an AlphaBetaSensorSettings), from C."""
+    cdef FusionAltitudeAlphaBetaSensorSettings c
+    c.threshold, c.qualityMin, c.qualityMax, c.confidence = sensor[0], sensor[1], sensor[2], sensor[3]
+    c.altitudeMin, c.altitudeMax, c.gapMax, c.timeout = sensor[4], sensor[5], sensor[6], sensor[7]
+    return int(FusionAltitudeAlphaBetaSensorSettingsCheck(&c))
+
+
+def c_gap_period_check(float gap_period):
+    """FusionAltitudeAlphaBetaSettingsCheck of the default sensors with ``gap_period`` (s), from C: the status."""
+    cdef FusionAltitudeAlphaBetaSettings c = FusionAltitudeAlphaBetaSettingsDefault()
+    c.gapPeriod = gap_period
+    return int(FusionAltitudeAlphaBetaSettingsCheck(&c))
+
+
+_alphabeta_glue.C_SETTINGS_FUNCTIONS.update(check_sensor=c_sensor_settings_check, check_gap_period=c_gap_period_check)
+
+
 def _c_values(settings):
     """AlphaBetaSettings (or a {sensor: ...} dict, checked) → what ``_settings_to_c`` takes."""
     if not isinstance(settings, AlphaBetaSettings):

@@ -79,6 +79,14 @@ def _as_int32(value: object, name: str) -> int:
     return index
 
 
+#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
+#: binding (``_alphabeta.pyx``) registers them at import: ``"check_sensor"`` → ``c_sensor_settings_check``,
+#: ``"check_gap_period"`` → ``c_gap_period_check`` (the twins: ``reference/alphabeta.py``'s ``_sensor_status`` and
+#: ``_gap_period_status``). Without the compiled extension it stays empty
+#: (``tests/test_settings_checks.py`` holds each twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
 def convert_alphabeta_settings(kwargs: dict) -> dict:
     """``AlphaBetaSettings(**kwargs)`` arguments → {sensor: AlphaBetaSensorSettings of C-typed values,
     "gap_period": float32-rounded float (s, default 1.5)}.

@@ -160,3 +160,6 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
 def _restore(state):
     """A new filter holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(ComplementaryFilter, state)
+
+
+_complementary_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

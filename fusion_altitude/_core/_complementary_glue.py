@@ -50,6 +50,13 @@ COMPLEMENTARY_SETTINGS_NAMES = tuple(name for name, _, _ in COMPLEMENTARY_SETTIN
 COMPLEMENTARY_SETTINGS_DEFAULTS = {name: default for name, default, _ in COMPLEMENTARY_SETTINGS}
 
 
+#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
+#: binding (``_complementary.pyx``) registers them at import: ``"check"`` → ``c_settings_check`` (the twin:
+#: ``reference/complementary.py``'s ``_check``). Without the compiled extension it stays empty
+#: (``tests/test_settings_checks.py`` holds each twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
 def convert_complementary_settings(kwargs: dict) -> dict:
     """Settings keyword arguments → dict of Python values of the C types (float32-rounded floats, bool)."""
     unknown = set(kwargs) - set(COMPLEMENTARY_SETTINGS_NAMES)

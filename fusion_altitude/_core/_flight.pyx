@@ -174,3 +174,6 @@ def _restore(state):
 
 
 _common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)
+
+
+_flight_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

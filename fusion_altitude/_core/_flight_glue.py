@@ -84,8 +84,18 @@ def raise_update_error(status: int, accel: float, baro_altitude: float, dt: floa
     raise ValueError(f"{where} {rule}, got {value!r}")
 
 
+#: The C settings functions the settings class calls instead of the twins here, once the binding (``_flight.pyx``)
+#: registers them at import: ``"check"`` → ``c_settings_check`` (the twin: :func:`check_settings_values` without
+#: it). Without the compiled extension it stays empty (``tests/test_settings_checks.py`` holds the twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
 def check_settings_values(values: Dict[str, float]) -> RocketStatus:
-    """FusionAltitudeRocketSettingsCheck on the float fields (the observer gains are checked by the caller)."""
+    """FusionAltitudeRocketSettingsCheck on the float fields (the observer gains are checked by the caller): C's
+    (with the header's rocket observer) where the binding registered it, else the twin below."""
+    c_function = C_SETTINGS_FUNCTIONS.get("check")
+    if c_function is not None:
+        return RocketStatus(c_function({**values, "observer": ROCKET_OBSERVER}))
     for index, (name, _, rule, _) in enumerate(SETTINGS_FIELDS):
         value = np.float32(values[name])
         finite = bool(np.isfinite(value))

@@ -317,3 +317,6 @@ cdef class InsEstimator(_InsEstimatorGetters):
 def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(InsEstimator, state)
+
+
+_ins_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

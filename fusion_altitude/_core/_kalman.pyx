@@ -339,4 +339,4 @@ def _restore(state):
     return restore(KalmanEstimator, state)
 
 
-_kalman_glue.use_c_settings_functions(check=c_settings_check)
+_kalman_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

@@ -66,11 +66,6 @@ KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
 C_SETTINGS_FUNCTIONS: dict = {}
 
 
-def use_c_settings_functions(**functions) -> None:
-    """Called by the binding at import: the settings class computes with these C functions from then on."""
-    C_SETTINGS_FUNCTIONS.update(functions)
-
-
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
 KALMAN_MAXIMUM_SETTING = _c_tables.FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING
 

@@ -32,7 +32,16 @@ def c_settings_from_bandwidth(float omega, float zeta, float omega_b):
     return int(status), (_settings_from_c(&c) if status == FusionAltitudeStatusOk else None)
 
 
-_observer_glue.use_c_settings_functions(from_bandwidth=c_settings_from_bandwidth)
+def c_gains_check(float position_gain, float velocity_gain, float bias_gain):
+    """FusionAltitudeSettingsCheck of the gains (with the default gap period and baro timeout), from C: the status."""
+    cdef FusionAltitudeSettings c = FusionAltitudeSettingsDefault()
+    c.positionGain = position_gain
+    c.velocityGain = velocity_gain
+    c.biasGain = bias_gain
+    return int(FusionAltitudeSettingsCheck(&c))
+
+
+_observer_glue.C_SETTINGS_FUNCTIONS.update(from_bandwidth=c_settings_from_bandwidth, check_gains=c_gains_check)
 
 
 def c_settings_from_preset(int preset):

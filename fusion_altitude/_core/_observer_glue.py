@@ -23,16 +23,12 @@ __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs",
 PRESET_OMEGA = dict(OBSERVER_PRESET_OMEGA)
 
 
-#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
-#: binding (``_observer.pyx``) registers them at import: ``"from_bandwidth"`` → ``c_settings_from_bandwidth``.
-#: Without the compiled extension it stays empty and the reference's twins compute (``tests/test_observer.py``
-#: holds the twins equal to C).
+#: The C settings functions the settings classes call instead of the reference's arithmetic twins, once the
+#: binding (``_observer.pyx``) registers them at import: ``"from_bandwidth"`` → ``c_settings_from_bandwidth``,
+#: ``"check_gains"`` → ``c_gains_check`` (also the rocket settings' observer check). Without the compiled
+#: extension it stays empty and the reference's twins compute (``tests/test_settings_checks.py`` and
+#: ``tests/test_observer.py`` hold the twins equal to C).
 C_SETTINGS_FUNCTIONS: dict = {}
-
-
-def use_c_settings_functions(**functions) -> None:
-    """Called by the binding at import: the settings class computes with these C functions from then on."""
-    C_SETTINGS_FUNCTIONS.update(functions)
 
 
 #: Index of each preset in the C enum ``FusionAltitudePreset``.

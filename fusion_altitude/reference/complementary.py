@@ -90,7 +90,7 @@ class ComplementarySettings(KeywordSettings):
 
     def __init__(self, **kwargs) -> None:
         values = _complementary_glue.convert_complementary_settings(kwargs)
-        status = _check(values)
+        status = _complementary_glue.C_SETTINGS_FUNCTIONS.get("check", _check)(values)  # C where built
         if status != ComplementaryStatus.OK:
             _complementary_glue.raise_complementary_settings_error(status, values)
         self._values = values

@@ -206,3 +206,104 @@ def test_the_twin_of_the_rocket_check_equals_c(changes):
        observer=st.none() | st.tuples(VALUES, VALUES, VALUES))
 def test_rocket_settings_raise_the_same_error_with_c_as_with_the_twin(changes, observer):
     assert_c_and_twin_agree(lambda: reference_flight.RocketSettings(observer=observer, **changes))
+
+
+# -- the rules, written once in the headers ---------------------------------------------------------------------
+
+def _generator():
+    import importlib
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    return importlib.import_module("generate_bindings")
+
+
+def test_every_field_of_every_settings_struct_has_a_rule_in_its_header():
+    generator = _generator()
+    base = generator.parse_header(generator.CSRC / "fusion_altitude.h")
+    for header_name, _, settings, _ in generator.MODULES.values():
+        header = generator.parse_header(generator.CSRC / header_name, base)
+        structs = [settings] + [f.ctype for f in header.structs[settings] if f.ctype in header.structs]
+        missing = [f"{struct}.{f.name}" for struct in structs for f in header.structs[struct] if not f.rule]
+        assert not missing, f"{header_name}: no [rule: ...] in the comment of {', '.join(missing)}"
+
+
+def test_a_settings_field_without_a_rule_stops_the_generator():
+    generator = _generator()
+    header = generator.parse_header(generator.CSRC / "fusion_altitude_complementary.h",
+                                    generator.parse_header(generator.CSRC / "fusion_altitude.h"))
+    header.structs["FusionAltitudeComplementarySettings"][0].rule = ""
+    try:
+        generator.rules_table("complementary", header, "FusionAltitudeComplementary",
+                              "FusionAltitudeComplementarySettings", "COMPLEMENTARY_RULES")
+    except SystemExit as stop:
+        assert "accelTimeConstant has no [rule: ...]" in str(stop)
+    else:
+        raise AssertionError("the generator wrote a rules table with a field that has no rule")
+
+
+def _breaking(terms, value):
+    """Values that break one of ``terms`` each (the comparisons with a number, and "finite")."""
+    is_int = isinstance(value, int) and not isinstance(value, bool)
+    for term in terms:
+        if term == "finite" and not is_int:
+            yield math.nan
+            yield math.inf
+        elif isinstance(term, tuple) and not isinstance(term[1], str):
+            operator, bound = term
+            if is_int:
+                yield {">": bound, ">=": bound - 1, "<": bound, "<=": bound + 1}[operator]
+            else:
+                down, up = (float(np.nextafter(f32(bound), f32(direction))) for direction in (-math.inf, math.inf))
+                yield {">": float(f32(bound)), ">=": down, "<": float(f32(bound)), "<=": up}[operator]
+
+
+_COMPARE = {">": lambda a, b: a > b, ">=": lambda a, b: a >= b, "<": lambda a, b: a < b, "<=": lambda a, b: a <= b}
+
+#: Fields whose value at a bound of their own rule breaks a rule across fields that C checks with them (the
+#: Kalman filter's baro_noise · ground_effect_noise_scale <= 1e6; the observer's Routh-Hurwitz test on its gains).
+_CROSS_FIELD = {"baro_noise", "ground_effect_noise_scale", "position_gain", "velocity_gain", "bias_gain"}
+
+
+def _at_bounds(terms, value):
+    """The values at the edge of what ``terms`` accept (a bound itself, or the next float32 inside it)."""
+    is_int = isinstance(value, int) and not isinstance(value, bool)
+    numeric = [term for term in terms if isinstance(term, tuple) and not isinstance(term[1], str)]
+    for operator, bound in numeric:
+        inward = math.inf if operator == ">" else -math.inf
+        edge = bound + (1 if operator == ">" else -1) if is_int and operator in "><" else \
+            bound if operator in (">=", "<=") or is_int else float(np.nextafter(f32(bound), f32(inward)))
+        if all(_COMPARE[op](edge, b) for op, b in numeric):
+            yield edge
+
+
+def _assert_c_checks_each_rule(rules, defaults, check):
+    """C rejects a value that breaks one term of a field's rule with the status the rule names, and accepts the
+    values at the edge of the rule."""
+    assert check(defaults) == 0
+    referenced = {term[1] for _, terms in rules.values() for term in terms if isinstance(term, tuple)}
+    for name, (status, terms) in rules.items():
+        for value in _breaking(terms, defaults[name]):
+            assert check({**defaults, name: value}) == status, (name, value)
+        if name in referenced or name in _CROSS_FIELD or any(isinstance(term, tuple) and isinstance(term[1], str)
+                                                             for term in terms):
+            continue
+        for value in _at_bounds(terms, defaults[name]):
+            assert check({**defaults, name: value}) == 0, (name, value)
+
+
+def test_c_checks_each_header_rule_rejecting_with_the_status_it_names_and_accepting_its_edges():
+    flat = ((_c_tables.OBSERVER_RULES, _observer.c_default_settings(), _observer.c_settings_check),
+            (_c_tables.KALMAN_RULES, _kalman.c_default_settings(), _kalman.c_settings_check),
+            (_c_tables.COMPLEMENTARY_RULES, _complementary.c_default_settings(), _complementary.c_settings_check),
+            (_c_tables.INS_RULES, _ins.c_default_settings(), _ins.c_settings_check),
+            ({name: rule for name, rule in _c_tables.FLIGHT_RULES.items() if name != "observer"},
+             _flight.c_default_settings(), _flight.c_settings_check))
+    for rules, defaults, check in flat:
+        _assert_c_checks_each_rule(rules, defaults, check)
+    for sensor in _alphabeta_glue.ALPHABETA_SENSORS:
+        defaults = _alphabeta_glue.ALPHABETA_DEFAULTS[sensor]._asdict()
+        _assert_c_checks_each_rule(
+            _c_tables.ALPHABETA_SENSOR_RULES, defaults,
+            lambda values: _alphabeta.c_sensor_settings_check(_alphabeta_glue.AlphaBetaSensorSettings(**values)))

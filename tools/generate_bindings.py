@@ -134,6 +134,7 @@ class Field:
     name: str
     dims: Tuple[str, ...]
     comment: str
+    rule: str = ""  # the ``[rule: ...]`` at the end of the comment (settings fields), without the brackets
 
     @property
     def python(self) -> str:
@@ -190,7 +191,8 @@ def parse_header(path: Path, known: Optional[Header] = None) -> Header:
             match = re.match(r"\s*((?:const\s+)?\w+(?:\s*\*)?)\s*(\w+)((?:\[\w+\])*);\s*(?:/\*\*<\s*(.*?)\s*\*/)?", line)
             if match:
                 dims = tuple(re.findall(r"\[(\w+)\]", match.group(3)))
-                fields.append(Field(match.group(1).replace(" ", ""), match.group(2), dims, match.group(4) or ""))
+                comment, rule = re.match(r"(.*?)\s*(?:\[rule: ([^\]]*)\])?$", match.group(4) or "").groups()
+                fields.append(Field(match.group(1).replace(" ", ""), match.group(2), dims, comment, rule or ""))
         header.structs[name] = fields
     getter = re.compile(r"(?:/\*\*((?:[^*]|\*(?!/))*)\*/\s*)?static inline (float|bool|int32_t|uint32_t) "
                         r"(FusionAltitude\w*?(?:Get|Is)(\w+))\(const (\w+) \*const \w+\) \{")
@@ -362,6 +364,57 @@ def settings_table(module: str, header: Header, struct: str, defaults: Dict[Tupl
     return lines + ["", ""]
 
 
+def _rule_terms(header: Header, struct: str, f: Field) -> str:
+    """The Python tuple of a field's rule terms: "finite", "any", "checked", or (operator, bound) with the bound a
+    number, a numeric constant of ``_c_tables`` or another field's Python name."""
+    terms = []
+    names = {g.name: g.python for g in header.structs[struct]}
+    for term in f.rule.split(";")[0].split(","):
+        term = term.strip()
+        match = re.fullmatch(r"(>=|<=|>|<) (\S+)", term)
+        if term in ("finite", "any", "checked"):
+            terms.append(repr(term))
+        elif match and re.fullmatch(r"-?[\d.]+(?:e-?\d+)?", match.group(2)):
+            terms.append(f"({match.group(1)!r}, {match.group(2)})")
+        elif match and match.group(2).startswith("FUSION_ALTITUDE_"):
+            terms.append(f"({match.group(1)!r}, {match.group(2)})")
+        elif match and match.group(2) in names:
+            terms.append(f"({match.group(1)!r}, {names[match.group(2)]!r})")
+        else:
+            raise SystemExit(f"generate_bindings: {struct}.{f.name}: cannot read the rule term {term!r}")
+    return "(" + ", ".join(terms) + ("," if len(terms) == 1 else "") + ")"
+
+
+def rules_table(module: str, header: Header, prefix: str, struct: str, table: str) -> List[str]:
+    """``<table>``: the rule of every field of ``struct``, from the ``[rule: terms; else Status]`` at the end of its
+    comment in the header; a field without one stops the generator (every setting says what it accepts)."""
+    status = header.enums[f"{prefix}Status"]
+    lines = [f"#: The rule of each field of ``{struct}`` (the ``[rule: ...; else Status]`` of its comment in the header):",
+             "#: Python name → (status when broken, terms); a term is \"finite\", \"any\" (no rule), \"checked\" (a struct",
+             "#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.",
+             f"{table} = {{"]
+    for f in header.structs[struct]:
+        if not f.rule:
+            raise SystemExit(f"generate_bindings: {header.path.name}: {struct}.{f.name} has no [rule: ...] in its "
+                             "comment (e.g. /**< s, ... [rule: finite, > 0; else InvalidGapPeriod] */)")
+        name = f.rule.partition("; else ")[2].strip()
+        if name and f"{prefix}Status{name}" not in [m for m, _ in status.members]:
+            raise SystemExit(f"generate_bindings: {struct}.{f.name}: no status {prefix}Status{name}")
+        python_status = f"{ENUM_NAMES[status.cname]}.{upper_snake(name)}" if name else "None"
+        lines.append(f"    {f.python!r}: ({python_status}, {_rule_terms(header, struct, f)}),")
+    return lines + ["}", "", ""]
+
+
+def settings_rules(module: str, header: Header, prefix: str, struct: str) -> List[str]:
+    """The rules tables of a settings struct: ``<MODULE>_RULES``, and ``<MODULE>_SENSOR_RULES`` for the per-sensor
+    struct it holds."""
+    lines = []
+    for f in header.structs[struct]:
+        if f.ctype in header.structs and f.dims:
+            lines += rules_table(module, header, prefix, f.ctype, f"{module.upper()}_SENSOR_RULES")
+    return lines + rules_table(module, header, prefix, struct, f"{module.upper()}_RULES")
+
+
 def presets_table(module: str, header: Header, prefix: str, struct: str,
                   defaults: Dict[Tuple[str, ...], str]) -> List[str]:
     """``<MODULE>_PRESETS`` (``...SettingsFromPreset`` of each preset, read from C) and ``<MODULE>_PRESET_OMEGA``
@@ -414,6 +467,7 @@ def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
         out += [")", "", ""]
         if settings:
             out += settings_table(module, header, settings, defaults[module])
+            out += settings_rules(module, header, prefix, settings)
             out += presets_table(module, header, prefix, settings, defaults[module])
     out.append("#: Status messages of each estimator class, for ``Estimator.status_message``.")
     out.append("STATUS_MESSAGES = {")

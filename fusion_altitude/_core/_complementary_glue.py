@@ -35,13 +35,16 @@ class ComplementaryBatch(NamedTuple):
     baro_velocity: np.ndarray
 
 
-#: Complementary settings in the order of the C struct: (name, default, kind), the defaults read from
+#: The kind of a setting by the status its rule gives (``_c_tables.COMPLEMENTARY_RULES``, from the header).
+_KINDS = {ComplementaryStatus.INVALID_TIME_CONSTANT: "t", ComplementaryStatus.INVALID_COEFFICIENT: "c",
+          ComplementaryStatus.INVALID_GAP_PERIOD: "g", ComplementaryStatus.INVALID_BARO_TIMEOUT: "o", None: "b"}
+
+#: Complementary settings in the order of the C struct: (name, default, kind), the defaults and rules read from
 #: the header (:mod:`fusion_altitude._c_tables`). kind "t": time constant s (finite, >= 0); "c":
 #: coefficient in [0, 1]; "b": bool; "g": gap period s (> 0, inf: never a gap); "o": baro timeout s (> 0, inf:
 #: never times out).
-COMPLEMENTARY_SETTINGS = tuple((name, default, "b" if kind == "b" else "c" if name.endswith("_coefficient")
-                                else "g" if name == "gap_period" else "o" if name == "baro_timeout" else "t")
-                               for name, _, kind, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
+COMPLEMENTARY_SETTINGS = tuple((name, default, _KINDS[_c_tables.COMPLEMENTARY_RULES[name][0]])
+                               for name, _, _, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
 
 
 COMPLEMENTARY_SETTINGS_NAMES = tuple(name for name, _, _ in COMPLEMENTARY_SETTINGS)

@@ -29,15 +29,19 @@ CSV_EVENTS = ("launch", "burnout", "apogee", "main", "landed")
 #: Speed above which the baro is always locked out, m/s (FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT).
 MACH_LOCKOUT = _c_tables.FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 
+def _rule(terms: tuple) -> str:
+    """The name of a field's rule terms (``_c_tables.FLIGHT_RULES``, from the header)."""
+    if "finite" not in terms:
+        return "gap"
+    if ("<=", 1) in terms:
+        return "rate"
+    return "positive" if (">", 0) in terms else "non_negative" if (">=", 0) in terms else "finite"
+
+
 #: The check of each settings field after ``observer`` (FusionAltitudeRocketSettingsCheck): "positive",
-#: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed).
-SETTINGS_RULES = {
-    "stationary_accel": "positive", "calibration_window": "positive", "launch_accel": "positive",
-    "launch_time": "non_negative", "burnout_accel": "finite", "burnout_time": "non_negative",
-    "apogee_margin": "non_negative", "lockout_speed": "positive", "spike_threshold": "positive",
-    "spike_time": "non_negative", "offset_rate": "rate", "main_altitude": "non_negative", "landed_speed": "positive",
-    "landed_time": "non_negative", "gap_period": "gap", "baro_launch_height": "positive",
-}
+#: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed): the ``[rule: ...]`` of each field's
+#: comment in the header (:data:`fusion_altitude._c_tables.FLIGHT_RULES`).
+SETTINGS_RULES = {name: _rule(terms) for name, (_, terms) in _c_tables.FLIGHT_RULES.items() if name != "observer"}
 
 #: Settings fields after the observer settings, in C declaration (and check) order: (name, default, rule, unit),
 #: the defaults and units read from the header (:mod:`fusion_altitude._c_tables`).

@@ -21,10 +21,9 @@ from ._common import GRAVITY, as_float, check_no_overlap
 MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 
 
-#: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.
-POSITIVE_SETTINGS = frozenset({"accel_attitude_noise", "baro_noise", "zero_rate_noise", "zero_velocity_noise",
-                               "baro_bias_time_constant", "accel_bias_time_constant", "mag_time_constant",
-                               "gap_period", "baro_gate", "baro_timeout", "dead_reckoning_horizon"})
+#: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6: the
+#: ``[rule: ...]`` of each field's comment in the header (:data:`fusion_altitude._c_tables.INS_RULES`).
+POSITIVE_SETTINGS = frozenset(name for name, (_, terms) in _c_tables.INS_RULES.items() if (">", 0) in terms)
 
 #: INS settings: (Python name, C name, default, rule), in the order of the C struct FusionAltitudeInsSettings,
 #: the defaults read from the header (:mod:`fusion_altitude._c_tables`). Rules: ">=0" finite in [0, 1e6],

@@ -28,32 +28,23 @@ class KalmanSensors(NamedTuple):
     gps: object
 
 
-#: The status group and rule of each Kalman setting (the defaults, kinds and order come from the
-#: header through :mod:`fusion_altitude._c_tables`). Rules: ">=0", ">0", ">=1", ">range_min".
-_KALMAN_RULES = {
-    "estimate_accel_bias": (None, None),
-    "baro_noise": (KalmanStatus.INVALID_NOISE, ">0"),
-    "range_noise": (KalmanStatus.INVALID_NOISE, ">0"),
-    "range_min": (KalmanStatus.INVALID_RANGE, ">=0"),
-    "range_max": (KalmanStatus.INVALID_RANGE, ">range_min"),
-    "gps_noise_base": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gps_noise_satellite": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gps_min_satellites": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gate": (KalmanStatus.INVALID_GATE, ">0"),
-    "rejection_timeout": (KalmanStatus.INVALID_GATE, ">=0"),
-    "ground_effect_noise_scale": (KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
-    "ground_effect_dead_zone": (KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
-    "gap_period": (KalmanStatus.INVALID_GAP_PERIOD, "gap"),
-    "baro_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-    "range_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-    "gps_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-}
+def _rule(terms: tuple) -> Optional[str]:
+    """The message of a field's rule terms (``_c_tables.KALMAN_RULES``, from the header): ">0", ">=0", ">=1",
+    ">range_min", "gap" (> 0, +inf allowed) or None (no rule)."""
+    if "any" in terms:
+        return None
+    if "finite" not in terms and (">", 0) in terms:
+        return "gap"
+    for term, rule in (((">", "range_min"), ">range_min"), ((">=", 1), ">=1"), ((">", 0), ">0")):
+        if term in terms:
+            return rule
+    return ">=0"
 
 
 #: Kalman settings: (Python name, default, kind, status group, rule), in the order of the C struct
-#: FusionAltitudeKalmanSettings. kind: "f" float32, "b" bool, "i" int32. A setting the table above
-#: does not name is a noise (INVALID_NOISE, ">=0").
-KALMAN_SETTINGS = tuple((name, default, kind, *_KALMAN_RULES.get(name, (KalmanStatus.INVALID_NOISE, ">=0")))
+#: FusionAltitudeKalmanSettings. kind: "f" float32, "b" bool, "i" int32; the status group and rule are the
+#: ``[rule: ...]`` of the field's comment in the header (:data:`fusion_altitude._c_tables.KALMAN_RULES`).
+KALMAN_SETTINGS = tuple((name, default, kind, _c_tables.KALMAN_RULES[name][0], _rule(_c_tables.KALMAN_RULES[name][1]))
                         for name, _, kind, default, _ in _c_tables.KALMAN_SETTINGS)
 
 

@@ -482,16 +482,31 @@ def _py_of(kind: str, expr: str) -> str:
     return {"b": f"bool({expr})", "i": f"int({expr})", "u": f"int({expr})", "e": f"int(<int>{expr})"}.get(kind, expr)
 
 
-def generate_pxi(module: str, header: Header) -> str:
-    _, prefix, settings, state = MODULES[module]
-    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_core/_{module}.pyx, after its cimports.", ""]
+#: The settings class of each binding: the reference's (``fusion_altitude.reference.<module>``).
+SETTINGS_CLASSES = {"observer": "AltitudeSettings", "kalman": "KalmanSettings", "complementary": "ComplementarySettings",
+                    "alphabeta": "AlphaBetaSettings", "ins": "InsSettings", "flight": "RocketSettings"}
+
+
+def binding_preamble(module: str) -> List[str]:
+    """What every binding imports (one place, as PyWavelets' shared templates): the C declarations, the
+    ``Estimator`` base, the glue and the reference's settings class and checkpoint ``restore``."""
+    return ["from fusion_altitude._core._convert cimport as_double as _as_double",
+            "from fusion_altitude._core._estimator cimport Estimator",
+            f"from fusion_altitude._core.{PXD_NAMES[module][:-4]} cimport *", "",
+            f"from fusion_altitude._core import _common, _{module}_glue",
+            "from fusion_altitude.reference._checkpoint import restore",
+            f"from fusion_altitude.reference.{module} import {SETTINGS_CLASSES[module]}", "", ""]
+
+
+def enum_values(module: str, header: Header) -> List[str]:
+    """``C_<ENUM>_VALUES``: the binding's enums as the compiler sees them, and ``c_status_message``."""
+    prefix = MODULES[module][1]
+    out = []
     for enum in header.enums.values():
-        if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix):
-            continue
-        if not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members):
-            continue
         suffix = enum.cname[len(prefix):]
-        if suffix not in ("Status", "Result", "Preset", "Phase", "Baro", "EventId"):
+        if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix) \
+                or not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members) \
+                or suffix not in ("Status", "Result", "Preset", "Phase", "Baro", "EventId"):
             continue
         variable = "C_STATUS_VALUES" if suffix == "Status" else f"C_{suffix.upper()}_VALUES"
         out.append(f"#: The C enum {enum.cname}, as the compiler sees it (the generated Python enum must equal it).")
@@ -499,46 +514,76 @@ def generate_pxi(module: str, header: Header) -> str:
         for member, _ in enum.members:
             out.append(f"    {upper_snake(member[len(enum_prefix(enum)):])!r}: {member},")
         out += ["}", "", ""]
-    out += [f"def c_status_message(int status):",
-            f'    """{prefix}StatusMessage(status), from C."""',
-            f"    return {prefix}StatusMessage(<{prefix}Status>status).decode(\"ascii\")", "", ""]
+    return out + [f"def c_status_message(int status):",
+                  f'    """{prefix}StatusMessage(status), from C."""',
+                  f"    return {prefix}StatusMessage(<{prefix}Status>status).decode(\"ascii\")", "", ""]
+
+
+def nested_settings_conversions(header: Header, settings: str) -> List[str]:
+    """``_settings_to_c``/``_settings_from_c`` of a settings struct that starts with an array of per-sensor structs."""
     fields = header.structs[settings]
-    nested = fields[0].ctype in header.structs and bool(fields[0].dims)
-    if nested:
-        inner = fields[0]
-        sub = header.structs[inner.ctype]
-        count = header.defines[inner.dims[0]]
-        out += [f"cdef {settings} _settings_to_c(object values) except *:",
-                f'    """{{"{inner.python}": [{{field: value}} per sensor], other field: value}} (checked Python values)'
-                f' → {settings}."""',
-                f"    cdef {settings} c", "    cdef int i",
-                f"    for i, sensor in enumerate(values[{inner.python!r}]):"]
-        out += [f"        c.{inner.name}[i].{f.name} = sensor[{f.python!r}]" for f in sub]
-        out += [f"    c.{f.name} = values[{f.python!r}]" for f in fields[1:]]
-        out += ["    return c", "", ""]
-        out += [f"cdef dict _settings_from_c(const {settings} *c):",
-                f'    """{settings} → {{"{inner.python}": [{{field: value}} per sensor], other field: value}}."""',
-                "    cdef int i", f"    return {{{inner.python!r}: [{{"]
-        out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], f'c.{inner.name}[i].{f.name}')},"
-                for f in sub]
-        out += [f"    }} for i in range({count})],"]
-        out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], 'c.' + f.name)}," for f in fields[1:]]
-        out += ["    }", "", ""]
-    else:
-        out += [f"cdef {settings} _settings_to_c(object values) except *:",
-                f'    """{{name: value}} (checked Python values) → {settings}."""',
-                f"    cdef {settings} c"]
-        for f in fields:
-            if f.ctype in header.structs:  # a struct: the tuple of its fields in order
-                out += [f"    c.{f.name}.{g.name} = values[{f.python!r}][{k}]"
-                        for k, g in enumerate(header.structs[f.ctype])]
-            else:
-                out.append(f"    c.{f.name} = values[{f.python!r}]")
-        out += ["    return c", "", ""]
-        out += [f"cdef dict _settings_from_c(const {settings} *c):",
-                f'    """{settings} → {{name: value}} in the struct\'s order."""', "    return {"]
-        out += [f"        {f.python!r}: {_struct_get(header, f.ctype, 'c.' + f.name)}," for f in fields]
-        out += ["    }", "", ""]
+    inner = fields[0]
+    sub = header.structs[inner.ctype]
+    count = header.defines[inner.dims[0]]
+    out = [f"cdef {settings} _settings_to_c(object values) except *:",
+           f'    """{{"{inner.python}": [{{field: value}} per sensor], other field: value}} (checked Python values)'
+           f' → {settings}."""',
+           f"    cdef {settings} c", "    cdef int i",
+           f"    for i, sensor in enumerate(values[{inner.python!r}]):"]
+    out += [f"        c.{inner.name}[i].{f.name} = sensor[{f.python!r}]" for f in sub]
+    out += [f"    c.{f.name} = values[{f.python!r}]" for f in fields[1:]]
+    out += ["    return c", "", ""]
+    out += [f"cdef dict _settings_from_c(const {settings} *c):",
+            f'    """{settings} → {{"{inner.python}": [{{field: value}} per sensor], other field: value}}."""',
+            "    cdef int i", f"    return {{{inner.python!r}: [{{"]
+    out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], f'c.{inner.name}[i].{f.name}')}," for f in sub]
+    out += [f"    }} for i in range({count})],"]
+    out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], 'c.' + f.name)}," for f in fields[1:]]
+    return out + ["    }", "", ""]
+
+
+def settings_conversions(header: Header, settings: str) -> List[str]:
+    """``_settings_to_c``/``_settings_from_c``: the settings dict ⇄ the C struct."""
+    fields = header.structs[settings]
+    if fields[0].ctype in header.structs and bool(fields[0].dims):
+        return nested_settings_conversions(header, settings)
+    out = [f"cdef {settings} _settings_to_c(object values) except *:",
+           f'    """{{name: value}} (checked Python values) → {settings}."""',
+           f"    cdef {settings} c"]
+    for f in fields:
+        if f.ctype in header.structs:  # a struct: the tuple of its fields in order
+            out += [f"    c.{f.name}.{g.name} = values[{f.python!r}][{k}]" for k, g in enumerate(header.structs[f.ctype])]
+        else:
+            out.append(f"    c.{f.name} = values[{f.python!r}]")
+    out += ["    return c", "", ""]
+    out += [f"cdef dict _settings_from_c(const {settings} *c):",
+            f'    """{settings} → {{name: value}} in the struct\'s order."""', "    return {"]
+    out += [f"        {f.python!r}: {_struct_get(header, f.ctype, 'c.' + f.name)}," for f in fields]
+    return out + ["    }", "", ""]
+
+
+def checkpoint_functions(module: str) -> List[str]:
+    """``_checked_settings`` (a checkpoint's settings through the settings class) and ``_restore``."""
+    estimator = ESTIMATORS[module]
+    return ["", "", "#: The settings in ``_get_state()``: the dict of ``_settings_from_c`` (a binding may rebind it after its include).",
+            "_settings_out = dict", "", "",
+            "def _checked_settings(values):",
+            '    """A checkpoint\'s settings ``values`` checked by the settings class, as :func:`_state_set` takes them."""',
+            f"    return {SETTINGS_CLASSES[module]}(**values).as_dict()", "", "",
+            "def _restore(state):",
+            '    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""',
+            f"    return restore({estimator}, state)", ""]
+
+
+def generate_pxi(module: str, header: Header) -> str:
+    """``_<module>_fields.pxi``: the imports, enums, settings conversions, state layout, getters, checkpoint
+    functions and class docstring of one binding, included at the top of ``_<module>.pyx``."""
+    _, prefix, settings, state = MODULES[module]
+    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_core/_{module}.pyx, after its own cimports.",
+           ""]
+    out += binding_preamble(module) + enum_values(module, header) + settings_conversions(header, settings)
+    fields = header.structs[settings]
+    nested = fields[0].ctype in header.structs and bool(fields[0].dims)  # per-sensor settings: a hand-written form
     out += [f"def {'_c_default_settings' if nested else 'c_default_settings'}():",
             f'    """{settings}Default(), from C, in the form :func:`_settings_from_c` gives."""',
             f"    cdef {settings} c = {settings}Default()",
@@ -548,7 +593,7 @@ def generate_pxi(module: str, header: Header) -> str:
             f"    cdef {settings} c = _settings_to_c(values)",
             f"    return int({settings}Check(&c))", "", ""]
     out += state_functions(header, state, settings)
-    out += getter_class(module, header, state)
+    out += getter_class(module, header, state) + checkpoint_functions(module)
     return "\n".join(out + class_doc(module)).rstrip() + "\n"
 
 
@@ -708,7 +753,12 @@ def getter_class(module: str, header: Header, state: str) -> List[str]:
         doc = g.doc.replace('"', "'").replace("\\", "\\\\")
         out += ["", "    @property", f"    def {g.python}(self):", f'        """{doc}"""',
                 f"        return {g.cname}(&self._c)"]
-    return out + [""]
+    return out + ["", "    def _get_state(self):",
+                  f'        """The fields of {state} in order (the settings as ``as_dict()``)."""',
+                  "        return _state_get(&self._c, _settings_out)", "",
+                  "    def _set_state(self, state):",
+                  f'        """A ``_get_state()`` (binding or reference) into {state}, the settings checked."""',
+                  "        _state_set(&self._c, tuple(state), _checked_settings)", ""]
 
 
 def _takes(header: Header, getter: Getter, state: str) -> bool:

@@ -49,7 +49,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/logs/cats.py:read_cats': 71,
     'fusion_altitude/sim/trajectories.py:apply_log_faults': 70,
     'fusion_altitude/reference/complementary.py:ComplementaryFilter._update': 70,
-    'tools/generate_bindings.py:generate_pxi': 68,
     'fusion_altitude/reference/kalman.py:KalmanEstimator._update': 68,
     'fusion_altitude/comparison.py:compare_log': 68,
     'fusion_altitude/sim/rocket_sim.py:simulate_rocket_flight': 67,

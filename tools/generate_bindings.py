@@ -493,7 +493,7 @@ def binding_preamble(module: str) -> List[str]:
     return ["from fusion_altitude._core._convert cimport as_double as _as_double",
             "from fusion_altitude._core._estimator cimport Estimator",
             f"from fusion_altitude._core.{PXD_NAMES[module][:-4]} cimport *", "",
-            f"from fusion_altitude._core import _common, _{module}_glue",
+            f"from fusion_altitude import _common, _{module}_glue  # (also sets fusion_altitude._{module}_glue)",
             "from fusion_altitude.reference._checkpoint import restore",
             f"from fusion_altitude.reference.{module} import {SETTINGS_CLASSES[module]}", "", ""]
 

@@ -5,7 +5,7 @@ from fusion_altitude._core._convert cimport as_double as _as_double
 from fusion_altitude._core._estimator cimport Estimator
 from fusion_altitude._core.ccomplementary cimport *
 
-from fusion_altitude._core import _common, _complementary_glue
+from fusion_altitude import _common, _complementary_glue  # (also sets fusion_altitude._complementary_glue)
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.complementary import ComplementarySettings
 

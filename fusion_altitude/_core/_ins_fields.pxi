@@ -5,7 +5,7 @@ from fusion_altitude._core._convert cimport as_double as _as_double
 from fusion_altitude._core._estimator cimport Estimator
 from fusion_altitude._core.cins cimport *
 
-from fusion_altitude._core import _common, _ins_glue
+from fusion_altitude import _common, _ins_glue  # (also sets fusion_altitude._ins_glue)
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.ins import InsSettings
 

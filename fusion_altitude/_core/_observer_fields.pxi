@@ -5,7 +5,7 @@ from fusion_altitude._core._convert cimport as_double as _as_double
 from fusion_altitude._core._estimator cimport Estimator
 from fusion_altitude._core.cobserver cimport *
 
-from fusion_altitude._core import _common, _observer_glue
+from fusion_altitude import _common, _observer_glue  # (also sets fusion_altitude._observer_glue)
 from fusion_altitude.reference._checkpoint import restore
 from fusion_altitude.reference.observer import AltitudeSettings
 

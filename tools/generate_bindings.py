@@ -567,6 +567,9 @@ def checkpoint_functions(module: str) -> List[str]:
     estimator = ESTIMATORS[module]
     return ["", "", "#: The settings in ``_get_state()``: the dict of ``_settings_from_c`` (a binding may rebind it after its include).",
             "_settings_out = dict", "", "",
+            "def _settings_error(status, values):",
+            '    """The error of settings C rejected (a binding may rebind it to its glue\'s, naming the field)."""',
+            '    raise ValueError(f"invalid settings: {c_status_message(status)}")', "", "",
             "def _checked_settings(values):",
             '    """A checkpoint\'s settings ``values`` checked by the settings class, as :func:`_state_set` takes them."""',
             f"    return {SETTINGS_CLASSES[module]}(**values).as_dict()", "", "",
@@ -742,6 +745,25 @@ def generate_pxd(module: str, header: Header, pxi: str) -> str:
     return "\n".join(out) + "\n"
 
 
+#: The bindings whose ``settings`` property has the plain form (read the struct, assign a checked settings object).
+SETTINGS_PROPERTY = ("kalman", "complementary", "ins")
+
+
+def settings_property(module: str, header: Header, state: str) -> List[str]:
+    """The ``settings`` property: the settings class from the struct; assigning one sets the struct (the settings
+    class checked it with the same C check; a rejection raises ``_settings_error(status, values)``)."""
+    _, prefix, settings, _ = MODULES[module]
+    name = SETTINGS_CLASSES[module]
+    return ["", "    @property", "    def settings(self):",
+            f'        """The settings (:class:`{name}`); assign new ones to retune, keeping the state."""',
+            f"        return {name}(**_settings_from_c(&self._c.settings))", "",
+            "    @settings.setter", "    def settings(self, settings):",
+            f"        cdef {settings} c = _settings_to_c({name}.coerce(settings).as_dict())",
+            f"        cdef int status = <int>{prefix}SetSettings(&self._c, &c)",
+            "        if status != 0:",
+            "            _settings_error(status, _settings_from_c(&c))"]
+
+
 def getter_class(module: str, header: Header, state: str) -> List[str]:
     """``cdef class _<Estimator>Getters(Estimator)``: the state struct and one property per scalar getter of the
     header (``...Get<Name>(const State *)``, ``...Is<Name>(const State *)``); the estimator derives from it."""
@@ -753,6 +775,8 @@ def getter_class(module: str, header: Header, state: str) -> List[str]:
         doc = g.doc.replace('"', "'").replace("\\", "\\\\")
         out += ["", "    @property", f"    def {g.python}(self):", f'        """{doc}"""',
                 f"        return {g.cname}(&self._c)"]
+    if module in SETTINGS_PROPERTY:
+        out += settings_property(module, header, state)
     return out + ["", "    def _get_state(self):",
                   f'        """The fields of {state} in order (the settings as ``as_dict()``)."""',
                   "        return _state_get(&self._c, _settings_out)", "",

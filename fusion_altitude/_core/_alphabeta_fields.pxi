@@ -165,6 +165,11 @@ cdef class _AlphaBetaFusionGetters(Estimator):
 _settings_out = dict
 
 
+def _settings_error(status, values):
+    """The error of settings C rejected (a binding may rebind it to its glue's, naming the field)."""
+    raise ValueError(f"invalid settings: {c_status_message(status)}")
+
+
 def _checked_settings(values):
     """A checkpoint's settings ``values`` checked by the settings class, as :func:`_state_set` takes them."""
     return AlphaBetaSettings(**values).as_dict()

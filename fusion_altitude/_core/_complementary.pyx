@@ -6,6 +6,7 @@ include "_complementary_fields.pxi"
 from fusion_altitude._core._complementary_glue import ComplementaryBatch
 
 status_message = c_status_message
+_settings_error = _complementary_glue.raise_complementary_settings_error
 
 
 cdef Py_ssize_t _run(FusionAltitudeComplementary *state, const float *accel, const float *baro, const float *dt,
@@ -114,18 +115,6 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
                 FusionAltitudeComplementaryCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                 a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result if out is None else out  # out=: the caller's object itself
-
-    @property
-    def settings(self):
-        """The settings; assign new :class:`ComplementarySettings` to retune, keeping the state."""
-        return ComplementarySettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, settings):
-        cdef FusionAltitudeComplementarySettings c = _settings_to_c(ComplementarySettings.coerce(settings).as_dict())
-        cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySetSettings(&self._c, &c)
-        if status != FusionAltitudeComplementaryStatusOk:
-            _complementary_glue.raise_complementary_settings_error(status, _settings_from_c(&c))
 
     def __repr__(self):
         return (f"ComplementaryFilter(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "

@@ -156,6 +156,18 @@ cdef class _ComplementaryFilterGetters(Estimator):
         """True once the reference is set; false from a gap to the next baro sample."""
         return FusionAltitudeComplementaryIsReferenceSet(&self._c)
 
+    @property
+    def settings(self):
+        """The settings (:class:`ComplementarySettings`); assign new ones to retune, keeping the state."""
+        return ComplementarySettings(**_settings_from_c(&self._c.settings))
+
+    @settings.setter
+    def settings(self, settings):
+        cdef FusionAltitudeComplementarySettings c = _settings_to_c(ComplementarySettings.coerce(settings).as_dict())
+        cdef int status = <int>FusionAltitudeComplementarySetSettings(&self._c, &c)
+        if status != 0:
+            _settings_error(status, _settings_from_c(&c))
+
     def _get_state(self):
         """The fields of FusionAltitudeComplementary in order (the settings as ``as_dict()``)."""
         return _state_get(&self._c, _settings_out)
@@ -168,6 +180,11 @@ cdef class _ComplementaryFilterGetters(Estimator):
 
 #: The settings in ``_get_state()``: the dict of ``_settings_from_c`` (a binding may rebind it after its include).
 _settings_out = dict
+
+
+def _settings_error(status, values):
+    """The error of settings C rejected (a binding may rebind it to its glue's, naming the field)."""
+    raise ValueError(f"invalid settings: {c_status_message(status)}")
 
 
 def _checked_settings(values):

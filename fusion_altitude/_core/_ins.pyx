@@ -99,16 +99,6 @@ cdef class InsEstimator(_InsEstimatorGetters):
         """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
         return self.altitude
 
-    @property
-    def settings(self):
-        """The settings (InsSettings); assigning one keeps the state."""
-        return InsSettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, value):
-        cdef FusionAltitudeInsSettings c = _settings_to_c(InsSettings.coerce(value).as_dict())
-        FusionAltitudeInsSetSettings(&self._c, &c)  # checked by InsSettings
-
     def reset(self):
         """Back to the start state (not aligned, FusionAltitudeInsInitialiseWith), keeping the settings and units."""
         cdef FusionAltitudeInsSettings c = self._c.settings

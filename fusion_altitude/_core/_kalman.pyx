@@ -14,6 +14,7 @@ import numpy as np
 from fusion_altitude._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
 
 kalman_status_message = c_status_message
+_settings_error = _kalman_glue.raise_kalman_settings_error
 
 
 #: An argument left out (update's keywords default to it, so that a name given twice in the deprecated
@@ -286,16 +287,6 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
     def gps_initialised(self):
         """Whether the GPS offset is set (first usable GPS sample seen)."""
         return bool(self._c.gpsInitialised)
-
-    @property
-    def settings(self):
-        """The settings; assign new :class:`KalmanSettings` to retune, keeping the state."""
-        return KalmanSettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, settings):
-        cdef FusionAltitudeKalmanSettings c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
-        FusionAltitudeKalmanSetSettings(&self._c, &c)
 
     def _set_state(self, state):
         state = list(state)

@@ -222,6 +222,18 @@ cdef class _KalmanEstimatorGetters(Estimator):
         """True while the GPS is timed out: no usable fix for longer than gpsTimeout (s)."""
         return FusionAltitudeKalmanIsGpsTimedOut(&self._c)
 
+    @property
+    def settings(self):
+        """The settings (:class:`KalmanSettings`); assign new ones to retune, keeping the state."""
+        return KalmanSettings(**_settings_from_c(&self._c.settings))
+
+    @settings.setter
+    def settings(self, settings):
+        cdef FusionAltitudeKalmanSettings c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
+        cdef int status = <int>FusionAltitudeKalmanSetSettings(&self._c, &c)
+        if status != 0:
+            _settings_error(status, _settings_from_c(&c))
+
     def _get_state(self):
         """The fields of FusionAltitudeKalman in order (the settings as ``as_dict()``)."""
         return _state_get(&self._c, _settings_out)
@@ -234,6 +246,11 @@ cdef class _KalmanEstimatorGetters(Estimator):
 
 #: The settings in ``_get_state()``: the dict of ``_settings_from_c`` (a binding may rebind it after its include).
 _settings_out = dict
+
+
+def _settings_error(status, values):
+    """The error of settings C rejected (a binding may rebind it to its glue's, naming the field)."""
+    raise ValueError(f"invalid settings: {c_status_message(status)}")
 
 
 def _checked_settings(values):

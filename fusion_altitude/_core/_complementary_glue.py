@@ -11,7 +11,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import ComplementaryStatus
-from ._common import as_float, output_arrays, raise_input_error
+from ._common import (ACCEL_FINITE, BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, input_rules, output_arrays,
+                      raise_input_error)
 
 
 class ComplementaryBatch(NamedTuple):
@@ -95,11 +96,8 @@ def raise_complementary_settings_error(status: int, values: dict) -> None:
     raise ValueError(f"invalid complementary settings (status {status})")
 
 
-_COMPLEMENTARY_UPDATE_RULES = {
-    ComplementaryStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
-    ComplementaryStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
-    ComplementaryStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-}
+_COMPLEMENTARY_UPDATE_RULES = input_rules(ComplementaryStatus, accel=ACCEL_FINITE, baro_altitude=BARO_SAMPLE_OR_NAN,
+                                          dt=DT_POSITIVE)
 
 
 def raise_complementary_update_error(status: int, accel: float, baro_altitude: float, dt: float,

@@ -16,7 +16,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import BaroFate, Phase, RocketEventId, RocketStatus
-from ._common import as_float, as_float32_vector, check_no_overlap
+from ._common import (BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, as_float32_vector, check_no_overlap, input_rules,
+                      raise_input_error)
 from ._observer_glue import prepare_inputs
 
 
@@ -72,20 +73,15 @@ def raise_settings_error(status: int, values: Dict[str, float]) -> None:
     raise ValueError(f"{name} {_RULE_TEXT[rule]} ({unit}), got {values[name]!r}")
 
 
-_UPDATE_RULES = {
-    RocketStatus.INVALID_ACCEL: ("accel", "must be finite, or NaN for no accelerometer sample (m/s²)"),
-    RocketStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
-    RocketStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-}
+_UPDATE_RULES = input_rules(RocketStatus, accel="must be finite, or NaN for no accelerometer sample (m/s²)",
+                            baro_altitude=BARO_SAMPLE_OR_NAN, dt=DT_POSITIVE)
 
 
 def raise_update_error(status: int, accel: float, baro_altitude: float, dt: float, index: Optional[int] = None,
                        dt_is_array: bool = False) -> None:
     """Raise the ValueError for a rejected update, naming the argument (and the first bad index)."""
-    name, rule = _UPDATE_RULES[RocketStatus(status)]
-    value = {"accel": accel, "baro_altitude": baro_altitude, "dt": dt}[name]
-    where = name if index is None or (name == "dt" and not dt_is_array) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {value!r}")
+    raise_input_error(_UPDATE_RULES, RocketStatus(status), {"accel": accel, "baro_altitude": baro_altitude, "dt": dt},
+                      index, {"dt": dt_is_array})
 
 
 #: The C settings functions the settings class calls instead of the twins here, once the binding (``_flight.pyx``)

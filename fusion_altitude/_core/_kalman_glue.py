@@ -12,7 +12,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import KalmanResult, KalmanStatus
-from ._common import as_float, optional_inputs, output_arrays, raise_input_error
+from ._common import (ACCEL_FINITE, DT_POSITIVE, SAMPLE_OR_NAN, as_float, input_rules, optional_inputs, output_arrays,
+                      raise_input_error)
 
 
 #: The positional order of ``update`` after accel before 0.2 (still accepted, deprecated).
@@ -125,13 +126,9 @@ def raise_kalman_settings_error(status: int, values: dict) -> None:
     raise ValueError(f"invalid Kalman settings (status {status})")
 
 
-_KALMAN_UPDATE_RULES = {
-    KalmanStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
-    KalmanStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-    KalmanStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no sample (m)"),
-    KalmanStatus.INVALID_GPS_ALTITUDE: ("gps_altitude", "must be finite, or NaN for no sample (m)"),
-    KalmanStatus.INVALID_GPS_ACCURACY: ("gps_vertical_accuracy", "must be finite and > 0 (m), or None/NaN if not reported"),
-}
+_KALMAN_UPDATE_RULES = input_rules(
+    KalmanStatus, accel=ACCEL_FINITE, dt=DT_POSITIVE, baro_altitude=SAMPLE_OR_NAN, gps_altitude=SAMPLE_OR_NAN,
+    gps_vertical_accuracy=("INVALID_GPS_ACCURACY", "must be finite and > 0 (m), or None/NaN if not reported"))
 
 
 def raise_kalman_update_error(status: int, values: dict, index: Optional[int] = None,

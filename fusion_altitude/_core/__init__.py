@@ -7,9 +7,9 @@ holds no copy of the algorithm. Its settings class is the reference's (``fusion_
 converted to the C struct. What every binding has in the same form is generated from its header into
 ``_<estimator>_fields.pxi``, which it includes first: its imports (the C declarations, the ``Estimator`` base, the
 glue, the settings class), the enums, the settings and state conversions, the getters, ``_get_state``/``_set_state``,
-``_restore``, ``c_settings_check`` (registered in the glue's ``C_SETTINGS_FUNCTIONS`` for the settings class) and
-the class docstring. The binding writes by hand only what is its own: ``update``, ``update_batch``, ``reset`` and
-the settings property."""
+``_restore``, ``c_settings_check`` (registered in the glue's ``C_SETTINGS_FUNCTIONS`` for the settings class), the
+plain ``settings`` property (Kalman, complementary, INS) and the class docstring. The binding writes by hand only
+what is its own: ``update``, ``update_batch``, ``reset``, the C loop of a batch and any other ``settings`` form."""
 
 
 def installed_extension_folder(init_file: str, subpackage: str, module: str):

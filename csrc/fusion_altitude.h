@@ -174,11 +174,11 @@ typedef enum {
  * polynomial s^3 + positionGain*s^2 + velocityGain*s + biasGain.
  */
 typedef struct {
-    float positionGain; /**< Kh, 1/s: baro residual into altitude */
-    float velocityGain; /**< Kv, 1/s^2: baro residual into vertical velocity */
-    float biasGain;     /**< Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation */
-    float gapPeriod;    /**< s: an update whose dt exceeds this is a gap, not integrated (default FUSION_ALTITUDE_DEFAULT_GAP_PERIOD) */
-    float baroTimeout;  /**< s: after this long without a baro sample the observer stops dead-reckoning (default FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT; +infinity: never) */
+    float positionGain; /**< Kh, 1/s: baro residual into altitude [rule: finite, >= 0, <= FUSION_ALTITUDE_MAXIMUM_GAIN; else InvalidGain] */
+    float velocityGain; /**< Kv, 1/s^2: baro residual into vertical velocity [rule: finite, >= 0, <= FUSION_ALTITUDE_MAXIMUM_GAIN; else InvalidGain] */
+    float biasGain;     /**< Kb, 1/s^3: baro residual into accel bias; 0 disables bias estimation [rule: finite, >= 0, <= FUSION_ALTITUDE_MAXIMUM_GAIN; else InvalidGain] */
+    float gapPeriod;    /**< s: an update whose dt exceeds this is a gap, not integrated (default FUSION_ALTITUDE_DEFAULT_GAP_PERIOD) [rule: > 0; else InvalidGapPeriod] */
+    float baroTimeout;  /**< s: after this long without a baro sample the observer stops dead-reckoning (default FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT; +infinity: never) [rule: > 0; else InvalidBaroTimeout] */
 } FusionAltitudeSettings;
 
 /** Observer state. Read it through the Get functions. */

@@ -226,20 +226,20 @@ typedef enum {
 
 /** One sensor's settings. */
 typedef struct {
-    float threshold;     /**< m, > 0: |z - hPred| up to this counts as agreement */
-    int32_t qualityMin;  /**< Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable) */
-    int32_t qualityMax;  /**< Qmax, samples, >= Qmin */
-    float confidence;    /**< in [0, 1e6]: weight = Q * confidence */
-    float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) */
-    float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) */
-    float gapMax;        /**< m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity) */
-    float timeout;       /**< s, > 0: weight 0 after this long without a sample; the next sample restarts the filter */
+    float threshold;     /**< m, > 0: |z - hPred| up to this counts as agreement [rule: finite, > 0; else InvalidThreshold] */
+    int32_t qualityMin;  /**< Qmin, samples, >= 2 (Q = 1 gives alpha = 1, beta = 3: unstable) [rule: >= 2; else InvalidQuality] */
+    int32_t qualityMax;  /**< Qmax, samples, >= Qmin [rule: >= qualityMin, <= FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY; else InvalidQuality] */
+    float confidence;    /**< in [0, 1e6]: weight = Q * confidence [rule: finite, >= 0, <= FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE; else InvalidConfidence] */
+    float altitudeMin;   /**< m: weight 0 when hPred < this (may be -infinity) [rule: < altitudeMax; else InvalidAltitudeBand] */
+    float altitudeMax;   /**< m: weight 0 when hPred > this (may be +infinity) [rule: > altitudeMin; else InvalidAltitudeBand] */
+    float gapMax;        /**< m, > 0: weight 0 while the latest sample's |z - hPred| > this (may be +infinity) [rule: > 0; else InvalidGapMax] */
+    float timeout;       /**< s, > 0: weight 0 after this long without a sample; the next sample restarts the filter [rule: finite, > 0; else InvalidTimeout] */
 } FusionAltitudeAlphaBetaSensorSettings;
 
 /** Settings: one entry per sensor channel, in FusionAltitudeAlphaBetaSensorIndex order, and the gap period. */
 typedef struct {
-    FusionAltitudeAlphaBetaSensorSettings sensors[FUSION_ALTITUDE_ALPHABETA_SENSORS];
-    float gapPeriod; /**< s: an update whose dt exceeds this is a gap, not integrated; also the longest dead reckoning (default 1.5 s) */
+    FusionAltitudeAlphaBetaSensorSettings sensors[FUSION_ALTITUDE_ALPHABETA_SENSORS]; /**< [rule: checked] */
+    float gapPeriod; /**< s: an update whose dt exceeds this is a gap, not integrated; also the longest dead reckoning (default 1.5 s) [rule: > 0; else InvalidGapPeriod] */
 } FusionAltitudeAlphaBetaSettings;
 
 /** One step's samples (m). NaN means "no sample this step". */

@@ -131,15 +131,15 @@ typedef enum {
 
 /** Settings. */
 typedef struct {
-    float accelTimeConstant;    /**< tauA, s, >= 0: accel low-pass (0: none) */
-    float baroTimeConstant;     /**< tauB, s, >= 0: baro low-pass (0: none) */
-    bool perSampleCoefficients; /**< true: cV, cH are the fixed coefficients below; false: from TV, TH */
-    float velocityCoefficient;  /**< cV in [0, 1], per baro sample (used when perSampleCoefficients) */
-    float altitudeCoefficient;  /**< cH in [0, 1], per baro sample (used when perSampleCoefficients) */
-    float velocityTimeConstant; /**< TV, s, >= 0: cV = TV/(TV + D) (used otherwise) */
-    float altitudeTimeConstant; /**< TH, s, >= 0: cH = TH/(TH + D) (used otherwise) */
-    float gapPeriod;            /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
-    float baroTimeout;          /**< s: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never) */
+    float accelTimeConstant;    /**< tauA, s, >= 0: accel low-pass (0: none) [rule: finite, >= 0; else InvalidTimeConstant] */
+    float baroTimeConstant;     /**< tauB, s, >= 0: baro low-pass (0: none) [rule: finite, >= 0; else InvalidTimeConstant] */
+    bool perSampleCoefficients; /**< true: cV, cH are the fixed coefficients below; false: from TV, TH [rule: any] */
+    float velocityCoefficient;  /**< cV in [0, 1], per baro sample (used when perSampleCoefficients) [rule: finite, >= 0, <= 1; else InvalidCoefficient] */
+    float altitudeCoefficient;  /**< cH in [0, 1], per baro sample (used when perSampleCoefficients) [rule: finite, >= 0, <= 1; else InvalidCoefficient] */
+    float velocityTimeConstant; /**< TV, s, >= 0: cV = TV/(TV + D) (used otherwise) [rule: finite, >= 0; else InvalidTimeConstant] */
+    float altitudeTimeConstant; /**< TH, s, >= 0: cH = TH/(TH + D) (used otherwise) [rule: finite, >= 0; else InvalidTimeConstant] */
+    float gapPeriod;            /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) [rule: > 0; else InvalidGapPeriod] */
+    float baroTimeout;          /**< s: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never) [rule: > 0; else InvalidBaroTimeout] */
 } FusionAltitudeComplementarySettings;
 
 /** Filter state. Read it through the Get functions. */

@@ -275,23 +275,23 @@ typedef struct {
 
 /** Settings. Start from FusionAltitudeRocketSettingsDefault(). */
 typedef struct {
-    FusionAltitudeSettings observer; /**< observer gains in flight (bias gain forced to 0 after apogee) */
-    float stationaryAccel;   /**< m/s^2: pad samples within this of the window's first are stationary */
-    float calibrationWindow; /**< s: length of a pad calibration window */
-    float launchAccel;       /**< m/s^2: accel - bias above this ... */
-    float launchTime;        /**< s: ... for this long declares launch */
-    float burnoutAccel;      /**< m/s^2: accel - bias below this ... */
-    float burnoutTime;       /**< s: ... for this long declares burnout */
-    float apogeeMargin;      /**< m/s: apogee when v < -apogeeMargin (the crossing of zero, past the estimate's noise) */
-    float lockoutSpeed;      /**< m/s: baro locked out while |v| is above this (and always above Mach 0.8) */
-    float spikeThreshold;    /**< m: a baro sample this far from the baro's own prediction is a spike */
-    float spikeTime;         /**< s: longest run of spike rejections before the new level is accepted */
-    float offsetRate;        /**< 1: the output height absorbs the baro offset at up to offsetRate * |v| m/s */
-    float mainAltitude;      /**< m above the pad: main deployment in the descent */
-    float landedSpeed;       /**< m/s: |v| below this ... */
-    float landedTime;        /**< s: ... for this long declares landing */
-    float gapPeriod;         /**< s: an update with dt above this is a gap */
-    float baroLaunchHeight;  /**< m: launch from the baro when two rising pad samples are this far above the pad */
+    FusionAltitudeSettings observer; /**< observer gains in flight (bias gain forced to 0 after apogee) [rule: checked; else InvalidObserverSettings] */
+    float stationaryAccel;   /**< m/s^2: pad samples within this of the window's first are stationary [rule: finite, > 0; else InvalidStationaryAccel] */
+    float calibrationWindow; /**< s: length of a pad calibration window [rule: finite, > 0; else InvalidCalibrationWindow] */
+    float launchAccel;       /**< m/s^2: accel - bias above this ... [rule: finite, > 0; else InvalidLaunchAccel] */
+    float launchTime;        /**< s: ... for this long declares launch [rule: finite, >= 0; else InvalidLaunchTime] */
+    float burnoutAccel;      /**< m/s^2: accel - bias below this ... [rule: finite; else InvalidBurnoutAccel] */
+    float burnoutTime;       /**< s: ... for this long declares burnout [rule: finite, >= 0; else InvalidBurnoutTime] */
+    float apogeeMargin;      /**< m/s: apogee when v < -apogeeMargin (the crossing of zero, past the estimate's noise) [rule: finite, >= 0; else InvalidApogeeMargin] */
+    float lockoutSpeed;      /**< m/s: baro locked out while |v| is above this (and always above Mach 0.8) [rule: finite, > 0; else InvalidLockoutSpeed] */
+    float spikeThreshold;    /**< m: a baro sample this far from the baro's own prediction is a spike [rule: finite, > 0; else InvalidSpikeThreshold] */
+    float spikeTime;         /**< s: longest run of spike rejections before the new level is accepted [rule: finite, >= 0; else InvalidSpikeTime] */
+    float offsetRate;        /**< 1: the output height absorbs the baro offset at up to offsetRate * |v| m/s [rule: finite, > 0, <= 1; else InvalidOffsetRate] */
+    float mainAltitude;      /**< m above the pad: main deployment in the descent [rule: finite, >= 0; else InvalidMainAltitude] */
+    float landedSpeed;       /**< m/s: |v| below this ... [rule: finite, > 0; else InvalidLandedSpeed] */
+    float landedTime;        /**< s: ... for this long declares landing [rule: finite, >= 0; else InvalidLandedTime] */
+    float gapPeriod;         /**< s: an update with dt above this is a gap [rule: > 0; else InvalidGapPeriod] */
+    float baroLaunchHeight;  /**< m: launch from the baro when two rising pad samples are this far above the pad [rule: finite, > 0; else InvalidBaroLaunchHeight] */
 } FusionAltitudeRocketSettings;
 
 /** State. Read it through the Get functions. */

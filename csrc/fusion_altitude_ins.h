@@ -261,31 +261,31 @@ typedef enum {
 
 /** Settings, all in physical units. */
 typedef struct {
-    float gyroNoise;               /**< Ng, rad/s/sqrt(Hz): gyro white-noise density */
-    float gyroBiasRandomWalk;      /**< Nb, rad/s^2/sqrt(Hz): gyro bias random walk */
-    float accelNoise;              /**< Na, m/s^2/sqrt(Hz): vertical acceleration noise density (vibration included) */
-    float accelAttitudeNoise;      /**< rad: 1 sigma of the gravity direction per sample (> 0) */
-    float accelNormRejection;      /**< m/s^2: accel not used for attitude when ||f| - g| exceeds it */
-    float accelRejection;          /**< rad: accel not used for attitude when its direction is further from the prediction */
-    float recoveryTriggerPeriod;   /**< s: rejected for longer lifts the angle gate */
-    float baroNoise;               /**< m: 1 sigma per baro sample (> 0) */
-    float stationaryGyroThreshold; /**< rad/s: |gyro| below it counts as still */
-    float stationaryAccelThreshold; /**< m/s^2: ||accel| - g| below it counts as still */
-    float stationaryWindow;        /**< s: still for this long = stationary */
-    float zeroRateNoise;           /**< rad/s: 1 sigma of the zero-rate update while stationary (> 0) */
-    float zeroVelocityNoise;       /**< m/s: 1 sigma of the zero-velocity update while stationary (> 0) */
-    float baroBiasTimeConstant;    /**< s: baro bias filter while stationary (> 0) */
-    float accelBiasTimeConstant;   /**< s: accel z bias filter while stationary (> 0) */
-    float magTimeConstant;         /**< s: local-to-global yaw filter (> 0) */
-    float initialAttitudeSigma;    /**< rad: attitude uncertainty after alignment */
-    float initialGyroBiasSigma;    /**< rad/s: initial gyro bias uncertainty */
-    float initialVelocitySigma;    /**< m/s: initial velocity uncertainty */
-    float gapPeriod;               /**< s: a dt above it is a gap, not integrated (> 0) */
-    float stationaryBaroRate;      /**< m/s: the baro moving faster than this (half-window means) vetoes stationary */
-    float baroGate;                /**< sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0) */
-    float baroRejectionTimeout;    /**< s: baro rejected for longer: d reset from the next reading */
-    float baroTimeout;             /**< s: no baro reading for longer: not baro-aided (flag, counted) (> 0) */
-    float deadReckoningHorizon;    /**< s: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0) */
+    float gyroNoise;               /**< Ng, rad/s/sqrt(Hz): gyro white-noise density [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float gyroBiasRandomWalk;      /**< Nb, rad/s^2/sqrt(Hz): gyro bias random walk [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float accelNoise;              /**< Na, m/s^2/sqrt(Hz): vertical acceleration noise density (vibration included) [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float accelAttitudeNoise;      /**< rad: 1 sigma of the gravity direction per sample (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float accelNormRejection;      /**< m/s^2: accel not used for attitude when ||f| - g| exceeds it [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float accelRejection;          /**< rad: accel not used for attitude when its direction is further from the prediction [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float recoveryTriggerPeriod;   /**< s: rejected for longer lifts the angle gate [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float baroNoise;               /**< m: 1 sigma per baro sample (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float stationaryGyroThreshold; /**< rad/s: |gyro| below it counts as still [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float stationaryAccelThreshold; /**< m/s^2: ||accel| - g| below it counts as still [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float stationaryWindow;        /**< s: still for this long = stationary [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float zeroRateNoise;           /**< rad/s: 1 sigma of the zero-rate update while stationary (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float zeroVelocityNoise;       /**< m/s: 1 sigma of the zero-velocity update while stationary (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float baroBiasTimeConstant;    /**< s: baro bias filter while stationary (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float accelBiasTimeConstant;   /**< s: accel z bias filter while stationary (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float magTimeConstant;         /**< s: local-to-global yaw filter (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float initialAttitudeSigma;    /**< rad: attitude uncertainty after alignment [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float initialGyroBiasSigma;    /**< rad/s: initial gyro bias uncertainty [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float initialVelocitySigma;    /**< m/s: initial velocity uncertainty [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float gapPeriod;               /**< s: a dt above it is a gap, not integrated (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float stationaryBaroRate;      /**< m/s: the baro moving faster than this (half-window means) vetoes stationary [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float baroGate;                /**< sigmas: a baro reading with innovation y^2 > baroGate^2 S is rejected (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float baroRejectionTimeout;    /**< s: baro rejected for longer: d reset from the next reading [rule: finite, >= 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float baroTimeout;             /**< s: no baro reading for longer: not baro-aided (flag, counted) (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
+    float deadReckoningHorizon;    /**< s: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_INS_MAXIMUM; else InvalidSettings] */
 } FusionAltitudeInsSettings;
 
 /** Filter state. Read it through the Get functions. */

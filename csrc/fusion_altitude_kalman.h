@@ -256,29 +256,29 @@ typedef enum {
 
 /** Settings, all in physical units. */
 typedef struct {
-    float accelNoise;            /**< N_a, m/s^2/sqrt(Hz): accelerometer white-noise density (with vibration) */
-    float accelBiasRandomWalk;   /**< N_b, m/s^3/sqrt(Hz): accel bias random walk */
-    float accelBiasInitialSigma; /**< m/s^2: initial bias uncertainty */
-    bool estimateAccelBias;      /**< false: bias state held at 0, not estimated */
-    float baroNoise;             /**< m, 1 sigma per baro sample (> 0) */
-    float baroOffsetRandomWalk;  /**< N_ob, m/sqrt(s): weather and temperature drift of the baro */
-    float rangeNoise;            /**< m, 1 sigma per rangefinder sample (> 0) */
-    float rangeMinimum;          /**< m: readings below are "no echo" */
-    float rangeMaximum;          /**< m: readings above are "no echo" */
-    float gpsNoiseBase;          /**< m: GPS sigma = base + satellite / sqrt(n) */
-    float gpsNoiseSatellite;     /**< m: see gpsNoiseBase */
-    int32_t gpsMinimumSatellites; /**< fewer satellites: GPS not fused */
-    float gpsOffsetRandomWalk;   /**< N_og, m/sqrt(s): GPS altitude wander */
-    float gate;                  /**< innovation gate, sigmas: rejected if y^2 > gate^2 * S */
-    float rejectionTimeout;      /**< s: a sensor rejected for longer is reset */
-    float groundEffectNoiseScale; /**< baro sigma multiplier while the ground-effect flag is set (>= 1) */
-    float groundEffectDeadZone;  /**< m: negative baro innovations up to this are ignored in ground effect */
-    float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) */
-    float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) */
-    float gapPeriod;             /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) */
-    float baroTimeout;           /**< s, > 0: the baro is timed out after this long without a sample (default 1.5 s) */
-    float rangeTimeout;          /**< s, > 0: the rangefinder is timed out after this long without a usable reading (default 0.5 s) */
-    float gpsTimeout;            /**< s, > 0: the GPS is timed out after this long without a usable fix (default 2 s) */
+    float accelNoise;            /**< N_a, m/s^2/sqrt(Hz): accelerometer white-noise density (with vibration) [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float accelBiasRandomWalk;   /**< N_b, m/s^3/sqrt(Hz): accel bias random walk [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float accelBiasInitialSigma; /**< m/s^2: initial bias uncertainty [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    bool estimateAccelBias;      /**< false: bias state held at 0, not estimated [rule: any] */
+    float baroNoise;             /**< m, 1 sigma per baro sample (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float baroOffsetRandomWalk;  /**< N_ob, m/sqrt(s): weather and temperature drift of the baro [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float rangeNoise;            /**< m, 1 sigma per rangefinder sample (> 0) [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float rangeMinimum;          /**< m: readings below are "no echo" [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidRange] */
+    float rangeMaximum;          /**< m: readings above are "no echo" [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING, > rangeMinimum; else InvalidRange] */
+    float gpsNoiseBase;          /**< m: GPS sigma = base + satellite / sqrt(n) [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGps] */
+    float gpsNoiseSatellite;     /**< m: see gpsNoiseBase [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGps] */
+    int32_t gpsMinimumSatellites; /**< fewer satellites: GPS not fused [rule: >= 0; else InvalidGps] */
+    float gpsOffsetRandomWalk;   /**< N_og, m/sqrt(s): GPS altitude wander [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float gate;                  /**< innovation gate, sigmas: rejected if y^2 > gate^2 * S [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGate] */
+    float rejectionTimeout;      /**< s: a sensor rejected for longer is reset [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGate] */
+    float groundEffectNoiseScale; /**< baro sigma multiplier while the ground-effect flag is set (>= 1) [rule: finite, >= 1, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGroundEffect] */
+    float groundEffectDeadZone;  /**< m: negative baro innovations up to this are ignored in ground effect [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidGroundEffect] */
+    float initialHeightSigma;    /**< m: initial height uncertainty (on the ground) [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float initialVelocitySigma;  /**< m/s: initial velocity uncertainty (at rest) [rule: finite, >= 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidNoise] */
+    float gapPeriod;             /**< s: an update whose dt exceeds this is a gap, not integrated (default 0.5 s) [rule: > 0; else InvalidGapPeriod] */
+    float baroTimeout;           /**< s, > 0: the baro is timed out after this long without a sample (default 1.5 s) [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidTimeout] */
+    float rangeTimeout;          /**< s, > 0: the rangefinder is timed out after this long without a usable reading (default 0.5 s) [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidTimeout] */
+    float gpsTimeout;            /**< s, > 0: the GPS is timed out after this long without a usable fix (default 2 s) [rule: finite, > 0, <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; else InvalidTimeout] */
 } FusionAltitudeKalmanSettings;
 
 /** One update's samples. NaN means "no sample this step". */

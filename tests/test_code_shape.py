@@ -36,7 +36,6 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/logs/rrc3.py:read_rrc3': 101,
     'fusion_altitude/logs/raven.py:read_raven': 82,
     'fusion_altitude/logs/cats.py:read_cats': 71,
-    'tools/generate_bindings.py:generate_pxi': 68,
     'fusion_altitude/logs/_data.py:merge_repeated_timestamps': 67,
 }
 LONG_C: Dict[str, int] = {

@@ -134,6 +134,7 @@ class Field:
     name: str
     dims: Tuple[str, ...]
     comment: str
+    rule: str = ""  # the ``[rule: ...]`` at the end of the comment (settings fields), without the brackets
 
     @property
     def python(self) -> str:
@@ -190,7 +191,8 @@ def parse_header(path: Path, known: Optional[Header] = None) -> Header:
             match = re.match(r"\s*((?:const\s+)?\w+(?:\s*\*)?)\s*(\w+)((?:\[\w+\])*);\s*(?:/\*\*<\s*(.*?)\s*\*/)?", line)
             if match:
                 dims = tuple(re.findall(r"\[(\w+)\]", match.group(3)))
-                fields.append(Field(match.group(1).replace(" ", ""), match.group(2), dims, match.group(4) or ""))
+                comment, rule = re.match(r"(.*?)\s*(?:\[rule: ([^\]]*)\])?$", match.group(4) or "").groups()
+                fields.append(Field(match.group(1).replace(" ", ""), match.group(2), dims, comment, rule or ""))
         header.structs[name] = fields
     getter = re.compile(r"(?:/\*\*((?:[^*]|\*(?!/))*)\*/\s*)?static inline (float|bool|int32_t|uint32_t) "
                         r"(FusionAltitude\w*?(?:Get|Is)(\w+))\(const (\w+) \*const \w+\) \{")
@@ -362,6 +364,57 @@ def settings_table(module: str, header: Header, struct: str, defaults: Dict[Tupl
     return lines + ["", ""]
 
 
+def _rule_terms(header: Header, struct: str, f: Field) -> str:
+    """The Python tuple of a field's rule terms: "finite", "any", "checked", or (operator, bound) with the bound a
+    number, a numeric constant of ``_c_tables`` or another field's Python name."""
+    terms = []
+    names = {g.name: g.python for g in header.structs[struct]}
+    for term in f.rule.split(";")[0].split(","):
+        term = term.strip()
+        match = re.fullmatch(r"(>=|<=|>|<) (\S+)", term)
+        if term in ("finite", "any", "checked"):
+            terms.append(repr(term))
+        elif match and re.fullmatch(r"-?[\d.]+(?:e-?\d+)?", match.group(2)):
+            terms.append(f"({match.group(1)!r}, {match.group(2)})")
+        elif match and match.group(2).startswith("FUSION_ALTITUDE_"):
+            terms.append(f"({match.group(1)!r}, {match.group(2)})")
+        elif match and match.group(2) in names:
+            terms.append(f"({match.group(1)!r}, {names[match.group(2)]!r})")
+        else:
+            raise SystemExit(f"generate_bindings: {struct}.{f.name}: cannot read the rule term {term!r}")
+    return "(" + ", ".join(terms) + ("," if len(terms) == 1 else "") + ")"
+
+
+def rules_table(module: str, header: Header, prefix: str, struct: str, table: str) -> List[str]:
+    """``<table>``: the rule of every field of ``struct``, from the ``[rule: terms; else Status]`` at the end of its
+    comment in the header; a field without one stops the generator (every setting says what it accepts)."""
+    status = header.enums[f"{prefix}Status"]
+    lines = [f"#: The rule of each field of ``{struct}`` (the ``[rule: ...; else Status]`` of its comment in the header):",
+             "#: Python name → (status when broken, terms); a term is \"finite\", \"any\" (no rule), \"checked\" (a struct",
+             "#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.",
+             f"{table} = {{"]
+    for f in header.structs[struct]:
+        if not f.rule:
+            raise SystemExit(f"generate_bindings: {header.path.name}: {struct}.{f.name} has no [rule: ...] in its "
+                             "comment (e.g. /**< s, ... [rule: finite, > 0; else InvalidGapPeriod] */)")
+        name = f.rule.partition("; else ")[2].strip()
+        if name and f"{prefix}Status{name}" not in [m for m, _ in status.members]:
+            raise SystemExit(f"generate_bindings: {struct}.{f.name}: no status {prefix}Status{name}")
+        python_status = f"{ENUM_NAMES[status.cname]}.{upper_snake(name)}" if name else "None"
+        lines.append(f"    {f.python!r}: ({python_status}, {_rule_terms(header, struct, f)}),")
+    return lines + ["}", "", ""]
+
+
+def settings_rules(module: str, header: Header, prefix: str, struct: str) -> List[str]:
+    """The rules tables of a settings struct: ``<MODULE>_RULES``, and ``<MODULE>_SENSOR_RULES`` for the per-sensor
+    struct it holds."""
+    lines = []
+    for f in header.structs[struct]:
+        if f.ctype in header.structs and f.dims:
+            lines += rules_table(module, header, prefix, f.ctype, f"{module.upper()}_SENSOR_RULES")
+    return lines + rules_table(module, header, prefix, struct, f"{module.upper()}_RULES")
+
+
 def presets_table(module: str, header: Header, prefix: str, struct: str,
                   defaults: Dict[Tuple[str, ...], str]) -> List[str]:
     """``<MODULE>_PRESETS`` (``...SettingsFromPreset`` of each preset, read from C) and ``<MODULE>_PRESET_OMEGA``
@@ -414,6 +467,7 @@ def generate_tables(headers: Dict[str, Header], defaults, messages) -> str:
         out += [")", "", ""]
         if settings:
             out += settings_table(module, header, settings, defaults[module])
+            out += settings_rules(module, header, prefix, settings)
             out += presets_table(module, header, prefix, settings, defaults[module])
     out.append("#: Status messages of each estimator class, for ``Estimator.status_message``.")
     out.append("STATUS_MESSAGES = {")
@@ -428,16 +482,31 @@ def _py_of(kind: str, expr: str) -> str:
     return {"b": f"bool({expr})", "i": f"int({expr})", "u": f"int({expr})", "e": f"int(<int>{expr})"}.get(kind, expr)
 
 
-def generate_pxi(module: str, header: Header) -> str:
-    _, prefix, settings, state = MODULES[module]
-    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_core/_{module}.pyx, after its cimports.", ""]
+#: The settings class of each binding: the reference's (``fusion_altitude.reference.<module>``).
+SETTINGS_CLASSES = {"observer": "AltitudeSettings", "kalman": "KalmanSettings", "complementary": "ComplementarySettings",
+                    "alphabeta": "AlphaBetaSettings", "ins": "InsSettings", "flight": "RocketSettings"}
+
+
+def binding_preamble(module: str) -> List[str]:
+    """What every binding imports (one place, as PyWavelets' shared templates): the C declarations, the
+    ``Estimator`` base, the glue and the reference's settings class and checkpoint ``restore``."""
+    return ["from fusion_altitude._core._convert cimport as_double as _as_double",
+            "from fusion_altitude._core._estimator cimport Estimator",
+            f"from fusion_altitude._core.{PXD_NAMES[module][:-4]} cimport *", "",
+            f"from fusion_altitude import _common, _{module}_glue  # (also sets fusion_altitude._{module}_glue)",
+            "from fusion_altitude.reference._checkpoint import restore",
+            f"from fusion_altitude.reference.{module} import {SETTINGS_CLASSES[module]}", "", ""]
+
+
+def enum_values(module: str, header: Header) -> List[str]:
+    """``C_<ENUM>_VALUES``: the binding's enums as the compiler sees them, and ``c_status_message``."""
+    prefix = MODULES[module][1]
+    out = []
     for enum in header.enums.values():
-        if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix):
-            continue
-        if not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members):
-            continue
         suffix = enum.cname[len(prefix):]
-        if suffix not in ("Status", "Result", "Preset", "Phase", "Baro", "EventId"):
+        if enum.cname not in ENUM_NAMES or not enum.cname.startswith(prefix) \
+                or not any(m.startswith(enum_prefix(enum)) for m, _ in enum.members) \
+                or suffix not in ("Status", "Result", "Preset", "Phase", "Baro", "EventId"):
             continue
         variable = "C_STATUS_VALUES" if suffix == "Status" else f"C_{suffix.upper()}_VALUES"
         out.append(f"#: The C enum {enum.cname}, as the compiler sees it (the generated Python enum must equal it).")
@@ -445,46 +514,79 @@ def generate_pxi(module: str, header: Header) -> str:
         for member, _ in enum.members:
             out.append(f"    {upper_snake(member[len(enum_prefix(enum)):])!r}: {member},")
         out += ["}", "", ""]
-    out += [f"def c_status_message(int status):",
-            f'    """{prefix}StatusMessage(status), from C."""',
-            f"    return {prefix}StatusMessage(<{prefix}Status>status).decode(\"ascii\")", "", ""]
+    return out + [f"def c_status_message(int status):",
+                  f'    """{prefix}StatusMessage(status), from C."""',
+                  f"    return {prefix}StatusMessage(<{prefix}Status>status).decode(\"ascii\")", "", ""]
+
+
+def nested_settings_conversions(header: Header, settings: str) -> List[str]:
+    """``_settings_to_c``/``_settings_from_c`` of a settings struct that starts with an array of per-sensor structs."""
     fields = header.structs[settings]
-    nested = fields[0].ctype in header.structs and bool(fields[0].dims)
-    if nested:
-        inner = fields[0]
-        sub = header.structs[inner.ctype]
-        count = header.defines[inner.dims[0]]
-        out += [f"cdef {settings} _settings_to_c(object values) except *:",
-                f'    """{{"{inner.python}": [{{field: value}} per sensor], other field: value}} (checked Python values)'
-                f' → {settings}."""',
-                f"    cdef {settings} c", "    cdef int i",
-                f"    for i, sensor in enumerate(values[{inner.python!r}]):"]
-        out += [f"        c.{inner.name}[i].{f.name} = sensor[{f.python!r}]" for f in sub]
-        out += [f"    c.{f.name} = values[{f.python!r}]" for f in fields[1:]]
-        out += ["    return c", "", ""]
-        out += [f"cdef dict _settings_from_c(const {settings} *c):",
-                f'    """{settings} → {{"{inner.python}": [{{field: value}} per sensor], other field: value}}."""',
-                "    cdef int i", f"    return {{{inner.python!r}: [{{"]
-        out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], f'c.{inner.name}[i].{f.name}')},"
-                for f in sub]
-        out += [f"    }} for i in range({count})],"]
-        out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], 'c.' + f.name)}," for f in fields[1:]]
-        out += ["    }", "", ""]
-    else:
-        out += [f"cdef {settings} _settings_to_c(object values) except *:",
-                f'    """{{name: value}} (checked Python values) → {settings}."""',
-                f"    cdef {settings} c"]
-        for f in fields:
-            if f.ctype in header.structs:  # a struct: the tuple of its fields in order
-                out += [f"    c.{f.name}.{g.name} = values[{f.python!r}][{k}]"
-                        for k, g in enumerate(header.structs[f.ctype])]
-            else:
-                out.append(f"    c.{f.name} = values[{f.python!r}]")
-        out += ["    return c", "", ""]
-        out += [f"cdef dict _settings_from_c(const {settings} *c):",
-                f'    """{settings} → {{name: value}} in the struct\'s order."""', "    return {"]
-        out += [f"        {f.python!r}: {_struct_get(header, f.ctype, 'c.' + f.name)}," for f in fields]
-        out += ["    }", "", ""]
+    inner = fields[0]
+    sub = header.structs[inner.ctype]
+    count = header.defines[inner.dims[0]]
+    out = [f"cdef {settings} _settings_to_c(object values) except *:",
+           f'    """{{"{inner.python}": [{{field: value}} per sensor], other field: value}} (checked Python values)'
+           f' → {settings}."""',
+           f"    cdef {settings} c", "    cdef int i",
+           f"    for i, sensor in enumerate(values[{inner.python!r}]):"]
+    out += [f"        c.{inner.name}[i].{f.name} = sensor[{f.python!r}]" for f in sub]
+    out += [f"    c.{f.name} = values[{f.python!r}]" for f in fields[1:]]
+    out += ["    return c", "", ""]
+    out += [f"cdef dict _settings_from_c(const {settings} *c):",
+            f'    """{settings} → {{"{inner.python}": [{{field: value}} per sensor], other field: value}}."""',
+            "    cdef int i", f"    return {{{inner.python!r}: [{{"]
+    out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], f'c.{inner.name}[i].{f.name}')}," for f in sub]
+    out += [f"    }} for i in range({count})],"]
+    out += [f"        {f.python!r}: {_py_of(SCALAR_KINDS[f.ctype], 'c.' + f.name)}," for f in fields[1:]]
+    return out + ["    }", "", ""]
+
+
+def settings_conversions(header: Header, settings: str) -> List[str]:
+    """``_settings_to_c``/``_settings_from_c``: the settings dict ⇄ the C struct."""
+    fields = header.structs[settings]
+    if fields[0].ctype in header.structs and bool(fields[0].dims):
+        return nested_settings_conversions(header, settings)
+    out = [f"cdef {settings} _settings_to_c(object values) except *:",
+           f'    """{{name: value}} (checked Python values) → {settings}."""',
+           f"    cdef {settings} c"]
+    for f in fields:
+        if f.ctype in header.structs:  # a struct: the tuple of its fields in order
+            out += [f"    c.{f.name}.{g.name} = values[{f.python!r}][{k}]" for k, g in enumerate(header.structs[f.ctype])]
+        else:
+            out.append(f"    c.{f.name} = values[{f.python!r}]")
+    out += ["    return c", "", ""]
+    out += [f"cdef dict _settings_from_c(const {settings} *c):",
+            f'    """{settings} → {{name: value}} in the struct\'s order."""', "    return {"]
+    out += [f"        {f.python!r}: {_struct_get(header, f.ctype, 'c.' + f.name)}," for f in fields]
+    return out + ["    }", "", ""]
+
+
+def checkpoint_functions(module: str) -> List[str]:
+    """``_checked_settings`` (a checkpoint's settings through the settings class) and ``_restore``."""
+    estimator = ESTIMATORS[module]
+    return ["", "", "#: The settings in ``_get_state()``: the dict of ``_settings_from_c`` (a binding may rebind it after its include).",
+            "_settings_out = dict", "", "",
+            "def _settings_error(status, values):",
+            '    """The error of settings C rejected (a binding may rebind it to its glue\'s, naming the field)."""',
+            '    raise ValueError(f"invalid settings: {c_status_message(status)}")', "", "",
+            "def _checked_settings(values):",
+            '    """A checkpoint\'s settings ``values`` checked by the settings class, as :func:`_state_set` takes them."""',
+            f"    return {SETTINGS_CLASSES[module]}(**values).as_dict()", "", "",
+            "def _restore(state):",
+            '    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""',
+            f"    return restore({estimator}, state)", ""]
+
+
+def generate_pxi(module: str, header: Header) -> str:
+    """``_<module>_fields.pxi``: the imports, enums, settings conversions, state layout, getters, checkpoint
+    functions and class docstring of one binding, included at the top of ``_<module>.pyx``."""
+    _, prefix, settings, state = MODULES[module]
+    out = [GENERATED.rstrip(), f"# Included at module level by fusion_altitude/_core/_{module}.pyx, after its own cimports.",
+           ""]
+    out += binding_preamble(module) + enum_values(module, header) + settings_conversions(header, settings)
+    fields = header.structs[settings]
+    nested = fields[0].ctype in header.structs and bool(fields[0].dims)  # per-sensor settings: a hand-written form
     out += [f"def {'_c_default_settings' if nested else 'c_default_settings'}():",
             f'    """{settings}Default(), from C, in the form :func:`_settings_from_c` gives."""',
             f"    cdef {settings} c = {settings}Default()",
@@ -494,7 +596,7 @@ def generate_pxi(module: str, header: Header) -> str:
             f"    cdef {settings} c = _settings_to_c(values)",
             f"    return int({settings}Check(&c))", "", ""]
     out += state_functions(header, state, settings)
-    out += getter_class(module, header, state)
+    out += getter_class(module, header, state) + checkpoint_functions(module)
     return "\n".join(out + class_doc(module)).rstrip() + "\n"
 
 
@@ -643,6 +745,25 @@ def generate_pxd(module: str, header: Header, pxi: str) -> str:
     return "\n".join(out) + "\n"
 
 
+#: The bindings whose ``settings`` property has the plain form (read the struct, assign a checked settings object).
+SETTINGS_PROPERTY = ("kalman", "complementary", "ins")
+
+
+def settings_property(module: str, header: Header, state: str) -> List[str]:
+    """The ``settings`` property: the settings class from the struct; assigning one sets the struct (the settings
+    class checked it with the same C check; a rejection raises ``_settings_error(status, values)``)."""
+    _, prefix, settings, _ = MODULES[module]
+    name = SETTINGS_CLASSES[module]
+    return ["", "    @property", "    def settings(self):",
+            f'        """The settings (:class:`{name}`); assign new ones to retune, keeping the state."""',
+            f"        return {name}(**_settings_from_c(&self._c.settings))", "",
+            "    @settings.setter", "    def settings(self, settings):",
+            f"        cdef {settings} c = _settings_to_c({name}.coerce(settings).as_dict())",
+            f"        cdef int status = <int>{prefix}SetSettings(&self._c, &c)",
+            "        if status != 0:",
+            "            _settings_error(status, _settings_from_c(&c))"]
+
+
 def getter_class(module: str, header: Header, state: str) -> List[str]:
     """``cdef class _<Estimator>Getters(Estimator)``: the state struct and one property per scalar getter of the
     header (``...Get<Name>(const State *)``, ``...Is<Name>(const State *)``); the estimator derives from it."""
@@ -654,7 +775,14 @@ def getter_class(module: str, header: Header, state: str) -> List[str]:
         doc = g.doc.replace('"', "'").replace("\\", "\\\\")
         out += ["", "    @property", f"    def {g.python}(self):", f'        """{doc}"""',
                 f"        return {g.cname}(&self._c)"]
-    return out + [""]
+    if module in SETTINGS_PROPERTY:
+        out += settings_property(module, header, state)
+    return out + ["", "    def _get_state(self):",
+                  f'        """The fields of {state} in order (the settings as ``as_dict()``)."""',
+                  "        return _state_get(&self._c, _settings_out)", "",
+                  "    def _set_state(self, state):",
+                  f'        """A ``_get_state()`` (binding or reference) into {state}, the settings checked."""',
+                  "        _state_set(&self._c, tuple(state), _checked_settings)", ""]
 
 
 def _takes(header: Header, getter: Getter, state: str) -> bool:
@@ -671,12 +799,15 @@ EXTRA_STUBS = {
                  "def c_settings_from_bandwidth(omega: float, zeta: float, omega_b: float)"
                  " -> Tuple[int, Optional[Dict[str, float]]]: ...",
                  "def c_settings_from_preset(preset: int) -> Dict[str, float]: ...",
-                 "def c_settings_validate(values: Mapping[str, float], dt: float) -> int: ..."],
+                 "def c_settings_validate(values: Mapping[str, float], dt: float) -> int: ...",
+                 "def c_gains_check(position_gain: float, velocity_gain: float, bias_gain: float) -> int: ..."],
     "kalman": ["def kalman_status_message(status: int) -> str: ..."],
     "complementary": ["def status_message(status: int) -> str: ..."],
     "alphabeta": ["C_SENSOR_COUNT: int", "C_MAX_QUALITY: int", "def status_message(status: int) -> str: ...",
                   "def gains(quality: int) -> Tuple[float, float]: ...",
-                  "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ..."],
+                  "def c_default_settings() -> Dict[str, AlphaBetaSensorSettings]: ...",
+                  "def c_sensor_settings_check(sensor: AlphaBetaSensorSettings) -> int: ...",
+                  "def c_gap_period_check(gap_period: float) -> int: ..."],
     "ins": [],
     "flight": ["C_MACH_LOCKOUT: float", "C_NUMBER_OF_EVENTS: int", "def status_message(status: int) -> str: ..."],
 }

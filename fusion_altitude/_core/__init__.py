@@ -1,6 +1,15 @@
 """The core layer's Python side: the Cython bindings (``_<estimator>.pyx``), their generated files
 (``_c_tables.py``, ``_<estimator>_fields.pxi``, ``_<estimator>.pyi``, ``c<estimator>.pxd``) and the glue
-(``_common.py``, ``_<estimator>_glue.py``). Private: users import :mod:`fusion_altitude`."""
+(``_common.py``, ``_<estimator>_glue.py``). Private: users import :mod:`fusion_altitude`.
+
+A binding converts and checks Python arguments, calls the C functions and raises for the statuses they return; it
+holds no copy of the algorithm. Its settings class is the reference's (``fusion_altitude.reference.<estimator>``),
+converted to the C struct. What every binding has in the same form is generated from its header into
+``_<estimator>_fields.pxi``, which it includes first: its imports (the C declarations, the ``Estimator`` base, the
+glue, the settings class), the enums, the settings and state conversions, the getters, ``_get_state``/``_set_state``,
+``_restore``, ``c_settings_check`` (registered in the glue's ``C_SETTINGS_FUNCTIONS`` for the settings class), the
+plain ``settings`` property (Kalman, complementary, INS) and the class docstring. The binding writes by hand only
+what is its own: ``update``, ``update_batch``, ``reset``, the C loop of a batch and any other ``settings`` form."""
 
 
 def installed_extension_folder(init_file: str, subpackage: str, module: str):

@@ -1,28 +1,14 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the quality-weighted alpha-beta fusion in csrc/fusion_altitude_alphabeta.h.
-
-This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm. The
-settings class is the reference's (:class:`fusion_altitude.reference.AlphaBetaSettings`),
-converted to the C struct here; conversions, enums and the state layout are
-generated from the header (``_alphabeta_fields.pxi``).
-"""
+"""Cython binding of the quality-weighted alpha-beta fusion in csrc/fusion_altitude_alphabeta.h: see ``_core/__init__.py`` for what a binding does."""
 
 import math
 
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
 from libc.math cimport NAN
 from libc.stdint cimport int32_t
 
-from fusion_altitude._core.calphabeta cimport *
-
-from fusion_altitude import _alphabeta_glue, _common
-from fusion_altitude._core._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.alphabeta import AlphaBetaSettings
-
 include "_alphabeta_fields.pxi"
+
+from fusion_altitude._core._alphabeta_glue import ALPHABETA_SENSORS, AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 
 C_SENSOR_COUNT = FUSION_ALTITUDE_ALPHABETA_SENSORS
 C_MAX_QUALITY = FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY
@@ -59,6 +45,24 @@ def c_default_settings():
     return _settings_dict(_c_default_settings())
 
 
+def c_sensor_settings_check(sensor):
+    """FusionAltitudeAlphaBetaSensorSettingsCheck of one sensor's settings (an AlphaBetaSensorSettings), from C."""
+    cdef FusionAltitudeAlphaBetaSensorSettings c
+    c.threshold, c.qualityMin, c.qualityMax, c.confidence = sensor[0], sensor[1], sensor[2], sensor[3]
+    c.altitudeMin, c.altitudeMax, c.gapMax, c.timeout = sensor[4], sensor[5], sensor[6], sensor[7]
+    return int(FusionAltitudeAlphaBetaSensorSettingsCheck(&c))
+
+
+def c_gap_period_check(float gap_period):
+    """FusionAltitudeAlphaBetaSettingsCheck of the default sensors with ``gap_period`` (s), from C: the status."""
+    cdef FusionAltitudeAlphaBetaSettings c = FusionAltitudeAlphaBetaSettingsDefault()
+    c.gapPeriod = gap_period
+    return int(FusionAltitudeAlphaBetaSettingsCheck(&c))
+
+
+_alphabeta_glue.C_SETTINGS_FUNCTIONS.update(check_sensor=c_sensor_settings_check, check_gap_period=c_gap_period_check)
+
+
 def _c_values(settings):
     """AlphaBetaSettings (or a {sensor: ...} dict, checked) → what ``_settings_to_c`` takes."""
     if not isinstance(settings, AlphaBetaSettings):
@@ -67,6 +71,9 @@ def _c_values(settings):
     result = {name: value for name, value in values.items() if name not in ALPHABETA_SENSORS}
     result["sensors"] = [values[name]._asdict() for name in ALPHABETA_SENSORS]
     return result
+
+
+_settings_out, _checked_settings = _settings_dict, _c_values  # a checkpoint holds {sensor: AlphaBetaSensorSettings}
 
 
 cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
@@ -273,9 +280,6 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
         cdef FusionAltitudeAlphaBetaSettings c = _settings_to_c(_c_values(settings))
         FusionAltitudeAlphaBetaSetSettings(&self._c, &c)
 
-    def _get_state(self):
-        return _state_get(&self._c, _settings_dict)
-
     def _set_state(self, state):
         state = tuple(state)
         if len(state) > 1 and state[1] and len(state[1][0]) == 7:  # from before the interval and timeout fields
@@ -289,7 +293,3 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
 
 _common.share_signatures(AlphaBetaFusion, _alphabeta_glue.AlphaBetaContract, ("update", "update_batch"))
 
-
-def _restore(state):
-    """A new fusion holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(AlphaBetaFusion, state)

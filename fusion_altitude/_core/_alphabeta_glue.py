@@ -11,7 +11,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import AlphaBetaStatus
-from ._common import as_float, optional_inputs, output_arrays, raise_input_error
+from ._common import (DT_POSITIVE, SAMPLE_OR_NAN, as_float, input_rules, optional_inputs, output_arrays,
+                      raise_input_error)
 
 
 #: Sensor channels of the alpha-beta fusion, in the C index order.
@@ -79,6 +80,14 @@ def _as_int32(value: object, name: str) -> int:
     return index
 
 
+#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
+#: binding (``_alphabeta.pyx``) registers them at import: ``"check_sensor"`` → ``c_sensor_settings_check``,
+#: ``"check_gap_period"`` → ``c_gap_period_check`` (the twins: ``reference/alphabeta.py``'s ``_sensor_status`` and
+#: ``_gap_period_status``). Without the compiled extension it stays empty
+#: (``tests/test_settings_checks.py`` holds each twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
 def convert_alphabeta_settings(kwargs: dict) -> dict:
     """``AlphaBetaSettings(**kwargs)`` arguments → {sensor: AlphaBetaSensorSettings of C-typed values,
     "gap_period": float32-rounded float (s, default 1.5)}.
@@ -144,14 +153,9 @@ def raise_alphabeta_settings_error(status: int, values: dict) -> None:
     raise ValueError(f"invalid alpha-beta settings (status {status})")
 
 
-_ALPHABETA_UPDATE_RULES = {
-    AlphaBetaStatus.INVALID_ACCEL: ("accel", "must be finite, or NaN for no IMU sample (m/s²)"),
-    AlphaBetaStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-    AlphaBetaStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no sample (m)"),
-    AlphaBetaStatus.INVALID_LIDAR_ALTITUDE: ("lidar_altitude", "must be finite, or NaN for no sample (m)"),
-    AlphaBetaStatus.INVALID_SONAR_ALTITUDE: ("sonar_altitude", "must be finite, or NaN for no sample (m)"),
-    AlphaBetaStatus.INVALID_GPS_ALTITUDE: ("gps_altitude", "must be finite, or NaN for no sample (m)"),
-}
+_ALPHABETA_UPDATE_RULES = input_rules(
+    AlphaBetaStatus, accel="must be finite, or NaN for no IMU sample (m/s²)", dt=DT_POSITIVE,
+    **{f"{sensor}_altitude": SAMPLE_OR_NAN for sensor in ("baro", "lidar", "sonar", "gps")})
 
 
 #: update_batch's per-step inputs, in the order of the C call.

@@ -78,6 +78,18 @@ OBSERVER_SETTINGS = (
 )
 
 
+#: The rule of each field of ``FusionAltitudeSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+OBSERVER_RULES = {
+    'position_gain': (Status.INVALID_GAIN, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_MAXIMUM_GAIN))),
+    'velocity_gain': (Status.INVALID_GAIN, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_MAXIMUM_GAIN))),
+    'bias_gain': (Status.INVALID_GAIN, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_MAXIMUM_GAIN))),
+    'gap_period': (Status.INVALID_GAP_PERIOD, (('>', 0),)),
+    'baro_timeout': (Status.INVALID_BARO_TIMEOUT, (('>', 0),)),
+}
+
+
 #: ``FusionAltitudeSettingsFromPreset``: {preset: {setting: value}}, read from C.
 OBSERVER_PRESETS = {
     'balloon': {'position_gain': 0.32, 'velocity_gain': 0.0512, 'bias_gain': 0.0016, 'gap_period': 5.0, 'baro_timeout': 10.0},
@@ -202,6 +214,36 @@ KALMAN_SETTINGS = (
 )
 
 
+#: The rule of each field of ``FusionAltitudeKalmanSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+KALMAN_RULES = {
+    'accel_noise': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'accel_bias_random_walk': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'accel_bias_initial_sigma': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'estimate_accel_bias': (None, ('any',)),
+    'baro_noise': (KalmanStatus.INVALID_NOISE, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'baro_offset_random_walk': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'range_noise': (KalmanStatus.INVALID_NOISE, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'range_min': (KalmanStatus.INVALID_RANGE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'range_max': (KalmanStatus.INVALID_RANGE, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING), ('>', 'range_min'))),
+    'gps_noise_base': (KalmanStatus.INVALID_GPS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'gps_noise_satellite': (KalmanStatus.INVALID_GPS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'gps_min_satellites': (KalmanStatus.INVALID_GPS, (('>=', 0),)),
+    'gps_offset_random_walk': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'gate': (KalmanStatus.INVALID_GATE, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'rejection_timeout': (KalmanStatus.INVALID_GATE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'ground_effect_noise_scale': (KalmanStatus.INVALID_GROUND_EFFECT, ('finite', ('>=', 1), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'ground_effect_dead_zone': (KalmanStatus.INVALID_GROUND_EFFECT, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'initial_height_sigma': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'initial_velocity_sigma': (KalmanStatus.INVALID_NOISE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'gap_period': (KalmanStatus.INVALID_GAP_PERIOD, (('>', 0),)),
+    'baro_timeout': (KalmanStatus.INVALID_TIMEOUT, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'range_timeout': (KalmanStatus.INVALID_TIMEOUT, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+    'gps_timeout': (KalmanStatus.INVALID_TIMEOUT, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING))),
+}
+
+
 # -- fusion_altitude_complementary.h ---------------------------------------------------------------------
 
 class ComplementaryStatus(enum.IntEnum):
@@ -244,6 +286,22 @@ COMPLEMENTARY_SETTINGS = (
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update whose dt exceeds this is a gap, not integrated (default 0.5 s)'),
     ('baro_timeout', 'baroTimeout', 'f', 2.0, 's: after this long without a baro sample the filter stops dead-reckoning (default 2 s; +infinity: never)'),
 )
+
+
+#: The rule of each field of ``FusionAltitudeComplementarySettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+COMPLEMENTARY_RULES = {
+    'accel_time_constant': (ComplementaryStatus.INVALID_TIME_CONSTANT, ('finite', ('>=', 0))),
+    'baro_time_constant': (ComplementaryStatus.INVALID_TIME_CONSTANT, ('finite', ('>=', 0))),
+    'per_sample_coefficients': (None, ('any',)),
+    'velocity_coefficient': (ComplementaryStatus.INVALID_COEFFICIENT, ('finite', ('>=', 0), ('<=', 1))),
+    'altitude_coefficient': (ComplementaryStatus.INVALID_COEFFICIENT, ('finite', ('>=', 0), ('<=', 1))),
+    'velocity_time_constant': (ComplementaryStatus.INVALID_TIME_CONSTANT, ('finite', ('>=', 0))),
+    'altitude_time_constant': (ComplementaryStatus.INVALID_TIME_CONSTANT, ('finite', ('>=', 0))),
+    'gap_period': (ComplementaryStatus.INVALID_GAP_PERIOD, (('>', 0),)),
+    'baro_timeout': (ComplementaryStatus.INVALID_BARO_TIMEOUT, (('>', 0),)),
+}
 
 
 # -- fusion_altitude_alphabeta.h -------------------------------------------------------------------------
@@ -333,6 +391,30 @@ ALPHABETA_SETTINGS = (
 )
 
 
+#: The rule of each field of ``FusionAltitudeAlphaBetaSensorSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+ALPHABETA_SENSOR_RULES = {
+    'threshold': (AlphaBetaStatus.INVALID_THRESHOLD, ('finite', ('>', 0))),
+    'quality_min': (AlphaBetaStatus.INVALID_QUALITY, (('>=', 2),)),
+    'quality_max': (AlphaBetaStatus.INVALID_QUALITY, (('>=', 'quality_min'), ('<=', FUSION_ALTITUDE_ALPHABETA_MAX_QUALITY))),
+    'confidence': (AlphaBetaStatus.INVALID_CONFIDENCE, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_ALPHABETA_MAX_CONFIDENCE))),
+    'altitude_min': (AlphaBetaStatus.INVALID_ALTITUDE_BAND, (('<', 'altitude_max'),)),
+    'altitude_max': (AlphaBetaStatus.INVALID_ALTITUDE_BAND, (('>', 'altitude_min'),)),
+    'gap_max': (AlphaBetaStatus.INVALID_GAP_MAX, (('>', 0),)),
+    'timeout': (AlphaBetaStatus.INVALID_TIMEOUT, ('finite', ('>', 0))),
+}
+
+
+#: The rule of each field of ``FusionAltitudeAlphaBetaSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+ALPHABETA_RULES = {
+    'sensors': (None, ('checked',)),
+    'gap_period': (AlphaBetaStatus.INVALID_GAP_PERIOD, (('>', 0),)),
+}
+
+
 # -- fusion_altitude_ins.h -------------------------------------------------------------------------------
 
 class InsStatus(enum.IntEnum):
@@ -398,6 +480,38 @@ INS_SETTINGS = (
     ('baro_timeout', 'baroTimeout', 'f', 1.5, 's: no baro reading for longer: not baro-aided (flag, counted) (> 0)'),
     ('dead_reckoning_horizon', 'deadReckoningHorizon', 'f', 5.0, 's: no baro reading for longer: dead reckoning stops, v decays with this time constant (> 0)'),
 )
+
+
+#: The rule of each field of ``FusionAltitudeInsSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+INS_RULES = {
+    'gyro_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'gyro_bias_random_walk': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'accel_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'accel_attitude_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'accel_norm_rejection': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'accel_rejection': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'recovery_trigger_period': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'baro_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'stationary_gyro_threshold': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'stationary_accel_threshold': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'stationary_window': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'zero_rate_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'zero_velocity_noise': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'baro_bias_time_constant': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'accel_bias_time_constant': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'mag_time_constant': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'initial_attitude_sigma': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'initial_gyro_bias_sigma': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'initial_velocity_sigma': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'gap_period': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'stationary_baro_rate': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'baro_gate': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'baro_rejection_timeout': (InsStatus.INVALID_SETTINGS, ('finite', ('>=', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'baro_timeout': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+    'dead_reckoning_horizon': (InsStatus.INVALID_SETTINGS, ('finite', ('>', 0), ('<=', FUSION_ALTITUDE_INS_MAXIMUM))),
+}
 
 
 # -- fusion_altitude_flight.h ----------------------------------------------------------------------------
@@ -518,6 +632,30 @@ FLIGHT_SETTINGS = (
     ('gap_period', 'gapPeriod', 'f', 0.5, 's: an update with dt above this is a gap'),
     ('baro_launch_height', 'baroLaunchHeight', 'f', 30.0, 'm: launch from the baro when two rising pad samples are this far above the pad'),
 )
+
+
+#: The rule of each field of ``FusionAltitudeRocketSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
+#: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
+#: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
+FLIGHT_RULES = {
+    'observer': (RocketStatus.INVALID_OBSERVER_SETTINGS, ('checked',)),
+    'stationary_accel': (RocketStatus.INVALID_STATIONARY_ACCEL, ('finite', ('>', 0))),
+    'calibration_window': (RocketStatus.INVALID_CALIBRATION_WINDOW, ('finite', ('>', 0))),
+    'launch_accel': (RocketStatus.INVALID_LAUNCH_ACCEL, ('finite', ('>', 0))),
+    'launch_time': (RocketStatus.INVALID_LAUNCH_TIME, ('finite', ('>=', 0))),
+    'burnout_accel': (RocketStatus.INVALID_BURNOUT_ACCEL, ('finite',)),
+    'burnout_time': (RocketStatus.INVALID_BURNOUT_TIME, ('finite', ('>=', 0))),
+    'apogee_margin': (RocketStatus.INVALID_APOGEE_MARGIN, ('finite', ('>=', 0))),
+    'lockout_speed': (RocketStatus.INVALID_LOCKOUT_SPEED, ('finite', ('>', 0))),
+    'spike_threshold': (RocketStatus.INVALID_SPIKE_THRESHOLD, ('finite', ('>', 0))),
+    'spike_time': (RocketStatus.INVALID_SPIKE_TIME, ('finite', ('>=', 0))),
+    'offset_rate': (RocketStatus.INVALID_OFFSET_RATE, ('finite', ('>', 0), ('<=', 1))),
+    'main_altitude': (RocketStatus.INVALID_MAIN_ALTITUDE, ('finite', ('>=', 0))),
+    'landed_speed': (RocketStatus.INVALID_LANDED_SPEED, ('finite', ('>', 0))),
+    'landed_time': (RocketStatus.INVALID_LANDED_TIME, ('finite', ('>=', 0))),
+    'gap_period': (RocketStatus.INVALID_GAP_PERIOD, (('>', 0),)),
+    'baro_launch_height': (RocketStatus.INVALID_BARO_LAUNCH_HEIGHT, ('finite', ('>', 0))),
+}
 
 
 #: Status messages of each estimator class, for ``Estimator.status_message``.

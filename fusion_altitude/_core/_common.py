@@ -60,6 +60,23 @@ def raise_input_error(rules: Mapping[int, Tuple[str, str]], status: int, values:
     raise ValueError(f"{where} {rule}, got {values[name]!r}")
 
 
+#: Rule texts of update inputs that several estimators share (the message is "<argument> <rule>, got <value>").
+ACCEL_FINITE = "must be finite (m/s²)"
+DT_POSITIVE = "must be finite and > 0 (s)"
+SAMPLE_OR_NAN = "must be finite, or NaN for no sample (m)"
+BARO_SAMPLE_OR_NAN = "must be finite, or NaN for no baro sample (m)"
+
+
+def input_rules(statuses, **rules) -> dict:
+    """{status: (argument, rule text)} for :func:`raise_input_error`: each keyword is an argument and its rule text,
+    rejected with the member ``INVALID_<ARGUMENT>`` of the status enum ``statuses``, or (member name, rule text)."""
+    table = {}
+    for name, rule in rules.items():
+        member, text = rule if isinstance(rule, tuple) else ("INVALID_" + name.upper(), rule)
+        table[statuses[member]] = (name, text)  # type: ignore[index]
+    return table
+
+
 def output_arrays(batch_type: type, layout: Sequence[Tuple[Tuple[int, ...], object]],
                   out: Optional[Sequence[np.ndarray]]):
     """New output arrays of ``layout`` ((shape, dtype) per field of ``batch_type``), or ``out`` after checking it."""

@@ -1,30 +1,12 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the two-stage complementary filter in csrc/fusion_altitude_complementary.h.
-
-This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm. The
-settings class is the reference's (:class:`fusion_altitude.reference.ComplementarySettings`),
-converted to the C struct here; conversions, enums and the state layout are
-generated from the header (``_complementary_fields.pxi``).
-"""
-
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
-
-from fusion_altitude._core.ccomplementary cimport *
-
-from fusion_altitude import _common, _complementary_glue
-from fusion_altitude._core._complementary_glue import ComplementaryBatch
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.complementary import ComplementarySettings
+"""Cython binding of the two-stage complementary filter in csrc/fusion_altitude_complementary.h: see ``_core/__init__.py`` for what a binding does."""
 
 include "_complementary_fields.pxi"
 
+from fusion_altitude._core._complementary_glue import ComplementaryBatch
+
 status_message = c_status_message
-
-
-def _checked_settings(values):
-    return ComplementarySettings(**values).as_dict()
+_settings_error = _complementary_glue.raise_complementary_settings_error
 
 
 cdef Py_ssize_t _run(FusionAltitudeComplementary *state, const float *accel, const float *baro, const float *dt,
@@ -134,29 +116,9 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
                 a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result if out is None else out  # out=: the caller's object itself
 
-    @property
-    def settings(self):
-        """The settings; assign new :class:`ComplementarySettings` to retune, keeping the state."""
-        return ComplementarySettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, settings):
-        cdef FusionAltitudeComplementarySettings c = _settings_to_c(ComplementarySettings.coerce(settings).as_dict())
-        cdef FusionAltitudeComplementaryStatus status = FusionAltitudeComplementarySetSettings(&self._c, &c)
-        if status != FusionAltitudeComplementaryStatusOk:
-            _complementary_glue.raise_complementary_settings_error(status, _settings_from_c(&c))
-
-    def _get_state(self):
-        return _state_get(&self._c, dict)
-
-    def _set_state(self, state):
-        _state_set(&self._c, tuple(state), _checked_settings)
-
     def __repr__(self):
         return (f"ComplementaryFilter(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"settings={self.settings!r})")
 
 
-def _restore(state):
-    """A new filter holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(ComplementaryFilter, state)
+_complementary_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

@@ -11,7 +11,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import ComplementaryStatus
-from ._common import as_float, output_arrays, raise_input_error
+from ._common import (ACCEL_FINITE, BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, input_rules, output_arrays,
+                      raise_input_error)
 
 
 class ComplementaryBatch(NamedTuple):
@@ -35,19 +36,29 @@ class ComplementaryBatch(NamedTuple):
     baro_velocity: np.ndarray
 
 
-#: Complementary settings in the order of the C struct: (name, default, kind), the defaults read from
+#: The kind of a setting by the status its rule gives (``_c_tables.COMPLEMENTARY_RULES``, from the header).
+_KINDS = {ComplementaryStatus.INVALID_TIME_CONSTANT: "t", ComplementaryStatus.INVALID_COEFFICIENT: "c",
+          ComplementaryStatus.INVALID_GAP_PERIOD: "g", ComplementaryStatus.INVALID_BARO_TIMEOUT: "o", None: "b"}
+
+#: Complementary settings in the order of the C struct: (name, default, kind), the defaults and rules read from
 #: the header (:mod:`fusion_altitude._c_tables`). kind "t": time constant s (finite, >= 0); "c":
 #: coefficient in [0, 1]; "b": bool; "g": gap period s (> 0, inf: never a gap); "o": baro timeout s (> 0, inf:
 #: never times out).
-COMPLEMENTARY_SETTINGS = tuple((name, default, "b" if kind == "b" else "c" if name.endswith("_coefficient")
-                                else "g" if name == "gap_period" else "o" if name == "baro_timeout" else "t")
-                               for name, _, kind, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
+COMPLEMENTARY_SETTINGS = tuple((name, default, _KINDS[_c_tables.COMPLEMENTARY_RULES[name][0]])
+                               for name, _, _, default, _ in _c_tables.COMPLEMENTARY_SETTINGS)
 
 
 COMPLEMENTARY_SETTINGS_NAMES = tuple(name for name, _, _ in COMPLEMENTARY_SETTINGS)
 
 
 COMPLEMENTARY_SETTINGS_DEFAULTS = {name: default for name, default, _ in COMPLEMENTARY_SETTINGS}
+
+
+#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
+#: binding (``_complementary.pyx``) registers them at import: ``"check"`` → ``c_settings_check`` (the twin:
+#: ``reference/complementary.py``'s ``_check``). Without the compiled extension it stays empty
+#: (``tests/test_settings_checks.py`` holds each twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
 
 
 def convert_complementary_settings(kwargs: dict) -> dict:
@@ -85,11 +96,8 @@ def raise_complementary_settings_error(status: int, values: dict) -> None:
     raise ValueError(f"invalid complementary settings (status {status})")
 
 
-_COMPLEMENTARY_UPDATE_RULES = {
-    ComplementaryStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
-    ComplementaryStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
-    ComplementaryStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-}
+_COMPLEMENTARY_UPDATE_RULES = input_rules(ComplementaryStatus, accel=ACCEL_FINITE, baro_altitude=BARO_SAMPLE_OR_NAN,
+                                          dt=DT_POSITIVE)
 
 
 def raise_complementary_update_error(status: int, accel: float, baro_altitude: float, dt: float,

@@ -1,36 +1,17 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h.
-
-Converts and checks Python arguments, calls the C functions and raises for the
-statuses they return. It holds no copy of the algorithm. The settings class is
-the reference's (:class:`fusion_altitude.reference.flight.RocketSettings`),
-converted to the C struct here; the enums, conversions, state layout and scalar
-getters are generated from the header (``_flight_fields.pxi``); the
-``FlightEvents`` result lives in ``_flight_glue``.
-"""
+"""Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h (``FlightEvents`` lives in ``_flight_glue``): see ``_core/__init__.py`` for what a binding does."""
 
 from libc.string cimport memcpy
 
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
-from fusion_altitude._core.cflight cimport *
-
-from fusion_altitude import _common, _flight_glue
-from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.flight import RocketSettings
-
 include "_flight_fields.pxi"
+
+from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
 
 #: The C values, for checking that the Python constants match.
 C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 C_NUMBER_OF_EVENTS = FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
 status_message = c_status_message
-
-
-def _checked_settings(values):
-    return RocketSettings(**values).as_dict()
 
 
 cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const float *baro, const float *dt,
@@ -156,21 +137,12 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
             rows.append((e.occurred, e.sample, e.time, e.height, e.velocity))
         return _flight_glue.events_from_tuples(rows)
 
-    def _get_state(self):
-        """The fields of FusionAltitudeRocket in order (structs as tuples, the settings as ``as_dict()``)."""
-        return _state_get(&self._c, dict)
-
-    def _set_state(self, state):
-        _state_set(&self._c, tuple(state), _checked_settings)
-
     def __repr__(self):
         return (f"RocketEstimator(phase={self.phase.name}, height={self.height!r}, "
                 f"vertical_velocity={self.vertical_velocity!r})")
 
 
-def _restore(state):
-    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(RocketEstimator, state)
-
-
 _common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)
+
+
+_flight_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

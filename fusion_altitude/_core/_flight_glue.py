@@ -16,7 +16,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import BaroFate, Phase, RocketEventId, RocketStatus
-from ._common import as_float, as_float32_vector, check_no_overlap
+from ._common import (BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, as_float32_vector, check_no_overlap, input_rules,
+                      raise_input_error)
 from ._observer_glue import prepare_inputs
 
 
@@ -29,15 +30,19 @@ CSV_EVENTS = ("launch", "burnout", "apogee", "main", "landed")
 #: Speed above which the baro is always locked out, m/s (FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT).
 MACH_LOCKOUT = _c_tables.FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 
+def _rule(terms: tuple) -> str:
+    """The name of a field's rule terms (``_c_tables.FLIGHT_RULES``, from the header)."""
+    if "finite" not in terms:
+        return "gap"
+    if ("<=", 1) in terms:
+        return "rate"
+    return "positive" if (">", 0) in terms else "non_negative" if (">=", 0) in terms else "finite"
+
+
 #: The check of each settings field after ``observer`` (FusionAltitudeRocketSettingsCheck): "positive",
-#: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed).
-SETTINGS_RULES = {
-    "stationary_accel": "positive", "calibration_window": "positive", "launch_accel": "positive",
-    "launch_time": "non_negative", "burnout_accel": "finite", "burnout_time": "non_negative",
-    "apogee_margin": "non_negative", "lockout_speed": "positive", "spike_threshold": "positive",
-    "spike_time": "non_negative", "offset_rate": "rate", "main_altitude": "non_negative", "landed_speed": "positive",
-    "landed_time": "non_negative", "gap_period": "gap", "baro_launch_height": "positive",
-}
+#: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed): the ``[rule: ...]`` of each field's
+#: comment in the header (:data:`fusion_altitude._c_tables.FLIGHT_RULES`).
+SETTINGS_RULES = {name: _rule(terms) for name, (_, terms) in _c_tables.FLIGHT_RULES.items() if name != "observer"}
 
 #: Settings fields after the observer settings, in C declaration (and check) order: (name, default, rule, unit),
 #: the defaults and units read from the header (:mod:`fusion_altitude._c_tables`).
@@ -68,24 +73,29 @@ def raise_settings_error(status: int, values: Dict[str, float]) -> None:
     raise ValueError(f"{name} {_RULE_TEXT[rule]} ({unit}), got {values[name]!r}")
 
 
-_UPDATE_RULES = {
-    RocketStatus.INVALID_ACCEL: ("accel", "must be finite, or NaN for no accelerometer sample (m/s²)"),
-    RocketStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
-    RocketStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-}
+_UPDATE_RULES = input_rules(RocketStatus, accel="must be finite, or NaN for no accelerometer sample (m/s²)",
+                            baro_altitude=BARO_SAMPLE_OR_NAN, dt=DT_POSITIVE)
 
 
 def raise_update_error(status: int, accel: float, baro_altitude: float, dt: float, index: Optional[int] = None,
                        dt_is_array: bool = False) -> None:
     """Raise the ValueError for a rejected update, naming the argument (and the first bad index)."""
-    name, rule = _UPDATE_RULES[RocketStatus(status)]
-    value = {"accel": accel, "baro_altitude": baro_altitude, "dt": dt}[name]
-    where = name if index is None or (name == "dt" and not dt_is_array) else f"{name}[{index}]"
-    raise ValueError(f"{where} {rule}, got {value!r}")
+    raise_input_error(_UPDATE_RULES, RocketStatus(status), {"accel": accel, "baro_altitude": baro_altitude, "dt": dt},
+                      index, {"dt": dt_is_array})
+
+
+#: The C settings functions the settings class calls instead of the twins here, once the binding (``_flight.pyx``)
+#: registers them at import: ``"check"`` → ``c_settings_check`` (the twin: :func:`check_settings_values` without
+#: it). Without the compiled extension it stays empty (``tests/test_settings_checks.py`` holds the twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
 
 
 def check_settings_values(values: Dict[str, float]) -> RocketStatus:
-    """FusionAltitudeRocketSettingsCheck on the float fields (the observer gains are checked by the caller)."""
+    """FusionAltitudeRocketSettingsCheck on the float fields (the observer gains are checked by the caller): C's
+    (with the header's rocket observer) where the binding registered it, else the twin below."""
+    c_function = C_SETTINGS_FUNCTIONS.get("check")
+    if c_function is not None:
+        return RocketStatus(c_function({**values, "observer": ROCKET_OBSERVER}))
     for index, (name, _, rule, _) in enumerate(SETTINGS_FIELDS):
         value = np.float32(values[name])
         finite = bool(np.isfinite(value))

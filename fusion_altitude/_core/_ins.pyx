@@ -1,12 +1,5 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the inertial navigation filter in csrc/fusion_altitude_ins.h.
-
-This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm. The
-settings class is the reference's (:class:`fusion_altitude.reference.ins.InsSettings`),
-converted to the C struct here; the status enum, conversions, state layout and
-scalar getters are generated from the header (``_ins_fields.pxi``).
-"""
+"""Cython binding of the inertial navigation filter in csrc/fusion_altitude_ins.h: see ``_core/__init__.py`` for what a binding does."""
 
 import math
 
@@ -14,22 +7,11 @@ from cpython.list cimport PyList_CheckExact
 from cpython.tuple cimport PyTuple_CheckExact
 from libc.stdint cimport uint8_t, uint32_t
 
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
-from fusion_altitude._core.cins cimport *
+include "_ins_fields.pxi"
 
 import numpy as np
 
-from fusion_altitude import _ins_glue
 from fusion_altitude._core._ins_glue import InsBatch, InsStatus
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.ins import InsSettings
-
-include "_ins_fields.pxi"
-
-
-def _checked_settings(values):
-    return InsSettings(**values).as_dict()
 
 
 cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsVector *out) except -1:
@@ -116,16 +98,6 @@ cdef class InsEstimator(_InsEstimatorGetters):
     def baro_datum_altitude(self):
         """The same as :attr:`altitude` (altitude in the baro's datum, m, +up), kept from the release that added it."""
         return self.altitude
-
-    @property
-    def settings(self):
-        """The settings (InsSettings); assigning one keeps the state."""
-        return InsSettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, value):
-        cdef FusionAltitudeInsSettings c = _settings_to_c(InsSettings.coerce(value).as_dict())
-        FusionAltitudeInsSetSettings(&self._c, &c)  # checked by InsSettings
 
     def reset(self):
         """Back to the start state (not aligned, FusionAltitudeInsInitialiseWith), keeping the settings and units."""
@@ -314,6 +286,4 @@ cdef class InsEstimator(_InsEstimatorGetters):
                 f"is_stationary={self.is_stationary!r})")
 
 
-def _restore(state):
-    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(InsEstimator, state)
+_ins_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

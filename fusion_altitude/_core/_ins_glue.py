@@ -21,10 +21,9 @@ from ._common import GRAVITY, as_float, check_no_overlap
 MAXIMUM = np.float32(_c_tables.FUSION_ALTITUDE_INS_MAXIMUM)
 
 
-#: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6.
-POSITIVE_SETTINGS = frozenset({"accel_attitude_noise", "baro_noise", "zero_rate_noise", "zero_velocity_noise",
-                               "baro_bias_time_constant", "accel_bias_time_constant", "mag_time_constant",
-                               "gap_period", "baro_gate", "baro_timeout", "dead_reckoning_horizon"})
+#: Settings the C check wants > 0 (FusionAltitudeInsSettingsCheck); the others >= 0, all finite and <= 1e6: the
+#: ``[rule: ...]`` of each field's comment in the header (:data:`fusion_altitude._c_tables.INS_RULES`).
+POSITIVE_SETTINGS = frozenset(name for name, (_, terms) in _c_tables.INS_RULES.items() if (">", 0) in terms)
 
 #: INS settings: (Python name, C name, default, rule), in the order of the C struct FusionAltitudeInsSettings,
 #: the defaults read from the header (:mod:`fusion_altitude._c_tables`). Rules: ">=0" finite in [0, 1e6],
@@ -39,19 +38,35 @@ GYRO_UNITS = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "°/s": math.pi / 180.0, "
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
 
 
+#: The C settings functions the settings class calls instead of the twins here, once the binding (``_ins.pyx``)
+#: registers them at import: ``"check"`` → ``c_settings_check`` (the twin: :func:`check_ins_settings`). Without
+#: the compiled extension it stays empty (``tests/test_settings_checks.py`` holds the twin equal to C).
+C_SETTINGS_FUNCTIONS: dict = {}
+
+
+def _in_range(value: np.float32, rule: str) -> bool:
+    """A setting's rule: finite in [0, 1e6] (">=0") or in (0, 1e6] (">0")."""
+    return bool(np.isfinite(value)) and value <= MAXIMUM and bool(value > 0 if rule == ">0" else value >= 0)
+
+
+def check_ins_settings(values: Dict[str, np.float32]) -> InsStatus:
+    """The twin of FusionAltitudeInsSettingsCheck on float32 values."""
+    ok = all(_in_range(values[name], rule) for name, _, _, rule in INS_SETTINGS)
+    return InsStatus.OK if ok else InsStatus.INVALID_SETTINGS
+
+
 def convert_ins_settings(values: Dict[str, object]) -> Dict[str, np.float32]:
     """Defaults filled in, every value float32 and in range; ValueError/TypeError naming the first bad setting."""
     unknown = sorted(set(values) - set(INS_SETTINGS_NAMES))
     if unknown:
         raise TypeError(f"unknown INS setting {unknown[0]!r}; valid: {', '.join(INS_SETTINGS_NAMES)}")
-    result = {}
-    for name, _, default, rule in INS_SETTINGS:
-        value = np.float32(as_float(values.get(name, default), name))
-        ok = bool(np.isfinite(value)) and value <= MAXIMUM and (value > 0 if rule == ">0" else value >= 0)
-        if not ok:
-            bound = "(0, 1e6]" if rule == ">0" else "[0, 1e6]"
-            raise ValueError(f"{name} must be finite in {bound}, got {float(value)!r}")
-        result[name] = value
+    result = {name: np.float32(as_float(values.get(name, default), name)) for name, _, default, _ in INS_SETTINGS}
+    if C_SETTINGS_FUNCTIONS.get("check", check_ins_settings)(result) != InsStatus.OK:
+        for name, _, _, rule in INS_SETTINGS:
+            if not _in_range(result[name], rule):
+                bound = "(0, 1e6]" if rule == ">0" else "[0, 1e6]"
+                raise ValueError(f"{name} must be finite in {bound}, got {float(result[name])!r}")
+        raise ValueError("invalid INS settings")
     return result
 
 

@@ -1,33 +1,20 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the multi-sensor Kalman filter in csrc/fusion_altitude_kalman.h.
-
-This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm. The
-settings class is the reference's (:class:`fusion_altitude.reference.KalmanSettings`),
-converted to the C struct here; conversions, enums and the state layout are
-generated from the header (``_kalman_fields.pxi``).
-"""
+"""Cython binding of the multi-sensor Kalman filter in csrc/fusion_altitude_kalman.h: see ``_core/__init__.py`` for what a binding does."""
 
 import math
 
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
 from cpython.long cimport PyLong_AsLongLongAndOverflow, PyLong_CheckExact
 from libc.math cimport NAN
 from libc.stdint cimport int32_t, uint8_t, uint32_t
 
-from fusion_altitude._core.ckalman cimport *
+include "_kalman_fields.pxi"
 
 import numpy as np
 
-from fusion_altitude import _common, _kalman_glue
 from fusion_altitude._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.kalman import KalmanSettings
-
-include "_kalman_fields.pxi"
 
 kalman_status_message = c_status_message
+_settings_error = _kalman_glue.raise_kalman_settings_error
 
 
 #: An argument left out (update's keywords default to it, so that a name given twice in the deprecated
@@ -49,10 +36,6 @@ cdef int32_t _satellites(object value) except? -2:
         if overflow == 0 and count >= 0:
             return <int32_t>count
     return _kalman_glue.kalman_satellites(value)  # None, NaN, floats, and the refusal of a negative count
-
-
-def _checked_settings(values):
-    return KalmanSettings(**values).as_dict()
 
 
 cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
@@ -305,19 +288,6 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         """Whether the GPS offset is set (first usable GPS sample seen)."""
         return bool(self._c.gpsInitialised)
 
-    @property
-    def settings(self):
-        """The settings; assign new :class:`KalmanSettings` to retune, keeping the state."""
-        return KalmanSettings(**_settings_from_c(&self._c.settings))
-
-    @settings.setter
-    def settings(self, settings):
-        cdef FusionAltitudeKalmanSettings c = _settings_to_c(KalmanSettings.coerce(settings).as_dict())
-        FusionAltitudeKalmanSetSettings(&self._c, &c)
-
-    def _get_state(self):
-        return _state_get(&self._c, dict)
-
     def _set_state(self, state):
         state = list(state)
         sensors = state[3]
@@ -334,9 +304,4 @@ _common.share_docstrings(KalmanEstimator, _kalman_glue.KalmanContract)
 _common.share_signatures(KalmanEstimator, _kalman_glue.KalmanContract, ("update", "update_batch"))
 
 
-def _restore(state):
-    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(KalmanEstimator, state)
-
-
-_kalman_glue.use_c_settings_functions(check=c_settings_check)
+_kalman_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

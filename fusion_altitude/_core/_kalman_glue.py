@@ -12,7 +12,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import KalmanResult, KalmanStatus
-from ._common import as_float, optional_inputs, output_arrays, raise_input_error
+from ._common import (ACCEL_FINITE, DT_POSITIVE, SAMPLE_OR_NAN, as_float, input_rules, optional_inputs, output_arrays,
+                      raise_input_error)
 
 
 #: The positional order of ``update`` after accel before 0.2 (still accepted, deprecated).
@@ -28,32 +29,23 @@ class KalmanSensors(NamedTuple):
     gps: object
 
 
-#: The status group and rule of each Kalman setting (the defaults, kinds and order come from the
-#: header through :mod:`fusion_altitude._c_tables`). Rules: ">=0", ">0", ">=1", ">range_min".
-_KALMAN_RULES = {
-    "estimate_accel_bias": (None, None),
-    "baro_noise": (KalmanStatus.INVALID_NOISE, ">0"),
-    "range_noise": (KalmanStatus.INVALID_NOISE, ">0"),
-    "range_min": (KalmanStatus.INVALID_RANGE, ">=0"),
-    "range_max": (KalmanStatus.INVALID_RANGE, ">range_min"),
-    "gps_noise_base": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gps_noise_satellite": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gps_min_satellites": (KalmanStatus.INVALID_GPS, ">=0"),
-    "gate": (KalmanStatus.INVALID_GATE, ">0"),
-    "rejection_timeout": (KalmanStatus.INVALID_GATE, ">=0"),
-    "ground_effect_noise_scale": (KalmanStatus.INVALID_GROUND_EFFECT, ">=1"),
-    "ground_effect_dead_zone": (KalmanStatus.INVALID_GROUND_EFFECT, ">=0"),
-    "gap_period": (KalmanStatus.INVALID_GAP_PERIOD, "gap"),
-    "baro_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-    "range_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-    "gps_timeout": (KalmanStatus.INVALID_TIMEOUT, ">0"),
-}
+def _rule(terms: tuple) -> Optional[str]:
+    """The message of a field's rule terms (``_c_tables.KALMAN_RULES``, from the header): ">0", ">=0", ">=1",
+    ">range_min", "gap" (> 0, +inf allowed) or None (no rule)."""
+    if "any" in terms:
+        return None
+    if "finite" not in terms and (">", 0) in terms:
+        return "gap"
+    for term, rule in (((">", "range_min"), ">range_min"), ((">=", 1), ">=1"), ((">", 0), ">0")):
+        if term in terms:
+            return rule
+    return ">=0"
 
 
 #: Kalman settings: (Python name, default, kind, status group, rule), in the order of the C struct
-#: FusionAltitudeKalmanSettings. kind: "f" float32, "b" bool, "i" int32. A setting the table above
-#: does not name is a noise (INVALID_NOISE, ">=0").
-KALMAN_SETTINGS = tuple((name, default, kind, *_KALMAN_RULES.get(name, (KalmanStatus.INVALID_NOISE, ">=0")))
+#: FusionAltitudeKalmanSettings. kind: "f" float32, "b" bool, "i" int32; the status group and rule are the
+#: ``[rule: ...]`` of the field's comment in the header (:data:`fusion_altitude._c_tables.KALMAN_RULES`).
+KALMAN_SETTINGS = tuple((name, default, kind, _c_tables.KALMAN_RULES[name][0], _rule(_c_tables.KALMAN_RULES[name][1]))
                         for name, _, kind, default, _ in _c_tables.KALMAN_SETTINGS)
 
 
@@ -64,11 +56,6 @@ KALMAN_SETTINGS_NAMES = tuple(name for name, *_ in KALMAN_SETTINGS)
 #: (``_kalman.pyx``) registers them at import: ``"check"`` → ``c_settings_check``. Without the compiled extension
 #: it stays empty and the reference's twin checks (``tests/test_kalman.py`` holds it equal to C).
 C_SETTINGS_FUNCTIONS: dict = {}
-
-
-def use_c_settings_functions(**functions) -> None:
-    """Called by the binding at import: the settings class computes with these C functions from then on."""
-    C_SETTINGS_FUNCTIONS.update(functions)
 
 
 #: FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING: the largest accepted float setting.
@@ -139,13 +126,9 @@ def raise_kalman_settings_error(status: int, values: dict) -> None:
     raise ValueError(f"invalid Kalman settings (status {status})")
 
 
-_KALMAN_UPDATE_RULES = {
-    KalmanStatus.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
-    KalmanStatus.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-    KalmanStatus.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no sample (m)"),
-    KalmanStatus.INVALID_GPS_ALTITUDE: ("gps_altitude", "must be finite, or NaN for no sample (m)"),
-    KalmanStatus.INVALID_GPS_ACCURACY: ("gps_vertical_accuracy", "must be finite and > 0 (m), or None/NaN if not reported"),
-}
+_KALMAN_UPDATE_RULES = input_rules(
+    KalmanStatus, accel=ACCEL_FINITE, dt=DT_POSITIVE, baro_altitude=SAMPLE_OR_NAN, gps_altitude=SAMPLE_OR_NAN,
+    gps_vertical_accuracy=("INVALID_GPS_ACCURACY", "must be finite and > 0 (m), or None/NaN if not reported"))
 
 
 def raise_kalman_update_error(status: int, values: dict, index: Optional[int] = None,

@@ -1,23 +1,9 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the observer in csrc/fusion_altitude.h.
-
-This module converts and checks Python arguments, calls the C functions and
-raises for the statuses they return. It holds no copy of the algorithm. The
-settings class is the reference's (:class:`fusion_altitude.reference.AltitudeSettings`),
-converted to the C struct here; conversions, enums and the state layout are
-generated from the header (``_observer_fields.pxi``).
-"""
-
-from fusion_altitude._core._convert cimport as_double as _as_double
-from fusion_altitude._core._estimator cimport Estimator
-from fusion_altitude._core.cobserver cimport *
-
-from fusion_altitude import _common, _observer_glue
-from fusion_altitude._core._observer_glue import AltitudeBatch
-from fusion_altitude.reference._checkpoint import restore
-from fusion_altitude.reference.observer import AltitudeSettings
+"""Cython binding of the complementary altitude observer in csrc/fusion_altitude.h: see ``_core/__init__.py`` for what a binding does."""
 
 include "_observer_fields.pxi"
+
+from fusion_altitude._core._observer_glue import AltitudeBatch
 
 GRAVITY = _common.GRAVITY
 C_GRAVITY = FUSION_ALTITUDE_GRAVITY
@@ -32,7 +18,16 @@ def c_settings_from_bandwidth(float omega, float zeta, float omega_b):
     return int(status), (_settings_from_c(&c) if status == FusionAltitudeStatusOk else None)
 
 
-_observer_glue.use_c_settings_functions(from_bandwidth=c_settings_from_bandwidth)
+def c_gains_check(float position_gain, float velocity_gain, float bias_gain):
+    """FusionAltitudeSettingsCheck of the gains (with the default gap period and baro timeout), from C: the status."""
+    cdef FusionAltitudeSettings c = FusionAltitudeSettingsDefault()
+    c.positionGain = position_gain
+    c.velocityGain = velocity_gain
+    c.biasGain = bias_gain
+    return int(FusionAltitudeSettingsCheck(&c))
+
+
+_observer_glue.C_SETTINGS_FUNCTIONS.update(from_bandwidth=c_settings_from_bandwidth, check_gains=c_gains_check)
 
 
 def c_settings_from_preset(int preset):
@@ -74,6 +69,9 @@ def _gains(values):
 
 def _checked_gains(gains):
     return AltitudeSettings(*gains).as_dict()
+
+
+_settings_out, _checked_settings = _gains, _checked_gains  # a checkpoint holds the gains as a tuple
 
 
 cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
@@ -180,12 +178,6 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
         if status != FusionAltitudeStatusOk:
             _observer_glue.raise_settings_error(status, _gains(_settings_from_c(&c)))
 
-    def _get_state(self):
-        return _state_get(&self._c, _gains)
-
-    def _set_state(self, state):
-        _state_set(&self._c, tuple(state), _checked_gains)
-
     def __repr__(self):
         return (f"AltitudeEstimator(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"accel_bias={self.accel_bias!r}, baro_residual={self.baro_residual!r}, settings={self.settings!r})")
@@ -193,7 +185,3 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
 
 _common.share_docstrings(AltitudeEstimator, _observer_glue.AltitudeContract)
 
-
-def _restore(state):
-    """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
-    return restore(AltitudeEstimator, state)

@@ -12,7 +12,8 @@ from typing import NamedTuple, Optional, Sequence, Tuple
 import numpy as np
 
 from ._c_tables import FUSION_ALTITUDE_MAXIMUM_GAIN, OBSERVER_PRESET_OMEGA, Preset, Status
-from ._common import output_arrays as _output_arrays, prepare_inputs, raise_input_error
+from ._common import (ACCEL_FINITE, BARO_SAMPLE_OR_NAN, DT_POSITIVE, input_rules, output_arrays as _output_arrays,
+                      prepare_inputs, raise_input_error)
 
 __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs", "prepare_batch", "output_arrays"]
 
@@ -23,16 +24,12 @@ __all__ = ["AltitudeBatch", "DiscretisationWarning", "Status", "prepare_inputs",
 PRESET_OMEGA = dict(OBSERVER_PRESET_OMEGA)
 
 
-#: The C settings functions the settings class calls instead of the reference's arithmetic twins, once the
-#: binding (``_observer.pyx``) registers them at import: ``"from_bandwidth"`` → ``c_settings_from_bandwidth``.
-#: Without the compiled extension it stays empty and the reference's twins compute (``tests/test_observer.py``
-#: holds the twins equal to C).
+#: The C settings functions the settings classes call instead of the reference's arithmetic twins, once the
+#: binding (``_observer.pyx``) registers them at import: ``"from_bandwidth"`` → ``c_settings_from_bandwidth``,
+#: ``"check_gains"`` → ``c_gains_check`` (also the rocket settings' observer check). Without the compiled
+#: extension it stays empty and the reference's twins compute (``tests/test_settings_checks.py`` and
+#: ``tests/test_observer.py`` hold the twins equal to C).
 C_SETTINGS_FUNCTIONS: dict = {}
-
-
-def use_c_settings_functions(**functions) -> None:
-    """Called by the binding at import: the settings class computes with these C functions from then on."""
-    C_SETTINGS_FUNCTIONS.update(functions)
 
 
 #: Index of each preset in the C enum ``FusionAltitudePreset``.
@@ -73,11 +70,7 @@ class AltitudeBatch(NamedTuple):
     baro_residual: np.ndarray
 
 
-UPDATE_RULES = {
-    Status.INVALID_ACCEL: ("accel", "must be finite (m/s²)"),
-    Status.INVALID_BARO_ALTITUDE: ("baro_altitude", "must be finite, or NaN for no baro sample (m)"),
-    Status.INVALID_DT: ("dt", "must be finite and > 0 (s)"),
-}
+UPDATE_RULES = input_rules(Status, accel=ACCEL_FINITE, baro_altitude=BARO_SAMPLE_OR_NAN, dt=DT_POSITIVE)
 
 
 def raise_update_error(status: int, accel: float, baro_altitude: float, dt: float, index: Optional[int] = None,

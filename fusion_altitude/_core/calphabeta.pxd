@@ -79,6 +79,7 @@ cdef extern from "fusion_altitude_alphabeta.h" nogil:
 
     const char * FusionAltitudeAlphaBetaStatusMessage(const FusionAltitudeAlphaBetaStatus status)
     FusionAltitudeAlphaBetaSettings FusionAltitudeAlphaBetaSettingsDefault()
+    FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSensorSettingsCheck(const FusionAltitudeAlphaBetaSensorSettings * sensor)
     FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSettingsCheck(const FusionAltitudeAlphaBetaSettings * settings)
     void FusionAltitudeAlphaBetaGains(const int32_t quality, float * alpha, float * beta)
     void FusionAltitudeAlphaBetaInitialise(FusionAltitudeAlphaBeta * fusion)

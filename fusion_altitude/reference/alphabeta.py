@@ -76,10 +76,10 @@ class AlphaBetaSettings(KeywordSettings):
     def __init__(self, **sensors) -> None:
         values = _alphabeta_glue.convert_alphabeta_settings(sensors)
         for sensor in ALPHABETA_SENSORS:  # FusionAltitudeAlphaBetaSettingsCheck: first failure in sensor order
-            status = _sensor_status(values[sensor])
+            status = _alphabeta_glue.C_SETTINGS_FUNCTIONS.get("check_sensor", _sensor_status)(values[sensor])
             if status != AlphaBetaStatus.OK:
                 _alphabeta_glue.raise_alphabeta_settings_error(status, values)
-        status = _gap_period_status(values["gap_period"])
+        status = _alphabeta_glue.C_SETTINGS_FUNCTIONS.get("check_gap_period", _gap_period_status)(values["gap_period"])
         if status != AlphaBetaStatus.OK:
             _alphabeta_glue.raise_alphabeta_settings_error(status, values)
         self._values = values

@@ -89,7 +89,8 @@ class ComplementarySettings(KeywordSettings):
     _DISTINCT = "per_sample_coefficients"
 
     def __init__(self, **kwargs) -> None:
-        self._keep_checked(_complementary_glue.convert_complementary_settings(kwargs), _check,
+        self._keep_checked(_complementary_glue.convert_complementary_settings(kwargs),
+                           _complementary_glue.C_SETTINGS_FUNCTIONS.get("check", _check),  # C where built
                            _complementary_glue.raise_complementary_settings_error)
 
     @classmethod

@@ -15,7 +15,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from .._core import _common, _flight_glue
+from .._core import _common, _flight_glue, _observer_glue
 from .._core._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
                             prepare_batch, raise_update_error)
 from ._checkpoint import Checkpointable
@@ -109,7 +109,8 @@ class RocketSettings(KeywordSettings):
         observer_values = _flight_glue.observer_settings(observer)
         values = _flight_glue.convert_settings(kwargs)
         kh, kv, kb, gap, baro_timeout = (f32(v) for v in observer_values)
-        if _check_gains(kh, kv, kb) != Status.OK or not gap > 0 or not baro_timeout > 0:  # FusionAltitudeSettingsCheck
+        check_gains = _observer_glue.C_SETTINGS_FUNCTIONS.get("check_gains", _check_gains)  # C where built
+        if check_gains(kh, kv, kb) != Status.OK or not gap > 0 or not baro_timeout > 0:  # FusionAltitudeSettingsCheck
             _flight_glue.raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": observer_values})
         status = _flight_glue.check_settings_values(values)
         if status != RocketStatus.OK:

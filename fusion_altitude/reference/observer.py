@@ -215,7 +215,7 @@ class AltitudeSettings(GainSettings):
             gains = tuple(f32(value) for value in given)
             period = f32(_common.as_float(gap_period, "gap_period"))
             timeout = f32(_common.as_float(baro_timeout, "baro_timeout"))
-        status = _check_gains(*gains)
+        status = _observer_glue.C_SETTINGS_FUNCTIONS.get("check_gains", _check_gains)(*gains)  # C where built
         if status != Status.OK:  # the message names the value given (1e200, not the float32 inf it becomes)
             _observer_glue.raise_settings_error(status, given if status == Status.INVALID_GAIN
                                                 else tuple(float(g) for g in gains))

@@ -19,7 +19,7 @@ from .._core._common import GRAVITY
 from ..sensors import gyro_attitude, height_above_ground, vertical_acceleration
 from ._checks import PRESSURE_RANGE, absurd_columns
 from ._data import LogData, LogError, _align, _fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header, text_column
+from ._table import check_finite, read_columns, read_text, split_header
 
 #: Accelerometer full scale for clip detection, m/s² (CATS Vega: ±16 g).
 ACCEL_RANGE = 16 * GRAVITY
@@ -87,13 +87,14 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
     name, low, high, unit, what, low_inclusive) drop absurd cells first, their warnings appended to ``messages``."""
     table = split_header(path, read_text(path, "CATS CSV"))
     positions = [table.index(name) for name in names]
-    data, lines, dropped = numeric_columns(table, positions, progress)
+    read = read_columns(table, positions, [table.index("id")] if table.has("id") else [], progress)
+    data, lines, dropped = read.numbers, read.lines, read.dropped
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {name: data[:, i] for i, name in enumerate(names)}
     note = ""
     if table.has("id"):
-        ids = text_column(table, table.index("id"), lines) if data.shape[0] < 2_000_000 else None
+        ids = read.text[0] if data.shape[0] < 2_000_000 else None
         if ids is not None:
             present = sorted(set(ids.tolist()))
             wanted = f"{instance_prefix}{instance}" if instance is not None else present[0]
@@ -238,11 +239,13 @@ def _add_flight_info(log: LogData, file: str, time: np.ndarray, progress) -> Non
     on the grid ``time`` (s)."""
     table = split_header(file, read_text(file, "CATS CSV"))
     names = ["ts"] + [name for name in ("height", "velocity") if table.has(name)]
-    data, lines, _ = numeric_columns(table, [table.index(name) for name in names], progress)
-    info = {name: data[:, i] for i, name in enumerate(names)}
+    read = read_columns(table, [table.index(name) for name in names],
+                        [table.index("state")] if "state" in table.header else [], progress)
+    lines = read.lines
+    info = {name: read.numbers[:, i] for i, name in enumerate(names)}
     check_finite(file, "ts", info["ts"], lines)
     if "state" in table.header:
-        info["state"] = text_column(table, table.index("state"), lines)
+        info["state"] = read.text[0]
     info_time, info, _ = merge_repeated_timestamps(info.pop("ts"), info, file, lines, "ts")
     if "height" in info and info_time.size >= 2:
         log.reference_altitude = np.interp(time, info_time, info["height"], left=np.nan, right=np.nan)

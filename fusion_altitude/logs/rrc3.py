@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import csv
 import os
-from typing import Callable, List, Optional
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
-from ._table import MISSING, read_text, split_header
+from ._table import MISSING, Table, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
 COLUMNS = ("time", "altitude", "pressure", "velocity", "temperature", "events", "voltages")
@@ -68,61 +69,21 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         backwards.
     """
     source = f"{os.path.basename(path)} (RRC3 CSV)"
-    text = read_text(path, "RRC3 CSV")
-    table = split_header(path, text)
+    table = split_header(path, read_text(path, "RRC3 CSV"))
     if not looks_like_rrc3(",".join(table.header)):
         raise LogError(f"{path}: not an RRC3 export (its header does not start with "
                        f"{','.join(COLUMNS[:4])} and name 'events')")
     position = {name.lower(): i for i, name in enumerate(table.header)}
-    rows, lines, events, shifted = [], [], [], 0
-    body = table.body.split("\n")
-    for i, line in enumerate(body):
-        if not line.strip():
-            continue
-        number = table.first_line + i
-        try:
-            cells = next(csv.reader([line]))
-        except csv.Error as error:
-            raise LogError(f"{path}: line {number}: not CSV ({error})") from None
-        values = []
-        for name in COLUMNS[:4]:
-            values.append(_cell(path, number, name, cells, position[name]))
-        event = ""
-        temperature = np.nan
-        if "temperature" in position and position["temperature"] < len(cells):
-            raw = cells[position["temperature"]].strip()
-            try:
-                temperature = float(raw) if raw else np.nan
-            except ValueError:  # text (an event, "-" for none): the temperature cell is missing, events moved left
-                event, shifted = raw, shifted + 1
-        if not event and "events" in position and position["events"] < len(cells):
-            event = cells[position["events"]].strip()
-        rows.append(values + [temperature])
-        lines.append(number)
-        events.append("" if event.lower() in MISSING else event)
-        if progress is not None and i % 10_000 == 0:
-            progress(i, len(body))
-    if len(rows) < 2:
-        raise LogError(f"{path}: need at least 2 data rows, got {len(rows)}")
-    data = np.array(rows, dtype=float)
-    lines = np.array(lines, dtype=np.int64)
-    events = np.array(events, dtype=object)
+    rows = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
+    data, lines, events, shifted = rows
+    if data.shape[0] < 2:
+        raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
                                                           "temperature"))}
     bad_time = np.flatnonzero(~np.isfinite(column["time"]))
     if bad_time.size:
         raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
-    garbage = _garbage_rows(column)
-    messages = []
-    if garbage.any():
-        where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
-        first = int(np.flatnonzero(garbage)[0])
-        messages.append(f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
-                        f"{'s' if garbage.sum() > 1 else ''} (altitude {_fmt(column['altitude'][first])} m, "
-                        f"pressure {_fmt(column['pressure'][first])} hPa, velocity {_fmt(column['velocity'][first])} "
-                        f"m/s: not a plausible flight); dropped, their events kept")
-        for name in ("altitude", "pressure", "velocity", "temperature"):
-            column[name] = np.where(garbage, np.nan, column[name])
+    messages = _drop_garbage(path, column, lines)
     time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
                                                        lines, "time")
     state, notes_events = _states(time, merged["events"])
@@ -141,6 +102,86 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         log.notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
                          f"column left): read as such")
     return finish(log)
+
+
+def _rows_fast(table: Table, position: Dict[str, int], progress):
+    """(time, altitude, pressure, velocity, temperature) rows, their file lines, events and the count of rows
+    without a temperature cell, parsed by pyarrow (:func:`._csv_fast.read_numbers_and_text`: the four numeric
+    columns as numbers, temperature and events as text, each distinct text cell read once as
+    :func:`_rows_python` reads it); None where pyarrow refuses the text (a row of another length, a quote, a
+    cell it does not read as a number), and :func:`_rows_python` reads it."""
+    text = [position[name] for name in ("temperature", "events") if name in position]
+    fast = _csv_fast.read_numbers_and_text(table.body, [position[name] for name in COLUMNS[:4]], text, MISSING,
+                                           progress)
+    lines = None if fast is None else lines_of_rows(table, fast[0].shape[0])
+    if lines is None:
+        return None
+    numbers, cells = fast
+    temperature_cells = cells[0].tolist() if "temperature" in position else [""] * lines.size
+    event_cells = cells[-1].tolist() if "events" in position else [""] * lines.size
+    read = {cell: _temperature_or_event(cell) for cell in set(temperature_cells)}
+    temperature = np.array([read[cell][0] for cell in temperature_cells], dtype=float)
+    events = [cell if read[cell][1] else event for cell, event in zip(temperature_cells, event_cells)]
+    named = {event: "" if event.lower() in MISSING else event for event in set(events)}
+    shifted = sum(1 for cell in temperature_cells if read[cell][1])
+    events = np.array([named[event] for event in events], dtype=object)
+    return np.column_stack([numbers, temperature]), lines, events, shifted
+
+
+def _temperature_or_event(cell: str) -> Tuple[float, bool]:
+    """A stripped temperature cell as (°C, False), NaN if empty; (NaN, True) if it is text: an event (``-`` for
+    none) in a row without its temperature cell."""
+    try:
+        return (float(cell) if cell else np.nan), False
+    except ValueError:
+        return np.nan, True
+
+
+def _rows_python(table: Table, position: Dict[str, int], progress):
+    """What :func:`_rows_fast` returns, line by line with :mod:`csv`; LogError naming the first bad cell."""
+    rows, lines, events, shifted = [], [], [], 0
+    body = table.body.split("\n")
+    for i, line in enumerate(body):
+        if not line.strip():
+            continue
+        number = table.first_line + i
+        try:
+            cells = next(csv.reader([line]))
+        except csv.Error as error:
+            raise LogError(f"{table.path}: line {number}: not CSV ({error})") from None
+        values = [_cell(table.path, number, name, cells, position[name]) for name in COLUMNS[:4]]
+        event = ""
+        temperature = np.nan
+        if "temperature" in position and position["temperature"] < len(cells):
+            temperature, is_event = _temperature_or_event(cells[position["temperature"]].strip())
+            if is_event:  # text (an event, "-" for none): the temperature cell is missing, events moved left
+                event, shifted = cells[position["temperature"]].strip(), shifted + 1
+        if not event and "events" in position and position["events"] < len(cells):
+            event = cells[position["events"]].strip()
+        rows.append(values + [temperature])
+        lines.append(number)
+        events.append("" if event.lower() in MISSING else event)
+        if progress is not None and i % 10_000 == 0:
+            progress(i, len(body))
+    data = np.array(rows, dtype=float).reshape(len(rows), 5)
+    return data, np.array(lines, dtype=np.int64), np.array(events, dtype=object), shifted
+
+
+def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -> List[str]:
+    """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in
+    ``column``; the warning naming their lines, if any."""
+    garbage = _garbage_rows(column)
+    if not garbage.any():
+        return []
+    where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
+    first = int(np.flatnonzero(garbage)[0])
+    message = (f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
+               f"{'s' if garbage.sum() > 1 else ''} (altitude {_fmt(column['altitude'][first])} m, "
+               f"pressure {_fmt(column['pressure'][first])} hPa, velocity {_fmt(column['velocity'][first])} "
+               f"m/s: not a plausible flight); dropped, their events kept")
+    for name in ("altitude", "pressure", "velocity", "temperature"):
+        column[name] = np.where(garbage, np.nan, column[name])
+    return [message]
 
 
 def _cell(path: str, number: int, name: str, cells: List[str], position: int) -> float:

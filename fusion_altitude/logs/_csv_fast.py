@@ -124,20 +124,24 @@ def read_columns(body: str, columns: Sequence[int], missing: Sequence[str], prog
 
 
 def read_numbers_and_text(body: str, columns: Sequence[int], text: Sequence[int], missing: Sequence[str],
-                          progress=None) -> Optional[Tuple[np.ndarray, List[np.ndarray]]]:
+                          progress=None, encoded: bool = False) -> Optional[Tuple[np.ndarray, list]]:
     """The numeric ``columns`` (float64, rows × columns) and the stripped cells of the ``text`` columns (one
     object array of str each) of the CSV ``body``, in one pass; None if not plain.
 
     As :func:`read_columns`, and with text columns asked for, also None when ``body`` holds a quote
     character (the Python path splits such lines with :mod:`csv`): a plain body splits at every comma, as
     ``line.split(",")`` does. Each distinct text cell (pyarrow's dictionary encoding) is stripped with
-    ``str.strip`` once.
+    ``str.strip`` once; with ``encoded``, each text column comes as those stripped cells and the index of
+    each row's cell among them (``cells[indices]`` is the column), for a reader that maps each distinct
+    cell once.
     """
     if ENGINE != "auto" or (text and '"' in body):
         return None
     pacsv = _pyarrow()
     if pacsv is None:
         return None
+    import pyarrow as pa
+
     parts, texts = [], [[] for _ in text]
     with native_threads_without_signals():
         for chunk, done in text_chunks(body, CHUNK_CHARS):
@@ -149,12 +153,12 @@ def read_numbers_and_text(body: str, columns: Sequence[int], text: Sequence[int]
                 part[:, j] = table.column(f"f{position}").to_numpy(zero_copy_only=False)  # null → NaN
             parts.append(part)
             for cells, position in zip(texts, text):
-                cells.append(_stripped(table.column(f"f{position}")))
+                cells += table.column(f"f{position}").chunks
             if progress is not None:
                 progress(done, len(body))
-    if not parts:
-        return np.zeros((0, len(columns))), [np.zeros(0, dtype=object) for _ in text]
-    return np.concatenate(parts, axis=0), [np.concatenate(cells) for cells in texts]
+    numbers = np.concatenate(parts, axis=0) if parts else np.zeros((0, len(columns)))
+    columns_text = [_stripped(pa.chunked_array(cells, type=pa.string())) for cells in texts]
+    return numbers, columns_text if encoded else [cells[indices] for cells, indices in columns_text]
 
 
 def _parse(pacsv, chunk: str, columns: Sequence[int], text: Sequence[int], missing: Sequence[str]):
@@ -177,9 +181,10 @@ def _parse(pacsv, chunk: str, columns: Sequence[int], text: Sequence[int], missi
         return None
 
 
-def _stripped(cells) -> np.ndarray:
-    """A pyarrow string column as an object array of its cells, each stripped (each distinct cell once)."""
+def _stripped(cells) -> Tuple[np.ndarray, np.ndarray]:
+    """A pyarrow string column as its distinct cells, each stripped (object array of str), and the index of each
+    row's cell among them (int64)."""
     encoded = cells.combine_chunks().dictionary_encode()
     stripped = np.empty(len(encoded.dictionary), dtype=object)
     stripped[:] = [cell.strip() for cell in encoded.dictionary.to_pylist()]
-    return stripped[encoded.indices.to_numpy(zero_copy_only=False)]
+    return stripped, encoded.indices.to_numpy(zero_copy_only=False).astype(np.int64, copy=False)

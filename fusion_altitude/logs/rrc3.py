@@ -112,20 +112,26 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
     cell it does not read as a number), and :func:`_rows_python` reads it."""
     text = [position[name] for name in ("temperature", "events") if name in position]
     fast = _csv_fast.read_numbers_and_text(table.body, [position[name] for name in COLUMNS[:4]], text, MISSING,
-                                           progress)
+                                           progress, encoded=True)
     lines = None if fast is None else lines_of_rows(table, fast[0].shape[0])
     if lines is None:
         return None
     numbers, cells = fast
-    temperature_cells = cells[0].tolist() if "temperature" in position else [""] * lines.size
-    event_cells = cells[-1].tolist() if "events" in position else [""] * lines.size
-    read = {cell: _temperature_or_event(cell) for cell in set(temperature_cells)}
-    temperature = np.array([read[cell][0] for cell in temperature_cells], dtype=float)
-    events = [cell if read[cell][1] else event for cell, event in zip(temperature_cells, event_cells)]
-    named = {event: "" if event.lower() in MISSING else event for event in set(events)}
-    shifted = sum(1 for cell in temperature_cells if read[cell][1])
-    events = np.array([named[event] for event in events], dtype=object)
-    return np.column_stack([numbers, temperature]), lines, events, shifted
+    nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
+    temperature_cells, temperature_rows = cells[0] if "temperature" in position else nothing
+    event_cells, event_rows = cells[-1] if "events" in position else nothing
+    read = [_temperature_or_event(cell) for cell in temperature_cells]
+    temperature = np.array([value for value, _ in read], dtype=float).reshape(-1)[temperature_rows]
+    shifted = np.array([is_event for _, is_event in read], dtype=bool).reshape(-1)[temperature_rows]
+    events = np.where(shifted, _event_names(temperature_cells)[temperature_rows], _event_names(event_cells)[event_rows])
+    return np.column_stack([numbers, temperature]), lines, events, int(shifted.sum())
+
+
+def _event_names(cells: np.ndarray) -> np.ndarray:
+    """Each event cell, or "" for none (a cell of :data:`MISSING`, any case); object array of str."""
+    named = np.empty(cells.size, dtype=object)
+    named[:] = ["" if cell.lower() in MISSING else cell for cell in cells]
+    return named
 
 
 def _temperature_or_event(cell: str) -> Tuple[float, bool]:
@@ -207,12 +213,10 @@ def _garbage_rows(column: dict) -> np.ndarray:
 
 def _states(time: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes."""
-    state = np.empty(time.size, dtype=object)
-    current = "pad"
-    notes = []
-    for i, event in enumerate(events):
-        if event:
-            current = str(event).lower()
-            notes.append(f"{event} at {_fmt(time[i])} s")
-        state[i] = current
-    return state, notes
+    marks = np.flatnonzero(np.asarray(events != "", dtype=bool))  # events are str: "" for none
+    notes = [f"{events[i]} at {_fmt(time[i])} s" for i in marks]
+    names = np.empty(marks.size + 1, dtype=object)
+    names[:] = ["pad"] + [str(events[i]).lower() for i in marks]
+    latest = np.zeros(time.size, dtype=np.int64)
+    latest[marks] = np.arange(1, marks.size + 1)
+    return names[np.maximum.accumulate(latest)], notes

@@ -14,7 +14,7 @@ import csv
 import io
 import os
 from dataclasses import dataclass
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -145,18 +145,22 @@ def _numpy_columns(table: Table, columns: Sequence[int], progress) -> Optional[n
     return np.concatenate(parts, axis=0)
 
 
+def data_lines(table: Table) -> Iterator[Tuple[int, int, str]]:
+    """(position in the body, file line number, text) of every line of the body that is not blank."""
+    for i, line in enumerate(table.body.split("\n")):
+        if line.strip():
+            yield i, table.first_line + i, line
+
+
 def _python_columns(table: Table, columns: Sequence[int], progress, allow_truncated_tail: bool):
     """Pure-Python parse of the needed columns; LogError at the first bad line."""
     names = [table.header[i] for i in columns]
-    lines = table.body.split("\n")
+    total = table.body.count("\n") + 1
     ends_cleanly = table.body.endswith("\n") or not table.body
-    last = max((i for i, line in enumerate(lines) if line.strip()), default=-1)
+    last = max((i for i, _, _ in data_lines(table)), default=-1)
     rows, row_lines = [], []
     dropped = None
-    for i, line in enumerate(lines):
-        if not line.strip():
-            continue
-        number = table.first_line + i
+    for i, number, line in data_lines(table):
         try:
             cells = next(csv.reader([line]))
             values = []
@@ -184,7 +188,7 @@ def _python_columns(table: Table, columns: Sequence[int], progress, allow_trunca
         rows.append(values)
         row_lines.append(number)
         if progress is not None and i % 100_000 == 0:
-            progress(i, len(lines))
+            progress(i, total)
     data = np.array(rows, dtype=float).reshape(len(rows), len(columns))
     return data, np.array(row_lines, dtype=np.int64), dropped
 

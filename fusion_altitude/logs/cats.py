@@ -161,34 +161,44 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
         going backwards, no pre-launch data.
     """
     files = find_cats_files(path)
-    imu_time, imu, imu_repeats, imu_note, dropped_imu = _read(
-        files["imu"], ["ts", "Ax", "Ay", "Az", "Gx", "Gy", "Gz"], progress, "IMU", instance)
-    implausible = []
-    baro_time, baro, baro_repeats, baro_note, dropped_baro = _read(
-        files["baro"], ["ts", "P", "T"], progress, "BARO", instance,
-        [("P", "P", *PRESSURE_RANGE, "Pa", "pressure", False)], implausible)
-    time = imu_time
+    imu_read, baro_read, implausible = _read_sensors(files, progress, instance)
+    time, imu, imu_repeats, imu_note, dropped_imu = imu_read
+    baro_time, baro, baro_repeats, baro_note, dropped_baro = baro_read
     accel_body, gyro_dps, accel, clipped = _imu_vertical(files["imu"], time, imu, accel_range)
     pressure = _align(time, baro_time, baro["P"])
-    temperature = _align(time, baro_time, baro["T"] + 273.15)
     ground_pa = _pad_pressure(files["baro"], baro_time, baro, ground_temperature_k)
-    baro_altitude = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
              f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
     log = LogData(f"{os.path.basename(files['baro'])} + {os.path.basename(files['imu'])} (CATS CSV)", time, accel,
-                  baro_altitude, clipped=clipped, notes=notes, accel=accel_body, gyro=np.radians(gyro_dps),
-                  imu_frame="sensor", pressure=pressure, temperature=temperature, vehicle="rocket",
+                  height_above_ground(pressure, ground_pa, ground_temperature_k), clipped=clipped, notes=notes,
+                  accel=accel_body, gyro=np.radians(gyro_dps), imu_frame="sensor", pressure=pressure,
+                  temperature=_align(time, baro_time, baro["T"] + 273.15), vehicle="rocket",
                   altitude_reference="pad", ground_altitude=0.0, repeated_timestamps=imu_repeats)
+    _warn_read(log, files, implausible, baro_repeats, ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])))
+    if "info" in files:
+        _add_flight_info(log, files["info"], time, progress)
+    return finish(log)
+
+
+def _read_sensors(files: Dict[str, str], progress, instance: Optional[int]):
+    """What :func:`_read` gives of the IMU file and of the baro file, and the warnings of implausible pressures."""
+    imu = _read(files["imu"], ["ts", "Ax", "Ay", "Az", "Gx", "Gy", "Gz"], progress, "IMU", instance)
+    implausible = []
+    baro = _read(files["baro"], ["ts", "P", "T"], progress, "BARO", instance,
+                 [("P", "P", *PRESSURE_RANGE, "Pa", "pressure", False)], implausible)
+    return imu, baro, implausible
+
+
+def _warn_read(log: LogData, files: Dict[str, str], implausible, baro_repeats: int, dropped) -> None:
+    """The warnings of reading the files: implausible cells dropped, repeated baro stamps merged, last lines cut
+    short (``dropped``: (file line or None, file) pairs)."""
     for message in implausible:
         log.warn(message)
     if baro_repeats:
         log.warn(f"{files['baro']}: {baro_repeats} rows repeated the timestamp of the row before; merged")
-    for dropped, file in ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])):
-        if dropped is not None:
-            log.warn(f"{file}: line {dropped}: the last line is cut short (no newline at the end); dropped")
-    if "info" in files:
-        _add_flight_info(log, files["info"], time, progress)
-    return finish(log)
+    for line, file in dropped:
+        if line is not None:
+            log.warn(f"{file}: line {line}: the last line is cut short (no newline at the end); dropped")
 
 
 def _imu_vertical(file: str, time: np.ndarray, imu: Dict[str, np.ndarray], accel_range: float):

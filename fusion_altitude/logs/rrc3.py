@@ -17,7 +17,7 @@ import numpy as np
 from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
 from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
-from ._table import MISSING, Table, lines_of_rows, read_text, split_header
+from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
 COLUMNS = ("time", "altitude", "pressure", "velocity", "temperature", "events", "voltages")
@@ -68,14 +68,12 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         Not an RRC3 header, a bad number (file line and column), time going
         backwards.
     """
-    source = f"{os.path.basename(path)} (RRC3 CSV)"
     table = split_header(path, read_text(path, "RRC3 CSV"))
     if not looks_like_rrc3(",".join(table.header)):
         raise LogError(f"{path}: not an RRC3 export (its header does not start with "
                        f"{','.join(COLUMNS[:4])} and name 'events')")
     position = {name.lower(): i for i, name in enumerate(table.header)}
-    rows = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
-    data, lines, events, shifted = rows
+    data, lines, events, shifted = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
@@ -86,22 +84,28 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
     messages = _drop_garbage(path, column, lines)
     time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
                                                        lines, "time")
+    log = _log(f"{os.path.basename(path)} (RRC3 CSV)", time, merged, repeated, shifted)
+    for message in messages:
+        log.warn(message)
+    return finish(log)
+
+
+def _log(source: str, time: np.ndarray, merged: Dict[str, np.ndarray], repeated: int, shifted: int) -> LogData:
+    """The LogData of an RRC3 export's columns (``merged``: altitude m, pressure hPa, velocity m/s, temperature
+    °C, events) on its time stamps (s), with the notes."""
     state, notes_events = _states(time, merged["events"])
     notes = ["time, altitude (m AGL), pressure (hPa), velocity (reference), temperature; no accelerometer: "
              "baro only"]
     if notes_events:
         notes.append("RRC3 events: " + ", ".join(notes_events))
-    log = LogData(source, time, np.zeros(time.shape), merged["altitude"], reference_velocity=merged["velocity"],
-                  reference_name="RRC3 altimeter (baro-derived velocity)", notes=notes,
-                  pressure=merged["pressure"] * HPA, temperature=merged["temperature"] + 273.15,
-                  flight_state=state, vehicle="rocket", altitude_reference="pad", ground_altitude=0.0,
-                  repeated_timestamps=repeated, baro_only=True)
-    for message in messages:
-        log.warn(message)
     if shifted:
-        log.notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
-                         f"column left): read as such")
-    return finish(log)
+        notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
+                     f"column left): read as such")
+    return LogData(source, time, np.zeros(time.shape), merged["altitude"], reference_velocity=merged["velocity"],
+                   reference_name="RRC3 altimeter (baro-derived velocity)", notes=notes,
+                   pressure=merged["pressure"] * HPA, temperature=merged["temperature"] + 273.15,
+                   flight_state=state, vehicle="rocket", altitude_reference="pad", ground_altitude=0.0,
+                   repeated_timestamps=repeated, baro_only=True)
 
 
 def _rows_fast(table: Table, position: Dict[str, int], progress):
@@ -146,11 +150,8 @@ def _temperature_or_event(cell: str) -> Tuple[float, bool]:
 def _rows_python(table: Table, position: Dict[str, int], progress):
     """What :func:`_rows_fast` returns, line by line with :mod:`csv`; LogError naming the first bad cell."""
     rows, lines, events, shifted = [], [], [], 0
-    body = table.body.split("\n")
-    for i, line in enumerate(body):
-        if not line.strip():
-            continue
-        number = table.first_line + i
+    total = table.body.count("\n") + 1
+    for i, number, line in data_lines(table):
         try:
             cells = next(csv.reader([line]))
         except csv.Error as error:
@@ -168,7 +169,7 @@ def _rows_python(table: Table, position: Dict[str, int], progress):
         lines.append(number)
         events.append("" if event.lower() in MISSING else event)
         if progress is not None and i % 10_000 == 0:
-            progress(i, len(body))
+            progress(i, total)
     data = np.array(rows, dtype=float).reshape(len(rows), 5)
     return data, np.array(lines, dtype=np.int64), np.array(events, dtype=object), shifted
 

@@ -253,36 +253,40 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     time = np.asarray(time, dtype=float)
     if lines is None:
         lines = np.arange(time.size) + 2
-    bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size:
-        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
-                       f"time must be a finite number")
-    dt = np.diff(time)
-    back = np.flatnonzero(dt < 0)
-    if back.size:
-        i = back[0]
-        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
-                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
-    same = dt == 0
+    _check_time_order(time, source, lines, time_name, row_word)
+    same = np.diff(time) == 0
     repeated = int(same.sum())
     if not repeated:
         return time, columns, 0
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
-    ends = np.concatenate([starts[1:], [time.size]]) - 1
-    merged = {}
-    for name, values in columns.items():
-        values = np.asarray(values)
-        if values.dtype.kind == "f":
-            finite = np.isfinite(values)
-            total = np.add.reduceat(np.where(finite, values, 0.0), starts, axis=0)
-            count = np.add.reduceat(finite.astype(float), starts, axis=0)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                merged[name] = np.where(count > 0, total / np.maximum(count, 1), np.nan)
-        elif values.dtype.kind == "b":
-            merged[name] = np.logical_or.reduceat(values, starts, axis=0)
-        else:
-            merged[name] = values[ends]
-    return time[starts], merged, repeated
+    return time[starts], {name: _merged(np.asarray(values), starts) for name, values in columns.items()}, repeated
+
+
+def _check_time_order(time: np.ndarray, source: str, lines: np.ndarray, time_name: str, row_word: str) -> None:
+    """LogError naming the first row (``lines``: its file line) whose time (s) is not finite or goes backwards."""
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
+                       f"time must be a finite number")
+    back = np.flatnonzero(np.diff(time) < 0)
+    if back.size:
+        i = back[0]
+        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
+                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
+
+
+def _merged(values: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """One column's rows merged by groups starting at ``starts``: numbers the mean of their finite values (NaN
+    if none), booleans any, anything else the group's last row."""
+    if values.dtype.kind == "f":
+        finite = np.isfinite(values)
+        total = np.add.reduceat(np.where(finite, values, 0.0), starts, axis=0)
+        count = np.add.reduceat(finite.astype(float), starts, axis=0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    if values.dtype.kind == "b":
+        return np.logical_or.reduceat(values, starts, axis=0)
+    return values[np.concatenate([starts[1:], [values.shape[0]]]) - 1]
 
 
 def finish(data: LogData) -> LogData:

@@ -114,25 +114,13 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     """
     source = f"{os.path.basename(path)} (AltOS CSV)"
     time, column, dropped, repeated, messages, notes = _read_columns(path, progress)
-    pressure = column["pressure"]
     pad = time < 0
     if not pad.any():
         pad = time <= time[0] + 1.0
     notes.insert(0, "time, acceleration, altitude (first), pressure")
     temperature = column["temperature"] + 273.15 if "temperature" in column else None
-    if ground_temperature_k is not None:
-        baro = _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, notes)
-        altitude_reference, ground_altitude = "pad", 0.0
-    else:
-        baro = column["altitude"]
-        altitude_reference = "sea level"
-        ground_altitude = None
-    reference = velocity = None
-    if "height" in column:
-        if altitude_reference == "sea level":
-            ground_altitude = _ground_altitude(column["altitude"], column["height"], pad)
-        reference = column["height"] + (ground_altitude or 0.0)
-        velocity = next((column[name] for name in ("speed", "accel_speed", "baro_speed") if name in column), None)
+    baro, altitude_reference, ground_altitude, reference, velocity = _baro_and_reference(
+        path, column, temperature, pad, ground_temperature_k, notes)
     vertical, axial, baro_only, accel_message = _axial(source, column.get("acceleration"), pad, notes)
     if accel_message is not None:
         messages.append(accel_message)
@@ -147,7 +135,7 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
         reference_name="AltOS flight computer (height, speed)" if reference is not None else "",
         clipped=clipped, notes=notes, gps_altitude=column.get("gps_altitude"), gps_satellites=column.get("nsat"),
         accel=imu, gyro=gyro, imu_frame="sensor" if imu is not None else "",
-        pressure=pressure, temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
+        pressure=column["pressure"], temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
         altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated,
         axial_acceleration=axial, baro_only=baro_only)
     if dropped is not None:
@@ -155,6 +143,26 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     for message in messages:
         log.warn(message)
     return finish(log)
+
+
+def _baro_and_reference(path: str, column: dict, temperature: Optional[np.ndarray], pad: np.ndarray,
+                        ground_temperature_k, notes: list):
+    """(baro altitude m, its datum, the pad's altitude m or None, the flight computer's height m in the baro's
+    datum or None, its velocity m/s or None): the first ``altitude`` (datum "sea level"), or with
+    ``ground_temperature_k`` the hypsometric height above the pad (datum "pad"); ``height`` + the pad's
+    altitude, ``speed`` (else ``accel_speed``, ``baro_speed``)."""
+    if ground_temperature_k is not None:
+        baro = _hypsometric_height(path, column["pressure"], temperature, pad, ground_temperature_k, notes)
+        altitude_reference, ground_altitude = "pad", 0.0
+    else:
+        baro, altitude_reference, ground_altitude = column["altitude"], "sea level", None
+    if "height" not in column:
+        return baro, altitude_reference, ground_altitude, None, None
+    if altitude_reference == "sea level":
+        ground_altitude = _ground_altitude(column["altitude"], column["height"], pad)
+    reference = column["height"] + (ground_altitude or 0.0)
+    velocity = next((column[name] for name in ("speed", "accel_speed", "baro_speed") if name in column), None)
+    return baro, altitude_reference, ground_altitude, reference, velocity
 
 
 def _filled(values: np.ndarray) -> np.ndarray:

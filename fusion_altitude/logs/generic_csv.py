@@ -182,29 +182,18 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                           attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column,
                           gyro_body_columns)
     altitude_scale = ALTITUDE_UNITS[altitude_units]
-    low, high = ALTITUDE_RANGE
-    altitude_check = (low / altitude_scale, high / altitude_scale, altitude_units)
-    checks = [("reference", reference_column, *altitude_check, "reference altitude", True)]
-    if pressure_column is not None:
-        checks.append(("baro", pressure_column, *PLAUSIBLE_PRESSURE, "Pa", "pressure", False))
-    else:
-        checks.append(("baro", baro_column, *altitude_check, "baro altitude", True))
-    time, column, lines, dropped, repeated, implausible = _read_columns(path, roles, progress, TIME_UNITS[time_units],
-                                                                        checks)
+    time, column, lines, dropped, repeated, implausible = _read_columns(
+        path, roles, progress, TIME_UNITS[time_units], _plausibility_checks(reference_column, pressure_column,
+                                                                            baro_column, altitude_units))
     notes = [f"time {time_column!r}"]
-    scale = ACCEL_UNITS[accel_units]
-    accel_body = dead = None
     if accel_column is not None:
-        accel = gravity_check(source, accel_column, column["accel"] * scale, time, remove_gravity)
-        notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
-        dead = column_dead(path, accel_column, accel, "m/s²",
-                           "the estimators track the baro alone (vertical acceleration 0 m/s²)")
-        if dead is not None:
-            implausible.append(dead)
-            accel = np.zeros(time.shape)
+        accel, accel_body, dead = _vertical_column(path, source, accel_column, column["accel"] * ACCEL_UNITS[
+            accel_units], time, remove_gravity, notes, accel_units)
+        implausible += [dead] if dead is not None else []
     else:
-        accel, accel_body = _body_to_vertical(path, source, column, time, scale, accel_body_columns,
-                                              attitude_columns, attitude_convention, frame)
+        accel, accel_body = _body_to_vertical(path, source, column, time, ACCEL_UNITS[accel_units],
+                                              accel_body_columns, attitude_columns, attitude_convention, frame)
+        dead = None
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
     gyro = None
@@ -214,37 +203,62 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     temperature = None
     if temperature_column is not None:
         temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
-    pressure = None
-    altitude_reference = ""
-    ground_altitude = None
     if pressure_column is not None:
-        pressure = column["baro"]
-        warning = _pressure_warning(pressure_column, pressure)
+        warning = _pressure_warning(pressure_column, column["baro"])
         baro, altitude_reference, ground_altitude = _pressure_altitude(
-            path, pressure_column, pressure, time, sea_level_pa, ground_temperature_k, temperature_column,
+            path, pressure_column, column["baro"], time, sea_level_pa, ground_temperature_k, temperature_column,
             temperature, notes)
     else:
-        baro = column["baro"] * altitude_scale
-        warning = None
+        baro, warning, altitude_reference, ground_altitude = column["baro"] * altitude_scale, None, "", None
         notes.append(f"baro {baro_column!r} ({altitude_units})")
     if not np.isfinite(baro).any():
         raise LogError(f"{path}: column {baro_column or pressure_column!r}: no usable value on any row")
-    reference = column["reference"] * altitude_scale if reference_column is not None else None
-    gps = column["gps"] * altitude_scale if gps_column is not None else None
-    rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
-    log = LogData(source, time, accel, baro, reference_altitude=reference, baro_only=dead is not None,
+    scaled = {role: column[role] * altitude_scale if role in column else None
+              for role in ("reference", "gps", "rangefinder")}
+    log = LogData(source, time, accel, baro, reference_altitude=scaled["reference"], baro_only=dead is not None,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
-                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body, gyro=gyro,
-                  imu_frame=FRAMES[frame] if accel_body is not None else "",
-                  pressure=pressure, temperature=temperature, altitude_reference=altitude_reference,
-                  ground_altitude=ground_altitude, repeated_timestamps=repeated)
+                  notes=notes, gps_altitude=scaled["gps"], rangefinder=scaled["rangefinder"], accel=accel_body,
+                  gyro=gyro, imu_frame=FRAMES[frame] if accel_body is not None else "",
+                  pressure=column["baro"] if pressure_column is not None else None, temperature=temperature,
+                  altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
+    _warn_read(log, path, dropped, warning, implausible)
+    return finish(log)
+
+
+def _plausibility_checks(reference_column, pressure_column, baro_column, altitude_units: str) -> list:
+    """The plausibility checks of the reference and baro (or pressure) columns: (role, name, low, high, unit,
+    what, low_inclusive), altitudes in ``altitude_units``."""
+    altitude_scale = ALTITUDE_UNITS[altitude_units]
+    low, high = ALTITUDE_RANGE
+    altitude_check = (low / altitude_scale, high / altitude_scale, altitude_units)
+    checks = [("reference", reference_column, *altitude_check, "reference altitude", True)]
+    if pressure_column is not None:
+        checks.append(("baro", pressure_column, *PLAUSIBLE_PRESSURE, "Pa", "pressure", False))
+    else:
+        checks.append(("baro", baro_column, *altitude_check, "baro altitude", True))
+    return checks
+
+
+def _vertical_column(path: str, source: str, accel_column: str, accel: np.ndarray, time: np.ndarray,
+                     remove_gravity: bool, notes: list, accel_units: str):
+    """A vertical-acceleration column (m/s²) checked for gravity (:func:`gravity_check`) and a dead sensor:
+    (vertical acceleration m/s² — zeros when dead —, None, the dead-sensor warning or None); appends a note."""
+    accel = gravity_check(source, accel_column, accel, time, remove_gravity)
+    notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
+    dead = column_dead(path, accel_column, accel, "m/s²",
+                       "the estimators track the baro alone (vertical acceleration 0 m/s²)")
+    return (np.zeros(time.shape) if dead is not None else accel), None, dead
+
+
+def _warn_read(log: LogData, path: str, dropped: Optional[int], warning: Optional[str], implausible) -> None:
+    """The reader's warnings: a cut-short last line (file line ``dropped``), the pressure column's ``warning``,
+    the ``implausible`` cells and a dead accelerometer."""
     if dropped is not None:
         log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if warning is not None:
         log.warn(f"{path}: {warning}")
     for message in implausible:
         log.warn(message)
-    return finish(log)
 
 
 def _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,

@@ -200,7 +200,7 @@ def quiet_warnings():
         _QUIET.on = before
 
 
-def _fmt(value: float) -> str:
+def fmt(value: float) -> str:
     """A number for a message: plain Python formatting, never a numpy repr."""
     return f"{float(value):.6g}"
 
@@ -272,7 +272,7 @@ def _check_time_order(time: np.ndarray, source: str, lines: np.ndarray, time_nam
     if back.size:
         i = back[0]
         raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
-                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
+                       f"({fmt(time[i + 1])} s after {fmt(time[i])} s on {row_word} {int(lines[i])})")
 
 
 def _merged(values: np.ndarray, starts: np.ndarray) -> np.ndarray:
@@ -303,12 +303,12 @@ def finish(data: LogData) -> LogData:
     if data.gaps:
         longest = max(length for _, length in data.gaps)
         first = data.gaps[0]
-        data.warn(f"{data.source}: {len(data.gaps)} logging gap(s), the longest {_fmt(longest)} s "
-                  f"(first at {_fmt(first[0])} s, {_fmt(first[1])} s long)")
+        data.warn(f"{data.source}: {len(data.gaps)} logging gap(s), the longest {fmt(longest)} s "
+                  f"(first at {fmt(first[0])} s, {fmt(first[1])} s long)")
     return data
 
 
-def _align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Each source sample on the first target step at or after it; NaN on other steps (newest wins)."""
     values = np.asarray(values, dtype=float)
     out = np.full(target_time.shape + values.shape[1:], np.nan)
@@ -319,13 +319,15 @@ def _align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray)
     return out
 
 
-def _previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+def previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The latest source sample at or before each target time (the first one before it starts)."""
     index = np.clip(np.searchsorted(source_time, target_time, side="right") - 1, 0, source_time.size - 1)
     return values[index]
 
 
-def _reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
+def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
+    """A reference's altitude (m) and velocity (m/s) on the grid ``time`` (s), NaN outside it, the altitude moved
+    onto the baro's datum by the median difference over the first 2 s where both exist."""
     altitude = np.interp(time, ref_time, ref_altitude, left=np.nan, right=np.nan)
     velocity = np.interp(time, ref_time, ref_velocity, left=np.nan, right=np.nan)
     both = np.isfinite(altitude) & np.isfinite(baro_altitude)
@@ -344,4 +346,8 @@ def _check_grid(time: np.ndarray, source: str) -> None:
     bad = np.flatnonzero(~(np.diff(time) > 0))
     if bad.size:
         raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
-                       f"({_fmt(time[bad[0] + 1])} s) follows {_fmt(time[bad[0]])} s")
+                       f"({fmt(time[bad[0] + 1])} s) follows {fmt(time[bad[0]])} s")
+
+
+# The names these helpers had before they were shared under public names (dataflash.py and ulog.py still use them).
+_fmt, _align, _previous, _reference_on_grid = fmt, align, previous, reference_on_grid

@@ -10,7 +10,7 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import height_above_ground
 from ._checks import ALTITUDE_RANGE, ALTOS_MISSING, PRESSURE_RANGE, absurd_columns, dead_message, is_dead
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header, text_column
 
 #: The header line of an AltOS CSV starts with this (after an optional BOM and ``#`` comment lines).
@@ -219,7 +219,7 @@ def _imu(source: str, time: np.ndarray, axes: list, pad: np.ndarray, notes: list
     if rest.any():
         norm = float(np.median(np.linalg.norm(accel[rest], axis=1)))
         if not 0.5 * GRAVITY < norm < 1.5 * GRAVITY:
-            return None, None, [f"{source}: the IMU (accel_x, accel_y, accel_z) reads {_fmt(norm)} on the pad, not "
+            return None, None, [f"{source}: the IMU (accel_x, accel_y, accel_z) reads {fmt(norm)} on the pad, not "
                                 f"about 9.81 m/s² (raw counts or another unit?): not used; the along-axis "
                                 f"'acceleration' is used; no INS on this log"]
     if silent.any():
@@ -233,7 +233,7 @@ def _imu(source: str, time: np.ndarray, axes: list, pad: np.ndarray, notes: list
     if clipped.any():
         first, last = np.flatnonzero(clipped)[[0, -1]]
         messages.append(f"{source}: the IMU accelerometer saturates (±16 g) on {int(clipped.sum())} samples "
-                        f"({_fmt(time[first])}–{_fmt(time[last])} s): marked clipped; the along-axis 'acceleration' "
+                        f"({fmt(time[first])}–{fmt(time[last])} s): marked clipped; the along-axis 'acceleration' "
                         f"(high-g) gives the vertical acceleration")
     return accel, clipped, messages
 
@@ -347,7 +347,7 @@ def _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, 
     elif not (isinstance(ground_temperature_k, (int, float)) and ground_temperature_k > 0):
         raise LogError(f"ground temperature must be a positive number of K or 'log', got {ground_temperature_k!r}")
     baro = height_above_ground(pressure, ground_pa, float(ground_temperature_k))
-    notes.append(f"height above {_fmt(ground_pa)} Pa at {_fmt(ground_temperature_k)} K (hypsometric)")
+    notes.append(f"height above {fmt(ground_pa)} Pa at {fmt(ground_temperature_k)} K (hypsometric)")
     return baro
 
 

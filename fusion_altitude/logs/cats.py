@@ -18,7 +18,7 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import gyro_attitude, height_above_ground, vertical_acceleration
 from ._checks import PRESSURE_RANGE, absurd_columns
-from ._data import LogData, LogError, _align, _fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, align, fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, read_columns, read_text, split_header
 
 #: Accelerometer full scale for clip detection, m/s² (CATS Vega: ±16 g).
@@ -165,14 +165,14 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
     time, imu, imu_repeats, imu_note, dropped_imu = imu_read
     baro_time, baro, baro_repeats, baro_note, dropped_baro = baro_read
     accel_body, gyro_dps, accel, clipped = _imu_vertical(files["imu"], time, imu, accel_range)
-    pressure = _align(time, baro_time, baro["P"])
+    pressure = align(time, baro_time, baro["P"])
     ground_pa = _pad_pressure(files["baro"], baro_time, baro, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
-             f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
+             f"{baro_note} (pad {fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
     log = LogData(f"{os.path.basename(files['baro'])} + {os.path.basename(files['imu'])} (CATS CSV)", time, accel,
                   height_above_ground(pressure, ground_pa, ground_temperature_k), clipped=clipped, notes=notes,
                   accel=accel_body, gyro=np.radians(gyro_dps), imu_frame="sensor", pressure=pressure,
-                  temperature=_align(time, baro_time, baro["T"] + 273.15), vehicle="rocket",
+                  temperature=align(time, baro_time, baro["T"] + 273.15), vehicle="rocket",
                   altitude_reference="pad", ground_altitude=0.0, repeated_timestamps=imu_repeats)
     _warn_read(log, files, implausible, baro_repeats, ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])))
     if "info" in files:
@@ -211,11 +211,11 @@ def _imu_vertical(file: str, time: np.ndarray, imu: Dict[str, np.ndarray], accel
     for name in ("Ax", "Ay", "Az", "Gx", "Gy", "Gz"):
         bad = np.flatnonzero(~np.isfinite(imu[name]))
         if bad.size:
-            raise LogError(f"{file}: column {name!r}: empty at ts {_fmt(time[bad[0]])} s")
+            raise LogError(f"{file}: column {name!r}: empty at ts {fmt(time[bad[0]])} s")
     at_rest = accel_body[rest].mean(axis=0)
     if not 0.5 * GRAVITY < float(np.linalg.norm(at_rest)) < 1.5 * GRAVITY:
         raise LogError(f"{file}: the mean specific force before launch is "
-                       f"{_fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
+                       f"{fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
     dt = np.diff(time, prepend=time[0] - (time[1] - time[0]))
     attitude = gyro_attitude(gyro_dps, dt, at_rest, gyro_dps[rest].mean(axis=0))
     accel = vertical_acceleration(accel_body, attitude, frame="ENU")
@@ -234,7 +234,7 @@ def _pad_pressure(file: str, baro_time: np.ndarray, baro: Dict[str, np.ndarray],
     if isinstance(ground_temperature_k, str):
         if ground_temperature_k.strip().lower() == "log":
             board = baro["T"][baro_rest & np.isfinite(baro["T"])]
-            on_pad = f" (median {_fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
+            on_pad = f" (median {fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
             raise LogError(f"{file}: column 'T' is the flight computer's board temperature{on_pad}, "
                            f"not the air's: give --ground-temperature in °C instead of 'log'")
         raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")

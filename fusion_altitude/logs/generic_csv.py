@@ -10,7 +10,7 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header
 
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
@@ -47,16 +47,16 @@ def gravity_check(source: str, name: str, accel: np.ndarray, time: np.ndarray, r
     holds_gravity = 0.75 * GRAVITY < abs(mean) < 1.25 * GRAVITY
     steady = finite.sum() > 1 and float(np.std(accel[finite])) < 0.05
     if not remove_gravity and 0.9 < abs(mean) < 1.1 and steady:
-        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+        raise LogError(f"{source}: column {name!r}: mean {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s "
                        f"looks like 1 g: the column is probably in g with gravity still in it; say so with "
                        f"accel_units='g' (--accel-units g) and remove_gravity=True (--remove-gravity)")
     if remove_gravity:
         if not holds_gravity:
             raise LogError(f"{source}: column {name!r}: remove_gravity asked, but its mean over the first "
-                           f"{_fmt(REST_SECONDS)} s is {_fmt(mean)} m/s², not about ±{_fmt(GRAVITY)} (±1 g)")
+                           f"{fmt(REST_SECONDS)} s is {fmt(mean)} m/s², not about ±{fmt(GRAVITY)} (±1 g)")
         return accel - GRAVITY if mean > 0 else -(accel + GRAVITY)
     if holds_gravity:
-        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+        raise LogError(f"{source}: column {name!r}: mean {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s "
                        f"looks like gravity is still in it (the observer needs +up, gravity removed); "
                        f"remove it with remove_gravity=True (--remove-gravity) or check the units")
     return accel
@@ -276,7 +276,7 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
     if temperature_units not in TEMPERATURE_UNITS:
         raise LogError(f"temperature units must be 'C' or 'K', got {temperature_units!r}")
     if not (np.isfinite(sea_level_pa) and sea_level_pa > 0):
-        raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
+        raise LogError(f"sea-level pressure must be a positive number of Pa, got {fmt(sea_level_pa)}")
     if accel_body_columns is not None:
         _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame)
     _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns)
@@ -287,7 +287,7 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
             if ground_temperature_k != "log" or temperature_column is None:
                 raise LogError("ground temperature 'log' needs a temperature column")
         elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
-            raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
+            raise LogError(f"ground temperature must be a positive number of K, got {fmt(ground_temperature_k)}")
 
 
 def _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns) -> None:
@@ -386,13 +386,13 @@ def _body_to_vertical(path, source, column, time, scale, accel_body_columns, att
         bad = np.flatnonzero(~(norm > 0.5) | ~(norm < 1.5))
         if bad.size:
             raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
-                           f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
+                           f"{fmt(time[bad[0]])} s has norm {fmt(norm[bad[0]])}, not about 1")
     accel = vertical_acceleration(accel_body, attitude, frame=frame)
     rest = _rest(time)
     mean = float(np.mean(accel[rest]))
     if abs(mean) > 0.5 * GRAVITY:
         raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
-                       f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
+                       f"acceleration averages {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s, not "
                        f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
                        f"ENU/NWU +1 g) or the attitude is not body → earth")
     return accel, accel_body
@@ -403,8 +403,8 @@ def _pressure_warning(pressure_column: str, pressure: np.ndarray) -> Optional[st
     finite = np.isfinite(pressure)
     median = float(np.median(pressure[finite])) if finite.any() else np.nan
     if finite.any() and not PRESSURE_RANGE[0] <= median <= PRESSURE_RANGE[1]:
-        return (f"column {pressure_column!r}: median {_fmt(median)} is far outside "
-                f"{_fmt(PRESSURE_RANGE[0])}–{_fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
+        return (f"column {pressure_column!r}: median {fmt(median)} is far outside "
+                f"{fmt(PRESSURE_RANGE[0])}–{fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
     return None
 
 
@@ -414,11 +414,11 @@ def _ground_median(path, column, values, time, quantity: str, unit: str) -> floa
     rest = np.isfinite(values) & _rest(time)
     if not rest.any():
         raise LogError(f"{path}: column {column!r}: no {quantity} in the first "
-                       f"{_fmt(REST_SECONDS)} s to take as the ground {quantity}")
+                       f"{fmt(REST_SECONDS)} s to take as the ground {quantity}")
     median = float(np.median(values[rest]))
     if not median > 0:
         raise LogError(f"{path}: column {column!r}: the ground {quantity} (median of the first "
-                       f"{_fmt(REST_SECONDS)} s) is {_fmt(median)} {unit}; it must be > 0 {unit}")
+                       f"{fmt(REST_SECONDS)} s) is {fmt(median)} {unit}; it must be > 0 {unit}")
     return median
 
 
@@ -432,12 +432,12 @@ def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, grou
     """
     if ground_temperature_k is None:
         baro = pressure_to_altitude(pressure, sea_level_pa)
-        notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
+        notes.append(f"pressure {pressure_column!r} (Pa, p0 {fmt(sea_level_pa)} Pa)")
         return baro, ("sea level" if sea_level_pa == 101325.0 else ""), None
     ground_pa = _ground_median(path, pressure_column, pressure, time, "pressure", "Pa")
     if ground_temperature_k == "log":
         ground_temperature_k = _ground_median(path, temperature_column, temperature, time, "temperature", "K")
     baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
-    notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
-                 f"{_fmt(ground_temperature_k)} K (hypsometric)")
+    notes.append(f"pressure {pressure_column!r} (Pa) → height above {fmt(ground_pa)} Pa at "
+                 f"{fmt(ground_temperature_k)} K (hypsometric)")
     return baro, "pad", 0.0

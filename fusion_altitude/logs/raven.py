@@ -18,7 +18,7 @@ import numpy as np
 
 from .._core._common import GRAVITY
 from ._checks import ALTITUDE_RANGE, drop_absurd
-from ._data import LogData, LogError, _align, _fmt, finish
+from ._data import LogData, LogError, align, fmt, finish
 from ._table import Table, numeric_columns, read_text, split_header
 
 #: Header names of the two channels the reader uses.
@@ -94,10 +94,10 @@ def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None)
     else:
         accel_time, accel = np.zeros(0), np.zeros(0)
     time = _union(baro_time, accel_time)
-    log = LogData(source, time, _vertical(time, accel_time, accel), _align(time, baro_time, baro), notes=notes,
+    log = LogData(source, time, _vertical(time, accel_time, accel), align(time, baro_time, baro), notes=notes,
                   vehicle="rocket", altitude_reference=ALTITUDE_NAMES[altitude_name],
                   ground_altitude=0.0 if ALTITUDE_NAMES[altitude_name] == "pad" else None,
-                  axial_acceleration=_align(time, accel_time, accel) if accel.size else None, baro_only=not accel.size)
+                  axial_acceleration=align(time, accel_time, accel) if accel.size else None, baro_only=not accel.size)
     if dropped is not None:
         log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if message is not None:
@@ -139,9 +139,9 @@ def _warn_accelerometer_span(log: LogData, accel_time: np.ndarray) -> None:
     """Warn that the accelerometer (sampled at ``accel_time``, s) ends before the log, or is absent."""
     time = log.time
     if accel_time.size and accel_time[-1] < time[-1]:
-        log.warn(f"{log.source}: the accelerometer ends at {_fmt(accel_time[-1])} s (the Raven exports it for the "
-                 f"boost only) and the log at {_fmt(time[-1])} s: vertical acceleration is 0 m/s² after "
-                 f"{_fmt(accel_time[-1])} s, the estimators track the baro alone there")
+        log.warn(f"{log.source}: the accelerometer ends at {fmt(accel_time[-1])} s (the Raven exports it for the "
+                 f"boost only) and the log at {fmt(time[-1])} s: vertical acceleration is 0 m/s² after "
+                 f"{fmt(accel_time[-1])} s, the estimators track the baro alone there")
     elif not accel_time.size:
         log.warn(f"{log.source}: no {ACCEL_NAME!r} column: baro only (vertical acceleration 0 m/s²)")
 
@@ -155,7 +155,7 @@ def _channel(path: str, time_name: str, time: np.ndarray, values: np.ndarray, li
     if back.size:
         i = back[0] + 1
         raise LogError(f"{path}: line {int(lines[i])}, column {time_name!r}: time does not increase "
-                       f"({_fmt(time[i])} s after {_fmt(time[i - 1])} s)")
+                       f"({fmt(time[i])} s after {fmt(time[i - 1])} s)")
     return time, values
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
 from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
@@ -183,8 +183,8 @@ def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -
     where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
     first = int(np.flatnonzero(garbage)[0])
     message = (f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
-               f"{'s' if garbage.sum() > 1 else ''} (altitude {_fmt(column['altitude'][first])} m, "
-               f"pressure {_fmt(column['pressure'][first])} hPa, velocity {_fmt(column['velocity'][first])} "
+               f"{'s' if garbage.sum() > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
+               f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
                f"m/s: not a plausible flight); dropped, their events kept")
     for name in ("altitude", "pressure", "velocity", "temperature"):
         column[name] = np.where(garbage, np.nan, column[name])
@@ -215,7 +215,7 @@ def _garbage_rows(column: dict) -> np.ndarray:
 def _states(time: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes."""
     marks = np.flatnonzero(np.asarray(events != "", dtype=bool))  # events are str: "" for none
-    notes = [f"{events[i]} at {_fmt(time[i])} s" for i in marks]
+    notes = [f"{events[i]} at {fmt(time[i])} s" for i in marks]
     names = np.empty(marks.size + 1, dtype=object)
     names[:] = ["pad"] + [str(events[i]).lower() for i in marks]
     latest = np.zeros(time.size, dtype=np.int64)

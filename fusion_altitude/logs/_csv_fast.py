@@ -156,7 +156,7 @@ def read_numbers_and_text(body: str, columns: Sequence[int], text: Sequence[int]
                 cells += table.column(f"f{position}").chunks
             if progress is not None:
                 progress(done, len(body))
-    numbers = np.concatenate(parts, axis=0) if parts else np.zeros((0, len(columns)))
+    numbers = np.zeros((0, len(columns))) if not parts else parts[0] if len(parts) == 1 else np.concatenate(parts)
     columns_text = [_stripped(pa.chunked_array(cells, type=pa.string())) for cells in texts]
     return numbers, columns_text if encoded else [cells[indices] for cells, indices in columns_text]
 

@@ -253,8 +253,9 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     time = np.asarray(time, dtype=float)
     if lines is None:
         lines = np.arange(time.size) + 2
-    _check_time_order(time, source, lines, time_name, row_word)
-    same = np.diff(time) == 0
+    dt = np.diff(time)
+    _check_time_order(time, dt, source, lines, time_name, row_word)
+    same = dt == 0
     repeated = int(same.sum())
     if not repeated:
         return time, columns, 0
@@ -262,13 +263,15 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     return time[starts], {name: _merged(np.asarray(values), starts) for name, values in columns.items()}, repeated
 
 
-def _check_time_order(time: np.ndarray, source: str, lines: np.ndarray, time_name: str, row_word: str) -> None:
-    """LogError naming the first row (``lines``: its file line) whose time (s) is not finite or goes backwards."""
+def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.ndarray, time_name: str,
+                      row_word: str) -> None:
+    """LogError naming the first row (``lines``: its file line) whose time (s; ``dt`` its steps) is not finite or
+    goes backwards."""
     bad = np.flatnonzero(~np.isfinite(time))
     if bad.size:
         raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
                        f"time must be a finite number")
-    back = np.flatnonzero(np.diff(time) < 0)
+    back = np.flatnonzero(dt < 0)
     if back.size:
         i = back[0]
         raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "

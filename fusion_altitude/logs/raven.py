@@ -18,7 +18,7 @@ import numpy as np
 
 from .._core._common import GRAVITY
 from ._checks import ALTITUDE_RANGE, drop_absurd
-from ._data import LogData, LogError, align, fmt, finish
+from ._data import LogData, LogError, fmt, finish
 from ._table import Table, numeric_columns, read_text, split_header
 
 #: Header names of the two channels the reader uses.
@@ -93,11 +93,12 @@ def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None)
                      f"vertical acceleration = axial − g (rocket taken as vertical)")
     else:
         accel_time, accel = np.zeros(0), np.zeros(0)
-    time = _union(baro_time, accel_time)
-    log = LogData(source, time, _vertical(time, accel_time, accel), align(time, baro_time, baro), notes=notes,
+    time, baro_steps, accel_steps = _grid(baro_time, accel_time)
+    log = LogData(source, time, _vertical(time, accel_steps, accel), _on_grid(time, baro_steps, baro), notes=notes,
                   vehicle="rocket", altitude_reference=ALTITUDE_NAMES[altitude_name],
                   ground_altitude=0.0 if ALTITUDE_NAMES[altitude_name] == "pad" else None,
-                  axial_acceleration=align(time, accel_time, accel) if accel.size else None, baro_only=not accel.size)
+                  axial_acceleration=_on_grid(time, accel_steps, accel) if accel.size else None,
+                  baro_only=not accel.size)
     if dropped is not None:
         log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if message is not None:
@@ -124,15 +125,25 @@ def _channel_positions(path: str, table: Table):
     return altitude_name, positions
 
 
-def _vertical(time: np.ndarray, accel_time: np.ndarray, accel: np.ndarray) -> np.ndarray:
-    """Vertical acceleration on the grid ``time`` (s), m/s²: the last axial sample (m/s²) held, minus g, up to
-    the accelerometer's last sample; 0 after it (and without one)."""
+def _vertical(time: np.ndarray, accel_steps: np.ndarray, accel: np.ndarray) -> np.ndarray:
+    """Vertical acceleration on the grid ``time`` (s), m/s²: the last axial sample (m/s²; sampled on the grid
+    steps ``accel_steps``) held, minus g, up to the accelerometer's last sample; 0 after it (and without one)."""
     vertical = np.zeros(time.shape)
     if accel.size:
-        sampled = time <= accel_time[-1]
-        held = np.clip(np.searchsorted(accel_time, time, side="right") - 1, 0, accel_time.size - 1)
+        sampled = time <= time[accel_steps[-1]]
+        count = np.zeros(time.size, dtype=np.int64)
+        count[accel_steps] = 1
+        held = np.clip(np.cumsum(count) - 1, 0, accel.size - 1)  # the accelerometer samples at or before each step
         vertical[sampled] = accel[held[sampled]] - GRAVITY
     return vertical
+
+
+def _on_grid(time: np.ndarray, steps: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """A channel's finite ``values`` on their grid ``steps``, NaN on the other steps of ``time``."""
+    out = np.full(time.shape, np.nan)
+    finite = np.isfinite(values)
+    out[steps[finite]] = values[finite]
+    return out
 
 
 def _warn_accelerometer_span(log: LogData, accel_time: np.ndarray) -> None:
@@ -159,11 +170,14 @@ def _channel(path: str, time_name: str, time: np.ndarray, values: np.ndarray, li
     return time, values
 
 
-def _union(first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """The sorted distinct times of two increasing time arrays (s): :func:`numpy.union1d`, but a stable sort,
-    which merges the two sorted runs in linear time."""
+def _grid(first: np.ndarray, second: np.ndarray):
+    """The sorted distinct times of two increasing time arrays (s) — :func:`numpy.union1d`, by a stable sort, which
+    merges the two sorted runs in linear time — and the grid step of each sample of each array."""
     both = np.concatenate([first, second])
-    both.sort(kind="stable")
-    keep = np.ones(both.size, dtype=bool)
-    np.not_equal(both[1:], both[:-1], out=keep[1:])
-    return both[keep]
+    order = np.argsort(both, kind="stable")
+    ordered = both[order]
+    distinct = np.ones(both.size, dtype=bool)
+    np.not_equal(ordered[1:], ordered[:-1], out=distinct[1:])
+    step = np.empty(both.size, dtype=np.int64)
+    step[order] = np.cumsum(distinct) - 1
+    return ordered[distinct], step[:first.size], step[first.size:]

@@ -1,16 +1,19 @@
-"""Read the numeric columns of a CSV table with pyarrow's columnar parser, or say it cannot.
+"""Read the numeric and text columns of a CSV table with pyarrow's columnar parser, or say it cannot.
 
-:func:`read_columns` is the first try of
-:func:`fusion_altitude.logs._table.numeric_columns`: pyarrow's multi-threaded
-C++ CSV reader (``pyarrow.csv.read_csv``; pyarrow is in the ``[fleet]``
-extra) parses the body of the table, only the columns asked for, as float64
-— correctly rounded, the same bits as Python's ``float`` — with the
-"no value" cells of :data:`fusion_altitude.logs._table.MISSING` as NaN.
-Whenever the text is anything but plain (a row with another number of
-cells, a cell pyarrow will not read as a number: spaces, ``1_000``, a cut
-last line …) it returns None and the existing numpy and pure-Python passes
-run, with their line-numbered errors: the fast path never decides an error
-or a warning, so they stay exactly as before.
+:func:`read_numbers_and_text` is the first try of
+:func:`fusion_altitude.logs._table.read_columns` (and of the RRC3 reader):
+pyarrow's C++ CSV reader (``pyarrow.csv.read_csv``; pyarrow is in the
+``[fleet]`` extra) parses the body of the table once, only the columns asked
+for: the numeric ones as float64 — correctly rounded, the same bits as
+Python's ``float`` — with the "no value" cells of
+:data:`fusion_altitude.logs._table.MISSING` as NaN, the text ones as strings,
+each distinct cell stripped once. Whenever the text is anything but plain (a
+row with another number of cells, a cell pyarrow will not read as a number:
+spaces, ``1_000``, a cut last line, a quote in a table with text columns …)
+it returns None and the existing numpy and pure-Python passes run, with their
+line-numbered errors: the fast path never decides an error or a warning, so
+they stay exactly as before. pyarrow's native threads start with SIGTERM and
+SIGINT blocked (:func:`native_threads_without_signals`).
 
 ``engine("python")`` turns the fast path off (the tests compare both ways).
 """

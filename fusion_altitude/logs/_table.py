@@ -1,8 +1,8 @@
-"""Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS).
+"""Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS, Raven, RRC3).
 
-The fast path hands the numeric columns a reader needs to pyarrow's columnar
-CSV parser when pyarrow is installed and the text is plain numbers
-(:mod:`._csv_fast`), else to numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
+The fast path hands the numeric (and text) columns a reader needs to pyarrow's columnar
+CSV parser when pyarrow is installed and the text is plain
+(:mod:`._csv_fast`), else the numbers to numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
 progress callback can follow. Only if that parser refuses the text does a slow pure-Python
 pass run, to find the first bad line and name it — or to accept what the
 fast path cannot (``NA`` cells, spaces around empty cells).

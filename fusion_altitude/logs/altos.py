@@ -11,7 +11,7 @@ from .._core._common import GRAVITY
 from ..sensors import height_above_ground
 from ._checks import ALTITUDE_RANGE, ALTOS_MISSING, PRESSURE_RANGE, absurd_columns, dead_message, is_dead
 from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header, text_column
+from ._table import check_finite, read_columns, read_text, split_header
 
 #: The header line of an AltOS CSV starts with this (after an optional BOM and ``#`` comment lines).
 HEADER_START = "#version,serial,flight"
@@ -298,7 +298,9 @@ def _read_columns(path: str, progress):
         if sum(column == name for column in table.header) > occurrence:
             roles[role] = table.index(name, occurrence)
     order = sorted(set(roles.values()))
-    data, lines, dropped = numeric_columns(table, order, progress)
+    state = [table.index("state_name")] if "state_name" in table.header else []
+    read = read_columns(table, order, state, progress)  # the state names in the same pass
+    data, lines, dropped = read.numbers, read.lines, read.dropped
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {role: data[:, order.index(position)] for role, position in roles.items()}
@@ -312,8 +314,8 @@ def _read_columns(path: str, progress):
         ("pressure", "pressure", *PRESSURE_RANGE, "Pa", "pressure", False)])
     if "gps_altitude" in column:
         column["gps_altitude"] = _new_gps_fixes(column)
-    if "state_name" in table.header:
-        column["state"] = text_column(table, table.index("state_name"), lines)
+    if state:
+        column["state"] = read.text[0]
     time, column, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, "time")
     return time, column, dropped, repeated, messages, notes
 

@@ -20,6 +20,7 @@ gives a positive value in every frame.
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 
@@ -393,15 +394,32 @@ def gyro_attitude(gyro_dps, dt, accel_at_rest, gyro_bias_dps=None) -> np.ndarray
     with np.errstate(invalid="ignore", divide="ignore"):
         axis = np.where(angle[:, None] > 0, gyro * dt[:, None] / angle[:, None], 0.0)
     steps = np.concatenate([np.cos(angle / 2)[:, None], axis * np.sin(angle / 2)[:, None]], axis=1)
-    out = np.empty((n, 4))
-    q = _rotation_between(np.asarray(accel_at_rest, dtype=float), np.array([0.0, 0.0, 1.0]))
-    for i in range(n):
-        w1, x1, y1, z1 = q
-        w2, x2, y2, z2 = steps[i]
-        q = np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-                      w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                      w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-                      w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
-        q /= np.sqrt(q @ q)
-        out[i] = q
-    return out
+    initial = _rotation_between(np.asarray(accel_at_rest, dtype=float), np.array([0.0, 0.0, 1.0]))
+    return _integrate_steps(initial, steps)
+
+
+def _integrate_steps(initial: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """The running product of the rotation ``steps`` (n×4) onto ``initial`` (4,), renormalised each step: in
+    C (:func:`fusion_altitude._core._strapdown.integrate_steps`, bit for bit :func:`_integrate_steps_python`)
+    where the extension is built, else in Python."""
+    try:
+        from ._core._strapdown import integrate_steps
+    except ImportError:
+        return _integrate_steps_python(initial, steps)
+    return integrate_steps(initial, steps)
+
+
+def _integrate_steps_python(initial: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """The reference of the integration loop: q ← q ⊗ step (Hamilton product, w first), q ← q / |q|, in float64
+    in this operation order (which the C loop follows, so both give the same bits)."""
+    w, x, y, z = (float(value) for value in initial)
+    out = []
+    for w2, x2, y2, z2 in np.asarray(steps, dtype=float).tolist():
+        w, x, y, z = (w * w2 - x * x2 - y * y2 - z * z2,
+                      w * x2 + x * w2 + y * z2 - z * y2,
+                      w * y2 - x * z2 + y * w2 + z * x2,
+                      w * z2 + x * y2 - y * x2 + z * w2)
+        norm = math.sqrt(w * w + x * x + y * y + z * z)
+        w, x, y, z = w / norm, x / norm, y / norm, z / norm
+        out.append((w, x, y, z))
+    return np.array(out, dtype=float).reshape(len(out), 4)

@@ -205,22 +205,51 @@ def test_run_o_writes_the_same_file_with_both_writers(tmp_path):
 
 
 def test_the_shared_csvs_are_parsed_by_pyarrow_not_the_fallback(monkeypatch):
-    """The comparisons above compare two paths: on the shared CSVs the fast reader does the parsing."""
+    """The comparisons above compare two paths: on the shared CSVs (RRC3 and Raven text columns included) the
+    fast reader does the parsing, one pass a file."""
     taken = []
-    original = _csv_fast.read_columns
+    original = _csv_fast.read_numbers_and_text
 
     def counting(*args, **kwargs):
         data = original(*args, **kwargs)
         taken.append(data is not None)
         return data
 
-    monkeypatch.setattr(_csv_fast, "read_columns", counting)
-    for name in ("hedy_imu.csv", "raven_ndrt2020.csv"):
+    monkeypatch.setattr(_csv_fast, "read_numbers_and_text", counting)
+    for name in ("hedy_imu.csv", "raven_ndrt2020.csv", "rrc3_juno3.csv"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             logs.load_log(str(DATA / name))
-    assert len(taken) == 4 and all(taken)
+    assert len(taken) == 5 and all(taken)  # CATS: imu, baro, flight info (ids in the same pass); Raven; RRC3
 
+
+
+def _rrc3_with_awkward_cells(path, extra_row=""):
+    """An RRC3 export whose temperature cells are numbers, blanks, NA, padded numbers and shifted events."""
+    temperatures = ["31.9", "", "NA", " 32 ", "nan", " -", " Drogue", "32.5", " Main", "-"]
+    events = [" -", " Apogee", "", " -", "NULL", "", "", " main", "", ""]
+    rows = ["time,altitude,pressure,velocity,temperature,events,voltages"]
+    for i in range(60):
+        rows.append(f"{i * 0.05:.2f},{i * 1.5:.3f},{861.7 - i * 0.1:.2f},{30.0 - i:.4f},"
+                    f"{temperatures[i % 10]},{events[i % 10]},3.81")
+    path.write_text("\n".join(rows) + "\n" + extra_row)
+    return path
+
+
+def test_rrc3_text_cells_read_by_pyarrow_as_the_python_loop_reads_them(tmp_path, monkeypatch):
+    path = _rrc3_with_awkward_cells(tmp_path / "flight.csv")
+    taken = []
+    original = _csv_fast.read_numbers_and_text
+    monkeypatch.setattr(_csv_fast, "read_numbers_and_text",
+                        lambda *a, **k: taken.append(original(*a, **k)) or taken[-1])
+    outcome_ = assert_same_both_ways(path)
+    assert outcome_[0] == "LogData" and taken[-1] is not None  # the fast path read it
+
+
+@pytest.mark.parametrize("extra_row", ["3.00,90,855.7,-30\n", "3.00,90,855.7,-30,31.9, -,3.81,9\n",
+                                       "3.00,abc,855.7,-30,31.9, -,3.81\n", '3.00,90,855.7,-30,"3,1", -,3.81\n'])
+def test_rrc3_rows_pyarrow_refuses_are_read_by_the_python_loop_the_same(tmp_path, extra_row):
+    assert_same_both_ways(_rrc3_with_awkward_cells(tmp_path / "flight.csv", extra_row))
 
 def test_without_pyarrow_the_numpy_path_reads_the_same(tmp_path, monkeypatch):
     fx.write_generic_csv(tmp_path / "log.csv", duration=6.0, rate=50.0, repeat_every=9)

@@ -640,3 +640,19 @@ def test_ground_temperature_in_celsius_on_cats_gives_a_hypsometric_height(tmp_pa
     assert warm.baro_altitude[top] > isa.baro_altitude[top] * 1.02  # 35 °C air is thinner than ISA's 15 °C
     with pytest.raises(LogError, match="board temperature"):
         logs.read_cats(str(tmp_path / "flight_baro.csv"), ground_temperature_k="log")
+
+
+def test_quiet_warnings_records_a_readers_warnings_without_issuing_them(tmp_path):
+    fx.write_generic_csv(tmp_path / "log.csv", duration=6.0, rate=50.0, repeat_every=7)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an issued warning would fail here
+        with logs.quiet_warnings():
+            log = logs.load_log(str(tmp_path / "log.csv"), time_column="time", accel_column="accel",
+                                baro_column="baro")
+    assert any("repeated" in message for message in log.warnings)
+
+
+def test_quiet_warnings_keeps_its_old_private_path():
+    from fusion_altitude.logs import _data
+
+    assert _data.quiet_warnings is logs.quiet_warnings

@@ -176,6 +176,45 @@ def test_gyro_attitude_removes_the_given_bias():
     np.testing.assert_allclose(q[-1], [1.0, 0.0, 0.0, 0.0], atol=1e-12)
 
 
+
+def _random_steps(count: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    steps = rng.standard_normal((count, 4)) * [[50.0, 1.0, 1.0, 1.0]]  # mostly small rotations, as from a gyro
+    return steps / np.linalg.norm(steps, axis=1)[:, None]
+
+
+def test_gyro_attitude_integrates_in_c_with_the_python_loops_bits():
+    """Bit for bit, not a bound: the C loop has the Python loop's operation order and no FMA contraction."""
+    from fusion_altitude._core._strapdown import integrate_steps
+    from fusion_altitude.sensors import _integrate_steps_python
+    steps = _random_steps(50_000, 3)
+    initial = np.array([0.5, -0.5, 0.5, 0.5])
+    assert integrate_steps(initial, steps).tobytes() == _integrate_steps_python(initial, steps).tobytes()
+
+
+def test_gyro_attitude_uses_the_c_loop_where_the_extension_is_built(monkeypatch):
+    import fusion_altitude.sensors as sensors
+    gyro = np.tile([30.0, -10.0, 5.0], (500, 1))
+    expected = gyro_attitude(gyro, 0.01, [0.0, 0.0, 1.0])
+    monkeypatch.setattr(sensors, "_integrate_steps_python", None)  # would fail if called
+    assert gyro_attitude(gyro, 0.01, [0.0, 0.0, 1.0]).tobytes() == expected.tobytes()
+
+
+def test_gyro_attitude_of_no_samples_is_empty():
+    from fusion_altitude._core._strapdown import integrate_steps
+    from fusion_altitude.sensors import _integrate_steps_python
+    assert integrate_steps([1.0, 0.0, 0.0, 0.0], np.zeros((0, 4))).shape == (0, 4)
+    assert _integrate_steps_python(np.array([1.0, 0.0, 0.0, 0.0]), np.zeros((0, 4))).shape == (0, 4)
+
+
+@pytest.mark.parametrize("initial, steps, name", [([1.0, 0.0, 0.0], np.zeros((2, 4)), "initial"),
+                                                  ([1.0, 0.0, 0.0, 0.0], np.zeros((2, 3)), "steps")])
+def test_the_c_integration_refuses_a_wrong_shape_by_name(initial, steps, name):
+    from fusion_altitude._core._strapdown import integrate_steps
+    with pytest.raises(ValueError, match=name):
+        integrate_steps(initial, steps)
+
+
 # --- atmosphere: 1976 U.S. Standard Atmosphere values, other lapse rates, hypsometric ----------
 
 # U.S. Standard Atmosphere 1976, geopotential altitude (m) → pressure (Pa), troposphere layer.

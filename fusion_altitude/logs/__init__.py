@@ -49,8 +49,7 @@ from dataclasses import dataclass
 from typing import Callable, Dict, Optional
 
 from .._core import installed_extension_folder
-from ._data import LogData, LogError, LogWarning, find_gaps, merge_repeated_timestamps
-from ._data import quiet_warnings  # noqa: F401  (the fleet quiets the readers with it; their warnings are in LogData)
+from ._data import LogData, LogError, LogWarning, find_gaps, merge_repeated_timestamps, quiet_warnings
 from .altos import looks_like_altos, read_altos_csv
 from .cats import find_cats_files, looks_like_cats, read_cats
 from .dataflash import DATAFLASH_MAGIC, read_dataflash
@@ -66,7 +65,7 @@ if installed_extension_folder(__file__, "logs", "_decode") is not None:
 __all__ = ["LogError", "LogWarning", "LogData", "Format", "FORMATS", "read_csv_log", "read_ulog",
            "read_dataflash", "read_altos_csv", "read_cats", "read_raven", "read_rrc3", "find_cats_files",
            "sniff_format", "load_log",
-           "find_gaps", "merge_repeated_timestamps"]
+           "find_gaps", "merge_repeated_timestamps", "quiet_warnings"]
 
 
 @dataclass(frozen=True)

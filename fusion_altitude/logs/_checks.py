@@ -33,7 +33,7 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from .._core._common import GRAVITY
-from ._data import LogError, _fmt
+from ._data import LogError, fmt
 
 #: Plausible baro / reference altitude, m (below the Dead Sea shore … well above any balloon).
 ALTITUDE_RANGE = (-1_000.0, 100_000.0)
@@ -98,8 +98,8 @@ def drop_absurd(source: str, name: str, values: np.ndarray, lines: Optional[np.n
     def where(i: int) -> str:
         return f"{row_word} {int(lines[i])}" if lines is not None else f"sample {int(i)}"
 
-    shown = "the AltOS 'missing' value" if first_value == ALTOS_MISSING else f"{_fmt(first_value)} {unit}"
-    bounds = f"{_fmt(low)}…{_fmt(high)} {unit}" if low_inclusive else f"above {_fmt(low)}, up to {_fmt(high)} {unit}"
+    shown = "the AltOS 'missing' value" if first_value == ALTOS_MISSING else f"{fmt(first_value)} {unit}"
+    bounds = f"{fmt(low)}…{fmt(high)} {unit}" if low_inclusive else f"above {fmt(low)}, up to {fmt(high)} {unit}"
     message = (f"{source}: {where(bad[0])}, column {name!r}: {shown} is not a plausible {what} "
                f"(plausible: {bounds}); dropped (no sample there)")
     if bad.size > 1:
@@ -140,7 +140,7 @@ def dead_message(source: str, name: str, values: np.ndarray, unit: str, instead:
     values = np.asarray(values, dtype=float)
     live = values[np.all(np.isfinite(values.reshape(values.shape[0], -1)), axis=1)]
     constant = live[0] if live.size else np.nan
-    shown = ", ".join(_fmt(v) for v in np.atleast_1d(constant))
+    shown = ", ".join(fmt(v) for v in np.atleast_1d(constant))
     kind = "all zero" if np.all(np.atleast_1d(constant) == 0) else f"constant ({shown} {unit})"
     return f"{source}: {name} is {kind} on every sample: a dead sensor, not used; {instead}"
 
@@ -169,8 +169,8 @@ def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
     span = float(finite[-1] - finite[0])
     if median > MAX_MEDIAN_STEP or (median >= 1.0 and span > MAX_SPAN):
         guess = "microseconds" if median >= 1_000.0 or span > 1e3 * MAX_SPAN else "milliseconds"
-        raise LogError(f"{source}: the time column does not look like seconds (median step {_fmt(median)}, span "
-                       f"{_fmt(span)}): probably {guess}; {fix}")
+        raise LogError(f"{source}: the time column does not look like seconds (median step {fmt(median)}, span "
+                       f"{fmt(span)}): probably {guess}; {fix}")
 
 
 def check_log(data) -> None:
@@ -198,7 +198,7 @@ def check_log(data) -> None:
         if message is not None:
             first = int(np.flatnonzero(np.isnan(cleaned) & ~np.isnan(np.asarray(values, float)))[0])
             setattr(data, attribute, cleaned)
-            data.warn(message.replace(f"sample {first},", f"sample {first} ({_fmt(data.time[first])} s),", 1))
+            data.warn(message.replace(f"sample {first},", f"sample {first} ({fmt(data.time[first])} s),", 1))
     if data.accel is not None and is_dead_imu(data.accel):
         data.warn(dead_message(source, "the raw accelerometer (every axis)", data.accel, "m/s²",
                                "no INS on this log"))

@@ -1,16 +1,19 @@
-"""Read the numeric columns of a CSV table with pyarrow's columnar parser, or say it cannot.
+"""Read the numeric and text columns of a CSV table with pyarrow's columnar parser, or say it cannot.
 
-:func:`read_columns` is the first try of
-:func:`fusion_altitude.logs._table.numeric_columns`: pyarrow's multi-threaded
-C++ CSV reader (``pyarrow.csv.read_csv``; pyarrow is in the ``[fleet]``
-extra) parses the body of the table, only the columns asked for, as float64
-— correctly rounded, the same bits as Python's ``float`` — with the
-"no value" cells of :data:`fusion_altitude.logs._table.MISSING` as NaN.
-Whenever the text is anything but plain (a row with another number of
-cells, a cell pyarrow will not read as a number: spaces, ``1_000``, a cut
-last line …) it returns None and the existing numpy and pure-Python passes
-run, with their line-numbered errors: the fast path never decides an error
-or a warning, so they stay exactly as before.
+:func:`read_numbers_and_text` is the first try of
+:func:`fusion_altitude.logs._table.read_columns` (and of the RRC3 reader):
+pyarrow's C++ CSV reader (``pyarrow.csv.read_csv``; pyarrow is in the
+``[fleet]`` extra) parses the body of the table once, only the columns asked
+for: the numeric ones as float64 — correctly rounded, the same bits as
+Python's ``float`` — with the "no value" cells of
+:data:`fusion_altitude.logs._table.MISSING` as NaN, the text ones as strings,
+each distinct cell stripped once. Whenever the text is anything but plain (a
+row with another number of cells, a cell pyarrow will not read as a number:
+spaces, ``1_000``, a cut last line, a quote in a table with text columns …)
+it returns None and the existing numpy and pure-Python passes run, with their
+line-numbered errors: the fast path never decides an error or a warning, so
+they stay exactly as before. pyarrow's native threads start with SIGTERM and
+SIGINT blocked (:func:`native_threads_without_signals`).
 
 ``engine("python")`` turns the fast path off (the tests compare both ways).
 """
@@ -18,8 +21,10 @@ or a warning, so they stay exactly as before.
 from __future__ import annotations
 
 import contextlib
+import functools
 import itertools
-from typing import Iterator, List, Optional, Sequence
+import signal
+from typing import Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -33,24 +38,59 @@ CHUNK_CHARS = 64_000_000
 @contextlib.contextmanager
 def engine(name: str) -> Iterator[None]:
     """Parse CSV logs with ``name`` ("auto" or "python") inside the ``with`` block."""
-    global ENGINE
     if name not in ENGINES:
         raise ValueError(f"engine must be one of {', '.join(ENGINES)}, got {name!r}")
-    previous, ENGINE = ENGINE, name
+    global ENGINE
+    _OUTER_ENGINES.append(ENGINE)
+    ENGINE = name
     try:
         yield
     finally:
-        ENGINE = previous
+        ENGINE = _OUTER_ENGINES.pop()
 
 
-def _case_variants(word: str) -> List[str]:
-    """Every upper/lower-case spelling of ``word`` ("na" → na, nA, Na, NA)."""
-    options = [(c.lower(), c.upper()) if c.isalpha() else (c,) for c in word]
-    return sorted({"".join(p) for p in itertools.product(*options)})
+#: The engines of the enclosing ``engine`` blocks, innermost last.
+_OUTER_ENGINES: List[str] = []
 
 
-def _null_values(missing: Sequence[str]) -> List[str]:
-    return [spelling for word in missing for spelling in _case_variants(word)]
+def text_chunks(body: str, size: int) -> Iterator[Tuple[str, int]]:
+    """``body`` in pieces of about ``size`` characters that end at a line end: (piece, characters done)."""
+    total, start = len(body), 0
+    while start < total:
+        stop = body.find("\n", min(start + size, total))
+        stop = total if stop < 0 else stop + 1
+        yield body[start:stop], stop
+        start = stop
+
+
+@contextlib.contextmanager
+def native_threads_without_signals() -> Iterator[None]:
+    """SIGTERM and SIGINT blocked in this thread while pyarrow starts its native threads, which inherit the
+    mask: those threads must never take a process signal, or the CLI's hold on signals around creating an
+    output file (runner._atomic_output, which blocks them in the main thread only) would not hold. A signal
+    that arrives meanwhile is delivered when the mask is restored."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    try:
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+@functools.lru_cache(maxsize=8)
+def _null_values(missing: Tuple[str, ...]) -> List[str]:
+    """Every upper/lower-case spelling of each word of ``missing`` ("na" → na, nA, Na, NA)."""
+    spellings = set()
+    for word in missing:
+        options = [(c.lower(), c.upper()) if c.isalpha() else (c,) for c in word]
+        spellings.update("".join(p) for p in itertools.product(*options))
+    return sorted(spellings)
 
 
 def _pyarrow():
@@ -82,74 +122,72 @@ def read_columns(body: str, columns: Sequence[int], missing: Sequence[str], prog
         The values (blank lines skipped), or None when the fast path is off,
         pyarrow is missing, or it refuses any of the text.
     """
-    if ENGINE != "auto":
-        return None
-    pacsv = _pyarrow()
-    if pacsv is None:
-        return None
-    import pyarrow as pa
-
-    names = [f"f{i}" for i in columns]
-    convert = pacsv.ConvertOptions(column_types={name: pa.float64() for name in names}, include_columns=names,
-                                   null_values=_null_values(missing), strings_can_be_null=True,
-                                   quoted_strings_can_be_null=True)
-    parse = pacsv.ParseOptions(delimiter=",", quote_char='"', newlines_in_values=False)
-    total = len(body)
-    parts = []
-    start = 0
-    while start < total:
-        stop = body.find("\n", min(start + CHUNK_CHARS, total))
-        stop = total if stop < 0 else stop + 1
-        chunk = body[start:stop].encode("utf-8")
-        read = pacsv.ReadOptions(autogenerate_column_names=True, use_threads=False,
-                                 block_size=max(1 << 20, min(len(chunk) + 1, 1 << 26)))
-        try:
-            table = pacsv.read_csv(pa.py_buffer(chunk), read_options=read, parse_options=parse,
-                                   convert_options=convert)
-        except (pa.ArrowException, KeyError, ValueError, TypeError):
-            return None
-        part = np.empty((table.num_rows, len(names)), dtype=np.float64)
-        for j, name in enumerate(names):
-            part[:, j] = table.column(name).to_numpy(zero_copy_only=False)  # null → NaN
-        parts.append(part)
-        start = stop
-        if progress is not None:
-            progress(start, total)
-    if not parts:
-        return np.zeros((0, len(columns)))
-    return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=0)
+    both = read_numbers_and_text(body, columns, (), missing, progress)
+    return None if both is None else both[0]
 
 
-def read_text_column(body: str, column: int, rows: int) -> Optional[np.ndarray]:
-    """The stripped cells of column ``column`` of the first ``rows`` lines of ``body`` (object array of str).
+def read_numbers_and_text(body: str, columns: Sequence[int], text: Sequence[int], missing: Sequence[str],
+                          progress=None, encoded: bool = False) -> Optional[Tuple[np.ndarray, list]]:
+    """The numeric ``columns`` (float64, rows × columns) and the stripped cells of the ``text`` columns (one
+    object array of str each) of the CSV ``body``, in one pass; None if not plain.
 
-    Only for a plain body whose first ``rows`` lines are its data rows: no
-    quote character, no empty line among them, and pyarrow finding exactly
-    ``rows`` rows, each with the same number of cells (else None, and the
-    caller splits the lines in Python). Each distinct cell (pyarrow's dictionary encoding) is stripped with
-    ``str.strip`` once, so the result is what splitting each line gives.
+    As :func:`read_columns`, and with text columns asked for, also None when ``body`` holds a quote
+    character (the Python path splits such lines with :mod:`csv`): a plain body splits at every comma, as
+    ``line.split(",")`` does. Each distinct text cell (pyarrow's dictionary encoding) is stripped with
+    ``str.strip`` once; with ``encoded``, each text column comes as those stripped cells and the index of
+    each row's cell among them (``cells[indices]`` is the column), for a reader that maps each distinct
+    cell once.
     """
-    if ENGINE != "auto" or '"' in body or rows == 0:
+    if ENGINE != "auto" or (text and '"' in body):
         return None
     pacsv = _pyarrow()
     if pacsv is None:
         return None
     import pyarrow as pa
 
-    name = f"f{column}"
-    data = body.encode("utf-8")
+    parts, texts = [], [[] for _ in text]
+    with native_threads_without_signals():
+        for chunk, done in text_chunks(body, CHUNK_CHARS):
+            table = _parse(pacsv, chunk, columns, text, missing)
+            if table is None:
+                return None
+            part = np.empty((table.num_rows, len(columns)), dtype=np.float64)
+            for j, position in enumerate(columns):
+                part[:, j] = table.column(f"f{position}").to_numpy(zero_copy_only=False)  # null → NaN
+            parts.append(part)
+            for cells, position in zip(texts, text):
+                cells += table.column(f"f{position}").chunks
+            if progress is not None:
+                progress(done, len(body))
+    numbers = np.zeros((0, len(columns))) if not parts else parts[0] if len(parts) == 1 else np.concatenate(parts)
+    columns_text = [_stripped(pa.chunked_array(cells, type=pa.string())) for cells in texts]
+    return numbers, columns_text if encoded else [cells[indices] for cells, indices in columns_text]
+
+
+def _parse(pacsv, chunk: str, columns: Sequence[int], text: Sequence[int], missing: Sequence[str]):
+    """pyarrow's table of one chunk: ``columns`` as float64 (``missing`` → null), ``text`` as strings (no null);
+    None if pyarrow refuses the text."""
+    import pyarrow as pa
+
+    types = {f"f{i}": pa.float64() for i in columns}
+    types.update({f"f{i}": pa.string() for i in text})
+    data = chunk.encode("utf-8")
+    convert = pacsv.ConvertOptions(column_types=types, include_columns=list(types),
+                                   null_values=_null_values(tuple(missing)), strings_can_be_null=False,
+                                   quoted_strings_can_be_null=False)
+    parse = pacsv.ParseOptions(delimiter=",", quote_char='"' if not text else False, newlines_in_values=False)
     read = pacsv.ReadOptions(autogenerate_column_names=True, use_threads=False,
                              block_size=max(1 << 20, min(len(data) + 1, 1 << 30)))
-    convert = pacsv.ConvertOptions(column_types={name: pa.string()}, include_columns=[name], null_values=[],
-                                   strings_can_be_null=False, quoted_strings_can_be_null=False)
-    parse = pacsv.ParseOptions(delimiter=",", quote_char=False, newlines_in_values=False)
     try:
-        table = pacsv.read_csv(pa.py_buffer(data), read_options=read, parse_options=parse, convert_options=convert)
+        return pacsv.read_csv(pa.py_buffer(data), read_options=read, parse_options=parse, convert_options=convert)
     except (pa.ArrowException, KeyError, ValueError, TypeError):
         return None
-    if table.num_rows != rows:
-        return None
-    encoded = table.column(name).combine_chunks().dictionary_encode()
+
+
+def _stripped(cells) -> Tuple[np.ndarray, np.ndarray]:
+    """A pyarrow string column as its distinct cells, each stripped (object array of str), and the index of each
+    row's cell among them (int64)."""
+    encoded = cells.combine_chunks().dictionary_encode()
     stripped = np.empty(len(encoded.dictionary), dtype=object)
     stripped[:] = [cell.strip() for cell in encoded.dictionary.to_pylist()]
-    return stripped[encoded.indices.to_numpy(zero_copy_only=False)]
+    return stripped, encoded.indices.to_numpy(zero_copy_only=False).astype(np.int64, copy=False)

@@ -200,7 +200,7 @@ def quiet_warnings():
         _QUIET.on = before
 
 
-def _fmt(value: float) -> str:
+def fmt(value: float) -> str:
     """A number for a message: plain Python formatting, never a numpy repr."""
     return f"{float(value):.6g}"
 
@@ -253,36 +253,43 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     time = np.asarray(time, dtype=float)
     if lines is None:
         lines = np.arange(time.size) + 2
-    bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size:
-        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
-                       f"time must be a finite number")
     dt = np.diff(time)
-    back = np.flatnonzero(dt < 0)
-    if back.size:
-        i = back[0]
-        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
-                       f"({_fmt(time[i + 1])} s after {_fmt(time[i])} s on {row_word} {int(lines[i])})")
+    _check_time_order(time, dt, source, lines, time_name, row_word)
     same = dt == 0
     repeated = int(same.sum())
     if not repeated:
         return time, columns, 0
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
-    ends = np.concatenate([starts[1:], [time.size]]) - 1
-    merged = {}
-    for name, values in columns.items():
-        values = np.asarray(values)
-        if values.dtype.kind == "f":
-            finite = np.isfinite(values)
-            total = np.add.reduceat(np.where(finite, values, 0.0), starts, axis=0)
-            count = np.add.reduceat(finite.astype(float), starts, axis=0)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                merged[name] = np.where(count > 0, total / np.maximum(count, 1), np.nan)
-        elif values.dtype.kind == "b":
-            merged[name] = np.logical_or.reduceat(values, starts, axis=0)
-        else:
-            merged[name] = values[ends]
-    return time[starts], merged, repeated
+    return time[starts], {name: _merged(np.asarray(values), starts) for name, values in columns.items()}, repeated
+
+
+def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.ndarray, time_name: str,
+                      row_word: str) -> None:
+    """LogError naming the first row (``lines``: its file line) whose time (s; ``dt`` its steps) is not finite or
+    goes backwards."""
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
+                       f"time must be a finite number")
+    back = np.flatnonzero(dt < 0)
+    if back.size:
+        i = back[0]
+        raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
+                       f"({fmt(time[i + 1])} s after {fmt(time[i])} s on {row_word} {int(lines[i])})")
+
+
+def _merged(values: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """One column's rows merged by groups starting at ``starts``: numbers the mean of their finite values (NaN
+    if none), booleans any, anything else the group's last row."""
+    if values.dtype.kind == "f":
+        finite = np.isfinite(values)
+        total = np.add.reduceat(np.where(finite, values, 0.0), starts, axis=0)
+        count = np.add.reduceat(finite.astype(float), starts, axis=0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    if values.dtype.kind == "b":
+        return np.logical_or.reduceat(values, starts, axis=0)
+    return values[np.concatenate([starts[1:], [values.shape[0]]]) - 1]
 
 
 def finish(data: LogData) -> LogData:
@@ -299,12 +306,12 @@ def finish(data: LogData) -> LogData:
     if data.gaps:
         longest = max(length for _, length in data.gaps)
         first = data.gaps[0]
-        data.warn(f"{data.source}: {len(data.gaps)} logging gap(s), the longest {_fmt(longest)} s "
-                  f"(first at {_fmt(first[0])} s, {_fmt(first[1])} s long)")
+        data.warn(f"{data.source}: {len(data.gaps)} logging gap(s), the longest {fmt(longest)} s "
+                  f"(first at {fmt(first[0])} s, {fmt(first[1])} s long)")
     return data
 
 
-def _align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Each source sample on the first target step at or after it; NaN on other steps (newest wins)."""
     values = np.asarray(values, dtype=float)
     out = np.full(target_time.shape + values.shape[1:], np.nan)
@@ -315,13 +322,15 @@ def _align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray)
     return out
 
 
-def _previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
+def previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The latest source sample at or before each target time (the first one before it starts)."""
     index = np.clip(np.searchsorted(source_time, target_time, side="right") - 1, 0, source_time.size - 1)
     return values[index]
 
 
-def _reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
+def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
+    """A reference's altitude (m) and velocity (m/s) on the grid ``time`` (s), NaN outside it, the altitude moved
+    onto the baro's datum by the median difference over the first 2 s where both exist."""
     altitude = np.interp(time, ref_time, ref_altitude, left=np.nan, right=np.nan)
     velocity = np.interp(time, ref_time, ref_velocity, left=np.nan, right=np.nan)
     both = np.isfinite(altitude) & np.isfinite(baro_altitude)
@@ -340,4 +349,5 @@ def _check_grid(time: np.ndarray, source: str) -> None:
     bad = np.flatnonzero(~(np.diff(time) > 0))
     if bad.size:
         raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
-                       f"({_fmt(time[bad[0] + 1])} s) follows {_fmt(time[bad[0]])} s")
+                       f"({fmt(time[bad[0] + 1])} s) follows {fmt(time[bad[0]])} s")
+

@@ -1,8 +1,8 @@
-"""Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS).
+"""Fast CSV tables with line-accurate errors, shared by the CSV readers (generic, AltOS, CATS, Raven, RRC3).
 
-The fast path hands the numeric columns a reader needs to pyarrow's columnar
-CSV parser when pyarrow is installed and the text is plain numbers
-(:mod:`._csv_fast`), else to numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
+The fast path hands the numeric (and text) columns a reader needs to pyarrow's columnar
+CSV parser when pyarrow is installed and the text is plain
+(:mod:`._csv_fast`), else the numbers to numpy's C parser (:func:`numpy.loadtxt`, C since numpy 1.23) in chunks, so a
 progress callback can follow. Only if that parser refuses the text does a slow pure-Python
 pass run, to find the first bad line and name it — or to accept what the
 fast path cannot (``NA`` cells, spaces around empty cells).
@@ -10,13 +10,11 @@ fast path cannot (``NA`` cells, spaces around empty cells).
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import io
 import os
-import signal
 from dataclasses import dataclass
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -123,36 +121,10 @@ def _row_lines(table: Table) -> np.ndarray:
     return lines + table.first_line
 
 
-@contextlib.contextmanager
-def _native_threads_without_signals():
-    """SIGTERM and SIGINT blocked in this thread while pyarrow starts its native threads, which inherit the
-    mask: those threads must never take a process signal, or the CLI's hold on signals around creating an
-    output file (runner._atomic_output, which blocks them in the main thread only) would not hold. A signal
-    that arrives meanwhile is delivered when the mask is restored."""
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    try:
-        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM, signal.SIGINT})
-    except (OSError, ValueError):
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
-def _fast(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
+def _numpy_columns(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray]:
     """The numeric ``columns`` by numpy's C parser (:func:`numpy.loadtxt`) in chunks; None if it refuses."""
-    body = table.body
-    total = len(body)
     parts = []
-    start = 0
-    while start < total:
-        stop = body.find("\n", min(start + _CHUNK_CHARS, total))
-        stop = total if stop < 0 else stop + 1
-        chunk = body[start:stop]
+    for chunk, done in _csv_fast.text_chunks(table.body, _CHUNK_CHARS):
         if ",," in chunk or ",\n" in chunk or chunk.startswith(",") or "\n," in chunk or chunk.endswith(","):
             chunk = chunk.replace(",,", ",nan,").replace(",,", ",nan,")
             chunk = chunk.replace("\n,", "\nnan,").replace(",\n", ",nan\n")
@@ -166,26 +138,29 @@ def _fast(table: Table, columns: Sequence[int], progress) -> Optional[np.ndarray
         except (ValueError, IndexError, TypeError):
             return None
         parts.append(part)
-        start = stop
         if progress is not None:
-            progress(start, total)
+            progress(done, len(table.body))
     if not parts:
         return np.zeros((0, len(columns)))
     return np.concatenate(parts, axis=0)
 
 
-def _slow(table: Table, columns: Sequence[int], progress, allow_truncated_tail: bool):
+def data_lines(table: Table) -> Iterator[Tuple[int, int, str]]:
+    """(position in the body, file line number, text) of every line of the body that is not blank."""
+    for i, line in enumerate(table.body.split("\n")):
+        if line.strip():
+            yield i, table.first_line + i, line
+
+
+def _python_columns(table: Table, columns: Sequence[int], progress, allow_truncated_tail: bool):
     """Pure-Python parse of the needed columns; LogError at the first bad line."""
     names = [table.header[i] for i in columns]
-    lines = table.body.split("\n")
+    total = table.body.count("\n") + 1
     ends_cleanly = table.body.endswith("\n") or not table.body
-    last = max((i for i, line in enumerate(lines) if line.strip()), default=-1)
+    last = max((i for i, _, _ in data_lines(table)), default=-1)
     rows, row_lines = [], []
     dropped = None
-    for i, line in enumerate(lines):
-        if not line.strip():
-            continue
-        number = table.first_line + i
+    for i, number, line in data_lines(table):
         try:
             cells = next(csv.reader([line]))
             values = []
@@ -213,15 +188,61 @@ def _slow(table: Table, columns: Sequence[int], progress, allow_truncated_tail: 
         rows.append(values)
         row_lines.append(number)
         if progress is not None and i % 100_000 == 0:
-            progress(i, len(lines))
+            progress(i, total)
     data = np.array(rows, dtype=float).reshape(len(rows), len(columns))
     return data, np.array(row_lines, dtype=np.int64), dropped
+
+
+@dataclass
+class Columns:
+    """Columns of a table's rows (blank lines skipped).
+
+    Attributes
+    ----------
+    numbers : numpy.ndarray, shape (rows, numeric columns)
+        float64; NaN for empty / ``nan`` / ``NA`` cells.
+    lines : numpy.ndarray of int
+        File line of every row.
+    dropped : int or None
+        File line of a last line cut short and dropped.
+    text : list of numpy.ndarray
+        The stripped cells of each text column (object arrays of str).
+    """
+
+    numbers: np.ndarray
+    lines: np.ndarray
+    dropped: Optional[int]
+    text: List[np.ndarray]
+
+
+def read_columns(table: Table, numeric: Sequence[int], text: Sequence[int] = (),
+                 progress: Optional[Callable[[int, int], None]] = None, allow_truncated_tail: bool = True) -> Columns:
+    """Parse the ``numeric`` columns (positions) of a table as numbers and the ``text`` ones as stripped cells.
+
+    pyarrow parses both in one pass (:func:`._csv_fast.read_numbers_and_text`); where it cannot, numpy's
+    parser reads the numbers, and where that cannot either, the pure-Python pass, which names the first bad
+    line. A last line cut short (the file does not end with a newline and its last line does not parse) is
+    dropped, and its number returned.
+
+    Raises
+    ------
+    LogError
+        The first line with a bad cell, naming file line and column.
+    """
+    fast = _csv_fast.read_numbers_and_text(table.body, numeric, text, MISSING, progress)  # pyarrow (issue 25)
+    data = fast[0] if fast is not None else _numpy_columns(table, numeric, progress)
+    lines = None if data is None else lines_of_rows(table, data.shape[0])
+    if lines is None:
+        data, lines, dropped = _python_columns(table, numeric, progress, allow_truncated_tail)
+        return Columns(data, lines, dropped, [text_column(table, column, lines) for column in text])
+    cells = fast[1] if fast is not None else [text_column(table, column, lines) for column in text]
+    return Columns(data, lines, None, cells)
 
 
 def numeric_columns(table: Table, columns: Sequence[int],
                     progress: Optional[Callable[[int, int], None]] = None,
                     allow_truncated_tail: bool = True):
-    """Parse the numeric ``columns`` (positions) of a table.
+    """Parse the numeric ``columns`` (positions) of a table: :func:`read_columns` without text columns.
 
     Returns
     -------
@@ -232,35 +253,28 @@ def numeric_columns(table: Table, columns: Sequence[int],
     dropped_line : int or None
         A last line cut short (the file does not end with a newline and its
         last line does not parse) is dropped, and its number returned.
-
-    Raises
-    ------
-    LogError
-        The first line with a bad cell, naming file line and column.
     """
-    with _native_threads_without_signals():
-        data = _csv_fast.read_columns(table.body, columns, MISSING, progress)  # pyarrow, or None (issue 25)
-    if data is None:
-        data = _fast(table, columns, progress)
-    if data is not None:
-        body = table.body
-        expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)
-        if data.shape[0] == expected:
-            return data, np.arange(expected, dtype=np.int64) + table.first_line, None
-        lines = _row_lines(table)
-        if lines.size == data.shape[0]:
-            return data, lines, None
-    return _slow(table, columns, progress, allow_truncated_tail)
+    read = read_columns(table, columns, (), progress, allow_truncated_tail)
+    return read.numbers, read.lines, read.dropped
+
+
+def lines_of_rows(table: Table, rows: int) -> Optional[np.ndarray]:
+    """File line of each of ``rows`` rows a parser found (blank lines skipped), or None if they do not match."""
+    body = table.body
+    expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)
+    if rows == expected:
+        return np.arange(expected, dtype=np.int64) + table.first_line
+    lines = _row_lines(table)
+    return lines if lines.size == rows else None
 
 
 def text_column(table: Table, column: int, lines: np.ndarray) -> np.ndarray:
     """The raw (stripped) cells of one column for the given file lines (object array of str)."""
     rows = lines.size
     if rows and int(lines[0]) == table.first_line and int(lines[-1]) == table.first_line + rows - 1:
-        with _native_threads_without_signals():
-            cells = _csv_fast.read_text_column(table.body, column, rows)  # pyarrow, or None (issue 25)
-        if cells is not None:
-            return cells
+        fast = _csv_fast.read_numbers_and_text(table.body, (), (column,), MISSING)  # pyarrow, or None (issue 25)
+        if fast is not None and fast[1][0].size == rows:
+            return fast[1][0]
     body = table.body.split("\n")
     quoted = '"' in table.body
     out = []

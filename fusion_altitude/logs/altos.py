@@ -10,8 +10,8 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import height_above_ground
 from ._checks import ALTITUDE_RANGE, ALTOS_MISSING, PRESSURE_RANGE, absurd_columns, dead_message, is_dead
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header, text_column
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
+from ._table import check_finite, read_columns, read_text, split_header
 
 #: The header line of an AltOS CSV starts with this (after an optional BOM and ``#`` comment lines).
 HEADER_START = "#version,serial,flight"
@@ -114,25 +114,13 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     """
     source = f"{os.path.basename(path)} (AltOS CSV)"
     time, column, dropped, repeated, messages, notes = _read_columns(path, progress)
-    pressure = column["pressure"]
     pad = time < 0
     if not pad.any():
         pad = time <= time[0] + 1.0
     notes.insert(0, "time, acceleration, altitude (first), pressure")
     temperature = column["temperature"] + 273.15 if "temperature" in column else None
-    if ground_temperature_k is not None:
-        baro = _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, notes)
-        altitude_reference, ground_altitude = "pad", 0.0
-    else:
-        baro = column["altitude"]
-        altitude_reference = "sea level"
-        ground_altitude = None
-    reference = velocity = None
-    if "height" in column:
-        if altitude_reference == "sea level":
-            ground_altitude = _ground_altitude(column["altitude"], column["height"], pad)
-        reference = column["height"] + (ground_altitude or 0.0)
-        velocity = next((column[name] for name in ("speed", "accel_speed", "baro_speed") if name in column), None)
+    baro, altitude_reference, ground_altitude, reference, velocity = _baro_and_reference(
+        path, column, temperature, pad, ground_temperature_k, notes)
     vertical, axial, baro_only, accel_message = _axial(source, column.get("acceleration"), pad, notes)
     if accel_message is not None:
         messages.append(accel_message)
@@ -147,7 +135,7 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
         reference_name="AltOS flight computer (height, speed)" if reference is not None else "",
         clipped=clipped, notes=notes, gps_altitude=column.get("gps_altitude"), gps_satellites=column.get("nsat"),
         accel=imu, gyro=gyro, imu_frame="sensor" if imu is not None else "",
-        pressure=pressure, temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
+        pressure=column["pressure"], temperature=temperature, flight_state=column.get("state"), vehicle="rocket",
         altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated,
         axial_acceleration=axial, baro_only=baro_only)
     if dropped is not None:
@@ -155,6 +143,26 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     for message in messages:
         log.warn(message)
     return finish(log)
+
+
+def _baro_and_reference(path: str, column: dict, temperature: Optional[np.ndarray], pad: np.ndarray,
+                        ground_temperature_k, notes: list):
+    """(baro altitude m, its datum, the pad's altitude m or None, the flight computer's height m in the baro's
+    datum or None, its velocity m/s or None): the first ``altitude`` (datum "sea level"), or with
+    ``ground_temperature_k`` the hypsometric height above the pad (datum "pad"); ``height`` + the pad's
+    altitude, ``speed`` (else ``accel_speed``, ``baro_speed``)."""
+    if ground_temperature_k is not None:
+        baro = _hypsometric_height(path, column["pressure"], temperature, pad, ground_temperature_k, notes)
+        altitude_reference, ground_altitude = "pad", 0.0
+    else:
+        baro, altitude_reference, ground_altitude = column["altitude"], "sea level", None
+    if "height" not in column:
+        return baro, altitude_reference, ground_altitude, None, None
+    if altitude_reference == "sea level":
+        ground_altitude = _ground_altitude(column["altitude"], column["height"], pad)
+    reference = column["height"] + (ground_altitude or 0.0)
+    velocity = next((column[name] for name in ("speed", "accel_speed", "baro_speed") if name in column), None)
+    return baro, altitude_reference, ground_altitude, reference, velocity
 
 
 def _filled(values: np.ndarray) -> np.ndarray:
@@ -211,7 +219,7 @@ def _imu(source: str, time: np.ndarray, axes: list, pad: np.ndarray, notes: list
     if rest.any():
         norm = float(np.median(np.linalg.norm(accel[rest], axis=1)))
         if not 0.5 * GRAVITY < norm < 1.5 * GRAVITY:
-            return None, None, [f"{source}: the IMU (accel_x, accel_y, accel_z) reads {_fmt(norm)} on the pad, not "
+            return None, None, [f"{source}: the IMU (accel_x, accel_y, accel_z) reads {fmt(norm)} on the pad, not "
                                 f"about 9.81 m/s² (raw counts or another unit?): not used; the along-axis "
                                 f"'acceleration' is used; no INS on this log"]
     if silent.any():
@@ -225,7 +233,7 @@ def _imu(source: str, time: np.ndarray, axes: list, pad: np.ndarray, notes: list
     if clipped.any():
         first, last = np.flatnonzero(clipped)[[0, -1]]
         messages.append(f"{source}: the IMU accelerometer saturates (±16 g) on {int(clipped.sum())} samples "
-                        f"({_fmt(time[first])}–{_fmt(time[last])} s): marked clipped; the along-axis 'acceleration' "
+                        f"({fmt(time[first])}–{fmt(time[last])} s): marked clipped; the along-axis 'acceleration' "
                         f"(high-g) gives the vertical acceleration")
     return accel, clipped, messages
 
@@ -290,7 +298,9 @@ def _read_columns(path: str, progress):
         if sum(column == name for column in table.header) > occurrence:
             roles[role] = table.index(name, occurrence)
     order = sorted(set(roles.values()))
-    data, lines, dropped = numeric_columns(table, order, progress)
+    state = [table.index("state_name")] if "state_name" in table.header else []
+    read = read_columns(table, order, state, progress)  # the state names in the same pass
+    data, lines, dropped = read.numbers, read.lines, read.dropped
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {role: data[:, order.index(position)] for role, position in roles.items()}
@@ -304,8 +314,8 @@ def _read_columns(path: str, progress):
         ("pressure", "pressure", *PRESSURE_RANGE, "Pa", "pressure", False)])
     if "gps_altitude" in column:
         column["gps_altitude"] = _new_gps_fixes(column)
-    if "state_name" in table.header:
-        column["state"] = text_column(table, table.index("state_name"), lines)
+    if state:
+        column["state"] = read.text[0]
     time, column, repeated = merge_repeated_timestamps(column.pop("time"), column, path, lines, "time")
     return time, column, dropped, repeated, messages, notes
 
@@ -339,7 +349,7 @@ def _hypsometric_height(path, pressure, temperature, pad, ground_temperature_k, 
     elif not (isinstance(ground_temperature_k, (int, float)) and ground_temperature_k > 0):
         raise LogError(f"ground temperature must be a positive number of K or 'log', got {ground_temperature_k!r}")
     baro = height_above_ground(pressure, ground_pa, float(ground_temperature_k))
-    notes.append(f"height above {_fmt(ground_pa)} Pa at {_fmt(ground_temperature_k)} K (hypsometric)")
+    notes.append(f"height above {fmt(ground_pa)} Pa at {fmt(ground_temperature_k)} K (hypsometric)")
     return baro
 
 

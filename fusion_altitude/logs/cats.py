@@ -18,8 +18,8 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import gyro_attitude, height_above_ground, vertical_acceleration
 from ._checks import PRESSURE_RANGE, absurd_columns
-from ._data import LogData, LogError, _align, _fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header, text_column
+from ._data import LogData, LogError, align, fmt, finish, merge_repeated_timestamps
+from ._table import check_finite, read_columns, read_text, split_header
 
 #: Accelerometer full scale for clip detection, m/s² (CATS Vega: ±16 g).
 ACCEL_RANGE = 16 * GRAVITY
@@ -87,13 +87,14 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
     name, low, high, unit, what, low_inclusive) drop absurd cells first, their warnings appended to ``messages``."""
     table = split_header(path, read_text(path, "CATS CSV"))
     positions = [table.index(name) for name in names]
-    data, lines, dropped = numeric_columns(table, positions, progress)
+    read = read_columns(table, positions, [table.index("id")] if table.has("id") else [], progress)
+    data, lines, dropped = read.numbers, read.lines, read.dropped
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {name: data[:, i] for i, name in enumerate(names)}
     note = ""
     if table.has("id"):
-        ids = text_column(table, table.index("id"), lines) if data.shape[0] < 2_000_000 else None
+        ids = read.text[0] if data.shape[0] < 2_000_000 else None
         if ids is not None:
             present = sorted(set(ids.tolist()))
             wanted = f"{instance_prefix}{instance}" if instance is not None else present[0]
@@ -160,34 +161,44 @@ def read_cats(path: str, instance: Optional[int] = None, ground_temperature_k: U
         going backwards, no pre-launch data.
     """
     files = find_cats_files(path)
-    imu_time, imu, imu_repeats, imu_note, dropped_imu = _read(
-        files["imu"], ["ts", "Ax", "Ay", "Az", "Gx", "Gy", "Gz"], progress, "IMU", instance)
-    implausible = []
-    baro_time, baro, baro_repeats, baro_note, dropped_baro = _read(
-        files["baro"], ["ts", "P", "T"], progress, "BARO", instance,
-        [("P", "P", *PRESSURE_RANGE, "Pa", "pressure", False)], implausible)
-    time = imu_time
+    imu_read, baro_read, implausible = _read_sensors(files, progress, instance)
+    time, imu, imu_repeats, imu_note, dropped_imu = imu_read
+    baro_time, baro, baro_repeats, baro_note, dropped_baro = baro_read
     accel_body, gyro_dps, accel, clipped = _imu_vertical(files["imu"], time, imu, accel_range)
-    pressure = _align(time, baro_time, baro["P"])
-    temperature = _align(time, baro_time, baro["T"] + 273.15)
+    pressure = align(time, baro_time, baro["P"])
     ground_pa = _pad_pressure(files["baro"], baro_time, baro, ground_temperature_k)
-    baro_altitude = height_above_ground(pressure, ground_pa, ground_temperature_k)
     notes = [f"{os.path.basename(files['imu'])} {imu_note}".strip(), f"{os.path.basename(files['baro'])} "
-             f"{baro_note} (pad {_fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
+             f"{baro_note} (pad {fmt(ground_pa)} Pa)".strip(), ATTITUDE_NOTE]
     log = LogData(f"{os.path.basename(files['baro'])} + {os.path.basename(files['imu'])} (CATS CSV)", time, accel,
-                  baro_altitude, clipped=clipped, notes=notes, accel=accel_body, gyro=np.radians(gyro_dps),
-                  imu_frame="sensor", pressure=pressure, temperature=temperature, vehicle="rocket",
+                  height_above_ground(pressure, ground_pa, ground_temperature_k), clipped=clipped, notes=notes,
+                  accel=accel_body, gyro=np.radians(gyro_dps), imu_frame="sensor", pressure=pressure,
+                  temperature=align(time, baro_time, baro["T"] + 273.15), vehicle="rocket",
                   altitude_reference="pad", ground_altitude=0.0, repeated_timestamps=imu_repeats)
+    _warn_read(log, files, implausible, baro_repeats, ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])))
+    if "info" in files:
+        _add_flight_info(log, files["info"], time, progress)
+    return finish(log)
+
+
+def _read_sensors(files: Dict[str, str], progress, instance: Optional[int]):
+    """What :func:`_read` gives of the IMU file and of the baro file, and the warnings of implausible pressures."""
+    imu = _read(files["imu"], ["ts", "Ax", "Ay", "Az", "Gx", "Gy", "Gz"], progress, "IMU", instance)
+    implausible = []
+    baro = _read(files["baro"], ["ts", "P", "T"], progress, "BARO", instance,
+                 [("P", "P", *PRESSURE_RANGE, "Pa", "pressure", False)], implausible)
+    return imu, baro, implausible
+
+
+def _warn_read(log: LogData, files: Dict[str, str], implausible, baro_repeats: int, dropped) -> None:
+    """The warnings of reading the files: implausible cells dropped, repeated baro stamps merged, last lines cut
+    short (``dropped``: (file line or None, file) pairs)."""
     for message in implausible:
         log.warn(message)
     if baro_repeats:
         log.warn(f"{files['baro']}: {baro_repeats} rows repeated the timestamp of the row before; merged")
-    for dropped, file in ((dropped_imu, files["imu"]), (dropped_baro, files["baro"])):
-        if dropped is not None:
-            log.warn(f"{file}: line {dropped}: the last line is cut short (no newline at the end); dropped")
-    if "info" in files:
-        _add_flight_info(log, files["info"], time, progress)
-    return finish(log)
+    for line, file in dropped:
+        if line is not None:
+            log.warn(f"{file}: line {line}: the last line is cut short (no newline at the end); dropped")
 
 
 def _imu_vertical(file: str, time: np.ndarray, imu: Dict[str, np.ndarray], accel_range: float):
@@ -200,11 +211,11 @@ def _imu_vertical(file: str, time: np.ndarray, imu: Dict[str, np.ndarray], accel
     for name in ("Ax", "Ay", "Az", "Gx", "Gy", "Gz"):
         bad = np.flatnonzero(~np.isfinite(imu[name]))
         if bad.size:
-            raise LogError(f"{file}: column {name!r}: empty at ts {_fmt(time[bad[0]])} s")
+            raise LogError(f"{file}: column {name!r}: empty at ts {fmt(time[bad[0]])} s")
     at_rest = accel_body[rest].mean(axis=0)
     if not 0.5 * GRAVITY < float(np.linalg.norm(at_rest)) < 1.5 * GRAVITY:
         raise LogError(f"{file}: the mean specific force before launch is "
-                       f"{_fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
+                       f"{fmt(np.linalg.norm(at_rest))} m/s², not about 1 g: cannot level the attitude")
     dt = np.diff(time, prepend=time[0] - (time[1] - time[0]))
     attitude = gyro_attitude(gyro_dps, dt, at_rest, gyro_dps[rest].mean(axis=0))
     accel = vertical_acceleration(accel_body, attitude, frame="ENU")
@@ -223,7 +234,7 @@ def _pad_pressure(file: str, baro_time: np.ndarray, baro: Dict[str, np.ndarray],
     if isinstance(ground_temperature_k, str):
         if ground_temperature_k.strip().lower() == "log":
             board = baro["T"][baro_rest & np.isfinite(baro["T"])]
-            on_pad = f" (median {_fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
+            on_pad = f" (median {fmt(float(np.median(board)))} °C on the pad)" if board.size else ""
             raise LogError(f"{file}: column 'T' is the flight computer's board temperature{on_pad}, "
                            f"not the air's: give --ground-temperature in °C instead of 'log'")
         raise LogError(f"ground temperature must be a positive number of K, got {ground_temperature_k!r}")
@@ -238,11 +249,13 @@ def _add_flight_info(log: LogData, file: str, time: np.ndarray, progress) -> Non
     on the grid ``time`` (s)."""
     table = split_header(file, read_text(file, "CATS CSV"))
     names = ["ts"] + [name for name in ("height", "velocity") if table.has(name)]
-    data, lines, _ = numeric_columns(table, [table.index(name) for name in names], progress)
-    info = {name: data[:, i] for i, name in enumerate(names)}
+    read = read_columns(table, [table.index(name) for name in names],
+                        [table.index("state")] if "state" in table.header else [], progress)
+    lines = read.lines
+    info = {name: read.numbers[:, i] for i, name in enumerate(names)}
     check_finite(file, "ts", info["ts"], lines)
     if "state" in table.header:
-        info["state"] = text_column(table, table.index("state"), lines)
+        info["state"] = read.text[0]
     info_time, info, _ = merge_repeated_timestamps(info.pop("ts"), info, file, lines, "ts")
     if "height" in info and info_time.size >= 2:
         log.reference_altitude = np.interp(time, info_time, info["height"], left=np.nan, right=np.nan)

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..sensors import vertical_acceleration
 from ._binary_args import checked_instance
-from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
 from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 
 #: First two bytes of every DataFlash message.
@@ -335,9 +335,9 @@ def _build(path, rows, firmware, chatter_text, want, progress, size, missing_byt
                                                     row_word="IMU message")
     att_time = messages.times("ATT") - t0
     euler = np.radians(np.column_stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
-    accel = vertical_acceleration(imu["accel"], _previous(time, att_time, euler), frame="NED")
+    accel = vertical_acceleration(imu["accel"], previous(time, att_time, euler), frame="NED")
     baro_time = messages.times("BARO") - t0
-    baro = _align(time, baro_time, messages.column("BARO", "Alt"))
+    baro = align(time, baro_time, messages.column("BARO", "Alt"))
     vehicle = ""
     for word, kind in (("copter", "copter"), ("plane", "plane"), ("rover", "rover"), ("sub", "sub")):
         if word in firmware.lower():
@@ -353,9 +353,9 @@ def _build(path, rows, firmware, chatter_text, want, progress, size, missing_byt
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if rows["BARO"].has("Press"):
-        data.pressure = _align(time, baro_time, messages.column("BARO", "Press"))
+        data.pressure = align(time, baro_time, messages.column("BARO", "Press"))
     if rows["BARO"].has("Temp"):
-        data.temperature = _align(time, baro_time, messages.column("BARO", "Temp") + 273.15)
+        data.temperature = align(time, baro_time, messages.column("BARO", "Temp") + 273.15)
     _add_gps(data, messages, time, t0)
     _add_rangefinder_and_arming(data, messages, time, t0)
     _add_ekf_reference(data, messages, time, t0, baro)
@@ -386,12 +386,12 @@ def _add_gps(data: LogData, messages: _Messages, time: np.ndarray, t0: float) ->
     gps_time = messages.times("GPS") - t0
     status = messages.column("GPS", "Status")
     altitude = np.where(status >= GPS_3D_FIX, messages.column("GPS", "Alt"), np.nan)
-    data.gps_altitude = _align(time, gps_time, altitude)
+    data.gps_altitude = align(time, gps_time, altitude)
     if rows["GPS"].has("NSats"):
-        data.gps_satellites = _align(time, gps_time, np.where(status >= GPS_3D_FIX, messages.column("GPS", "NSats"),
+        data.gps_satellites = align(time, gps_time, np.where(status >= GPS_3D_FIX, messages.column("GPS", "NSats"),
                                                               np.nan))
     if len(rows["GPA"]) and rows["GPA"].has("VAcc"):
-        data.gps_accuracy = _align(time, messages.times("GPA") - t0, messages.column("GPA", "VAcc"))
+        data.gps_accuracy = align(time, messages.times("GPA") - t0, messages.column("GPA", "VAcc"))
     data.notes.append("GPS.Alt where Status ≥ 3")
 
 
@@ -402,7 +402,7 @@ def _add_rangefinder_and_arming(data: LogData, messages: _Messages, time: np.nda
         distance = messages.column("RFND", "Dist", "Dist1")
         if rows["RFND"].has("Stat"):
             distance = np.where(messages.column("RFND", "Stat") == 4, distance, np.nan)
-        data.rangefinder = _align(time, messages.times("RFND") - t0, distance)
+        data.rangefinder = align(time, messages.times("RFND") - t0, distance)
     if len(rows["ARM"]) and rows["ARM"].has("ArmState"):
         states = np.where(rows["ARM"].truthy("ArmState"), "armed", "disarmed").astype(object)
         arm_time = messages.times("ARM") - t0
@@ -420,7 +420,7 @@ def _add_ekf_reference(data: LogData, messages: _Messages, time: np.ndarray, t0:
             down = messages.column(kind, "PD")
             velocity = -messages.column(kind, "VD") if rows[kind].has("VD") else np.gradient(-down, ref_time)
             if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
-                data.reference_altitude, data.reference_velocity = _reference_on_grid(
+                data.reference_altitude, data.reference_velocity = reference_on_grid(
                     time, baro, ref_time, -down, velocity)
                 data.reference_name = f"ArduPilot EKF ({kind})"
             break

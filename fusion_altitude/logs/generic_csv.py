@@ -10,7 +10,7 @@ import numpy as np
 from .._core._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
 from ._table import check_finite, numeric_columns, read_text, split_header
 
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
@@ -47,16 +47,16 @@ def gravity_check(source: str, name: str, accel: np.ndarray, time: np.ndarray, r
     holds_gravity = 0.75 * GRAVITY < abs(mean) < 1.25 * GRAVITY
     steady = finite.sum() > 1 and float(np.std(accel[finite])) < 0.05
     if not remove_gravity and 0.9 < abs(mean) < 1.1 and steady:
-        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+        raise LogError(f"{source}: column {name!r}: mean {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s "
                        f"looks like 1 g: the column is probably in g with gravity still in it; say so with "
                        f"accel_units='g' (--accel-units g) and remove_gravity=True (--remove-gravity)")
     if remove_gravity:
         if not holds_gravity:
             raise LogError(f"{source}: column {name!r}: remove_gravity asked, but its mean over the first "
-                           f"{_fmt(REST_SECONDS)} s is {_fmt(mean)} m/s², not about ±{_fmt(GRAVITY)} (±1 g)")
+                           f"{fmt(REST_SECONDS)} s is {fmt(mean)} m/s², not about ±{fmt(GRAVITY)} (±1 g)")
         return accel - GRAVITY if mean > 0 else -(accel + GRAVITY)
     if holds_gravity:
-        raise LogError(f"{source}: column {name!r}: mean {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s "
+        raise LogError(f"{source}: column {name!r}: mean {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s "
                        f"looks like gravity is still in it (the observer needs +up, gravity removed); "
                        f"remove it with remove_gravity=True (--remove-gravity) or check the units")
     return accel
@@ -182,29 +182,18 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                           attitude_columns, reference_column, gps_column, rangefinder_column, temperature_column,
                           gyro_body_columns)
     altitude_scale = ALTITUDE_UNITS[altitude_units]
-    low, high = ALTITUDE_RANGE
-    altitude_check = (low / altitude_scale, high / altitude_scale, altitude_units)
-    checks = [("reference", reference_column, *altitude_check, "reference altitude", True)]
-    if pressure_column is not None:
-        checks.append(("baro", pressure_column, *PLAUSIBLE_PRESSURE, "Pa", "pressure", False))
-    else:
-        checks.append(("baro", baro_column, *altitude_check, "baro altitude", True))
-    time, column, lines, dropped, repeated, implausible = _read_columns(path, roles, progress, TIME_UNITS[time_units],
-                                                                        checks)
+    time, column, lines, dropped, repeated, implausible = _read_columns(
+        path, roles, progress, TIME_UNITS[time_units], _plausibility_checks(reference_column, pressure_column,
+                                                                            baro_column, altitude_units))
     notes = [f"time {time_column!r}"]
-    scale = ACCEL_UNITS[accel_units]
-    accel_body = dead = None
     if accel_column is not None:
-        accel = gravity_check(source, accel_column, column["accel"] * scale, time, remove_gravity)
-        notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
-        dead = column_dead(path, accel_column, accel, "m/s²",
-                           "the estimators track the baro alone (vertical acceleration 0 m/s²)")
-        if dead is not None:
-            implausible.append(dead)
-            accel = np.zeros(time.shape)
+        accel, accel_body, dead = _vertical_column(path, source, accel_column, column["accel"] * ACCEL_UNITS[
+            accel_units], time, remove_gravity, notes, accel_units)
+        implausible += [dead] if dead is not None else []
     else:
-        accel, accel_body = _body_to_vertical(path, source, column, time, scale, accel_body_columns,
-                                              attitude_columns, attitude_convention, frame)
+        accel, accel_body = _body_to_vertical(path, source, column, time, ACCEL_UNITS[accel_units],
+                                              accel_body_columns, attitude_columns, attitude_convention, frame)
+        dead = None
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
     gyro = None
@@ -214,37 +203,62 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
     temperature = None
     if temperature_column is not None:
         temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
-    pressure = None
-    altitude_reference = ""
-    ground_altitude = None
     if pressure_column is not None:
-        pressure = column["baro"]
-        warning = _pressure_warning(pressure_column, pressure)
+        warning = _pressure_warning(pressure_column, column["baro"])
         baro, altitude_reference, ground_altitude = _pressure_altitude(
-            path, pressure_column, pressure, time, sea_level_pa, ground_temperature_k, temperature_column,
+            path, pressure_column, column["baro"], time, sea_level_pa, ground_temperature_k, temperature_column,
             temperature, notes)
     else:
-        baro = column["baro"] * altitude_scale
-        warning = None
+        baro, warning, altitude_reference, ground_altitude = column["baro"] * altitude_scale, None, "", None
         notes.append(f"baro {baro_column!r} ({altitude_units})")
     if not np.isfinite(baro).any():
         raise LogError(f"{path}: column {baro_column or pressure_column!r}: no usable value on any row")
-    reference = column["reference"] * altitude_scale if reference_column is not None else None
-    gps = column["gps"] * altitude_scale if gps_column is not None else None
-    rangefinder = column["rangefinder"] * altitude_scale if rangefinder_column is not None else None
-    log = LogData(source, time, accel, baro, reference_altitude=reference, baro_only=dead is not None,
+    scaled = {role: column[role] * altitude_scale if role in column else None
+              for role in ("reference", "gps", "rangefinder")}
+    log = LogData(source, time, accel, baro, reference_altitude=scaled["reference"], baro_only=dead is not None,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
-                  notes=notes, gps_altitude=gps, rangefinder=rangefinder, accel=accel_body, gyro=gyro,
-                  imu_frame=FRAMES[frame] if accel_body is not None else "",
-                  pressure=pressure, temperature=temperature, altitude_reference=altitude_reference,
-                  ground_altitude=ground_altitude, repeated_timestamps=repeated)
+                  notes=notes, gps_altitude=scaled["gps"], rangefinder=scaled["rangefinder"], accel=accel_body,
+                  gyro=gyro, imu_frame=FRAMES[frame] if accel_body is not None else "",
+                  pressure=column["baro"] if pressure_column is not None else None, temperature=temperature,
+                  altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
+    _warn_read(log, path, dropped, warning, implausible)
+    return finish(log)
+
+
+def _plausibility_checks(reference_column, pressure_column, baro_column, altitude_units: str) -> list:
+    """The plausibility checks of the reference and baro (or pressure) columns: (role, name, low, high, unit,
+    what, low_inclusive), altitudes in ``altitude_units``."""
+    altitude_scale = ALTITUDE_UNITS[altitude_units]
+    low, high = ALTITUDE_RANGE
+    altitude_check = (low / altitude_scale, high / altitude_scale, altitude_units)
+    checks = [("reference", reference_column, *altitude_check, "reference altitude", True)]
+    if pressure_column is not None:
+        checks.append(("baro", pressure_column, *PLAUSIBLE_PRESSURE, "Pa", "pressure", False))
+    else:
+        checks.append(("baro", baro_column, *altitude_check, "baro altitude", True))
+    return checks
+
+
+def _vertical_column(path: str, source: str, accel_column: str, accel: np.ndarray, time: np.ndarray,
+                     remove_gravity: bool, notes: list, accel_units: str):
+    """A vertical-acceleration column (m/s²) checked for gravity (:func:`gravity_check`) and a dead sensor:
+    (vertical acceleration m/s² — zeros when dead —, None, the dead-sensor warning or None); appends a note."""
+    accel = gravity_check(source, accel_column, accel, time, remove_gravity)
+    notes.append(f"accel {accel_column!r} ({accel_units})" + (", gravity removed" if remove_gravity else ""))
+    dead = column_dead(path, accel_column, accel, "m/s²",
+                       "the estimators track the baro alone (vertical acceleration 0 m/s²)")
+    return (np.zeros(time.shape) if dead is not None else accel), None, dead
+
+
+def _warn_read(log: LogData, path: str, dropped: Optional[int], warning: Optional[str], implausible) -> None:
+    """The reader's warnings: a cut-short last line (file line ``dropped``), the pressure column's ``warning``,
+    the ``implausible`` cells and a dead accelerometer."""
     if dropped is not None:
         log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
     if warning is not None:
         log.warn(f"{path}: {warning}")
     for message in implausible:
         log.warn(message)
-    return finish(log)
 
 
 def _check_options(baro_column, pressure_column, accel_column, accel_body_columns, accel_units, altitude_units,
@@ -262,7 +276,7 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
     if temperature_units not in TEMPERATURE_UNITS:
         raise LogError(f"temperature units must be 'C' or 'K', got {temperature_units!r}")
     if not (np.isfinite(sea_level_pa) and sea_level_pa > 0):
-        raise LogError(f"sea-level pressure must be a positive number of Pa, got {_fmt(sea_level_pa)}")
+        raise LogError(f"sea-level pressure must be a positive number of Pa, got {fmt(sea_level_pa)}")
     if accel_body_columns is not None:
         _check_body_options(accel_body_columns, attitude_columns, attitude_convention, frame)
     _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns)
@@ -273,7 +287,7 @@ def _check_options(baro_column, pressure_column, accel_column, accel_body_column
             if ground_temperature_k != "log" or temperature_column is None:
                 raise LogError("ground temperature 'log' needs a temperature column")
         elif not (np.isfinite(ground_temperature_k) and ground_temperature_k > 0):
-            raise LogError(f"ground temperature must be a positive number of K, got {_fmt(ground_temperature_k)}")
+            raise LogError(f"ground temperature must be a positive number of K, got {fmt(ground_temperature_k)}")
 
 
 def _check_gyro_options(gyro_body_columns, gyro_units, accel_body_columns) -> None:
@@ -372,13 +386,13 @@ def _body_to_vertical(path, source, column, time, scale, accel_body_columns, att
         bad = np.flatnonzero(~(norm > 0.5) | ~(norm < 1.5))
         if bad.size:
             raise LogError(f"{path}: attitude columns {', '.join(attitude_columns)}: the quaternion at time "
-                           f"{_fmt(time[bad[0]])} s has norm {_fmt(norm[bad[0]])}, not about 1")
+                           f"{fmt(time[bad[0]])} s has norm {fmt(norm[bad[0]])}, not about 1")
     accel = vertical_acceleration(accel_body, attitude, frame=frame)
     rest = _rest(time)
     mean = float(np.mean(accel[rest]))
     if abs(mean) > 0.5 * GRAVITY:
         raise LogError(f"{source}: body accelerometer {', '.join(accel_body_columns)}: the vertical "
-                       f"acceleration averages {_fmt(mean)} m/s² over the first {_fmt(REST_SECONDS)} s, not "
+                       f"acceleration averages {fmt(mean)} m/s² over the first {fmt(REST_SECONDS)} s, not "
                        f"about 0: the frame {frame!r} looks wrong (NED bodies read −1 g on z at rest, "
                        f"ENU/NWU +1 g) or the attitude is not body → earth")
     return accel, accel_body
@@ -389,8 +403,8 @@ def _pressure_warning(pressure_column: str, pressure: np.ndarray) -> Optional[st
     finite = np.isfinite(pressure)
     median = float(np.median(pressure[finite])) if finite.any() else np.nan
     if finite.any() and not PRESSURE_RANGE[0] <= median <= PRESSURE_RANGE[1]:
-        return (f"column {pressure_column!r}: median {_fmt(median)} is far outside "
-                f"{_fmt(PRESSURE_RANGE[0])}–{_fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
+        return (f"column {pressure_column!r}: median {fmt(median)} is far outside "
+                f"{fmt(PRESSURE_RANGE[0])}–{fmt(PRESSURE_RANGE[1])} Pa; is it really a pressure in Pa?")
     return None
 
 
@@ -400,11 +414,11 @@ def _ground_median(path, column, values, time, quantity: str, unit: str) -> floa
     rest = np.isfinite(values) & _rest(time)
     if not rest.any():
         raise LogError(f"{path}: column {column!r}: no {quantity} in the first "
-                       f"{_fmt(REST_SECONDS)} s to take as the ground {quantity}")
+                       f"{fmt(REST_SECONDS)} s to take as the ground {quantity}")
     median = float(np.median(values[rest]))
     if not median > 0:
         raise LogError(f"{path}: column {column!r}: the ground {quantity} (median of the first "
-                       f"{_fmt(REST_SECONDS)} s) is {_fmt(median)} {unit}; it must be > 0 {unit}")
+                       f"{fmt(REST_SECONDS)} s) is {fmt(median)} {unit}; it must be > 0 {unit}")
     return median
 
 
@@ -418,12 +432,12 @@ def _pressure_altitude(path, pressure_column, pressure, time, sea_level_pa, grou
     """
     if ground_temperature_k is None:
         baro = pressure_to_altitude(pressure, sea_level_pa)
-        notes.append(f"pressure {pressure_column!r} (Pa, p0 {_fmt(sea_level_pa)} Pa)")
+        notes.append(f"pressure {pressure_column!r} (Pa, p0 {fmt(sea_level_pa)} Pa)")
         return baro, ("sea level" if sea_level_pa == 101325.0 else ""), None
     ground_pa = _ground_median(path, pressure_column, pressure, time, "pressure", "Pa")
     if ground_temperature_k == "log":
         ground_temperature_k = _ground_median(path, temperature_column, temperature, time, "temperature", "K")
     baro = height_above_ground(pressure, ground_pa, ground_temperature_k)
-    notes.append(f"pressure {pressure_column!r} (Pa) → height above {_fmt(ground_pa)} Pa at "
-                 f"{_fmt(ground_temperature_k)} K (hypsometric)")
+    notes.append(f"pressure {pressure_column!r} (Pa) → height above {fmt(ground_pa)} Pa at "
+                 f"{fmt(ground_temperature_k)} K (hypsometric)")
     return baro, "pad", 0.0

@@ -18,8 +18,8 @@ import numpy as np
 
 from .._core._common import GRAVITY
 from ._checks import ALTITUDE_RANGE, drop_absurd
-from ._data import LogData, LogError, _align, _fmt, finish
-from ._table import numeric_columns, read_text, split_header
+from ._data import LogData, LogError, fmt, finish
+from ._table import Table, numeric_columns, read_text, split_header
 
 #: Header names of the two channels the reader uses.
 ACCEL_NAME = "Axial Accel (Gs)"
@@ -75,6 +75,41 @@ def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None)
     if not looks_like_raven(",".join(table.header)):
         raise LogError(f"{path}: not a Featherweight Raven export (no 'Time…' column with {ACCEL_NAME!r} or "
                        f"'Altitude (Ft-AGL)')")
+    altitude_name, positions = _channel_positions(path, table)
+    order = sorted(set(positions.values()))
+    data, lines, dropped = numeric_columns(table, order, progress)
+    column = {role: data[:, order.index(position)] for role, position in positions.items()}
+    altitude, message = drop_absurd(path, altitude_name, column["altitude"] * FEET, lines, *ALTITUDE_RANGE, "m",
+                                    "baro altitude")
+    baro_time, baro = _channel(path, table.header[positions["altitude_time"]], column["altitude_time"], altitude,
+                               lines)
+    if baro_time.size < 2:
+        raise LogError(f"{path}: column {altitude_name!r}: fewer than 2 altitude samples")
+    notes = [f"{altitude_name} (ft → m) on {table.header[positions['altitude_time']]!r}"]
+    if "accel" in column:
+        accel_time, accel = _channel(path, table.header[positions["accel_time"]], column["accel_time"],
+                                     column["accel"] * GRAVITY, lines)
+        notes.append(f"{ACCEL_NAME} (g → m/s², +nose) on {table.header[positions['accel_time']]!r}; "
+                     f"vertical acceleration = axial − g (rocket taken as vertical)")
+    else:
+        accel_time, accel = np.zeros(0), np.zeros(0)
+    time, baro_steps, accel_steps = _grid(baro_time, accel_time)
+    log = LogData(source, time, _vertical(time, accel_steps, accel), _on_grid(time, baro_steps, baro), notes=notes,
+                  vehicle="rocket", altitude_reference=ALTITUDE_NAMES[altitude_name],
+                  ground_altitude=0.0 if ALTITUDE_NAMES[altitude_name] == "pad" else None,
+                  axial_acceleration=_on_grid(time, accel_steps, accel) if accel.size else None,
+                  baro_only=not accel.size)
+    if dropped is not None:
+        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
+    if message is not None:
+        log.warn(message)
+    _warn_accelerometer_span(log, accel_time)
+    return finish(log)
+
+
+def _channel_positions(path: str, table: Table):
+    """The altitude column's name, and the positions of the altitude, the accelerometer (if any) and their
+    time columns (``altitude``, ``altitude_time``, ``accel``, ``accel_time``); LogError if one is missing."""
     bases = _time_bases(table.header)
     altitude_name = next((name for name in ALTITUDE_NAMES if name in table.header), None)
     if altitude_name is None:
@@ -87,48 +122,39 @@ def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None)
     if any(position is None for position in positions.values()):
         raise LogError(f"{path}: a Raven channel without a 'Time…' column before it; columns are "
                        f"{', '.join(table.header)}")
-    order = sorted(set(positions.values()))
-    data, lines, dropped = numeric_columns(table, order, progress)
-    column = {role: data[:, order.index(position)] for role, position in positions.items()}
-    warnings_ = []
-    altitude, message = drop_absurd(path, altitude_name, column["altitude"] * FEET, lines, *ALTITUDE_RANGE, "m",
-                                    "baro altitude")
-    if message is not None:
-        warnings_.append(message)
-    baro_time, baro = _channel(path, table.header[positions["altitude_time"]], column["altitude_time"], altitude,
-                               lines)
-    if baro_time.size < 2:
-        raise LogError(f"{path}: column {altitude_name!r}: fewer than 2 altitude samples")
-    notes = [f"{altitude_name} (ft → m) on {table.header[positions['altitude_time']]!r}"]
-    if "accel" in column:
-        accel_time, accel = _channel(path, table.header[positions["accel_time"]], column["accel_time"],
-                                     column["accel"] * GRAVITY, lines)
-    else:
-        accel_time, accel = np.zeros(0), np.zeros(0)
-    time = np.union1d(baro_time, accel_time)
-    baro_altitude = _align(time, baro_time, baro)
-    axial = _align(time, accel_time, accel) if accel.size else None
+    return altitude_name, positions
+
+
+def _vertical(time: np.ndarray, accel_steps: np.ndarray, accel: np.ndarray) -> np.ndarray:
+    """Vertical acceleration on the grid ``time`` (s), m/s²: the last axial sample (m/s²; sampled on the grid
+    steps ``accel_steps``) held, minus g, up to the accelerometer's last sample; 0 after it (and without one)."""
     vertical = np.zeros(time.shape)
     if accel.size:
-        notes.append(f"{ACCEL_NAME} (g → m/s², +nose) on {table.header[positions['accel_time']]!r}; "
-                     f"vertical acceleration = axial − g (rocket taken as vertical)")
-        sampled = time <= accel_time[-1]
-        held = np.clip(np.searchsorted(accel_time, time, side="right") - 1, 0, accel_time.size - 1)
+        sampled = time <= time[accel_steps[-1]]
+        count = np.zeros(time.size, dtype=np.int64)
+        count[accel_steps] = 1
+        held = np.clip(np.cumsum(count) - 1, 0, accel.size - 1)  # the accelerometer samples at or before each step
         vertical[sampled] = accel[held[sampled]] - GRAVITY
-    log = LogData(source, time, vertical, baro_altitude, notes=notes, vehicle="rocket", altitude_reference=(
-        ALTITUDE_NAMES[altitude_name]), ground_altitude=0.0 if ALTITUDE_NAMES[altitude_name] == "pad" else None,
-        axial_acceleration=axial, baro_only=not accel.size)
-    if dropped is not None:
-        log.warn(f"{path}: line {dropped}: the last line is cut short (no newline at the end); dropped")
-    for message in warnings_:
-        log.warn(message)
-    if accel.size and accel_time[-1] < time[-1]:
-        log.warn(f"{source}: the accelerometer ends at {_fmt(accel_time[-1])} s (the Raven exports it for the boost "
-                 f"only) and the log at {_fmt(time[-1])} s: vertical acceleration is 0 m/s² after "
-                 f"{_fmt(accel_time[-1])} s, the estimators track the baro alone there")
-    elif not accel.size:
-        log.warn(f"{source}: no {ACCEL_NAME!r} column: baro only (vertical acceleration 0 m/s²)")
-    return finish(log)
+    return vertical
+
+
+def _on_grid(time: np.ndarray, steps: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """A channel's finite ``values`` on their grid ``steps``, NaN on the other steps of ``time``."""
+    out = np.full(time.shape, np.nan)
+    finite = np.isfinite(values)
+    out[steps[finite]] = values[finite]
+    return out
+
+
+def _warn_accelerometer_span(log: LogData, accel_time: np.ndarray) -> None:
+    """Warn that the accelerometer (sampled at ``accel_time``, s) ends before the log, or is absent."""
+    time = log.time
+    if accel_time.size and accel_time[-1] < time[-1]:
+        log.warn(f"{log.source}: the accelerometer ends at {fmt(accel_time[-1])} s (the Raven exports it for the "
+                 f"boost only) and the log at {fmt(time[-1])} s: vertical acceleration is 0 m/s² after "
+                 f"{fmt(accel_time[-1])} s, the estimators track the baro alone there")
+    elif not accel_time.size:
+        log.warn(f"{log.source}: no {ACCEL_NAME!r} column: baro only (vertical acceleration 0 m/s²)")
 
 
 def _channel(path: str, time_name: str, time: np.ndarray, values: np.ndarray, lines: np.ndarray):
@@ -140,5 +166,18 @@ def _channel(path: str, time_name: str, time: np.ndarray, values: np.ndarray, li
     if back.size:
         i = back[0] + 1
         raise LogError(f"{path}: line {int(lines[i])}, column {time_name!r}: time does not increase "
-                       f"({_fmt(time[i])} s after {_fmt(time[i - 1])} s)")
+                       f"({fmt(time[i])} s after {fmt(time[i - 1])} s)")
     return time, values
+
+
+def _grid(first: np.ndarray, second: np.ndarray):
+    """The sorted distinct times of two increasing time arrays (s) — :func:`numpy.union1d`, by a stable sort, which
+    merges the two sorted runs in linear time — and the grid step of each sample of each array."""
+    both = np.concatenate([first, second])
+    order = np.argsort(both, kind="stable")
+    ordered = both[order]
+    distinct = np.ones(both.size, dtype=bool)
+    np.not_equal(ordered[1:], ordered[:-1], out=distinct[1:])
+    step = np.empty(both.size, dtype=np.int64)
+    step[order] = np.cumsum(distinct) - 1
+    return ordered[distinct], step[:first.size], step[first.size:]

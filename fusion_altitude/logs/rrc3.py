@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import csv
 import os
-from typing import Callable, List, Optional
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
-from ._data import LogData, LogError, _fmt, finish, merge_repeated_timestamps
-from ._table import MISSING, read_text, split_header
+from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
+from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
 COLUMNS = ("time", "altitude", "pressure", "velocity", "temperature", "events", "voltages")
@@ -67,80 +68,127 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         Not an RRC3 header, a bad number (file line and column), time going
         backwards.
     """
-    source = f"{os.path.basename(path)} (RRC3 CSV)"
-    text = read_text(path, "RRC3 CSV")
-    table = split_header(path, text)
+    table = split_header(path, read_text(path, "RRC3 CSV"))
     if not looks_like_rrc3(",".join(table.header)):
         raise LogError(f"{path}: not an RRC3 export (its header does not start with "
                        f"{','.join(COLUMNS[:4])} and name 'events')")
     position = {name.lower(): i for i, name in enumerate(table.header)}
+    data, lines, events, shifted = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
+    if data.shape[0] < 2:
+        raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
+    column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
+                                                          "temperature"))}
+    bad_time = np.flatnonzero(~np.isfinite(column["time"]))
+    if bad_time.size:
+        raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
+    messages = _drop_garbage(path, column, lines)
+    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
+                                                       lines, "time")
+    log = _log(f"{os.path.basename(path)} (RRC3 CSV)", time, merged, repeated, shifted)
+    for message in messages:
+        log.warn(message)
+    return finish(log)
+
+
+def _log(source: str, time: np.ndarray, merged: Dict[str, np.ndarray], repeated: int, shifted: int) -> LogData:
+    """The LogData of an RRC3 export's columns (``merged``: altitude m, pressure hPa, velocity m/s, temperature
+    °C, events) on its time stamps (s), with the notes."""
+    state, notes_events = _states(time, merged["events"])
+    notes = ["time, altitude (m AGL), pressure (hPa), velocity (reference), temperature; no accelerometer: "
+             "baro only"]
+    if notes_events:
+        notes.append("RRC3 events: " + ", ".join(notes_events))
+    if shifted:
+        notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
+                     f"column left): read as such")
+    return LogData(source, time, np.zeros(time.shape), merged["altitude"], reference_velocity=merged["velocity"],
+                   reference_name="RRC3 altimeter (baro-derived velocity)", notes=notes,
+                   pressure=merged["pressure"] * HPA, temperature=merged["temperature"] + 273.15,
+                   flight_state=state, vehicle="rocket", altitude_reference="pad", ground_altitude=0.0,
+                   repeated_timestamps=repeated, baro_only=True)
+
+
+def _rows_fast(table: Table, position: Dict[str, int], progress):
+    """(time, altitude, pressure, velocity, temperature) rows, their file lines, events and the count of rows
+    without a temperature cell, parsed by pyarrow (:func:`._csv_fast.read_numbers_and_text`: the four numeric
+    columns as numbers, temperature and events as text, each distinct text cell read once as
+    :func:`_rows_python` reads it); None where pyarrow refuses the text (a row of another length, a quote, a
+    cell it does not read as a number), and :func:`_rows_python` reads it."""
+    text = [position[name] for name in ("temperature", "events") if name in position]
+    fast = _csv_fast.read_numbers_and_text(table.body, [position[name] for name in COLUMNS[:4]], text, MISSING,
+                                           progress, encoded=True)
+    lines = None if fast is None else lines_of_rows(table, fast[0].shape[0])
+    if lines is None:
+        return None
+    numbers, cells = fast
+    nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
+    temperature_cells, temperature_rows = cells[0] if "temperature" in position else nothing
+    event_cells, event_rows = cells[-1] if "events" in position else nothing
+    read = [_temperature_or_event(cell) for cell in temperature_cells]
+    temperature = np.array([value for value, _ in read], dtype=float).reshape(-1)[temperature_rows]
+    shifted = np.array([is_event for _, is_event in read], dtype=bool).reshape(-1)[temperature_rows]
+    events = np.where(shifted, _event_names(temperature_cells)[temperature_rows], _event_names(event_cells)[event_rows])
+    return np.column_stack([numbers, temperature]), lines, events, int(shifted.sum())
+
+
+def _event_names(cells: np.ndarray) -> np.ndarray:
+    """Each event cell, or "" for none (a cell of :data:`MISSING`, any case); object array of str."""
+    named = np.empty(cells.size, dtype=object)
+    named[:] = ["" if cell.lower() in MISSING else cell for cell in cells]
+    return named
+
+
+def _temperature_or_event(cell: str) -> Tuple[float, bool]:
+    """A stripped temperature cell as (°C, False), NaN if empty; (NaN, True) if it is text: an event (``-`` for
+    none) in a row without its temperature cell."""
+    try:
+        return (float(cell) if cell else np.nan), False
+    except ValueError:
+        return np.nan, True
+
+
+def _rows_python(table: Table, position: Dict[str, int], progress):
+    """What :func:`_rows_fast` returns, line by line with :mod:`csv`; LogError naming the first bad cell."""
     rows, lines, events, shifted = [], [], [], 0
-    body = table.body.split("\n")
-    for i, line in enumerate(body):
-        if not line.strip():
-            continue
-        number = table.first_line + i
+    total = table.body.count("\n") + 1
+    for i, number, line in data_lines(table):
         try:
             cells = next(csv.reader([line]))
         except csv.Error as error:
-            raise LogError(f"{path}: line {number}: not CSV ({error})") from None
-        values = []
-        for name in COLUMNS[:4]:
-            values.append(_cell(path, number, name, cells, position[name]))
+            raise LogError(f"{table.path}: line {number}: not CSV ({error})") from None
+        values = [_cell(table.path, number, name, cells, position[name]) for name in COLUMNS[:4]]
         event = ""
         temperature = np.nan
         if "temperature" in position and position["temperature"] < len(cells):
-            raw = cells[position["temperature"]].strip()
-            try:
-                temperature = float(raw) if raw else np.nan
-            except ValueError:  # text (an event, "-" for none): the temperature cell is missing, events moved left
-                event, shifted = raw, shifted + 1
+            temperature, is_event = _temperature_or_event(cells[position["temperature"]].strip())
+            if is_event:  # text (an event, "-" for none): the temperature cell is missing, events moved left
+                event, shifted = cells[position["temperature"]].strip(), shifted + 1
         if not event and "events" in position and position["events"] < len(cells):
             event = cells[position["events"]].strip()
         rows.append(values + [temperature])
         lines.append(number)
         events.append("" if event.lower() in MISSING else event)
         if progress is not None and i % 10_000 == 0:
-            progress(i, len(body))
-    if len(rows) < 2:
-        raise LogError(f"{path}: need at least 2 data rows, got {len(rows)}")
-    data = np.array(rows, dtype=float)
-    lines = np.array(lines, dtype=np.int64)
-    events = np.array(events, dtype=object)
-    column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
-                                                          "temperature"))}
-    bad_time = np.flatnonzero(~np.isfinite(column["time"]))
-    if bad_time.size:
-        raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
+            progress(i, total)
+    data = np.array(rows, dtype=float).reshape(len(rows), 5)
+    return data, np.array(lines, dtype=np.int64), np.array(events, dtype=object), shifted
+
+
+def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -> List[str]:
+    """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in
+    ``column``; the warning naming their lines, if any."""
     garbage = _garbage_rows(column)
-    messages = []
-    if garbage.any():
-        where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
-        first = int(np.flatnonzero(garbage)[0])
-        messages.append(f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
-                        f"{'s' if garbage.sum() > 1 else ''} (altitude {_fmt(column['altitude'][first])} m, "
-                        f"pressure {_fmt(column['pressure'][first])} hPa, velocity {_fmt(column['velocity'][first])} "
-                        f"m/s: not a plausible flight); dropped, their events kept")
-        for name in ("altitude", "pressure", "velocity", "temperature"):
-            column[name] = np.where(garbage, np.nan, column[name])
-    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
-                                                       lines, "time")
-    state, notes_events = _states(time, merged["events"])
-    notes = ["time, altitude (m AGL), pressure (hPa), velocity (reference), temperature; no accelerometer: "
-             "baro only"]
-    if notes_events:
-        notes.append("RRC3 events: " + ", ".join(notes_events))
-    log = LogData(source, time, np.zeros(time.shape), merged["altitude"], reference_velocity=merged["velocity"],
-                  reference_name="RRC3 altimeter (baro-derived velocity)", notes=notes,
-                  pressure=merged["pressure"] * HPA, temperature=merged["temperature"] + 273.15,
-                  flight_state=state, vehicle="rocket", altitude_reference="pad", ground_altitude=0.0,
-                  repeated_timestamps=repeated, baro_only=True)
-    for message in messages:
-        log.warn(message)
-    if shifted:
-        log.notes.append(f"{shifted} row{'s' if shifted > 1 else ''} without a temperature cell (the events one "
-                         f"column left): read as such")
-    return finish(log)
+    if not garbage.any():
+        return []
+    where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
+    first = int(np.flatnonzero(garbage)[0])
+    message = (f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
+               f"{'s' if garbage.sum() > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
+               f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
+               f"m/s: not a plausible flight); dropped, their events kept")
+    for name in ("altitude", "pressure", "velocity", "temperature"):
+        column[name] = np.where(garbage, np.nan, column[name])
+    return [message]
 
 
 def _cell(path: str, number: int, name: str, cells: List[str], position: int) -> float:
@@ -166,12 +214,10 @@ def _garbage_rows(column: dict) -> np.ndarray:
 
 def _states(time: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes."""
-    state = np.empty(time.size, dtype=object)
-    current = "pad"
-    notes = []
-    for i, event in enumerate(events):
-        if event:
-            current = str(event).lower()
-            notes.append(f"{event} at {_fmt(time[i])} s")
-        state[i] = current
-    return state, notes
+    marks = np.flatnonzero(np.asarray(events != "", dtype=bool))  # events are str: "" for none
+    notes = [f"{events[i]} at {fmt(time[i])} s" for i in marks]
+    names = np.empty(marks.size + 1, dtype=object)
+    names[:] = ["pad"] + [str(events[i]).lower() for i in marks]
+    latest = np.zeros(time.size, dtype=np.int64)
+    latest[marks] = np.arange(1, marks.size + 1)
+    return names[np.maximum.accumulate(latest)], notes

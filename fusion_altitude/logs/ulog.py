@@ -11,7 +11,7 @@ import numpy as np
 
 from ..sensors import pressure_to_altitude, vertical_acceleration
 from ._binary_args import checked_instance
-from ._data import LogData, LogError, _align, _previous, _reference_on_grid, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
 from ._truncation import ulog_missing_bytes, warn_if_truncated as _warn_if_truncated
 
 #: First bytes of every ULog file.
@@ -164,7 +164,7 @@ def _build(path, want, topic, progress, missing_bytes=ulog_missing_bytes) -> Log
                                                         np.arange(stamp.size) + 1, "timestamp", row_word="IMU sample")
     att = topic("vehicle_attitude")
     q = np.column_stack([att[f"q[{i}]"] for i in range(4)]).astype(float)
-    q_grid = _previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
+    q_grid = previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
     accel = vertical_acceleration(columns["accel"], q_grid, frame="NED")
     if not baro_instance:
         baro, pressure, temperature = _baro_primary(path, want, topic, time, t0, notes)
@@ -179,7 +179,7 @@ def _build(path, want, topic, progress, missing_bytes=ulog_missing_bytes) -> Log
     _add_status(data, topic, time, t0)
     position = topic("vehicle_local_position", needed=False)
     if position is not None:
-        data.reference_altitude, data.reference_velocity = _reference_on_grid(
+        data.reference_altitude, data.reference_velocity = reference_on_grid(
             time, baro, (position["timestamp"].astype(float) - t0) * 1e-6, -position["z"].astype(float),
             -position["vz"].astype(float))
         data.reference_name = "PX4 EKF (vehicle_local_position)"
@@ -230,19 +230,19 @@ def _baro_primary(path, want, topic, time, t0, notes):
     air = topic("vehicle_air_data", needed=False)
     if air is not None and "baro_alt_meter" in air:
         air_time = (_first(air, "timestamp_sample", "timestamp") - t0) * 1e-6
-        baro = _align(time, air_time, air["baro_alt_meter"].astype(float))
+        baro = align(time, air_time, air["baro_alt_meter"].astype(float))
         if "baro_pressure_pa" in air:
-            pressure = _align(time, air_time, air["baro_pressure_pa"].astype(float))
+            pressure = align(time, air_time, air["baro_pressure_pa"].astype(float))
         if "baro_temp_celcius" in air:
-            temperature = _align(time, air_time, air["baro_temp_celcius"].astype(float) + 273.15)
+            temperature = align(time, air_time, air["baro_temp_celcius"].astype(float) + 273.15)
         notes.append("vehicle_air_data.baro_alt_meter")
     elif "baro_alt_meter" in topic("sensor_combined"):  # PX4 < 1.8: baro inside sensor_combined
         combined = topic("sensor_combined")
         relative = _first(combined, "baro_timestamp_relative")
         baro_stamp = combined["timestamp"].astype(float) + (relative if relative is not None else 0.0)
-        baro = _align(time, (baro_stamp - t0) * 1e-6, combined["baro_alt_meter"].astype(float))
+        baro = align(time, (baro_stamp - t0) * 1e-6, combined["baro_alt_meter"].astype(float))
         if "baro_temp_celcius" in combined:
-            temperature = _align(time, (baro_stamp - t0) * 1e-6,
+            temperature = align(time, (baro_stamp - t0) * 1e-6,
                                  combined["baro_temp_celcius"].astype(float) + 273.15)
         notes.append("sensor_combined.baro_alt_meter (PX4 < 1.8)")
     else:
@@ -262,10 +262,10 @@ def _baro_instance(path, want, topic, time, t0, notes):
         raise LogError(f"{path}: topic 'sensor_baro' instance {want} has no pressure field")
     if np.nanmedian(pressure_raw) < 2000.0:  # PX4 < 1.12 logged mbar
         pressure_raw = pressure_raw * 100.0
-    pressure = _align(time, baro_time, pressure_raw)
+    pressure = align(time, baro_time, pressure_raw)
     baro = pressure_to_altitude(pressure)
     if "temperature" in sensor:
-        temperature = _align(time, baro_time, sensor["temperature"].astype(float) + 273.15)
+        temperature = align(time, baro_time, sensor["temperature"].astype(float) + 273.15)
     notes.append(f"sensor_baro instance {want} pressure (ISA)")
     return baro, pressure, temperature
 
@@ -285,11 +285,11 @@ def _add_gps(data: LogData, topic, time, t0) -> None:
         return
     fix = _first(gps, "fix_type")
     good = fix >= 3 if fix is not None else np.ones(altitude.shape, dtype=bool)
-    data.gps_altitude = _align(time, gps_time, np.where(good, altitude, np.nan))
+    data.gps_altitude = align(time, gps_time, np.where(good, altitude, np.nan))
     if "epv" in gps:
-        data.gps_accuracy = _align(time, gps_time, np.where(good, gps["epv"].astype(float), np.nan))
+        data.gps_accuracy = align(time, gps_time, np.where(good, gps["epv"].astype(float), np.nan))
     if "satellites_used" in gps:
-        data.gps_satellites = _align(time, gps_time, np.where(good, gps["satellites_used"].astype(float), np.nan))
+        data.gps_satellites = align(time, gps_time, np.where(good, gps["satellites_used"].astype(float), np.nan))
 
 
 def _add_rangefinder(data: LogData, topic, time, t0) -> None:
@@ -303,7 +303,7 @@ def _add_rangefinder(data: LogData, topic, time, t0) -> None:
         if "signal_quality" in ranger:
             keep &= ranger["signal_quality"] != 0
         if keep.any():
-            data.rangefinder = _align(time, (ranger["timestamp"].astype(float) - t0) * 1e-6,
+            data.rangefinder = align(time, (ranger["timestamp"].astype(float) - t0) * 1e-6,
                                       np.where(keep, distance, np.nan))
 
 
@@ -316,4 +316,4 @@ def _add_status(data: LogData, topic, time, t0) -> None:
             data.vehicle = _VEHICLE_TYPES.get(int(status["vehicle_type"][-1]), "")
         if "arming_state" in status:
             states = np.where(status["arming_state"] == _ARMED, "armed", "disarmed").astype(object)
-            data.flight_state = _previous(time, status_time, states)
+            data.flight_state = previous(time, status_time, states)

@@ -196,13 +196,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
         dead = None
         notes.append(f"accel body {', '.join(accel_body_columns)} ({accel_units}, {frame}) rotated by "
                      f"{', '.join(attitude_columns)} ({attitude_convention})")
-    gyro = None
-    if gyro_body_columns is not None:
-        gyro = np.column_stack([column[f"gyro{i}"] for i in range(3)]) * GYRO_UNITS[gyro_units]
-        notes.append(f"gyro body {', '.join(gyro_body_columns)} ({gyro_units}, {frame})")
-    temperature = None
-    if temperature_column is not None:
-        temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
+    gyro, temperature = _gyro_and_temperature(column, gyro_body_columns, gyro_units, frame, temperature_column,
+                                              temperature_units, notes)
     if pressure_column is not None:
         warning = _pressure_warning(pressure_column, column["baro"])
         baro, altitude_reference, ground_altitude = _pressure_altitude(
@@ -223,6 +218,20 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                   altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
     _warn_read(log, path, dropped, warning, implausible)
     return finish(log)
+
+
+def _gyro_and_temperature(column: dict, gyro_body_columns, gyro_units: str, frame: str, temperature_column,
+                          temperature_units: str, notes: list):
+    """The body-frame gyroscope, rad/s (``None`` without ``gyro_body_columns``; noted), and the temperature, K
+    (``None`` without ``temperature_column``), from the columns read."""
+    gyro = None
+    if gyro_body_columns is not None:
+        gyro = np.column_stack([column[f"gyro{i}"] for i in range(3)]) * GYRO_UNITS[gyro_units]
+        notes.append(f"gyro body {', '.join(gyro_body_columns)} ({gyro_units}, {frame})")
+    temperature = None
+    if temperature_column is not None:
+        temperature = column["temperature"] + (273.15 if temperature_units == "C" else 0.0)
+    return gyro, temperature
 
 
 def _plausibility_checks(reference_column, pressure_column, baro_column, altitude_units: str) -> list:

@@ -59,16 +59,7 @@ LONG_PYTHON: Dict[str, int] = {
     'fusion_altitude/reference/flight.py:RocketEstimator._pad_step': 61,
     'fusion_altitude/comparison.py:compare_scenario': 61,
 }
-LONG_C: Dict[str, int] = {
-    'csrc/fusion_altitude_sweep.h:FusionAltitudeSweepChunk8': 160,
-    'csrc/fuzz/fuzz_observer.c:LLVMFuzzerTestOneInput': 127,
-    'csrc/fuzz/fuzz_sweep.c:LLVMFuzzerTestOneInput': 115,
-    'csrc/fuzz/fuzz_kalman.c:LLVMFuzzerTestOneInput': 112,
-    'csrc/fuzz/fuzz_alphabeta.c:LLVMFuzzerTestOneInput': 105,
-    'csrc/fusion_altitude_sweep.h:FusionAltitudeSweepUpdate': 99,
-    'csrc/fuzz/fuzz_ins.c:LLVMFuzzerTestOneInput': 82,
-    'csrc/fusion_altitude_complementary.h:FusionAltitudeComplementaryUpdate': 82,
-}
+LONG_C: Dict[str, int] = {}
 
 
 def python_files() -> List[Path]:

@@ -188,108 +188,116 @@ static bool ReadPresent(Reader *const reader, float *const accel, FusionAltitude
     return true;
 }
 
+typedef struct {
+    bool sane;       /* all accepted inputs and the settings in use physically plausible so far */
+    int steps;       /* accepted updates since the fusion was initialised */
+    float loopDt;    /* s */
+    bool loopDtSane; /* the loop dt is plausible */
+} Run;
+
+/* Opcodes 0-3 and 7: initialise, initialise with / set the working settings, edit the working settings (two bytes
+ * and 4 raw bytes, EditSettings), initialise with the defaults and reset the working settings. False when the input ends. */
+static bool CallSettings(FusionAltitudeAlphaBeta *const fusion, Run *const run, Reader *const reader, const uint8_t opcode,
+                         FusionAltitudeAlphaBetaSettings *const working, FusionAltitudeAlphaBetaStatus *const status) {
+    uint8_t a = 0;
+    uint8_t b = 0;
+    uint32_t bits = 0u;
+    switch (opcode & 7u) {
+        case 0:
+            FusionAltitudeAlphaBetaInitialise(fusion);
+            run->sane = SaneSettings(&fusion->settings);
+            run->steps = 0;
+            return true;
+        case 1:
+            *status = FusionAltitudeAlphaBetaInitialiseWith(fusion, working);
+            CHECK(*status == FusionAltitudeAlphaBetaSettingsCheck(working));
+            if (*status == FusionAltitudeAlphaBetaStatusOk) {
+                run->sane = SaneSettings(working);
+                run->steps = 0;
+            }
+            return true;
+        case 2:
+            *status = FusionAltitudeAlphaBetaSetSettings(fusion, working);
+            CHECK(*status == FusionAltitudeAlphaBetaSettingsCheck(working));
+            if (*status == FusionAltitudeAlphaBetaStatusOk) {
+                run->sane = run->sane && SaneSettings(working);
+            }
+            return true;
+        case 3:
+            if (!ReadByte(reader, &a) || !ReadByte(reader, &b) || !ReadBytes(reader, &bits, sizeof(bits))) {
+                return false;
+            }
+            EditSettings(working, a, b, bits);
+            return true;
+        default:
+            FusionAltitudeAlphaBetaInitialise(fusion);
+            *working = FusionAltitudeAlphaBetaSettingsDefault();
+            run->sane = true;
+            run->steps = 0;
+            return true;
+    }
+}
+
+/* Opcodes 4 (every argument raw: accel, dt, baro, lidar, sonar, GPS), 5 (a step byte, then ReadPresent) and 6
+ * (ReadPresent at the loop dt): the update, its status against ExpectedStatus and the run's sanity. */
+static bool CallUpdate(FusionAltitudeAlphaBeta *const fusion, Run *const run, Reader *const reader, const uint8_t opcode,
+                       FusionAltitudeAlphaBetaStatus *const status) {
+    FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
+    float accel = FusionAltitudeNaN();
+    float dt = run->loopDt;
+    uint8_t stepByte = 0;
+    const bool stepped = (opcode & 7u) == 5u;
+    if ((opcode & 7u) == 4u) {
+        if (!ReadFloat(reader, &accel) || !ReadFloat(reader, &dt) || !ReadFloat(reader, &m.baroAltitude) ||
+            !ReadFloat(reader, &m.lidarAltitude) || !ReadFloat(reader, &m.sonarAltitude) || !ReadFloat(reader, &m.gpsAltitude)) {
+            return false;
+        }
+    } else if ((stepped && !ReadByte(reader, &stepByte)) || !ReadPresent(reader, &accel, &m)) {
+        return false;
+    }
+    dt = stepped ? StepFromByte(stepByte) : dt;
+    *status = FusionAltitudeAlphaBetaUpdate(fusion, accel, dt, &m);
+    CHECK(*status == ExpectedStatus(accel, dt, &m));
+    if (*status == FusionAltitudeAlphaBetaStatusOk) {
+        run->steps++;
+        const bool stepSane = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
+                                      : (run->loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt)));
+        run->sane = run->sane && stepSane && (run->steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
+                    SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&
+                    SampleSane(m.sonarAltitude, MAX_ALTITUDE) && SampleSane(m.gpsAltitude, MAX_ALTITUDE);
+    }
+    return true;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
-    float loopDt;
-    if (!ReadFloat(&reader, &loopDt)) {
+    Run run = {true, 0, 0.0f, false};
+    if (!ReadFloat(&reader, &run.loopDt)) {
         return 0;
     }
-    const bool loopDtSane = InRange(loopDt, MIN_DT, MAX_DT);
+    run.loopDtSane = InRange(run.loopDt, MIN_DT, MAX_DT);
     static FusionAltitudeAlphaBeta fusion;
     memset(&fusion, 0, sizeof(fusion)); /* defined padding bytes for memcmp */
     FusionAltitudeAlphaBetaInitialise(&fusion);
     FusionAltitudeAlphaBetaSettings working;
     memset(&working, 0, sizeof(working));
     working = FusionAltitudeAlphaBetaSettingsDefault();
-    bool sane = true;
-    int steps = 0;
     uint8_t opcode;
     while (ReadByte(&reader, &opcode)) {
         static FusionAltitudeAlphaBeta before;
         memcpy(&before, &fusion, sizeof(before));
         FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaStatusOk;
-        FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
-        float accel = FusionAltitudeNaN();
-        float dt = loopDt;
-        bool stepped = false;
-        bool update = false;
-        uint8_t a = 0;
-        uint8_t b = 0;
-        switch (opcode & 7u) {
-            case 0:
-                FusionAltitudeAlphaBetaInitialise(&fusion);
-                sane = SaneSettings(&fusion.settings);
-                steps = 0;
-                break;
-            case 1:
-                status = FusionAltitudeAlphaBetaInitialiseWith(&fusion, &working);
-                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
-                if (status == FusionAltitudeAlphaBetaStatusOk) {
-                    sane = SaneSettings(&working);
-                    steps = 0;
-                }
-                break;
-            case 2:
-                status = FusionAltitudeAlphaBetaSetSettings(&fusion, &working);
-                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
-                if (status == FusionAltitudeAlphaBetaStatusOk) {
-                    sane = sane && SaneSettings(&working);
-                }
-                break;
-            case 3: {
-                uint32_t bits;
-                if (!ReadByte(&reader, &a) || !ReadByte(&reader, &b) || !ReadBytes(&reader, &bits, sizeof(bits))) {
-                    return 0;
-                }
-                EditSettings(&working, a, b, bits);
-                break;
-            }
-            case 4:
-                if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &dt) || !ReadFloat(&reader, &m.baroAltitude) ||
-                    !ReadFloat(&reader, &m.lidarAltitude) || !ReadFloat(&reader, &m.sonarAltitude) ||
-                    !ReadFloat(&reader, &m.gpsAltitude)) {
-                    return 0;
-                }
-                update = true;
-                break;
-            case 5:
-                if (!ReadByte(&reader, &a) || !ReadPresent(&reader, &accel, &m)) {
-                    return 0;
-                }
-                dt = StepFromByte(a);
-                stepped = true;
-                update = true;
-                break;
-            case 6:
-                if (!ReadPresent(&reader, &accel, &m)) {
-                    return 0;
-                }
-                update = true;
-                break;
-            default:
-                FusionAltitudeAlphaBetaInitialise(&fusion);
-                working = FusionAltitudeAlphaBetaSettingsDefault();
-                sane = true;
-                steps = 0;
-                break;
-        }
-        if (update) {
-            status = FusionAltitudeAlphaBetaUpdate(&fusion, accel, dt, &m);
-            CHECK(status == ExpectedStatus(accel, dt, &m));
-            if (status == FusionAltitudeAlphaBetaStatusOk) {
-                steps++;
-                const bool stepSane = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
-                                              : (loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(loopDt)));
-                sane = sane && stepSane && (steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
-                       SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&
-                       SampleSane(m.sonarAltitude, MAX_ALTITUDE) && SampleSane(m.gpsAltitude, MAX_ALTITUDE);
-            }
+        const unsigned call = opcode & 7u;
+        const bool read = ((call >= 4u) && (call <= 6u)) ? CallUpdate(&fusion, &run, &reader, opcode, &status)
+                                                         : CallSettings(&fusion, &run, &reader, opcode, &working, &status);
+        if (!read) {
+            return 0;
         }
         if (status != FusionAltitudeAlphaBetaStatusOk) {
             CHECK(memcmp(&before, &fusion, sizeof(before)) == 0);
         }
         (void) FusionAltitudeAlphaBetaStatusMessage(status);
-        CheckState(&fusion, sane);
+        CheckState(&fusion, run.sane);
     }
     return 0;
 }

@@ -131,6 +131,37 @@ typedef struct {
     size_t metricSamples;     /**< in/out: samples counted so far */
 } FusionAltitudeSweepMetrics;
 
+/* What every setting shares, since the inputs are shared: the reference, the
+ * pending restart after a gap, the gap count and the baro timeout (the fields
+ * of FusionAltitude). */
+typedef struct {
+    float gapTime;
+    float sinceRestart;
+    float sinceBaro;
+    uint32_t gapCount;
+    uint32_t baroTimeouts;
+    bool referenceSet;
+    bool baroTimedOut;
+} FusionAltitudeSweepShared;
+
+/* The shared state of the sweep (the fields of FusionAltitude that every setting shares). */
+FUSION_ALTITUDE_SWEEP_INLINE FusionAltitudeSweepShared FusionAltitudeSweepGetShared(const FusionAltitudeSweep *const sweep) {
+    const FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->sinceBaro, sweep->gapCount,
+                                              sweep->baroTimeouts, sweep->referenceSet, sweep->baroTimedOut};
+    return shared;
+}
+
+/* Stores the shared state back into the sweep. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepSetShared(FusionAltitudeSweep *const sweep, const FusionAltitudeSweepShared *const shared) {
+    sweep->gapTime = shared->gapTime;
+    sweep->sinceRestart = shared->sinceRestart;
+    sweep->sinceBaro = shared->sinceBaro;
+    sweep->gapCount = shared->gapCount;
+    sweep->baroTimeouts = shared->baroTimeouts;
+    sweep->referenceSet = shared->referenceSet;
+    sweep->baroTimedOut = shared->baroTimedOut;
+}
+
 /**
  * @brief Initialises a sweep: every state zero, reference not set, no gap,
  * no timeout, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD and baro timeout
@@ -147,13 +178,8 @@ static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const swee
     }
     sweep->gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
     sweep->baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
-    sweep->gapTime = 0.0f;
-    sweep->sinceRestart = -1.0f;
-    sweep->sinceBaro = 0.0f;
-    sweep->gapCount = 0u;
-    sweep->baroTimeouts = 0u;
-    sweep->referenceSet = false;
-    sweep->baroTimedOut = false;
+    const FusionAltitudeSweepShared start = {0.0f, -1.0f, 0.0f, 0u, 0u, false, false}; /* no gap, no pending restart, no reference */
+    FusionAltitudeSweepSetShared(sweep, &start);
     sweep->ruleBefore = 0u;
     sweep->ruleAfter = 0u;
 }
@@ -220,19 +246,6 @@ typedef struct {
     float r[FUSION_ALTITUDE_SWEEP_LANES];
     float sum[FUSION_ALTITUDE_SWEEP_LANES], sumSquared[FUSION_ALTITUDE_SWEEP_LANES], maxAbs[FUSION_ALTITUDE_SWEEP_LANES];
 } FusionAltitudeSweepLanes;
-
-/* What every setting shares, since the inputs are shared: the reference, the
- * pending restart after a gap, the gap count and the baro timeout (the fields
- * of FusionAltitude). */
-typedef struct {
-    float gapTime;
-    float sinceRestart;
-    float sinceBaro;
-    uint32_t gapCount;
-    uint32_t baroTimeouts;
-    bool referenceSet;
-    bool baroTimedOut;
-} FusionAltitudeSweepShared;
 
 /** Samples per pass of the stability rule: their flags are kept in a local array of this many bytes. */
 #define FUSION_ALTITUDE_SWEEP_FLAG_TILE (4096u)
@@ -302,6 +315,17 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepS
     }
 }
 
+/* The shared part of a restart (FusionAltitudeRestart): after a gap the bias hold restarts (sinceRestart = 0, s);
+ * the gap ends, the reference is set and a baro timeout ends. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestartShared(FusionAltitudeSweepShared *const shared) {
+    if (shared->gapTime > 0.0f) {
+        shared->sinceRestart = 0.0f;
+    }
+    shared->gapTime = 0.0f;
+    shared->referenceSet = true;
+    shared->baroTimedOut = false;
+}
+
 /* The stability rule of the sweep, for samples [0, samples) (at most
  * FUSION_ALTITUDE_SWEEP_FLAG_TILE) from the shared state *start: unstable[t]
  * is 1 when sample t carries a baro sample, the reference is set, no timeout
@@ -348,11 +372,8 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepUnstableSteps(const FusionA
         }
         unstable[t] = (uint8_t) any;
         FusionAltitudeSweepTiming(&shared, step, baroSample, any, sweep->gapPeriod, sweep->baroTimeout);
-        if (baroSample && !shared.referenceSet) { /* the shared part of FusionAltitudeSweepRestart */
-            shared.sinceRestart = (shared.gapTime > 0.0f) ? 0.0f : shared.sinceRestart;
-            shared.gapTime = 0.0f;
-            shared.referenceSet = true;
-            shared.baroTimedOut = false;
+        if (baroSample && !shared.referenceSet) {
+            FusionAltitudeSweepRestartShared(&shared);
         } else if (baroSample && shared.baroTimedOut) { /* and of the restart after a timeout */
             shared.sinceRestart = 0.0f;
             shared.baroTimedOut = false;
@@ -365,18 +386,13 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweep
                                                              const float z, const size_t lanes) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     const float gapTime = shared->gapTime;
-    if (gapTime > 0.0f) {
-        shared->sinceRestart = 0.0f;
-    }
     for (size_t j = 0; j < lanes; j++) {
         const float velocity = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
         x->v[j] = FusionAltitudeIsFinite(velocity) ? velocity : 0.0f;
         x->h[j] = z;
         x->r[j] = 0.0f;
     }
-    shared->gapTime = 0.0f;
-    shared->referenceSet = true;
-    shared->baroTimedOut = false;
+    FusionAltitudeSweepRestartShared(shared);
 }
 
 /* The correction on every lane; after a restart each lane holds its bias
@@ -452,6 +468,16 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
     }
 }
 
+/* Adds a full block's sums of the error (m) and of its square (m^2) into the totals of settings [first, first + width). */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepAddBlock(FusionAltitudeSweepMetrics *const metrics, const size_t first, const size_t width,
+                                                              const float *const sum, const float *const sumSquared) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    for (size_t j = 0; j < width; j++) {
+        metrics->sumError[first + j] += sum[j];
+        metrics->sumSquaredError[first + j] += sumSquared[j];
+    }
+}
+
 /* Adds the errors h - reference of one sample to the block sums, and the
  * block sums into the totals of settings [first, first + width) when the
  * block is full. Returns the metric samples in the open block afterwards. */
@@ -467,10 +493,7 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate(FusionAltitude
         x->maxAbs[j] = (absolute > x->maxAbs[j]) ? absolute : x->maxAbs[j];
     }
     if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
-        for (size_t j = 0; j < width; j++) {
-            metrics->sumError[first + j] += x->sum[j];
-            metrics->sumSquaredError[first + j] += x->sumSquared[j];
-        }
+        FusionAltitudeSweepAddBlock(metrics, first, width, x->sum, x->sumSquared);
         for (size_t j = 0; j < lanes; j++) {
             x->sum[j] = 0.0f;
             x->sumSquared[j] = 0.0f;
@@ -533,7 +556,6 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart8(FusionAltitudeSwee
     const V zs = FUSION_ALTITUDE_SWEEP_SPLAT8(z);
     const float gapTime = shared->gapTime;
     if (gapTime > 0.0f) {
-        shared->sinceRestart = 0.0f;
         const V gapTimes = FUSION_ALTITUDE_SWEEP_SPLAT8(gapTime);
         const V velocity = (zs - x->h) / gapTimes;
         const M finite = (M) ((velocity - velocity) == zeros); /* x - x is 0 exactly when x is finite */
@@ -543,9 +565,7 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart8(FusionAltitudeSwee
     }
     x->h = zs;
     x->r = zeros;
-    shared->gapTime = 0.0f;
-    shared->referenceSet = true;
-    shared->baroTimedOut = false;
+    FusionAltitudeSweepRestartShared(shared);
 }
 
 /* FusionAltitudeStabilityRestart lane by lane (rare: no need to vectorize); z in m, step and interval in s. */
@@ -634,6 +654,36 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep8(FusionAltitudeSweepVe
     }
 }
 
+/* FusionAltitudeSweepAccumulate on 8 lanes: adds the errors h - reference (m) to the block sums, and the block sums
+ * into the totals of settings [first, first + width) when the block is full. Returns the samples in the open block. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate8(FusionAltitudeSweepVectors8 *const x, FusionAltitudeSweepMetrics *const metrics,
+                                                                   const float reference, size_t samplesInBlock, const size_t first,
+                                                                   const size_t width) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    typedef FusionAltitudeSweepMask8 M;
+    typedef FusionAltitudeSweepUnaligned8 U;
+    const V zeros = FUSION_ALTITUDE_SWEEP_SPLAT8(0.0f);
+    const V references = FUSION_ALTITUDE_SWEEP_SPLAT8(reference);
+    const V error = x->h - references;
+    const M negative = (M) (error < zeros);
+    const V absolute = (V) (((M) (-error) & negative) | ((M) error & ~negative));
+    x->sum += error;
+    x->sumSquared += error * error;
+    const M larger = (M) (absolute > x->maxAbs);
+    x->maxAbs = (V) (((M) absolute & larger) | ((M) x->maxAbs & ~larger));
+    if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
+        float sums[2][8];
+        *(U *) sums[0] = x->sum;
+        *(U *) sums[1] = x->sumSquared;
+        FusionAltitudeSweepAddBlock(metrics, first, width, sums[0], sums[1]);
+        x->sum = zeros;
+        x->sumSquared = zeros;
+        samplesInBlock = 0;
+    }
+    return samplesInBlock;
+}
+
 /* Writes the 8 lanes' h, v, b and r (the first width of them) into output row t. */
 FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepWrite8(const FusionAltitudeSweepVectors8 *const x, const FusionAltitudeSweepOutputs *const outputs,
                                                             const size_t t, const size_t first, const size_t width) {
@@ -663,39 +713,6 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepWrite8(const FusionAltitude
     FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, lanes[1], width, 8u);
     FusionAltitudeSweepCopyRow(outputs->accelBias, offset, lanes[2], width, 8u);
     FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, lanes[3], width, 8u);
-}
-
-/* FusionAltitudeSweepAccumulate on 8 lanes: adds the errors h - reference (m) to the block sums, and the block sums
- * into the totals of settings [first, first + width) when the block is full. Returns the samples in the open block. */
-FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate8(FusionAltitudeSweepVectors8 *const x, FusionAltitudeSweepMetrics *const metrics,
-                                                                   const float reference, size_t samplesInBlock, const size_t first,
-                                                                   const size_t width) {
-    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
-    typedef FusionAltitudeSweepVector8 V;
-    typedef FusionAltitudeSweepMask8 M;
-    typedef FusionAltitudeSweepUnaligned8 U;
-    const V zeros = FUSION_ALTITUDE_SWEEP_SPLAT8(0.0f);
-    const V references = FUSION_ALTITUDE_SWEEP_SPLAT8(reference);
-    const V error = x->h - references;
-    const M negative = (M) (error < zeros);
-    const V absolute = (V) (((M) (-error) & negative) | ((M) error & ~negative));
-    x->sum += error;
-    x->sumSquared += error * error;
-    const M larger = (M) (absolute > x->maxAbs);
-    x->maxAbs = (V) (((M) absolute & larger) | ((M) x->maxAbs & ~larger));
-    if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
-        float sums[2][8];
-        *(U *) sums[0] = x->sum;
-        *(U *) sums[1] = x->sumSquared;
-        for (size_t j = 0; j < width; j++) {
-            metrics->sumError[first + j] += sums[0][j];
-            metrics->sumSquaredError[first + j] += sums[1][j];
-        }
-        x->sum = zeros;
-        x->sumSquared = zeros;
-        samplesInBlock = 0;
-    }
-    return samplesInBlock;
 }
 
 /* FusionAltitudeSweepChunk for 8 lanes with the states in vector registers
@@ -796,24 +813,6 @@ FUSION_ALTITUDE_SWEEP_INLINE FusionAltitudeStatus FusionAltitudeSweepCheckInputs
         }
     }
     return FusionAltitudeStatusOk;
-}
-
-/* The shared state of the sweep (the fields of FusionAltitude that every setting shares). */
-FUSION_ALTITUDE_SWEEP_INLINE FusionAltitudeSweepShared FusionAltitudeSweepGetShared(const FusionAltitudeSweep *const sweep) {
-    const FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->sinceBaro, sweep->gapCount,
-                                              sweep->baroTimeouts, sweep->referenceSet, sweep->baroTimedOut};
-    return shared;
-}
-
-/* Stores the shared state back into the sweep. */
-FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepSetShared(FusionAltitudeSweep *const sweep, const FusionAltitudeSweepShared *const shared) {
-    sweep->gapTime = shared->gapTime;
-    sweep->sinceRestart = shared->sinceRestart;
-    sweep->sinceBaro = shared->sinceBaro;
-    sweep->gapCount = shared->gapCount;
-    sweep->baroTimeouts = shared->baroTimeouts;
-    sweep->referenceSet = shared->referenceSet;
-    sweep->baroTimedOut = shared->baroTimedOut;
 }
 
 /* The samples of [start, start + length) that count in the metrics: a finite reference, and the mask (if any) set. */

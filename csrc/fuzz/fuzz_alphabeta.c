@@ -13,10 +13,10 @@
  *   0 initialise (defaults)
  *   1 initialise with the working settings
  *   2 set settings (the working settings)
- *   3 edit the working settings: sensor byte (mod 6: imu, baro, lidar,
- *     sonar, GPS, or 5 for the gap period), field byte (mod 8: threshold,
- *     qualityMin, qualityMax, confidence, altitudeMin, altitudeMax, gapMax,
- *     timeout), 4 raw bytes (float bits; int32 for the qualities)
+ *   3 edit the working settings: an index byte (mod
+ *     FUSION_ALTITUDE_ALPHABETA_SETTINGS_WORDS: the flattened settings of
+ *     alphabeta_settings_words.h, each sensor's fields then the gap period),
+ *     4 raw bytes (the word: float bits, int32 for the qualities)
  *   4 update with every argument from the input: accel, dt, baro, lidar,
  *     sonar, GPS (floats)
  *   5 update at a step from a step byte (StepFromByte: 0.1 ms to 10 s, 16
@@ -54,6 +54,7 @@
 
 #include "fusion_altitude_alphabeta.h"
 #include "fuzz_common.h"
+#include "tests/vectors/alphabeta_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -132,44 +133,6 @@ static void CheckState(const FusionAltitudeAlphaBeta *const fusion, const bool s
     }
 }
 
-static void EditSettings(FusionAltitudeAlphaBetaSettings *const s, const uint8_t sensorByte, const uint8_t fieldByte,
-                         const uint32_t bits) {
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    const int sensor = sensorByte % (FUSION_ALTITUDE_ALPHABETA_SENSORS + 1);
-    if (sensor == FUSION_ALTITUDE_ALPHABETA_SENSORS) {
-        s->gapPeriod = value;
-        return;
-    }
-    FusionAltitudeAlphaBetaSensorSettings *const t = &s->sensors[sensor];
-    switch (fieldByte % 8) {
-        case 0:
-            t->threshold = value;
-            break;
-        case 1:
-            t->qualityMin = (int32_t) bits;
-            break;
-        case 2:
-            t->qualityMax = (int32_t) bits;
-            break;
-        case 3:
-            t->confidence = value;
-            break;
-        case 4:
-            t->altitudeMin = value;
-            break;
-        case 5:
-            t->altitudeMax = value;
-            break;
-        case 6:
-            t->gapMax = value;
-            break;
-        default:
-            t->timeout = value;
-            break;
-    }
-}
-
 /* Reads a presence byte and the samples it flags (absent: NaN). */
 static bool ReadPresent(Reader *const reader, float *const accel, FusionAltitudeAlphaBetaMeasurements *const m) {
     uint8_t presence;
@@ -195,12 +158,11 @@ typedef struct {
     bool loopDtSane; /* the loop dt is plausible */
 } Run;
 
-/* Opcodes 0-3 and 7: initialise, initialise with / set the working settings, edit the working settings (two bytes
- * and 4 raw bytes, EditSettings), initialise with the defaults and reset the working settings. False when the input ends. */
+/* Opcodes 0-3 and 7: initialise, initialise with / set the working settings, edit one word of the working settings
+ * (an index byte and 4 raw bytes), initialise with the defaults and reset the working settings. False when the input ends. */
 static bool CallSettings(FusionAltitudeAlphaBeta *const fusion, Run *const run, Reader *const reader, const uint8_t opcode,
                          FusionAltitudeAlphaBetaSettings *const working, FusionAltitudeAlphaBetaStatus *const status) {
-    uint8_t a = 0;
-    uint8_t b = 0;
+    uint8_t index = 0;
     uint32_t bits = 0u;
     switch (opcode & 7u) {
         case 0:
@@ -224,10 +186,10 @@ static bool CallSettings(FusionAltitudeAlphaBeta *const fusion, Run *const run, 
             }
             return true;
         case 3:
-            if (!ReadByte(reader, &a) || !ReadByte(reader, &b) || !ReadBytes(reader, &bits, sizeof(bits))) {
+            if (!ReadByte(reader, &index) || !ReadBytes(reader, &bits, sizeof(bits))) {
                 return false;
             }
-            EditSettings(working, a, b, bits);
+            FusionAltitudeAlphaBetaSettingsSetWord(working, index % FUSION_ALTITUDE_ALPHABETA_SETTINGS_WORDS, bits);
             return true;
         default:
             FusionAltitudeAlphaBetaInitialise(fusion);

@@ -12,9 +12,11 @@ alternating short and long steps: the interval rule), settings edits
 
 import math
 import struct
+import sys
 from pathlib import Path
 
 from fusion_altitude._core._c_tables import ALPHABETA_SENSORS, ALPHABETA_SENSOR_FIELDS, ALPHABETA_SETTINGS
+from make_seeds_common import f, write_corpus
 
 CORPUS = Path(__file__).resolve().with_name("corpus_alphabeta")
 INITIALISE, INITIALISE_WITH, SET_SETTINGS, EDIT, UPDATE, UPDATE_STEP, UPDATE_LOOP, DEFAULTS = range(8)
@@ -25,10 +27,6 @@ WORDS = tuple(f"{sensor}.{c_name}" for sensor in ALPHABETA_SENSORS for _, c_name
     c_name for _, c_name, *_ in ALPHABETA_SETTINGS)
 #: fuzz_alphabeta.c StepFromByte's 16 base steps, s (the step byte's low nibble)
 BASE_STEPS = (1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 7.0, 10.0)
-
-
-def f(*values: float) -> bytes:
-    return struct.pack(f"<{len(values)}f", *values)
 
 
 def edit(word: str, value) -> bytes:
@@ -98,7 +96,4 @@ def seeds() -> dict:
 
 
 if __name__ == "__main__":
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / name).write_bytes(data)
-        print(f"{name}: {len(data)} bytes")
+    sys.exit(write_corpus(CORPUS, seeds))

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from fusion_altitude._core._c_tables import FLIGHT_SETTINGS, OBSERVER_SETTINGS
+from make_seeds_common import write_corpus
 
 CORPUS = Path(__file__).resolve().parent / "corpus_flight"
 #: The settings words of csrc/tests/vectors/flight_settings_words.h (an edit's index): FusionAltitudeRocketSettings in
@@ -93,13 +94,5 @@ def seeds() -> dict:
     }
 
 
-def main() -> int:
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / f"{name}.bin").write_bytes(data)
-        print(f"{name}.bin: {len(data)} bytes")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(write_corpus(CORPUS, seeds, ".bin"))

@@ -9,6 +9,7 @@ per-sample coefficients, telemetry-like 0.1-4 s steps, steps from 0.1 ms to
 """
 
 import sys
+from functools import partial
 from pathlib import Path
 
 from make_seeds_common import explicit_steps, f, loop_flight, telemetry_dts, write_corpus
@@ -24,12 +25,10 @@ def settings(tau_a=0.02, tau_b=0.05, c_v=0.999, c_h=0.998, t_v=9.99, t_h=4.99, g
     return bytes([SETTINGS | (PER_SAMPLE if per_sample else 0)]) + f(tau_a, tau_b, c_v, c_h, t_v, t_h, gap, timeout)
 
 
-def flight(steps: int, baro_every: int = 4, bias: float = 0.1) -> bytes:
-    return loop_flight(UPDATE_LOOP, NO_BARO, steps, baro_every, bias)
-
-
-def steps(dts, baro_every: int = 1, accel: float = 0.3) -> bytes:
-    return explicit_steps(UPDATE, NO_BARO, dts, baro_every, accel)
+#: 100 Hz updates at the loop dt, a baro sample on every baro_every-th (make_seeds_common.loop_flight)
+flight = partial(loop_flight, UPDATE_LOOP, NO_BARO, bias=0.1)
+#: updates with explicit steps, a slow climb (make_seeds_common.explicit_steps)
+steps = partial(explicit_steps, UPDATE, NO_BARO)
 
 
 def seeds() -> dict:

@@ -10,6 +10,7 @@ telemetry-like 0.1-4 s steps at the default and racing gains, steps from
 """
 
 import sys
+from functools import partial
 from pathlib import Path
 
 from make_seeds_common import explicit_steps, f, loop_flight, telemetry_dts, write_corpus
@@ -19,13 +20,10 @@ INITIALISE, SETTINGS, PRESET, BANDWIDTH, RESET, RESET_WITH_BIAS, UPDATE, UPDATE_
 NO_BARO = 8
 
 
-def flight(steps: int, baro_every: int = 4, bias: float = 0.2) -> bytes:
-    return loop_flight(UPDATE_LOOP, NO_BARO, steps, baro_every, bias)
-
-
-def steps(dts, baro_every: int = 1, accel: float = 0.3) -> bytes:
-    """Updates with explicit steps (opcode 6): a slow climb, a baro sample on every baro_every-th step."""
-    return explicit_steps(UPDATE, NO_BARO, dts, baro_every, accel)
+#: 100 Hz updates at the loop dt, a baro sample on every baro_every-th (make_seeds_common.loop_flight)
+flight = partial(loop_flight, UPDATE_LOOP, NO_BARO)
+#: updates with explicit steps, a slow climb (make_seeds_common.explicit_steps)
+steps = partial(explicit_steps, UPDATE, NO_BARO)
 
 
 def seeds() -> dict:

@@ -800,17 +800,17 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
 static inline void FusionAltitudeRocketConditionRun(FusionAltitudeRocket *const rocket, const bool condition, const float dt, const float holdTime,
                                                     const FusionAltitudeRocketEventId event, const FusionAltitudeRocketPhase phase) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
-    if (!condition) {
-        rocket->runTime = 0.0f;
-        return;
-    }
-    if (rocket->runTime == 0.0f) {
-        FusionAltitudeRocketRecord(rocket, &rocket->candidate);
-    }
-    rocket->runTime += dt;
-    if (rocket->runTime >= holdTime) {
-        rocket->events[event] = rocket->candidate;
-        rocket->phase = phase;
+    if (condition) {
+        if (rocket->runTime == 0.0f) {
+            FusionAltitudeRocketRecord(rocket, &rocket->candidate);
+        }
+        rocket->runTime += dt;
+        if (rocket->runTime >= holdTime) {
+            rocket->events[event] = rocket->candidate;
+            rocket->phase = phase;
+            rocket->runTime = 0.0f;
+        }
+    } else {
         rocket->runTime = 0.0f;
     }
 }

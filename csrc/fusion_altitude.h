@@ -217,6 +217,16 @@ static inline bool FusionAltitudeIsNaN(const float value) {
     return ((bits & 0x7F800000u) == 0x7F800000u) && ((bits & 0x007FFFFFu) != 0u);
 }
 
+/** Internal: @return true if value is finite and 0 <= value <= maximum (a setting that may be 0). */
+static inline bool FusionAltitudeIsNonNegative(const float value, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= maximum);
+}
+
+/** Internal: @return true if value is finite and 0 < value <= maximum (a setting that must be > 0). */
+static inline bool FusionAltitudeIsPositive(const float value, const float maximum) {
+    return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= maximum);
+}
+
 /** @return a quiet NaN. */
 static inline float FusionAltitudeNaN(void) {
     const uint32_t bits = 0x7FC00000u;

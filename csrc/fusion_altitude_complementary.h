@@ -312,6 +312,30 @@ static inline void FusionAltitudeComplementaryRestart(FusionAltitudeComplementar
 }
 
 /**
+ * @brief Internal: a step while the baro is timed out (no dead reckoning).
+ * Without a baro sample v decays, v *= T / (T + dt) with T = baroTimeout (s),
+ * and h += v dt (m); a baro sample z (m) ends the timeout: h = zLp = z, the
+ * baro velocity takes v (kept), the baro interval restarts.
+ */
+static inline void FusionAltitudeComplementaryTimedOutStep(FusionAltitudeComplementary *const filter, const float baroAltitude,
+                                                           const bool baroSample, const float dt) {
+    FUSION_ALTITUDE_COMPLEMENTARY_NO_CONTRACT
+    if (baroSample) {
+        filter->altitude = baroAltitude;
+        filter->baroFiltered = baroAltitude;
+        filter->baroVelocity = filter->verticalVelocity;
+        filter->sinceBaro = 0.0f;
+        filter->baroTimedOut = false;
+        return;
+    }
+    const float timeout = filter->settings.baroTimeout;
+    filter->verticalVelocity *= timeout / (timeout + dt);
+    filter->altitude += filter->verticalVelocity * dt;
+    filter->baroVelocity = FusionAltitudeNaN();
+    filter->sinceBaro += dt;
+}
+
+/**
  * @brief The input rules of FusionAltitudeComplementaryUpdate: accel finite,
  * baroAltitude finite or NaN (no sample), dt finite and > 0.
  */
@@ -378,19 +402,7 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryUpdat
         return FusionAltitudeComplementaryStatusOk;
     }
     if (filter->baroTimedOut) { /* no dead reckoning: v decays to 0; the next baro sample restarts h at it */
-        if (baroSample) {
-            filter->altitude = baroAltitude;
-            filter->baroFiltered = baroAltitude;
-            filter->baroVelocity = filter->verticalVelocity;
-            filter->sinceBaro = 0.0f;
-            filter->baroTimedOut = false;
-            return FusionAltitudeComplementaryStatusOk;
-        }
-        const float timeout = filter->settings.baroTimeout;
-        filter->verticalVelocity *= timeout / (timeout + dt);
-        filter->altitude += filter->verticalVelocity * dt;
-        filter->baroVelocity = FusionAltitudeNaN();
-        filter->sinceBaro += dt;
+        FusionAltitudeComplementaryTimedOutStep(filter, baroAltitude, baroSample, dt);
         return FusionAltitudeComplementaryStatusOk;
     }
     const FusionAltitudeComplementarySettings *const s = &filter->settings;

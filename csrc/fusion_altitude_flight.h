@@ -791,23 +791,36 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     return height - rocket->baroOffset;
 }
 
-/** Landing detector: |v| < landedSpeed for landedTime s (drogue and main phases). */
-static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const rocket, const float velocity, const float dt) {
+/**
+ * Internal: a debounced condition (burnout, landing): while condition holds, runTime
+ * (s) grows by dt; the run's first sample is the event's candidate record.
+ * Once runTime >= holdTime (s) the candidate becomes the event and the phase
+ * moves on. A sample without the condition restarts the run (runTime = 0).
+ */
+static inline void FusionAltitudeRocketConditionRun(FusionAltitudeRocket *const rocket, const bool condition, const float dt, const float holdTime,
+                                                    const FusionAltitudeRocketEventId event, const FusionAltitudeRocketPhase phase) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
-    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
-    if (!rocket->lockout && (velocity < settings->landedSpeed) && (velocity > -settings->landedSpeed)) {
+    if (condition) {
         if (rocket->runTime == 0.0f) {
             FusionAltitudeRocketRecord(rocket, &rocket->candidate);
         }
         rocket->runTime += dt;
-        if (rocket->runTime >= settings->landedTime) {
-            rocket->events[FusionAltitudeRocketEventLanded] = rocket->candidate;
-            rocket->phase = FusionAltitudeRocketPhaseLanded;
+        if (rocket->runTime >= holdTime) {
+            rocket->events[event] = rocket->candidate;
+            rocket->phase = phase;
             rocket->runTime = 0.0f;
         }
     } else {
         rocket->runTime = 0.0f;
     }
+}
+
+/** Landing detector: |v| < landedSpeed for landedTime s (drogue and main phases). */
+static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const rocket, const float velocity, const float dt) {
+    FUSION_ALTITUDE_ROCKET_NO_CONTRACT
+    const FusionAltitudeRocketSettings *const settings = &rocket->settings;
+    const bool still = !rocket->lockout && (velocity < settings->landedSpeed) && (velocity > -settings->landedSpeed);
+    FusionAltitudeRocketConditionRun(rocket, still, dt, settings->landedTime, FusionAltitudeRocketEventLanded, FusionAltitudeRocketPhaseLanded);
 }
 
 /**
@@ -896,19 +909,8 @@ static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const r
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
     const float netAccel = accel - rocket->accelBias;
-    if (netAccel < settings->burnoutAccel) {
-        if (rocket->runTime == 0.0f) {
-            FusionAltitudeRocketRecord(rocket, &rocket->candidate);
-        }
-        rocket->runTime += dt;
-        if (rocket->runTime >= settings->burnoutTime) {
-            rocket->events[FusionAltitudeRocketEventBurnout] = rocket->candidate;
-            rocket->phase = FusionAltitudeRocketPhaseCoast;
-            rocket->runTime = 0.0f;
-        }
-    } else {
-        rocket->runTime = 0.0f;
-    }
+    FusionAltitudeRocketConditionRun(rocket, netAccel < settings->burnoutAccel, dt, settings->burnoutTime, FusionAltitudeRocketEventBurnout,
+                                     FusionAltitudeRocketPhaseCoast);
 }
 
 /**

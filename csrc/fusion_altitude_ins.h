@@ -395,16 +395,6 @@ static inline FusionAltitudeInsSettings FusionAltitudeInsSettingsDefault(void) {
     return s;
 }
 
-/* value finite in [0, FUSION_ALTITUDE_INS_MAXIMUM] */
-static inline bool FusionAltitudeInsIsNonNegative(const float value) {
-    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= FUSION_ALTITUDE_INS_MAXIMUM);
-}
-
-/* value finite in (0, FUSION_ALTITUDE_INS_MAXIMUM] */
-static inline bool FusionAltitudeInsIsPositive(const float value) {
-    return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= FUSION_ALTITUDE_INS_MAXIMUM);
-}
-
 /**
  * Checks the settings: every field finite in [0, 1e6]; accelAttitudeNoise,
  * baroNoise, zeroRateNoise, zeroVelocityNoise, the three time constants,
@@ -412,20 +402,22 @@ static inline bool FusionAltitudeInsIsPositive(const float value) {
  */
 static inline FusionAltitudeInsStatus FusionAltitudeInsSettingsCheck(const FusionAltitudeInsSettings *const s) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
-    const bool nonNegative = FusionAltitudeInsIsNonNegative(s->gyroNoise) && FusionAltitudeInsIsNonNegative(s->gyroBiasRandomWalk) &&
-                             FusionAltitudeInsIsNonNegative(s->accelNoise) && FusionAltitudeInsIsNonNegative(s->accelNormRejection) &&
-                             FusionAltitudeInsIsNonNegative(s->accelRejection) && FusionAltitudeInsIsNonNegative(s->recoveryTriggerPeriod) &&
-                             FusionAltitudeInsIsNonNegative(s->stationaryGyroThreshold) &&
-                             FusionAltitudeInsIsNonNegative(s->stationaryAccelThreshold) && FusionAltitudeInsIsNonNegative(s->stationaryWindow) &&
-                             FusionAltitudeInsIsNonNegative(s->initialAttitudeSigma) && FusionAltitudeInsIsNonNegative(s->initialGyroBiasSigma) &&
-                             FusionAltitudeInsIsNonNegative(s->initialVelocitySigma) && FusionAltitudeInsIsNonNegative(s->stationaryBaroRate) &&
-                             FusionAltitudeInsIsNonNegative(s->baroRejectionTimeout);
-    const bool positive = FusionAltitudeInsIsPositive(s->accelAttitudeNoise) && FusionAltitudeInsIsPositive(s->baroNoise) &&
-                          FusionAltitudeInsIsPositive(s->zeroRateNoise) && FusionAltitudeInsIsPositive(s->zeroVelocityNoise) &&
-                          FusionAltitudeInsIsPositive(s->baroBiasTimeConstant) && FusionAltitudeInsIsPositive(s->accelBiasTimeConstant) &&
-                          FusionAltitudeInsIsPositive(s->magTimeConstant) && FusionAltitudeInsIsPositive(s->gapPeriod) &&
-                          FusionAltitudeInsIsPositive(s->baroGate) && FusionAltitudeInsIsPositive(s->baroTimeout) &&
-                          FusionAltitudeInsIsPositive(s->deadReckoningHorizon);
+    const float limit = FUSION_ALTITUDE_INS_MAXIMUM; /* largest accepted setting */
+    const bool nonNegative = FusionAltitudeIsNonNegative(s->gyroNoise, limit) && FusionAltitudeIsNonNegative(s->gyroBiasRandomWalk, limit) &&
+                             FusionAltitudeIsNonNegative(s->accelNoise, limit) && FusionAltitudeIsNonNegative(s->accelNormRejection, limit) &&
+                             FusionAltitudeIsNonNegative(s->accelRejection, limit) && FusionAltitudeIsNonNegative(s->recoveryTriggerPeriod, limit) &&
+                             FusionAltitudeIsNonNegative(s->stationaryGyroThreshold, limit) &&
+                             FusionAltitudeIsNonNegative(s->stationaryAccelThreshold, limit) &&
+                             FusionAltitudeIsNonNegative(s->stationaryWindow, limit) && FusionAltitudeIsNonNegative(s->initialAttitudeSigma, limit) &&
+                             FusionAltitudeIsNonNegative(s->initialGyroBiasSigma, limit) &&
+                             FusionAltitudeIsNonNegative(s->initialVelocitySigma, limit) &&
+                             FusionAltitudeIsNonNegative(s->stationaryBaroRate, limit) && FusionAltitudeIsNonNegative(s->baroRejectionTimeout, limit);
+    const bool positive = FusionAltitudeIsPositive(s->accelAttitudeNoise, limit) && FusionAltitudeIsPositive(s->baroNoise, limit) &&
+                          FusionAltitudeIsPositive(s->zeroRateNoise, limit) && FusionAltitudeIsPositive(s->zeroVelocityNoise, limit) &&
+                          FusionAltitudeIsPositive(s->baroBiasTimeConstant, limit) && FusionAltitudeIsPositive(s->accelBiasTimeConstant, limit) &&
+                          FusionAltitudeIsPositive(s->magTimeConstant, limit) && FusionAltitudeIsPositive(s->gapPeriod, limit) &&
+                          FusionAltitudeIsPositive(s->baroGate, limit) && FusionAltitudeIsPositive(s->baroTimeout, limit) &&
+                          FusionAltitudeIsPositive(s->deadReckoningHorizon, limit);
     return (nonNegative && positive) ? FusionAltitudeInsStatusOk : FusionAltitudeInsStatusInvalidSettings;
 }
 

@@ -408,47 +408,38 @@ static inline FusionAltitudeKalmanSettings FusionAltitudeKalmanSettingsDefault(v
  */
 #define FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING (1e6f)
 
-/* value in [0, FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING] */
-static inline bool FusionAltitudeKalmanIsNonNegative(const float value) {
-    return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING);
-}
-
-/* value in (0, FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING] */
-static inline bool FusionAltitudeKalmanIsPositive(const float value) {
-    return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING);
-}
-
 /** Checks the settings; the statuses name the group of the first bad field. */
 static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSettingsCheck(const FusionAltitudeKalmanSettings *const s) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
-    if (!FusionAltitudeKalmanIsNonNegative(s->accelNoise) || !FusionAltitudeKalmanIsNonNegative(s->accelBiasRandomWalk) ||
-        !FusionAltitudeKalmanIsNonNegative(s->accelBiasInitialSigma) || !FusionAltitudeKalmanIsPositive(s->baroNoise) ||
-        !FusionAltitudeKalmanIsNonNegative(s->baroOffsetRandomWalk) || !FusionAltitudeKalmanIsPositive(s->rangeNoise) ||
-        !FusionAltitudeKalmanIsNonNegative(s->gpsOffsetRandomWalk) || !FusionAltitudeKalmanIsNonNegative(s->initialHeightSigma) ||
-        !FusionAltitudeKalmanIsNonNegative(s->initialVelocitySigma)) {
+    const float limit = FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING; /* largest accepted setting */
+    if (!FusionAltitudeIsNonNegative(s->accelNoise, limit) || !FusionAltitudeIsNonNegative(s->accelBiasRandomWalk, limit) ||
+        !FusionAltitudeIsNonNegative(s->accelBiasInitialSigma, limit) || !FusionAltitudeIsPositive(s->baroNoise, limit) ||
+        !FusionAltitudeIsNonNegative(s->baroOffsetRandomWalk, limit) || !FusionAltitudeIsPositive(s->rangeNoise, limit) ||
+        !FusionAltitudeIsNonNegative(s->gpsOffsetRandomWalk, limit) || !FusionAltitudeIsNonNegative(s->initialHeightSigma, limit) ||
+        !FusionAltitudeIsNonNegative(s->initialVelocitySigma, limit)) {
         return FusionAltitudeKalmanStatusInvalidNoise;
     }
-    if (!FusionAltitudeKalmanIsNonNegative(s->rangeMinimum) || !FusionAltitudeKalmanIsPositive(s->rangeMaximum) ||
+    if (!FusionAltitudeIsNonNegative(s->rangeMinimum, limit) || !FusionAltitudeIsPositive(s->rangeMaximum, limit) ||
         !(s->rangeMaximum > s->rangeMinimum)) {
         return FusionAltitudeKalmanStatusInvalidRange;
     }
-    if (!FusionAltitudeKalmanIsNonNegative(s->gpsNoiseBase) || !FusionAltitudeKalmanIsNonNegative(s->gpsNoiseSatellite) ||
+    if (!FusionAltitudeIsNonNegative(s->gpsNoiseBase, limit) || !FusionAltitudeIsNonNegative(s->gpsNoiseSatellite, limit) ||
         !(s->gpsNoiseBase + s->gpsNoiseSatellite > 0.0f) || (s->gpsMinimumSatellites < 0)) {
         return FusionAltitudeKalmanStatusInvalidGps;
     }
-    if (!FusionAltitudeKalmanIsPositive(s->gate) || !FusionAltitudeKalmanIsNonNegative(s->rejectionTimeout)) {
+    if (!FusionAltitudeIsPositive(s->gate, limit) || !FusionAltitudeIsNonNegative(s->rejectionTimeout, limit)) {
         return FusionAltitudeKalmanStatusInvalidGate;
     }
-    if (!FusionAltitudeKalmanIsPositive(s->groundEffectNoiseScale) || !(s->groundEffectNoiseScale >= 1.0f) ||
-        !FusionAltitudeKalmanIsNonNegative(s->groundEffectDeadZone) ||
+    if (!FusionAltitudeIsPositive(s->groundEffectNoiseScale, limit) || !(s->groundEffectNoiseScale >= 1.0f) ||
+        !FusionAltitudeIsNonNegative(s->groundEffectDeadZone, limit) ||
         !(s->baroNoise * s->groundEffectNoiseScale <= FUSION_ALTITUDE_KALMAN_MAXIMUM_SETTING)) {
         return FusionAltitudeKalmanStatusInvalidGroundEffect;
     }
     if (!(s->gapPeriod > 0.0f)) { /* false for NaN */
         return FusionAltitudeKalmanStatusInvalidGapPeriod;
     }
-    if (!FusionAltitudeKalmanIsPositive(s->baroTimeout) || !FusionAltitudeKalmanIsPositive(s->rangeTimeout) ||
-        !FusionAltitudeKalmanIsPositive(s->gpsTimeout)) {
+    if (!FusionAltitudeIsPositive(s->baroTimeout, limit) || !FusionAltitudeIsPositive(s->rangeTimeout, limit) ||
+        !FusionAltitudeIsPositive(s->gpsTimeout, limit)) {
         return FusionAltitudeKalmanStatusInvalidTimeout;
     }
     return FusionAltitudeKalmanStatusOk;

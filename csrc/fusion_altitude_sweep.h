@@ -131,6 +131,37 @@ typedef struct {
     size_t metricSamples;     /**< in/out: samples counted so far */
 } FusionAltitudeSweepMetrics;
 
+/* What every setting shares, since the inputs are shared: the reference, the
+ * pending restart after a gap, the gap count and the baro timeout (the fields
+ * of FusionAltitude). */
+typedef struct {
+    float gapTime;
+    float sinceRestart;
+    float sinceBaro;
+    uint32_t gapCount;
+    uint32_t baroTimeouts;
+    bool referenceSet;
+    bool baroTimedOut;
+} FusionAltitudeSweepShared;
+
+/* The shared state of the sweep (the fields of FusionAltitude that every setting shares). */
+FUSION_ALTITUDE_SWEEP_INLINE FusionAltitudeSweepShared FusionAltitudeSweepGetShared(const FusionAltitudeSweep *const sweep) {
+    const FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->sinceBaro, sweep->gapCount,
+                                              sweep->baroTimeouts, sweep->referenceSet, sweep->baroTimedOut};
+    return shared;
+}
+
+/* Stores the shared state back into the sweep. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepSetShared(FusionAltitudeSweep *const sweep, const FusionAltitudeSweepShared *const shared) {
+    sweep->gapTime = shared->gapTime;
+    sweep->sinceRestart = shared->sinceRestart;
+    sweep->sinceBaro = shared->sinceBaro;
+    sweep->gapCount = shared->gapCount;
+    sweep->baroTimeouts = shared->baroTimeouts;
+    sweep->referenceSet = shared->referenceSet;
+    sweep->baroTimedOut = shared->baroTimedOut;
+}
+
 /**
  * @brief Initialises a sweep: every state zero, reference not set, no gap,
  * no timeout, gap period FUSION_ALTITUDE_DEFAULT_GAP_PERIOD and baro timeout
@@ -147,13 +178,8 @@ static inline void FusionAltitudeSweepInitialise(FusionAltitudeSweep *const swee
     }
     sweep->gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
     sweep->baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
-    sweep->gapTime = 0.0f;
-    sweep->sinceRestart = -1.0f;
-    sweep->sinceBaro = 0.0f;
-    sweep->gapCount = 0u;
-    sweep->baroTimeouts = 0u;
-    sweep->referenceSet = false;
-    sweep->baroTimedOut = false;
+    const FusionAltitudeSweepShared start = {0.0f, -1.0f, 0.0f, 0u, 0u, false, false}; /* no gap, no pending restart, no reference */
+    FusionAltitudeSweepSetShared(sweep, &start);
     sweep->ruleBefore = 0u;
     sweep->ruleAfter = 0u;
 }
@@ -220,19 +246,6 @@ typedef struct {
     float r[FUSION_ALTITUDE_SWEEP_LANES];
     float sum[FUSION_ALTITUDE_SWEEP_LANES], sumSquared[FUSION_ALTITUDE_SWEEP_LANES], maxAbs[FUSION_ALTITUDE_SWEEP_LANES];
 } FusionAltitudeSweepLanes;
-
-/* What every setting shares, since the inputs are shared: the reference, the
- * pending restart after a gap, the gap count and the baro timeout (the fields
- * of FusionAltitude). */
-typedef struct {
-    float gapTime;
-    float sinceRestart;
-    float sinceBaro;
-    uint32_t gapCount;
-    uint32_t baroTimeouts;
-    bool referenceSet;
-    bool baroTimedOut;
-} FusionAltitudeSweepShared;
 
 /** Samples per pass of the stability rule: their flags are kept in a local array of this many bytes. */
 #define FUSION_ALTITUDE_SWEEP_FLAG_TILE (4096u)
@@ -302,6 +315,17 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepTiming(FusionAltitudeSweepS
     }
 }
 
+/* The shared part of a restart (FusionAltitudeRestart): after a gap the bias hold restarts (sinceRestart = 0, s);
+ * the gap ends, the reference is set and a baro timeout ends. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestartShared(FusionAltitudeSweepShared *const shared) {
+    if (shared->gapTime > 0.0f) {
+        shared->sinceRestart = 0.0f;
+    }
+    shared->gapTime = 0.0f;
+    shared->referenceSet = true;
+    shared->baroTimedOut = false;
+}
+
 /* The stability rule of the sweep, for samples [0, samples) (at most
  * FUSION_ALTITUDE_SWEEP_FLAG_TILE) from the shared state *start: unstable[t]
  * is 1 when sample t carries a baro sample, the reference is set, no timeout
@@ -348,11 +372,8 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepUnstableSteps(const FusionA
         }
         unstable[t] = (uint8_t) any;
         FusionAltitudeSweepTiming(&shared, step, baroSample, any, sweep->gapPeriod, sweep->baroTimeout);
-        if (baroSample && !shared.referenceSet) { /* the shared part of FusionAltitudeSweepRestart */
-            shared.sinceRestart = (shared.gapTime > 0.0f) ? 0.0f : shared.sinceRestart;
-            shared.gapTime = 0.0f;
-            shared.referenceSet = true;
-            shared.baroTimedOut = false;
+        if (baroSample && !shared.referenceSet) {
+            FusionAltitudeSweepRestartShared(&shared);
         } else if (baroSample && shared.baroTimedOut) { /* and of the restart after a timeout */
             shared.sinceRestart = 0.0f;
             shared.baroTimedOut = false;
@@ -365,18 +386,13 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart(FusionAltitudeSweep
                                                              const float z, const size_t lanes) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
     const float gapTime = shared->gapTime;
-    if (gapTime > 0.0f) {
-        shared->sinceRestart = 0.0f;
-    }
     for (size_t j = 0; j < lanes; j++) {
         const float velocity = (gapTime > 0.0f) ? ((z - x->h[j]) / gapTime) : 0.0f;
         x->v[j] = FusionAltitudeIsFinite(velocity) ? velocity : 0.0f;
         x->h[j] = z;
         x->r[j] = 0.0f;
     }
-    shared->gapTime = 0.0f;
-    shared->referenceSet = true;
-    shared->baroTimedOut = false;
+    FusionAltitudeSweepRestartShared(shared);
 }
 
 /* The correction on every lane; after a restart each lane holds its bias
@@ -452,6 +468,16 @@ FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep(FusionAltitudeSweepLan
     }
 }
 
+/* Adds a full block's sums of the error (m) and of its square (m^2) into the totals of settings [first, first + width). */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepAddBlock(FusionAltitudeSweepMetrics *const metrics, const size_t first, const size_t width,
+                                                              const float *const sum, const float *const sumSquared) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    for (size_t j = 0; j < width; j++) {
+        metrics->sumError[first + j] += sum[j];
+        metrics->sumSquaredError[first + j] += sumSquared[j];
+    }
+}
+
 /* Adds the errors h - reference of one sample to the block sums, and the
  * block sums into the totals of settings [first, first + width) when the
  * block is full. Returns the metric samples in the open block afterwards. */
@@ -467,10 +493,7 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate(FusionAltitude
         x->maxAbs[j] = (absolute > x->maxAbs[j]) ? absolute : x->maxAbs[j];
     }
     if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
-        for (size_t j = 0; j < width; j++) {
-            metrics->sumError[first + j] += x->sum[j];
-            metrics->sumSquaredError[first + j] += x->sumSquared[j];
-        }
+        FusionAltitudeSweepAddBlock(metrics, first, width, x->sum, x->sumSquared);
         for (size_t j = 0; j < lanes; j++) {
             x->sum[j] = 0.0f;
             x->sumSquared[j] = 0.0f;
@@ -514,6 +537,184 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk(FusionAltitudeSweep
 }
 
 #if FUSION_ALTITUDE_SWEEP_VECTOR
+/* The states, gains and metric sums of FusionAltitudeSweepLanes for 8 lanes, in vector registers. */
+typedef struct {
+    FusionAltitudeSweepVector8 kh, kv, kb, h, v, b, r, sum, sumSquared, maxAbs;
+} FusionAltitudeSweepVectors8;
+
+/* 8 copies of a float, as a vector initialiser (vectors are not passed by value: their ABI depends on AVX). */
+#define FUSION_ALTITUDE_SWEEP_SPLAT8(value) {(value), (value), (value), (value), (value), (value), (value), (value)}
+
+/* The first baro sample after a gap (or the first one), FusionAltitudeSweepRestart on 8 lanes:
+ * h = z, r = 0, v = (z - h) / gapTime (m/s; 0 where it is not finite) after a gap, else 0. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepRestart8(FusionAltitudeSweepVectors8 *const x, FusionAltitudeSweepShared *const shared,
+                                                              const float z) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    typedef FusionAltitudeSweepMask8 M;
+    const V zeros = FUSION_ALTITUDE_SWEEP_SPLAT8(0.0f);
+    const V zs = FUSION_ALTITUDE_SWEEP_SPLAT8(z);
+    const float gapTime = shared->gapTime;
+    if (gapTime > 0.0f) {
+        const V gapTimes = FUSION_ALTITUDE_SWEEP_SPLAT8(gapTime);
+        const V velocity = (zs - x->h) / gapTimes;
+        const M finite = (M) ((velocity - velocity) == zeros); /* x - x is 0 exactly when x is finite */
+        x->v = (V) ((M) velocity & finite);
+    } else {
+        x->v = zeros;
+    }
+    x->h = zs;
+    x->r = zeros;
+    FusionAltitudeSweepRestartShared(shared);
+}
+
+/* FusionAltitudeStabilityRestart lane by lane (rare: no need to vectorize); z in m, step and interval in s. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStabilityRestart8(FusionAltitudeSweepVectors8 *const x, const float z, const float step,
+                                                                       const float interval) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepUnaligned8 U;
+    float lanesOf[5][8];
+    *(U *) lanesOf[0] = x->h;
+    *(U *) lanesOf[1] = x->v;
+    *(U *) lanesOf[2] = x->r;
+    *(U *) lanesOf[3] = x->kh;
+    *(U *) lanesOf[4] = x->kv;
+    for (size_t j = 0; j < 8u; j++) {
+        FusionAltitudeStabilityRestart(&lanesOf[0][j], &lanesOf[1][j], &lanesOf[2][j], lanesOf[3][j], lanesOf[4][j], z, step, interval);
+    }
+    x->h = *(const U *) lanesOf[0];
+    x->v = *(const U *) lanesOf[1];
+    x->r = *(const U *) lanesOf[2];
+}
+
+/* The correction, FusionAltitudeSweepCorrect on 8 lanes: r = z - h, v += ((a - b) + Kv r) dt, h += (v + Kh r) dt,
+ * b -= Kb r dt except in the lanes still holding their bias after a restart (sinceRestart Kh < FUSION_ALTITUDE_BIAS_HOLD). */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepCorrect8(FusionAltitudeSweepVectors8 *const x, const float sinceRestart, const float a,
+                                                              const float z, const float step) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    typedef FusionAltitudeSweepMask8 M;
+    const V as = FUSION_ALTITUDE_SWEEP_SPLAT8(a);
+    const V zs = FUSION_ALTITUDE_SWEEP_SPLAT8(z);
+    const V steps = FUSION_ALTITUDE_SWEEP_SPLAT8(step);
+    const V residual = zs - x->h;
+    x->v += ((as - x->b) + x->kv * residual) * steps;
+    x->h += (x->v + x->kh * residual) * steps;
+    const V corrected = x->b - (x->kb * residual) * steps;
+    if (sinceRestart < 0.0f) {
+        x->b = corrected;
+    } else {
+        const V sinces = FUSION_ALTITUDE_SWEEP_SPLAT8(sinceRestart);
+        const V hold = FUSION_ALTITUDE_SWEEP_SPLAT8(FUSION_ALTITUDE_BIAS_HOLD);
+        const M held = (M) (sinces * x->kh < hold);
+        x->b = (V) (((M) x->b & held) | ((M) corrected & ~held)); /* held lanes keep their bias */
+    }
+    x->r = residual;
+}
+
+/* One sample on 8 lanes, FusionAltitudeSweepStep's operations in their order: a in m/s^2, z in m (NaN: no baro), step in s. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepStep8(FusionAltitudeSweepVectors8 *const x, FusionAltitudeSweepShared *const shared,
+                                                           const FusionAltitudeSweep *const sweep, const float a, const float z,
+                                                           const float step, const bool unstable) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    const bool baroSample = !FusionAltitudeIsNaN(z);
+    const bool stabilityGap = unstable && shared->referenceSet && !(step > sweep->gapPeriod);
+    const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared->sinceBaro + step) : step;
+    FusionAltitudeSweepTiming(shared, step, baroSample, unstable, sweep->gapPeriod, sweep->baroTimeout);
+    const V steps = FUSION_ALTITUDE_SWEEP_SPLAT8(step);
+    if (!baroSample) {
+        if (shared->referenceSet) {
+            if (shared->baroTimedOut) {
+                const float decay = sweep->baroTimeout / (sweep->baroTimeout + step);
+                const V decays = FUSION_ALTITUDE_SWEEP_SPLAT8(decay);
+                x->v *= decays;
+            } else {
+                const V as = FUSION_ALTITUDE_SWEEP_SPLAT8(a);
+                x->v += (as - x->b) * steps;
+            }
+            x->h += x->v * steps;
+        }
+        const float nan = FusionAltitudeNaN();
+        const V nans = FUSION_ALTITUDE_SWEEP_SPLAT8(nan);
+        x->r = nans;
+    } else if (!shared->referenceSet) {
+        FusionAltitudeSweepRestart8(x, shared, z);
+    } else if (stabilityGap) {
+        FusionAltitudeSweepStabilityRestart8(x, z, step, interval);
+    } else if (shared->baroTimedOut) {
+        const V zs = FUSION_ALTITUDE_SWEEP_SPLAT8(z);
+        const V zeros = FUSION_ALTITUDE_SWEEP_SPLAT8(0.0f);
+        x->h = zs;
+        x->r = zeros;
+        shared->sinceRestart = 0.0f;
+        shared->baroTimedOut = false;
+    } else {
+        FusionAltitudeSweepCorrect8(x, shared->sinceRestart, a, z, step);
+    }
+}
+
+/* FusionAltitudeSweepAccumulate on 8 lanes: adds the errors h - reference (m) to the block sums, and the block sums
+ * into the totals of settings [first, first + width) when the block is full. Returns the samples in the open block. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepAccumulate8(FusionAltitudeSweepVectors8 *const x, FusionAltitudeSweepMetrics *const metrics,
+                                                                   const float reference, size_t samplesInBlock, const size_t first,
+                                                                   const size_t width) {
+    FUSION_ALTITUDE_SWEEP_NO_CONTRACT
+    typedef FusionAltitudeSweepVector8 V;
+    typedef FusionAltitudeSweepMask8 M;
+    typedef FusionAltitudeSweepUnaligned8 U;
+    const V zeros = FUSION_ALTITUDE_SWEEP_SPLAT8(0.0f);
+    const V references = FUSION_ALTITUDE_SWEEP_SPLAT8(reference);
+    const V error = x->h - references;
+    const M negative = (M) (error < zeros);
+    const V absolute = (V) (((M) (-error) & negative) | ((M) error & ~negative));
+    x->sum += error;
+    x->sumSquared += error * error;
+    const M larger = (M) (absolute > x->maxAbs);
+    x->maxAbs = (V) (((M) absolute & larger) | ((M) x->maxAbs & ~larger));
+    if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
+        float sums[2][8];
+        *(U *) sums[0] = x->sum;
+        *(U *) sums[1] = x->sumSquared;
+        FusionAltitudeSweepAddBlock(metrics, first, width, sums[0], sums[1]);
+        x->sum = zeros;
+        x->sumSquared = zeros;
+        samplesInBlock = 0;
+    }
+    return samplesInBlock;
+}
+
+/* Writes the 8 lanes' h, v, b and r (the first width of them) into output row t. */
+FUSION_ALTITUDE_SWEEP_INLINE void FusionAltitudeSweepWrite8(const FusionAltitudeSweepVectors8 *const x, const FusionAltitudeSweepOutputs *const outputs,
+                                                            const size_t t, const size_t first, const size_t width) {
+    typedef FusionAltitudeSweepUnaligned8 U;
+    const size_t offset = t * outputs->stride + first;
+    if (width == 8u) {
+        if (outputs->altitude != NULL) {
+            *(U *) &outputs->altitude[offset] = x->h;
+        }
+        if (outputs->verticalVelocity != NULL) {
+            *(U *) &outputs->verticalVelocity[offset] = x->v;
+        }
+        if (outputs->accelBias != NULL) {
+            *(U *) &outputs->accelBias[offset] = x->b;
+        }
+        if (outputs->baroResidual != NULL) {
+            *(U *) &outputs->baroResidual[offset] = x->r;
+        }
+        return;
+    }
+    float lanes[4][8];
+    *(U *) lanes[0] = x->h;
+    *(U *) lanes[1] = x->v;
+    *(U *) lanes[2] = x->b;
+    *(U *) lanes[3] = x->r;
+    FusionAltitudeSweepCopyRow(outputs->altitude, offset, lanes[0], width, 8u);
+    FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, lanes[1], width, 8u);
+    FusionAltitudeSweepCopyRow(outputs->accelBias, offset, lanes[2], width, 8u);
+    FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, lanes[3], width, 8u);
+}
+
 /* FusionAltitudeSweepChunk for 8 lanes with the states in vector registers
  * (gcc/clang vector extensions) instead of the lane arrays: with few settings
  * the time step is a chain of dependent operations per lane, and keeping h, v
@@ -527,157 +728,39 @@ FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepChunk8(FusionAltitudeSwee
                                                              FusionAltitudeSweepMetrics *const metrics, FusionAltitudeSweepShared *const shared,
                                                              const uint8_t *const unstable) {
     FUSION_ALTITUDE_SWEEP_NO_CONTRACT
-    typedef FusionAltitudeSweepVector8 V;
-    typedef FusionAltitudeSweepMask8 M;
     typedef FusionAltitudeSweepUnaligned8 U;
-    FusionAltitudeSweepLanes x;
-    FusionAltitudeSweepLoad(sweep, metrics, first, width, 8u, &x);
-    V kh, kv, kb, h, v, b, r, sum, sumSquared, maxAbs;
-    kh = *(const U *) x.kh;
-    kv = *(const U *) x.kv;
-    kb = *(const U *) x.kb;
-    h = *(const U *) x.h;
-    v = *(const U *) x.v;
-    b = *(const U *) x.b;
-    r = *(const U *) x.r;
-    sum = *(const U *) x.sum;
-    sumSquared = *(const U *) x.sumSquared;
-    maxAbs = *(const U *) x.maxAbs;
-    const float nanValue = FusionAltitudeNaN();
-    const V zeros = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    const V nans = {nanValue, nanValue, nanValue, nanValue, nanValue, nanValue, nanValue, nanValue};
-    const V hold = {FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD,
-                    FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD, FUSION_ALTITUDE_BIAS_HOLD};
+    FusionAltitudeSweepLanes lanes;
+    FusionAltitudeSweepLoad(sweep, metrics, first, width, 8u, &lanes);
+    FusionAltitudeSweepVectors8 x;
+    x.kh = *(const U *) lanes.kh;
+    x.kv = *(const U *) lanes.kv;
+    x.kb = *(const U *) lanes.kb;
+    x.h = *(const U *) lanes.h;
+    x.v = *(const U *) lanes.v;
+    x.b = *(const U *) lanes.b;
+    x.r = *(const U *) lanes.r;
+    x.sum = *(const U *) lanes.sum;
+    x.sumSquared = *(const U *) lanes.sumSquared;
+    x.maxAbs = *(const U *) lanes.maxAbs;
     size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
     for (size_t t = 0; t < samples; t++) {
-        const float step = dt[t * dtStride];
-        const float z = baroAltitude[t];
-        const bool baroSample = !FusionAltitudeIsNaN(z);
-        const bool stabilityGap = (unstable[t] != 0u) && shared->referenceSet && !(step > sweep->gapPeriod);
-        const float interval = FusionAltitudeIsFinite(sweep->baroTimeout) ? (shared->sinceBaro + step) : step;
-        FusionAltitudeSweepTiming(shared, step, baroSample, unstable[t] != 0u, sweep->gapPeriod, sweep->baroTimeout);
-        const V steps = {step, step, step, step, step, step, step, step};
-        const V as = {accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t], accel[t]};
-        const V zs = {z, z, z, z, z, z, z, z};
-        if (!baroSample) {
-            if (shared->referenceSet) {
-                if (shared->baroTimedOut) {
-                    const float decay = sweep->baroTimeout / (sweep->baroTimeout + step);
-                    const V decays = {decay, decay, decay, decay, decay, decay, decay, decay};
-                    v *= decays;
-                } else {
-                    v += (as - b) * steps;
-                }
-                h += v * steps;
-            }
-            r = nans;
-        } else if (!shared->referenceSet) {
-            const float gapTime = shared->gapTime;
-            if (gapTime > 0.0f) {
-                shared->sinceRestart = 0.0f;
-                const V gapTimes = {gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime, gapTime};
-                const V velocity = (zs - h) / gapTimes;
-                const M finite = (M) ((velocity - velocity) == zeros); /* x - x is 0 exactly when x is finite */
-                v = (V) ((M) velocity & finite);
-            } else {
-                v = zeros;
-            }
-            h = zs;
-            r = zeros;
-            shared->gapTime = 0.0f;
-            shared->referenceSet = true;
-            shared->baroTimedOut = false;
-        } else if (stabilityGap) { /* FusionAltitudeStabilityRestart lane by lane (rare: no need to vectorize) */
-            float lanesOf[3][8];
-            *(U *) lanesOf[0] = h;
-            *(U *) lanesOf[1] = v;
-            *(U *) lanesOf[2] = r;
-            for (size_t j = 0; j < 8u; j++) {
-                FusionAltitudeStabilityRestart(&lanesOf[0][j], &lanesOf[1][j], &lanesOf[2][j], x.kh[j], x.kv[j], z, step, interval);
-            }
-            h = *(const U *) lanesOf[0];
-            v = *(const U *) lanesOf[1];
-            r = *(const U *) lanesOf[2];
-        } else if (shared->baroTimedOut) {
-            h = zs;
-            r = zeros;
-            shared->sinceRestart = 0.0f;
-            shared->baroTimedOut = false;
-        } else {
-            const V residual = zs - h;
-            v += ((as - b) + kv * residual) * steps;
-            h += (v + kh * residual) * steps;
-            const V corrected = b - (kb * residual) * steps;
-            if (shared->sinceRestart < 0.0f) {
-                b = corrected;
-            } else {
-                const float since = shared->sinceRestart;
-                const V sinces = {since, since, since, since, since, since, since, since};
-                const M held = (M) (sinces * kh < hold); /* lanes still holding their bias: all ones */
-                b = (V) (((M) b & held) | ((M) corrected & ~held));
-            }
-            r = residual;
-        }
+        FusionAltitudeSweepStep8(&x, shared, sweep, accel[t], baroAltitude[t], dt[t * dtStride], unstable[t] != 0u);
         if (outputs != NULL) {
-            const size_t offset = t * outputs->stride + first;
-            if (width == 8u) {
-                if (outputs->altitude != NULL) {
-                    *(U *) &outputs->altitude[offset] = h;
-                }
-                if (outputs->verticalVelocity != NULL) {
-                    *(U *) &outputs->verticalVelocity[offset] = v;
-                }
-                if (outputs->accelBias != NULL) {
-                    *(U *) &outputs->accelBias[offset] = b;
-                }
-                if (outputs->baroResidual != NULL) {
-                    *(U *) &outputs->baroResidual[offset] = r;
-                }
-            } else {
-                float lanes[4][8];
-                *(U *) lanes[0] = h;
-                *(U *) lanes[1] = v;
-                *(U *) lanes[2] = b;
-                *(U *) lanes[3] = r;
-                FusionAltitudeSweepCopyRow(outputs->altitude, offset, lanes[0], width, 8u);
-                FusionAltitudeSweepCopyRow(outputs->verticalVelocity, offset, lanes[1], width, 8u);
-                FusionAltitudeSweepCopyRow(outputs->accelBias, offset, lanes[2], width, 8u);
-                FusionAltitudeSweepCopyRow(outputs->baroResidual, offset, lanes[3], width, 8u);
-            }
+            FusionAltitudeSweepWrite8(&x, outputs, t, first, width);
         }
         if ((metrics != NULL) && ((metrics->mask == NULL) || (metrics->mask[t] != 0u)) &&
             FusionAltitudeIsFinite(metrics->reference[t])) {
-            const float reference = metrics->reference[t];
-            const V references = {reference, reference, reference, reference, reference, reference, reference, reference};
-            const V error = h - references;
-            const M negative = (M) (error < zeros);
-            const V absolute = (V) (((M) (-error) & negative) | ((M) error & ~negative));
-            sum += error;
-            sumSquared += error * error;
-            const M larger = (M) (absolute > maxAbs);
-            maxAbs = (V) (((M) absolute & larger) | ((M) maxAbs & ~larger));
-            if (++samplesInBlock == FUSION_ALTITUDE_SWEEP_BLOCK) {
-                float sums[2][8];
-                *(U *) sums[0] = sum;
-                *(U *) sums[1] = sumSquared;
-                for (size_t j = 0; j < width; j++) {
-                    metrics->sumError[first + j] += sums[0][j];
-                    metrics->sumSquaredError[first + j] += sums[1][j];
-                }
-                sum = zeros;
-                sumSquared = zeros;
-                samplesInBlock = 0;
-            }
+            samplesInBlock = FusionAltitudeSweepAccumulate8(&x, metrics, metrics->reference[t], samplesInBlock, first, width);
         }
     }
-    *(U *) x.h = h;
-    *(U *) x.v = v;
-    *(U *) x.b = b;
-    *(U *) x.r = r;
-    *(U *) x.sum = sum;
-    *(U *) x.sumSquared = sumSquared;
-    *(U *) x.maxAbs = maxAbs;
-    FusionAltitudeSweepStore(sweep, metrics, first, width, &x);
+    *(U *) lanes.h = x.h;
+    *(U *) lanes.v = x.v;
+    *(U *) lanes.b = x.b;
+    *(U *) lanes.r = x.r;
+    *(U *) lanes.sum = x.sum;
+    *(U *) lanes.sumSquared = x.sumSquared;
+    *(U *) lanes.maxAbs = x.maxAbs;
+    FusionAltitudeSweepStore(sweep, metrics, first, width, &lanes);
     return samplesInBlock;
 }
 #endif
@@ -715,6 +798,39 @@ FUSION_ALTITUDE_SWEEP_INLINE bool FusionAltitudeSweepInputsValid(const float *co
     return invalid == 0u;
 }
 
+/* FusionAltitudeStatusOk, or the status of the first sample (its index in *badIndex) that FusionAltitudeCheckInputs rejects. */
+FUSION_ALTITUDE_SWEEP_INLINE FusionAltitudeStatus FusionAltitudeSweepCheckInputs(const float *const accel, const float *const baroAltitude,
+                                                                                 const float *const dt, const size_t dtStride,
+                                                                                 const size_t samples, size_t *const badIndex) {
+    if (FusionAltitudeSweepInputsValid(accel, baroAltitude, dt, dtStride, samples)) {
+        return FusionAltitudeStatusOk;
+    }
+    for (size_t t = 0; t < samples; t++) {
+        const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
+        if (status != FusionAltitudeStatusOk) {
+            *badIndex = t;
+            return status;
+        }
+    }
+    return FusionAltitudeStatusOk;
+}
+
+/* The samples of [start, start + length) that count in the metrics: a finite reference, and the mask (if any) set. */
+FUSION_ALTITUDE_SWEEP_INLINE size_t FusionAltitudeSweepMetricSamples(const FusionAltitudeSweepMetrics *const metrics, const size_t start,
+                                                                     const size_t length) {
+    size_t counted = 0u;
+    if (metrics->mask == NULL) {
+        for (size_t t = start; t < start + length; t++) {
+            counted += (size_t) FusionAltitudeIsFinite(metrics->reference[t]);
+        }
+    } else {
+        for (size_t t = start; t < start + length; t++) {
+            counted += (size_t) ((metrics->mask[t] != 0u) && FusionAltitudeIsFinite(metrics->reference[t]));
+        }
+    }
+    return counted;
+}
+
 /**
  * @brief Runs every setting over samples inputs (the rules of
  * FusionAltitudeUpdate: baroAltitude NaN = no baro this step).
@@ -732,17 +848,9 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
                                                              const size_t dtStride, const size_t samples,
                                                              const FusionAltitudeSweepOutputs *const outputs,
                                                              FusionAltitudeSweepMetrics *const metrics, size_t *const badIndex) {
-    if (!FusionAltitudeSweepInputsValid(accel, baroAltitude, dt, dtStride, samples)) {
-        for (size_t t = 0; t < samples; t++) {
-            const FusionAltitudeStatus status = FusionAltitudeCheckInputs(accel[t], baroAltitude[t], dt[t * dtStride]);
-            if (status != FusionAltitudeStatusOk) {
-                *badIndex = t;
-                return status;
-            }
-        }
-    }
-    if ((samples == 0u) || (sweep->count == 0u)) {
-        return FusionAltitudeStatusOk;
+    const FusionAltitudeStatus status = FusionAltitudeSweepCheckInputs(accel, baroAltitude, dt, dtStride, samples, badIndex);
+    if ((status != FusionAltitudeStatusOk) || (samples == 0u) || (sweep->count == 0u)) {
+        return status;
     }
     /* With outputs, go through time in tiles of about FUSION_ALTITUDE_SWEEP_TILE_FLOATS
      * output floats, so every chunk writes its columns of a row while the row is in cache. */
@@ -771,22 +879,14 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
             window.mask = (metrics->mask != NULL) ? &metrics->mask[start] : NULL;
         }
         size_t samplesInBlock = (metrics != NULL) ? metrics->samplesInBlock : 0u;
-        FusionAltitudeSweepShared shared = {sweep->gapTime, sweep->sinceRestart, sweep->sinceBaro, sweep->gapCount,
-                                            sweep->baroTimeouts, sweep->referenceSet, sweep->baroTimedOut};
+        FusionAltitudeSweepShared shared = FusionAltitudeSweepGetShared(sweep);
         FusionAltitudeSweepUnstableSteps(sweep, shared, &baroAltitude[start], &dt[start * dtStride], dtStride, length, unstable);
         for (size_t first = 0; first < sweep->count; first += (size_t) FUSION_ALTITUDE_SWEEP_LANES) {
             const size_t remaining = sweep->count - first;
             const size_t width = (remaining < (size_t) FUSION_ALTITUDE_SWEEP_LANES) ? remaining : (size_t) FUSION_ALTITUDE_SWEEP_LANES;
             const FusionAltitudeSweepOutputs *const chunkOutputs = (outputs != NULL) ? &rows : NULL;
             FusionAltitudeSweepMetrics *const chunkMetrics = (metrics != NULL) ? &window : NULL;
-            /* every chunk starts from the same shared state and ends with the same one */
-            shared.gapTime = sweep->gapTime;
-            shared.sinceRestart = sweep->sinceRestart;
-            shared.sinceBaro = sweep->sinceBaro;
-            shared.gapCount = sweep->gapCount;
-            shared.baroTimeouts = sweep->baroTimeouts;
-            shared.referenceSet = sweep->referenceSet;
-            shared.baroTimedOut = sweep->baroTimedOut;
+            shared = FusionAltitudeSweepGetShared(sweep); /* every chunk starts from the same shared state and ends with the same one */
             /* constant lane counts, so that each call compiles to fixed-width vector code */
             if (width <= 8u) {
 #if FUSION_ALTITUDE_SWEEP_VECTOR
@@ -802,25 +902,9 @@ FUSION_ALTITUDE_SWEEP_CLONES static inline FusionAltitudeStatus FusionAltitudeSw
                                                           &shared, unstable);
             }
         }
-        sweep->gapTime = shared.gapTime;
-        sweep->sinceRestart = shared.sinceRestart;
-        sweep->sinceBaro = shared.sinceBaro;
-        sweep->gapCount = shared.gapCount;
-        sweep->baroTimeouts = shared.baroTimeouts;
-        sweep->referenceSet = shared.referenceSet;
-        sweep->baroTimedOut = shared.baroTimedOut;
+        FusionAltitudeSweepSetShared(sweep, &shared);
         if (metrics != NULL) {
-            size_t counted = 0u;
-            if (metrics->mask == NULL) {
-                for (size_t t = start; t < start + length; t++) {
-                    counted += (size_t) FusionAltitudeIsFinite(metrics->reference[t]);
-                }
-            } else {
-                for (size_t t = start; t < start + length; t++) {
-                    counted += (size_t) ((metrics->mask[t] != 0u) && FusionAltitudeIsFinite(metrics->reference[t]));
-                }
-            }
-            metrics->metricSamples += counted;
+            metrics->metricSamples += FusionAltitudeSweepMetricSamples(metrics, start, length);
             metrics->samplesInBlock = samplesInBlock;
         }
     }

@@ -143,6 +143,12 @@ def test_arduino_archive_holds_the_properties_the_headers_and_a_sketch_per_estim
     assert names == expected
 
 
+def test_arduino_sketches_are_written_from_one_template():
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "make_arduino.py"), "--sketches", "--check"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
 @pytest.mark.slow
 def test_arduino_sketches_compile_warning_free_for_atmega328p_and_cortex_m4f(build):
     output = make(build, "arduino-sketches")

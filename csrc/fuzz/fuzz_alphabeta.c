@@ -13,10 +13,10 @@
  *   0 initialise (defaults)
  *   1 initialise with the working settings
  *   2 set settings (the working settings)
- *   3 edit the working settings: sensor byte (mod 6: imu, baro, lidar,
- *     sonar, GPS, or 5 for the gap period), field byte (mod 8: threshold,
- *     qualityMin, qualityMax, confidence, altitudeMin, altitudeMax, gapMax,
- *     timeout), 4 raw bytes (float bits; int32 for the qualities)
+ *   3 edit the working settings: an index byte (mod
+ *     FUSION_ALTITUDE_ALPHABETA_SETTINGS_WORDS: the flattened settings of
+ *     alphabeta_settings_words.h, each sensor's fields then the gap period),
+ *     4 raw bytes (the word: float bits, int32 for the qualities)
  *   4 update with every argument from the input: accel, dt, baro, lidar,
  *     sonar, GPS (floats)
  *   5 update at a step from a step byte (StepFromByte: 0.1 ms to 10 s, 16
@@ -54,6 +54,7 @@
 
 #include "fusion_altitude_alphabeta.h"
 #include "fuzz_common.h"
+#include "tests/vectors/alphabeta_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -132,44 +133,6 @@ static void CheckState(const FusionAltitudeAlphaBeta *const fusion, const bool s
     }
 }
 
-static void EditSettings(FusionAltitudeAlphaBetaSettings *const s, const uint8_t sensorByte, const uint8_t fieldByte,
-                         const uint32_t bits) {
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    const int sensor = sensorByte % (FUSION_ALTITUDE_ALPHABETA_SENSORS + 1);
-    if (sensor == FUSION_ALTITUDE_ALPHABETA_SENSORS) {
-        s->gapPeriod = value;
-        return;
-    }
-    FusionAltitudeAlphaBetaSensorSettings *const t = &s->sensors[sensor];
-    switch (fieldByte % 8) {
-        case 0:
-            t->threshold = value;
-            break;
-        case 1:
-            t->qualityMin = (int32_t) bits;
-            break;
-        case 2:
-            t->qualityMax = (int32_t) bits;
-            break;
-        case 3:
-            t->confidence = value;
-            break;
-        case 4:
-            t->altitudeMin = value;
-            break;
-        case 5:
-            t->altitudeMax = value;
-            break;
-        case 6:
-            t->gapMax = value;
-            break;
-        default:
-            t->timeout = value;
-            break;
-    }
-}
-
 /* Reads a presence byte and the samples it flags (absent: NaN). */
 static bool ReadPresent(Reader *const reader, float *const accel, FusionAltitudeAlphaBetaMeasurements *const m) {
     uint8_t presence;
@@ -188,108 +151,115 @@ static bool ReadPresent(Reader *const reader, float *const accel, FusionAltitude
     return true;
 }
 
+typedef struct {
+    bool sane;       /* all accepted inputs and the settings in use physically plausible so far */
+    int steps;       /* accepted updates since the fusion was initialised */
+    float loopDt;    /* s */
+    bool loopDtSane; /* the loop dt is plausible */
+} Run;
+
+/* Opcodes 0-3 and 7: initialise, initialise with / set the working settings, edit one word of the working settings
+ * (an index byte and 4 raw bytes), initialise with the defaults and reset the working settings. False when the input ends. */
+static bool CallSettings(FusionAltitudeAlphaBeta *const fusion, Run *const run, Reader *const reader, const uint8_t opcode,
+                         FusionAltitudeAlphaBetaSettings *const working, FusionAltitudeAlphaBetaStatus *const status) {
+    uint8_t index = 0;
+    uint32_t bits = 0u;
+    switch (opcode & 7u) {
+        case 0:
+            FusionAltitudeAlphaBetaInitialise(fusion);
+            run->sane = SaneSettings(&fusion->settings);
+            run->steps = 0;
+            return true;
+        case 1:
+            *status = FusionAltitudeAlphaBetaInitialiseWith(fusion, working);
+            CHECK(*status == FusionAltitudeAlphaBetaSettingsCheck(working));
+            if (*status == FusionAltitudeAlphaBetaStatusOk) {
+                run->sane = SaneSettings(working);
+                run->steps = 0;
+            }
+            return true;
+        case 2:
+            *status = FusionAltitudeAlphaBetaSetSettings(fusion, working);
+            CHECK(*status == FusionAltitudeAlphaBetaSettingsCheck(working));
+            if (*status == FusionAltitudeAlphaBetaStatusOk) {
+                run->sane = run->sane && SaneSettings(working);
+            }
+            return true;
+        case 3:
+            if (!ReadByte(reader, &index) || !ReadBytes(reader, &bits, sizeof(bits))) {
+                return false;
+            }
+            FusionAltitudeAlphaBetaSettingsSetWord(working, index % FUSION_ALTITUDE_ALPHABETA_SETTINGS_WORDS, bits);
+            return true;
+        default:
+            FusionAltitudeAlphaBetaInitialise(fusion);
+            *working = FusionAltitudeAlphaBetaSettingsDefault();
+            run->sane = true;
+            run->steps = 0;
+            return true;
+    }
+}
+
+/* Opcodes 4 (every argument raw: accel, dt, baro, lidar, sonar, GPS), 5 (a step byte, then ReadPresent) and 6
+ * (ReadPresent at the loop dt): the update, its status against ExpectedStatus and the run's sanity. */
+static bool CallUpdate(FusionAltitudeAlphaBeta *const fusion, Run *const run, Reader *const reader, const uint8_t opcode,
+                       FusionAltitudeAlphaBetaStatus *const status) {
+    FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
+    float accel = FusionAltitudeNaN();
+    float dt = run->loopDt;
+    uint8_t stepByte = 0;
+    const bool stepped = (opcode & 7u) == 5u;
+    if ((opcode & 7u) == 4u) {
+        if (!ReadFloat(reader, &accel) || !ReadFloat(reader, &dt) || !ReadFloat(reader, &m.baroAltitude) ||
+            !ReadFloat(reader, &m.lidarAltitude) || !ReadFloat(reader, &m.sonarAltitude) || !ReadFloat(reader, &m.gpsAltitude)) {
+            return false;
+        }
+    } else if ((stepped && !ReadByte(reader, &stepByte)) || !ReadPresent(reader, &accel, &m)) {
+        return false;
+    }
+    dt = stepped ? StepFromByte(stepByte) : dt;
+    *status = FusionAltitudeAlphaBetaUpdate(fusion, accel, dt, &m);
+    CHECK(*status == ExpectedStatus(accel, dt, &m));
+    if (*status == FusionAltitudeAlphaBetaStatusOk) {
+        run->steps++;
+        const bool stepSane = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
+                                      : (run->loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(run->loopDt)));
+        run->sane = run->sane && stepSane && (run->steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
+                    SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&
+                    SampleSane(m.sonarAltitude, MAX_ALTITUDE) && SampleSane(m.gpsAltitude, MAX_ALTITUDE);
+    }
+    return true;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
-    float loopDt;
-    if (!ReadFloat(&reader, &loopDt)) {
+    Run run = {true, 0, 0.0f, false};
+    if (!ReadFloat(&reader, &run.loopDt)) {
         return 0;
     }
-    const bool loopDtSane = InRange(loopDt, MIN_DT, MAX_DT);
+    run.loopDtSane = InRange(run.loopDt, MIN_DT, MAX_DT);
     static FusionAltitudeAlphaBeta fusion;
     memset(&fusion, 0, sizeof(fusion)); /* defined padding bytes for memcmp */
     FusionAltitudeAlphaBetaInitialise(&fusion);
     FusionAltitudeAlphaBetaSettings working;
     memset(&working, 0, sizeof(working));
     working = FusionAltitudeAlphaBetaSettingsDefault();
-    bool sane = true;
-    int steps = 0;
     uint8_t opcode;
     while (ReadByte(&reader, &opcode)) {
         static FusionAltitudeAlphaBeta before;
         memcpy(&before, &fusion, sizeof(before));
         FusionAltitudeAlphaBetaStatus status = FusionAltitudeAlphaBetaStatusOk;
-        FusionAltitudeAlphaBetaMeasurements m = FusionAltitudeAlphaBetaMeasurementsNone();
-        float accel = FusionAltitudeNaN();
-        float dt = loopDt;
-        bool stepped = false;
-        bool update = false;
-        uint8_t a = 0;
-        uint8_t b = 0;
-        switch (opcode & 7u) {
-            case 0:
-                FusionAltitudeAlphaBetaInitialise(&fusion);
-                sane = SaneSettings(&fusion.settings);
-                steps = 0;
-                break;
-            case 1:
-                status = FusionAltitudeAlphaBetaInitialiseWith(&fusion, &working);
-                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
-                if (status == FusionAltitudeAlphaBetaStatusOk) {
-                    sane = SaneSettings(&working);
-                    steps = 0;
-                }
-                break;
-            case 2:
-                status = FusionAltitudeAlphaBetaSetSettings(&fusion, &working);
-                CHECK(status == FusionAltitudeAlphaBetaSettingsCheck(&working));
-                if (status == FusionAltitudeAlphaBetaStatusOk) {
-                    sane = sane && SaneSettings(&working);
-                }
-                break;
-            case 3: {
-                uint32_t bits;
-                if (!ReadByte(&reader, &a) || !ReadByte(&reader, &b) || !ReadBytes(&reader, &bits, sizeof(bits))) {
-                    return 0;
-                }
-                EditSettings(&working, a, b, bits);
-                break;
-            }
-            case 4:
-                if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &dt) || !ReadFloat(&reader, &m.baroAltitude) ||
-                    !ReadFloat(&reader, &m.lidarAltitude) || !ReadFloat(&reader, &m.sonarAltitude) ||
-                    !ReadFloat(&reader, &m.gpsAltitude)) {
-                    return 0;
-                }
-                update = true;
-                break;
-            case 5:
-                if (!ReadByte(&reader, &a) || !ReadPresent(&reader, &accel, &m)) {
-                    return 0;
-                }
-                dt = StepFromByte(a);
-                stepped = true;
-                update = true;
-                break;
-            case 6:
-                if (!ReadPresent(&reader, &accel, &m)) {
-                    return 0;
-                }
-                update = true;
-                break;
-            default:
-                FusionAltitudeAlphaBetaInitialise(&fusion);
-                working = FusionAltitudeAlphaBetaSettingsDefault();
-                sane = true;
-                steps = 0;
-                break;
-        }
-        if (update) {
-            status = FusionAltitudeAlphaBetaUpdate(&fusion, accel, dt, &m);
-            CHECK(status == ExpectedStatus(accel, dt, &m));
-            if (status == FusionAltitudeAlphaBetaStatusOk) {
-                steps++;
-                const bool stepSane = stepped ? InRange(dt, MIN_STEP, MAX_STEP)
-                                              : (loopDtSane && (FusionAltitudeFloatBits(dt) == FusionAltitudeFloatBits(loopDt)));
-                sane = sane && stepSane && (steps <= MAX_STEPS) && SampleSane(accel, MAX_ACCEL) &&
-                       SampleSane(m.baroAltitude, MAX_ALTITUDE) && SampleSane(m.lidarAltitude, MAX_ALTITUDE) &&
-                       SampleSane(m.sonarAltitude, MAX_ALTITUDE) && SampleSane(m.gpsAltitude, MAX_ALTITUDE);
-            }
+        const unsigned call = opcode & 7u;
+        const bool read = ((call >= 4u) && (call <= 6u)) ? CallUpdate(&fusion, &run, &reader, opcode, &status)
+                                                         : CallSettings(&fusion, &run, &reader, opcode, &working, &status);
+        if (!read) {
+            return 0;
         }
         if (status != FusionAltitudeAlphaBetaStatusOk) {
             CHECK(memcmp(&before, &fusion, sizeof(before)) == 0);
         }
         (void) FusionAltitudeAlphaBetaStatusMessage(status);
-        CheckState(&fusion, sane);
+        CheckState(&fusion, run.sane);
     }
     return 0;
 }

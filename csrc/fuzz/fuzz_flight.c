@@ -8,8 +8,9 @@
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:
  *   0 initialise with the working settings (opcode & 4: with NULL, the defaults)
- *   1 edit the working settings: field index byte (mod 20: the four observer
- *     settings, then the 16 rocket settings), 4 raw bytes
+ *   1 edit the working settings: a word index byte (mod
+ *     FUSION_ALTITUDE_FLIGHT_SETTINGS_WORDS, flight_settings_words.h: the five
+ *     observer settings, then the 16 rocket settings), 4 raw bytes
  *   2 update with every argument raw: accel, baro, dt (opcode & 4: the
  *     vertical-accel update of an INS)
  *   3 update with bytes scaled into a plausible range (sane): accel in
@@ -39,6 +40,7 @@
 
 #include "fusion_altitude_flight.h"
 #include "fuzz_common.h"
+#include "tests/vectors/flight_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -46,7 +48,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIELDS (20)
 #define MAX_STEPS (20000)
 
 /* A byte pair scaled to [minimum, maximum]. */
@@ -57,15 +58,6 @@ static bool ReadScaled(Reader *const reader, const float minimum, const float ma
     }
     *value = minimum + ((float) raw / 65535.0f) * (maximum - minimum);
     return true;
-}
-
-static float *Field(FusionAltitudeRocketSettings *const s, const int index) {
-    float *const fields[FIELDS] = {&s->observer.positionGain, &s->observer.velocityGain, &s->observer.biasGain, &s->observer.gapPeriod,
-                                   &s->stationaryAccel, &s->calibrationWindow, &s->launchAccel, &s->launchTime, &s->burnoutAccel,
-                                   &s->burnoutTime, &s->apogeeMargin, &s->lockoutSpeed, &s->spikeThreshold, &s->spikeTime,
-                                   &s->offsetRate, &s->mainAltitude, &s->landedSpeed, &s->landedTime, &s->gapPeriod,
-                                   &s->baroLaunchHeight};
-    return fields[index];
 }
 
 /* Plausible settings: gains the observer validates at the sane dt range, and bounded thresholds. */
@@ -140,11 +132,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             }
             case 1: {
                 uint8_t field;
-                float value;
-                if (!ReadBytes(&reader, &field, 1) || !ReadFloat(&reader, &value)) {
+                uint32_t word;
+                if (!ReadBytes(&reader, &field, 1) || !ReadBytes(&reader, &word, sizeof(word))) {
                     return 0;
                 }
-                *Field(&working, field % FIELDS) = value;
+                FusionAltitudeRocketSettingsSetWord(&working, field % FUSION_ALTITUDE_FLIGHT_SETTINGS_WORDS, word);
                 break;
             }
             default: {

@@ -139,6 +139,33 @@ static void CheckState(const FusionAltitudeIns *const ins, const bool sane) {
     CHECK(FusionAltitudeIsFinite(ins->accelZBias) && FusionAltitudeIsFinite(ins->baroBias));
 }
 
+/* The arguments of an update: opcode & 3 == 2, all raw (gyro, accel, mag vectors, baro, dt); else scaled into
+ * plausible ranges (gyro 10 rad/s, accel 160 m/s^2, mag 1e3, a presence byte: bit 0 baro (1e5 m), bit 1 mag;
+ * dt in [1e-3, 0.02] s). False when the input ends. */
+static bool ReadUpdate(Reader *const reader, const uint8_t opcode, FusionAltitudeInsVector *const gyro, FusionAltitudeInsVector *const accel,
+                       FusionAltitudeInsVector *const mag, float *const baro, float *const dt) {
+    if ((opcode & 3) == 2) {
+        return ReadVector(reader, gyro) && ReadVector(reader, accel) && ReadVector(reader, mag) && ReadFloat(reader, baro) &&
+               ReadFloat(reader, dt);
+    }
+    uint8_t presence;
+    if (!ReadScaled(reader, 10.0f, &gyro->x) || !ReadScaled(reader, 10.0f, &gyro->y) || !ReadScaled(reader, 10.0f, &gyro->z) ||
+        !ReadScaled(reader, 160.0f, &accel->x) || !ReadScaled(reader, 160.0f, &accel->y) || !ReadScaled(reader, 160.0f, &accel->z) ||
+        !ReadScaled(reader, 1e3f, &mag->x) || !ReadScaled(reader, 1e3f, &mag->y) || !ReadScaled(reader, 1e3f, &mag->z) ||
+        !ReadBytes(reader, &presence, 1) || !ReadScaled(reader, 1e5f, baro) || !ReadScaled(reader, 0.01f, dt)) {
+        return false;
+    }
+    *dt = 0.0105f + *dt; /* [5e-4, 0.0205] */
+    *dt = *dt < 1e-3f ? 1e-3f : (*dt > 0.02f ? 0.02f : *dt);
+    if (!(presence & 1)) {
+        *baro = FusionAltitudeNaN();
+    }
+    if (!(presence & 2)) {
+        *mag = FusionAltitudeInsNoMag();
+    }
+    return true;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
     FusionAltitudeIns ins;
@@ -182,27 +209,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             default: {
                 FusionAltitudeInsVector gyro, accel, mag;
                 float baro, dt;
-                if ((opcode & 3) == 2) {
-                    if (!ReadVector(&reader, &gyro) || !ReadVector(&reader, &accel) || !ReadVector(&reader, &mag) ||
-                        !ReadFloat(&reader, &baro) || !ReadFloat(&reader, &dt)) {
-                        return 0;
-                    }
-                } else {
-                    uint8_t presence;
-                    if (!ReadScaled(&reader, 10.0f, &gyro.x) || !ReadScaled(&reader, 10.0f, &gyro.y) || !ReadScaled(&reader, 10.0f, &gyro.z) ||
-                        !ReadScaled(&reader, 160.0f, &accel.x) || !ReadScaled(&reader, 160.0f, &accel.y) || !ReadScaled(&reader, 160.0f, &accel.z) ||
-                        !ReadScaled(&reader, 1e3f, &mag.x) || !ReadScaled(&reader, 1e3f, &mag.y) || !ReadScaled(&reader, 1e3f, &mag.z) ||
-                        !ReadBytes(&reader, &presence, 1) || !ReadScaled(&reader, 1e5f, &baro) || !ReadScaled(&reader, 0.01f, &dt)) {
-                        return 0;
-                    }
-                    dt = 0.0105f + dt; /* [5e-4, 0.0205] */
-                    dt = dt < 1e-3f ? 1e-3f : (dt > 0.02f ? 0.02f : dt);
-                    if (!(presence & 1)) {
-                        baro = FusionAltitudeNaN();
-                    }
-                    if (!(presence & 2)) {
-                        mag = FusionAltitudeInsNoMag();
-                    }
+                if (!ReadUpdate(&reader, opcode, &gyro, &accel, &mag, &baro, &dt)) {
+                    return 0;
                 }
                 const FusionAltitudeInsStatus status = FusionAltitudeInsUpdate(&ins, gyro, accel, mag, baro, dt);
                 CHECK(status == Expected(gyro, accel, mag, baro, dt));

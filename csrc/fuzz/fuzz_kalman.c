@@ -191,6 +191,104 @@ static FusionAltitudeKalmanStatus Update(FusionAltitudeKalman *const kalman, Run
     return status;
 }
 
+/* The step of opcodes 5 and 6: the loop dt, or with opcode bit 7 one byte through StepFromByte. False when the input ends. */
+static bool ReadStep(Reader *const reader, const Run *const run, const uint8_t opcode, float *const dt) {
+    *dt = run->loopDt;
+    if ((opcode & 0x80u) == 0u) {
+        return true;
+    }
+    uint8_t byte;
+    if (!ReadByte(reader, &byte)) {
+        return false;
+    }
+    *dt = StepFromByte(byte);
+    return true;
+}
+
+/* Opcode 4: a, dt, every measurement and a ground-effect byte, all raw. False when the input ends. */
+static bool CallUpdateRaw(FusionAltitudeKalman *const kalman, Run *const run, Reader *const reader, FusionAltitudeKalmanStatus *const status) {
+    float accel = 0.0f;
+    float dt = 0.0f;
+    uint8_t byte = 0;
+    FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
+    if (!ReadFloat(reader, &accel) || !ReadFloat(reader, &dt) || !ReadFloat(reader, &m.baroAltitude) ||
+        !ReadFloat(reader, &m.rangeDistance) || !ReadFloat(reader, &m.gpsAltitude) ||
+        !ReadFloat(reader, &m.gpsVerticalAccuracy) || !ReadBytes(reader, &m.gpsSatellites, sizeof(m.gpsSatellites)) ||
+        !ReadByte(reader, &byte)) {
+        return false;
+    }
+    m.groundEffect = (byte & 1u) != 0u;
+    *status = Update(kalman, run, accel, dt, &m, false);
+    return true;
+}
+
+/* Opcode 5: a and a presence byte (bit 0 baro, 1 range, 2 GPS altitude, 3 ground effect, 4 GPS accuracy,
+ * 5 satellites) followed by the present measurements; opcode 6: a alone (no measurement struct). */
+static bool CallUpdate(FusionAltitudeKalman *const kalman, Run *const run, Reader *const reader, const uint8_t opcode,
+                       FusionAltitudeKalmanStatus *const status) {
+    float accel = 0.0f;
+    float dt = 0.0f;
+    uint8_t byte = 0;
+    FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
+    if (!ReadStep(reader, run, opcode, &dt) || !ReadFloat(reader, &accel)) {
+        return false;
+    }
+    if ((opcode & 7u) == 6u) {
+        *status = Update(kalman, run, accel, dt, NULL, (opcode & 0x80u) != 0u);
+        return true;
+    }
+    if (!ReadByte(reader, &byte) || (((byte & 1u) != 0u) && !ReadFloat(reader, &m.baroAltitude)) ||
+        (((byte & 2u) != 0u) && !ReadFloat(reader, &m.rangeDistance)) ||
+        (((byte & 4u) != 0u) && !ReadFloat(reader, &m.gpsAltitude)) ||
+        (((byte & 16u) != 0u) && !ReadFloat(reader, &m.gpsVerticalAccuracy)) ||
+        (((byte & 32u) != 0u) && !ReadBytes(reader, &m.gpsSatellites, sizeof(m.gpsSatellites)))) {
+        return false;
+    }
+    m.groundEffect = (byte & 8u) != 0u;
+    *status = Update(kalman, run, accel, dt, &m, (opcode & 0x80u) != 0u);
+    return true;
+}
+
+/* Opcodes 0-3 and 7: initialise, initialise with / set the working settings, edit one settings word (index byte,
+ * 4-byte word), initialise with NULL (the defaults, also for the working settings). False when the input ends. */
+static bool CallSettings(FusionAltitudeKalman *const kalman, Run *const run, Reader *const reader, const uint8_t opcode,
+                         FusionAltitudeKalmanSettings *const working, FusionAltitudeKalmanStatus *const status) {
+    uint8_t byte = 0;
+    uint32_t bits = 0u;
+    switch (opcode & 7u) {
+        case 0:
+            FusionAltitudeKalmanInitialise(kalman);
+            Initialised(run, kalman);
+            return true;
+        case 1:
+            *status = FusionAltitudeKalmanInitialiseWith(kalman, working);
+            CHECK(*status == FusionAltitudeKalmanSettingsCheck(working));
+            if (*status == FusionAltitudeKalmanStatusOk) {
+                Initialised(run, kalman);
+            }
+            return true;
+        case 2:
+            *status = FusionAltitudeKalmanSetSettings(kalman, working);
+            CHECK(*status == FusionAltitudeKalmanSettingsCheck(working));
+            if (*status == FusionAltitudeKalmanStatusOk) {
+                run->sane = run->sane && SaneSettings(working);
+            }
+            return true;
+        case 3:
+            if (!ReadByte(reader, &byte) || !ReadBytes(reader, &bits, sizeof(bits))) {
+                return false;
+            }
+            FusionAltitudeKalmanSettingsSetWord(working, byte % FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, bits);
+            return true;
+        default:
+            *status = FusionAltitudeKalmanInitialiseWith(kalman, NULL);
+            CHECK(*status == FusionAltitudeKalmanStatusOk);
+            *working = FusionAltitudeKalmanSettingsDefault();
+            Initialised(run, kalman);
+            return true;
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
     Run run = {true, 0, 0.0f, false};
@@ -210,87 +308,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         static FusionAltitudeKalman before;
         memcpy(&before, &kalman, sizeof(before));
         FusionAltitudeKalmanStatus status = FusionAltitudeKalmanStatusOk;
-        float accel = 0.0f;
-        float dt = 0.0f;
-        FusionAltitudeKalmanMeasurements m = FusionAltitudeKalmanMeasurementsNone();
-        uint8_t byte = 0;
-        switch (opcode & 7u) {
-            case 0:
-                FusionAltitudeKalmanInitialise(&kalman);
-                Initialised(&run, &kalman);
-                break;
-            case 1:
-                status = FusionAltitudeKalmanInitialiseWith(&kalman, &working);
-                CHECK(status == FusionAltitudeKalmanSettingsCheck(&working));
-                if (status == FusionAltitudeKalmanStatusOk) {
-                    Initialised(&run, &kalman);
-                }
-                break;
-            case 2:
-                status = FusionAltitudeKalmanSetSettings(&kalman, &working);
-                CHECK(status == FusionAltitudeKalmanSettingsCheck(&working));
-                if (status == FusionAltitudeKalmanStatusOk) {
-                    run.sane = run.sane && SaneSettings(&working);
-                }
-                break;
-            case 3: {
-                uint32_t bits;
-                if (!ReadByte(&reader, &byte) || !ReadBytes(&reader, &bits, sizeof(bits))) {
-                    return 0;
-                }
-                FusionAltitudeKalmanSettingsSetWord(&working, byte % FUSION_ALTITUDE_KALMAN_SETTINGS_WORDS, bits);
-                break;
-            }
-            case 4:
-                if (!ReadFloat(&reader, &accel) || !ReadFloat(&reader, &dt) || !ReadFloat(&reader, &m.baroAltitude) ||
-                    !ReadFloat(&reader, &m.rangeDistance) || !ReadFloat(&reader, &m.gpsAltitude) ||
-                    !ReadFloat(&reader, &m.gpsVerticalAccuracy) || !ReadBytes(&reader, &m.gpsSatellites, sizeof(m.gpsSatellites)) ||
-                    !ReadByte(&reader, &byte)) {
-                    return 0;
-                }
-                m.groundEffect = (byte & 1u) != 0u;
-                status = Update(&kalman, &run, accel, dt, &m, false);
-                break;
-            case 5:
-                dt = run.loopDt;
-                if ((opcode & 0x80u) != 0u) {
-                    if (!ReadByte(&reader, &byte)) {
-                        return 0;
-                    }
-                    dt = StepFromByte(byte);
-                }
-                if (!ReadFloat(&reader, &accel) || !ReadByte(&reader, &byte)) {
-                    return 0;
-                }
-                if ((((byte & 1u) != 0u) && !ReadFloat(&reader, &m.baroAltitude)) ||
-                    (((byte & 2u) != 0u) && !ReadFloat(&reader, &m.rangeDistance)) ||
-                    (((byte & 4u) != 0u) && !ReadFloat(&reader, &m.gpsAltitude)) ||
-                    (((byte & 16u) != 0u) && !ReadFloat(&reader, &m.gpsVerticalAccuracy)) ||
-                    (((byte & 32u) != 0u) && !ReadBytes(&reader, &m.gpsSatellites, sizeof(m.gpsSatellites)))) {
-                    return 0;
-                }
-                m.groundEffect = (byte & 8u) != 0u;
-                status = Update(&kalman, &run, accel, dt, &m, (opcode & 0x80u) != 0u);
-                break;
-            case 6:
-                dt = run.loopDt;
-                if ((opcode & 0x80u) != 0u) {
-                    if (!ReadByte(&reader, &byte)) {
-                        return 0;
-                    }
-                    dt = StepFromByte(byte);
-                }
-                if (!ReadFloat(&reader, &accel)) {
-                    return 0;
-                }
-                status = Update(&kalman, &run, accel, dt, NULL, (opcode & 0x80u) != 0u);
-                break;
-            default:
-                status = FusionAltitudeKalmanInitialiseWith(&kalman, NULL);
-                CHECK(status == FusionAltitudeKalmanStatusOk);
-                working = FusionAltitudeKalmanSettingsDefault();
-                Initialised(&run, &kalman);
-                break;
+        const unsigned call = opcode & 7u;
+        bool read;
+        if (call == 4u) {
+            read = CallUpdateRaw(&kalman, &run, &reader, &status);
+        } else if ((call == 5u) || (call == 6u)) {
+            read = CallUpdate(&kalman, &run, &reader, opcode, &status);
+        } else {
+            read = CallSettings(&kalman, &run, &reader, opcode, &working, &status);
+        }
+        if (!read) {
+            return 0;
         }
         if (status != FusionAltitudeKalmanStatusOk) {
             CHECK(memcmp(&before, &kalman, sizeof(before)) == 0);

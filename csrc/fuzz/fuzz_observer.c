@@ -85,6 +85,7 @@ static float RestartVelocity(const float baro, const float altitude, const float
 
 typedef struct {
     bool sane;         /* all accepted inputs physically plausible so far */
+    bool loopDtSane;   /* the loop dt is plausible */
     int gainChanges;   /* accepted gain changes since the state was last fully set */
     float loopDt;      /* s */
 } Run;
@@ -157,122 +158,155 @@ static void Update(FusionAltitude *const altitude, Run *const run, const float a
     CHECK(FusionAltitudeIsReferenceSet(altitude) == (before.referenceSet || !baroMissing));
 }
 
+/* Opcode 1: the gains (Kh, Kv, Kb), or with bit 4 the baro timeout (s), the rest kept. False when the input ends. */
+static bool CallSetSettings(FusionAltitude *const altitude, Run *const run, Reader *const reader, const uint8_t opcode,
+                            FusionAltitudeStatus *const status) {
+    float x = 0.0f;
+    float y = 0.0f;
+    float z = 0.0f;
+    FusionAltitudeSettings settings;
+    memset(&settings, 0xA5, sizeof(settings));
+    if ((opcode & 16u) != 0u) { /* the baro timeout, s */
+        if (!ReadFloat(reader, &x)) {
+            return false;
+        }
+        settings = FusionAltitudeGetSettings(altitude);
+        settings.baroTimeout = x;
+        *status = FusionAltitudeSetSettings(altitude, &settings);
+        CHECK(*status == FusionAltitudeSettingsCheck(&settings));
+        return true;
+    }
+    if (!ReadFloat(reader, &x) || !ReadFloat(reader, &y) || !ReadFloat(reader, &z)) {
+        return false;
+    }
+    settings.positionGain = x;
+    settings.velocityGain = y;
+    settings.biasGain = z;
+    settings.gapPeriod = FusionAltitudeGetSettings(altitude).gapPeriod;
+    settings.baroTimeout = FusionAltitudeGetSettings(altitude).baroTimeout;
+    *status = FusionAltitudeSetSettings(altitude, &settings);
+    CHECK(*status == FusionAltitudeSettingsCheck(&settings));
+    if (*status == FusionAltitudeStatusOk) {
+        GainsChanged(run);
+    }
+    return true;
+}
+
+/* Opcodes 2 (a preset, 1 byte) and 3 (bandwidth omega, zeta, omega_b): a rejected builder leaves its output untouched;
+ * accepted settings are set. False when the input ends. */
+static bool CallBuildSettings(FusionAltitude *const altitude, Run *const run, Reader *const reader, const uint8_t opcode,
+                              FusionAltitudeStatus *const status) {
+    FusionAltitudeSettings settings;
+    FusionAltitudeSettings untouched;
+    memset(&settings, 0xA5, sizeof(settings));
+    untouched = settings;
+    if ((opcode & 7u) == 2u) {
+        uint8_t preset;
+        if (!ReadByte(reader, &preset)) {
+            return false;
+        }
+        *status = FusionAltitudeSettingsFromPreset(&settings, (FusionAltitudePreset) (preset % 6u));
+        CHECK((*status != FusionAltitudeStatusOk) || (FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusOk));
+    } else {
+        float x = 0.0f;
+        float y = 0.0f;
+        float z = 0.0f;
+        if (!ReadFloat(reader, &x) || !ReadFloat(reader, &y) || !ReadFloat(reader, &z)) {
+            return false;
+        }
+        *status = FusionAltitudeSettingsFromBandwidth(&settings, x, y, z);
+    }
+    if (*status != FusionAltitudeStatusOk) {
+        CHECK(memcmp(&settings, &untouched, sizeof(settings)) == 0);
+        return true;
+    }
+    *status = FusionAltitudeSetSettings(altitude, &settings);
+    CHECK(*status == FusionAltitudeStatusOk);
+    GainsChanged(run);
+    return true;
+}
+
+/* Opcodes 4 (reset at z, m) and 5 (reset at z with the bias b, m/s^2). False when the input ends. */
+static bool CallReset(FusionAltitude *const altitude, Run *const run, Reader *const reader, const uint8_t opcode,
+                      FusionAltitudeStatus *const status) {
+    const float biasBefore = altitude->accelBias;
+    float x = 0.0f;
+    float y = 0.0f;
+    if ((opcode & 7u) == 4u) {
+        if (!ReadFloat(reader, &x)) {
+            return false;
+        }
+        *status = FusionAltitudeReset(altitude, x);
+        if (*status == FusionAltitudeStatusOk) {
+            CHECK(SameBits(altitude->altitude, x) && SameBits(altitude->accelBias, biasBefore));
+            run->sane = run->sane && Within(x, MAX_ALTITUDE);
+        }
+        return true;
+    }
+    if (!ReadFloat(reader, &x) || !ReadFloat(reader, &y)) {
+        return false;
+    }
+    *status = FusionAltitudeResetWithBias(altitude, x, y);
+    if (*status == FusionAltitudeStatusOk) {
+        CHECK(SameBits(altitude->altitude, x) && SameBits(altitude->accelBias, y));
+        run->sane = run->loopDtSane && Within(x, MAX_ALTITUDE) && Within(y, MAX_BIAS);
+        run->gainChanges = 0;
+    }
+    return true;
+}
+
+/* Opcodes 6 (update: a, z, dt) and 7 (update at the loop dt: a, z); bit 3: no baro. False when the input ends. */
+static bool CallUpdate(FusionAltitude *const altitude, Run *const run, Reader *const reader, const uint8_t opcode) {
+    float x = 0.0f;
+    float y = 0.0f;
+    float z = run->loopDt;
+    if (!ReadFloat(reader, &x) || !ReadFloat(reader, &y) || (((opcode & 7u) == 6u) && !ReadFloat(reader, &z))) {
+        return false;
+    }
+    Update(altitude, run, x, ((opcode & 8u) != 0u) ? FUSION_ALTITUDE_NO_BARO : y, z);
+    return true;
+}
+
+/* One call of the input (its opcode already read); false when the input ends before its arguments. */
+static bool Call(FusionAltitude *const altitude, Run *const run, Reader *const reader, const uint8_t opcode,
+                 FusionAltitudeStatus *const status) {
+    switch (opcode & 7u) {
+        case 0:
+            FusionAltitudeInitialise(altitude);
+            run->sane = run->loopDtSane;
+            run->gainChanges = 0;
+            return true;
+        case 1:
+            return CallSetSettings(altitude, run, reader, opcode, status);
+        case 2:
+        case 3:
+            return CallBuildSettings(altitude, run, reader, opcode, status);
+        case 4:
+        case 5:
+            return CallReset(altitude, run, reader, opcode, status);
+        default:
+            return CallUpdate(altitude, run, reader, opcode);
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Reader reader = {data, size};
-    Run run = {true, 0, 0.0f};
+    Run run = {true, true, 0, 0.0f};
     if (!ReadFloat(&reader, &run.loopDt)) {
         return 0;
     }
     run.sane = (run.loopDt >= MIN_DT) && (run.loopDt <= MAX_DT);
-    const bool loopDtSane = run.sane;
+    run.loopDtSane = run.sane;
     FusionAltitude altitude;
     memset(&altitude, 0, sizeof(altitude)); /* defined padding bytes for memcmp */
     FusionAltitudeInitialise(&altitude);
     uint8_t opcode;
     while (ReadByte(&reader, &opcode)) {
-        float x = 0.0f;
-        float y = 0.0f;
-        float z = 0.0f;
-        FusionAltitudeSettings settings;
-        FusionAltitudeSettings untouched;
-        memset(&settings, 0xA5, sizeof(settings));
-        untouched = settings;
         FusionAltitude before;
         memcpy(&before, &altitude, sizeof(before));
         FusionAltitudeStatus status = FusionAltitudeStatusOk;
-        switch (opcode & 7u) {
-            case 0:
-                FusionAltitudeInitialise(&altitude);
-                run.sane = loopDtSane;
-                run.gainChanges = 0;
-                break;
-            case 1:
-                if ((opcode & 16u) != 0u) { /* the baro timeout, s */
-                    if (!ReadFloat(&reader, &x)) {
-                        return 0;
-                    }
-                    settings = FusionAltitudeGetSettings(&altitude);
-                    settings.baroTimeout = x;
-                    status = FusionAltitudeSetSettings(&altitude, &settings);
-                    CHECK(status == FusionAltitudeSettingsCheck(&settings));
-                    break;
-                }
-                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
-                    return 0;
-                }
-                settings.positionGain = x;
-                settings.velocityGain = y;
-                settings.biasGain = z;
-                settings.gapPeriod = FusionAltitudeGetSettings(&altitude).gapPeriod;
-                settings.baroTimeout = FusionAltitudeGetSettings(&altitude).baroTimeout;
-                status = FusionAltitudeSetSettings(&altitude, &settings);
-                CHECK(status == FusionAltitudeSettingsCheck(&settings));
-                if (status == FusionAltitudeStatusOk) {
-                    GainsChanged(&run);
-                }
-                break;
-            case 2: {
-                uint8_t preset;
-                if (!ReadByte(&reader, &preset)) {
-                    return 0;
-                }
-                status = FusionAltitudeSettingsFromPreset(&settings, (FusionAltitudePreset) (preset % 6u));
-                if (status != FusionAltitudeStatusOk) {
-                    CHECK(memcmp(&settings, &untouched, sizeof(settings)) == 0);
-                    break;
-                }
-                CHECK(FusionAltitudeSettingsCheck(&settings) == FusionAltitudeStatusOk);
-                status = FusionAltitudeSetSettings(&altitude, &settings);
-                CHECK(status == FusionAltitudeStatusOk);
-                GainsChanged(&run);
-                break;
-            }
-            case 3:
-                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
-                    return 0;
-                }
-                status = FusionAltitudeSettingsFromBandwidth(&settings, x, y, z);
-                if (status != FusionAltitudeStatusOk) {
-                    CHECK(memcmp(&settings, &untouched, sizeof(settings)) == 0);
-                    break;
-                }
-                status = FusionAltitudeSetSettings(&altitude, &settings);
-                CHECK(status == FusionAltitudeStatusOk);
-                GainsChanged(&run);
-                break;
-            case 4:
-                if (!ReadFloat(&reader, &x)) {
-                    return 0;
-                }
-                status = FusionAltitudeReset(&altitude, x);
-                if (status == FusionAltitudeStatusOk) {
-                    CHECK(SameBits(altitude.altitude, x) && SameBits(altitude.accelBias, before.accelBias));
-                    run.sane = run.sane && Within(x, MAX_ALTITUDE);
-                }
-                break;
-            case 5:
-                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y)) {
-                    return 0;
-                }
-                status = FusionAltitudeResetWithBias(&altitude, x, y);
-                if (status == FusionAltitudeStatusOk) {
-                    CHECK(SameBits(altitude.altitude, x) && SameBits(altitude.accelBias, y));
-                    run.sane = loopDtSane && Within(x, MAX_ALTITUDE) && Within(y, MAX_BIAS);
-                    run.gainChanges = 0;
-                }
-                break;
-            case 6:
-                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y) || !ReadFloat(&reader, &z)) {
-                    return 0;
-                }
-                Update(&altitude, &run, x, ((opcode & 8u) != 0u) ? FUSION_ALTITUDE_NO_BARO : y, z);
-                break;
-            default:
-                if (!ReadFloat(&reader, &x) || !ReadFloat(&reader, &y)) {
-                    return 0;
-                }
-                Update(&altitude, &run, x, ((opcode & 8u) != 0u) ? FUSION_ALTITUDE_NO_BARO : y, run.loopDt);
-                break;
+        if (!Call(&altitude, &run, &reader, opcode, &status)) {
+            return 0;
         }
         if (status != FusionAltitudeStatusOk) {
             CHECK(memcmp(&before, &altitude, sizeof(before)) == 0);

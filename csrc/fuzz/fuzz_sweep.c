@@ -80,20 +80,14 @@ static bool SameBits(const float *const a, const float *const b, const size_t co
     return memcmp(a, b, count * sizeof(float)) == 0;
 }
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    Reader reader = {data, size};
-    uint8_t countByte;
-    uint8_t splitByte;
-    if (!ReadByte(&reader, &countByte) || !ReadByte(&reader, &splitByte)) {
-        return 0;
-    }
-    const size_t count = (size_t) (countByte % MAX_SETTINGS) + 1u;
-    bool sane = true;
+/* Reads count gain triples into kh, kv, kb (a rejected triple: the defaults); false when the input ends.
+ * *sane: every gain plausible (Kh <= 100 1/s, Kv <= 1e3 1/s^2, Kb <= 1e3 1/s^3). */
+static bool ReadGains(Reader *const reader, const size_t count, bool *const sane) {
     for (size_t k = 0; k < count; k++) {
         FusionAltitudeSettings settings = FusionAltitudeSettingsDefault();
-        if (!ReadFloat(&reader, &settings.positionGain) || !ReadFloat(&reader, &settings.velocityGain) ||
-            !ReadFloat(&reader, &settings.biasGain)) {
-            return 0;
+        if (!ReadFloat(reader, &settings.positionGain) || !ReadFloat(reader, &settings.velocityGain) ||
+            !ReadFloat(reader, &settings.biasGain)) {
+            return false;
         }
         if (FusionAltitudeSettingsCheck(&settings) != FusionAltitudeStatusOk) {
             settings = FusionAltitudeSettingsDefault();
@@ -101,23 +95,29 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         kh[k] = settings.positionGain;
         kv[k] = settings.velocityGain;
         kb[k] = settings.biasGain;
-        sane = sane && Within(kh[k], 100.0f) && Within(kv[k], 1e3f) && Within(kb[k], 1e3f);
+        *sane = *sane && Within(kh[k], 100.0f) && Within(kv[k], 1e3f) && Within(kb[k], 1e3f);
     }
+    return true;
+}
+
+/* Reads up to MAX_SAMPLES samples into accel, baro, dt; returns how many. Per sample: a control byte (bit 0: no baro;
+ * bit 1: dt as a float, else 1e-4 s * 1.2005^(control >> 2)), a (m/s^2), z (m) unless bit 0, dt (s) if bit 1.
+ * *sane: every input plausible (|a| <= 1e3 m/s^2, |z| <= 1e5 m, 1e-4 s <= dt <= 10 s). */
+static size_t ReadSamples(Reader *const reader, bool *const sane) {
     size_t samples = 0;
     uint8_t control;
-    while ((samples < MAX_SAMPLES) && ReadByte(&reader, &control)) {
+    while ((samples < MAX_SAMPLES) && ReadByte(reader, &control)) {
         float a;
         float z = FusionAltitudeNaN();
-        float step;
-        if (!ReadFloat(&reader, &a) || (((control & 1u) == 0u) && !ReadFloat(&reader, &z))) {
+        float step = 1e-4f;
+        if (!ReadFloat(reader, &a) || (((control & 1u) == 0u) && !ReadFloat(reader, &z))) {
             break;
         }
         if ((control & 2u) != 0u) {
-            if (!ReadFloat(&reader, &step)) {
+            if (!ReadFloat(reader, &step)) {
                 break;
             }
         } else {
-            step = 1e-4f;
             for (unsigned i = 0; i < (unsigned) (control >> 2); i++) {
                 step *= 1.2005f; /* 64 log-spaced steps, 1e-4 s to 10 s */
             }
@@ -125,43 +125,33 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         accel[samples] = a;
         baro[samples] = z;
         dt[samples] = step;
-        sane = sane && Within(a, 1e3f) && (FusionAltitudeIsNaN(z) || Within(z, 1e5f)) && (step >= 1e-4f) && (step <= 10.0f);
+        *sane = *sane && Within(a, 1e3f) && (FusionAltitudeIsNaN(z) || Within(z, 1e5f)) && (step >= 1e-4f) && (step <= 10.0f);
         samples++;
     }
-    if (samples == 0u) {
-        return 0;
-    }
-    memset(runs, 0, sizeof(runs));
-    size_t bad = 0;
-    /* 0: one call over everything */
-    FusionAltitudeSweep whole = NewSweep(&runs[0], 0, count, count);
-    const FusionAltitudeStatus status = Sweep(&whole, &runs[0], 0, count, 0, samples, &bad);
-    size_t firstBad = samples;
+    return samples;
+}
+
+/* The index of the first sample FusionAltitudeCheckInputs rejects, samples if none. */
+static size_t FirstBadSample(const size_t samples) {
     for (size_t t = 0; t < samples; t++) {
         if (FusionAltitudeCheckInputs(accel[t], baro[t], dt[t]) != FusionAltitudeStatusOk) {
-            firstBad = t;
-            break;
+            return t;
         }
     }
-    if (status != FusionAltitudeStatusOk) {
-        CHECK(bad == firstBad);
-        CHECK(status == FusionAltitudeCheckInputs(accel[bad], baro[bad], dt[bad]));
-        for (size_t i = 0; i < samples * count; i++) {
-            CHECK(runs[0].out[0][i] == 0.0f); /* nothing written */
-        }
-        return 0;
-    }
-    CHECK(firstBad == samples);
-    /* 1: two calls split in time */
-    const size_t split = (size_t) splitByte % (samples + 1u);
+    return samples;
+}
+
+/* Run 1 (two calls split in time at split) and run 2 (the settings in two parts, one stability rule, as across
+ * threads) give the bits of run 0 (whole). */
+static void CheckSplits(const FusionAltitudeSweep *const whole, const size_t count, const size_t samples, const size_t split) {
+    size_t bad = 0;
     FusionAltitudeSweep halves = NewSweep(&runs[1], 0, count, count);
     CHECK(Sweep(&halves, &runs[1], 0, count, 0, split, &bad) == FusionAltitudeStatusOk);
     CHECK(Sweep(&halves, &runs[1], 0, count, split, samples - split, &bad) == FusionAltitudeStatusOk);
     for (int field = 0; field < 4; field++) {
         CHECK(SameBits(runs[0].out[field], runs[1].out[field], samples * count));
     }
-    CHECK((halves.gapCount == whole.gapCount) && (halves.baroTimeouts == whole.baroTimeouts));
-    /* 2: the settings in two parts, one stability rule (as across threads) */
+    CHECK((halves.gapCount == whole->gapCount) && (halves.baroTimeouts == whole->baroTimeouts));
     const size_t part = count / 2u;
     if (part > 0u) {
         FusionAltitudeSweep lower = NewSweep(&runs[2], 0, part, count);
@@ -172,7 +162,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             CHECK(SameBits(runs[0].out[field], runs[2].out[field], samples * count));
         }
     }
-    /* 3: one setting alone equals FusionAltitudeUpdate */
+}
+
+/* Run 3: the first setting alone gives the bits of FusionAltitudeUpdate. */
+static void CheckSingle(const size_t samples) {
+    size_t bad = 0;
     FusionAltitudeSweep single = NewSweep(&runs[3], 0, 1, 1);
     CHECK(Sweep(&single, &runs[3], 0, 1, 0, samples, &bad) == FusionAltitudeStatusOk);
     FusionAltitude altitude;
@@ -188,6 +182,41 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
               SameBits(&runs[3].out[2][t], &altitude.accelBias, 1u) && SameBits(&runs[3].out[3][t], &altitude.baroResidual, 1u));
     }
     CHECK((single.gapCount == altitude.gapCount) && (single.baroTimeouts == altitude.baroTimeouts));
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Reader reader = {data, size};
+    uint8_t countByte;
+    uint8_t splitByte;
+    if (!ReadByte(&reader, &countByte) || !ReadByte(&reader, &splitByte)) {
+        return 0;
+    }
+    const size_t count = (size_t) (countByte % MAX_SETTINGS) + 1u;
+    bool sane = true;
+    if (!ReadGains(&reader, count, &sane)) {
+        return 0;
+    }
+    const size_t samples = ReadSamples(&reader, &sane);
+    if (samples == 0u) {
+        return 0;
+    }
+    memset(runs, 0, sizeof(runs));
+    size_t bad = 0;
+    /* 0: one call over everything */
+    FusionAltitudeSweep whole = NewSweep(&runs[0], 0, count, count);
+    const FusionAltitudeStatus status = Sweep(&whole, &runs[0], 0, count, 0, samples, &bad);
+    const size_t firstBad = FirstBadSample(samples);
+    if (status != FusionAltitudeStatusOk) {
+        CHECK(bad == firstBad);
+        CHECK(status == FusionAltitudeCheckInputs(accel[bad], baro[bad], dt[bad]));
+        for (size_t i = 0; i < samples * count; i++) {
+            CHECK(runs[0].out[0][i] == 0.0f); /* nothing written */
+        }
+        return 0;
+    }
+    CHECK(firstBad == samples);
+    CheckSplits(&whole, count, samples, (size_t) splitByte % (samples + 1u));
+    CheckSingle(samples);
     if (sane) {
         for (size_t i = 0; i < samples * count; i++) {
             CHECK(Within(runs[0].out[0][i], MAX_STATE) && Within(runs[0].out[1][i], MAX_STATE) && Within(runs[0].out[2][i], MAX_STATE));

@@ -12,24 +12,27 @@ alternating short and long steps: the interval rule), settings edits
 
 import math
 import struct
+import sys
 from pathlib import Path
+
+from fusion_altitude._core._c_tables import ALPHABETA_SENSORS, ALPHABETA_SENSOR_FIELDS, ALPHABETA_SETTINGS
+from make_seeds_common import f, write_corpus
 
 CORPUS = Path(__file__).resolve().with_name("corpus_alphabeta")
 INITIALISE, INITIALISE_WITH, SET_SETTINGS, EDIT, UPDATE, UPDATE_STEP, UPDATE_LOOP, DEFAULTS = range(8)
 ACCEL, BARO, LIDAR, SONAR, GPS = 1, 2, 4, 8, 16
-SENSORS = ("imu", "baro", "lidar", "sonar", "gps", "gapPeriod")
-FIELDS = ("threshold", "qualityMin", "qualityMax", "confidence", "altitudeMin", "altitudeMax", "gapMax", "timeout")
+#: The settings words of csrc/tests/vectors/alphabeta_settings_words.h (an edit's index): each sensor's fields, in
+#: FusionAltitudeAlphaBetaSensorIndex order, then the other fields (the gap period).
+WORDS = tuple(f"{sensor}.{c_name}" for sensor in ALPHABETA_SENSORS for _, c_name, *_ in ALPHABETA_SENSOR_FIELDS) + tuple(
+    c_name for _, c_name, *_ in ALPHABETA_SETTINGS)
 #: fuzz_alphabeta.c StepFromByte's 16 base steps, s (the step byte's low nibble)
 BASE_STEPS = (1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 7.0, 10.0)
 
 
-def f(*values: float) -> bytes:
-    return struct.pack(f"<{len(values)}f", *values)
-
-
-def edit(sensor: str, field: str, value) -> bytes:
-    word = struct.pack("<i", value) if isinstance(value, int) else f(value)
-    return bytes([EDIT, SENSORS.index(sensor), FIELDS.index(field)]) + word
+def edit(word: str, value) -> bytes:
+    """Sets one settings word ("baro.qualityMin", "gapPeriod"): an int as int32, else float32 bits."""
+    packed = struct.pack("<i", value) if isinstance(value, int) else f(value)
+    return bytes([EDIT, WORDS.index(word)]) + packed
 
 
 def present(accel, baro=None, lidar=None, sonar=None, gps=None) -> bytes:
@@ -73,14 +76,14 @@ def seeds() -> dict:
         "baro_dropout_gps_carries": f(0.01) + flight(100) + flight(500, baro_from=0, lidar_every=0, gps_every=10),
         "lidar_glitch_beyond_gap": f(0.01) + flight(100) + flight(60, lidar_shift=10.0) + flight(100),
         "steps_telemetry_mix": f(0.01) + stepped([8, 9, 10, 11, 12, 13, 0x98, 0x3A, 0xF9, 12, 8, 13, 10] * 4),
-        "steps_alternating_short_long": f(0.01) + edit("gapPeriod", "threshold", 20.0)
-        + b"".join(edit(s, "timeout", 20.0) for s in SENSORS[:5]) + bytes([INITIALISE_WITH])
+        "steps_alternating_short_long": f(0.01) + edit("gapPeriod", 20.0)
+        + b"".join(edit(f"{s}.timeout", 20.0) for s in ALPHABETA_SENSORS) + bytes([INITIALISE_WITH])
         + stepped([0, 12] * 60) + stepped([2, 0x7C] * 30),
         "steps_fine_and_long": f(0.01) + stepped([0] * 50 + [15, 0x1F, 15] + [1, 2, 3, 4] * 10 + [14, 15], every=2),
-        "settings_edits": f(0.005) + edit("baro", "qualityMin", 1) + bytes([SET_SETTINGS, INITIALISE_WITH])
-        + edit("baro", "qualityMin", 3) + edit("lidar", "altitudeMax", 30.0) + edit("gps", "confidence", 0.01)
-        + bytes([INITIALISE_WITH]) + flight(60) + edit("imu", "threshold", nan) + bytes([SET_SETTINGS])
-        + edit("gapPeriod", "threshold", inf) + bytes([DEFAULTS]) + flight(20) + bytes([INITIALISE]) + flight(20),
+        "settings_edits": f(0.005) + edit("baro.qualityMin", 1) + bytes([SET_SETTINGS, INITIALISE_WITH])
+        + edit("baro.qualityMin", 3) + edit("lidar.altitudeMax", 30.0) + edit("gps.confidence", 0.01)
+        + bytes([INITIALISE_WITH]) + flight(60) + edit("imu.threshold", nan) + bytes([SET_SETTINGS])
+        + edit("gapPeriod", inf) + bytes([DEFAULTS]) + flight(20) + bytes([INITIALISE]) + flight(20),
         "rejected_updates": f(0.01) + flight(20)
         + bytes([UPDATE]) + f(inf, 0.01, 120.0, 1.0, nan, 121.0)
         + bytes([UPDATE]) + f(0.0, 0.0, 120.0, 1.0, nan, 121.0)
@@ -93,7 +96,4 @@ def seeds() -> dict:
 
 
 if __name__ == "__main__":
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / name).write_bytes(data)
-        print(f"{name}: {len(data)} bytes")
+    sys.exit(write_corpus(CORPUS, seeds))

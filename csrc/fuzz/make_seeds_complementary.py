@@ -8,9 +8,11 @@ per-sample coefficients, telemetry-like 0.1-4 s steps, steps from 0.1 ms to
 10 s, baro outages past the baro timeout (and an infinite one), rejected inputs.
 """
 
-import math
-import struct
+import sys
+from functools import partial
 from pathlib import Path
+
+from make_seeds_common import explicit_steps, f, loop_flight, telemetry_dts, write_corpus
 
 CORPUS = Path(__file__).resolve().with_name("corpus_complementary")
 INITIALISE, SETTINGS, RESET, UPDATE, UPDATE_LOOP = 0, 1, 2, 3, 4
@@ -18,42 +20,15 @@ NO_BARO = 8
 PER_SAMPLE = 16
 
 
-def f(*values: float) -> bytes:
-    return struct.pack(f"<{len(values)}f", *values)
-
-
 def settings(tau_a=0.02, tau_b=0.05, c_v=0.999, c_h=0.998, t_v=9.99, t_h=4.99, gap=0.5, timeout=2.0,
              per_sample=False) -> bytes:
     return bytes([SETTINGS | (PER_SAMPLE if per_sample else 0)]) + f(tau_a, tau_b, c_v, c_h, t_v, t_h, gap, timeout)
 
 
-def flight(steps: int, baro_every: int = 4, bias: float = 0.1) -> bytes:
-    out = b""
-    for k in range(steps):
-        accel = 0.5 * math.sin(0.05 * k) + bias
-        if k % baro_every == 0:
-            out += bytes([UPDATE_LOOP]) + f(accel, 100.0 + 0.01 * k)
-        else:
-            out += bytes([UPDATE_LOOP | NO_BARO]) + f(accel, 0.0)
-    return out
-
-
-def steps(dts, baro_every: int = 1, accel: float = 0.3) -> bytes:
-    out = b""
-    altitude = 100.0
-    for k, dt in enumerate(dts):
-        altitude += 2.0 * dt
-        opcode = UPDATE if k % baro_every == 0 else UPDATE | NO_BARO
-        out += bytes([opcode]) + f(accel, altitude, dt)
-    return out
-
-
-def telemetry_dts(count: int) -> list:
-    dts = []
-    for k in range(count):
-        u = ((k * 7919) % 100) / 100.0
-        dts.append(0.1 if u < 0.6 else (0.1 + 0.9 * (u - 0.6) / 0.25 if u < 0.85 else 0.5 + 3.5 * (u - 0.85) / 0.15))
-    return dts
+#: 100 Hz updates at the loop dt, a baro sample on every baro_every-th (make_seeds_common.loop_flight)
+flight = partial(loop_flight, UPDATE_LOOP, NO_BARO, bias=0.1)
+#: updates with explicit steps, a slow climb (make_seeds_common.explicit_steps)
+steps = partial(explicit_steps, UPDATE, NO_BARO)
 
 
 def seeds() -> dict:
@@ -75,7 +50,4 @@ def seeds() -> dict:
 
 
 if __name__ == "__main__":
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / name).write_bytes(data)
-        print(f"{name}: {len(data)} bytes")
+    sys.exit(write_corpus(CORPUS, seeds))

@@ -16,10 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
+from fusion_altitude._core._c_tables import FLIGHT_SETTINGS, OBSERVER_SETTINGS
+from make_seeds_common import write_corpus
+
 CORPUS = Path(__file__).resolve().parent / "corpus_flight"
-FIELDS = ("positionGain", "velocityGain", "biasGain", "observerGapPeriod", "stationaryAccel", "calibrationWindow",
-          "launchAccel", "launchTime", "burnoutAccel", "burnoutTime", "apogeeMargin", "lockoutSpeed", "spikeThreshold",
-          "spikeTime", "offsetRate", "mainAltitude", "landedSpeed", "landedTime", "gapPeriod", "baroLaunchHeight")
+#: The settings words of csrc/tests/vectors/flight_settings_words.h (an edit's index): FusionAltitudeRocketSettings in
+#: struct order, the nested observer settings flattened ("observer.positionGain", ...).
+FIELDS = tuple(name for _, c_name, kind, *_ in FLIGHT_SETTINGS
+               for name in ([f"{c_name}.{sub}" for _, sub, *_ in OBSERVER_SETTINGS] if kind == "s" else [c_name]))
 
 #: dt ranges of fuzz_flight.c's scaled update (flags bits 2-3), s.
 DT_RANGES = ((1e-3, 0.05), (1e-4, 10.0), (0.1, 4.0), (1e-4, 0.05))
@@ -90,13 +94,5 @@ def seeds() -> dict:
     }
 
 
-def main() -> int:
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / f"{name}.bin").write_bytes(data)
-        print(f"{name}.bin: {len(data)} bytes")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(write_corpus(CORPUS, seeds, ".bin"))

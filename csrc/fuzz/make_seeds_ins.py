@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from make_seeds_common import write_corpus
 
 CORPUS = Path(__file__).resolve().parent / "corpus_ins"
 LEVEL = (0.0, 0.0, 9.80665)
@@ -96,13 +97,5 @@ def seeds() -> dict:
     }
 
 
-def main() -> int:
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / f"{name}.bin").write_bytes(data)
-        print(f"{name}.bin: {len(data)} bytes")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(write_corpus(CORPUS, seeds, ".bin"))

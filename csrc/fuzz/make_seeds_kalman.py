@@ -11,9 +11,11 @@ rejected) and rejected updates.
 
 import math
 import struct
+import sys
 from pathlib import Path
 
 from fusion_altitude._c_tables import KALMAN_SETTINGS
+from make_seeds_common import f, write_corpus
 
 CORPUS = Path(__file__).resolve().with_name("corpus_kalman")
 INITIALISE, INITIALISE_WITH, SET_SETTINGS, EDIT, UPDATE, UPDATE_LOOP, UPDATE_NULL, DEFAULTS = range(8)
@@ -24,10 +26,6 @@ FIELDS = tuple(c_name for _, c_name, *_ in KALMAN_SETTINGS)
 STEPPED = 0x80  # with UPDATE_LOOP or UPDATE_NULL: a step byte follows the opcode (fuzz_kalman.c StepFromByte)
 #: fuzz_kalman.c StepFromByte's 16 base steps, s (the step byte's low nibble)
 BASE_STEPS = (1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 7.0, 10.0)
-
-
-def f(*values: float) -> bytes:
-    return struct.pack(f"<{len(values)}f", *values)
 
 
 def edit(field: str, value) -> bytes:
@@ -117,7 +115,4 @@ def seeds() -> dict:
 
 
 if __name__ == "__main__":
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / name).write_bytes(data)
-        print(f"{name}: {len(data)} bytes")
+    sys.exit(write_corpus(CORPUS, seeds))

@@ -9,16 +9,14 @@ the settings), steps from 0.1 ms to 10 s and a baro outage past the timeout.
 """
 
 import math
-import struct
+import sys
 from pathlib import Path
+
+from make_seeds_common import f, write_corpus
 
 CORPUS = Path(__file__).resolve().with_name("corpus_sweep")
 PRESETS = ((0.32, 0.0512, 0.0016), (0.8, 0.32, 0.025), (2.4, 2.88, 0.675), (8.0, 32.0, 25.0), (1.4, 1.0, 0.0))
 NO_BARO, EXPLICIT_DT = 1, 2
-
-
-def f(*values: float) -> bytes:
-    return struct.pack(f"<{len(values)}f", *values)
 
 
 def header(gains, split: int) -> bytes:
@@ -57,7 +55,4 @@ def seeds() -> dict:
 
 
 if __name__ == "__main__":
-    CORPUS.mkdir(exist_ok=True)
-    for name, data in seeds().items():
-        (CORPUS / name).write_bytes(data)
-        print(f"{name}: {len(data)} bytes")
+    sys.exit(write_corpus(CORPUS, seeds))

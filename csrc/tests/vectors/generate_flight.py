@@ -27,7 +27,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import vector_common as vc  # noqa: E402
 
-from fusion_altitude._flight_glue import FIELD_NAMES, RocketStatus  # noqa: E402
+from fusion_altitude._core._c_tables import FLIGHT_SETTINGS, OBSERVER_SETTINGS  # noqa: E402
+from fusion_altitude._flight_glue import RocketStatus  # noqa: E402
 from fusion_altitude.reference.flight import RocketSettings  # noqa: E402
 from fusion_altitude.reference import flight as _flight  # noqa: E402
 from fusion_altitude.rocket_sim import RocketFlightModel, simulate_rocket_flight  # noqa: E402
@@ -37,7 +38,10 @@ NAN = float("nan")
 INF = float("inf")
 
 OPS = ("INITIALISE_WITH", "UPDATE", "UPDATE_VERTICAL")
-SETTINGS_FIELDS = ("positionGain", "velocityGain", "biasGain") + FIELD_NAMES
+#: The settings words (csrc/tests/vectors/flight_settings_words.h): FusionAltitudeRocketSettings in struct order, the
+#: observer's settings (a nested FusionAltitudeSettings) flattened in theirs.
+SETTINGS_FIELDS = tuple(name for python, _, kind, *_ in FLIGHT_SETTINGS
+                        for name in ([f"{python}.{sub}" for sub, *_ in OBSERVER_SETTINGS] if kind == "s" else [python]))
 EVENT_FIELDS = ("occurred", "sample", "time", "height", "velocity")
 EVENTS = ("launch", "burnout", "maxSpeed", "apogee", "main", "landed", "candidate")
 #: The state words, in the order replay_flight.c reads and writes them.
@@ -55,12 +59,16 @@ STATE_FIELDS = (tuple(f"settings.{name}" for name in SETTINGS_FIELDS)
                    "padBaroPreviousSet", "baroLed"))
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
                      if not name.endswith(("occurred", "sample", "referenceSet", "Count", "windows", "Samples"))
+                     and name != "settings.observer.baro_timeout"  # +infinity (never) by default: a setting, not a result
                      and name not in ("phase", "baro", "windowStationary", "padAltitudeSet", "lastBaroSet",
                                       "baroAdmitted", "lockout", "accelTrusted", "padBaroPreviousSet", "baroLed"))
 
 
 def settings_words(settings: RocketSettings) -> tuple:
-    return tuple(vc.bits(g) for g in settings.gains) + tuple(vc.bits(getattr(settings, name)) for name in FIELD_NAMES)
+    """FusionAltitudeRocketSettings as its words (SETTINGS_FIELDS: floats as bits)."""
+    values = settings.as_dict()
+    return tuple(vc.bits(value) for python, _, kind, *_ in FLIGHT_SETTINGS
+                 for value in (values[python] if kind == "s" else (values[python],)))
 
 
 class Recorder(vc.Recorder):

@@ -48,6 +48,7 @@ static void PrintCentimetres(const char *const label, const float value) {
     Serial.print((long) (value * 100.0f));
     Serial.print(" cm ");
 }
+
 static FusionAltitudeIns ins;
 
 void setup() {

@@ -383,7 +383,7 @@ static inline bool FusionAltitudeIsDiscreteStable(const float kh, const float kv
  * rocket 0.694 s. With gains scaled to the baro rate (Kh*N etc. for a baro
  * on one step in N, tuning.settings_for_baro_rate) p, q, s are those of the
  * observer sampled at the baro period. With the baro timeout off (+infinity,
- * as the rocket flight layer runs it: it locks the baro out on purpose and
+ * as the rocket estimator runs it: it locks the baro out on purpose and
  * re-admits it gently itself) FusionAltitudeUpdate passes interval = dt: the
  * first sample after a 45 s lockout would otherwise be a gap (q grows with D).
  * With a finite timeout D never exceeds it by more than dt (a timed-out step
@@ -479,7 +479,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
  *   racing     omega 5.0: 8.00, 32.0,   25.0
  *   rocket     omega 1.0, omega_b = 0: 1.40, 1.00, 0 (static-port and
  *              transonic baro errors would leak into a learned bias: set it
- *              from a pad calibration, as fusion_altitude_flight.h does)
+ *              from a pad calibration, as fusion_altitude_rocket.h does)
  * Gap period: 5 s for the balloon (1 Hz baro logs; its gains pass Jury's
  * test up to 6 s), FUSION_ALTITUDE_DEFAULT_GAP_PERIOD for the others. Baro
  * timeout: 10 s for the balloon (10 periods of a 1 Hz baro),

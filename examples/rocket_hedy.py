@@ -1,4 +1,4 @@
-"""The rocket flight layer on the real Hedy flight (CATS flight computer, EuRoC 2025), against CATS's own estimate.
+"""The rocket estimator on the real Hedy flight (CATS flight computer, EuRoC 2025), against CATS's own estimate.
 
     FUSION_ALTITUDE_SHARED_DATA=/path/to/shared/data python examples/rocket_hedy.py
 

@@ -28,13 +28,13 @@ from ._core._kalman_glue import KalmanBatch, KalmanSensors
 from ._core._complementary_glue import ComplementaryBatch
 from ._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
 from ._core._ins_glue import InsBatch, InsStatus
-from ._core._flight_glue import RocketBatch
+from ._core._rocket_glue import RocketBatch
 from .reference.observer import AltitudeSettings
 from .reference.kalman import KalmanSettings
 from .reference.complementary import ComplementarySettings
 from .reference.alphabeta import AlphaBetaSettings
 from .reference.ins import InsSettings
-from .reference.flight import RocketSettings
+from .reference.rocket import RocketSettings
 from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
 
 #: The public names that need the compiled extension.
@@ -48,7 +48,7 @@ try:
     from ._core._complementary import ComplementaryFilter
     from ._core._alphabeta import AlphaBetaFusion
     from ._core._ins import InsEstimator
-    from ._core._flight import RocketEstimator
+    from ._core._rocket import RocketEstimator
     from .ins_run import ins_run
     from .tuning import FitResult, SweepResult, fit, sweep
 except ImportError as _error:  # not built: fusion_altitude.reference and the tables still import

@@ -314,7 +314,7 @@ def run_ins_log(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
 
 
 class RocketLogBatch(NamedTuple):
-    """The rocket flight layer on a log, per grid step, as ``run -o`` writes it.
+    """The rocket estimator on a log, per grid step, as ``run -o`` writes it.
 
     Attributes
     ----------
@@ -342,9 +342,9 @@ class RocketLogBatch(NamedTuple):
 
 
 def run_rocket_log(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
-    """The rocket flight layer on a log; its accelerometer input is chosen by :func:`fusion_altitude.rocket.rocket_accel_input`
-    (NaN where the flight layer must do without one: baro-led), and what was chosen goes to ``data.notes``."""
-    from ._core._flight import RocketEstimator
+    """The rocket estimator on a log; its accelerometer input is chosen by :func:`fusion_altitude.rocket.rocket_accel_input`
+    (NaN where the rocket estimator must do without one: baro-led), and what was chosen goes to ``data.notes``."""
+    from ._core._rocket import RocketEstimator
     from .rocket import rocket_accel_input
 
     accel, note = rocket_accel_input(data, options.get("long_axis"))

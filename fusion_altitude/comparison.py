@@ -17,7 +17,7 @@ Estimators, each fed what it can use from one :func:`~fusion_altitude.scenarios.
   rows' vertical acceleration is made) and baro; its altitude in the baro's frame (INS height + baro bias). The
   scenarios start moving at once, so the INS never sees the rest it learns its accel z bias in
   (docs/ins.md: with a stationary start it beats the two-step pipeline, without one it does not);
-- ``rocket``, the rocket flight layer (the ``rocket`` scenario only; labelled ``rocket layer`` in 0.1.0, a
+- ``rocket``, the rocket estimator (the ``rocket`` scenario only; labelled ``rocket layer`` in 0.1.0, a
   label still accepted): :func:`fusion_altitude.rocket.run_rocket` (defaults: pad calibration, baro lockout,
   spike gate, baro-led descent) on the long-axis accelerometer and the baro, its height above the pad plus the
   pad altitude it learned;
@@ -129,7 +129,7 @@ def _current_labels(estimators: Sequence[str]) -> List[str]:
 
 
 def estimators_for(name: str, estimators: Sequence[str] = ESTIMATORS) -> List[str]:
-    """The ``estimators`` that run on scenario ``name`` (the rocket layer, ``rocket``, only on ``rocket``), in
+    """The ``estimators`` that run on scenario ``name`` (the rocket estimator, ``rocket``, only on ``rocket``), in
     order; an old label of :data:`OLD_LABELS` is accepted with a DeprecationWarning."""
     return [e for e in _current_labels(estimators) if name in _ONLY_ON.get(e, (name,))]
 
@@ -231,7 +231,7 @@ def _ins_runner(result: ScenarioResult, baro: np.ndarray, dt: np.float32):
 
 
 class _RocketAltitude:
-    """The rocket layer's outputs a comparison row reads: altitude on the baro's datum (m), velocity (m/s)."""
+    """The rocket estimator's outputs a comparison row reads: altitude on the baro's datum (m), velocity (m/s)."""
 
     def __init__(self, batch, pad_altitude: float):
         self.altitude = batch.height.astype(np.float64) + pad_altitude
@@ -239,8 +239,8 @@ class _RocketAltitude:
 
 
 def _rocket_runner(result: ScenarioResult):
-    """A call running the rocket flight layer on the scenario's long-axis accelerometer and baro."""
-    from ._core._flight import RocketEstimator
+    """A call running the rocket estimator on the scenario's long-axis accelerometer and baro."""
+    from ._core._rocket import RocketEstimator
     from .runner import sample_periods
 
     dt = sample_periods(result.time)
@@ -317,7 +317,7 @@ def compare_log(data, estimators: Optional[Sequence[str]] = None, repeat: int = 
     estimators : sequence of str, optional
         Names of :data:`fusion_altitude.runner.ESTIMATORS` (default those
         that can run on the log, :func:`fusion_altitude.runner.applicable_estimators`:
-        the INS needs raw gyro and accelerometer, the rocket layer a rocket
+        the INS needs raw gyro and accelerometer, the rocket estimator a rocket
         log), in table order; "raw baro" is appended.
     repeat : int, default 3
         Timing repeats, best taken; 0 skips the timing (ns/sample "—").

@@ -54,7 +54,7 @@ class EstimatorEntry:
         it by name.
     vehicle : str, default ""
         Non-empty: ``compare LOG`` runs it only on logs of that
-        ``LogData.vehicle`` (the rocket layer waits on the pad forever on a
+        ``LogData.vehicle`` (the rocket estimator waits on the pad forever on a
         multirotor log), and ``compare`` on the scenario of that name; ``run``
         still runs it on any log when asked.
     label : str, default ""
@@ -140,7 +140,7 @@ for _entry in (
         EstimatorEntry("ins", "inertial navigation filter (raw gyro + accelerometer + baro; attitude, gyro bias, "
                               "baro bias)", "adapters:run_ins_log", needs=("gyro", "accel"), label="INS",
                        estimator_class="InsEstimator"),
-        EstimatorEntry("rocket", "rocket flight layer (long-axis accel + baro: pad calibration, baro lockout, "
+        EstimatorEntry("rocket", "rocket estimator (long-axis accel + baro: pad calibration, baro lockout, "
                                  "flight events)", "adapters:run_rocket_log", vehicle="rocket",
                        estimator_class="RocketEstimator")):
     register_estimator(_entry)

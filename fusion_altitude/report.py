@@ -161,7 +161,7 @@ def _spans(run, x: np.ndarray, merge: float) -> Dict[str, Tuple[np.ndarray, np.n
     lockout = np.zeros(time.size, bool)
     fate = getattr(run.estimate, "baro_fate", None)
     if fate is not None:
-        from ._core._flight_glue import BaroFate
+        from ._core._rocket_glue import BaroFate
 
         fate = np.asarray(fate)
         rejected |= fate == BaroFate.SPIKE
@@ -177,11 +177,11 @@ def _spans(run, x: np.ndarray, merge: float) -> Dict[str, Tuple[np.ndarray, np.n
 
 
 def _phase_bands(run, x: np.ndarray) -> List[Tuple[str, float, float, str]]:
-    """(phase name, start s, end s, colour) of the rocket layer's phases; [] for another estimator."""
+    """(phase name, start s, end s, colour) of the rocket estimator's phases; [] for another estimator."""
     phase = getattr(run.estimate, "phase", None)
     if phase is None:
         return []
-    from ._core._flight_glue import Phase
+    from ._core._rocket_glue import Phase
 
     phase = np.asarray(phase, int)
     change = np.flatnonzero(np.diff(phase)) + 1
@@ -301,7 +301,7 @@ def _comparison_html(runs) -> str:
 
 
 def _events_html(runs) -> str:
-    """The rocket layer's flight events (s, m) beside the flight computer's; "" when no run has events."""
+    """The rocket estimator's flight events (s, m) beside the flight computer's; "" when no run has events."""
     events = [run for run in runs if run.events is not None]
     if not events:
         return ""

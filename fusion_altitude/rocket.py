@@ -1,4 +1,4 @@
-"""Rockets: the flight layer (``csrc/fusion_altitude_flight.h``) for logs and scripts.
+"""Rockets: the rocket estimator (``csrc/fusion_altitude_rocket.h``) for logs and scripts.
 
 - :func:`run_rocket` runs :class:`RocketEstimator` over a whole log and returns
   the per-sample estimates and the :class:`FlightEvents` with times in the
@@ -6,7 +6,7 @@
 - :func:`rocket_altitude_settings` and :func:`rocket_kalman_settings`: settings
   of the plain observer and of the Kalman filter for rocket flights.
 - :func:`long_axis_accel` turns a body-frame accelerometer into the input the
-  flight layer expects (the long-axis specific force minus g).
+  rocket estimator expects (the long-axis specific force minus g).
 - :func:`events_from_estimates` derives events from another flight computer's
   own height/velocity/acceleration (e.g. the CATS ``flightInfo`` log), to
   compare against; :func:`events_from_states` reads them off its logged
@@ -24,9 +24,9 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from ._core._common import GRAVITY, as_float
-from ._core._flight import RocketEstimator
-from ._core._flight_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
-from .reference.flight import RocketSettings
+from ._core._rocket import RocketEstimator
+from ._core._rocket_glue import EVENT_NAMES, BaroFate, FlightEvent, FlightEvents, Phase, RocketBatch, RocketStatus
+from .reference.rocket import RocketSettings
 
 #: Observer gains of the rocket preset (Kh 1/s, Kv 1/s², Kb 1/s³): ω = 1 rad/s,
 #: ζ = 0.7 and no in-flight bias learning (the bias comes from the pad).
@@ -73,7 +73,7 @@ def rocket_kalman_settings(**overrides: object):
 
 
 def long_axis_accel(accel_body: object, axis: int = 2, sign: float = 1.0) -> np.ndarray:
-    """Long-axis specific force minus g, m/s²: the flight layer's ``accel`` input.
+    """Long-axis specific force minus g, m/s²: the rocket estimator's ``accel`` input.
 
     Parameters
     ----------
@@ -118,7 +118,7 @@ def _time_steps(time: object) -> Tuple[np.ndarray, np.ndarray]:
 
 def run_rocket(time: object, accel: object, baro_altitude: object, settings: Optional[RocketSettings] = None,
                accel_is_vertical: bool = False, estimator: Optional[object] = None) -> Tuple[RocketBatch, FlightEvents]:
-    """Run the rocket flight layer over a whole log.
+    """Run the rocket estimator over a whole log.
 
     Parameters
     ----------
@@ -329,7 +329,7 @@ def flight_computer_events(data: object, pad_altitude: Optional[float] = None,
 #: A pad window: the first this many s of a log are taken as at rest on the pad.
 PAD_SECONDS = 1.0
 #: s an along-axis accelerometer sample is held over steps without one; after its last sample and this long the
-#: accelerometer has ended (NaN: the flight layer goes on baro-led).
+#: accelerometer has ended (NaN: the rocket estimator goes on baro-led).
 ACCEL_HOLD = 1.0
 #: An accelerometer column is taken as saturated where it stays within 0.1 % of its largest |value| on at least
 #: this many samples, if that value is above 4 g.
@@ -459,7 +459,7 @@ def rocket_long_axis(accel_body, seconds_time=None, seconds: float = 1.0,
 
 
 def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = None) -> Tuple[np.ndarray, str]:
-    """The flight layer's accel input for a log, and a one-line note of what it is.
+    """The rocket estimator's accel input for a log, and a one-line note of what it is.
 
     Parameters
     ----------
@@ -473,7 +473,7 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
     -------
     (numpy.ndarray, str)
         m/s², the long-axis specific force minus g on every step; NaN where the
-        flight layer must do without an accelerometer (from there on it is
+        rocket estimator must do without an accelerometer (from there on it is
         baro-led). In order of preference:
 
         1. ``baro_only`` logs: NaN throughout.
@@ -497,7 +497,7 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
     time = np.asarray(data.time, dtype=np.float64)
     none = np.full(time.size, np.nan)
     if getattr(data, "baro_only", False):
-        return none, "rocket layer: no accelerometer in the log: baro-only flight (events from the baro)"
+        return none, "rocket estimator: no accelerometer in the log: baro-only flight (events from the baro)"
     skipped: List[str] = []
     axial = getattr(data, "axial_acceleration", None)
     if axial is not None:
@@ -512,9 +512,9 @@ def rocket_accel_input(data: object, long_axis: Optional[Tuple[int, float]] = No
     elif not skipped:
         vertical = np.asarray(data.vertical_acceleration, dtype=np.float64)
         if pad_levels(vertical, time)[1][0]:
-            return vertical, "rocket layer: the reader's vertical acceleration, taken along the long axis"
+            return vertical, "rocket estimator: the reader's vertical acceleration, taken along the long axis"
         skipped.append("its vertical acceleration is constant")
-    return none, f"rocket layer: no usable accelerometer ({'; '.join(skipped)}): baro-led flight (events from the baro)"
+    return none, f"rocket estimator: no usable accelerometer ({'; '.join(skipped)}): baro-led flight (events from the baro)"
 
 
 def _axial_accel(axial: np.ndarray, time: np.ndarray, skipped: List[str]) -> Optional[Tuple[np.ndarray, str]]:
@@ -522,7 +522,7 @@ def _axial_accel(axial: np.ndarray, time: np.ndarray, skipped: List[str]) -> Opt
     reason appended to ``skipped``."""
     mean, alive = pad_levels(axial, time)
     if alive[0] and mean[0] >= 0.5 * GRAVITY:  # more than +g when the log starts in boost (a Raven's)
-        return _held(axial, time) - GRAVITY, "rocket layer: the flight computer's along-axis accelerometer"
+        return _held(axial, time) - GRAVITY, "rocket estimator: the flight computer's along-axis accelerometer"
     skipped.append("its along-axis accelerometer is dead" if not alive[0] else
                    f"its along-axis accelerometer reads {mean[0]:+.2f} m/s² on the pad, not +g")
     return None
@@ -541,9 +541,9 @@ def _imu_accel(accel: np.ndarray, time: np.ndarray, long_axis: Optional[Tuple[in
         if saturated.any():
             first = int(np.argmax(saturated))
             values[first:] = np.nan
-            return values, (f"rocket layer: IMU axis {name}, saturated from t = {time[first]:.2f} s on: "
+            return values, (f"rocket estimator: IMU axis {name}, saturated from t = {time[first]:.2f} s on: "
                             f"baro-led from there")
-        return values, f"rocket layer: IMU axis {name}"
+        return values, f"rocket estimator: IMU axis {name}"
     skipped.append("the IMU is dead (constant)" if not alive.any() else
                    f"no IMU axis reads +g on the pad (means {', '.join(f'{m:+.2f}' for m in mean)} m/s²)")
     return None

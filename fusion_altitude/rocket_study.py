@@ -1,5 +1,5 @@
 """Two study tables over simulated rocket flights (:func:`fusion_altitude.sim.rocket_sim.simulate_rocket_flight`):
-the rocket layer's event and height figures (:func:`summary`) and the Kalman filter against it
+the rocket estimator's event and height figures (:func:`summary`) and the Kalman filter against it
 (:func:`kalman_comparison`). An application: it runs the rocket helpers on the simulator, so it sits above both
 (``python -m fusion_altitude.rocket_study [--kalman]``).
 """
@@ -46,7 +46,7 @@ def summary(seeds: int = 20) -> str:
 
 def kalman_comparison(seeds: int = 5) -> str:
     """RMS height error over whole simulated flights (m): the Kalman filter with its default and its rocket
-    settings (accel as given, baro above the pad) and the rocket flight layer
+    settings (accel as given, baro above the pad) and the rocket estimator
     (``python -m fusion_altitude.rocket_study --kalman``)."""
     lines = ["| seed | Kalman, default settings | Kalman, rocket settings | RocketEstimator |", "|---|---|---|---|"]
     for seed in range(seeds):

@@ -55,7 +55,7 @@ SLOW = {
     "test_ins_c.py::test_ins_covariance_stays_symmetric_psd_over_ten_million_steps_at_1khz",
     "test_ins_c.py::test_ins_m4f_imu_step_costs_under_12000_cycles",
     "test_ins_c.py::test_ins_fuzzer_finds_nothing_in_30000_inputs",
-    # tens of seconds each: 60 random tune runs, 96 bad-baro flights through the pure-Python flight layer
+    # tens of seconds each: 60 random tune runs, 96 bad-baro flights through the pure-Python rocket estimator
     "test_cli_fuzz.py::test_tune_anywhere_in_its_bounds_prints_no_warning",
     "test_rocket_reference.py::test_the_height_does_not_drop_more_than_1_m_in_the_ascent_with_bad_baro",
 }

@@ -74,7 +74,7 @@ def test_the_ins_refuses_outputs_that_share_memory():
 
 
 def test_the_rocket_layer_refuses_outputs_that_share_memory():
-    from fusion_altitude._flight import RocketEstimator
+    from fusion_altitude._rocket import RocketEstimator
 
     shared = np.zeros(5, np.float32)
     out = (shared, shared, np.zeros(5, np.float32), np.zeros(5, np.uint8), np.zeros(5, np.uint8))

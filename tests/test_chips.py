@@ -23,12 +23,12 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 FIRMWARE = ROOT / "csrc" / "firmware"
-ESTIMATORS = ["observer", "kalman", "complementary", "alphabeta", "flight", "ins"]
+ESTIMATORS = ["observer", "kalman", "complementary", "alphabeta", "rocket", "ins"]
 SKETCHES = ["Observer", "Kalman", "Complementary", "AlphaBeta", "Rocket", "Ins"]
 TOOLS = ("make", "gcc", "riscv64-unknown-elf-gcc", "qemu-system-riscv32", "avr-gcc", "avr-g++", "avr-size", "simavr",
          "arm-none-eabi-g++", "timeout")
 #: Update paths of cycles_<name>.c, in call order (their comments list them)
-PATHS = {"observer": 3, "kalman": 5, "complementary": 4, "alphabeta": 4, "flight": 5, "ins": 6}
+PATHS = {"observer": 3, "kalman": 5, "complementary": 4, "alphabeta": 4, "rocket": 5, "ins": 6}
 
 
 def make(build: Path, *targets: str, timeout: float = 1200) -> str:

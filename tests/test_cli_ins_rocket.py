@@ -1,4 +1,4 @@
-"""The INS and the rocket flight layer where they are used: ``run --estimator ins``,
+"""The INS and the rocket estimator where they are used: ``run --estimator ins``,
 ``compare`` INS rows, ``run`` on rocket logs with ``--events-csv`` and the events next to the flight
 computer's own, the plot's event marks."""
 
@@ -164,7 +164,7 @@ def test_compare_scenario_ins_row_beats_the_raw_baro_on_the_clean_scenario():
 
 
 # ----------------------------------------------------------------------------
-# the rocket flight layer
+# the rocket estimator
 
 
 def test_rocket_long_axis_is_the_axis_carrying_gravity_signed_nose_up():
@@ -173,13 +173,13 @@ def test_rocket_long_axis_is_the_axis_carrying_gravity_signed_nose_up():
     assert runner.rocket_long_axis(-accel[:, [2, 0, 1]]) == (2, 1.0)
 
 
-def test_run_on_a_rocket_log_runs_the_flight_layer_without_being_asked(hedy, capsys):
+def test_run_on_a_rocket_log_runs_the_rocket_estimator_without_being_asked(hedy, capsys):
     assert main(["run", hedy]) == 0
     text = capsys.readouterr().out
     assert "estimator rocket (rocket log)" in text and "long axis -Y" in text and "flight events" in text
-    # the rocket layer uses the long axis, not the CATS reader's gyro-integrated attitude: the header says so
+    # the rocket estimator uses the long axis, not the CATS reader's gyro-integrated attitude: the header says so
     assert "attitude by gyro integration" not in text
-    assert "rocket layer: accelerometer along the long axis (-Y) minus g, not rotated by an attitude" in text
+    assert "rocket estimator: accelerometer along the long axis (-Y) minus g, not rotated by an attitude" in text
 
 
 def test_run_on_hedy_writes_the_events_csv_one_row_per_event(hedy, tmp_path, capsys):
@@ -213,7 +213,7 @@ def test_run_on_an_altos_log_prints_its_logged_states_as_events(tmp_path, capsys
     assert [float(lines[name][-2]) for name in ("launch", "burnout", "apogee", "main")] == [0.0, 2.0, 8.0, 20.0]
 
 
-def test_rocket_flag_runs_the_flight_layer_on_a_generic_csv(simulated_rocket_csv, tmp_path, capsys):
+def test_rocket_flag_runs_the_rocket_estimator_on_a_generic_csv(simulated_rocket_csv, tmp_path, capsys):
     path, flight = simulated_rocket_csv
     events = tmp_path / "events.csv"
     assert main(["run", path, "--time", "time", "--accel", "accel", "--baro", "baro", "--rocket",
@@ -235,7 +235,7 @@ def test_rocket_output_csv_has_height_phase_and_baro_fate(simulated_rocket_csv, 
 
 def test_events_csv_without_the_rocket_layer_is_refused(px4, tmp_path, capsys):
     assert main(["run", px4, "--events-csv", str(tmp_path / "e.csv")]) == 2
-    assert "--events-csv needs the rocket flight layer" in capsys.readouterr().err
+    assert "--events-csv needs the rocket estimator" in capsys.readouterr().err
     assert not (tmp_path / "e.csv").exists()
 
 

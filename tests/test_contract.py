@@ -23,7 +23,7 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 
 import fusion_altitude
 import fusion_altitude.reference
-from fusion_altitude import _alphabeta, _c_tables, _complementary, _flight, _ins, _kalman, _observer
+from fusion_altitude import _alphabeta, _c_tables, _complementary, _rocket, _ins, _kalman, _observer
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -82,7 +82,7 @@ class Row:
     #: The positional parameters of update/update_batch (the rest keyword-only, or ``out``). Exceptions to
     #: CONTRACT_ORDER are written here, with the reason.
     positional: Tuple[str, ...] = CONTRACT_ORDER
-    retune: bool = True  # ``estimator.settings = ...`` mid-run (the rocket layer's settings are fixed at start)
+    retune: bool = True  # ``estimator.settings = ...`` mid-run (the rocket estimator's settings are fixed at start)
     gil_samples: int = 400_000  # a batch long enough to see the GIL released
 
 
@@ -99,7 +99,7 @@ ESTIMATORS = [
     # 3-vectors, as imufusion users call an AHRS; baro and mag are optional and positional.
     Row("InsEstimator", "InsSettings", _ins, _ins_inputs, {"baro_noise": 0.5}, "InsStatus",
         positional=("gyro", "accel", "dt", "baro_altitude", "mag"), gil_samples=200_000),
-    Row("RocketEstimator", "RocketSettings", _flight, _rocket_inputs, {"launch_accel": 30.0}, "RocketStatus",
+    Row("RocketEstimator", "RocketSettings", _rocket, _rocket_inputs, {"launch_accel": 30.0}, "RocketStatus",
         enums=(("Phase", "C_PHASE_VALUES"), ("BaroFate", "C_BARO_VALUES"), ("RocketEventId", "C_EVENTID_VALUES")),
         retune=False),
 ]

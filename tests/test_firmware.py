@@ -1,7 +1,7 @@
 """Firmware fitness of csrc/fusion_altitude.h, of
 csrc/fusion_altitude_kalman.h, of the hobby estimators
 csrc/fusion_altitude_complementary.h and csrc/fusion_altitude_alphabeta.h
-(all but fuzzing), of the rocket flight layer csrc/fusion_altitude_flight.h
+(all but fuzzing), of the rocket estimator csrc/fusion_altitude_rocket.h
 and of the INS csrc/fusion_altitude_ins.h, through csrc/firmware/Makefile:
 
 - cross builds (Cortex-M0+/M4F/M7, rv32imac/rv32imafc; C99/C11; -Os/-O2) with
@@ -263,14 +263,14 @@ def test_every_public_ins_function_is_built_and_sized():
     assert public - set(table.INS_FUNCTIONS) == set(), "add these to INS_FUNCTIONS in csrc/firmware/size_table.py"
 
 
-def test_every_public_flight_function_is_built_and_sized():
-    header = (CSRC / "fusion_altitude_flight.h").read_text()
+def test_every_public_rocket_function_is_built_and_sized():
+    header = (CSRC / "fusion_altitude_rocket.h").read_text()
     public = set(re.findall(r"^static inline [^(]*?\b(FusionAltitudeRocket\w+)\(", header, re.MULTILINE))
-    sized = set(re.findall(r"\bSized(FusionAltitudeRocket\w+)\(", (FIRMWARE / "sized_flight.c").read_text()))
+    sized = set(re.findall(r"\bSized(FusionAltitudeRocket\w+)\(", (FIRMWARE / "sized_rocket.c").read_text()))
     table = load(FIRMWARE / "size_table.py", "size_table")
     assert "FusionAltitudeRocketUpdate" in sized
     assert sized <= public
-    assert sized - set(table.FLIGHT_FUNCTIONS) == set(), "add these to FLIGHT_FUNCTIONS in csrc/firmware/size_table.py"
+    assert sized - set(table.ROCKET_FUNCTIONS) == set(), "add these to ROCKET_FUNCTIONS in csrc/firmware/size_table.py"
 
 
 def test_every_public_function_is_built_and_sized():
@@ -297,7 +297,7 @@ def test_cross_builds_are_warning_free_without_double_or_libm(build):
     for target in ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc"):
         for variant in ("c99-Os", "c99-O2", "c11-Os", "c11-O2"):
             for name in ("firmware_observer", "sized_observer", "firmware_kalman", "sized_kalman", "firmware_complementary",
-                         "sized_complementary", "firmware_alphabeta", "sized_alphabeta", "firmware_flight", "sized_flight",
+                         "sized_complementary", "firmware_alphabeta", "sized_alphabeta", "firmware_rocket", "sized_rocket",
                          "firmware_ins", "sized_ins"):
                 line = re.search(rf"^{target}/{variant}/{name}: ok \(needs: (.*)\)$", output, re.MULTILINE)
                 assert line, (target, variant, name)
@@ -311,7 +311,7 @@ def test_object_check_allows_sqrtf_only_in_ins_objects(tmp_path):
     """The same object needing sqrtf passes as sized_ins and fails under any other estimator's name."""
     variant = tmp_path / "cross" / "cortex-m4f" / "c99-Os"
     variant.mkdir(parents=True)
-    for stem in ("sized_ins", "firmware_ins", "sized_observer", "firmware_flight"):
+    for stem in ("sized_ins", "firmware_ins", "sized_observer", "firmware_rocket"):
         (variant / f"{stem}.lst").write_text("")
         (variant / f"{stem}.undefined").write_text("         U memset\n         U sqrtf\n")
     (variant / "sized_kalman.lst").write_text("")
@@ -320,7 +320,7 @@ def test_object_check_allows_sqrtf_only_in_ins_objects(tmp_path):
                             capture_output=True, text=True)
     assert result.returncode == 1, result.stdout
     assert "cortex-m4f/c99-Os/sized_ins: ok" in result.stdout and "cortex-m4f/c99-Os/firmware_ins: ok" in result.stdout
-    for stem, symbol in (("sized_observer", "sqrtf"), ("firmware_flight", "sqrtf"), ("sized_kalman", "sqrt")):
+    for stem, symbol in (("sized_observer", "sqrtf"), ("firmware_rocket", "sqrtf"), ("sized_kalman", "sqrt")):
         assert f"cortex-m4f/c99-Os/{stem}: FAIL {symbol} " in result.stdout, result.stdout
 
 
@@ -359,7 +359,7 @@ def expected_replays(mismatches: str) -> list:
     (-std=c99) and gcc -std=gnu11 -O2 -mfma (FMA contraction on by default); on QEMU -Os, -O2 (-std=c99) and
     -std=gnu11 -O2 (vfma.f32 available)."""
     counts = (vector_count(), kalman_vector_count(), hashed_vector_count("complementary"), hashed_vector_count("alphabeta"),
-              hashed_vector_count("flight"), hashed_vector_count("ins"))
+              hashed_vector_count("rocket"), hashed_vector_count("ins"))
     return sorted([(str(count), mismatches) for count in counts] * 3)
 
 
@@ -424,9 +424,9 @@ def test_sizes_meet_the_firmware_budget_and_match_the_doc(build):
     every, baro, imu, rejected = alphabeta["cycles"]
     assert imu["instructions"] < baro["instructions"] < every["instructions"] < 1500
     assert rejected["instructions"] < 20
-    # Rocket flight layer: regression bounds (observer inside; 384 B on ARM, 388 B on RISC-V since issue 20's baro
+    # Rocket estimator: regression bounds (observer inside; 384 B on ARM, 388 B on RISC-V since issue 20's baro
     # launch, baro peak, contradiction timer and gap restart: 356 B and 360 B before).
-    flight = measured["flight"]
+    flight = measured["rocket"]
     assert max(flight["ram"].values()) <= 416, flight["ram"]  # both: the observer's stability rule and issue 20's rocket
     # 5102 B with both: issue 20's rocket changes (3866 B alone) and the observer's stability rule inlined (3670 alone)
     assert flight["size"]["FusionAltitudeRocketUpdate/cortex-m4f/Os"] <= 5632
@@ -467,16 +467,16 @@ def test_cppcheck_is_clean(build):
     makefile = (FIRMWARE / "Makefile").read_text()
     fuzzers = re.search(r"^FUZZERS := (.*)$", makefile, re.MULTILINE).group(1).split()
     failing = re.search(r"^FUZZERS_FAILING :=(.*)$", makefile, re.MULTILINE).group(1).split()
-    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta",
+    assert fuzzers + failing == ["fuzz_observer", "fuzz_kalman", "fuzz_rocket", "fuzz_ins", "fuzz_alphabeta",
                                  "fuzz_complementary", "fuzz_sweep"], (fuzzers, failing)
     for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
         assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
     assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
     estimators = re.search(r"^ESTIMATORS := (.*)$", (FIRMWARE / "Makefile").read_text(), re.MULTILINE).group(1).split()
-    assert {"observer", "kalman", "complementary", "alphabeta", "flight", "ins"} <= set(estimators), estimators
+    assert {"observer", "kalman", "complementary", "alphabeta", "rocket", "ins"} <= set(estimators), estimators
 
 
-FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_flight", "fuzz_ins", "fuzz_alphabeta", "fuzz_complementary",
+FUZZERS = ("fuzz_observer", "fuzz_kalman", "fuzz_rocket", "fuzz_ins", "fuzz_alphabeta", "fuzz_complementary",
            "fuzz_sweep")
 
 

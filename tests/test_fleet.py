@@ -155,7 +155,7 @@ def test_every_good_log_equals_its_single_log_run_bit_for_bit(first_run):
         assert set(table.column("log_id").to_pylist()) == {fleet.log_id(path)}
 
 
-@pytest.mark.parametrize("estimator", [  # the INS needs raw gyro + accel; the rocket layer is for rocket logs
+@pytest.mark.parametrize("estimator", [  # the INS needs raw gyro + accel; the rocket estimator is for rocket logs
     entry.name for entry in runner.ESTIMATORS.values() if not entry.needs and not entry.vehicle])
 def test_every_estimator_of_this_build_equals_its_single_log_run(estimator, fleet_dir, client, tmp_path):
     logs = [fleet_dir / "px4" / "day1" / "flight3.ulg", fleet_dir / "ardupilot" / "plane2.BIN",

@@ -1,5 +1,5 @@
 """One meaning per name (docs/architecture.md, "Names"): the INS's height above its start has its own name, its
-altitude in the baro's datum is what ``run -o`` writes as ``altitude``, and the rocket layer answers to its stem."""
+altitude in the baro's datum is what ``run -o`` writes as ``altitude``."""
 
 import numpy as np
 import pytest
@@ -50,10 +50,3 @@ def test_the_ins_batch_altitude_is_height_above_start_plus_baro_bias(cls):
     np.testing.assert_array_equal(batch.altitude, batch.height_above_start + batch.baro_bias)
     np.testing.assert_array_equal(batch.baro_datum_altitude, batch.altitude)
     assert abs(batch.altitude[-1] - 50.0) < 1.0 and abs(batch.height_above_start[-1]) < 1.0
-
-
-def test_the_rocket_reference_answers_to_the_rocket_stem():
-    import fusion_altitude.reference.flight as flight
-    import fusion_altitude.reference.rocket as rocket
-
-    assert rocket is flight and rocket.RocketEstimator is ref.RocketEstimator

@@ -48,7 +48,7 @@ BINDINGS = _binding_modules()
 
 
 def test_every_binding_module_is_installed():
-    assert {"_observer", "_kalman", "_complementary", "_alphabeta", "_ins", "_flight", "_sweep"} <= set(BINDINGS)
+    assert {"_observer", "_kalman", "_complementary", "_alphabeta", "_ins", "_rocket", "_sweep"} <= set(BINDINGS)
 
 
 def test_type_stubs_and_marker_are_installed():

@@ -1,4 +1,4 @@
-"""The rocket flight layer on simulated flights (fusion_altitude.rocket_sim), and its Python API.
+"""The rocket estimator on simulated flights (fusion_altitude.rocket_sim), and its Python API.
 
 The simulator gives every flight a static-port error proportional to dynamic
 pressure with a transonic bump, pyro spikes at the drogue and main charges,
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from fusion_altitude import rocket
-from fusion_altitude._flight_glue import MACH_LOCKOUT
+from fusion_altitude._rocket_glue import MACH_LOCKOUT
 from fusion_altitude.rocket_sim import simulate_rocket_flight
 
 SEEDS = range(20)
@@ -221,7 +221,7 @@ def test_rocket_kalman_settings_follow_a_simulated_flight_at_least_as_well_as_th
     assert rms["rocket"] <= rms["default"]
 
 
-def test_rocket_preset_is_the_flight_layers_observer_gains(impl):
+def test_rocket_preset_is_the_rocket_estimators_observer_gains(impl):
     settings = impl.AltitudeSettings.preset("rocket")
     assert settings.as_tuple() == tuple(float(np.float32(g)) for g in rocket.ROCKET_OBSERVER_GAINS)
     assert settings.bias_gain == 0.0

@@ -1,4 +1,4 @@
-"""The rocket flight layer's replay vectors (csrc/tests/vectors/flight_vectors.h) are fresh and cover every phase.
+"""The rocket estimator's replay vectors (csrc/tests/vectors/rocket_vectors.h) are fresh and cover every phase.
 
 The replays themselves run in tests/test_firmware.py (host gcc/clang, QEMU
 Cortex-M4F at -Os and -O2), as for every estimator of the Makefile's ESTIMATORS.
@@ -13,16 +13,16 @@ VECTORS = ROOT / "csrc" / "tests" / "vectors"
 
 
 def load_generator():
-    spec = importlib.util.spec_from_file_location("generate_flight_vectors", VECTORS / "generate_flight.py")
+    spec = importlib.util.spec_from_file_location("generate_rocket_vectors", VECTORS / "generate_rocket.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-def test_flight_vectors_are_up_to_date_and_reach_every_phase():
+def test_rocket_vectors_are_up_to_date_and_reach_every_phase():
     text = load_generator().render()
-    assert text == (VECTORS / "flight_vectors.h").read_text(), \
-        "csrc/tests/vectors/flight_vectors.h is stale: run python csrc/tests/vectors/generate_flight.py"
+    assert text == (VECTORS / "rocket_vectors.h").read_text(), \
+        "csrc/tests/vectors/rocket_vectors.h is stale: run python csrc/tests/vectors/generate_rocket.py"
     coverage = text.split("Coverage (record counts):")[1].split("*/")[0]
     for transition in ("phase 0 -> 1", "phase 1 -> 2", "phase 2 -> 3", "phase 3 -> 4", "phase 4 -> 5"):
         assert re.search(rf"{transition} \d+", coverage), transition

@@ -1,4 +1,4 @@
-"""The rocket flight layer on a real flight: "Hedy" (TU Wien Space Team, EuRoC 2025), CATS flight computer.
+"""The rocket estimator on a real flight: "Hedy" (TU Wien Space Team, EuRoC 2025), CATS flight computer.
 
 Our events and height (C core, default settings, long-axis accelerometer −Y
 minus g, baro through the ISA) against the CATS flight computer's own

@@ -1,4 +1,4 @@
-"""The rocket layer on the logs flight computers really write (issue 20), on simulated fixtures.
+"""The rocket estimator on the logs flight computers really write (issue 20), on simulated fixtures.
 
 Fixtures from fusion_altitude.rocket_sim: every flight as a log with a live IMU,
 a dead IMU (all zero), an IMU that saturates in boost, no accelerometer at all
@@ -7,7 +7,7 @@ a dead IMU (all zero), an IMU that saturates in boost, no accelerometer at all
 gaps of 0.6-4 s (7 % of the packets; the gaps are kept 2 s away from the true
 apogee so that the apogee timing is measured apart from the data a gap removes:
 a gap over the apogee has its own test). Run through ``run_log(estimator="rocket")``,
-i.e. the input choice of rocket.rocket_accel_input and the C flight layer.
+i.e. the input choice of rocket.rocket_accel_input and the C rocket estimator.
 
 Figures measured over these fixtures (seeds 0-5; the table in docs/rocket.md, "Logs without a
 good accelerometer"): apogee 0.14-0.79 s after the truth, height within 0.37 %, the largest fall
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from fusion_altitude import logs, rocket, runner
-from fusion_altitude.reference.flight import RocketEstimator as ReferenceRocket
+from fusion_altitude.reference.rocket import RocketEstimator as ReferenceRocket
 from fusion_altitude.rocket_sim import (LOG_KINDS, RocketFlightModel, flight_log, simulate_rocket_flight,
                                         telemetry_indices)
 from fusion_altitude.sim import GRAVITY
@@ -131,7 +131,7 @@ def test_the_flight_computers_along_axis_accelerometer_is_preferred_to_the_imu()
     data = flight_log(flight, "imu")
     data.axial_acceleration = flight.accel + GRAVITY + 0.5  # a different sensor: 0.5 m/s² apart
     accel, note = rocket.rocket_accel_input(data)
-    assert note == "rocket layer: the flight computer's along-axis accelerometer"
+    assert note == "rocket estimator: the flight computer's along-axis accelerometer"
     np.testing.assert_allclose(accel, flight.accel + 0.5)
 
 
@@ -238,7 +238,7 @@ def test_an_along_axis_accelerometer_whose_export_starts_in_boost_is_still_used(
     start = int(np.searchsorted(flight.time, flight.launch_time - 0.1))
     data = flight_log(flight, "axial", np.arange(start, flight.time.size))
     accel, note = rocket.rocket_accel_input(data)
-    assert note == "rocket layer: the flight computer's along-axis accelerometer"
+    assert note == "rocket estimator: the flight computer's along-axis accelerometer"
     run = _run(data)
     assert run.events["launch"].occurred and run.events["burnout"].occurred
     assert abs(run.events["apogee"].height - flight.apogee_height) <= 0.02 * flight.apogee_height

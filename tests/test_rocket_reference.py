@@ -1,4 +1,4 @@
-"""The rocket flight layer: C (through the binding) and the pure-Python reference agree bit for bit.
+"""The rocket estimator: C (through the binding) and the pure-Python reference agree bit for bit.
 
 Hypothesis draws whole flights (pad, boost, coast, descent, landing) with
 random settings, noise, baro dropouts, spikes, gaps and a possibly
@@ -14,8 +14,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from fusion_altitude import rocket
-from fusion_altitude._flight import RocketEstimator as CRocket
-from fusion_altitude.reference.flight import RocketEstimator as RefRocket
+from fusion_altitude._rocket import RocketEstimator as CRocket
+from fusion_altitude.reference.rocket import RocketEstimator as RefRocket
 
 
 def bits(array):
@@ -145,7 +145,7 @@ def test_copy_and_pickle_resume_bit_identically(make):
 # during the lockout or in the coast after re-admission (re-admitted through the baro offset, which the output
 # absorbs without falling). The height (launch to the declared apogee) may never fall more than 1 m below its
 # running maximum. Before the offset's downward rate was tied to the observer's rise, a -50 m step in the coast
-# of seed 1 fell 1.66 m. NOT covered, because the flight layer fails it (docs/rocket.md, Limits): steps smaller
+# of seed 1 fell 1.66 m. NOT covered, because the rocket estimator fails it (docs/rocket.md, Limits): steps smaller
 # than spikeThreshold (20 m), which are fused as they come and pull the velocity (a -10 m step 1 s before
 # apogee: apogee 0.26 s early).
 

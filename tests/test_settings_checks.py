@@ -18,11 +18,11 @@ from hypothesis import given, settings as hypothesis_settings
 from hypothesis import strategies as st
 
 from fusion_altitude._core import (_alphabeta, _alphabeta_glue, _c_tables, _complementary, _complementary_glue,
-                                   _flight, _flight_glue, _ins, _ins_glue, _kalman, _kalman_glue, _observer,
+                                   _rocket, _rocket_glue, _ins, _ins_glue, _kalman, _kalman_glue, _observer,
                                    _observer_glue)
 from fusion_altitude.reference import alphabeta as reference_alphabeta
 from fusion_altitude.reference import complementary as reference_complementary
-from fusion_altitude.reference import flight as reference_flight
+from fusion_altitude.reference import rocket as reference_flight
 from fusion_altitude.reference import ins as reference_ins
 from fusion_altitude.reference import kalman as reference_kalman
 from fusion_altitude.reference import observer as reference_observer
@@ -36,7 +36,7 @@ VALUES = EDGES | st.floats(-10.0, 100.0, width=32) | st.floats(width=32)
 
 REGISTRIES = (_observer_glue.C_SETTINGS_FUNCTIONS, _kalman_glue.C_SETTINGS_FUNCTIONS,
               _complementary_glue.C_SETTINGS_FUNCTIONS, _alphabeta_glue.C_SETTINGS_FUNCTIONS,
-              _ins_glue.C_SETTINGS_FUNCTIONS, _flight_glue.C_SETTINGS_FUNCTIONS)
+              _ins_glue.C_SETTINGS_FUNCTIONS, _rocket_glue.C_SETTINGS_FUNCTIONS)
 
 
 def _outcome(make):
@@ -71,7 +71,7 @@ def test_every_binding_registers_its_c_settings_checks_at_import():
     assert _alphabeta_glue.C_SETTINGS_FUNCTIONS["check_sensor"] is _alphabeta.c_sensor_settings_check
     assert _alphabeta_glue.C_SETTINGS_FUNCTIONS["check_gap_period"] is _alphabeta.c_gap_period_check
     assert _ins_glue.C_SETTINGS_FUNCTIONS["check"] is _ins.c_settings_check
-    assert _flight_glue.C_SETTINGS_FUNCTIONS["check"] is _flight.c_settings_check
+    assert _rocket_glue.C_SETTINGS_FUNCTIONS["check"] is _rocket.c_settings_check
 
 
 def test_the_settings_classes_call_the_registered_c_check():
@@ -188,17 +188,17 @@ def test_ins_settings_raise_the_same_error_with_c_as_with_the_twin(changes):
 
 # -- rocket -----------------------------------------------------------------------------------------------------
 
-ROCKET_NAMES = list(_flight_glue.FIELD_NAMES)
+ROCKET_NAMES = list(_rocket_glue.FIELD_NAMES)
 
 
 @hypothesis_settings(max_examples=300, deadline=None)
 @given(changes=st.dictionaries(st.sampled_from(ROCKET_NAMES), VALUES, max_size=4))
 def test_the_twin_of_the_rocket_check_equals_c(changes):
     with np.errstate(over="ignore"):
-        values = {name: float(f32(changes.get(name, default))) for name, default in _flight_glue.DEFAULTS.items()}
-    with mock.patch.dict(_flight_glue.C_SETTINGS_FUNCTIONS, clear=True):
-        twin = _flight_glue.check_settings_values(values)
-    assert int(twin) == _flight.c_settings_check({**values, "observer": _flight_glue.ROCKET_OBSERVER})
+        values = {name: float(f32(changes.get(name, default))) for name, default in _rocket_glue.DEFAULTS.items()}
+    with mock.patch.dict(_rocket_glue.C_SETTINGS_FUNCTIONS, clear=True):
+        twin = _rocket_glue.check_settings_values(values)
+    assert int(twin) == _rocket.c_settings_check({**values, "observer": _rocket_glue.ROCKET_OBSERVER})
 
 
 @hypothesis_settings(max_examples=200, deadline=None)
@@ -298,8 +298,8 @@ def test_c_checks_each_header_rule_rejecting_with_the_status_it_names_and_accept
             (_c_tables.KALMAN_RULES, _kalman.c_default_settings(), _kalman.c_settings_check),
             (_c_tables.COMPLEMENTARY_RULES, _complementary.c_default_settings(), _complementary.c_settings_check),
             (_c_tables.INS_RULES, _ins.c_default_settings(), _ins.c_settings_check),
-            ({name: rule for name, rule in _c_tables.FLIGHT_RULES.items() if name != "observer"},
-             _flight.c_default_settings(), _flight.c_settings_check))
+            ({name: rule for name, rule in _c_tables.ROCKET_RULES.items() if name != "observer"},
+             _rocket.c_default_settings(), _rocket.c_settings_check))
     for rules, defaults, check in flat:
         _assert_c_checks_each_rule(rules, defaults, check)
     for sensor in _alphabeta_glue.ALPHABETA_SENSORS:

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from fusion_altitude import _c_tables
-from fusion_altitude.reference import complementary, flight, ins, kalman, observer
+from fusion_altitude.reference import complementary, rocket, ins, kalman, observer
 
 #: settings class → the generated table of its C struct (python name first, default fourth; a nested struct's
 #: default, a tuple, is not compared).
@@ -23,7 +23,7 @@ FLAT = {
     "ComplementarySettings": (complementary.ComplementarySettings, _c_tables.COMPLEMENTARY_SETTINGS),
     "InsSettings": (ins.InsSettings, _c_tables.INS_SETTINGS),
     "AltitudeSettings": (observer.AltitudeSettings, _c_tables.OBSERVER_SETTINGS),
-    "RocketSettings": (flight.RocketSettings, _c_tables.FLIGHT_SETTINGS),
+    "RocketSettings": (rocket.RocketSettings, _c_tables.ROCKET_SETTINGS),
 }
 
 _ENTRY = re.compile(r"^    (\w+(?:, \w+)*) : (.*)$")

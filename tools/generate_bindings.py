@@ -69,12 +69,12 @@ MODULES = {
     "alphabeta": ("fusion_altitude_alphabeta.h", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaSettings",
                   "FusionAltitudeAlphaBeta"),
     "ins": ("fusion_altitude_ins.h", "FusionAltitudeIns", "FusionAltitudeInsSettings", "FusionAltitudeIns"),
-    "flight": ("fusion_altitude_flight.h", "FusionAltitudeRocket", "FusionAltitudeRocketSettings", "FusionAltitudeRocket"),
+    "rocket": ("fusion_altitude_rocket.h", "FusionAltitudeRocket", "FusionAltitudeRocketSettings", "FusionAltitudeRocket"),
 }
 
 #: module name → the Python estimator class (binding and reference alike).
 ESTIMATORS = {"observer": "AltitudeEstimator", "kalman": "KalmanEstimator", "complementary": "ComplementaryFilter",
-              "alphabeta": "AlphaBetaFusion", "ins": "InsEstimator", "flight": "RocketEstimator"}
+              "alphabeta": "AlphaBetaFusion", "ins": "InsEstimator", "rocket": "RocketEstimator"}
 
 #: Python enum name of each C enum, and the prefix its members drop.
 ENUM_NAMES = {
@@ -484,7 +484,7 @@ def _py_of(kind: str, expr: str) -> str:
 
 #: The settings class of each binding: the reference's (``fusion_altitude.reference.<module>``).
 SETTINGS_CLASSES = {"observer": "AltitudeSettings", "kalman": "KalmanSettings", "complementary": "ComplementarySettings",
-                    "alphabeta": "AlphaBetaSettings", "ins": "InsSettings", "flight": "RocketSettings"}
+                    "alphabeta": "AlphaBetaSettings", "ins": "InsSettings", "rocket": "RocketSettings"}
 
 
 def binding_preamble(module: str) -> List[str]:
@@ -699,7 +699,7 @@ def state_functions(header: Header, state: str, settings: str) -> List[str]:
 
 #: The .pxd of each module's header.
 PXD_NAMES = {"observer": "cobserver.pxd", "kalman": "ckalman.pxd", "complementary": "ccomplementary.pxd",
-             "alphabeta": "calphabeta.pxd", "ins": "cins.pxd", "flight": "cflight.pxd"}
+             "alphabeta": "calphabeta.pxd", "ins": "cins.pxd", "rocket": "crocket.pxd"}
 
 
 def _cython_type(ctype: str) -> str:
@@ -809,7 +809,7 @@ EXTRA_STUBS = {
                   "def c_sensor_settings_check(sensor: AlphaBetaSensorSettings) -> int: ...",
                   "def c_gap_period_check(gap_period: float) -> int: ..."],
     "ins": [],
-    "flight": ["C_MACH_LOCKOUT: float", "C_NUMBER_OF_EVENTS: int", "def status_message(status: int) -> str: ..."],
+    "rocket": ["C_MACH_LOCKOUT: float", "C_NUMBER_OF_EVENTS: int", "def status_message(status: int) -> str: ..."],
 }
 
 

@@ -68,10 +68,10 @@ SKETCHES = {
         setup=DEFAULT_SETUP, inputs=["    {prefix}Measurements measurements = {prefix}MeasurementsNone();"] + BARO_MEASUREMENTS,
         update="{prefix}Update(&{var}, ReadVerticalAccel(), dt, &measurements)", prints=PRINT_ALTITUDE),
     "Rocket": dict(
-        intro=["the rocket flight layer (fusion_altitude_flight.h) at 100 Hz with a",
+        intro=["the rocket estimator (fusion_altitude_rocket.h) at 100 Hz with a",
                "25 Hz barometer: pad calibration, launch, burnout, apogee and landing.",
                "Prints height above the pad (cm), vertical velocity (cm/s) and the phase."],
-        header="fusion_altitude_flight.h", prefix="FusionAltitudeRocket", var="rocket",
+        header="fusion_altitude_rocket.h", prefix="FusionAltitudeRocket", var="rocket",
         stub=("// Accelerometer along the rocket's long axis (nose up), m/s^2, minus g: about 0 on the pad.\n"
               + ACCEL_STUB.split("\n", 1)[1]),
         setup=["    const {prefix}Status status = {prefix}Initialise(&{var}, NULL); // the default settings",

@@ -101,7 +101,7 @@ PAGES: Dict[str, Tuple[str, str]] = {
     "logs": ("Log readers", "Readers of flight logs (PX4 ULog, ArduPilot DataFlash, CSV, AltOS, CATS, Raven, RRC3) "
              "into one :class:`~fusion_altitude.logs.LogData`."),
     "simulation": ("Simulation", "Trajectories, sensor models, scenarios and the raw-IMU simulator."),
-    "rocket": ("Rockets", "The rocket flight layer's helpers and the rocket flight simulator."),
+    "rocket": ("Rockets", "The rocket estimator's helpers and the rocket flight simulator."),
     "fleet": ("Fleets", "Many logs at once on dask.distributed (the ``[fleet]`` extra)."),
     "applications": ("Applications", "Running estimators on logs, comparing them, sensor health, plots and the CLI."),
 }

@@ -11,7 +11,7 @@ QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
 The other estimators (ESTIMATORS: the Kalman filter, the complementary
-filter, the alpha-beta fusion, the rocket flight layer, the INS) are measured the same way: sized_<name>.c, the
+filter, the alpha-beta fusion, the rocket estimator, the INS) are measured the same way: sized_<name>.c, the
 static instance in firmware_<name>.c, and Sized...Update traced by
 cycles_<name>.c; their figures are under result[<name>] and each has its own
 block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers).
@@ -70,7 +70,7 @@ ALPHABETA_FUNCTIONS = (
     "FusionAltitudeAlphaBetaGetGapCount", "FusionAltitudeAlphaBetaIsTimedOut", "FusionAltitudeAlphaBetaGetTimeoutCount",
 )
 
-FLIGHT_FUNCTIONS = (
+ROCKET_FUNCTIONS = (
     "FusionAltitudeRocketUpdate", "FusionAltitudeRocketUpdateWithVerticalAccel", "FusionAltitudeRocketCheckInputs",
     "FusionAltitudeRocketInitialise", "FusionAltitudeRocketSettingsCheck", "FusionAltitudeRocketSettingsDefault",
     "FusionAltitudeRocketObserverSettings", "FusionAltitudeRocketStatusMessage", "FusionAltitudeRocketGetHeight",
@@ -104,7 +104,7 @@ COMPLEMENTARY_CALLS = ("baro sample, time-constant blend (default)", "baro sampl
                        "no baro sample (prediction only)", "rejected (accel not finite)")
 ALPHABETA_CALLS = ("IMU and all four sensors", "IMU and baro", "IMU only (the other filters predict)",
                    "rejected (accel infinite)")
-FLIGHT_CALLS = ("pad, baro sample, a calibration window completes", "coast below the lockout speed, baro fused",
+ROCKET_CALLS = ("pad, baro sample, a calibration window completes", "coast below the lockout speed, baro fused",
                 "coast above the lockout speed, baro locked out", "descent, baro fused, accel ignored",
                 "rejected (accel infinite)")
 #: the paths of cycles_ins.c (ins_cycles.py and tests/test_ins_c.py use these names)
@@ -121,7 +121,7 @@ ESTIMATORS = (
      "FusionAltitudeComplementaryUpdate", COMPLEMENTARY_CALLS),
     ("alphabeta", ALPHABETA_FUNCTIONS, "firmwareAlphaBeta", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaUpdate",
      ALPHABETA_CALLS),
-    ("flight", FLIGHT_FUNCTIONS, "firmwareRocket", "FusionAltitudeRocket", "FusionAltitudeRocketUpdate", FLIGHT_CALLS),
+    ("rocket", ROCKET_FUNCTIONS, "firmwareRocket", "FusionAltitudeRocket", "FusionAltitudeRocketUpdate", ROCKET_CALLS),
     ("ins", INS_FUNCTIONS, "firmwareIns", "FusionAltitudeIns", "FusionAltitudeInsUpdate", INS_CALLS),
 )
 

@@ -514,10 +514,10 @@ INS_RULES = {
 }
 
 
-# -- fusion_altitude_flight.h ----------------------------------------------------------------------------
+# -- fusion_altitude_rocket.h ----------------------------------------------------------------------------
 
 class RocketStatus(enum.IntEnum):
-    """C ``FusionAltitudeRocketStatus`` (fusion_altitude_flight.h)."""
+    """C ``FusionAltitudeRocketStatus`` (fusion_altitude_rocket.h)."""
 
     OK = 0
     INVALID_ACCEL = 1  #: accel infinite (NaN: no accelerometer sample)
@@ -543,7 +543,7 @@ class RocketStatus(enum.IntEnum):
 
 
 class Phase(enum.IntEnum):
-    """C ``FusionAltitudeRocketPhase`` (fusion_altitude_flight.h)."""
+    """C ``FusionAltitudeRocketPhase`` (fusion_altitude_rocket.h)."""
 
     PAD = 0  #: calibrating, waiting for launch
     BOOST = 1  #: motor burning
@@ -554,7 +554,7 @@ class Phase(enum.IntEnum):
 
 
 class RocketEventId(enum.IntEnum):
-    """C ``FusionAltitudeRocketEventId`` (fusion_altitude_flight.h)."""
+    """C ``FusionAltitudeRocketEventId`` (fusion_altitude_rocket.h)."""
 
     LAUNCH = 0
     BURNOUT = 1
@@ -565,7 +565,7 @@ class RocketEventId(enum.IntEnum):
 
 
 class BaroFate(enum.IntEnum):
-    """C ``FusionAltitudeRocketBaro`` (fusion_altitude_flight.h)."""
+    """C ``FusionAltitudeRocketBaro`` (fusion_altitude_rocket.h)."""
 
     NONE = 0  #: no sample this step (NaN)
     PAD = 1  #: on the pad: used for calibration only
@@ -574,7 +574,7 @@ class BaroFate(enum.IntEnum):
     SPIKE = 4  #: not fused: rejected as a spike
 
 
-#: The numeric ``#define`` constants of fusion_altitude_flight.h (floats are float32 in C).
+#: The numeric ``#define`` constants of fusion_altitude_rocket.h (floats are float32 in C).
 FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT = 236.0
 FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME = 1.0
 FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME = 5.0
@@ -585,7 +585,7 @@ FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS = 6
 
 
 #: ``FusionAltitudeRocketStatusMessage`` of each status, read from C.
-FLIGHT_STATUS_MESSAGES = (
+ROCKET_STATUS_MESSAGES = (
     'ok',
     'accel must be finite, or NaN for no sample',
     'baro altitude must be finite, or NaN for no sample',
@@ -613,7 +613,7 @@ FLIGHT_STATUS_MESSAGES = (
 #: ``FusionAltitudeRocketSettings``: (python name, C name, kind, default, comment) per field, in the struct's order;
 #: kind f float32, i int32, b bool, s a struct (its default: the tuple of its fields in order); the
 #: defaults are ``FusionAltitudeRocketSettingsDefault()``, read from C.
-FLIGHT_SETTINGS = (
+ROCKET_SETTINGS = (
     ('observer', 'observer', 's', (1.4, 1.0, 0.0, 0.5, float("inf"),), 'observer gains in flight (bias gain forced to 0 after apogee)'),
     ('stationary_accel', 'stationaryAccel', 'f', 5.0, "m/s^2: pad samples within this of the window's first are stationary"),
     ('calibration_window', 'calibrationWindow', 'f', 0.5, 's: length of a pad calibration window'),
@@ -637,7 +637,7 @@ FLIGHT_SETTINGS = (
 #: The rule of each field of ``FusionAltitudeRocketSettings`` (the ``[rule: ...; else Status]`` of its comment in the header):
 #: Python name → (status when broken, terms); a term is "finite", "any" (no rule), "checked" (a struct
 #: checked by its own check) or (operator, bound), the bound a number, a constant or another field's name.
-FLIGHT_RULES = {
+ROCKET_RULES = {
     'observer': (RocketStatus.INVALID_OBSERVER_SETTINGS, ('checked',)),
     'stationary_accel': (RocketStatus.INVALID_STATIONARY_ACCEL, ('finite', ('>', 0))),
     'calibration_window': (RocketStatus.INVALID_CALIBRATION_WINDOW, ('finite', ('>', 0))),
@@ -665,5 +665,5 @@ STATUS_MESSAGES = {
     'ComplementaryFilter': COMPLEMENTARY_STATUS_MESSAGES,
     'AlphaBetaFusion': ALPHABETA_STATUS_MESSAGES,
     'InsEstimator': INS_STATUS_MESSAGES,
-    'RocketEstimator': FLIGHT_STATUS_MESSAGES,
+    'RocketEstimator': ROCKET_STATUS_MESSAGES,
 }

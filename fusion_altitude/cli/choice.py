@@ -34,12 +34,12 @@ def run_estimator(args: argparse.Namespace, data, health=()) -> str:
     if args.preset is not None and estimator != "observer":
         raise CliError(f"--preset names observer gains; it does not apply to --estimator {estimator}")
     if args.rocket and estimator != "rocket":
-        raise CliError(f"--rocket runs the rocket flight layer; it cannot be combined with --estimator {estimator}")
+        raise CliError(f"--rocket runs the rocket estimator; it cannot be combined with --estimator {estimator}")
     if args.events_csv and estimator != "rocket":
-        raise CliError(f"--events-csv needs the rocket flight layer (a rocket log, --rocket or --estimator rocket), "
+        raise CliError(f"--events-csv needs the rocket estimator (a rocket log, --rocket or --estimator rocket), "
                        f"not --estimator {estimator}")
     if args.long_axis and estimator != "rocket":
-        raise CliError("--long-axis applies to the rocket flight layer only")
+        raise CliError("--long-axis applies to the rocket estimator only")
     missing = runner.missing_inputs(data, estimator)
     if missing:
         raise CliError(f"--estimator {estimator} needs raw {' and '.join(missing)} in the log; {data.source} has no "

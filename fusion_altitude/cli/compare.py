@@ -22,7 +22,7 @@ def add_parser(commands) -> None:
         "compare", help="every estimator on the simulator's scenarios, or on one log: one table",
         description="Without FILE: observer (preset and fitted gains), Kalman filter, two-stage complementary "
                     "filter, quality-weighted alpha-beta fusion, inertial filter (INS, from the simulated raw IMU), "
-                    "the rocket layer (rocket scenario) and raw baro on the same simulated data: altitude "
+                    "the rocket estimator (rocket scenario) and raw baro on the same simulated data: altitude "
                     "RMS and max error, velocity RMS, recovery time after a sensor fault, C batch ns/sample. "
                     "With a log FILE: every estimator of `run --estimator` against the log's own estimate.")
     comparison.add_argument("file", nargs="?", help="a recorded log with its own estimate (as for `run`)")

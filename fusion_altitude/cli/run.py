@@ -1,6 +1,6 @@
 """``fusion-altitude run``: any estimator of :data:`fusion_altitude.estimators.ESTIMATORS` on a recorded log
 (:mod:`fusion_altitude.logs`), compared with the log's own estimate; the estimates (full precision), the rocket
-layer's events and a plot written on request."""
+estimator's events and a plot written on request."""
 
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ def add_parser(commands) -> None:
                           "log with a raw gyro and accelerometer, else observer): "
                           + "; ".join(f"{e.name}: {e.description}" for e in ESTIMATORS.values()))
     run.add_argument("--rocket", action="store_true",
-                     help="run the rocket flight layer (pad calibration, baro lockout, flight events) on any log")
+                     help="run the rocket estimator (pad calibration, baro lockout, flight events) on any log")
     run.add_argument("--events-csv", metavar="EVENTS.csv",
                      help="rocket: write the flight events, one row each: event,time,height (launch, burnout, "
                           "apogee, main, landed; the log's s, m above the pad)")
@@ -142,8 +142,8 @@ def _run_description(args: argparse.Namespace, data, run, estimator: str):
         column, sign = LONG_AXES[args.long_axis] if args.long_axis else runner.rocket_long_axis(data.accel, data.time)
         axis = f"{'+' if sign > 0 else '-'}{'XYZ'[column]}"
         what += f"; long axis {axis}"
-        # the rocket layer takes the raw accelerometer's long axis, not the reader's gyro-integrated vertical
-        notes = [f"rocket layer: accelerometer along the long axis ({axis}) minus g, not rotated by an attitude"
+        # the rocket estimator takes the raw accelerometer's long axis, not the reader's gyro-integrated vertical
+        notes = [f"rocket estimator: accelerometer along the long axis ({axis}) minus g, not rotated by an attitude"
                  if note == ATTITUDE_NOTE else note for note in data.notes]
     if args.agl:
         what += f"; heights above the start ({run.datum:.2f} m)"
@@ -193,7 +193,7 @@ def _print_health(data, health, run, estimator: str) -> None:
                       + ("; --estimator kalman uses the log's GPS" if has_gps else ""), file=sys.stderr)
     if getattr(data, "vehicle", "") == "rocket" and estimator != "rocket":
         print(f"warning: estimator {estimator} has no baro lockout for transonic flight or ejection charges; on a "
-              "rocket log the rocket flight layer (the default) has one", file=sys.stderr)
+              "rocket log the rocket estimator (the default) has one", file=sys.stderr)
 
 
 def _last_finite(values) -> float:
@@ -258,7 +258,7 @@ def _print_run_comparison(run, agl: bool) -> None:
 
 
 def _print_events(run, data) -> None:
-    """The rocket layer's events next to the flight computer's own (when the log has them)."""
+    """The rocket estimator's events next to the flight computer's own (when the log has them)."""
     from ..rocket import flight_computer_events
 
     theirs, how = flight_computer_events(data, pad_altitude=None)

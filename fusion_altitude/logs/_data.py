@@ -124,7 +124,7 @@ class LogData:
         ``acceleration``, Featherweight Raven ``Axial Accel``), specific force,
         m/s², +nose (reads about +9.81 on the pad, nose up), on the steps it
         was sampled (NaN elsewhere). Usually a high-range part that does not
-        saturate in boost: the rocket layer prefers it to a raw IMU axis.
+        saturate in boost: the rocket estimator prefers it to a raw IMU axis.
     baro_only : bool
         True when the log has no accelerometer at all (e.g. a Missile Works
         RRC3): ``vertical_acceleration`` is then zeros and every estimator

@@ -128,7 +128,7 @@ def read_altos_csv(path: str, ground_temperature_k: Union[None, float, str] = No
     messages += imu_messages
     gyro = [column.get(f"gyro_{axis}") for axis in "xyz"]
     gyro = np.radians(np.column_stack(gyro)) if imu is not None and all(g is not None for g in gyro) else None
-    if baro_only and imu is not None:  # no along-axis accelerometer: the IMU axis is the rocket layer's to choose
+    if baro_only and imu is not None:  # no along-axis accelerometer: the IMU axis is the rocket estimator's to choose
         notes.append("no along-axis 'acceleration': vertical acceleration 0 m/s² (baro only); the IMU is raw")
     log = LogData(
         source, time, vertical, baro, reference_altitude=reference, reference_velocity=velocity,

@@ -113,7 +113,7 @@ def _read(path: str, names, progress, instance_prefix: str, instance: Optional[i
     return time, column, repeated, note, dropped
 
 
-#: The note saying how ``vertical_acceleration`` was made (the rocket flight layer does not use it: it takes the
+#: The note saying how ``vertical_acceleration`` was made (the rocket estimator does not use it: it takes the
 #: raw accelerometer's long axis, and ``fusion-altitude run`` prints that instead).
 ATTITUDE_NOTE = "attitude by gyro integration (ENU)"
 

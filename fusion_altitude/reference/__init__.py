@@ -11,11 +11,11 @@ from .._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, Kalma
 from .._core._observer_glue import AltitudeBatch, DiscretisationWarning, Status
 from .._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
 from .._core._complementary_glue import ComplementaryBatch, ComplementaryStatus
-from .._core._flight_glue import RocketBatch, RocketStatus
+from .._core._rocket_glue import RocketBatch, RocketStatus
 from .._core._ins_glue import InsBatch, InsStatus
 from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
 from .complementary import ComplementaryFilter, ComplementarySettings
-from .flight import RocketEstimator, RocketSettings
+from .rocket import RocketEstimator, RocketSettings
 from .ins import InsEstimator, InsSettings
 from .kalman import KalmanEstimator, KalmanSettings
 from .observer import AltitudeEstimator, AltitudeSettings

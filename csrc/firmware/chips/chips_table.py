@@ -23,7 +23,7 @@ ESTIMATORS = {"observer": ("Observer", "SizedFusionAltitudeUpdate"),
               "kalman": ("Kalman filter", "SizedFusionAltitudeKalmanUpdate"),
               "complementary": ("Complementary filter", "SizedFusionAltitudeComplementaryUpdate"),
               "alphabeta": ("Alpha-beta fusion", "SizedFusionAltitudeAlphaBetaUpdate"),
-              "flight": ("Rocket flight layer", "SizedFusionAltitudeRocketUpdate"),
+              "rocket": ("Rocket estimator", "SizedFusionAltitudeRocketUpdate"),
               "ins": ("INS", "SizedFusionAltitudeInsUpdate")}
 SKETCHES = ("Observer", "Kalman", "Complementary", "AlphaBeta", "Rocket", "Ins")
 RISCV_TARGETS = ("rv32imac", "rv32imafc")

@@ -1,7 +1,7 @@
-// FusionAltitude: the rocket flight layer (fusion_altitude_flight.h) at 100 Hz with a
+// FusionAltitude: the rocket estimator (fusion_altitude_rocket.h) at 100 Hz with a
 // 25 Hz barometer: pad calibration, launch, burnout, apogee and landing.
 // Prints height above the pad (cm), vertical velocity (cm/s) and the phase.
-#include <fusion_altitude_flight.h>
+#include <fusion_altitude_rocket.h>
 
 // ---- Replace these two stubs with your sensor drivers ----------------------
 

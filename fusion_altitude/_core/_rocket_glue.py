@@ -1,8 +1,8 @@
-"""Glue of the rocket flight layer shared by its binding (``_flight.pyx``) and its
-reference (``reference/flight.py``): the settings rules (the enums, defaults and
+"""Glue of the rocket estimator shared by its binding (``_rocket.pyx``) and its
+reference (``reference/rocket.py``): the settings rules (the enums, defaults and
 status messages are generated from the header into ``_c_tables``), the
 ``FlightEvents`` result, error messages naming the argument and batch
-argument conversion. No algorithm lives here (see ``csrc/fusion_altitude_flight.h``).
+argument conversion. No algorithm lives here (see ``csrc/fusion_altitude_rocket.h``).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ CSV_EVENTS = ("launch", "burnout", "apogee", "main", "landed")
 MACH_LOCKOUT = _c_tables.FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 
 def _rule(terms: tuple) -> str:
-    """The name of a field's rule terms (``_c_tables.FLIGHT_RULES``, from the header)."""
+    """The name of a field's rule terms (``_c_tables.ROCKET_RULES``, from the header)."""
     if "finite" not in terms:
         return "gap"
     if ("<=", 1) in terms:
@@ -41,21 +41,21 @@ def _rule(terms: tuple) -> str:
 
 #: The check of each settings field after ``observer`` (FusionAltitudeRocketSettingsCheck): "positive",
 #: "non_negative", "finite", "rate" (in (0, 1]) or "gap" (> 0, +inf allowed): the ``[rule: ...]`` of each field's
-#: comment in the header (:data:`fusion_altitude._c_tables.FLIGHT_RULES`).
-SETTINGS_RULES = {name: _rule(terms) for name, (_, terms) in _c_tables.FLIGHT_RULES.items() if name != "observer"}
+#: comment in the header (:data:`fusion_altitude._c_tables.ROCKET_RULES`).
+SETTINGS_RULES = {name: _rule(terms) for name, (_, terms) in _c_tables.ROCKET_RULES.items() if name != "observer"}
 
 #: Settings fields after the observer settings, in C declaration (and check) order: (name, default, rule, unit),
 #: the defaults and units read from the header (:mod:`fusion_altitude._c_tables`).
 SETTINGS_FIELDS: Tuple[Tuple[str, float, str, str], ...] = tuple(
     (name, default, SETTINGS_RULES[name], comment.split(":")[0].replace("^2", "²").replace("1", "dimensionless"))
-    for name, _, kind, default, comment in _c_tables.FLIGHT_SETTINGS if kind != "s")
+    for name, _, kind, default, comment in _c_tables.ROCKET_SETTINGS if kind != "s")
 
 FIELD_NAMES = tuple(field[0] for field in SETTINGS_FIELDS)
 DEFAULTS = {field[0]: field[1] for field in SETTINGS_FIELDS}
 
 #: The rocket observer settings of FusionAltitudeRocketSettingsDefault(): (Kh 1/s, Kv 1/s², Kb 1/s³, gap period s),
 #: ω 1.0 rad/s, ζ 0.7, ω_b 0 (bias frozen in flight).
-ROCKET_OBSERVER = dict((name, default) for name, _, kind, default, _ in _c_tables.FLIGHT_SETTINGS)["observer"]
+ROCKET_OBSERVER = dict((name, default) for name, _, kind, default, _ in _c_tables.ROCKET_SETTINGS)["observer"]
 
 #: The rocket observer gains (Kh, Kv, Kb).
 ROCKET_GAINS = ROCKET_OBSERVER[:3]
@@ -84,7 +84,7 @@ def raise_update_error(status: int, accel: float, baro_altitude: float, dt: floa
                       index, {"dt": dt_is_array})
 
 
-#: The C settings functions the settings class calls instead of the twins here, once the binding (``_flight.pyx``)
+#: The C settings functions the settings class calls instead of the twins here, once the binding (``_rocket.pyx``)
 #: registers them at import: ``"check"`` → ``c_settings_check`` (the twin: :func:`check_settings_values` without
 #: it). Without the compiled extension it stays empty (``tests/test_settings_checks.py`` holds the twin equal to C).
 C_SETTINGS_FUNCTIONS: dict = {}
@@ -274,7 +274,7 @@ __all__ = ["RocketStatus", "Phase", "BaroFate", "FlightEvent", "FlightEvents", "
 def observer_settings(observer: object) -> Tuple[float, ...]:
     """The ``observer`` setting as (Kh, Kv, Kb, gap period, baro timeout), float32-rounded Python floats: None (the
     rocket observer), observer settings (``as_tuple`` and ``gap_period``), or 3 gains (the rocket gap period) or 4 or
-    5 values. The baro timeout is the rocket observer's (+inf: the flight layer dead-reckons through its baro lockout
+    5 values. The baro timeout is the rocket observer's (+inf: the rocket estimator dead-reckons through its baro lockout
     on purpose) unless 5 values are given. TypeError for non-reals, ValueError for a wrong count; the stability check
     is the caller's."""
     if observer is None:

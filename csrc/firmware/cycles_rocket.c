@@ -1,6 +1,6 @@
 /**
- * @file cycles_flight.c
- * @brief Calls SizedFusionAltitudeRocketUpdate (sized_flight.c) once on each
+ * @file cycles_rocket.c
+ * @brief Calls SizedFusionAltitudeRocketUpdate (sized_rocket.c) once on each
  * path, on bare-metal Cortex-M4F under QEMU with every executed instruction
  * logged, as cycles.c does for the observer. The traced calls, after a
  * warm-up through the inline functions (not traced):
@@ -12,7 +12,7 @@
  * Exits non-zero if a call does not take its path.
  */
 
-#include "fusion_altitude_flight.h"
+#include "fusion_altitude_rocket.h"
 
 #include <string.h>
 

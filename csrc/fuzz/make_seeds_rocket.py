@@ -1,8 +1,8 @@
-"""Writes the seed corpus of fuzz_flight.c: csrc/fuzz/corpus_flight/*.bin.
+"""Writes the seed corpus of fuzz_rocket.c: csrc/fuzz/corpus_rocket/*.bin.
 
-    python csrc/fuzz/make_seeds_flight.py
+    python csrc/fuzz/make_seeds_rocket.py
 
-Each seed is a sequence of calls in fuzz_flight.c's format: simulated rocket
+Each seed is a sequence of calls in fuzz_rocket.c's format: simulated rocket
 flights (fusion_altitude.rocket_sim, pad to landing) as scaled updates, with
 and without the vertical-accel (INS) update, baro dropouts, settings edits,
 and raw updates with NaN, infinite and zero inputs and a gap.
@@ -16,16 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
-from fusion_altitude._core._c_tables import FLIGHT_SETTINGS, OBSERVER_SETTINGS
+from fusion_altitude._core._c_tables import ROCKET_SETTINGS, OBSERVER_SETTINGS
 from make_seeds_common import write_corpus
 
-CORPUS = Path(__file__).resolve().parent / "corpus_flight"
-#: The settings words of csrc/tests/vectors/flight_settings_words.h (an edit's index): FusionAltitudeRocketSettings in
+CORPUS = Path(__file__).resolve().parent / "corpus_rocket"
+#: The settings words of csrc/tests/vectors/rocket_settings_words.h (an edit's index): FusionAltitudeRocketSettings in
 #: struct order, the nested observer settings flattened ("observer.positionGain", ...).
-FIELDS = tuple(name for _, c_name, kind, *_ in FLIGHT_SETTINGS
+FIELDS = tuple(name for _, c_name, kind, *_ in ROCKET_SETTINGS
                for name in ([f"{c_name}.{sub}" for _, sub, *_ in OBSERVER_SETTINGS] if kind == "s" else [c_name]))
 
-#: dt ranges of fuzz_flight.c's scaled update (flags bits 2-3), s.
+#: dt ranges of fuzz_rocket.c's scaled update (flags bits 2-3), s.
 DT_RANGES = ((1e-3, 0.05), (1e-4, 10.0), (0.1, 4.0), (1e-4, 0.05))
 
 

@@ -1,15 +1,15 @@
 /**
- * @file fuzz_flight.c
- * @brief libFuzzer target for fusion_altitude_flight.h (the rocket flight
+ * @file fuzz_rocket.c
+ * @brief libFuzzer target for fusion_altitude_rocket.h (the rocket flight
  * layer), built with clang under AddressSanitizer + UndefinedBehaviorSanitizer
- * by csrc/firmware/Makefile (FUZZERS), seeds in csrc/fuzz/corpus_flight/
- * (make_seeds_flight.py).
+ * by csrc/firmware/Makefile (FUZZERS), seeds in csrc/fuzz/corpus_rocket/
+ * (make_seeds_rocket.py).
  *
  * The input is a sequence of calls; floats are raw bytes (any bit pattern):
  *   opcode & 3:
  *   0 initialise with the working settings (opcode & 4: with NULL, the defaults)
  *   1 edit the working settings: a word index byte (mod
- *     FUSION_ALTITUDE_FLIGHT_SETTINGS_WORDS, flight_settings_words.h: the five
+ *     FUSION_ALTITUDE_ROCKET_SETTINGS_WORDS, rocket_settings_words.h: the five
  *     observer settings, then the 16 rocket settings), 4 raw bytes
  *   2 update with every argument raw: accel, baro, dt (opcode & 4: the
  *     vertical-accel update of an INS)
@@ -22,7 +22,7 @@
  *     packets and their gaps), 3 [1e-4, 0.05] s
  *
  * Asserted after every call (abort, so libFuzzer reports a crash):
- *   - a rejected call leaves the flight layer bit-identical (memcmp, padding
+ *   - a rejected call leaves the rocket estimator bit-identical (memcmp, padding
  *     included); an update returns FusionAltitudeRocketCheckInputs of its
  *     inputs, an initialise FusionAltitudeRocketSettingsCheck of its settings;
  *   - the phase never goes back and a declared event (but maximum speed, a
@@ -32,15 +32,15 @@
  *     than spikeThreshold below its peak (a coast the baro contradicts);
  *   - while the run is sane (every accepted update scaled as above, at most
  *     20000 updates, settings in use within plausible bounds, the observer
- *     gains stable at the flight layer's gap period too), height, velocity,
+ *     gains stable at the rocket estimator's gap period too), height, velocity,
  *     bias, pad altitude, time, baro offsets and baro peak are finite, and
  *     bounded: |velocity| <= 1e9 m/s and |height| <= 1e14 m (300 m/s^2 held
  *     over 20000 steps of 10 s reaches 6e7 m/s and 6e12 m).
  */
 
-#include "fusion_altitude_flight.h"
+#include "fusion_altitude_rocket.h"
 #include "fuzz_common.h"
-#include "tests/vectors/flight_settings_words.h"
+#include "tests/vectors/rocket_settings_words.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -136,7 +136,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (!ReadBytes(&reader, &field, 1) || !ReadBytes(&reader, &word, sizeof(word))) {
                     return 0;
                 }
-                FusionAltitudeRocketSettingsSetWord(&working, field % FUSION_ALTITUDE_FLIGHT_SETTINGS_WORDS, word);
+                FusionAltitudeRocketSettingsSetWord(&working, field % FUSION_ALTITUDE_ROCKET_SETTINGS_WORDS, word);
                 break;
             }
             default: {

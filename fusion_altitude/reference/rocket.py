@@ -1,4 +1,4 @@
-"""The rocket flight layer (``csrc/fusion_altitude_flight.h``) in plain Python.
+"""The rocket estimator (``csrc/fusion_altitude_rocket.h``) in plain Python.
 
 Pad calibration, the baro gate (dynamic-pressure lockout, spike rejection,
 offset re-admission) and the phase state machine pad → boost →
@@ -15,8 +15,8 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from .._core import _common, _flight_glue, _observer_glue
-from .._core._flight_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
+from .._core import _common, _rocket_glue, _observer_glue
+from .._core._rocket_glue import (BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus, events_from_tuples,
                             prepare_batch, raise_update_error)
 from ._checkpoint import Checkpointable
 from ._diagnostics import state_property
@@ -26,14 +26,14 @@ from .observer import AltitudeEstimator, AltitudeSettings, Status, _check_gains,
 f32 = np.float32
 _NAN = f32("nan")
 _ZERO = f32(0)
-MACH_LOCKOUT = f32(_flight_glue.MACH_LOCKOUT)
+MACH_LOCKOUT = f32(_rocket_glue.MACH_LOCKOUT)
 MAX_GAP_STEPS = 4096
-OFFSET_DECAY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_OFFSET_DECAY)
-GAP_HOLD = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_GAP_HOLD)
-GRAVITY = f32(_flight_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
-CONTRADICTION_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
-CONTRADICTION_LOCKOUT_TIME = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME)
-PEAK_AGE = f32(_flight_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
+OFFSET_DECAY = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_ROCKET_OFFSET_DECAY)
+GAP_HOLD = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_ROCKET_GAP_HOLD)
+GRAVITY = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_GRAVITY)
+CONTRADICTION_TIME = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME)
+CONTRADICTION_LOCKOUT_TIME = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_ROCKET_CONTRADICTION_LOCKOUT_TIME)
+PEAK_AGE = f32(_rocket_glue._c_tables.FUSION_ALTITUDE_ROCKET_PEAK_AGE)
 _HALF_G = f32(0.5) * GRAVITY
 CALIBRATION_WINDOWS = 8
 
@@ -47,7 +47,7 @@ def _event() -> list:
 
 
 class RocketSettings(KeywordSettings):
-    """Settings of the rocket flight layer (``FusionAltitudeRocketSettings``), float32.
+    """Settings of the rocket estimator (``FusionAltitudeRocketSettings``), float32.
 
     Parameters
     ----------
@@ -106,15 +106,15 @@ class RocketSettings(KeywordSettings):
     _DISTINCT = "launch_accel"
 
     def __init__(self, observer: object = None, **kwargs: object) -> None:
-        observer_values = _flight_glue.observer_settings(observer)
-        values = _flight_glue.convert_settings(kwargs)
+        observer_values = _rocket_glue.observer_settings(observer)
+        values = _rocket_glue.convert_settings(kwargs)
         kh, kv, kb, gap, baro_timeout = (f32(v) for v in observer_values)
         check_gains = _observer_glue.C_SETTINGS_FUNCTIONS.get("check_gains", _check_gains)  # C where built
         if check_gains(kh, kv, kb) != Status.OK or not gap > 0 or not baro_timeout > 0:  # FusionAltitudeSettingsCheck
-            _flight_glue.raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": observer_values})
-        status = _flight_glue.check_settings_values(values)
+            _rocket_glue.raise_settings_error(RocketStatus.INVALID_OBSERVER_SETTINGS, {"observer": observer_values})
+        status = _rocket_glue.check_settings_values(values)
         if status != RocketStatus.OK:
-            _flight_glue.raise_settings_error(status, values)
+            _rocket_glue.raise_settings_error(status, values)
         self._values = {"observer": observer_values, **values}
 
     @property
@@ -599,4 +599,4 @@ class RocketEstimator(Checkpointable):
          self._accel_trusted, self._pad_baro_previous_set, self._baro_led, self._gap_restart) = (bool(x) for x in flags)
 
 
-_common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)
+_common.share_docstrings(RocketEstimator, _rocket_glue.RocketContract)

@@ -1,13 +1,13 @@
 /**
- * @file sized_flight.c
+ * @file sized_rocket.c
  * @brief Out-of-line copies of every public function of
- * fusion_altitude_flight.h, for measuring code size and stack, as sized.c
+ * fusion_altitude_rocket.h, for measuring code size and stack, as sized.c
  * does for fusion_altitude.h: each public function is wrapped in an external
  * function Sized<Name>, marked flatten so that the function and everything it
  * calls (the observer included) is inlined into the wrapper.
  */
 
-#include "fusion_altitude_flight.h"
+#include "fusion_altitude_rocket.h"
 
 #if defined(__GNUC__)
 #define SIZED __attribute__((flatten))

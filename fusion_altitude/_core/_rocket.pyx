@@ -1,11 +1,11 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
-"""Cython binding of the rocket flight layer in csrc/fusion_altitude_flight.h (``FlightEvents`` lives in ``_flight_glue``): see ``_core/__init__.py`` for what a binding does."""
+"""Cython binding of the rocket estimator in csrc/fusion_altitude_rocket.h (``FlightEvents`` lives in ``_rocket_glue``): see ``_core/__init__.py`` for what a binding does."""
 
 from libc.string cimport memcpy
 
-include "_flight_fields.pxi"
+include "_rocket_fields.pxi"
 
-from fusion_altitude._core._flight_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
+from fusion_altitude._core._rocket_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
 
 #: The C values, for checking that the Python constants match.
 C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
@@ -39,14 +39,14 @@ cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const floa
 
 
 cdef class RocketEstimator(_RocketEstimatorGetters):
-    __doc__ = DOC_RocketEstimator  # generated from the reference's docstring (_flight_fields.pxi)
+    __doc__ = DOC_RocketEstimator  # generated from the reference's docstring (_rocket_fields.pxi)
 
     def __init__(self, settings=None):
         settings = RocketSettings() if settings is None else RocketSettings.coerce(settings)
         cdef FusionAltitudeRocketSettings c = _settings_to_c(settings.as_dict())
         cdef FusionAltitudeRocketStatus status = FusionAltitudeRocketInitialise(&self._c, &c)
         if status != FusionAltitudeRocketStatusOk:  # cannot happen: RocketSettings checked them
-            _flight_glue.raise_settings_error(status, _settings_from_c(&c))
+            _rocket_glue.raise_settings_error(status, _settings_from_c(&c))
 
     def update(self, accel, baro_altitude, dt, *, accel_is_vertical=False):
         cdef double a = _as_double(accel, "accel")
@@ -58,7 +58,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         else:
             status = FusionAltitudeRocketUpdate(&self._c, <float>a, <float>z, <float>t)
         if status != FusionAltitudeRocketStatusOk:
-            _flight_glue.raise_update_error(status, a, z, t)
+            _rocket_glue.raise_update_error(status, a, z, t)
 
     def update_batch(self, accel, baro_altitude, dt, *, accel_is_vertical=False, out=None):
         """Process arrays, continuing from the current state (GIL released).
@@ -88,9 +88,9 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         Notes
         -----
         Equal, bit for bit, to calling :meth:`update` for each step and to the
-        reference :class:`fusion_altitude.reference.flight.RocketEstimator`.
+        reference :class:`fusion_altitude.reference.rocket.RocketEstimator`.
         """
-        accel32, baro32, dt32, dt_is_array, result = _flight_glue.prepare_batch(accel, baro_altitude, dt, out)
+        accel32, baro32, dt32, dt_is_array, result = _rocket_glue.prepare_batch(accel, baro_altitude, dt, out)
         cdef const float[::1] a = accel32
         cdef const float[::1] z = baro32
         cdef const float[::1] t = dt32
@@ -108,7 +108,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         with nogil:
             bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, vertical, &h[0], &v[0], &b[0], &p[0], &f[0])
         if bad >= 0:
-            _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
+            _rocket_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
                                             a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
         return result if out is None else out  # out=: the caller's object itself
 
@@ -135,14 +135,14 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         for index in range(FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS):
             e = FusionAltitudeRocketGetEvent(&self._c, <FusionAltitudeRocketEventId>index)
             rows.append((e.occurred, e.sample, e.time, e.height, e.velocity))
-        return _flight_glue.events_from_tuples(rows)
+        return _rocket_glue.events_from_tuples(rows)
 
     def __repr__(self):
         return (f"RocketEstimator(phase={self.phase.name}, height={self.height!r}, "
                 f"vertical_velocity={self.vertical_velocity!r})")
 
 
-_common.share_docstrings(RocketEstimator, _flight_glue.RocketContract)
+_common.share_docstrings(RocketEstimator, _rocket_glue.RocketContract)
 
 
-_flight_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)
+_rocket_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

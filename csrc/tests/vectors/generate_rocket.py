@@ -1,19 +1,19 @@
-"""Generates flight_vectors.h: test vectors of the rocket flight layer for the C replay.
+"""Generates rocket_vectors.h: test vectors of the rocket estimator for the C replay.
 
 Every record is one call on one FusionAltitudeRocket (initialise with
 settings, update, update with a vertical accel) with its inputs, the expected
 status and an FNV-1a hash of the full state after the call, computed by the
-pure-Python reference (fusion_altitude.reference.flight), never by the C
+pure-Python reference (fusion_altitude.reference.rocket), never by the C
 binding; every 128th record (and the last) carries the state words themselves
-(format: vector_common.py). csrc/firmware/replay_flight.c replays them on the
+(format: vector_common.py). csrc/firmware/replay_rocket.c replays them on the
 host (gcc, clang) and on an emulated Cortex-M4F (QEMU).
 
 The flights are simulated rockets (fusion_altitude.rocket_sim: static-port
 error, transonic bump, pyro spikes, saturation, tumbling) at 25 Hz, with
 settings variations, baro dropouts, gaps and rejected inputs mixed in.
 
-    python csrc/tests/vectors/generate_flight.py           # rewrite flight_vectors.h
-    python csrc/tests/vectors/generate_flight.py --check   # exit 1 if it is stale
+    python csrc/tests/vectors/generate_rocket.py           # rewrite rocket_vectors.h
+    python csrc/tests/vectors/generate_rocket.py --check   # exit 1 if it is stale
 """
 
 from __future__ import annotations
@@ -27,24 +27,24 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import vector_common as vc  # noqa: E402
 
-from fusion_altitude._core._c_tables import FLIGHT_SETTINGS, OBSERVER_SETTINGS  # noqa: E402
-from fusion_altitude._flight_glue import RocketStatus  # noqa: E402
-from fusion_altitude.reference.flight import RocketSettings  # noqa: E402
-from fusion_altitude.reference import flight as _flight  # noqa: E402
+from fusion_altitude._core._c_tables import ROCKET_SETTINGS, OBSERVER_SETTINGS  # noqa: E402
+from fusion_altitude._rocket_glue import RocketStatus  # noqa: E402
+from fusion_altitude.reference.rocket import RocketSettings  # noqa: E402
+from fusion_altitude.reference import rocket as _rocket  # noqa: E402
 from fusion_altitude.rocket_sim import RocketFlightModel, simulate_rocket_flight  # noqa: E402
 
-HEADER_PATH = Path(__file__).resolve().with_name("flight_vectors.h")
+HEADER_PATH = Path(__file__).resolve().with_name("rocket_vectors.h")
 NAN = float("nan")
 INF = float("inf")
 
 OPS = ("INITIALISE_WITH", "UPDATE", "UPDATE_VERTICAL")
-#: The settings words (csrc/tests/vectors/flight_settings_words.h): FusionAltitudeRocketSettings in struct order, the
+#: The settings words (csrc/tests/vectors/rocket_settings_words.h): FusionAltitudeRocketSettings in struct order, the
 #: observer's settings (a nested FusionAltitudeSettings) flattened in theirs.
-SETTINGS_FIELDS = tuple(name for python, _, kind, *_ in FLIGHT_SETTINGS
+SETTINGS_FIELDS = tuple(name for python, _, kind, *_ in ROCKET_SETTINGS
                         for name in ([f"{python}.{sub}" for sub, *_ in OBSERVER_SETTINGS] if kind == "s" else [python]))
 EVENT_FIELDS = ("occurred", "sample", "time", "height", "velocity")
 EVENTS = ("launch", "burnout", "maxSpeed", "apogee", "main", "landed", "candidate")
-#: The state words, in the order replay_flight.c reads and writes them.
+#: The state words, in the order replay_rocket.c reads and writes them.
 STATE_FIELDS = (tuple(f"settings.{name}" for name in SETTINGS_FIELDS)
                 + ("observer.altitude", "observer.verticalVelocity", "observer.accelBias", "observer.baroResidual",
                    "observer.referenceSet", "observer.positionGain", "observer.velocityGain", "observer.biasGain",
@@ -67,7 +67,7 @@ FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
 def settings_words(settings: RocketSettings) -> tuple:
     """FusionAltitudeRocketSettings as its words (SETTINGS_FIELDS: floats as bits)."""
     values = settings.as_dict()
-    return tuple(vc.bits(value) for python, _, kind, *_ in FLIGHT_SETTINGS
+    return tuple(vc.bits(value) for python, _, kind, *_ in ROCKET_SETTINGS
                  for value in (values[python] if kind == "s" else (values[python],)))
 
 
@@ -77,7 +77,7 @@ class Recorder(vc.Recorder):
 
     def __init__(self) -> None:
         super().__init__()
-        self.rocket = _flight.RocketEstimator()
+        self.rocket = _rocket.RocketEstimator()
 
     def state(self) -> tuple:
         r = self.rocket
@@ -101,7 +101,7 @@ class Recorder(vc.Recorder):
         return words
 
     def initialise_with(self, settings: RocketSettings) -> None:
-        self.rocket = _flight.RocketEstimator(settings)
+        self.rocket = _rocket.RocketEstimator(settings)
         self.record("INITIALISE_WITH", (self.settings_index(settings_words(settings)),), RocketStatus.OK)
 
     def update(self, accel: float, baro: float, dt: float, vertical: bool = False) -> None:
@@ -182,7 +182,7 @@ def build() -> Recorder:
 
 
 def render() -> str:
-    """The text of flight_vectors.h."""
+    """The text of rocket_vectors.h."""
     with np.errstate(over="ignore", invalid="ignore"):
         recorder = build()
     vc.check_finite(recorder.records, STATE_FIELDS, FLOAT_FIELDS, nan_allowed=("observer.baroResidual",))
@@ -191,9 +191,9 @@ def render() -> str:
         "input: update and update_vertical (accel m/s^2, baro altitude m or",
         "NaN, dt s); initialise_with (index into fusionAltitudeRocketVectorSettings).",
     ]
-    return vc.render(recorder, file="flight_vectors.h", header="fusion_altitude_flight.h",
-                     generator="generate_flight.py", reference="fusion_altitude.reference.flight",
-                     type_prefix="FusionAltitudeRocket", macro_prefix="FUSION_ALTITUDE_FLIGHT",
+    return vc.render(recorder, file="rocket_vectors.h", header="fusion_altitude_rocket.h",
+                     generator="generate_rocket.py", reference="fusion_altitude.reference.rocket",
+                     type_prefix="FusionAltitudeRocket", macro_prefix="FUSION_ALTITUDE_ROCKET",
                      description=description, state_fields=STATE_FIELDS, settings_words=len(SETTINGS_FIELDS),
                      checkpoint_every=128)
 

@@ -1,11 +1,11 @@
 /**
- * @file test_flight.c
- * @brief Unit tests of fusion_altitude_flight.h (pad calibration, baro gate,
+ * @file test_rocket.c
+ * @brief Unit tests of fusion_altitude_rocket.h (pad calibration, baro gate,
  * flight phases), built by tests/test_c_core.py with gcc and clang (C99 and as
  * C++), strict warnings, and under ASan + UBSan. Prints "N passed, M failed".
  */
 
-#include "fusion_altitude_flight.h"
+#include "fusion_altitude_rocket.h"
 #include "test_harness.h"
 
 #include <string.h>

@@ -1,14 +1,14 @@
 /**
- * @file firmware_flight.c
+ * @file firmware_rocket.c
  * @brief A firmware-style translation unit that calls every public function
- * of fusion_altitude_flight.h: set-up with checked settings and a 100 Hz task
+ * of fusion_altitude_rocket.h: set-up with checked settings and a 100 Hz task
  * with a 50 Hz baro that fires the drogue at apogee and the main at the main
  * altitude. Cross-compiled for each target with warnings as errors; its
  * object code is checked for double instructions and libm calls (with
- * sized_flight.c, one out-of-line copy of each public function).
+ * sized_rocket.c, one out-of-line copy of each public function).
  */
 
-#include "fusion_altitude_flight.h"
+#include "fusion_altitude_rocket.h"
 
 volatile float firmwareRocketAccel;  /* m/s^2, long axis (nose up) minus g */
 volatile float firmwareRocketBaro;   /* m, pressure altitude */

@@ -43,6 +43,9 @@ def c_settings_validate(values, float dt):
     return int(FusionAltitudeSettingsValidate(&c, dt))
 
 
+_observer_glue.C_SETTINGS_FUNCTIONS.update(validate=c_settings_validate)
+
+
 def _gains(values):
     return tuple(values.values())
 

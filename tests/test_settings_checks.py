@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import warnings
 from unittest import mock
 
 import numpy as np
@@ -66,6 +67,7 @@ def _names(table, skip=()):
 
 def test_every_binding_registers_its_c_settings_checks_at_import():
     assert _observer_glue.C_SETTINGS_FUNCTIONS["check_gains"] is _observer.c_gains_check
+    assert _observer_glue.C_SETTINGS_FUNCTIONS["validate"] is _observer.c_settings_validate
     assert _kalman_glue.C_SETTINGS_FUNCTIONS["check"] is _kalman.c_settings_check
     assert _complementary_glue.C_SETTINGS_FUNCTIONS["check"] is _complementary.c_settings_check
     assert _alphabeta_glue.C_SETTINGS_FUNCTIONS["check_sensor"] is _alphabeta.c_sensor_settings_check
@@ -101,6 +103,29 @@ def test_the_twin_of_the_observer_gains_check_equals_c(gains):
 def test_observer_settings_raise_the_same_error_with_c_as_with_the_twin(gains, gap_period, baro_timeout):
     assert_c_and_twin_agree(lambda: reference_observer.AltitudeSettings(*gains, gap_period=gap_period,
                                                                         baro_timeout=baro_timeout))
+
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(gains=st.tuples(VALUES, VALUES, VALUES), dt=VALUES | st.floats(1e-4, 1.0))
+def test_the_twin_of_the_observer_validate_equals_c(gains, dt):
+    with np.errstate(over="ignore"):
+        kh, kv, kb, dt32 = (f32(value) for value in (*gains, dt))
+    values = {**_observer.c_default_settings(), "position_gain": kh, "velocity_gain": kv, "bias_gain": kb}
+    assert int(reference_observer._validate(kh, kv, kb, dt32)) == _observer.c_settings_validate(values, dt32)
+
+
+@hypothesis_settings(max_examples=200, deadline=None)
+@given(gains=st.tuples(st.floats(0.0, 200.0), st.floats(0.0, 2000.0), st.floats(0.0, 2000.0)),
+       dt=VALUES | st.floats(1e-4, 1.0))
+def test_observer_validate_raises_the_same_error_with_c_as_with_the_twin(gains, dt):
+    def validate():
+        settings = reference_observer.AltitudeSettings(*gains)
+        with warnings.catch_warnings(), np.errstate(over="ignore"):  # dt beyond float32: inf, as C's float
+            warnings.simplefilter("ignore", _observer_glue.DiscretisationWarning)
+            settings.validate(dt)
+        return settings
+
+    assert_c_and_twin_agree(validate)
 
 
 # -- Kalman -----------------------------------------------------------------------------------------------------

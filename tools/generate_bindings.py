@@ -578,6 +578,171 @@ def checkpoint_functions(module: str) -> List[str]:
             f"    return restore({estimator}, state)", ""]
 
 
+@dataclass(frozen=True)
+class BatchLoop:
+    """One estimator's batch loop, the part of ``update_batch`` that runs with the GIL released.
+
+    ``inputs``: (name in the glue's arrays, C type, pointer name) in the loop's argument order; ``outputs``:
+    (field of the batch result, C type, dimensions, lines that copy sample ``i`` out of ``local`` into the pointer
+    ``{p}``); ``update``: the C call for sample ``i`` (``{accel}``… the inputs at ``i``); ``measure``: lines that fill
+    a measurements struct ``m`` before it; ``flag``: a ``bint`` argument the update reads (the rocket layer's
+    ``vertical``); ``raise_error``: the glue function that raises for the first bad sample (the scalar bindings; the
+    multi-sensor bindings raise themselves, from the index ``_batch_into`` returns).
+    """
+
+    inputs: Tuple[Tuple[str, str, str], ...]
+    outputs: Tuple[Tuple[str, str, int, Tuple[str, ...]], ...]
+    update: str
+    measure: Tuple[str, ...] = ()
+    flag: str = ""
+    raise_error: str = ""
+    copy_by_memcpy: bool = False
+
+
+_SCALAR_INPUTS = (("accel", "float", "accel"), ("baro_altitude", "float", "baro"), ("dt", "float", "dt"))
+
+
+def _scalar_outputs(*fields: Tuple[str, str]) -> Tuple[Tuple[str, str, int, Tuple[str, ...]], ...]:
+    """1-D float32 outputs, each one expression of the state ``local``."""
+    return tuple((name, "float", 1, (f"{{p}}[i] = {expression}",)) for name, expression in fields)
+
+
+def _sensor_inputs(*names: str) -> Tuple[Tuple[str, str, str], ...]:
+    """accel, dt and per-sensor float32 inputs, each with its own step (0: one value for every sample)."""
+    return tuple((name, "float", name) for name in ("accel", "dt") + names)
+
+
+#: module → its batch loop (the outputs each copies out of the state; the inputs the glue prepares).
+BATCH_LOOPS = {
+    "observer": BatchLoop(
+        _SCALAR_INPUTS, _scalar_outputs(("altitude", "local.altitude"), ("vertical_velocity", "local.verticalVelocity"),
+                                        ("accel_bias", "local.accelBias"), ("baro_residual", "local.baroResidual")),
+        "FusionAltitudeUpdate(&local, {accel}, {baro}, {dt})", raise_error="_observer_glue.raise_update_error"),
+    "complementary": BatchLoop(
+        _SCALAR_INPUTS, _scalar_outputs(("altitude", "local.altitude"), ("vertical_velocity", "local.verticalVelocity"),
+                                        ("baro_filtered", "local.baroFiltered"), ("baro_velocity", "local.baroVelocity")),
+        "FusionAltitudeComplementaryUpdate(&local, {accel}, {baro}, {dt})",
+        raise_error="_complementary_glue.raise_complementary_update_error"),
+    "rocket": BatchLoop(
+        _SCALAR_INPUTS,
+        _scalar_outputs(("height", "FusionAltitudeRocketGetHeight(&local)"),
+                        ("vertical_velocity", "FusionAltitudeRocketGetVerticalVelocity(&local)"),
+                        ("accel_bias", "FusionAltitudeRocketGetAccelBias(&local)"))
+        + (("phase", "unsigned char", 1, ("{p}[i] = <unsigned char>FusionAltitudeRocketGetPhase(&local)",)),
+           ("baro", "unsigned char", 1, ("{p}[i] = <unsigned char>FusionAltitudeRocketGetBaro(&local)",))),
+        "(FusionAltitudeRocketUpdateWithVerticalAccel(&local, {accel}, {baro}, {dt}) if vertical\n"
+        "                 else FusionAltitudeRocketUpdate(&local, {accel}, {baro}, {dt}))",
+        flag="vertical", raise_error="_rocket_glue.raise_update_error", copy_by_memcpy=True),
+    "kalman": BatchLoop(
+        _sensor_inputs("baro_altitude", "range_distance", "gps_altitude", "gps_vertical_accuracy")
+        + (("gps_satellites", "int32_t", "gps_satellites"), ("ground_effect", "uint8_t", "ground_effect")),
+        _scalar_outputs(("height_above_ground", "local.x[<int>FusionAltitudeKalmanStateHeight]"),
+                        ("altitude", "FusionAltitudeKalmanGetAltitude(&local)"),
+                        ("vertical_velocity", "local.x[<int>FusionAltitudeKalmanStateVelocity]"),
+                        ("accel_bias", "local.x[<int>FusionAltitudeKalmanStateAccelBias]"),
+                        ("baro_offset", "local.x[<int>FusionAltitudeKalmanStateBaroOffset]"),
+                        ("gps_offset", "local.x[<int>FusionAltitudeKalmanStateGpsOffset]"))
+        + (("covariance_diagonal", "float", 2, ("for j in range(5):", "    {p}[i * 5 + j] = local.P[j][j]")),
+           ("innovation", "float", 2, ("for j in range(3):", "    {p}[i * 3 + j] = local.sensors[j].innovation")),
+           ("nis", "float", 2, ("for j in range(3):",
+                                "    {p}[i * 3 + j] = FusionAltitudeKalmanGetNis(&local, <FusionAltitudeKalmanSensorIndex>j)")),
+           ("result", "uint8_t", 2, ("for j in range(3):", "    {p}[i * 3 + j] = <uint8_t>local.sensors[j].result"))),
+        "FusionAltitudeKalmanUpdate(&local, {accel}, {dt}, &m)",
+        measure=("m.baroAltitude = {baro_altitude}", "m.rangeDistance = {range_distance}",
+                 "m.gpsAltitude = {gps_altitude}", "m.gpsVerticalAccuracy = {gps_vertical_accuracy}",
+                 "m.gpsSatellites = {gps_satellites}", "m.groundEffect = {ground_effect} != 0")),
+    "alphabeta": BatchLoop(
+        _sensor_inputs("baro_altitude", "lidar_altitude", "sonar_altitude", "gps_altitude"),
+        _scalar_outputs(("altitude", "local.altitude"), ("vertical_velocity", "local.verticalVelocity"))
+        + (("weight", "float", 2, ("for j in range(5):", "    {p}[i * 5 + j] = local.filters[j].weight")),
+           ("quality", "int32_t", 2, ("for j in range(5):", "    {p}[i * 5 + j] = local.filters[j].quality"))),
+        "FusionAltitudeAlphaBetaUpdate(&local, {accel}, {dt}, &m)",
+        measure=("m.baroAltitude = {baro_altitude}", "m.lidarAltitude = {lidar_altitude}",
+                 "m.sonarAltitude = {sonar_altitude}", "m.gpsAltitude = {gps_altitude}")),
+}
+
+
+def _batch_run(module: str, loop: BatchLoop) -> List[str]:
+    """``_run``: the nogil loop over raw pointers, on a private copy of the state committed only if all succeed."""
+    _, prefix, _, state = MODULES[module]
+    scalar = bool(loop.raise_error)
+    step = {pointer: ("dt_step" if pointer == "dt" else "") if scalar else f"s_{pointer}"
+            for _, _, pointer in loop.inputs}
+    at = {pointer: f"{pointer}[i * {step[pointer]}]" if step[pointer] else f"{pointer}[i]"
+          for _, _, pointer in loop.inputs}
+    params = [f"{state} *state", "Py_ssize_t n"]
+    params += [f"const {ctype} *{pointer}" + (f", Py_ssize_t {step[pointer]}" if step[pointer] else "")
+               for _, ctype, pointer in loop.inputs]
+    params += [f"bint {loop.flag}"] if loop.flag else []
+    params += [f"{ctype} *out_{name}" for name, ctype, _, _ in loop.outputs]
+    out = [f"cdef Py_ssize_t _run({params[0]},"]
+    out += [f"                     {param}," for param in params[1:-1]]
+    out += [f"                     {params[-1]}) noexcept nogil:",
+            '    """Run n updates on a private copy of *state; commit it only if all succeed.',
+            "", "    Returns the index of the first rejected sample, or -1.", '    """',
+            f"    cdef {state} local"]
+    out += ["    memcpy(&local, state, sizeof(local))"] if loop.copy_by_memcpy else ["    local = state[0]"]
+    out += ["    cdef Py_ssize_t i"]
+    out += [f"    cdef {prefix}Measurements m"] if loop.measure else []
+    out += ["    cdef int j"] if any(len(lines) > 1 for *_, lines in loop.outputs) else []
+    out += ["    for i in range(n):"]
+    out += [f"        {line.format(**at)}" for line in loop.measure]
+    out += [f"        if {loop.update.format(**at)} != {prefix}StatusOk:", "            return i"]
+    out += [f"        {line.format(p='out_' + name)}" for name, _, _, lines in loop.outputs for line in lines]
+    out += ["    memcpy(state, &local, sizeof(local))" if loop.copy_by_memcpy else "    state[0] = local",
+            "    return -1", "", ""]
+    return out
+
+
+def _memoryview(ctype: str, dims: int, const: bool = False) -> str:
+    return f"{'const ' if const else ''}{ctype}[{':, ' * (dims - 1)}::1]"
+
+
+def _batch_into(module: str, loop: BatchLoop) -> List[str]:
+    """``_batch_into``: ``update_batch``'s typed views of the glue's arrays and the nogil call of ``_run``."""
+    state = MODULES[module][3]
+    first = (0,) * 2
+    outputs = [f"&out_{name}[{', '.join(map(str, first[:dims]))}]" for name, _, dims, _ in loop.outputs]
+    if loop.raise_error:
+        out = [f"cdef int _batch_into({state} *state, {_memoryview('float', 1, True)} accel, "
+               f"{_memoryview('float', 1, True)} baro,",
+               f"                     {_memoryview('float', 1, True)} dt, bint dt_is_array, object result"
+               + (f", bint {loop.flag}" if loop.flag else "") + ") except -1:",
+               '    """update_batch over the prepared float32 arrays into ``result``\'s arrays, the GIL released;',
+               "    raises for the first bad sample (naming it), with the state untouched.\"\"\"",
+               "    cdef Py_ssize_t n = accel.shape[0]", "    cdef Py_ssize_t dt_step = 1 if dt_is_array else 0",
+               "    cdef Py_ssize_t bad = -1"]
+        out += [f"    cdef {_memoryview(ctype, dims)} out_{name} = result.{name}" for name, ctype, dims, _ in loop.outputs]
+        call = ["state", "n", "&accel[0]", "&baro[0]", "&dt[0], dt_step"] + ([loop.flag] if loop.flag else [])
+        out += ["    if n == 0:", "        return 0", "    with nogil:",
+                f"        bad = _run({', '.join(call + outputs)})",
+                "    if bad >= 0:",
+                "        a, z, t = float(accel[bad]), float(baro[bad]), float(dt[bad * dt_step])",
+                f"        {loop.raise_error}({MODULES[module][1]}CheckInputs(a, z, t), a, z, t, bad, dt_is_array)",
+                "    return 0", "", ""]
+        return out
+    out = [f"cdef Py_ssize_t _batch_into({state} *state, Py_ssize_t n, dict inputs, dict steps, object result) "
+           "except -2:",
+           '    """update_batch over the glue\'s prepared ``inputs`` (each with its step in ``steps``) into ``result``\'s',
+           '    arrays, the GIL released: the index of the first rejected sample (the state untouched), or -1."""']
+    out += [f"    cdef {_memoryview(ctype, 1, True)} {pointer} = inputs[\"{name}\"]" for name, ctype, pointer in loop.inputs]
+    out += [f"    cdef Py_ssize_t s_{pointer} = steps[\"{name}\"]" for name, _, pointer in loop.inputs]
+    out += [f"    cdef {_memoryview(ctype, dims)} out_{name} = result.{name}" for name, ctype, dims, _ in loop.outputs]
+    call = ["state", "n"] + [f"&{pointer}[0], s_{pointer}" for _, _, pointer in loop.inputs]
+    out += ["    cdef Py_ssize_t bad = -1", "    if n == 0:", "        return -1", "    with nogil:",
+            f"        bad = _run({', '.join(call + outputs)})", "    return bad", "", ""]
+    return out
+
+
+def batch_functions(module: str) -> List[str]:
+    """The batch loop of ``module`` (:data:`BATCH_LOOPS`), or nothing (the INS writes its own)."""
+    loop = BATCH_LOOPS.get(module)
+    if loop is None:
+        return []
+    cimports = ["from libc.string cimport memcpy", "", ""] if loop.copy_by_memcpy else []
+    return cimports + _batch_run(module, loop) + _batch_into(module, loop)
+
+
 def generate_pxi(module: str, header: Header) -> str:
     """``_<module>_fields.pxi``: the imports, enums, settings conversions, state layout, getters, checkpoint
     functions and class docstring of one binding, included at the top of ``_<module>.pyx``."""
@@ -597,6 +762,7 @@ def generate_pxi(module: str, header: Header) -> str:
             f"    return int({settings}Check(&c))", "", ""]
     out += state_functions(header, state, settings)
     out += getter_class(module, header, state) + checkpoint_functions(module)
+    out += batch_functions(module)
     return "\n".join(out + class_doc(module)).rstrip() + "\n"
 
 
@@ -764,6 +930,10 @@ def settings_property(module: str, header: Header, state: str) -> List[str]:
             "            _settings_error(status, _settings_from_c(&c))"]
 
 
+#: The bindings whose ``__init__`` is ``…Initialise`` and then ``self.settings = settings`` (given one): ``_initialise``.
+PLAIN_INIT = ("observer", "complementary")
+
+
 def getter_class(module: str, header: Header, state: str) -> List[str]:
     """``cdef class _<Estimator>Getters(Estimator)``: the state struct and one property per scalar getter of the
     header (``...Get<Name>(const State *)``, ``...Is<Name>(const State *)``); the estimator derives from it."""
@@ -777,6 +947,11 @@ def getter_class(module: str, header: Header, state: str) -> List[str]:
                 f"        return {g.cname}(&self._c)"]
     if module in SETTINGS_PROPERTY:
         out += settings_property(module, header, state)
+    if module in PLAIN_INIT:  # what the estimator's __init__ does: the header's start state, then the settings
+        out += ["", "    cdef int _initialise(self, settings) except -1:",
+                f'        """{MODULES[module][1]}Initialise, then ``settings`` if given (the ``settings`` setter checks them)."""',
+                f"        {MODULES[module][1]}Initialise(&self._c)",
+                "        if settings is not None:", "            self.settings = settings", "        return 0"]
     return out + ["", "    def _get_state(self):",
                   f'        """The fields of {state} in order (the settings as ``as_dict()``)."""',
                   "        return _state_get(&self._c, _settings_out)", "",

@@ -76,35 +76,6 @@ def _c_values(settings):
 _settings_out, _checked_settings = _settings_dict, _c_values  # a checkpoint holds {sensor: AlphaBetaSensorSettings}
 
 
-cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state, Py_ssize_t n,
-                     const float *accel, Py_ssize_t sa, const float *dt, Py_ssize_t sd,
-                     const float *baro, Py_ssize_t sb, const float *lidar, Py_ssize_t sl,
-                     const float *sonar, Py_ssize_t ss, const float *gps, Py_ssize_t sg,
-                     float *h, float *v, float *weight, int32_t *quality) noexcept nogil:
-    """Run n steps on a private copy of *state; commit it only if all succeed.
-
-    Returns the index of the first rejected step, or -1.
-    """
-    cdef FusionAltitudeAlphaBeta local = state[0]
-    cdef FusionAltitudeAlphaBetaMeasurements m
-    cdef Py_ssize_t i
-    cdef int j
-    for i in range(n):
-        m.baroAltitude = baro[i * sb]
-        m.lidarAltitude = lidar[i * sl]
-        m.sonarAltitude = sonar[i * ss]
-        m.gpsAltitude = gps[i * sg]
-        if FusionAltitudeAlphaBetaUpdate(&local, accel[i * sa], dt[i * sd], &m) != FusionAltitudeAlphaBetaStatusOk:
-            return i
-        h[i] = local.altitude
-        v[i] = local.verticalVelocity
-        for j in range(5):
-            weight[i * 5 + j] = local.filters[j].weight
-            quality[i * 5 + j] = local.filters[j].quality
-    state[0] = local
-    return -1
-
-
 cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
     __doc__ = DOC_AlphaBetaFusion  # generated from the reference's docstring (_alphabeta_fields.pxi)
 
@@ -200,39 +171,17 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
             None if value is _UNSET else value for value in values]  # left out: None (no samples)
         n, inputs, steps, result = _alphabeta_glue.prepare_alphabeta_batch(accel, dt, baro_altitude, lidar_altitude,
                                                                     sonar_altitude, gps_altitude, out)
-        cdef const float[::1] a = inputs["accel"]
-        cdef const float[::1] t = inputs["dt"]
-        cdef const float[::1] zb = inputs["baro_altitude"]
-        cdef const float[::1] zl = inputs["lidar_altitude"]
-        cdef const float[::1] zs = inputs["sonar_altitude"]
-        cdef const float[::1] zg = inputs["gps_altitude"]
-        cdef float[::1] h = result.altitude
-        cdef float[::1] v = result.vertical_velocity
-        cdef float[:, ::1] w = result.weight
-        cdef int32_t[:, ::1] q = result.quality
-        cdef Py_ssize_t count = n
-        cdef Py_ssize_t bad = -1
-        cdef Py_ssize_t sa = steps["accel"], sd = steps["dt"], sb = steps["baro_altitude"]
-        cdef Py_ssize_t sl = steps["lidar_altitude"], ss = steps["sonar_altitude"], sg = steps["gps_altitude"]
         cdef FusionAltitudeAlphaBetaMeasurements m
-        if out is not None:
-            result = out  # the caller's object itself, filled
-        if count == 0:
-            return result
-        with nogil:
-            bad = _run(&self._c, count, &a[0], sa, &t[0], sd, &zb[0], sb, &zl[0], sl, &zs[0], ss, &zg[0], sg,
-                       &h[0], &v[0], &w[0, 0], &q[0, 0])
+        bad = _batch_into(&self._c, n, inputs, steps, result)  # the loop: _alphabeta_fields.pxi
         if bad >= 0:
-            m.baroAltitude = zb[bad * sb]
-            m.lidarAltitude = zl[bad * sl]
-            m.sonarAltitude = zs[bad * ss]
-            m.gpsAltitude = zg[bad * sg]
-            status = FusionAltitudeAlphaBetaCheckInputs(a[bad * sa], t[bad * sd], &m)
-            values = {"accel": float(a[bad * sa]), "dt": float(t[bad * sd]), "baro_altitude": float(zb[bad * sb]),
-                      "lidar_altitude": float(zl[bad * sl]), "sonar_altitude": float(zs[bad * ss]),
-                      "gps_altitude": float(zg[bad * sg])}
+            values = {name: float(array[bad * steps[name]]) for name, array in inputs.items()}  # the first bad step's
+            m.baroAltitude = values["baro_altitude"]
+            m.lidarAltitude = values["lidar_altitude"]
+            m.sonarAltitude = values["sonar_altitude"]
+            m.gpsAltitude = values["gps_altitude"]
+            status = FusionAltitudeAlphaBetaCheckInputs(values["accel"], values["dt"], &m)
             _alphabeta_glue.raise_alphabeta_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
-        return result
+        return result if out is None else out  # out=: the caller's object itself, filled
 
     @property
     def total_weight(self):

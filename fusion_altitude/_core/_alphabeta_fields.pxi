@@ -179,6 +179,71 @@ def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(AlphaBetaFusion, state)
 
+cdef Py_ssize_t _run(FusionAltitudeAlphaBeta *state,
+                     Py_ssize_t n,
+                     const float *accel, Py_ssize_t s_accel,
+                     const float *dt, Py_ssize_t s_dt,
+                     const float *baro_altitude, Py_ssize_t s_baro_altitude,
+                     const float *lidar_altitude, Py_ssize_t s_lidar_altitude,
+                     const float *sonar_altitude, Py_ssize_t s_sonar_altitude,
+                     const float *gps_altitude, Py_ssize_t s_gps_altitude,
+                     float *out_altitude,
+                     float *out_vertical_velocity,
+                     float *out_weight,
+                     int32_t *out_quality) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitudeAlphaBeta local
+    local = state[0]
+    cdef Py_ssize_t i
+    cdef FusionAltitudeAlphaBetaMeasurements m
+    cdef int j
+    for i in range(n):
+        m.baroAltitude = baro_altitude[i * s_baro_altitude]
+        m.lidarAltitude = lidar_altitude[i * s_lidar_altitude]
+        m.sonarAltitude = sonar_altitude[i * s_sonar_altitude]
+        m.gpsAltitude = gps_altitude[i * s_gps_altitude]
+        if FusionAltitudeAlphaBetaUpdate(&local, accel[i * s_accel], dt[i * s_dt], &m) != FusionAltitudeAlphaBetaStatusOk:
+            return i
+        out_altitude[i] = local.altitude
+        out_vertical_velocity[i] = local.verticalVelocity
+        for j in range(5):
+            out_weight[i * 5 + j] = local.filters[j].weight
+        for j in range(5):
+            out_quality[i * 5 + j] = local.filters[j].quality
+    state[0] = local
+    return -1
+
+
+cdef Py_ssize_t _batch_into(FusionAltitudeAlphaBeta *state, Py_ssize_t n, dict inputs, dict steps, object result) except -2:
+    """update_batch over the glue's prepared ``inputs`` (each with its step in ``steps``) into ``result``'s
+    arrays, the GIL released: the index of the first rejected sample (the state untouched), or -1."""
+    cdef const float[::1] accel = inputs["accel"]
+    cdef const float[::1] dt = inputs["dt"]
+    cdef const float[::1] baro_altitude = inputs["baro_altitude"]
+    cdef const float[::1] lidar_altitude = inputs["lidar_altitude"]
+    cdef const float[::1] sonar_altitude = inputs["sonar_altitude"]
+    cdef const float[::1] gps_altitude = inputs["gps_altitude"]
+    cdef Py_ssize_t s_accel = steps["accel"]
+    cdef Py_ssize_t s_dt = steps["dt"]
+    cdef Py_ssize_t s_baro_altitude = steps["baro_altitude"]
+    cdef Py_ssize_t s_lidar_altitude = steps["lidar_altitude"]
+    cdef Py_ssize_t s_sonar_altitude = steps["sonar_altitude"]
+    cdef Py_ssize_t s_gps_altitude = steps["gps_altitude"]
+    cdef float[::1] out_altitude = result.altitude
+    cdef float[::1] out_vertical_velocity = result.vertical_velocity
+    cdef float[:, ::1] out_weight = result.weight
+    cdef int32_t[:, ::1] out_quality = result.quality
+    cdef Py_ssize_t bad = -1
+    if n == 0:
+        return -1
+    with nogil:
+        bad = _run(state, n, &accel[0], s_accel, &dt[0], s_dt, &baro_altitude[0], s_baro_altitude, &lidar_altitude[0], s_lidar_altitude, &sonar_altitude[0], s_sonar_altitude, &gps_altitude[0], s_gps_altitude, &out_altitude[0], &out_vertical_velocity[0], &out_weight[0, 0], &out_quality[0, 0])
+    return bad
+
+
 
 
 #: The docstring of AlphaBetaFusion (binding and reference), from fusion_altitude/reference/alphabeta.py.

@@ -9,34 +9,11 @@ status_message = c_status_message
 _settings_error = _complementary_glue.raise_complementary_settings_error
 
 
-cdef Py_ssize_t _run(FusionAltitudeComplementary *state, const float *accel, const float *baro, const float *dt,
-                     Py_ssize_t dt_step, Py_ssize_t n, float *altitude, float *velocity, float *baro_filtered,
-                     float *baro_velocity) noexcept nogil:
-    """Run n updates on a private copy of *state; commit it only if all succeed.
-
-    Returns the index of the first rejected sample, or -1.
-    """
-    cdef FusionAltitudeComplementary local = state[0]
-    cdef Py_ssize_t i
-    for i in range(n):
-        if FusionAltitudeComplementaryUpdate(&local, accel[i], baro[i], dt[i * dt_step]) != FusionAltitudeComplementaryStatusOk:
-            return i
-        altitude[i] = local.altitude
-        velocity[i] = local.verticalVelocity
-        baro_filtered[i] = local.baroFiltered
-        baro_velocity[i] = local.baroVelocity
-    state[0] = local
-    return -1
-
-
 cdef class ComplementaryFilter(_ComplementaryFilterGetters):
     __doc__ = DOC_ComplementaryFilter  # generated from the reference's docstring (_complementary_fields.pxi)
 
-
     def __init__(self, settings=None):
-        FusionAltitudeComplementaryInitialise(&self._c)
-        if settings is not None:
-            self.settings = settings
+        self._initialise(settings)  # _complementary_fields.pxi
 
     def update(self, accel, baro_altitude, dt):
         """Process one sample: accel m/s², baro_altitude m (NaN: none), dt s.
@@ -96,24 +73,7 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
         """
         accel32, baro32, dt32, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
         result = _complementary_glue.complementary_outputs(accel32.shape[0], out)
-        cdef const float[::1] a = accel32
-        cdef const float[::1] z = baro32
-        cdef const float[::1] t = dt32
-        cdef float[::1] h = result.altitude
-        cdef float[::1] v = result.vertical_velocity
-        cdef float[::1] zf = result.baro_filtered
-        cdef float[::1] vb = result.baro_velocity
-        cdef Py_ssize_t n = a.shape[0]
-        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
-        cdef Py_ssize_t bad = -1
-        if n == 0:
-            return result if out is None else out  # out=: the caller's object itself
-        with nogil:
-            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &zf[0], &vb[0])
-        if bad >= 0:
-            _complementary_glue.raise_complementary_update_error(
-                FusionAltitudeComplementaryCheckInputs(a[bad], z[bad], t[bad * dt_step]),
-                a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        _batch_into(&self._c, accel32, baro32, dt32, dt_is_array, result)  # the loop: _complementary_fields.pxi
         return result if out is None else out  # out=: the caller's object itself
 
     def __repr__(self):

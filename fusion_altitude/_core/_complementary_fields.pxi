@@ -168,6 +168,13 @@ cdef class _ComplementaryFilterGetters(Estimator):
         if status != 0:
             _settings_error(status, _settings_from_c(&c))
 
+    cdef int _initialise(self, settings) except -1:
+        """FusionAltitudeComplementaryInitialise, then ``settings`` if given (the ``settings`` setter checks them)."""
+        FusionAltitudeComplementaryInitialise(&self._c)
+        if settings is not None:
+            self.settings = settings
+        return 0
+
     def _get_state(self):
         """The fields of FusionAltitudeComplementary in order (the settings as ``as_dict()``)."""
         return _state_get(&self._c, _settings_out)
@@ -195,6 +202,54 @@ def _checked_settings(values):
 def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(ComplementaryFilter, state)
+
+cdef Py_ssize_t _run(FusionAltitudeComplementary *state,
+                     Py_ssize_t n,
+                     const float *accel,
+                     const float *baro,
+                     const float *dt, Py_ssize_t dt_step,
+                     float *out_altitude,
+                     float *out_vertical_velocity,
+                     float *out_baro_filtered,
+                     float *out_baro_velocity) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitudeComplementary local
+    local = state[0]
+    cdef Py_ssize_t i
+    for i in range(n):
+        if FusionAltitudeComplementaryUpdate(&local, accel[i], baro[i], dt[i * dt_step]) != FusionAltitudeComplementaryStatusOk:
+            return i
+        out_altitude[i] = local.altitude
+        out_vertical_velocity[i] = local.verticalVelocity
+        out_baro_filtered[i] = local.baroFiltered
+        out_baro_velocity[i] = local.baroVelocity
+    state[0] = local
+    return -1
+
+
+cdef int _batch_into(FusionAltitudeComplementary *state, const float[::1] accel, const float[::1] baro,
+                     const float[::1] dt, bint dt_is_array, object result) except -1:
+    """update_batch over the prepared float32 arrays into ``result``'s arrays, the GIL released;
+    raises for the first bad sample (naming it), with the state untouched."""
+    cdef Py_ssize_t n = accel.shape[0]
+    cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+    cdef Py_ssize_t bad = -1
+    cdef float[::1] out_altitude = result.altitude
+    cdef float[::1] out_vertical_velocity = result.vertical_velocity
+    cdef float[::1] out_baro_filtered = result.baro_filtered
+    cdef float[::1] out_baro_velocity = result.baro_velocity
+    if n == 0:
+        return 0
+    with nogil:
+        bad = _run(state, n, &accel[0], &baro[0], &dt[0], dt_step, &out_altitude[0], &out_vertical_velocity[0], &out_baro_filtered[0], &out_baro_velocity[0])
+    if bad >= 0:
+        a, z, t = float(accel[bad]), float(baro[bad]), float(dt[bad * dt_step])
+        _complementary_glue.raise_complementary_update_error(FusionAltitudeComplementaryCheckInputs(a, z, t), a, z, t, bad, dt_is_array)
+    return 0
+
 
 
 

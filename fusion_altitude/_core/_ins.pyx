@@ -28,6 +28,11 @@ cdef inline int _vector(object value, double scale, str name, FusionAltitudeInsV
     return 0
 
 
+cdef object _quaternion_array(FusionAltitudeInsQuaternion q):
+    """A quaternion as the float32 array (w, x, y, z)."""
+    return np.array([q.w, q.x, q.y, q.z], dtype=np.float32)
+
+
 cdef Py_ssize_t _run(FusionAltitudeIns *ins, Py_ssize_t n, const float *gyro, const float *accel, const float *mag,
                      const float *baro, const float *dt, float *height, float *velocity, float *quaternion,
                      float *global_quaternion, float *gyro_bias, float *accel_z_bias, float *baro_bias,
@@ -208,20 +213,17 @@ cdef class InsEstimator(_InsEstimatorGetters):
     @property
     def quaternion(self):
         """Local attitude (w, x, y, z), body → local NWU earth (yaw integrated from 0), float32."""
-        cdef FusionAltitudeInsQuaternion q = FusionAltitudeInsGetQuaternion(&self._c)
-        return np.array([q.w, q.x, q.y, q.z], dtype=np.float32)
+        return _quaternion_array(FusionAltitudeInsGetQuaternion(&self._c))
 
     @property
     def local_to_global(self):
         """Rotation about up by the magnetometer's yaw offset (w, x, y, z), float32."""
-        cdef FusionAltitudeInsQuaternion q = FusionAltitudeInsGetLocalToGlobal(&self._c)
-        return np.array([q.w, q.x, q.y, q.z], dtype=np.float32)
+        return _quaternion_array(FusionAltitudeInsGetLocalToGlobal(&self._c))
 
     @property
     def global_quaternion(self):
         """Global attitude local_to_global ⊗ quaternion (north from the magnetometer), float32."""
-        cdef FusionAltitudeInsQuaternion q = FusionAltitudeInsGetGlobalQuaternion(&self._c)
-        return np.array([q.w, q.x, q.y, q.z], dtype=np.float32)
+        return _quaternion_array(FusionAltitudeInsGetGlobalQuaternion(&self._c))
 
     @property
     def euler(self):

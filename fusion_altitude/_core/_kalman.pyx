@@ -38,46 +38,6 @@ cdef int32_t _satellites(object value) except? -2:
     return _kalman_glue.kalman_satellites(value)  # None, NaN, floats, and the refusal of a negative count
 
 
-cdef Py_ssize_t _run(FusionAltitudeKalman *state, Py_ssize_t n,
-                     const float *accel, Py_ssize_t sa, const float *dt, Py_ssize_t sd,
-                     const float *baro, Py_ssize_t sb, const float *rng, Py_ssize_t sr,
-                     const float *gps, Py_ssize_t sg, const float *acc, Py_ssize_t sacc,
-                     const int32_t *sats, Py_ssize_t ss, const uint8_t *ground, Py_ssize_t se,
-                     float *h, float *alt, float *v, float *b, float *ob, float *og,
-                     float *diag, float *innovation, float *nis, uint8_t *result) noexcept nogil:
-    """Run n steps on a private copy of *state; commit it only if all succeed.
-
-    Returns the index of the first rejected step, or -1.
-    """
-    cdef FusionAltitudeKalman local = state[0]
-    cdef FusionAltitudeKalmanMeasurements m
-    cdef Py_ssize_t i
-    cdef int j
-    for i in range(n):
-        m.baroAltitude = baro[i * sb]
-        m.rangeDistance = rng[i * sr]
-        m.gpsAltitude = gps[i * sg]
-        m.gpsVerticalAccuracy = acc[i * sacc]
-        m.gpsSatellites = sats[i * ss]
-        m.groundEffect = ground[i * se] != 0
-        if FusionAltitudeKalmanUpdate(&local, accel[i * sa], dt[i * sd], &m) != FusionAltitudeKalmanStatusOk:
-            return i
-        h[i] = local.x[<int>FusionAltitudeKalmanStateHeight]
-        alt[i] = FusionAltitudeKalmanGetAltitude(&local)
-        v[i] = local.x[<int>FusionAltitudeKalmanStateVelocity]
-        b[i] = local.x[<int>FusionAltitudeKalmanStateAccelBias]
-        ob[i] = local.x[<int>FusionAltitudeKalmanStateBaroOffset]
-        og[i] = local.x[<int>FusionAltitudeKalmanStateGpsOffset]
-        for j in range(5):
-            diag[i * 5 + j] = local.P[j][j]
-        for j in range(3):
-            innovation[i * 3 + j] = local.sensors[j].innovation
-            nis[i * 3 + j] = FusionAltitudeKalmanGetNis(&local, <FusionAltitudeKalmanSensorIndex>j)
-            result[i * 3 + j] = <uint8_t>local.sensors[j].result
-    state[0] = local
-    return -1
-
-
 cdef class KalmanEstimator(_KalmanEstimatorGetters):
     __doc__ = DOC_KalmanEstimator  # generated from the reference's docstring (_kalman_fields.pxi)
 
@@ -174,45 +134,16 @@ cdef class KalmanEstimator(_KalmanEstimatorGetters):
         n, inputs, steps, result = _kalman_glue.prepare_kalman_batch(
             accel, dt, baro_altitude, range_distance, gps_altitude, gps_satellites, gps_vertical_accuracy,
             ground_effect, out)
-        cdef const float[::1] a = inputs["accel"]
-        cdef const float[::1] t = inputs["dt"]
-        cdef const float[::1] zb = inputs["baro_altitude"]
-        cdef const float[::1] zr = inputs["range_distance"]
-        cdef const float[::1] zg = inputs["gps_altitude"]
-        cdef const float[::1] acc = inputs["gps_vertical_accuracy"]
-        cdef const int32_t[::1] sats = inputs["gps_satellites"]
-        cdef const uint8_t[::1] ground = inputs["ground_effect"]
-        cdef float[::1] h = result.height_above_ground
-        cdef float[::1] alt = result.altitude
-        cdef float[::1] v = result.vertical_velocity
-        cdef float[::1] b = result.accel_bias
-        cdef float[::1] ob = result.baro_offset
-        cdef float[::1] og = result.gps_offset
-        cdef float[:, ::1] diag = result.covariance_diagonal
-        cdef float[:, ::1] innovation = result.innovation
-        cdef float[:, ::1] nis = result.nis
-        cdef uint8_t[:, ::1] codes = result.result
-        cdef Py_ssize_t count = n
-        cdef Py_ssize_t bad = -1
-        cdef Py_ssize_t sa = steps["accel"], sd = steps["dt"], sb = steps["baro_altitude"]
-        cdef Py_ssize_t sr = steps["range_distance"], sg = steps["gps_altitude"]
-        cdef Py_ssize_t sacc = steps["gps_vertical_accuracy"], ss = steps["gps_satellites"]
-        cdef Py_ssize_t se = steps["ground_effect"]
-        if out is not None:
-            result = out  # the caller's object itself, filled
-        if count == 0:
-            return result
-        with nogil:
-            bad = _run(&self._c, count, &a[0], sa, &t[0], sd, &zb[0], sb, &zr[0], sr, &zg[0], sg, &acc[0], sacc,
-                       &sats[0], ss, &ground[0], se, &h[0], &alt[0], &v[0], &b[0], &ob[0], &og[0],
-                       &diag[0, 0], &innovation[0, 0], &nis[0, 0], &codes[0, 0])
+        bad = _batch_into(&self._c, n, inputs, steps, result)  # the loop: _kalman_fields.pxi
         if bad >= 0:
-            status = self._rejection(a[bad * sa], t[bad * sd], zb[bad * sb], zr[bad * sr], zg[bad * sg],
-                                     acc[bad * sacc], sats[bad * ss], ground[bad * se])
-            values = {"accel": float(a[bad * sa]), "dt": float(t[bad * sd]), "baro_altitude": float(zb[bad * sb]),
-                      "gps_altitude": float(zg[bad * sg]), "gps_vertical_accuracy": float(acc[bad * sacc])}
+            at = {name: array[bad * steps[name]] for name, array in inputs.items()}  # the first bad step's inputs
+            status = self._rejection(at["accel"], at["dt"], at["baro_altitude"], at["range_distance"],
+                                     at["gps_altitude"], at["gps_vertical_accuracy"], at["gps_satellites"],
+                                     at["ground_effect"])
+            values = {name: float(at[name]) for name in ("accel", "dt", "baro_altitude", "gps_altitude",
+                                                         "gps_vertical_accuracy")}
             _kalman_glue.raise_kalman_update_error(status, values, bad, {k: bool(s) for k, s in steps.items()})
-        return result
+        return result if out is None else out  # out=: the caller's object itself, filled
 
     cdef FusionAltitudeKalmanStatus _rejection(self, float accel, float dt, float baro, float rng, float gps,
                                                float accuracy, int32_t satellites, uint8_t ground):

@@ -262,6 +262,99 @@ def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(KalmanEstimator, state)
 
+cdef Py_ssize_t _run(FusionAltitudeKalman *state,
+                     Py_ssize_t n,
+                     const float *accel, Py_ssize_t s_accel,
+                     const float *dt, Py_ssize_t s_dt,
+                     const float *baro_altitude, Py_ssize_t s_baro_altitude,
+                     const float *range_distance, Py_ssize_t s_range_distance,
+                     const float *gps_altitude, Py_ssize_t s_gps_altitude,
+                     const float *gps_vertical_accuracy, Py_ssize_t s_gps_vertical_accuracy,
+                     const int32_t *gps_satellites, Py_ssize_t s_gps_satellites,
+                     const uint8_t *ground_effect, Py_ssize_t s_ground_effect,
+                     float *out_height_above_ground,
+                     float *out_altitude,
+                     float *out_vertical_velocity,
+                     float *out_accel_bias,
+                     float *out_baro_offset,
+                     float *out_gps_offset,
+                     float *out_covariance_diagonal,
+                     float *out_innovation,
+                     float *out_nis,
+                     uint8_t *out_result) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitudeKalman local
+    local = state[0]
+    cdef Py_ssize_t i
+    cdef FusionAltitudeKalmanMeasurements m
+    cdef int j
+    for i in range(n):
+        m.baroAltitude = baro_altitude[i * s_baro_altitude]
+        m.rangeDistance = range_distance[i * s_range_distance]
+        m.gpsAltitude = gps_altitude[i * s_gps_altitude]
+        m.gpsVerticalAccuracy = gps_vertical_accuracy[i * s_gps_vertical_accuracy]
+        m.gpsSatellites = gps_satellites[i * s_gps_satellites]
+        m.groundEffect = ground_effect[i * s_ground_effect] != 0
+        if FusionAltitudeKalmanUpdate(&local, accel[i * s_accel], dt[i * s_dt], &m) != FusionAltitudeKalmanStatusOk:
+            return i
+        out_height_above_ground[i] = local.x[<int>FusionAltitudeKalmanStateHeight]
+        out_altitude[i] = FusionAltitudeKalmanGetAltitude(&local)
+        out_vertical_velocity[i] = local.x[<int>FusionAltitudeKalmanStateVelocity]
+        out_accel_bias[i] = local.x[<int>FusionAltitudeKalmanStateAccelBias]
+        out_baro_offset[i] = local.x[<int>FusionAltitudeKalmanStateBaroOffset]
+        out_gps_offset[i] = local.x[<int>FusionAltitudeKalmanStateGpsOffset]
+        for j in range(5):
+            out_covariance_diagonal[i * 5 + j] = local.P[j][j]
+        for j in range(3):
+            out_innovation[i * 3 + j] = local.sensors[j].innovation
+        for j in range(3):
+            out_nis[i * 3 + j] = FusionAltitudeKalmanGetNis(&local, <FusionAltitudeKalmanSensorIndex>j)
+        for j in range(3):
+            out_result[i * 3 + j] = <uint8_t>local.sensors[j].result
+    state[0] = local
+    return -1
+
+
+cdef Py_ssize_t _batch_into(FusionAltitudeKalman *state, Py_ssize_t n, dict inputs, dict steps, object result) except -2:
+    """update_batch over the glue's prepared ``inputs`` (each with its step in ``steps``) into ``result``'s
+    arrays, the GIL released: the index of the first rejected sample (the state untouched), or -1."""
+    cdef const float[::1] accel = inputs["accel"]
+    cdef const float[::1] dt = inputs["dt"]
+    cdef const float[::1] baro_altitude = inputs["baro_altitude"]
+    cdef const float[::1] range_distance = inputs["range_distance"]
+    cdef const float[::1] gps_altitude = inputs["gps_altitude"]
+    cdef const float[::1] gps_vertical_accuracy = inputs["gps_vertical_accuracy"]
+    cdef const int32_t[::1] gps_satellites = inputs["gps_satellites"]
+    cdef const uint8_t[::1] ground_effect = inputs["ground_effect"]
+    cdef Py_ssize_t s_accel = steps["accel"]
+    cdef Py_ssize_t s_dt = steps["dt"]
+    cdef Py_ssize_t s_baro_altitude = steps["baro_altitude"]
+    cdef Py_ssize_t s_range_distance = steps["range_distance"]
+    cdef Py_ssize_t s_gps_altitude = steps["gps_altitude"]
+    cdef Py_ssize_t s_gps_vertical_accuracy = steps["gps_vertical_accuracy"]
+    cdef Py_ssize_t s_gps_satellites = steps["gps_satellites"]
+    cdef Py_ssize_t s_ground_effect = steps["ground_effect"]
+    cdef float[::1] out_height_above_ground = result.height_above_ground
+    cdef float[::1] out_altitude = result.altitude
+    cdef float[::1] out_vertical_velocity = result.vertical_velocity
+    cdef float[::1] out_accel_bias = result.accel_bias
+    cdef float[::1] out_baro_offset = result.baro_offset
+    cdef float[::1] out_gps_offset = result.gps_offset
+    cdef float[:, ::1] out_covariance_diagonal = result.covariance_diagonal
+    cdef float[:, ::1] out_innovation = result.innovation
+    cdef float[:, ::1] out_nis = result.nis
+    cdef uint8_t[:, ::1] out_result = result.result
+    cdef Py_ssize_t bad = -1
+    if n == 0:
+        return -1
+    with nogil:
+        bad = _run(state, n, &accel[0], s_accel, &dt[0], s_dt, &baro_altitude[0], s_baro_altitude, &range_distance[0], s_range_distance, &gps_altitude[0], s_gps_altitude, &gps_vertical_accuracy[0], s_gps_vertical_accuracy, &gps_satellites[0], s_gps_satellites, &ground_effect[0], s_ground_effect, &out_height_above_ground[0], &out_altitude[0], &out_vertical_velocity[0], &out_accel_bias[0], &out_baro_offset[0], &out_gps_offset[0], &out_covariance_diagonal[0, 0], &out_innovation[0, 0], &out_nis[0, 0], &out_result[0, 0])
+    return bad
+
+
 
 
 #: The docstring of KalmanEstimator (binding and reference), from fusion_altitude/reference/kalman.py.

@@ -43,24 +43,7 @@ def c_settings_validate(values, float dt):
     return int(FusionAltitudeSettingsValidate(&c, dt))
 
 
-cdef Py_ssize_t _run(FusionAltitude *state, const float *accel, const float *baro, const float *dt,
-                     Py_ssize_t dt_step, Py_ssize_t n, float *altitude, float *velocity, float *bias,
-                     float *residual) noexcept nogil:
-    """Run n updates on a private copy of *state; commit it only if all succeed.
-
-    Returns the index of the first rejected sample, or -1.
-    """
-    cdef FusionAltitude local = state[0]
-    cdef Py_ssize_t i
-    for i in range(n):
-        if FusionAltitudeUpdate(&local, accel[i], baro[i], dt[i * dt_step]) != FusionAltitudeStatusOk:
-            return i
-        altitude[i] = local.altitude
-        velocity[i] = local.verticalVelocity
-        bias[i] = local.accelBias
-        residual[i] = local.baroResidual
-    state[0] = local
-    return -1
+_observer_glue.C_SETTINGS_FUNCTIONS.update(validate=c_settings_validate)
 
 
 def _gains(values):
@@ -77,11 +60,8 @@ _settings_out, _checked_settings = _gains, _checked_gains  # a checkpoint holds 
 cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
     __doc__ = DOC_AltitudeEstimator  # generated from the reference's docstring (_observer_fields.pxi)
 
-
     def __init__(self, settings=None):
-        FusionAltitudeInitialise(&self._c)
-        if settings is not None:
-            self.settings = settings
+        self._initialise(settings)  # _observer_fields.pxi
 
     def update(self, accel, baro_altitude, dt):
         cdef double a = _as_double(accel, "accel")
@@ -147,23 +127,7 @@ cdef class AltitudeEstimator(_AltitudeEstimatorGetters):
         runs with the GIL released.
         """
         accel32, baro32, dt32, dt_is_array, result = _observer_glue.prepare_batch(accel, baro_altitude, dt, out)
-        cdef const float[::1] a = accel32
-        cdef const float[::1] z = baro32
-        cdef const float[::1] t = dt32
-        cdef float[::1] h = result.altitude
-        cdef float[::1] v = result.vertical_velocity
-        cdef float[::1] b = result.accel_bias
-        cdef float[::1] r = result.baro_residual
-        cdef Py_ssize_t n = a.shape[0]
-        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
-        cdef Py_ssize_t bad = -1
-        if n == 0:
-            return result if out is None else out  # out=: the caller's object itself
-        with nogil:
-            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, &h[0], &v[0], &b[0], &r[0])
-        if bad >= 0:
-            _observer_glue.raise_update_error(FusionAltitudeCheckInputs(a[bad], z[bad], t[bad * dt_step]),
-                                              a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        _batch_into(&self._c, accel32, baro32, dt32, dt_is_array, result)  # the loop: _observer_fields.pxi
         return result if out is None else out  # out=: the caller's object itself
 
     @property

@@ -1,8 +1,6 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, initializedcheck=False, cdivision=True
 """Cython binding of the rocket estimator in csrc/fusion_altitude_rocket.h (``FlightEvents`` lives in ``_rocket_glue``): see ``_core/__init__.py`` for what a binding does."""
 
-from libc.string cimport memcpy
-
 include "_rocket_fields.pxi"
 
 from fusion_altitude._core._rocket_glue import BaroFate, FlightEvents, Phase, RocketBatch, RocketStatus
@@ -12,30 +10,6 @@ C_MACH_LOCKOUT = FUSION_ALTITUDE_ROCKET_MACH_LOCKOUT
 C_NUMBER_OF_EVENTS = FUSION_ALTITUDE_ROCKET_NUMBER_OF_EVENTS
 
 status_message = c_status_message
-
-
-cdef Py_ssize_t _run(FusionAltitudeRocket *state, const float *accel, const float *baro, const float *dt,
-                     Py_ssize_t dt_step, Py_ssize_t n, bint vertical, float *height, float *velocity, float *bias,
-                     unsigned char *phase, unsigned char *baro_fate) noexcept nogil:
-    """n updates on a private copy of *state, committed only if all succeed; the first bad index or -1."""
-    cdef FusionAltitudeRocket local
-    memcpy(&local, state, sizeof(FusionAltitudeRocket))
-    cdef Py_ssize_t i
-    cdef FusionAltitudeRocketStatus status
-    for i in range(n):
-        if vertical:
-            status = FusionAltitudeRocketUpdateWithVerticalAccel(&local, accel[i], baro[i], dt[i * dt_step])
-        else:
-            status = FusionAltitudeRocketUpdate(&local, accel[i], baro[i], dt[i * dt_step])
-        if status != FusionAltitudeRocketStatusOk:
-            return i
-        height[i] = FusionAltitudeRocketGetHeight(&local)
-        velocity[i] = FusionAltitudeRocketGetVerticalVelocity(&local)
-        bias[i] = FusionAltitudeRocketGetAccelBias(&local)
-        phase[i] = <unsigned char>FusionAltitudeRocketGetPhase(&local)
-        baro_fate[i] = <unsigned char>FusionAltitudeRocketGetBaro(&local)
-    memcpy(state, &local, sizeof(FusionAltitudeRocket))
-    return -1
 
 
 cdef class RocketEstimator(_RocketEstimatorGetters):
@@ -91,25 +65,7 @@ cdef class RocketEstimator(_RocketEstimatorGetters):
         reference :class:`fusion_altitude.reference.rocket.RocketEstimator`.
         """
         accel32, baro32, dt32, dt_is_array, result = _rocket_glue.prepare_batch(accel, baro_altitude, dt, out)
-        cdef const float[::1] a = accel32
-        cdef const float[::1] z = baro32
-        cdef const float[::1] t = dt32
-        cdef float[::1] h = result.height
-        cdef float[::1] v = result.vertical_velocity
-        cdef float[::1] b = result.accel_bias
-        cdef unsigned char[::1] p = result.phase
-        cdef unsigned char[::1] f = result.baro
-        cdef Py_ssize_t n = a.shape[0]
-        cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
-        cdef Py_ssize_t bad = -1
-        cdef bint vertical = bool(accel_is_vertical)
-        if n == 0:
-            return result if out is None else out  # out=: the caller's object itself
-        with nogil:
-            bad = _run(&self._c, &a[0], &z[0], &t[0], dt_step, n, vertical, &h[0], &v[0], &b[0], &p[0], &f[0])
-        if bad >= 0:
-            _rocket_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a[bad], z[bad], t[bad * dt_step]),
-                                            a[bad], z[bad], t[bad * dt_step], bad, dt_is_array)
+        _batch_into(&self._c, accel32, baro32, dt32, dt_is_array, result, bool(accel_is_vertical))  # _rocket_fields.pxi
         return result if out is None else out  # out=: the caller's object itself
 
     @property

@@ -330,6 +330,62 @@ def _restore(state):
     """A new estimator holding ``state`` (a reference or binding ``_get_state()``)."""
     return restore(RocketEstimator, state)
 
+from libc.string cimport memcpy
+
+
+cdef Py_ssize_t _run(FusionAltitudeRocket *state,
+                     Py_ssize_t n,
+                     const float *accel,
+                     const float *baro,
+                     const float *dt, Py_ssize_t dt_step,
+                     bint vertical,
+                     float *out_height,
+                     float *out_vertical_velocity,
+                     float *out_accel_bias,
+                     unsigned char *out_phase,
+                     unsigned char *out_baro) noexcept nogil:
+    """Run n updates on a private copy of *state; commit it only if all succeed.
+
+    Returns the index of the first rejected sample, or -1.
+    """
+    cdef FusionAltitudeRocket local
+    memcpy(&local, state, sizeof(local))
+    cdef Py_ssize_t i
+    for i in range(n):
+        if (FusionAltitudeRocketUpdateWithVerticalAccel(&local, accel[i], baro[i], dt[i * dt_step]) if vertical
+                 else FusionAltitudeRocketUpdate(&local, accel[i], baro[i], dt[i * dt_step])) != FusionAltitudeRocketStatusOk:
+            return i
+        out_height[i] = FusionAltitudeRocketGetHeight(&local)
+        out_vertical_velocity[i] = FusionAltitudeRocketGetVerticalVelocity(&local)
+        out_accel_bias[i] = FusionAltitudeRocketGetAccelBias(&local)
+        out_phase[i] = <unsigned char>FusionAltitudeRocketGetPhase(&local)
+        out_baro[i] = <unsigned char>FusionAltitudeRocketGetBaro(&local)
+    memcpy(state, &local, sizeof(local))
+    return -1
+
+
+cdef int _batch_into(FusionAltitudeRocket *state, const float[::1] accel, const float[::1] baro,
+                     const float[::1] dt, bint dt_is_array, object result, bint vertical) except -1:
+    """update_batch over the prepared float32 arrays into ``result``'s arrays, the GIL released;
+    raises for the first bad sample (naming it), with the state untouched."""
+    cdef Py_ssize_t n = accel.shape[0]
+    cdef Py_ssize_t dt_step = 1 if dt_is_array else 0
+    cdef Py_ssize_t bad = -1
+    cdef float[::1] out_height = result.height
+    cdef float[::1] out_vertical_velocity = result.vertical_velocity
+    cdef float[::1] out_accel_bias = result.accel_bias
+    cdef unsigned char[::1] out_phase = result.phase
+    cdef unsigned char[::1] out_baro = result.baro
+    if n == 0:
+        return 0
+    with nogil:
+        bad = _run(state, n, &accel[0], &baro[0], &dt[0], dt_step, vertical, &out_height[0], &out_vertical_velocity[0], &out_accel_bias[0], &out_phase[0], &out_baro[0])
+    if bad >= 0:
+        a, z, t = float(accel[bad]), float(baro[bad]), float(dt[bad * dt_step])
+        _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a, z, t), a, z, t, bad, dt_is_array)
+    return 0
+
+
 
 
 #: The docstring of RocketEstimator (binding and reference), from fusion_altitude/reference/rocket.py.

@@ -288,7 +288,8 @@ class AltitudeSettings(GainSettings):
         fastest observer pole ω has ω·dt ≥ 0.1.
         """
         dt32 = f32(_common.as_float(dt, "dt"))
-        status = _validate(*self._gains, dt32)
+        c_validate = _observer_glue.C_SETTINGS_FUNCTIONS.get("validate")  # C where built, else the twin
+        status = _validate(*self._gains, dt32) if c_validate is None else Status(c_validate(self.as_dict(), dt32))
         if status != Status.OK:
             _observer_glue.raise_settings_error(status, self.as_tuple(), float(dt))
         _observer_glue.warn_if_coarse(self.as_tuple(), float(dt32))

@@ -382,7 +382,7 @@ cdef int _batch_into(FusionAltitudeRocket *state, const float[::1] accel, const 
         bad = _run(state, n, &accel[0], &baro[0], &dt[0], dt_step, vertical, &out_height[0], &out_vertical_velocity[0], &out_accel_bias[0], &out_phase[0], &out_baro[0])
     if bad >= 0:
         a, z, t = float(accel[bad]), float(baro[bad]), float(dt[bad * dt_step])
-        _flight_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a, z, t), a, z, t, bad, dt_is_array)
+        _rocket_glue.raise_update_error(FusionAltitudeRocketCheckInputs(a, z, t), a, z, t, bad, dt_is_array)
     return 0
 
 

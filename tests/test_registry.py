@@ -146,3 +146,14 @@ def test_compare_runs_a_registered_estimator_without_a_scenario_runner_through_i
 def test_compare_refuses_an_unknown_estimator_label():
     with pytest.raises(ValueError, match="unknown estimator 'nonesuch'"):
         comparison.compare_scenario("clean", repeat=0, estimators=("nonesuch",))
+
+
+def test_the_firmware_size_tables_have_one_block_per_estimator_of_the_generator():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("size_table", ROOT / "csrc" / "firmware" / "size_table.py")
+    table = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(table)
+    modules = list(table.estimator_modules())
+    assert modules[0] == "observer" and [row[0] for row in table.ESTIMATORS] == modules[1:]
+    assert sorted(modules) == sorted(BUILT_IN)  # the generator's estimators are the registry's built-in ones

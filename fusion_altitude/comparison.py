@@ -149,10 +149,11 @@ def compare_scenario(name: str, seed: int = 0, fit_seed: int = 1, attitude: str 
 def _scenario_runners(name: str, estimators: Sequence[str], result, inputs, fit_seed: int,
                       attitude: str) -> Dict[str, Any]:
     """Per estimator row of :func:`compare_scenario`, a function that runs it over the scenario's ``inputs``
-    (:func:`_inputs`)."""
+    (:func:`_inputs`): the built-in estimators' own runners (:data:`_SCENARIO_RUNNERS`), and for any other
+    registered estimator its registry adapter on the scenario as a log (:func:`_registry_runner`)."""
     from .tuning import settings_for_baro_rate, steps_per_baro
 
-    accel, baro, rangefinder, gps, dt = inputs
+    accel, baro, _, _, dt = inputs
     runners: Dict[str, Any] = {}
     observer_settings = settings_for_baro_rate(AltitudeSettings.preset(_preset(name)), steps_per_baro(baro))
     runners["observer"] = lambda: AltitudeEstimator(observer_settings).update_batch(accel, baro, dt)
@@ -160,20 +161,51 @@ def _scenario_runners(name: str, estimators: Sequence[str], result, inputs, fit_
         # fitted and run with the same baro-rate compensation as the preset row (and as `run` and `fit`)
         fitted = settings_for_baro_rate(_fit_settings(name, fit_seed, attitude), steps_per_baro(baro))
         runners["observer (fit)"] = lambda: AltitudeEstimator(fitted).update_batch(accel, baro, dt)
-    # keywords after accel: the same call in the old and the new (accel, baro_altitude, dt, ...) argument order
-    runners["Kalman"] = lambda: KalmanEstimator().update_batch(accel, dt=dt, baro_altitude=baro,
-                                                               range_distance=rangefinder, gps_altitude=gps)
-    runners["complementary"] = lambda: ComplementaryFilter().update_batch(accel, baro, dt)
-    ab_settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf} for s in ("imu", "baro", "gps")}) \
-        if name in _BELOW_START else AlphaBetaSettings()
-    runners["alpha-beta"] = lambda: AlphaBetaFusion(ab_settings).update_batch(accel, dt=dt, baro_altitude=baro,
-                                                                              lidar_altitude=rangefinder,
-                                                                              gps_altitude=gps)
-    if "INS" in estimators:
-        runners["INS"] = _ins_runner(result, baro, dt)
-    if "rocket" in estimators:
-        runners["rocket"] = _rocket_runner(result)
+    entries = {entry.table_label: entry for entry in REGISTRY.values()}
+    for label in estimators:
+        if label in runners or label == "raw baro":
+            continue
+        if label not in entries:
+            raise ValueError(f"estimators: unknown estimator {label!r} (known: {', '.join(ESTIMATORS)})")
+        runner = _SCENARIO_RUNNERS.get(label)
+        runners[label] = runner(name, result, inputs) if runner else _registry_runner(entries[label], result, inputs)
     return runners
+
+
+def _kalman_runner(name: str, result: ScenarioResult, inputs):
+    accel, baro, rangefinder, gps, dt = inputs
+    # keywords after accel: the same call in the old and the new (accel, baro_altitude, dt, ...) argument order
+    return lambda: KalmanEstimator().update_batch(accel, dt=dt, baro_altitude=baro, range_distance=rangefinder,
+                                                  gps_altitude=gps)
+
+
+def _complementary_runner(name: str, result: ScenarioResult, inputs):
+    accel, baro, _, _, dt = inputs
+    return lambda: ComplementaryFilter().update_batch(accel, baro, dt)
+
+
+def _alphabeta_runner(name: str, result: ScenarioResult, inputs):
+    accel, baro, rangefinder, gps, dt = inputs
+    settings = AlphaBetaSettings(**{s: {"altitude_min": -math.inf} for s in ("imu", "baro", "gps")}) \
+        if name in _BELOW_START else AlphaBetaSettings()
+    return lambda: AlphaBetaFusion(settings).update_batch(accel, dt=dt, baro_altitude=baro, lidar_altitude=rangefinder,
+                                                          gps_altitude=gps)
+
+
+def _registry_runner(entry, result: ScenarioResult, inputs):
+    """A call running a registered estimator's adapter (``entry.function()``) on the scenario as a
+    :class:`fusion_altitude.logs.LogData`: its time, vertical acceleration (m/s²), baro, GPS and rangefinder
+    heights (m); no raw IMU, so an estimator that needs one (``entry.needs``) is refused."""
+    from .logs import LogData
+    from .runner import sample_periods
+
+    accel, baro, rangefinder, gps, _ = inputs
+    data = LogData("simulated", result.time, accel, baro, gps_altitude=gps, rangefinder=rangefinder)
+    missing = [field for field in entry.needs if getattr(data, field, None) is None]
+    if missing:
+        raise ValueError(f"estimators: {entry.table_label!r} needs {', '.join(missing)}, which a scenario does not give")
+    dt = sample_periods(result.time)
+    return lambda: entry.function()(data, dt, {})
 
 
 def _scenario_row(name: str, estimator: str, result, baro: np.ndarray, run, repeat: int,
@@ -251,6 +283,14 @@ def _rocket_runner(result: ScenarioResult):
         batch = estimator.update_batch(accel, baro, dt)
         return _RocketAltitude(batch, float(estimator.pad_altitude))
     return run
+
+
+#: The built-in estimators' scenario runners by table label: ``runner(scenario name, result, inputs)`` returns a call
+#: that runs the estimator (settings chosen for the scenario, raw IMU for the INS); a registered estimator without
+#: one runs through its registry adapter (:func:`_registry_runner`).
+_SCENARIO_RUNNERS = {"Kalman": _kalman_runner, "complementary": _complementary_runner, "alpha-beta": _alphabeta_runner,
+                     "INS": lambda name, result, inputs: _ins_runner(result, inputs[1], inputs[4]),
+                     "rocket": lambda name, result, inputs: _rocket_runner(result)}
 
 
 def _preset(name: str) -> str:

@@ -10,21 +10,25 @@ nm size of the static FusionAltitude in firmware_observer.c. Cycles: the instruc
 QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
-The other estimators (ESTIMATORS: the Kalman filter, the complementary
-filter, the alpha-beta fusion, the rocket estimator, the INS) are measured the same way: sized_<name>.c, the
-static instance in firmware_<name>.c, and Sized...Update traced by
-cycles_<name>.c; their figures are under result[<name>] and each has its own
-block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers).
+The other estimators (ESTIMATORS: every row of MODULES in tools/generate_bindings.py after the observer's) are
+measured the same way: sized_<name>.c, the static instance in firmware_<name>.c, and Sized...Update traced by
+cycles_<name>.c; their figures are under result[<name>] and each has its own block of docs/embedded.md (between
+the <!-- <name>-sizes:begin/end --> markers). Nothing here is edited for a new estimator: its table rows are the
+Sized<Function>s of sized_<name>.c in file order and its traced paths the numbered list of cycles_<name>.c's
+opening comment, unless FUNCTION_ORDER / TRACED_PATHS name them (the estimators measured before these were read).
 """
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import re
 import sys
 from pathlib import Path
 from typing import Dict, List, Tuple
 
+FIRMWARE = Path(__file__).resolve().parent
+ROOT = FIRMWARE.parents[1]
 TARGETS = ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc")
 OPTIMISATIONS = ("Os", "O2")
 FUNCTIONS = (
@@ -112,18 +116,52 @@ INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "pre
              "stationary: + zero rate, zero velocity, baro bias", "predict only (accel rejected by its norm)",
              "rejected input (gyro NaN)")
 
-# The estimators after the observer: name (sized_<name>.c, firmware_<name>.c,
-# cycles_<name>.c, marker <name>-sizes), public functions, static instance in
-# firmware_<name>.c, struct, update function, traced paths.
-ESTIMATORS = (
-    ("kalman", KALMAN_FUNCTIONS, "firmwareKalman", "FusionAltitudeKalman", "FusionAltitudeKalmanUpdate", KALMAN_CALLS),
-    ("complementary", COMPLEMENTARY_FUNCTIONS, "firmwareComplementary", "FusionAltitudeComplementary",
-     "FusionAltitudeComplementaryUpdate", COMPLEMENTARY_CALLS),
-    ("alphabeta", ALPHABETA_FUNCTIONS, "firmwareAlphaBeta", "FusionAltitudeAlphaBeta", "FusionAltitudeAlphaBetaUpdate",
-     ALPHABETA_CALLS),
-    ("rocket", ROCKET_FUNCTIONS, "firmwareRocket", "FusionAltitudeRocket", "FusionAltitudeRocketUpdate", ROCKET_CALLS),
-    ("ins", INS_FUNCTIONS, "firmwareIns", "FusionAltitudeIns", "FusionAltitudeInsUpdate", INS_CALLS),
-)
+#: the table rows (public functions) of the estimators measured before the rows were read from sized_<name>.c
+FUNCTION_ORDER = {"kalman": KALMAN_FUNCTIONS, "complementary": COMPLEMENTARY_FUNCTIONS, "alphabeta": ALPHABETA_FUNCTIONS,
+                  "rocket": ROCKET_FUNCTIONS, "ins": INS_FUNCTIONS}
+#: the traced paths of cycles_<name>.c, as the tables name them
+TRACED_PATHS = {"kalman": KALMAN_CALLS, "complementary": COMPLEMENTARY_CALLS, "alphabeta": ALPHABETA_CALLS,
+                "rocket": ROCKET_CALLS, "ins": INS_CALLS}
+
+
+def estimator_modules() -> Dict[str, tuple]:
+    """The generator's MODULES (tools/generate_bindings.py): name → (header, C prefix, settings struct, state struct)."""
+    if "generate_bindings" not in sys.modules:  # registered before it runs: its dataclasses look themselves up
+        spec = importlib.util.spec_from_file_location("generate_bindings", ROOT / "tools" / "generate_bindings.py")
+        sys.modules["generate_bindings"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["generate_bindings"])
+    return sys.modules["generate_bindings"].MODULES
+
+
+def sized_functions(name: str) -> Tuple[str, ...]:
+    """The public functions sized_<name>.c wraps (its SIZED Sized<Function> definitions), in file order."""
+    text = (FIRMWARE / f"sized_{name}.c").read_text()
+    return tuple(re.findall(r"^SIZED [^(]*?\bSized(\w+)\(", text, re.MULTILINE))
+
+
+def firmware_instance(name: str, struct: str) -> str:
+    """The static instance of struct in firmware_<name>.c (its RAM is measured)."""
+    text = (FIRMWARE / f"firmware_{name}.c").read_text()
+    return re.search(rf"^static {struct} (\w+);", text, re.MULTILINE).group(1)
+
+
+def traced_paths(name: str) -> Tuple[str, ...]:
+    """The numbered paths of cycles_<name>.c's opening comment (`` *   1. baro sample ...``), in order."""
+    comment = (FIRMWARE / f"cycles_{name}.c").read_text().split("*/", 1)[0]
+    return tuple(re.findall(r"^ \*\s+\d+\. (.+)$", comment, re.MULTILINE))
+
+
+def estimator_rows() -> Tuple[tuple, ...]:
+    """Each estimator after the observer: name (sized_<name>.c, firmware_<name>.c, cycles_<name>.c, marker
+    <name>-sizes), public functions, static instance in firmware_<name>.c, struct, update function, traced paths."""
+    rows = []
+    for name, (_, prefix, _, struct) in list(estimator_modules().items())[1:]:
+        rows.append((name, FUNCTION_ORDER.get(name) or sized_functions(name), firmware_instance(name, struct), struct,
+                     f"{prefix}Update", TRACED_PATHS.get(name) or traced_paths(name)))
+    return tuple(rows)
+
+
+ESTIMATORS = estimator_rows()
 
 
 def read_symbols(path: Path) -> Dict[str, Tuple[int, int]]:

@@ -2,7 +2,7 @@
 
 Python functions are measured with :mod:`ast` (first line of the ``def``, decorators excluded, to the last
 line of the body), less the lines of the docstring: documentation is not code, and a reader function's numpydoc
-entry for each of its twenty options must not push it to be split (as pylint and ruff count statements, not
+entry for each of its 23 options must not push it to be split (as pylint and ruff count statements, not
 docstrings); C functions by a brace scan of the hand-written C (a line that opens a
 function at column 0 to the matching closing brace). Generated files (``_c_tables.py``, the ``.pxi``/``.pyi``/
 ``.pxd`` of ``tools/generate_bindings.py``, the test vectors) and the tests are not measured.

@@ -32,7 +32,9 @@ def pyproject() -> dict:
 
 def run(command, **kwargs) -> subprocess.CompletedProcess:
     result = subprocess.run([str(part) for part in command], capture_output=True, text=True, timeout=3600, **kwargs)
-    assert result.returncode == 0, " ".join(map(str, command)) + "\n" + result.stdout[-4000:] + result.stderr[-4000:]
+    failures = result.stdout.find("= FAILURES =")  # pytest's failure section, before its warnings summary
+    shown = result.stdout[failures:failures + 6000] if failures >= 0 else result.stdout[-4000:]
+    assert result.returncode == 0, " ".join(map(str, command)) + "\n" + shown + result.stderr[-4000:]
     return result
 
 

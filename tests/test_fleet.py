@@ -118,12 +118,12 @@ def _good_paths(first_run):
 
 
 def _file_states(directory):
-    """{path: (mtime ns, bytes)} of the finished files (a write in flight on another worker, a ``.tmp-`` file, is
-    not a result yet: it is renamed into place or removed)."""
+    """{path: (mtime ns, bytes)} of the finished files (a write in flight on another worker, a temporary file
+    (``fleet._is_temporary``: ``.NAME.XXXX.part.EXT``), is not a result yet: it is renamed into place or removed)."""
     states = {}
     for path in Path(directory).rglob("*"):
         try:
-            if path.is_file() and ".tmp-" not in path.name:
+            if path.is_file() and not fleet._is_temporary(path.name):
                 states[path] = (path.stat().st_mtime_ns, path.read_bytes())
         except FileNotFoundError:  # renamed away between the listing and the read
             pass
@@ -318,7 +318,7 @@ def test_a_killed_worker_loses_nothing(fleet_dir, tmp_path):
     assert len(result.computed) + len(result.reused) == 40 and len(result.failed) == 2
     for path, state in killed["existing"].items():  # nothing written before the kill was lost or rewritten
         assert path.exists() and path.read_bytes() == state[1]
-    assert not [p for p in out.rglob("*") if ".tmp-" in p.name]
+    assert not [p for p in out.rglob("*") if fleet._is_temporary(p.name)]
     for path in _good_paths(result)[::5]:
         table = pq.read_table(out / "logs" / f"{fleet.log_id(path)}.parquet")
         expected = dict(_single_log_columns(path))

@@ -76,15 +76,20 @@ def header_text(module: str, header_name: str, prefix: str, struct: str, fields)
     for index, f in enumerate(fields):
         out.append(f"        case {index}: return {_get_expression(f.ctype, f.name)};")
     out += ["        default:", "            return 0u;", "    }", "}", ""]
-    out += [f"/** The settings from their {count} words (padding zeroed). */",
+    return "\n".join(out + _words_functions(prefix, struct, count, guard)) + "\n"
+
+
+def _words_functions(prefix: str, struct: str, count: int, guard: str) -> List[str]:
+    """The lines of ``…SettingsFromWords`` and ``…SettingsToWords`` (over ``…SettingsSetWord``/``GetWord``) and the
+    closing include guard: the same for flat and nested settings."""
+    return [f"/** The settings from their {count} words (padding zeroed). */",
             f"static inline {struct} {prefix}SettingsFromWords(const uint32_t words[{count}]) {{",
             f"    {struct} s;", "    memset(&s, 0, sizeof(s));", f"    for (int i = 0; i < {count}; i++) {{",
-            f"        {prefix}SettingsSetWord(&s, i, words[i]);", "    }", "    return s;", "}", ""]
-    out += [f"/** The settings as their {count} words. */",
+            f"        {prefix}SettingsSetWord(&s, i, words[i]);", "    }", "    return s;", "}", "",
+            f"/** The settings as their {count} words. */",
             f"static inline void {prefix}SettingsToWords(const {struct} *const s, uint32_t words[{count}]) {{",
             f"    for (int i = 0; i < {count}; i++) {{", f"        words[i] = {prefix}SettingsGetWord(s, i);", "    }",
             "}", "", f"#endif /* {guard} */"]
-    return "\n".join(out) + "\n"
 
 
 def _segments(fields, structs: Dict[str, List]) -> List[tuple]:
@@ -178,15 +183,7 @@ def nested_header_text(module: str, header_name: str, prefix: str, struct: str, 
             if number + 1 < len(segments):
                 out.append(f"    i -= {size};")
         out += tail + ["}", ""]
-    out += [f"/** The settings from their {count} words (padding zeroed). */",
-            f"static inline {struct} {prefix}SettingsFromWords(const uint32_t words[{count}]) {{",
-            f"    {struct} s;", "    memset(&s, 0, sizeof(s));", f"    for (int i = 0; i < {count}; i++) {{",
-            f"        {prefix}SettingsSetWord(&s, i, words[i]);", "    }", "    return s;", "}", ""]
-    out += [f"/** The settings as their {count} words. */",
-            f"static inline void {prefix}SettingsToWords(const {struct} *const s, uint32_t words[{count}]) {{",
-            f"    for (int i = 0; i < {count}; i++) {{", f"        words[i] = {prefix}SettingsGetWord(s, i);", "    }",
-            "}", "", f"#endif /* {guard} */"]
-    return "\n".join(out) + "\n"
+    return "\n".join(out + _words_functions(prefix, struct, count, guard)) + "\n"
 
 
 def generate(headers, modules_table: Dict[str, tuple], csrc) -> Dict[object, str]:

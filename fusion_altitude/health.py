@@ -101,6 +101,12 @@ def baro_timeout_for(rate: float) -> float:
     return max(OUTAGE_MIN_SECONDS, OUTAGE_PERIODS / float(rate))
 
 
+def _rate(steps: np.ndarray) -> float:
+    """Hz: 1 / the median of ``steps`` (s), NaN without a positive median (one median, one partition)."""
+    median = float(np.median(steps)) if steps.size else np.nan
+    return 1.0 / median if median > 0 else np.nan
+
+
 def _stream(name: str, time: np.ndarray, values: Optional[np.ndarray], saturated: int = 0) -> Optional[StreamHealth]:
     if values is None:
         return None
@@ -115,7 +121,7 @@ def _stream(name: str, time: np.ndarray, values: Optional[np.ndarray], saturated
         return StreamHealth(name, 0, np.nan, np.nan, np.nan, 0.0, np.nan, True, True, True, saturated)
     stamps = time[index]
     steps = np.diff(stamps)
-    rate = 1.0 / float(np.median(steps)) if steps.size and np.median(steps) > 0 else np.nan
+    rate = _rate(steps)
     silences = np.append(steps, end - stamps[-1])
     longest = int(np.argmax(silences))
     timeout = baro_timeout_for(rate)
@@ -157,10 +163,7 @@ def not_baro_aided(time, baro_altitude, timeout: Optional[float] = None) -> np.n
     baro = np.asarray(baro_altitude, float)
     present = np.isfinite(baro)
     if timeout is None:
-        stamps = time[present]
-        steps = np.diff(stamps)
-        rate = 1.0 / float(np.median(steps)) if steps.size and np.median(steps) > 0 else np.nan
-        timeout = baro_timeout_for(rate)
+        timeout = baro_timeout_for(_rate(np.diff(time[present])))
     index = np.where(present, np.arange(time.size), -1)
     latest = np.maximum.accumulate(index)
     age = np.where(latest >= 0, time - time[np.maximum(latest, 0)], np.inf)

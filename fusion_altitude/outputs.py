@@ -105,6 +105,29 @@ def _atomic_output(path: str) -> Iterator[str]:
         _release_signals(held)
 
 
+def write_temporary(path: str, payload: bytes) -> Tuple[int, str]:
+    """Write ``payload`` to a new temporary file next to ``path``, named as :func:`atomic_output` names its
+    own (``.NAME.XXXX.part.EXT``) and with the mode ``path`` would get; returns (its open descriptor, its path).
+
+    The caller publishes it: ``os.fsync`` and ``os.close`` the descriptor, then ``os.replace`` the file onto
+    ``path`` (or unlinks it). Until then ``path`` is untouched. On an error nothing is left behind.
+    """
+    directory = os.path.dirname(os.path.abspath(path))
+    base, extension = os.path.splitext(os.path.basename(path))
+    handle, temporary = tempfile.mkstemp(prefix=f".{base}.", suffix=f".part{extension}", dir=directory)
+    try:
+        os.fchmod(handle, _output_mode(path))
+        view = memoryview(payload)
+        while view:
+            view = view[os.write(handle, view):]
+    except BaseException:
+        os.close(handle)
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+    return handle, temporary
+
+
 def _hold_signals():
     """Block SIGTERM and SIGINT for this thread (POSIX); the previous mask, or None where not possible."""
     if not hasattr(signal, "pthread_sigmask"):

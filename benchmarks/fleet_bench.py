@@ -10,8 +10,10 @@ and the simulator: the PX4 ULog (0.9 MB, 6.5 s), the ArduPilot DataFlash log (64
 1 s), the Hedy rocket flight as one CSV (245 s at 100 Hz) and a simulated 60 s
 multirotor CSV (100 Hz). The sequential loop reads, runs and writes each log's Parquet
 file in this process (what a user writes without the fleet, with the fleet's Parquet writer options); the fleet runs on a
-``LocalCluster`` of worker processes started (and warmed up: one log of each kind run) before the
-clock starts, into a fresh output directory each time. One run each: the machine is
+``LocalCluster`` of worker processes started as ``fleet run`` starts it (``fleet.open_client``) and warmed
+up (one log of each kind run) before the clock starts, into a fresh output directory each time. Besides the
+per-log times it records the CPU time of the worker processes and of this process (the client and the
+local scheduler) over each run, i.e. where the cores' time went. One run each: the machine is
 shared, so figures move by ±20 % between runs.
 """
 
@@ -114,8 +116,6 @@ def main(argv=None) -> int:
         print(f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA or --data", file=sys.stderr)
         return 2
 
-    import distributed
-
     from fusion_altitude import fleet
 
     with tempfile.TemporaryDirectory(prefix="fleet-bench-") as tmp:
@@ -136,22 +136,27 @@ def main(argv=None) -> int:
         elapsed = time.perf_counter() - start
         rows.append(("sequential loop (this process)", elapsed, sum(sum(c[:3]) for c in costs.values()),
                      sum(sum(c[3:]) for c in costs.values())))
+        processes = []
         for workers in args.workers:
-            with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                          dashboard_address=":0", silence_logs=40) as cluster, \
-                    distributed.Client(cluster) as client:
+            with fleet.open_client(None, workers, dashboard_address=":0") as client:  # the cluster `fleet run` starts
                 client.run(warm_up, firsts)
-                start = time.perf_counter()
+                worker_cpu = sum(client.run(time.process_time).values())
+                start, own_cpu = time.perf_counter(), time.process_time()
                 result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / f"fleet{workers}"),
                                         csv_options=CSV_OPTIONS)
-                elapsed = time.perf_counter() - start
+                elapsed, own_cpu = time.perf_counter() - start, time.process_time() - own_cpu
+                worker_cpu = sum(client.run(time.process_time).values()) - worker_cpu
             assert len(result.computed) == len(paths), result.failed
             busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in result.costs.to_pylist())
             cpu = sum(row["cpu_s"] for row in result.costs.to_pylist())
-            rows.append((f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}", elapsed, busy, cpu))
+            name = f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}"
+            rows.append((name, elapsed, busy, cpu))
+            processes.append((name, workers, elapsed, worker_cpu, own_cpu))
         print(f"load average (1 min) at the start: {load:.1f} on {os.cpu_count()} CPUs")
         print()
         print_runs(rows, len(paths), megabytes)
+        print()
+        print_processes(processes, len(paths))
         print()
         print("Per log, sequential loop (mean; wall ms, CPU ms in brackets; read MB/s from CPU time):")
         print()
@@ -199,6 +204,18 @@ def print_runs(rows, logs, megabytes):
               f"{cpu / sequential[3]:.2f}x its CPU time per log")
     for name, seconds, _, _ in clusters[1:]:
         print(f"ratio: {name} / {clusters[0][0]}: {clusters[0][1] / seconds:.2f}x the throughput")
+
+
+def print_processes(processes, logs):
+    """Where the CPU of each cluster run went: its worker processes (every thread: the tasks, Dask's own
+    event loop, the publish thread) and this process (the client and the ``LocalCluster``'s scheduler)."""
+    cores = os.cpu_count() or 1
+    print("| run | workers' CPU (s) | workers' CPU ms per log | client and scheduler CPU (s) "
+          "| client and scheduler CPU ms per log | CPU busy, % of all cores |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for name, _, seconds, worker_cpu, own_cpu in processes:
+        print(f"| {name} | {worker_cpu:.2f} | {1e3 * worker_cpu / logs:.2f} | {own_cpu:.2f} | "
+              f"{1e3 * own_cpu / logs:.2f} | {100 * (worker_cpu + own_cpu) / (seconds * cores):.0f} |")
 
 
 #: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),

@@ -48,6 +48,7 @@ it must be storage every worker and the client see.
 
 from __future__ import annotations
 
+import concurrent.futures
 import contextlib
 import dataclasses
 import hashlib
@@ -379,7 +380,6 @@ class _Publisher:
     """
 
     def __init__(self) -> None:
-        self._pool: Optional[ThreadPoolExecutor] = None
         self._pending: List[Future] = []
         self._paths: set = set()  # of the files not yet known to be in place
         self._directories: set = set()
@@ -394,9 +394,7 @@ class _Publisher:
         directory = os.path.dirname(os.path.abspath(path))
         os.makedirs(directory, exist_ok=True)
         descriptor, temporary = write_temporary(path, payload)
-        if self._pool is None:
-            self._pool = ThreadPoolExecutor(1, thread_name_prefix="fleet-publish")
-        self._pending.append(self._pool.submit(_publish, descriptor, temporary, path, supersedes))
+        self._pending.append(_publish_thread().submit(_publish, descriptor, temporary, path, supersedes))
         self._paths.update((path, supersedes))
         self._directories.add(directory)
 
@@ -414,12 +412,23 @@ class _Publisher:
             for pending in self._pending:
                 pending.result()
         finally:
-            if self._pool is not None:
-                self._pool.shutdown(wait=True)
-            self._pool, self._pending, self._paths = None, [], set()
+            concurrent.futures.wait(self._pending)  # every file settled, even after an error
+            self._pending, self._paths = [], set()
         for directory in sorted(self._directories):
             _fsync_directory(directory)
         self._directories = set()
+
+
+_PUBLISH_THREAD: Dict[int, ThreadPoolExecutor] = {}
+
+
+def _publish_thread() -> ThreadPoolExecutor:
+    """This process's one publish thread (started on first use; a worker process keeps it between tasks)."""
+    pid = os.getpid()  # a forked child starts its own
+    if pid not in _PUBLISH_THREAD:
+        _PUBLISH_THREAD.clear()
+        _PUBLISH_THREAD[pid] = ThreadPoolExecutor(1, thread_name_prefix="fleet-publish")
+    return _PUBLISH_THREAD[pid]
 
 
 def _publish(descriptor: int, temporary: str, path: str, supersedes: Optional[str]) -> None:
@@ -765,8 +774,9 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
     (``"tcp://HOST:8786"``), or, with None, a ``LocalCluster`` of ``workers`` processes (default: one
     per core) closed on exit. ``cluster_options`` go to ``LocalCluster``.
 
-    The local cluster's worker processes start without Dask's ``MALLOC_TRIM_THRESHOLD_=65536``
-    (:data:`WORKER_ENVIRON`), unless this process's environment sets it.
+    The local cluster runs with :data:`LOCAL_CLUSTER_CONFIG` (no ``MALLOC_TRIM_THRESHOLD_`` in the workers'
+    environment unless this process's sets it, no statistical profiler, slower monitors), on top of the
+    Dask configuration in force.
     """
     require_fleet_packages()
     import dask
@@ -782,18 +792,28 @@ def open_client(client: Any = None, workers: Optional[int] = None, threads_per_w
     _check_workers(workers)
     options = {"dashboard_address": _dashboard_address(), "silence_logs": 40}
     options.update(cluster_options)
-    with dask.config.set(WORKER_ENVIRON), \
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), \
             LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=threads_per_worker,
                          processes=processes, **options) as cluster, Client(cluster) as local:
         yield local
 
 
-#: Dask configuration of the local cluster's worker processes (:func:`open_client`): no
-#: ``MALLOC_TRIM_THRESHOLD_`` in their environment (None removes Dask's default of 65536). With it, glibc's
-#: malloc maps and unmaps every array over 128 kB afresh, and a fleet log cost about twice the CPU
-#: (the bench's logs in one process: 7.3 → 14.2 ms a log); without it, a worker keeps freed memory for
-#: the next log instead of returning it to the system at once.
-WORKER_ENVIRON = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+#: Dask configuration of the local cluster :func:`open_client` starts (the CPU figures: ``docs/fleet.md``).
+#:
+#: - No ``MALLOC_TRIM_THRESHOLD_`` in the workers' environment (None removes Dask's default of 65536): with
+#:   it, glibc's malloc maps and unmaps every array over 128 kB afresh, and a fleet log cost about twice the
+#:   CPU (the bench's logs in one process: 7.3 → 14.2 ms a log); without it, a worker keeps freed memory
+#:   for the next log instead of returning it to the system at once.
+#: - No statistical profiler in the workers (it samples every thread's stack every 10 ms, for the
+#:   dashboard's profile page), the event loop's responsiveness tick every 1 s instead of 20 ms, the
+#:   system monitor every 5 s instead of 0.5 s and the memory monitor every 1 s instead of 0.1 s: an idle
+#:   2-worker cluster used 58 ms of CPU a second in its workers and 40 ms in the client's process
+#:   (scheduler, nannies), 6 and 8 ms with these.
+LOCAL_CLUSTER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                        "distributed.worker.profile.enabled": False,
+                        "distributed.admin.tick.interval": "1s",
+                        "distributed.admin.system-monitor.interval": "5s",
+                        "distributed.worker.memory.monitor-interval": "1s"}
 
 
 def _check_workers(workers: Optional[int]) -> None:

@@ -198,10 +198,9 @@ def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
     from . import logs
 
     options = dict(csv_options or {})
-    if options and hasattr(logs, "sniff_format") and hasattr(logs, "FORMATS"):
-        # the readers package rejects column options for formats that know their columns
-        if not getattr(logs.FORMATS[logs.sniff_format(path)], "needs_columns", False):
-            options = {}
+    if options:  # the readers reject column options for formats that know their columns: sniff once, here
+        name = logs.sniff_format(path)
+        options = {"format": name, **options} if logs.FORMATS[name].needs_columns else {"format": name}
     try:
         with logs.quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
             return logs.load_log(path, **options)
@@ -982,18 +981,27 @@ def _jobs(paths_or_globs, estimator: str, settings: Any, output_dir: str, csv_op
 #: The most logs one Dask task runs (see :func:`_batches`).
 BATCH_LOGS = 64
 
+#: The fewest logs a Dask task runs while the fleet has that many per worker left (see :func:`_batches`).
+MIN_BATCH_LOGS = 8
+
 
 def _batches(jobs: Sequence[_Job], workers: int) -> List[List[_Job]]:
     """Consecutive logs grouped into Dask tasks, the first tasks long and the last ones short.
 
-    Each batch takes 1/(4·workers) of the logs not yet given out (at least 1, at most :data:`BATCH_LOGS`;
-    "guided" scheduling): Dask's cost per task (tens of ms: scheduling, moving the task and its result) is paid
-    for a few tasks instead of every log, and the short tasks at the end keep the workers finishing together.
+    Each batch takes 1/(4·workers) of the logs not yet given out ("guided" scheduling), at most
+    :data:`BATCH_LOGS` and at least :data:`MIN_BATCH_LOGS` (fewer only when the logs left, shared out
+    over the workers, are fewer). Dask's cost per task is paid for a few tasks instead of every log — on
+    the 2-CPU development machine, under load, about 3–4 ms of CPU in the client's process (client and
+    scheduler) and 3 ms in the worker per task, against 7–10 ms of work in a bench log —, and the
+    short tasks at the end keep the workers finishing together (at most a :data:`MIN_BATCH_LOGS` task
+    apart).
     """
     batches: List[List[_Job]] = []
     start = 0
     while start < len(jobs):
-        size = min(BATCH_LOGS, max(1, (len(jobs) - start) // (4 * workers)))
+        left = len(jobs) - start
+        floor = min(MIN_BATCH_LOGS, -(-left // workers))  # a worker's share of the logs left, rounded up
+        size = min(BATCH_LOGS, max(floor, left // (4 * workers)))
         batches.append(list(jobs[start:start + size]))
         start += size
     return batches

@@ -27,11 +27,25 @@ def test_batches_are_long_first_and_short_last_so_workers_finish_together(logs, 
     sizes = [len(batch) for batch in fleet._batches(list(range(logs)), workers)]
     assert sizes == sorted(sizes, reverse=True)
     assert sizes[-1] == 1 and max(sizes) <= fleet.BATCH_LOGS
-    assert sizes[0] == min(fleet.BATCH_LOGS, logs // (4 * workers))
+    assert sizes[0] == min(fleet.BATCH_LOGS, max(fleet.MIN_BATCH_LOGS, logs // (4 * workers)))
+
+
+@pytest.mark.parametrize("logs, workers", [(240, 2), (1000, 2), (42, 2), (120, 1)])
+def test_no_batch_is_shorter_than_the_minimum_while_each_worker_has_that_many_logs_left(logs, workers):
+    start = 0
+    for batch in fleet._batches(list(range(logs)), workers):
+        if logs - start >= fleet.MIN_BATCH_LOGS * workers:
+            assert len(batch) >= fleet.MIN_BATCH_LOGS
+        start += len(batch)
+
+
+@pytest.mark.parametrize("logs, workers", [(2, 2), (10, 2), (7, 8)])
+def test_a_small_fleet_is_still_shared_out_over_the_workers(logs, workers):
+    assert len(fleet._batches(list(range(logs)), workers)) >= min(logs, workers)
 
 
 def test_a_fleet_of_240_logs_on_2_workers_is_far_fewer_tasks_than_logs():
-    assert len(fleet._batches(list(range(240)), 2)) <= 240 // 6
+    assert len(fleet._batches(list(range(240)), 2)) <= 240 // 10
 
 
 @pytest.fixture

@@ -44,6 +44,7 @@ message) and the column. Readers never raise anything else on a bad file.
 
 from __future__ import annotations
 
+import functools
 import os
 from dataclasses import dataclass
 from typing import Callable, Dict, Optional
@@ -188,6 +189,13 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     return FORMATS[name].read(path, progress=progress, **options)
 
 
+@functools.lru_cache(maxsize=None)
+def _csv_options() -> frozenset:
+    """The keyword options of :func:`read_csv_log` (its signature, read once)."""
+    import inspect
+    return frozenset(inspect.signature(read_csv_log).parameters) - {"path", "progress"}
+
+
 def _check_options(path: str, name: str, options: dict, instance: Optional[int], decoder: str) -> None:
     """Refuse options the format ``name`` does not take (``options`` gains ``instance`` where it does)."""
     if instance is not None:
@@ -195,9 +203,7 @@ def _check_options(path: str, name: str, options: dict, instance: Optional[int],
             raise LogError(f"{path}: a {FORMATS[name].description} has one sensor instance; instance not supported")
         options["instance"] = instance
     if name == "csv":
-        import inspect
-        known = set(inspect.signature(read_csv_log).parameters) - {"path", "progress"}
-        unknown = sorted(set(options) - known)
+        unknown = sorted(set(options) - _csv_options())
         if unknown:
             raise LogError(f"unknown CSV option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
         if "time_column" not in options:

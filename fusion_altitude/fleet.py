@@ -35,9 +35,11 @@ Output directory
 ``OUT/summary.parquet``, ``OUT/summary.csv``
     One row per log of the run (:data:`SUMMARY_FIELDS`).
 
-Every file is written to a temporary name and renamed into place (local
-disks), or uploaded as one object (object stores), so a worker that dies
-mid-write leaves either the complete old file or none; Dask reruns its task.
+Every file is written to a temporary name, made durable (``fsync``) and renamed
+into place (local disks; :class:`_Publisher`: on a thread of its own, overlapping
+the next log, with one directory ``fsync`` per task before the task reports), or
+uploaded as one object (object stores), so a worker that dies mid-write leaves
+either the complete old file or none; Dask reruns its task.
 
 Paths may be local files, directories (searched recursively for
 :data:`LOG_EXTENSIONS`), globs, or any fsspec URL (``s3://bucket/logs/*.ulg``)
@@ -872,8 +874,9 @@ class FleetRun:
         (now or before).
     costs : pyarrow.Table
         Per log of this run: log_id, action, bytes, read_s, estimate_s, write_s
-        (wall-clock s on its worker) and cpu_s (CPU time of the task's thread, s,
-        computed logs only); 0 for reused logs.
+        (wall-clock s on its worker; write_s up to the file's hand-over to the
+        publish thread, whose ``fsync`` and rename overlap the next log) and cpu_s
+        (CPU time of the task's thread, s, computed logs only); 0 for reused logs.
     """
 
     summary: Any

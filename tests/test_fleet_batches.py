@@ -1,9 +1,12 @@
 """How the fleet hands logs to Dask and writes them (fusion_altitude.fleet): batches of consecutive logs per
-task, the Parquet writer options of the per-log estimates, and the clean-up of interrupted writes.
+task, the Parquet writer options of the per-log estimates, the publishing of each task's files, the clean-up of
+interrupted writes, and the Dask configuration of the local cluster.
 
-These run without a cluster: ``fleet._batches`` is what ``run_many`` submits, and ``fleet._process_batch`` is the
-task body a worker runs.
+All but the last run without a cluster: ``fleet._batches`` is what ``run_many`` submits, and
+``fleet._process_batch`` is the task body a worker runs.
 """
+
+import os
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -106,3 +109,35 @@ def test_leftovers_of_interrupted_writes_are_removed_and_outputs_kept(tmp_path):
     (logs / ".b.csv-12345678.parquet.tmp-0123abcd").write_bytes(b"half")  # earlier versions'
     assert fleet._remove_leftovers(fsspec.filesystem("file"), str(tmp_path)) == 2
     assert [p.name for p in logs.iterdir()] == [kept.name]
+
+
+def test_a_failed_fsync_on_the_publish_thread_fails_the_task_and_leaves_the_old_file(one_log, tmp_path, monkeypatch):
+    (job,) = _jobs([one_log], str(tmp_path / "out"))
+    target = tmp_path / "out" / "logs" / f"{job.log_id}.parquet"
+    target.write_bytes(b"old")
+
+    def crash(_):
+        raise OSError("disk pulled")
+
+    monkeypatch.setattr(os, "fsync", crash)
+    with pytest.raises(OSError, match="disk pulled"):
+        fleet._process_batch([job])
+    assert target.read_bytes() == b"old"
+    assert [p.name for p in target.parent.iterdir()] == [target.name]
+
+
+def test_every_file_of_a_task_is_in_place_when_the_task_returns(one_log, tmp_path):
+    jobs = _jobs([one_log], str(tmp_path / "out"))
+    fleet._process_batch(jobs)
+    files = sorted(p.name for p in (tmp_path / "out").rglob("*") if p.is_file())
+    assert files == [f"{jobs[0].log_id}.parquet"]
+
+
+def test_the_local_cluster_workers_run_without_dask_malloc_trimming_and_profiler(monkeypatch):
+    import dask
+
+    monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)  # an earlier cluster of this process may set it
+    with fleet.open_client(None, 1) as client:
+        (environ,) = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_")).values()
+        (profiling,) = client.run(lambda: dask.config.get("distributed.worker.profile.enabled")).values()
+    assert environ is None and profiling is False

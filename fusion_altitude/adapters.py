@@ -1,25 +1,77 @@
-"""Per-estimator adapters: each feeds one estimator what a recorded log (:class:`fusion_altitude.logs.LogData`)
-has, on the log's own time grid, and returns its per-sample outputs (a NamedTuple with at least ``altitude``, m,
-and ``vertical_velocity``, m/s). The registry (:mod:`fusion_altitude.estimators`) names one adapter per estimator;
-:func:`fusion_altitude.runner.run_log` calls it.
+"""Per-estimator adapters, each with its registry row: an adapter feeds one estimator what a recorded log
+(:class:`fusion_altitude.logs.LogData`) has, on the log's own time grid, and returns its per-sample outputs (a
+NamedTuple with at least ``altitude``, m, and ``vertical_velocity``, m/s).
+
+Each adapter carries the estimator's row of the registry (:mod:`fusion_altitude.estimators`) in its
+:func:`registry_row` decorator: its CLI name, description, label, class, needs, vehicle, and whether it fuses GPS,
+takes the observer's presets or has a gap period. The decorated adapters are :data:`ADAPTERS`, in table order; the
+registry makes one :class:`~fusion_altitude.estimators.EstimatorEntry` of each, and
+:func:`fusion_altitude.runner.run_log` calls the adapter. Adding an estimator to ``run``, ``compare LOG``, the fleet
+and the output CSV is one decorated adapter here.
 """
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple, Optional
+from typing import Callable, List, NamedTuple, Optional
 
 import numpy as np
 
 from ._core._observer import AltitudeEstimator, AltitudeSettings
 from ._core._observer_glue import AltitudeBatch
-from .estimators import default_preset
 from .logs import LogData
-from .tuning import (baro_timeout_for, bandwidth_of, gap_period_for, other_fields, sample_periods,
+from .tuning import (baro_interval, baro_timeout_for, bandwidth_of, gap_period_for, other_fields, sample_periods,
                      settings_for_baro_rate, steps_per_baro)
 
 __all__ = ["ObserverLogBatch", "InsLogBatch", "RocketLogBatch", "ALPHABETA_BARO_WINDOW",
-           "ALPHABETA_GPS_FALLBACK_CONFIDENCE", "run_observer_log", "run_kalman_log", "run_complementary_log",
-           "run_alphabeta_log", "run_ins_log", "run_rocket_log", "run_observer", "alphabeta_log_sensors"]
+           "ALPHABETA_GPS_FALLBACK_CONFIDENCE", "ADAPTERS", "registry_row", "DEFAULT_PRESET_ORDER", "default_preset",
+           "run_observer_log", "run_kalman_log", "run_complementary_log", "run_alphabeta_log", "run_ins_log",
+           "run_rocket_log", "run_observer", "alphabeta_log_sensors"]
+
+#: The built-in adapters in table order, each with its ``registry_row`` (the registry's rows).
+ADAPTERS: List[Callable[[LogData, np.ndarray, dict], object]] = []
+
+
+def registry_row(name: str, description: str, **columns) -> Callable:
+    """Decorate an adapter ``run(data, dt, options)`` with its estimator's registry row and add it to
+    :data:`ADAPTERS`: ``name`` (``--estimator``), ``description`` (one line: what it is, which sensors it uses) and
+    the other columns of :class:`~fusion_altitude.estimators.EstimatorEntry` by keyword (``label``,
+    ``estimator_class``, ``needs``, ``vehicle``, ``uses_gps``, ``takes_preset``, ``has_gap_period``)."""
+    def mark(adapter: Callable) -> Callable:
+        adapter.registry_row = dict(name=name, description=description, **columns)
+        ADAPTERS.append(adapter)
+        return adapter
+    return mark
+
+
+# ----------------------------------------------------------------------------
+# the observer's default preset
+
+#: The presets the default rule tries, fastest first (:func:`default_preset`).
+DEFAULT_PRESET_ORDER = ("vtol", "fixed_wing", "balloon")
+
+
+def default_preset(data: LogData) -> str:
+    """The observer preset used when none is given: the fastest of ``vtol``, ``fixed_wing``, ``balloon`` whose
+    gains the core's stability rule accepts at the log's baro period (:func:`fusion_altitude.tuning.baro_interval`:
+    the median time between baro samples where the baro is present), i.e. Jury's test with the 1.5 margin of
+    ``FusionAltitudeIsStepStable`` for the observer sampled at the baro rate (the gains are scaled to it,
+    :func:`fusion_altitude.tuning.settings_for_baro_rate`). ``balloon`` when none is (a baro slower than one
+    sample in 3.1 s), ``vtol`` without two baro samples.
+
+    With a 2 Hz baro (0.5 s) the VTOL gains are past that limit (0.41 s): they passed plain Jury (0.62 s) and ran
+    at Kh·T = 1.2, a correction that overshoots every baro sample, so the observer was worse than the raw baro
+    (0.729 m against 0.455 m on ``px4_octorotor_2hz_baro.ulg``); fixed_wing is chosen there now."""
+    from .reference.observer import step_stable
+
+    period = baro_interval(data.time, data.baro_altitude)
+    if not np.isfinite(period) or not period > 0:
+        return "vtol"
+    period32 = np.float32(period)
+    for name in DEFAULT_PRESET_ORDER:
+        gains = tuple(np.float32(g) for g in AltitudeSettings.preset(name).as_tuple())
+        if step_stable(*gains, period32, period32):
+            return name
+    return "balloon"
 
 
 def _optional(data: LogData, name: str) -> Optional[np.ndarray]:
@@ -68,6 +120,8 @@ def _baro_timeout_warning(name: str, time: np.ndarray, dt, baro, timeout: float,
     return mask
 
 
+@registry_row("observer", "3rd-order complementary observer (baro + accel)", estimator_class="AltitudeEstimator",
+              takes_preset=True, has_gap_period=True)
 def run_observer_log(data: LogData, dt: np.ndarray, options: dict):
     settings = options.get("settings")
     if settings is None:
@@ -82,6 +136,8 @@ def run_observer_log(data: LogData, dt: np.ndarray, options: dict):
     return ObserverLogBatch(*result, aided)
 
 
+@registry_row("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)", label="Kalman",
+              estimator_class="KalmanEstimator", uses_gps=True, has_gap_period=True)
 def run_kalman_log(data: LogData, dt: np.ndarray, options: dict):
     from ._core._kalman import KalmanEstimator
 
@@ -121,6 +177,8 @@ def run_kalman_log(data: LogData, dt: np.ndarray, options: dict):
     return result
 
 
+@registry_row("complementary", "two-stage complementary filter (baro + accel)", estimator_class="ComplementaryFilter",
+              has_gap_period=True)
 def run_complementary_log(data: LogData, dt: np.ndarray, options: dict):
     from ._core._complementary import ComplementaryFilter, ComplementarySettings
 
@@ -139,6 +197,9 @@ def run_complementary_log(data: LogData, dt: np.ndarray, options: dict):
     return NamedTuple("ComplementaryLogBatch", [(name, np.ndarray) for name in fields])(**fields)
 
 
+@registry_row("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS shifted onto the baro datum + "
+                           "accel)", label="alpha-beta", estimator_class="AlphaBetaFusion", uses_gps=True,
+              has_gap_period=True)
 def run_alphabeta_log(data: LogData, dt: np.ndarray, options: dict):
     import math
 
@@ -285,6 +346,8 @@ class InsLogBatch(NamedTuple):
     baro_timed_out: np.ndarray
 
 
+@registry_row("ins", "inertial navigation filter (raw gyro + accelerometer + baro; attitude, gyro bias, baro bias)",
+              needs=("gyro", "accel"), label="INS", estimator_class="InsEstimator")
 def run_ins_log(data: LogData, dt: np.ndarray, options: dict) -> InsLogBatch:
     from ._core._ins import InsEstimator, InsSettings
 
@@ -341,6 +404,8 @@ class RocketLogBatch(NamedTuple):
     baro_fate: np.ndarray
 
 
+@registry_row("rocket", "rocket estimator (long-axis accel + baro: pad calibration, baro lockout, "
+                        "flight events)", vehicle="rocket", estimator_class="RocketEstimator")
 def run_rocket_log(data: LogData, dt: np.ndarray, options: dict) -> RocketLogBatch:
     """The rocket estimator on a log; its accelerometer input is chosen by :func:`fusion_altitude.rocket.rocket_accel_input`
     (NaN where the rocket estimator must do without one: baro-led), and what was chosen goes to ``data.notes``."""

@@ -5,8 +5,12 @@ Each :class:`EstimatorEntry` says once what the applications need to know about 
 cannot run without, the vehicle it is made for, whether it fuses GPS, whether the observer's presets apply, and its
 adapter (:mod:`fusion_altitude.adapters`, imported on first use). :func:`observer_rate` computes, once per log, the
 rate figures of the observer's preset rule and its stability advice (steps per baro sample, the default preset, the
-presets stable at the log's rate). Adding an estimator to ``run``, ``compare LOG``, the fleet and the output CSV is
-one row here (or one :func:`register_estimator` call)::
+presets stable at the log's rate).
+
+The built-in rows are written once, each on its adapter (:func:`fusion_altitude.adapters.registry_row`: a new
+estimator is one decorated adapter there); :data:`ESTIMATORS` holds one :class:`EstimatorEntry` of each adapter
+of :data:`fusion_altitude.adapters.ADAPTERS`, in their order. An estimator from outside the package joins by one
+:func:`register_estimator` call::
 
     from fusion_altitude import estimators
 
@@ -22,8 +26,9 @@ from typing import Callable, Dict, List, Tuple, Union
 import numpy as np
 
 from ._core._observer import AltitudeSettings
+from .adapters import ADAPTERS, DEFAULT_PRESET_ORDER, default_preset
 from .logs import LogData
-from .tuning import baro_interval, nominal_period, stable_at, steps_per_baro
+from .tuning import nominal_period, stable_at, steps_per_baro
 
 __all__ = ["EstimatorEntry", "ESTIMATORS", "register_estimator", "estimator_names", "missing_inputs",
            "applicable_estimators", "DEFAULT_PRESET_ORDER", "ADVICE_PRESETS", "ObserverRate", "observer_rate",
@@ -126,32 +131,14 @@ def applicable_estimators(data: LogData) -> List[str]:
             if not missing_inputs(data, name) and entry.vehicle in ("", getattr(data, "vehicle", ""))]
 
 
-for _entry in (
-        EstimatorEntry("observer", "3rd-order complementary observer (baro + accel)", "adapters:run_observer_log",
-                       estimator_class="AltitudeEstimator", takes_preset=True, has_gap_period=True),
-        EstimatorEntry("kalman", "Kalman filter (baro + accel, GPS altitude with its fix quality, rangefinder)",
-                       "adapters:run_kalman_log", label="Kalman", estimator_class="KalmanEstimator", uses_gps=True,
-                       has_gap_period=True),
-        EstimatorEntry("complementary", "two-stage complementary filter (baro + accel)", "adapters:run_complementary_log",
-                       estimator_class="ComplementaryFilter", has_gap_period=True),
-        EstimatorEntry("alphabeta", "quality-weighted alpha-beta fusion (baro, rangefinder, GPS shifted onto the baro "
-                                    "datum + accel)", "adapters:run_alphabeta_log", label="alpha-beta",
-                       estimator_class="AlphaBetaFusion", uses_gps=True, has_gap_period=True),
-        EstimatorEntry("ins", "inertial navigation filter (raw gyro + accelerometer + baro; attitude, gyro bias, "
-                              "baro bias)", "adapters:run_ins_log", needs=("gyro", "accel"), label="INS",
-                       estimator_class="InsEstimator"),
-        EstimatorEntry("rocket", "rocket estimator (long-axis accel + baro: pad calibration, baro lockout, "
-                                 "flight events)", "adapters:run_rocket_log", vehicle="rocket",
-                       estimator_class="RocketEstimator")):
-    register_estimator(_entry)
-del _entry
+for _adapter in ADAPTERS:  # the built-in rows, each written on its adapter (adapters.registry_row)
+    register_estimator(EstimatorEntry(run=_adapter, **_adapter.registry_row))
+del _adapter
 
 
 # ----------------------------------------------------------------------------
 # the observer's preset rule and stability advice, computed once per log
 
-#: The presets the default rule tries, fastest first (:func:`default_preset`).
-DEFAULT_PRESET_ORDER = ("vtol", "fixed_wing", "balloon")
 #: The presets the stability advice may name, slowest first.
 ADVICE_PRESETS = ("balloon", "fixed_wing", "vtol", "racing", "rocket")
 
@@ -195,26 +182,3 @@ def observer_rate(data: LogData) -> ObserverRate:
     stable = tuple(name for name in ADVICE_PRESETS if stable_at(AltitudeSettings.preset(name), period))
     return ObserverRate(nominal, steps, period, default_preset(data), stable)
 
-
-def default_preset(data: LogData) -> str:
-    """The observer preset used when none is given: the fastest of ``vtol``, ``fixed_wing``, ``balloon`` whose
-    gains the core's stability rule accepts at the log's baro period (:func:`fusion_altitude.tuning.baro_interval`:
-    the median time between baro samples where the baro is present), i.e. Jury's test with the 1.5 margin of
-    ``FusionAltitudeIsStepStable`` for the observer sampled at the baro rate (the gains are scaled to it,
-    :func:`fusion_altitude.tuning.settings_for_baro_rate`). ``balloon`` when none is (a baro slower than one
-    sample in 3.1 s), ``vtol`` without two baro samples.
-
-    With a 2 Hz baro (0.5 s) the VTOL gains are past that limit (0.41 s): they passed plain Jury (0.62 s) and ran
-    at Kh·T = 1.2, a correction that overshoots every baro sample, so the observer was worse than the raw baro
-    (0.729 m against 0.455 m on ``px4_octorotor_2hz_baro.ulg``); fixed_wing is chosen there now."""
-    from .reference.observer import step_stable
-
-    period = baro_interval(data.time, data.baro_altitude)
-    if not np.isfinite(period) or not period > 0:
-        return "vtol"
-    period32 = np.float32(period)
-    for name in DEFAULT_PRESET_ORDER:
-        gains = tuple(np.float32(g) for g in AltitudeSettings.preset(name).as_tuple())
-        if step_stable(*gains, period32, period32):
-            return name
-    return "balloon"

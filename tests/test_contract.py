@@ -1,9 +1,12 @@
 """The estimator contract, estimator × implementation: what every estimator promises, in C and in the reference.
 
-A new estimator joins by one row of ``ESTIMATORS`` (see docs/architecture.md).
+The rows are derived from the estimator registry (fusion_altitude.estimators) and the binding generator's tables
+(tools/generate_bindings.py): a new estimator joins without a line here (see docs/architecture.md).
 """
 
 import copy
+import importlib
+import importlib.util
 import inspect
 import math
 import pickle
@@ -23,9 +26,22 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 
 import fusion_altitude
 import fusion_altitude.reference
-from fusion_altitude import _alphabeta, _c_tables, _complementary, _rocket, _ins, _kalman, _observer
+from fusion_altitude import _c_tables
+from fusion_altitude.estimators import ESTIMATORS as REGISTRY
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _load_generator():
+    """tools/generate_bindings.py, for its tables (MODULES, SETTINGS_CLASSES, ENUM_NAMES)."""
+    if "generate_bindings" not in sys.modules:  # registered before it runs: its dataclasses look themselves up
+        spec = importlib.util.spec_from_file_location("generate_bindings", ROOT / "tools" / "generate_bindings.py")
+        sys.modules["generate_bindings"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["generate_bindings"])
+    return sys.modules["generate_bindings"]
+
+
+GENERATOR = _load_generator()
 
 
 def _altitude_inputs(rng, n):
@@ -66,6 +82,14 @@ def _ins_inputs(rng, n):
 
 #: The update argument order of the contract: (accel, baro_altitude, dt, *, other sensors).
 CONTRACT_ORDER = ("accel", "baro_altitude", "dt")
+#: Exception: an estimator that needs the raw IMU (``"gyro"`` in its registry row's ``needs``: the INS) takes
+#: (gyro, accel, dt, baro_altitude=NaN, mag=None) with 3-vectors, as imufusion users call an AHRS; baro and mag are
+#: optional and positional.
+IMU_ORDER = ("gyro", "accel", "dt", "baro_altitude", "mag")
+#: The input builders; each estimator gets the one that fills the most of its update's parameters (all of them
+#: parameters of its update), and an estimator made for a vehicle that vehicle's motion (VEHICLE_INPUTS).
+INPUT_BUILDERS = (_altitude_inputs, _kalman_inputs, _alphabeta_inputs, _ins_inputs)
+VEHICLE_INPUTS = {"rocket": _rocket_inputs}
 
 
 @dataclass
@@ -79,30 +103,69 @@ class Row:
     change: Dict[str, object]  # keyword arguments of settings.replace that change something
     status: str  # the status enum in fusion_altitude._c_tables
     enums: Tuple[Tuple[str, str], ...] = ()  # other enums: (name in _c_tables, C_<name>_VALUES of the binding)
-    #: The positional parameters of update/update_batch (the rest keyword-only, or ``out``). Exceptions to
-    #: CONTRACT_ORDER are written here, with the reason.
+    #: The positional parameters of update/update_batch (the rest keyword-only, or ``out``).
     positional: Tuple[str, ...] = CONTRACT_ORDER
     retune: bool = True  # ``estimator.settings = ...`` mid-run (the rocket estimator's settings are fixed at start)
     gil_samples: int = 400_000  # a batch long enough to see the GIL released
+    legacy: bool = False  # the old positional order still accepted for one release (_common.argument_order)
 
 
-ESTIMATORS = [
-    Row("AltitudeEstimator", "AltitudeSettings", _observer, _altitude_inputs, {"bias_gain": 0.5}, "Status",
-        enums=(("Preset", "C_PRESET_VALUES"),)),
-    Row("KalmanEstimator", "KalmanSettings", _kalman, _kalman_inputs, {"gate": 3.0}, "KalmanStatus",
-        enums=(("KalmanResult", "C_RESULT_VALUES"),)),
-    Row("ComplementaryFilter", "ComplementarySettings", _complementary, _altitude_inputs,
-        {"velocity_time_constant": 5.0}, "ComplementaryStatus"),
-    Row("AlphaBetaFusion", "AlphaBetaSettings", _alphabeta, _alphabeta_inputs, {"gps": {"gap_max": 30.0}},
-        "AlphaBetaStatus"),
-    # Exception: the INS takes a raw IMU, so its update is (gyro, accel, dt, baro_altitude=NaN, mag=None) with
-    # 3-vectors, as imufusion users call an AHRS; baro and mag are optional and positional.
-    Row("InsEstimator", "InsSettings", _ins, _ins_inputs, {"baro_noise": 0.5}, "InsStatus",
-        positional=("gyro", "accel", "dt", "baro_altitude", "mag"), gil_samples=200_000),
-    Row("RocketEstimator", "RocketSettings", _rocket, _rocket_inputs, {"launch_accel": 30.0}, "RocketStatus",
-        enums=(("Phase", "C_PHASE_VALUES"), ("BaroFate", "C_BARO_VALUES"), ("RocketEventId", "C_EVENTID_VALUES")),
-        retune=False),
-]
+def _input_builder(entry, reference_class) -> Callable:
+    """The inputs of ``entry``: its vehicle's, else the builder filling the most of its update's parameters."""
+    if entry.vehicle in VEHICLE_INPUTS:
+        return VEHICLE_INPUTS[entry.vehicle]
+    parameters = set(inspect.signature(reference_class.update_batch).parameters)
+    names = {builder: set(builder(np.random.default_rng(0), 1)) for builder in INPUT_BUILDERS}
+    fitting = sorted((builder for builder in INPUT_BUILDERS if names[builder] <= parameters),
+                     key=lambda builder: len(names[builder]))
+    assert fitting and (len(fitting) == 1 or len(names[fitting[-1]]) > len(names[fitting[-2]])), entry.name
+    return fitting[-1]
+
+
+def _settings_change(settings_class) -> Dict[str, object]:
+    """A change of the first float setting (doubled, or 1 from 0) that the settings class accepts."""
+    defaults = settings_class().as_dict()
+    for name, value in defaults.items():
+        if isinstance(value, float) and math.isfinite(value):
+            change = {name: value * 2.0 if value else 1.0}
+            try:
+                settings_class(**{**defaults, **change})
+            except ValueError:
+                continue
+            return change
+    raise AssertionError(f"{settings_class.__name__}: no float setting to change")
+
+
+def _other_enums(module, prefix: str) -> Tuple[Tuple[str, str], ...]:
+    """(the generated enum's name, ``C_<SUFFIX>_VALUES``) of each enum the binding exports besides its status."""
+    enums = []
+    for cname, name in GENERATOR.ENUM_NAMES.items():
+        suffix = cname[len(prefix):] if cname.startswith(prefix) else ""
+        if suffix and suffix != "Status" and hasattr(module, f"C_{suffix.upper()}_VALUES"):
+            enums.append((name, f"C_{suffix.upper()}_VALUES"))
+    exported = {name for name in dir(module) if re.fullmatch(r"C_\w+_VALUES", name)} - {"C_STATUS_VALUES"}
+    assert exported == {values for _, values in enums}, (prefix, exported)
+    return tuple(enums)
+
+
+def _row(entry) -> Row:
+    """The contract row of a registry entry, from the registry and the generator's tables."""
+    prefix = GENERATOR.MODULES[entry.name][1]
+    module = importlib.import_module(f"fusion_altitude._core._{entry.name}")
+    reference_class = getattr(fusion_altitude.reference, entry.estimator_class)
+    settings = GENERATOR.SETTINGS_CLASSES[entry.name]
+    inputs = _input_builder(entry, reference_class)
+    vectors = any(np.ndim(values) > 1 for values in inputs(np.random.default_rng(0), 1).values())
+    return Row(entry.estimator_class, settings, module, inputs, _settings_change(getattr(fusion_altitude, settings)),
+               GENERATOR.ENUM_NAMES[prefix + "Status"], _other_enums(module, prefix),
+               positional=IMU_ORDER if "gyro" in entry.needs else CONTRACT_ORDER,
+               retune=inspect.getattr_static(reference_class, "settings").fset is not None,
+               gil_samples=200_000 if vectors else 400_000,
+               legacy=hasattr(reference_class.update, "__wrapped__"))
+
+
+#: One row per registered estimator of the generator (all built-in ones), in registry order.
+ESTIMATORS = [_row(entry) for name, entry in REGISTRY.items() if name in GENERATOR.MODULES]
 IMPLEMENTATIONS = {"c": fusion_altitude, "reference": fusion_altitude.reference}
 
 by_row = pytest.mark.parametrize("row", ESTIMATORS, ids=[row.estimator for row in ESTIMATORS])
@@ -225,7 +288,7 @@ def test_updates_take_accel_baro_altitude_dt_then_keywords(impl, row, method):
     assert all(p.kind is p.KEYWORD_ONLY or p.name == "out" for p in parameters[1 + count:])
 
 
-LEGACY = [row for row in ESTIMATORS if row.estimator in ("KalmanEstimator", "AlphaBetaFusion")]
+LEGACY = [row for row in ESTIMATORS if row.legacy]
 
 
 @pytest.mark.parametrize("row", LEGACY, ids=[row.estimator for row in LEGACY])
@@ -439,8 +502,8 @@ def test_settings_accepted_by_python_are_exactly_those_c_accepts(row, data):
     settings_class = getattr(fusion_altitude, row.settings)
     defaults = settings_class().as_dict()
     special = st.sampled_from([0.0, -1.0, 1.0, 1e7, math.inf, math.nan, 0.5])
-    if row.estimator == "AlphaBetaFusion":
-        sensors = [name for name, value in defaults.items() if hasattr(value, "_fields")]
+    sensors = [name for name, value in defaults.items() if hasattr(value, "_fields")]  # per-sensor settings
+    if sensors:
         sensor = data.draw(st.sampled_from(sensors + ["gap_period"]))
         if sensor == "gap_period":
             values = {**defaults, "gap_period": data.draw(special)}

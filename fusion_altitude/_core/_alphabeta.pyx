@@ -133,35 +133,6 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
 
     def update_batch(self, accel, *args, baro_altitude=_UNSET, dt=_UNSET, lidar_altitude=_UNSET,
                      sonar_altitude=_UNSET, gps_altitude=_UNSET, out=_UNSET):
-        """Process arrays of steps, continuing from the current state.
-
-        Parameters
-        ----------
-        accel : array_like
-            Vertical acceleration per step, m/s² (NaN: no IMU sample).
-        dt : float or array_like
-            Step period, s: one value or one per step.
-        baro_altitude, lidar_altitude, sonar_altitude, gps_altitude : array_like, float or None
-            Per step, m; NaN where a sensor has no sample. A scalar applies to
-            every step; None means no samples.
-        out : AlphaBetaBatch, optional
-            Preallocated contiguous output arrays of the right shapes and dtypes.
-
-        Returns
-        -------
-        AlphaBetaBatch
-
-        Raises
-        ------
-        ValueError
-            A bad step, naming the argument and its first bad index; nothing
-            is applied to the state.
-
-        Notes
-        -----
-        Equal, bit for bit, to calling :meth:`update` for each step. The loop
-        runs with the GIL released.
-        """
         values = (baro_altitude, dt, lidar_altitude, sonar_altitude, gps_altitude, out)
         if args:  # as in update
             values = _common.positional_after_accel(type(self).__name__, "update_batch", _BATCH_KEYWORDS,
@@ -241,4 +212,5 @@ cdef class AlphaBetaFusion(_AlphaBetaFusionGetters):
 
 
 _common.share_signatures(AlphaBetaFusion, _alphabeta_glue.AlphaBetaContract, ("update", "update_batch"))
+_common.share_docstrings(AlphaBetaFusion, _alphabeta_glue.AlphaBetaContract)  # update_batch
 

@@ -11,8 +11,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import AlphaBetaStatus
-from ._common import (DT_POSITIVE, SAMPLE_OR_NAN, as_float, input_rules, optional_inputs, output_arrays,
-                      raise_input_error)
+from ._common import (DT_POSITIVE, SAMPLE_OR_NAN, as_float, batch_raises_and_notes, input_rules, optional_inputs,
+                      output_arrays, raise_input_error)
 
 
 #: Sensor channels of the alpha-beta fusion, in the C index order.
@@ -208,5 +208,22 @@ class AlphaBetaContract:
 
     def update_batch(self, accel, baro_altitude, dt, *, lidar_altitude=None, sonar_altitude=None,
                      gps_altitude=None, out=None) -> AlphaBetaBatch:
-        """See the estimator class."""
         raise NotImplementedError
+
+    update_batch.__doc__ = """Process arrays of steps, continuing from the current state.
+
+        Parameters
+        ----------
+        accel : array_like
+            Vertical acceleration per step, m/s² (NaN: no IMU sample).
+        dt : float or array_like
+            Step period, s: one value or one per step.
+        baro_altitude, lidar_altitude, sonar_altitude, gps_altitude : array_like, float or None
+            Per step, m; NaN where a sensor has no sample. A scalar applies to
+            every step; None means no samples.
+        out : AlphaBetaBatch, optional
+            Preallocated contiguous output arrays of the right shapes and dtypes.
+
+        Returns
+        -------
+        AlphaBetaBatch""" + batch_raises_and_notes("step")

@@ -257,6 +257,24 @@ def share_signatures(binding: type, reference: type, names: Sequence[str]) -> No
         getattr(binding, name).__signature__ = inspect.signature(getattr(reference, name))
 
 
+def batch_raises_and_notes(unit: str) -> str:
+    """The Raises and Notes sections of a binding's ``update_batch`` docstring (a batch of ``unit``: "sample" or
+    "step"), written once for the bindings that state them alike; a contract class appends them to its docstring."""
+    return f"""
+
+        Raises
+        ------
+        ValueError
+            A bad {unit}, naming the argument and its first bad index; nothing
+            is applied to the state.
+
+        Notes
+        -----
+        Equal, bit for bit, to calling :meth:`update` for each {unit}. The loop
+        runs with the GIL released.
+        """
+
+
 def share_docstrings(binding: type, reference: type) -> None:
     """Give each method of the binding class that has no docstring the reference's (written once, there)."""
     for name, member in vars(binding).items():

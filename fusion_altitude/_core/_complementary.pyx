@@ -45,32 +45,6 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
             raise ValueError(f"baro_altitude must be finite (m), got {z!r}")
 
     def update_batch(self, accel, baro_altitude, dt, out=None):
-        """Process arrays of samples, continuing from the current state.
-
-        Parameters
-        ----------
-        accel, baro_altitude : array_like
-            1-D, per sample (m/s², m; NaN baro where there is no sample).
-        dt : float or array_like
-            Sample period, s: one value or one per sample.
-        out : ComplementaryBatch or sequence of 4 arrays, optional
-            Preallocated contiguous float32 arrays of the input's length.
-
-        Returns
-        -------
-        ComplementaryBatch
-
-        Raises
-        ------
-        ValueError
-            A bad sample, naming the argument and its first bad index; nothing
-            is applied to the state.
-
-        Notes
-        -----
-        Equal, bit for bit, to calling :meth:`update` for each sample. The loop
-        runs with the GIL released.
-        """
         accel32, baro32, dt32, dt_is_array = _common.prepare_inputs(accel, baro_altitude, dt)
         result = _complementary_glue.complementary_outputs(accel32.shape[0], out)
         _batch_into(&self._c, accel32, baro32, dt32, dt_is_array, result)  # the loop: _complementary_fields.pxi
@@ -79,6 +53,9 @@ cdef class ComplementaryFilter(_ComplementaryFilterGetters):
     def __repr__(self):
         return (f"ComplementaryFilter(altitude={self.altitude!r}, vertical_velocity={self.vertical_velocity!r}, "
                 f"settings={self.settings!r})")
+
+
+_common.share_docstrings(ComplementaryFilter, _complementary_glue.ComplementaryContract)  # update_batch
 
 
 _complementary_glue.C_SETTINGS_FUNCTIONS.update(check=c_settings_check)

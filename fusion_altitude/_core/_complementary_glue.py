@@ -11,8 +11,8 @@ import numpy as np
 
 from . import _c_tables
 from ._c_tables import ComplementaryStatus
-from ._common import (ACCEL_FINITE, BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, input_rules, output_arrays,
-                      raise_input_error)
+from ._common import (ACCEL_FINITE, BARO_SAMPLE_OR_NAN, DT_POSITIVE, as_float, batch_raises_and_notes, input_rules,
+                      output_arrays, raise_input_error)
 
 
 class ComplementaryBatch(NamedTuple):
@@ -110,3 +110,26 @@ def raise_complementary_update_error(status: int, accel: float, baro_altitude: f
 def complementary_outputs(n: int, out: Optional[Sequence[np.ndarray]]) -> ComplementaryBatch:
     """New float32 output arrays of length n, or the caller's ``out`` after checking it."""
     return output_arrays(ComplementaryBatch, [((n,), np.float32)] * 4, out)
+
+
+class ComplementaryContract:
+    """The ``update_batch`` docstring of the ComplementaryFilter binding (its Raises and Notes shared with the other
+    bindings through ``_common.batch_raises_and_notes``): ``_common.share_docstrings`` gives it to the binding."""
+
+    def update_batch(self, accel, baro_altitude, dt, out=None) -> ComplementaryBatch:
+        raise NotImplementedError
+
+    update_batch.__doc__ = """Process arrays of samples, continuing from the current state.
+
+        Parameters
+        ----------
+        accel, baro_altitude : array_like
+            1-D, per sample (m/s², m; NaN baro where there is no sample).
+        dt : float or array_like
+            Sample period, s: one value or one per sample.
+        out : ComplementaryBatch or sequence of 4 arrays, optional
+            Preallocated contiguous float32 arrays of the input's length.
+
+        Returns
+        -------
+        ComplementaryBatch""" + batch_raises_and_notes("sample")

@@ -183,41 +183,10 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
     assert any(r[3][bias_field] == 0 for r in recorder.records)
 
 
-# Functions of each header that are helpers of its public ones (documented as internal, not in
-# fusion_altitude/_core/c<name>.pxd): sized through the public functions that inline them. A new function must be
-# listed here or be public; an estimator without an entry has none.
-INTERNAL = {
-    "observer": {"FusionAltitudeRestart", "FusionAltitudeTiming", "FusionAltitudeStabilityRestart",
-                 "FusionAltitudeIsDiscreteStable", "FusionAltitudeIsNonNegative", "FusionAltitudeIsPositive"},
-    "kalman": {"FusionAltitudeKalmanPredict",
-               "FusionAltitudeKalmanFuse", "FusionAltitudeKalmanSetOffset", "FusionAltitudeKalmanResetGround",
-               "FusionAltitudeKalmanProcess", "FusionAltitudeKalmanNoSample", "FusionAltitudeKalmanInverseSqrt",
-               "FusionAltitudeKalmanGpsSigma", "FusionAltitudeKalmanRandomWalks", "FusionAltitudeKalmanInflate",
-               "FusionAltitudeKalmanGap", "FusionAltitudeKalmanFuseVector", "FusionAltitudeKalmanFuseScalar",
-               "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
-               "FusionAltitudeKalmanProcessGps", "FusionAltitudeKalmanSilent", "FusionAltitudeKalmanResume"},
-    "complementary": {"FusionAltitudeComplementaryIsTimeConstant", "FusionAltitudeComplementaryIsCoefficient",
-                      "FusionAltitudeComplementaryRestart", "FusionAltitudeComplementaryTimedOutStep"},
-    "alphabeta": {"FusionAltitudeAlphaBetaSensor", "FusionAltitudeAlphaBetaInfinity", "FusionAltitudeAlphaBetaClear",
-                  "FusionAltitudeAlphaBetaIsInfinite", "FusionAltitudeAlphaBetaAbs", "FusionAltitudeAlphaBetaStart",
-                  "FusionAltitudeAlphaBetaFilterStep", "FusionAltitudeAlphaBetaStep"},
-    "ins": {"FusionAltitudeInsResetCovariance",
-            "FusionAltitudeInsIsBounded", "FusionAltitudeInsIsBoundedVector", "FusionAltitudeInsNormalise",
-            "FusionAltitudeInsRotate", "FusionAltitudeInsUpInBody", "FusionAltitudeInsFuseGain", "FusionAltitudeInsFuse",
-            "FusionAltitudeInsLimitYaw", "FusionAltitudeInsAlign", "FusionAltitudeInsPredict",
-            "FusionAltitudeInsConditionCovariance", "FusionAltitudeInsPredictCovariance", "FusionAltitudeInsAddProcessNoise",
-            "FusionAltitudeInsGap", "FusionAltitudeInsDetectStationary", "FusionAltitudeInsPropagate",
-            "FusionAltitudeInsFuseGravity", "FusionAltitudeInsFuseStationary", "FusionAltitudeInsFuseBaro",
-            "FusionAltitudeInsInject", "FusionAltitudeInsFuseMag", "FusionAltitudeInsRestartStationary",
-            "FusionAltitudeInsHoldVariance", "FusionAltitudeInsDecorrelate", "FusionAltitudeInsForgetHeight",
-            "FusionAltitudeInsIsBaroSilentFor", "FusionAltitudeInsHoldHeight"},
-    "rocket": {"FusionAltitudeRocketApogee", "FusionAltitudeRocketApplyOffset", "FusionAltitudeRocketBaroLaunchStep",
-               "FusionAltitudeRocketBurnoutStep", "FusionAltitudeRocketCalibrationStep", "FusionAltitudeRocketClearWindow",
-               "FusionAltitudeRocketConditionRun", "FusionAltitudeRocketFlightStep", "FusionAltitudeRocketGapStep",
-               "FusionAltitudeRocketGate", "FusionAltitudeRocketInput", "FusionAltitudeRocketLandedStep",
-               "FusionAltitudeRocketNonNegative", "FusionAltitudeRocketPadStep", "FusionAltitudeRocketPhaseStep",
-               "FusionAltitudeRocketPositive", "FusionAltitudeRocketRecord", "FusionAltitudeRocketStep"},
-}
+#: the generator of the header-derived harnesses (csrc/firmware/sized_<name>.c); its INTERNAL names each header's
+#: helpers of its public functions (sized through the public functions that inline them)
+HARNESSES = load(ROOT / "tools" / "make_harnesses.py", "make_harnesses")
+INTERNAL = HARNESSES.INTERNAL
 #: public functions firmware_<name>.c need not call (the observer's float helpers and its stability test)
 NOT_CALLED = {"observer": {"FusionAltitudeNaN", "FusionAltitudeInfinity", "FusionAltitudeIsStepStable"}}
 
@@ -237,7 +206,7 @@ def test_every_public_function_is_built_and_sized(name):
     called = set(re.findall(rf"\b({prefix}\w+)\(", (FIRMWARE / f"firmware_{name}.c").read_text()))
     table = load(FIRMWARE / "size_table.py", "size_table")
     rows = table.FUNCTIONS if name == "observer" else next(row[1] for row in table.ESTIMATORS if row[0] == name)
-    assert public - sized == set(), f"add these to csrc/firmware/sized_{name}.c"
+    assert public - sized == set(), f"run python tools/make_harnesses.py (sized_{name}.c misses these)"
     assert public - called - NOT_CALLED.get(name, set()) == set(), f"call these from csrc/firmware/firmware_{name}.c"
     assert public - set(rows) == set(), f"size_table.py's rows of {name} miss these"
 

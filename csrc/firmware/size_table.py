@@ -11,9 +11,10 @@ QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
 The other estimators (ESTIMATORS: every row of MODULES in tools/generate_bindings.py after the observer's) are
-measured the same way: sized_<name>.c, the static instance in firmware_<name>.c, and Sized...Update traced by
-cycles_<name>.c; their figures are under result[<name>] and each has its own block of docs/embedded.md (between
-the <!-- <name>-sizes:begin/end --> markers). Nothing here is edited for a new estimator: its table rows are the
+measured the same way: sized_<name>.c (written by tools/make_harnesses.py), the static instance in
+firmware_<name>.c, and Sized...Update traced by cycles_<name>.c; their figures are under result[<name>] and each has
+its own block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers, which --update-doc adds for
+a new estimator). Nothing here is edited for a new estimator: its table rows are the
 Sized<Function>s of sized_<name>.c in file order and its traced paths the numbered list of cycles_<name>.c's
 opening comment, unless FUNCTION_ORDER / TRACED_PATHS name them (the estimators measured before these were read).
 """
@@ -347,9 +348,22 @@ def markdown(result: dict) -> str:
                               for (name, *_), part in zip(ESTIMATORS, others))
 
 
+def with_markers(text: str) -> str:
+    """docs/embedded.md with a block for every estimator: one without its ``<name>-sizes`` markers (a new row of
+    MODULES) gets a section of its own after the last estimator's block, headed by its header's name."""
+    for name, *_ in ESTIMATORS:
+        if f"<!-- {name}-sizes:begin -->" not in text:
+            last = text.rindex("-sizes:end -->") + len("-sizes:end -->")
+            header = estimator_modules()[name][0]
+            block = f"\n\n### {header}\n\n<!-- {name}-sizes:begin -->\n<!-- {name}-sizes:end -->"
+            text = text[:last] + block + text[last:]
+    return text
+
+
 def update_doc(doc: Path, result: dict) -> None:
-    """Replace each estimator's block of docs/embedded.md (between its markers) with fresh tables."""
-    text = doc.read_text()
+    """Replace each estimator's block of docs/embedded.md (between its markers) with fresh tables; a new
+    estimator's markers are added first (:func:`with_markers`)."""
+    text = with_markers(doc.read_text())
     for marker, part in zip(MARKERS, markdown_parts(result)):
         begin, end = f"<!-- {marker}:begin -->\n", f"<!-- {marker}:end -->"
         start, stop = text.index(begin) + len(begin), text.index(end)

@@ -53,21 +53,18 @@ def _pymavlink_messages(path):
 
 
 def _fast_messages(path):
-    """The fast decoder's columns of every field the reader uses, by type name."""
-    index = fast.DataFlashIndex(Path(path).read_bytes(), str(path))
-    offsets, types = index.messages(dataflash.KINDS)
+    """The fast decoder's columns (read in C) of every field the reader uses, by type name, and MSG's text."""
+    index = fast.DataFlashIndex(Path(path).read_bytes(), str(path), dataflash.KINDS, dataflash.FIELDS_USED)
+    parts, _ = fast.read_families(index, dataflash.KINDS, dataflash.FIELDS_USED,
+                                  lambda kind, columns, count: (kind, None))
     out = {}
-    for type_id in np.unique(types).tolist():
-        fmt = index.formats[type_id]
-        if fmt.name not in dataflash.KINDS:
-            continue
-        bodies, _ = _decode.dataflash_gather(index.data, np.ascontiguousarray(offsets[types == type_id]), fmt.length)
-        table = bodies.view(fmt.dtype).reshape(-1)
-        out[fmt.name] = {field: fast.column(fmt, table, field) for field in dataflash.FIELDS_USED
-                         if field in fmt.colhash}
-        if "Message" in fmt.colhash:
-            out[fmt.name]["Message"] = [fast._python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
-                                        for row in table]
+    for kind, ((offsets, fmt, columns),) in parts.items():
+        out[kind] = {field: values for field, values in columns.items() if field in dataflash.FIELDS_USED}
+        if kind == "MSG":
+            fmt = fmt()
+            bodies, _ = _decode.dataflash_gather(index.data, np.ascontiguousarray(offsets), fmt.length)
+            out[kind]["Message"] = [fast._python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
+                                    for row in bodies.view(fmt.dtype).reshape(-1)]
     return out
 
 
@@ -76,6 +73,8 @@ def _assert_same_messages(path):
     mine = _fast_messages(path)
     assert set(mine) == set(theirs)
     for kind, rows in theirs.items():
+        assert set(mine[kind]) == {field for field in rows[0] if field in dataflash.FIELDS_USED or
+                                   (kind == "MSG" and field == "Message")}, kind
         for field, values in mine[kind].items():
             if field == "Message":
                 assert values == [r[field] for r in rows], f"{kind}.{field}"

@@ -151,31 +151,32 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     if data[:2] != DATAFLASH_MAGIC:
         raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
     try:
-        index = fast.DataFlashIndex(data, path)
+        index = fast.DataFlashIndex(data, path, KINDS, FIELDS_USED)
     except ValueError as error:
         raise LogError(f"cannot read {path} as an ArduPilot DataFlash log: {error}") from None
 
-    def select(kind, fmt, table):
+    def select(kind, columns, count):
+        # (family or None, the messages kept: a mask, or None for all)
         for family, names in _OLD_INSTANCE_NAMES.items():
             if kind in names:
                 if kind != family:
-                    return family, np.full(table.size, names.index(kind) == want)
-                if "I" in fmt.colhash:
-                    return family, _integer_column(fmt, table, "I") == want
-                return family, np.full(table.size, want == 0)
-        if kind == "XKF1" and "C" in fmt.colhash:
-            return kind, _integer_column(fmt, table, "C") == 0
+                    return (family if names.index(kind) == want else None), None
+                if "I" in columns:
+                    return family, _integer_column(kind, columns, "I") == want
+                return (family if want == 0 else None), None
+        if kind == "XKF1" and "C" in columns:
+            return kind, _integer_column(kind, columns, "C") == 0
         if kind == "GPA":
-            if "I" in fmt.colhash:
-                return kind, _integer_column(fmt, table, "I") == want
-            return kind, np.full(table.size, want == 0)
-        return kind, np.ones(table.size, dtype=bool)
+            if "I" in columns:
+                return kind, _integer_column(kind, columns, "I") == want
+            return (kind if want == 0 else None), None
+        return kind, None
 
-    def _integer_column(fmt, table, name):
+    def _integer_column(kind, columns, name):
         # the reader's int(...) of the value: declined unless every value is a finite number
-        values = fast.column(fmt, table, name)
+        values = columns[name]
         if not np.all(np.isfinite(values)):
-            raise fast.NeedsReference(f"{fmt.name}.{name} is not finite")
+            raise fast.NeedsReference(f"{kind}.{name} is not finite")
         return np.trunc(values)
 
     parts, firmware = fast.read_families(index, KINDS, FIELDS_USED, select)

@@ -138,6 +138,71 @@ def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, name):
         _assert_same_log(path)
 
 
+#: Stray bytes put into a log: zeros, and bytes that look like the start of a header.
+STRAY = {"zeros": b"\0" * 5, "half-header": b"\xa3\x00\x95", "one-A3": b"\xa3"}
+
+
+def _with_stray_bytes(tmp_path, style, where, stray, gps=True):
+    """A fixture with ``stray`` bytes before its second message ("start"), a message at a quarter or a half of
+    the log, its last message ("end"), or after its end ("after-end", inside pymavlink's 528-byte allowance);
+    ``gps=False`` renames the GPS format (pymavlink's clock set-up then walks the whole log)."""
+    data = _fixture(tmp_path, style).read_bytes()
+    if not gps:
+        at = data.index(b"GPS\0")
+        data = data[:at] + b"X" + data[at + 1:]
+    offsets = _decode.dataflash_index(np.frombuffer(data, dtype=np.uint8))[0]
+    at = {"start": int(offsets[1]), "quarter": int(offsets[offsets.size // 4]),
+          "middle": int(offsets[offsets.size // 2]), "end": int(offsets[-1]), "after-end": len(data)}[where]
+    return Path(fx.write_bytes(tmp_path / f"stray-{where}.bin", data[:at] + STRAY[stray] + data[at:]))
+
+
+@pytest.mark.parametrize("style", ["TimeMS", "TimeUS"])
+@pytest.mark.parametrize("where", ["start", "quarter", "middle", "end", "after-end"])
+@pytest.mark.parametrize("stray", sorted(STRAY))
+def test_stray_bytes_read_the_same_with_both_decoders(tmp_path, style, where, stray):
+    """pymavlink steps over bytes that start no message ("bad header" for each, outside the last 528 bytes)
+    and its clock set-up walk prints "Skipped N bad bytes" for each run it passes: the same warnings."""
+    _assert_same_log(_with_stray_bytes(tmp_path, style, where, stray))
+
+
+@pytest.mark.parametrize("style", ["TimeMS", "TimeUS"])
+@pytest.mark.parametrize("where", ["start", "quarter", "middle", "end"])
+def test_stray_bytes_where_the_clock_walk_reads_the_whole_log_read_the_same(tmp_path, style, where):
+    """Without a GPS message to set its clock by, pymavlink's clock set-up walks every message, and reports
+    every run of stray bytes more than 528 bytes before the end."""
+    _assert_same_log(_with_stray_bytes(tmp_path, style, where, "zeros", gps=False))
+
+
+@pytest.mark.parametrize("style", ["TimeMS", "TimeUS"])
+@pytest.mark.parametrize("where", ["start", "middle", "after-end"])
+def test_stray_bytes_are_decoded_in_c_not_left_to_pymavlink(tmp_path, style, where):
+    data = dataflash._read_fast(str(_with_stray_bytes(tmp_path, style, where, "half-header")), 0, None)
+    assert data.time.size > 0
+
+
+@pytest.mark.parametrize("style", ["TimeMS", "TimeUS"])
+def test_random_stray_byte_insertions_read_the_same_with_both_decoders(tmp_path, style):
+    """The mutation sweep for resynchronisation: 40 logs (seed 3), each with one to three runs of 1 to 40 random
+    bytes (A3 and 95 among them, often) put in at random places."""
+    seed = tmp_path / "seed.bin"
+    fx.write_dataflash(seed, style=style, duration=2.0, imu_rate=25.0)
+    original = seed.read_bytes()
+    rng = np.random.default_rng(3)
+    for number in range(40):
+        data = original
+        for _ in range(int(rng.integers(1, 4))):
+            run = bytes(rng.choice([0xA3, 0x95, 0x00, int(rng.integers(256))], size=int(rng.integers(1, 41))))
+            at = int(rng.integers(2, len(data) + 1))
+            data = data[:at] + run + data[at:]
+        path = Path(fx.write_bytes(tmp_path / f"inserted{number}.bin", data))
+        status = _decode.dataflash_index(np.frombuffer(data, dtype=np.uint8))[3]
+        if status != "ok":
+            with pytest.raises(logs.LogError, match="where pymavlink's indexer stops the program"):
+                dataflash.read_dataflash(str(path))
+            continue
+        _assert_same_log(path)
+
+
 @pytest.mark.parametrize("renamed", [b"GWk", b"GMS", b"TimeUS"])
 def test_gps_without_a_clock_field_pymavlink_reads_gives_the_same_warnings(tmp_path, renamed):
     """A GPS format whose week (or week time, or boot time) column is renamed (as a bit flip does: GWk → CWk):

@@ -7,10 +7,13 @@ The values are those pymavlink's ``DFMessage.to_dict`` gives, bit for bit: integ
 those pymavlink's ``recv_match(type=...)`` returns (a message cut off by the end of the file, and
 everything after it, is not read).
 
-Logs whose reading depends on pymavlink's internals beyond that (bytes that start no message,
-types redefined by a second FMT, two types of one name, a field the reader uses that holds text,
-FMT/FMTU content that makes pymavlink raise) are declined with :class:`NeedsReference`, and the
-caller reads them with pymavlink, so the result is the same either way.
+Bytes that start no message are stepped over as pymavlink's indexer does, and its printed reports
+of them are counted as it prints them ("bad header" per byte; "Skipped N bad bytes" per run its clock
+set-up walk passes, :meth:`DataFlashIndex.skipped_runs`). Logs whose reading depends on pymavlink's
+internals beyond that (types redefined by a second FMT, two types of one name, a field the reader
+uses that holds text, FMT/FMTU content that makes pymavlink raise) are declined with
+:class:`NeedsReference`, and the caller reads them with pymavlink, so the result is the same either
+way.
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
 #: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
 CLOCK_FIELDS = ("TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
                 "MainState", "Default", "BU")
+_CLOCK_FIELD_BYTES = tuple(name.encode() for name in CLOCK_FIELDS)
 #: Fields of the time stamps (``_times``; all clock fields), read besides the asked-for ones.
 _TIME_FIELDS = ("TimeUS", "T", "Week", "TimeMS")
 #: Format characters holding text, as bytes (the field tables hold characters as numbers).
@@ -163,8 +167,8 @@ class DataFlashIndex:
         if status != "ok":
             # pymavlink's indexer ends the program here (exit status 1); the fast reader refuses the log
             raise ValueError(f"{status} at byte {stop} (where pymavlink's indexer stops the program)")
-        if bad:
-            raise NeedsReference(f"{bad} bytes start no message")
+        #: Bytes that start no message, as pymavlink's indexer counts them (it prints "bad header" for each).
+        self.bad_headers = bad
         self.offsets, self.types = offsets, types
         self.final_lengths = lengths
         #: The fields of the field tables, in their column order.
@@ -197,6 +201,74 @@ class DataFlashIndex:
                         ("Week" not in have and "GWk" not in have and "Wk" not in have and "GPSTime" not in have) or \
                         ("T" not in have and "TimeUS" not in have):
                     raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
+
+    def skipped_runs(self) -> int:
+        """How many "Skipped N bad bytes" lines pymavlink prints reading this log: one per run of bad bytes
+        before a message that its clock set-up walk (``DFReader.init_clock``, every message from the start until
+        it settles on a clock) reaches, where 528 bytes or more of the file remain from that message on."""
+        if not self.bad_headers or self.offsets.size < 2:
+            return 0  # (a run printed is at least 528 bytes from the end, so its bytes are counted bad)
+        ends = self.offsets + self.final_lengths[self.types]
+        runs = np.flatnonzero((self.offsets[1:] > ends[:-1]) & (self.size - self.offsets[1:] >= 528)) + 1
+        if not runs.size:
+            return 0
+        return int(np.count_nonzero(runs <= self._clock_walk_end()))
+
+    def _clock_walk_end(self) -> int:
+        """Index of the message at which pymavlink's clock set-up walk stops (the last one if it reads on to
+        the end): a transcription of ``DFReader.init_clock`` with ``zero_time_base``, on the values pymavlink
+        gives (read in C)."""
+        problem, raw, names, _, _, chars, byte_offsets = decoder_module().dataflash_formats(
+            self.data, np.ascontiguousarray(self.offsets[self.types == 0x80]), None, _CLOCK_FIELD_BYTES)
+        if problem is not None:  # (the same FMT messages were read without a problem in __init__)
+            raise NeedsReference(problem)
+        last = self.offsets.size - 1
+        column = {name: k for k, name in enumerate(CLOCK_FIELDS)}
+        has_us = chars[:, column["TimeUS"]] != 0
+        first_us = np.flatnonzero(has_us[self.types])
+        first_us = int(first_us[0]) if first_us.size else last + 1
+        walked = [names[name] for name in ("GPS", "GPS2", "TIME") if name in names]
+        for type_id in walked[:-1] if "TIME" in names else walked:  # GPS, GPS2: their clock fields as numbers
+            if any(chars[type_id, column[field]] == ord("g") for field in CLOCK_FIELDS) or \
+                    any(chars[type_id, column[field]] in b"qQ" for field in ("TimeMS", "Week")):
+                raise NeedsReference(f"type {type_id}: a GPS time field pymavlink compares that is not exact")
+        tables = decoder_module().dataflash_columns(self.data, self.offsets, self.types, self.lengths, walked,
+                                                    chars, byte_offsets, list(range(len(CLOCK_FIELDS))),
+                                                    CLOCK_FIELDS)
+        gps = names.get("GPS")
+        modern = gps in tables and all(chars[gps, column[f]] for f in ("TimeUS", "GWk", "GMS"))
+        events = [(first_us, None, {})] if first_us <= last else []
+        for type_id, (mine, columns, _) in tables.items():
+            positions = np.searchsorted(self.offsets, mine)
+            for row, position in enumerate(positions.tolist()):
+                events.append((position, type_id, {name: values[row] for name, values in columns.items()}))
+        events.sort(key=lambda event: event[0])
+        first_us_seen = False
+        gps1 = None
+        px4_time = px4_gps = False
+        for position, type_id, values in events:
+            if not first_us_seen and has_us[self.types[position]]:
+                first_us_seen = True
+                if modern:
+                    return position
+            if type_id is None:
+                continue
+            if type_id in (names.get("GPS"), names.get("GPS2")):
+                if values.get("TimeUS", 0) != 0 and values.get("GWk", 0) != 0:
+                    return position
+                if values.get("T", 0) != 0 and values.get("Week", 0) != 0:
+                    return position
+                if values.get("GPSTime", 0) != 0:
+                    px4_gps = True
+                if values.get("Week", 0) != 0:
+                    if gps1 is not None and (gps1["TimeMS"] != values["TimeMS"] or gps1["Week"] != values["Week"]):
+                        return position
+                    gps1 = values
+            elif chars[type_id, column["StartTime"]]:  # TIME with a StartTime: px4-style logs
+                px4_time = True
+            if px4_time and px4_gps:
+                return position
+        return last
 
     def raw_chars(self, type_id: int) -> bytes:
         """The format characters of a type named in the index's names, as the FMT holds them."""
@@ -372,7 +444,8 @@ class ArrayRows:
         return field in self.first_fields
 
     def values(self, field: str) -> np.ndarray:
-        return self.columns.get(field, np.full(self.size, np.nan))
+        values = self.columns.get(field)
+        return np.full(self.size, np.nan) if values is None else values
 
     def times(self) -> np.ndarray:
         return self.time

@@ -187,8 +187,9 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
 
     Parameters
     ----------
-    wanted : collection of bytes
-        The names (ASCII, at most 64) whose formats are returned; the others are only checked.
+    wanted : collection of bytes, or None
+        The names (ASCII, at most 64) whose formats are returned; the others are only checked. None: every
+        type's.
     fields : sequence of bytes
         Column names (ASCII, at most 64) looked up in the wanted formats.
 
@@ -232,7 +233,8 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
     for k in range(nfields):
         field_names[k] = <const char *> field_list[k]
         field_lengths[k] = len(field_list[k])
-    for name in wanted:
+    cdef bint every_type = wanted is None
+    for name in (() if every_type else wanted):
         if nwanted == 64:
             raise ValueError("at most 64 wanted names")
         if len(name) > 4:  # (an FMT name has 4 bytes)
@@ -294,11 +296,12 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
             break
         length_view[body[0]] = body[1]
         column_view[body[0]] = ncommas + 1 if ncolumns > 0 else 0
-        for j in range(nwanted):
-            if wanted_keys[j] == key:
-                break
-        else:
-            continue
+        if not every_type:
+            for j in range(nwanted):
+                if wanted_keys[j] == key:
+                    break
+            else:
+                continue
         DataFlashColumnIndexes(body + 22, ncolumns, field_names, field_lengths, nfields, index)
         for j in range(nfields):
             if index[j] >= 0:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
-from typing import Callable, Dict, List, Optional
+from typing import Callable, Dict, List, NamedTuple, Optional
 
 import numpy as np
 
@@ -91,10 +91,11 @@ def read_dataflash(path: str, instance: Optional[int] = None,
                    progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
     """Read an ArduPilot DataFlash log (.bin) of any generation.
 
-    ``decoder="fast"`` (default) decodes in C (the extension); logs whose
-    reading depends on pymavlink's internals (damaged bytes, redefined
-    types) are then read with pymavlink, so the result never depends on the
-    decoder. ``decoder="pymavlink"`` always reads with pymavlink (the
+    ``decoder="fast"`` (default) decodes in C (the extension), damaged bytes
+    stepped over and reported as pymavlink does; logs whose reading depends
+    on pymavlink's internals further (types redefined by a second FMT, odd
+    formats) are then read with pymavlink, so the result never depends on
+    the decoder. ``decoder="pymavlink"`` always reads with pymavlink (the
     ``[logs]`` extra), the reference the fast decoder is tested against.
 
     Time stamps: ``TimeUS`` (µs) in current logs, ``TimeMS`` (ms) in
@@ -182,7 +183,8 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     parts, firmware = fast.read_families(index, KINDS, FIELDS_USED, select)
     rows = {family: fast.ArrayRows(parts.get(family, []), FIELDS_USED) for family in FAMILIES}
     size = len(data)
-    return _build_checked(path, rows, firmware, "", want, progress, size, lambda _: index.missing_bytes(data))
+    chatter = _Chatter(bad_headers=index.bad_headers, skipped=index.skipped_runs())
+    return _build_checked(path, rows, firmware, chatter, want, progress, size, lambda _: index.missing_bytes(data))
 
 
 def _read_pymavlink(path: str, want: int, progress) -> LogData:
@@ -241,14 +243,29 @@ def _read_pymavlink(path: str, want: int, progress) -> LogData:
         if handle is not None:
             handle.close()
     return _build_checked(path, {family: DictRows(found) for family, found in rows.items()}, firmware,
-                          chatter.getvalue(), want, progress, size)
+                          _Chatter.of(chatter.getvalue()), want, progress, size)
 
 
-def _build_checked(path, rows, firmware, chatter_text, want, progress, size,
+class _Chatter(NamedTuple):
+    """What pymavlink prints about damage while reading a log, counted: bytes that start no message ("bad header",
+    one line each), runs of them its clock set-up walk skips ("Skipped N bad bytes") and messages its bookkeeping
+    fails on ("bad msg")."""
+
+    bad_headers: int = 0
+    skipped: int = 0
+    bad_messages: int = 0
+
+    @classmethod
+    def of(cls, text: str) -> "_Chatter":
+        """The counts of pymavlink's printed text."""
+        return cls(text.count("bad header"), text.count("Skipped"), text.count("bad msg"))
+
+
+def _build_checked(path, rows, firmware, chatter, want, progress, size,
                    missing_bytes=dataflash_missing_bytes) -> LogData:
     """:func:`_build`, its errors on odd content as LogError naming the file."""
     try:
-        return _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes)
+        return _build(path, rows, firmware, chatter, want, progress, size, missing_bytes)
     except LogError:
         raise
     except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
@@ -320,7 +337,7 @@ def _fields_of(rows) -> List[str]:
     return list(rows.rows[0]) if isinstance(rows, DictRows) else list(rows.first_fields)
 
 
-def _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
+def _build(path, rows, firmware, chatter, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
     """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
         if not len(rows[needed]):
@@ -348,9 +365,9 @@ def _build(path, rows, firmware, chatter_text, want, progress, size, missing_byt
                    notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
                    + ([firmware] if firmware else []),
                    accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
-    skipped = chatter_text.count("bad msg") + chatter_text.count("Skipped") + damaged
-    if "bad header" in chatter_text:
-        data.warn(f"{path}: damaged bytes skipped ({chatter_text.count('bad header')} bad message headers)")
+    skipped = chatter.bad_messages + chatter.skipped + damaged
+    if chatter.bad_headers:
+        data.warn(f"{path}: damaged bytes skipped ({chatter.bad_headers} bad message headers)")
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if rows["BARO"].has("Press"):

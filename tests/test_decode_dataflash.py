@@ -203,6 +203,48 @@ def test_random_stray_byte_insertions_read_the_same_with_both_decoders(tmp_path,
         _assert_same_log(path)
 
 
+#: A second FMT for the BARO type: (name, format characters, columns), each padded as an FMT holds them.
+REDEFINITIONS = {
+    "columns-swapped": (b"BARO", b"QBffc", b"TimeUS,I,Press,Alt,Temp"),
+    "characters-changed": (b"BARO", b"QBffh", b"TimeUS,I,Alt,Press,Temp"),
+    "renamed": (b"BARX", b"QBffc", b"TimeUS,I,Alt,Press,Temp"),
+    "longer": (b"BARO", b"QBfff", b"TimeUS,I,Alt,Press,Temp"),
+}
+
+
+def _with_second_fmt(tmp_path, style, case, gps=True):
+    """A fixture with a second FMT for its BARO type (``REDEFINITIONS[case]``) in the middle of the log;
+    ``gps=False`` renames the GPS format (pymavlink's clock set-up walk then reads the second FMT too)."""
+    data = _fixture(tmp_path, style).read_bytes()
+    if not gps:
+        at = data.index(b"GPS\0")
+        data = data[:at] + b"X" + data[at + 1:]
+    first = data.index(b"\xa3\x95\x80" + bytes([132]))  # logfixtures' BARO type
+    name, chars, columns = REDEFINITIONS[case]
+    length = 3 + sum(np.dtype(fast.FORMAT_CHARS[c][0]).itemsize for c in chars.decode())
+    fmt = data[first:first + 4] + bytes([length]) + name.ljust(4, b"\0") + chars.ljust(16, b"\0") + \
+        columns.ljust(64, b"\0")
+    offsets = _decode.dataflash_index(np.frombuffer(data, dtype=np.uint8))[0]
+    at = int(offsets[offsets.size // 2])
+    return Path(fx.write_bytes(tmp_path / f"second-fmt-{case}.bin", data[:at] + fmt + data[at:]))
+
+
+@pytest.mark.parametrize("style", ["TimeMS", "TimeUS"])
+@pytest.mark.parametrize("case", sorted(REDEFINITIONS))
+@pytest.mark.parametrize("gps", [True, False])
+def test_a_type_defined_twice_reads_the_same_with_both_decoders(tmp_path, style, case, gps):
+    """pymavlink reads every message of a type with one format: the FMT its clock set-up walk read last (the
+    first, when the walk stops at the first GPS fix; the second, when it walks the whole log)."""
+    _assert_same_log(_with_second_fmt(tmp_path, style, case, gps))
+
+
+@pytest.mark.parametrize("case", ["columns-swapped", "characters-changed"])
+@pytest.mark.parametrize("gps", [True, False])
+def test_a_type_defined_twice_with_its_name_and_length_is_decoded_in_c(tmp_path, case, gps):
+    data = dataflash._read_fast(str(_with_second_fmt(tmp_path, "TimeUS", case, gps)), 0, None)
+    assert data.time.size > 0
+
+
 @pytest.mark.parametrize("renamed", [b"GWk", b"GMS", b"TimeUS"])
 def test_gps_without_a_clock_field_pymavlink_reads_gives_the_same_warnings(tmp_path, renamed):
     """A GPS format whose week (or week time, or boot time) column is renamed (as a bit flip does: GWk → CWk):

@@ -218,7 +218,7 @@ class DataFlashIndex:
         """Index of the message at which pymavlink's clock set-up walk stops (the last one if it reads on to
         the end): a transcription of ``DFReader.init_clock`` with ``zero_time_base``, on the values pymavlink
         gives (read in C)."""
-        problem, raw, names, _, _, chars, byte_offsets = decoder_module().dataflash_formats(
+        problem, raw, names, _, _, chars, byte_offsets, _ = decoder_module().dataflash_formats(
             self.data, np.ascontiguousarray(self.offsets[self.types == 0x80]), None, _CLOCK_FIELD_BYTES)
         if problem is not None:  # (the same FMT messages were read without a problem in __init__)
             raise NeedsReference(problem)
@@ -261,6 +261,8 @@ class DataFlashIndex:
                 if values.get("GPSTime", 0) != 0:
                     px4_gps = True
                 if values.get("Week", 0) != 0:
+                    if "TimeMS" not in values:  # pymavlink's clock set-up raises (AttributeError)
+                        raise NeedsReference("a GPS message with a Week but no numeric TimeMS")
                     if gps1 is not None and (gps1["TimeMS"] != values["TimeMS"] or gps1["Week"] != values["Week"]):
                         return position
                     gps1 = values
@@ -293,10 +295,15 @@ class DataFlashIndex:
         in C (:func:`_decode.dataflash_formats`), made :class:`Format` objects only when a type is asked for."""
         fmt_offsets = np.ascontiguousarray(self.offsets[self.types == 0x80])
         wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
-        problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets = \
-            decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, [f.encode() for f in self.fields])
+        fields = [f.encode() for f in self.fields]
+        problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
+            redefined = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields)
         if problem is not None:
             raise NeedsReference(problem)
+        if redefined:  # each such type takes the FMT pymavlink's clock set-up walk read last
+            walked_to = int(self.offsets[self._clock_walk_end()])
+            problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
+                _ = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields, walked_to)
         self._raw_formats = raw
         self.formats = Formats(raw)
         present = np.bincount(self.types, minlength=256).astype(bool)

@@ -358,4 +358,30 @@ static inline int DataFlashNameSeen(uint64_t *const slots, const uint32_t key) {
     }
 }
 
+/*
+ * The struct code pymavlink unpacks format character c with (FORMAT_TO_STRUCT):
+ * characters of one code read the same bytes the same way (c and h, e and i, ...)
+ * and differ at most in their multiplier. 0 if pymavlink does not read c.
+ */
+static inline uint8_t DataFlashCharStruct(const uint8_t c) {
+    switch (c) {
+        case 'b': case 'M':
+            return 'b';
+        case 'h': case 'c':
+            return 'h';
+        case 'H': case 'C':
+            return 'H';
+        case 'i': case 'e': case 'L':
+            return 'i';
+        case 'I': case 'E':
+            return 'I';
+        case 'a': case 'Z':
+            return 'Z';
+        case 'B': case 'g': case 'f': case 'n': case 'N': case 'd': case 'q': case 'Q':
+            return c;
+        default:
+            return 0;
+    }
+}
+
 #endif

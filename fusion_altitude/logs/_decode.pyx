@@ -40,6 +40,7 @@ cdef extern from "_dataflash_scan.h":
                                           size_t fieldOffset, uint8_t formatChar, double *out) nogil
     enum: DATAFLASH_NAME_SLOTS
     uint32_t DataFlashNameKey(const uint8_t *name) nogil
+    uint8_t DataFlashCharStruct(uint8_t c) nogil
     int DataFlashNameSeen(uint64_t *slots, uint32_t key) nogil
 
 #: Status names of :func:`dataflash_index`.
@@ -177,13 +178,15 @@ cdef bint _columns_are_words(const uint8_t *text, size_t length) noexcept nogil:
     return word > 0
 
 
-def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, wanted, fields):
+def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, wanted, fields,
+                      uint64_t last_walked=0xFFFFFFFFFFFFFFFF):
     """The FMT messages at ``offsets`` (in file order), checked as pymavlink's ``DFFormat`` would take them.
 
     Reading stops at an FMT cut off by the end of ``data`` (as pymavlink's indexer). Each FMT is checked in C:
     its format characters are ones pymavlink reads, their sizes add up to its length (bytes, header included),
-    it names no more columns than it has characters, its type was not defined before, its name is ASCII without
-    a backslash (so that names equal exactly when pymavlink's decoded names do) and no other type has it.
+    it names no more columns than it has characters, its name is ASCII without a backslash (so that names equal
+    exactly when pymavlink's decoded names do) and no other type has it. A type may be defined again by a later
+    FMT of the same name, length and struct codes (see ``redefined``).
 
     Parameters
     ----------
@@ -212,12 +215,22 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         has no such column.
     field_offsets : ndarray of int32, shape (256, len(fields))
         Byte of each field in a body (after the 3-byte header), -1 where absent.
+    redefined : list of int
+        The types defined again by a later FMT (each time).
+
+    A type defined again takes the last FMT at or before byte ``last_walked`` (where pymavlink's clock set-up
+    walk stopped: it reads the FMT messages it passes), else its last FMT.
     """
     cdef size_t size = data.shape[0]
     cdef size_t count = offsets.shape[0]
     cdef size_t k, j, nchars, ncolumns, ncommas, total, nfields
     cdef const uint8_t *body
     cdef int seen[256]
+    cdef bint redefined
+    cdef uint32_t seen_keys[256]
+    cdef uint64_t taken_offsets[256]
+    cdef uint8_t seen_structs[256][16]
+    redefined_types = []
     cdef uint64_t slots[DATAFLASH_NAME_SLOTS]
     cdef uint32_t wanted_keys[64]
     cdef size_t nwanted = 0
@@ -260,10 +273,20 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         if offsets[k] + 89 > size:
             break
         body = &data[0] + offsets[k] + 3
-        if seen[body[0]]:
-            problem = f"type {body[0]} defined twice"
-            break
+        redefined = seen[body[0]]
+        if redefined:
+            problem = _redefinition_problem(body, &data[0] + taken_offsets[body[0]] + 3, &seen_structs[body[0]][0],
+                                            seen_keys[body[0]], length_view[body[0]])
+            if problem is not None:
+                break
+            redefined_types.append(body[0])
+            if taken_offsets[body[0]] <= last_walked and offsets[k] > last_walked:
+                continue  # pymavlink's clock set-up walk left the type at the FMT it read last
         seen[body[0]] = 1
+        seen_keys[body[0]] = DataFlashNameKey(body + 2)
+        taken_offsets[body[0]] = offsets[k]
+        for j in range(16):
+            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < _text_length(body + 6, 16) else 0
         nchars = _text_length(body + 6, 16)
         total = 3
         for j in range(nchars):
@@ -291,7 +314,7 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         if problem is not None:
             break
         key = DataFlashNameKey(body + 2)
-        if DataFlashNameSeen(slots, key):
+        if not redefined and DataFlashNameSeen(slots, key):
             problem = f"two types named {body[2:2 + _text_length(body + 2, 4)]!r}"
             break
         length_view[body[0]] = body[1]
@@ -304,6 +327,8 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
                 continue
         DataFlashColumnIndexes(body + 22, ncolumns, field_names, field_lengths, nfields, index)
         for j in range(nfields):
+            char_view[body[0], j] = 0  # (a redefinition replaces the earlier format's fields)
+            offset_view[body[0], j] = -1
             if index[j] >= 0:
                 char_view[body[0], j] = body[6 + index[j]]
                 offset_view[body[0], j] = <int32_t> DataFlashFieldOffset(body + 6, <size_t> index[j])
@@ -311,7 +336,34 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         names[name] = body[0]
         formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns],
                             _columns_are_words(body + 22, ncolumns))
-    return problem, formats, names, lengths, column_counts, field_chars, field_offsets
+    return problem, formats, names, lengths, column_counts, field_chars, field_offsets, redefined_types
+
+
+cdef _redefinition_problem(const uint8_t *body, const uint8_t *before, const uint8_t *structs, uint32_t key,
+                           uint64_t length):
+    """Why a second FMT (``body``) for a type defined before (its struct codes, name key and length) needs
+    pymavlink's own reading, or None: pymavlink unpacks a type's messages with the struct of the first format it
+    used for them and takes names and multipliers from the format its clock set-up walk read last, so only a
+    format of the same name, length and struct codes is read here, and none of the types the walk reads (GPS,
+    GPS2, TIME), and with a TimeUS column if and only if ``before`` (the body of the FMT taken so far) has one (the
+    walk stops at the first message with one)."""
+    cdef size_t j
+    cdef const char *time_us = b"TimeUS"
+    cdef size_t time_us_length = 6
+    cdef int16_t now_index, before_index
+    cdef size_t nchars = _text_length(body + 6, 16)
+    if DataFlashNameKey(body + 2) != key or body[1] != length:
+        return f"type {body[0]} redefined with another name or length"
+    for j in range(16):
+        if (DataFlashCharStruct(body[6 + j]) if j < nchars else 0) != structs[j]:
+            return f"type {body[0]} redefined with other value types"
+    if body[2:2 + _text_length(body + 2, 4)] in (b"GPS", b"GPS2", b"TIME"):
+        return f"type {body[0]} ({body[2:5]!r}) redefined: pymavlink's clock set-up reads it"
+    DataFlashColumnIndexes(body + 22, _text_length(body + 22, 64), &time_us, &time_us_length, 1, &now_index)
+    DataFlashColumnIndexes(before + 22, _text_length(before + 22, 64), &time_us, &time_us_length, 1, &before_index)
+    if (now_index < 0) != (before_index < 0):
+        return f"type {body[0]} redefined with or without a TimeUS column"
+    return None
 
 
 def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,

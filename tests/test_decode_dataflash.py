@@ -267,6 +267,23 @@ def test_the_other_formats_reference_decoder_is_refused(shared_logs):
         logs.load_log(str(shared_logs / "ardupilot_test.BIN"), decoder="pyulog")
 
 
+def test_every_scanner_fuzz_corpus_file_reads_the_same_with_both_decoders():
+    """csrc/fuzz/corpus_dataflash (libFuzzer's mutations of the fixtures, stray bytes and redefined types among
+    them): the same LogData, warnings or error both ways; a file on which pymavlink's indexer would end the
+    process is refused by the fast decoder with LogError."""
+    corpus = sorted((Path(__file__).resolve().parents[1] / "csrc" / "fuzz" / "corpus_dataflash").iterdir())
+    assert len(corpus) >= 5
+    for path in corpus:
+        data = path.read_bytes()
+        status = _decode.dataflash_index(np.frombuffer(data, dtype=np.uint8))[3] if data else "ok"
+        if status != "ok" and data[:2] == dataflash.DATAFLASH_MAGIC:
+            with pytest.raises(logs.LogError, match="where pymavlink's indexer stops the program"):
+                dataflash.read_dataflash(str(path))
+            continue
+        if status == "ok":
+            _assert_same_log(path)
+
+
 def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
     """csrc/fuzz/fuzz_dataflash.c over csrc/fuzz/corpus_dataflash: the C scanner equals its byte-at-a-time
     transcription of pymavlink's indexer and reads nothing outside the log."""

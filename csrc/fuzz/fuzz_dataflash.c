@@ -123,21 +123,12 @@ static double ReferenceValue(const uint8_t *p, uint8_t c) {
     }
 }
 
-/* The format lookups and the column reader on every whole FMT message of the scan, and the split by type. */
-static void CheckFormats(const uint8_t *data, size_t size, const uint64_t *offsets, const uint8_t *types,
-                         size_t count) {
-    size_t lengths[FIELD_COUNT];
-    uint32_t keys[512];
-    size_t keyCount = 0;
-    uint64_t slots[DATAFLASH_NAME_SLOTS];
-    size_t counts[256];
-    uint64_t *rows[256];
+/* DataFlashCountTypes and DataFlashSplit against a filter; rows[t] (NULL for every third type: dropped) is
+ * left holding type t's offsets, counts[t] their number. */
+static void CheckSplit(const uint64_t *offsets, const uint8_t *types, size_t count, size_t *counts,
+                       uint64_t **rows) {
     size_t k;
     size_t j;
-    memset(slots, 0, sizeof(slots));
-    for (j = 0; j < FIELD_COUNT; j++) {
-        lengths[j] = strlen(fieldNames[j]);
-    }
     DataFlashCountTypes(types, count, counts);
     for (j = 0; j < 256; j++) {
         size_t expected = 0;
@@ -159,81 +150,113 @@ static void CheckFormats(const uint8_t *data, size_t size, const uint64_t *offse
             }
         }
     }
+}
+
+/* DataFlashColumn of the field `formatChar` at `offset` bytes into the body of the messages at rows[0 .. count)
+ * (total: their length with the header, by the FMT read), against ReferenceValue. */
+static void CheckColumn(const uint8_t *data, size_t size, const uint64_t *rows, size_t count, size_t total,
+                        size_t offset, uint8_t formatChar) {
+    double *values = (double *) malloc(count * sizeof(double) + 1);
+    size_t whole = 0;
+    DataFlashColumnStatus status;
+    size_t row;
+    CHECK(values != NULL);
+    while (whole < count && rows[whole] + total <= size) {
+        whole++;
+    }
+    status = DataFlashColumn(data, size, rows, whole, offset, formatChar, values);
+    if (DataFlashCharIsText(formatChar) || formatChar == 'g') {
+        CHECK(status == DataFlashColumnNotNumeric);
+        free(values);
+        return;
+    }
+    CHECK(status == DataFlashColumnOk);
+    for (row = 0; row < whole; row++) {
+        const double expected = ReferenceValue(data + rows[row] + 3 + offset, formatChar);
+        CHECK(memcmp(&values[row], &expected, sizeof(double)) == 0);
+    }
+    if (whole < count && rows[whole] + 3 + offset + DataFlashCharSize(formatChar) > size) {
+        /* a field past the end of the data is refused, not read */
+        CHECK(DataFlashColumn(data, size, rows + whole, 1, offset, formatChar, values) == DataFlashColumnOutside);
+    }
+    free(values);
+}
+
+/* The lookups on one whole FMT message (body: its 86 bytes after the header), and the column reader on the
+ * messages of the type it defines (rows[type], counts[type]). */
+static void CheckFormatMessage(const uint8_t *data, size_t size, const uint8_t *body, const size_t *counts,
+                               uint64_t *const *rows) {
+    size_t lengths[FIELD_COUNT];
+    int16_t index[FIELD_COUNT];
+    size_t nchars = 0;
+    size_t ncolumns = 0;
+    size_t total = 3;
+    int valid = 1;
+    size_t j;
+    while (nchars < 16 && body[6 + nchars] != 0) {
+        const size_t bytes = DataFlashCharSize(body[6 + nchars]);
+        CHECK((bytes == 0) == (DataFlashCharStruct(body[6 + nchars]) == 0));
+        valid = valid && (bytes > 0);
+        total += bytes;
+        nchars++;
+    }
+    while (ncolumns < 64 && body[22 + ncolumns] != 0) {
+        ncolumns++;
+    }
+    for (j = 0; j < FIELD_COUNT; j++) {
+        lengths[j] = strlen(fieldNames[j]);
+    }
+    DataFlashColumnIndexes(body + 22, ncolumns, fieldNames, lengths, FIELD_COUNT, index);
+    for (j = 0; j < FIELD_COUNT; j++) {
+        size_t offset = 0;
+        size_t c;
+        CHECK(index[j] == ReferenceColumn(body + 22, ncolumns, fieldNames[j]));
+        if (index[j] < 0 || (size_t) index[j] >= nchars || !valid) {
+            continue;
+        }
+        for (c = 0; c < (size_t) index[j]; c++) {
+            offset += DataFlashCharSize(body[6 + c]);
+        }
+        CHECK(DataFlashFieldOffset(body + 6, (size_t) index[j]) == offset);
+        CHECK(offset < total);
+        if (rows[body[0]] != NULL) {
+            CheckColumn(data, size, rows[body[0]], counts[body[0]], total, offset, body[6 + index[j]]);
+        }
+    }
+}
+
+/* The format lookups and the column reader on every whole FMT message of the scan, the name hash against a
+ * linear search, and the split by type. */
+static void CheckFormats(const uint8_t *data, size_t size, const uint64_t *offsets, const uint8_t *types,
+                         size_t count) {
+    uint32_t keys[DATAFLASH_NAME_SLOTS];
+    size_t keyCount = 0;
+    uint64_t slots[DATAFLASH_NAME_SLOTS];
+    size_t counts[256];
+    uint64_t *rows[256];
+    size_t k;
+    size_t j;
+    memset(slots, 0, sizeof(slots));
+    CheckSplit(offsets, types, count, counts, rows);
     for (k = 0; k < count; k++) {
-        const uint8_t *body;
-        size_t nchars = 0;
-        size_t ncolumns = 0;
-        size_t total = 3;
-        int valid = 1;
-        int16_t index[FIELD_COUNT];
         uint32_t key;
         size_t seenBefore = 0;
         if (types[k] != DATAFLASH_FMT_TYPE || offsets[k] + DATAFLASH_FMT_LENGTH > size) {
             continue;
         }
-        body = data + offsets[k] + 3;
-        while (nchars < 16 && body[6 + nchars] != 0) {
-            const size_t bytes = DataFlashCharSize(body[6 + nchars]);
-            CHECK((bytes == 0) == (DataFlashCharStruct(body[6 + nchars]) == 0));
-            valid = valid && (bytes > 0);
-            total += bytes;
-            nchars++;
-        }
-        while (ncolumns < 64 && body[22 + ncolumns] != 0) {
-            ncolumns++;
-        }
-        key = DataFlashNameKey(body + 2);
+        key = DataFlashNameKey(data + offsets[k] + 5);
         for (j = 0; j < keyCount; j++) {
             seenBefore = seenBefore || (keys[j] == key);
         }
-        CHECK(DataFlashNameSeen(slots, key) == (int) seenBefore);
-        if (!seenBefore && keyCount < 512) {
-            keys[keyCount++] = key;
+        if (keyCount < DATAFLASH_NAME_SLOTS) {
+            CHECK(DataFlashNameSeen(slots, key) == (int) seenBefore);
+            if (!seenBefore) {
+                keys[keyCount++] = key;
+            }
+        } else {
+            CHECK(DataFlashNameSeen(slots, key) == (seenBefore ? 1 : -1));
         }
-        DataFlashColumnIndexes(body + 22, ncolumns, fieldNames, lengths, FIELD_COUNT, index);
-        for (j = 0; j < FIELD_COUNT; j++) {
-            size_t offset = 0;
-            size_t c;
-            size_t type;
-            CHECK(index[j] == ReferenceColumn(body + 22, ncolumns, fieldNames[j]));
-            if (index[j] < 0 || (size_t) index[j] >= nchars || !valid) {
-                continue;
-            }
-            for (c = 0; c < (size_t) index[j]; c++) {
-                offset += DataFlashCharSize(body[6 + c]);
-            }
-            CHECK(DataFlashFieldOffset(body + 6, (size_t) index[j]) == offset);
-            CHECK(offset < total);
-            /* the messages of the type this FMT defines, read with its format (whole ones only) */
-            type = body[0];
-            if (rows[type] != NULL) {
-                const uint8_t formatChar = body[6 + index[j]];
-                double *values = (double *) malloc(counts[type] * sizeof(double) + 1);
-                size_t whole = 0;
-                DataFlashColumnStatus status;
-                CHECK(values != NULL);
-                while (whole < counts[type] && rows[type][whole] + total <= size) {
-                    whole++;
-                }
-                status = DataFlashColumn(data, size, rows[type], whole, offset, formatChar, values);
-                if (DataFlashCharIsText(formatChar) || formatChar == 'g') {
-                    CHECK(status == DataFlashColumnNotNumeric);
-                } else {
-                    size_t row;
-                    CHECK(status == DataFlashColumnOk);
-                    for (row = 0; row < whole; row++) {
-                        const double expected = ReferenceValue(data + rows[type][row] + 3 + offset, formatChar);
-                        CHECK(memcmp(&values[row], &expected, sizeof(double)) == 0);
-                    }
-                    if (whole < counts[type] && rows[type][whole] + 3 + offset + DataFlashCharSize(formatChar) > size) {
-                        /* a field past the end of the data is refused, not read */
-                        CHECK(DataFlashColumn(data, size, rows[type] + whole, 1, offset, formatChar, values) ==
-                              DataFlashColumnOutside);
-                    }
-                }
-                free(values);
-            }
-        }
+        CheckFormatMessage(data, size, data + offsets[k] + 3, counts, rows);
     }
     for (j = 0; j < 256; j++) {
         free(rows[j]);

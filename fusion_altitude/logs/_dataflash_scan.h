@@ -341,12 +341,14 @@ static inline uint32_t DataFlashNameKey(const uint8_t *const name) {
 
 /*
  * Whether `key` was met before in `slots` (DATAFLASH_NAME_SLOTS entries,
- * zeroed before the first call); adds it if not. Open addressing: at most
- * 256 keys, so a free slot is always found.
+ * zeroed before the first call): 1 if so, else 0 and it is added; -1 if the
+ * table is full (more keys than slots: a log has at most 256, one per type).
+ * Open addressing.
  */
 static inline int DataFlashNameSeen(uint64_t *const slots, const uint32_t key) {
     size_t slot = (size_t) ((key * 2654435761u) % DATAFLASH_NAME_SLOTS);
-    for (;;) {
+    size_t probe;
+    for (probe = 0; probe < DATAFLASH_NAME_SLOTS; probe++) {
         if (slots[slot] == 0) {
             slots[slot] = (uint64_t) key + 1;
             return 0;
@@ -356,6 +358,7 @@ static inline int DataFlashNameSeen(uint64_t *const slots, const uint32_t key) {
         }
         slot = (slot + 1) % DATAFLASH_NAME_SLOTS;
     }
+    return -1;
 }
 
 /*

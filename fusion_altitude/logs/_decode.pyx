@@ -314,7 +314,7 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         if problem is not None:
             break
         key = DataFlashNameKey(body + 2)
-        if not redefined and DataFlashNameSeen(slots, key):
+        if not redefined and DataFlashNameSeen(slots, key) != 0:  # (-1, a full table, cannot happen: 256 types)
             problem = f"two types named {body[2:2 + _text_length(body + 2, 4)]!r}"
             break
         length_view[body[0]] = body[1]

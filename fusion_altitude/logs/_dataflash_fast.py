@@ -467,16 +467,24 @@ class ArrayRows:
         return self
 
 
+def time_of(fields: Mapping):
+    """Boot time of a message (or of every message of a type, given its columns), s: ``TimeUS`` (µs, current
+    logs), else GPS's ``T`` (ms boot time in old logs, whose ``TimeMS`` is the GPS week time), else ``TimeMS``
+    (ms, ArduCopter ≤ 3.3); None without any."""
+    if "TimeUS" in fields:
+        return fields["TimeUS"] * 1e-6
+    if "T" in fields and "Week" in fields:
+        return fields["T"] * 1e-3
+    if "TimeMS" in fields:
+        return fields["TimeMS"] * 1e-3
+    return None
+
+
 def _times(columns: Dict[str, np.ndarray], count: int) -> np.ndarray:
-    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3
-    (``columns``: the float64 columns of the fields the type has, its time fields among them)."""
-    if "TimeUS" in columns:
-        return columns["TimeUS"] * 1e-6
-    if "T" in columns and "Week" in columns:
-        return columns["T"] * 1e-3
-    if "TimeMS" in columns:
-        return columns["TimeMS"] * 1e-3
-    return np.full(count, np.nan)
+    """:func:`time_of` of every message of one type, s (``columns``: the float64 columns of the fields the type
+    has, its time fields among them); NaN without a time field."""
+    times = time_of(columns)
+    return np.full(count, np.nan) if times is None else times
 
 
 def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequence[str],

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..sensors import vertical_acceleration
 from ._binary_args import checked_instance
+from ._dataflash_fast import time_of as _time_of
 from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
 from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 
@@ -20,18 +21,6 @@ DATAFLASH_MAGIC = b"\xa3\x95"
 _OLD_INSTANCE_NAMES = {"IMU": ["IMU", "IMU2", "IMU3"], "BARO": ["BARO", "BAR2", "BAR3"], "GPS": ["GPS", "GPS2"]}
 #: GPS ``Status`` at or above this is a 3D fix.
 GPS_3D_FIX = 3
-
-
-def _time_of(fields: dict) -> Optional[float]:
-    """Boot time of a message, s: ``TimeUS`` (µs, current logs), else GPS's ``T`` (ms boot time in old
-    logs, whose ``TimeMS`` is the GPS week time), else ``TimeMS`` (ms, ArduCopter ≤ 3.3)."""
-    if "TimeUS" in fields:
-        return fields["TimeUS"] * 1e-6
-    if "T" in fields and "Week" in fields:
-        return fields["T"] * 1e-3
-    if "TimeMS" in fields:
-        return fields["TimeMS"] * 1e-3
-    return None
 
 
 @contextlib.contextmanager

@@ -64,9 +64,9 @@ def decode_fast(path: str) -> dict:
     from fusion_altitude.logs import dataflash
 
     data = Path(path).read_bytes()
-    index = fast.DataFlashIndex(data, path)
+    index = fast.DataFlashIndex(data, path, dataflash.KINDS, dataflash.FIELDS_USED)
     parts, _ = fast.read_families(index, dataflash.KINDS, dataflash.FIELDS_USED,
-                                  lambda kind, fmt, table: (kind, np.ones(table.size, dtype=bool)))
+                                  lambda kind, columns, count: (kind, None))
     return {family: fast.ArrayRows(parts.get(family, []), dataflash.FIELDS_USED) for family in parts}
 
 

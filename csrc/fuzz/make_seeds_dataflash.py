@@ -1,5 +1,5 @@
 """Seeds of csrc/fuzz/fuzz_dataflash.c: the DataFlash test fixtures (TimeMS and TimeUS generations, one with a
-damaged tail), short so that the fuzzer mutates whole logs. Run from the repository root:
+damaged tail, one with stray bytes, one with a type defined twice), short so that the fuzzer mutates whole logs. Run from the repository root:
 ``python csrc/fuzz/make_seeds_dataflash.py``."""
 
 import hashlib
@@ -29,9 +29,26 @@ def write_seeds(corpus: Path, write, cases, suffix: str) -> None:
             (corpus / hashlib.sha1(data).hexdigest()).write_bytes(data)
 
 
+def damaged_seeds(corpus: Path) -> None:
+    """Two seeds of what the fast decoder reads since issue 25 item 2: stray bytes between messages (runs of zeros
+    and of header-like bytes) and a second FMT for the BARO type (its columns swapped)."""
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "seed.bin"
+        fx.write_dataflash(path, style="TimeUS", **SHORT)
+        data = path.read_bytes()
+    fmt_at = data.index(b"\xa3\x95\x80" + bytes([132]))  # logfixtures' BARO type
+    second = data[fmt_at:fmt_at + 25] + b"TimeUS,I,Press,Alt,Temp".ljust(64, b"\0")
+    middle = len(data) // 2
+    middle = data.index(b"\xa3\x95", middle)
+    stray = data[:89] + b"\0\0\0" + data[89:middle] + b"\xa3\x00\x95\xa3" + data[middle:]
+    for seed in (stray, data[:middle] + second + data[middle:]):
+        (corpus / hashlib.sha1(seed).hexdigest()).write_bytes(seed)
+
+
 def main() -> None:
     cases = [dict(style="TimeMS"), dict(style="TimeUS"), dict(style="TimeUS", corrupt_tail=True, repeat_every=3)]
     write_seeds(CORPUS, fx.write_dataflash, cases, ".bin")
+    damaged_seeds(CORPUS)
 
 
 if __name__ == "__main__":

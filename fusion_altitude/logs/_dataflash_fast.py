@@ -7,17 +7,21 @@ The values are those pymavlink's ``DFMessage.to_dict`` gives, bit for bit: integ
 those pymavlink's ``recv_match(type=...)`` returns (a message cut off by the end of the file, and
 everything after it, is not read).
 
-Logs whose reading depends on pymavlink's internals beyond that (bytes that start no message,
-types redefined by a second FMT, two types of one name, a field the reader uses that holds text,
-FMT/FMTU content that makes pymavlink raise) are declined with :class:`NeedsReference`, and the
-caller reads them with pymavlink, so the result is the same either way.
+Bytes that start no message are stepped over as pymavlink's indexer does, and its printed reports
+of them are counted as it prints them ("bad header" per byte; "Skipped N bad bytes" per run its clock
+set-up walk passes, :meth:`DataFlashIndex.skipped_runs`). Logs whose reading depends on pymavlink's
+internals beyond that (types redefined by a second FMT, two types of one name, a field the reader
+uses that holds text, FMT/FMTU content that makes pymavlink raise) are declined with
+:class:`NeedsReference`, and the caller reads them with pymavlink, so the result is the same either
+way.
 """
 
 from __future__ import annotations
 
+import functools
 import importlib
 from collections.abc import Mapping
-from typing import Dict, Iterable, List, Sequence
+from typing import Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
 
@@ -36,8 +40,15 @@ TEXT_CHARS = set("anNZ")
 #: Types pymavlink's ``recv_match`` always walks besides the asked-for ones (it stops at the first cut-off one).
 ALWAYS_WALKED = ("MODE", "MSG", "PARM", "STAT", "ORGN", "VER")
 #: Fields pymavlink's clocks and message bookkeeping compute with: text in them makes it skip messages.
-CLOCK_FIELDS = {"TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
-                "MainState", "Default", "BU"}
+CLOCK_FIELDS = ("TimeUS", "TimeMS", "T", "Week", "GWk", "GMS", "Wk", "TWk", "GPSTime", "StartTime", "ModeNum",
+                "MainState", "Default", "BU")
+_CLOCK_FIELD_BYTES = tuple(name.encode() for name in CLOCK_FIELDS)
+#: Fields of the time stamps (``_times``; all clock fields), read besides the asked-for ones.
+_TIME_FIELDS = ("TimeUS", "T", "Week", "TimeMS")
+#: Format characters holding text, as bytes (the field tables hold characters as numbers).
+_TEXT_BYTES = frozenset(b"anNZ")
+#: Types the FMTU/UNIT/MULT checks read besides the asked-for ones.
+_UNIT_NAMES = ("FMTU", "UNIT", "MULT")
 
 
 class NeedsReference(Exception):
@@ -106,7 +117,8 @@ class Format:
 
 
 class Formats(Mapping):
-    """type → :class:`Format` of a log's FMT messages, each built from its raw fields when first asked for."""
+    """type → :class:`Format` of a log's FMT messages of the names asked for, each built from its raw fields when
+    first asked for."""
 
     def __init__(self, raw: Dict[int, tuple]) -> None:
         self._raw = raw
@@ -123,6 +135,17 @@ class Formats(Mapping):
             self._built[type_id] = fmt
         return fmt
 
+    def name(self, type_id: int) -> str:
+        """The name of a type (without building its Format)."""
+        return self._raw[type_id][0]
+
+    def has_column(self, type_id: int, column: str) -> bool:
+        """Whether a type has a column of that name (without building its Format)."""
+        fmt = self._built.get(type_id)
+        if fmt is not None:
+            return column in fmt.colhash
+        return column.encode() in self._raw[type_id][3].split(b",")
+
     def __iter__(self):
         return iter(self._raw)
 
@@ -131,9 +154,11 @@ class Formats(Mapping):
 
 
 class DataFlashIndex:
-    """The messages of a DataFlash log: where each starts, of which type, and the formats (from FMT)."""
+    """The messages of a DataFlash log: where each starts, of which type, and the formats (from FMT) of the types
+    named in ``names`` (and those pymavlink always walks or the unit checks read), with the byte and format
+    character of each of ``fields`` (and the clock fields) in them; every FMT is checked."""
 
-    def __init__(self, data, path: str) -> None:
+    def __init__(self, data, path: str, names: Iterable[str] = (), fields: Iterable[str] = ()) -> None:
         _decode = decoder_module()
         self.data = np.frombuffer(data, dtype=np.uint8)
         self.size = self.data.size
@@ -142,35 +167,114 @@ class DataFlashIndex:
         if status != "ok":
             # pymavlink's indexer ends the program here (exit status 1); the fast reader refuses the log
             raise ValueError(f"{status} at byte {stop} (where pymavlink's indexer stops the program)")
-        if bad:
-            raise NeedsReference(f"{bad} bytes start no message")
+        #: Bytes that start no message, as pymavlink's indexer counts them (it prints "bad header" for each).
+        self.bad_headers = bad
         self.offsets, self.types = offsets, types
         self.final_lengths = lengths
-        self._read_formats()
+        #: The fields of the field tables, in their column order.
+        self.fields = tuple(dict.fromkeys((*CLOCK_FIELDS, *fields)))
+        self.field_column = {name: k for k, name in enumerate(self.fields)}
+        self._read_formats(names)
         self._check_units()
 
     def check_clock(self, names: Iterable[str]) -> None:
         """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
         "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
         without the partner of their week field, without any week field (its GPS-interpolated clock multiplies
-        a missing week) or without a boot time."""
+        a missing week) or without a boot time. (Each format's clock fields were looked up in C.)"""
+        clock = len(CLOCK_FIELDS)  # the clock fields are the first columns of the field tables
         for name in set(names) | set(ALWAYS_WALKED):
-            if name not in self.name_to_id:
+            type_id = self.name_to_id.get(name)
+            if type_id is None:
                 continue
-            fmt = self.formats[self.name_to_id[name]]
-            if fmt.columns and not fmt.columns_are_words:
+            _, _, _, columns, words = self._raw_formats[type_id]
+            if columns and not words:
                 raise NeedsReference(f"{name}: a column name that is not a word")
-            for column_name in CLOCK_FIELDS.intersection(fmt.colhash):
-                if fmt.char_of(column_name) in TEXT_CHARS:
-                    raise NeedsReference(f"{name}.{column_name} holds text")
+            chars = self.field_chars[type_id, :clock].tobytes()
+            if not _TEXT_BYTES.isdisjoint(chars):
+                raise NeedsReference(f"{name}: a time field holds text")
             if name in ("GPS", "GPS2"):
-                have = set(fmt.columns)
+                have = {field for field, char in zip(CLOCK_FIELDS, chars) if char}
                 if ("Week" in have and "TimeMS" not in have) or \
                         ("Week" not in have and "GWk" in have and "GMS" not in have) or \
                         ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
                         ("Week" not in have and "GWk" not in have and "Wk" not in have and "GPSTime" not in have) or \
                         ("T" not in have and "TimeUS" not in have):
                     raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
+
+    def skipped_runs(self) -> int:
+        """How many "Skipped N bad bytes" lines pymavlink prints reading this log: one per run of bad bytes
+        before a message that its clock set-up walk (``DFReader.init_clock``, every message from the start until
+        it settles on a clock) reaches, where 528 bytes or more of the file remain from that message on."""
+        if not self.bad_headers or self.offsets.size < 2:
+            return 0  # (a run printed is at least 528 bytes from the end, so its bytes are counted bad)
+        ends = self.offsets + self.final_lengths[self.types]
+        runs = np.flatnonzero((self.offsets[1:] > ends[:-1]) & (self.size - self.offsets[1:] >= 528)) + 1
+        if not runs.size:
+            return 0
+        return int(np.count_nonzero(runs <= self._clock_walk_end()))
+
+    def _clock_walk_end(self) -> int:
+        """Index of the message at which pymavlink's clock set-up walk stops (the last one if it reads on to
+        the end): a transcription of ``DFReader.init_clock`` with ``zero_time_base``, on the values pymavlink
+        gives (read in C)."""
+        problem, raw, names, _, _, chars, byte_offsets, _ = decoder_module().dataflash_formats(
+            self.data, np.ascontiguousarray(self.offsets[self.types == 0x80]), None, _CLOCK_FIELD_BYTES)
+        if problem is not None:  # (the same FMT messages were read without a problem in __init__)
+            raise NeedsReference(problem)
+        last = self.offsets.size - 1
+        column = {name: k for k, name in enumerate(CLOCK_FIELDS)}
+        has_us = chars[:, column["TimeUS"]] != 0
+        first_us = np.flatnonzero(has_us[self.types])
+        first_us = int(first_us[0]) if first_us.size else last + 1
+        walked = [names[name] for name in ("GPS", "GPS2", "TIME") if name in names]
+        for type_id in walked[:-1] if "TIME" in names else walked:  # GPS, GPS2: their clock fields as numbers
+            if any(chars[type_id, column[field]] == ord("g") for field in CLOCK_FIELDS) or \
+                    any(chars[type_id, column[field]] in b"qQ" for field in ("TimeMS", "Week")):
+                raise NeedsReference(f"type {type_id}: a GPS time field pymavlink compares that is not exact")
+        tables = decoder_module().dataflash_columns(self.data, self.offsets, self.types, self.lengths, walked,
+                                                    chars, byte_offsets, list(range(len(CLOCK_FIELDS))),
+                                                    CLOCK_FIELDS)
+        gps = names.get("GPS")
+        modern = gps in tables and all(chars[gps, column[f]] for f in ("TimeUS", "GWk", "GMS"))
+        events = [(first_us, None, {})] if first_us <= last else []
+        for type_id, (mine, columns, _) in tables.items():
+            positions = np.searchsorted(self.offsets, mine)
+            for row, position in enumerate(positions.tolist()):
+                events.append((position, type_id, {name: values[row] for name, values in columns.items()}))
+        events.sort(key=lambda event: event[0])
+        first_us_seen = False
+        gps1 = None
+        px4_time = px4_gps = False
+        for position, type_id, values in events:
+            if not first_us_seen and has_us[self.types[position]]:
+                first_us_seen = True
+                if modern:
+                    return position
+            if type_id is None:
+                continue
+            if type_id in (names.get("GPS"), names.get("GPS2")):
+                if values.get("TimeUS", 0) != 0 and values.get("GWk", 0) != 0:
+                    return position
+                if values.get("T", 0) != 0 and values.get("Week", 0) != 0:
+                    return position
+                if values.get("GPSTime", 0) != 0:
+                    px4_gps = True
+                if values.get("Week", 0) != 0:
+                    if "TimeMS" not in values:  # pymavlink's clock set-up raises (AttributeError)
+                        raise NeedsReference("a GPS message with a Week but no numeric TimeMS")
+                    if gps1 is not None and (gps1["TimeMS"] != values["TimeMS"] or gps1["Week"] != values["Week"]):
+                        return position
+                    gps1 = values
+            elif chars[type_id, column["StartTime"]]:  # TIME with a StartTime: px4-style logs
+                px4_time = True
+            if px4_time and px4_gps:
+                return position
+        return last
+
+    def raw_chars(self, type_id: int) -> bytes:
+        """The format characters of a type named in the index's names, as the FMT holds them."""
+        return self._raw_formats[type_id][2]
 
     def missing_bytes(self, blob: bytes):
         """:func:`_truncation.dataflash_missing_bytes` of the log, walking only from its last message on."""
@@ -186,17 +290,25 @@ class DataFlashIndex:
         bodies, _ = _decode.dataflash_gather(self.data, offsets, length)
         return offsets, bodies
 
-    def _read_formats(self) -> None:
+    def _read_formats(self, names: Iterable[str]) -> None:
         """The FMT messages, in file order, as pymavlink's indexer reads them (it stops at a cut-off one): checked
         in C (:func:`_decode.dataflash_formats`), made :class:`Format` objects only when a type is asked for."""
         fmt_offsets = np.ascontiguousarray(self.offsets[self.types == 0x80])
-        problem, raw, self.name_to_id, self.lengths = decoder_module().dataflash_formats(self.data, fmt_offsets)
+        wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
+        fields = [f.encode() for f in self.fields]
+        problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
+            redefined = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields)
         if problem is not None:
             raise NeedsReference(problem)
+        if redefined:  # each such type takes the FMT pymavlink's clock set-up walk read last
+            walked_to = int(self.offsets[self._clock_walk_end()])
+            problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
+                _ = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields, walked_to)
+        self._raw_formats = raw
         self.formats = Formats(raw)
         present = np.bincount(self.types, minlength=256).astype(bool)
         present[0x80] = False
-        present[list(raw)] = False
+        present[self.lengths != 0] = False
         if present.any():
             raise NeedsReference(f"messages of type {int(np.flatnonzero(present)[0])} without a readable FMT")
 
@@ -214,12 +326,12 @@ class DataFlashIndex:
                     raise NeedsReference("FMTU without a numeric second field")
                 fields = [fmtu.columns[1]] + [c for c in ("UnitIds", "MultIds") if c in fmtu.colhash]
                 for record in self.records("FMTU", fields):
-                    target = self.formats.get(int(record[fmtu.columns[1]]))  # pymavlink: int(elements[1])
-                    if target is None:
+                    target = int(record[fmtu.columns[1]])  # pymavlink: int(elements[1])
+                    if not 0 <= target < 256 or not self.lengths[target]:
                         continue
                     if "#" in record["UnitIds"]:
                         raise NeedsReference("FMTU with an instance field")
-                    if "MultIds" in record and len(record["MultIds"]) < len(target.columns):
+                    if "MultIds" in record and len(record["MultIds"]) < int(self.column_counts[target]):
                         raise NeedsReference("FMTU with fewer multipliers than columns")
         for name in ("UNIT", "MULT"):
             if name in self.name_to_id:
@@ -294,40 +406,43 @@ class ArrayRows:
     a column (NaN where a message's type lacks the field), the time stamps (``_time_of``)."""
 
     def __init__(self, parts: List[tuple], fields_used: Sequence[str]) -> None:
-        # parts: (offsets, fmt, table) per type, merged here by offset
-        self.first_fields: List[str] = []
+        # parts: (offsets, fmt, columns: field → float64 values of the fields the type has) per type, in file
+        # order within each; fmt: a callable giving the type's Format (its column names are only built if asked)
+        self._first_format = parts[0][1] if parts else None
+        self._first_fields: Optional[List[str]] = None if parts else []
         if not parts:
-            self.order = np.zeros(0, dtype=np.intp)
             self.size = 0
             self.columns: Dict[str, np.ndarray] = {}
             self.time = np.zeros(0)
             return
         if len(parts) == 1:  # one type: already in file order
-            self._one_part(*parts[0], fields_used)
+            offsets, _, columns = parts[0]
+            self.size = offsets.size
+            self.columns = {field: columns[field] for field in fields_used if field in columns}
+            self.time = _times(columns, offsets.size)
             return
         offsets = np.concatenate([p[0] for p in parts])
         # several types (IMU and IMU2): merged by offset
         order = np.argsort(offsets, kind="stable")
         self.size = offsets.size
         first_part = int(np.searchsorted(np.cumsum([p[0].size for p in parts]), order[0], side="right"))
-        # as pymavlink's to_dict: its type name first, then each column once
-        self.first_fields = ["mavpackettype"] + list(parts[first_part][1].colhash)
+        self._first_format = parts[first_part][1]
         self.columns = {}
         for field in fields_used:
-            if not any(field in fmt.colhash for _, fmt, _ in parts):
+            if not any(field in columns for _, _, columns in parts):
                 continue
-            pieces = [column(fmt, table, field) if field in fmt.colhash else np.full(table.size, np.nan)
-                      for _, fmt, table in parts]
+            pieces = [columns[field] if field in columns else np.full(mine.size, np.nan)
+                      for mine, _, columns in parts]
             self.columns[field] = np.concatenate(pieces)[order]
-        pieces = [_times(fmt, table) for _, fmt, table in parts]
+        pieces = [_times(columns, mine.size) for mine, _, columns in parts]
         self.time = np.concatenate(pieces)[order]
 
-    def _one_part(self, offsets: np.ndarray, fmt: Format, table: np.ndarray, fields_used: Sequence[str]) -> None:
-        """The rows of a family of one message type (no merge)."""
-        self.size = offsets.size
-        self.first_fields = ["mavpackettype"] + fmt.columns_once
-        self.columns = {field: column(fmt, table, field) for field in fields_used if field in fmt.colhash}
-        self.time = _times(fmt, table, self.columns)
+    @property
+    def first_fields(self) -> List[str]:
+        """The keys of pymavlink's ``to_dict`` of the first message: its type name, then each column once."""
+        if self._first_fields is None:
+            self._first_fields = ["mavpackettype"] + self._first_format().columns_once
+        return self._first_fields
 
     def __len__(self) -> int:
         return self.size
@@ -336,7 +451,8 @@ class ArrayRows:
         return field in self.first_fields
 
     def values(self, field: str) -> np.ndarray:
-        return self.columns.get(field, np.full(self.size, np.nan))
+        values = self.columns.get(field)
+        return np.full(self.size, np.nan) if values is None else values
 
     def times(self) -> np.ndarray:
         return self.time
@@ -351,53 +467,75 @@ class ArrayRows:
         return self
 
 
-def _times(fmt: Format, table: np.ndarray, columns=None) -> np.ndarray:
-    """``_time_of`` of every message of one type, s: TimeUS·1e-6, else GPS's T·1e-3 (with Week), else TimeMS·1e-3
-    (from ``columns``, the float64 columns of ``table`` already converted, where they hold the field)."""
-    columns = columns or {}
-    if "TimeUS" in fmt.colhash:
-        return (columns["TimeUS"] if "TimeUS" in columns else column(fmt, table, "TimeUS")) * 1e-6
-    if "T" in fmt.colhash and "Week" in fmt.colhash:
-        return (columns["T"] if "T" in columns else column(fmt, table, "T")) * 1e-3
-    if "TimeMS" in fmt.colhash:
-        return (columns["TimeMS"] if "TimeMS" in columns else column(fmt, table, "TimeMS")) * 1e-3
-    return np.full(table.size, np.nan)
+def time_of(fields: Mapping):
+    """Boot time of a message (or of every message of a type, given its columns), s: ``TimeUS`` (µs, current
+    logs), else GPS's ``T`` (ms boot time in old logs, whose ``TimeMS`` is the GPS week time), else ``TimeMS``
+    (ms, ArduCopter ≤ 3.3); None without any."""
+    if "TimeUS" in fields:
+        return fields["TimeUS"] * 1e-6
+    if "T" in fields and "Week" in fields:
+        return fields["T"] * 1e-3
+    if "TimeMS" in fields:
+        return fields["TimeMS"] * 1e-3
+    return None
+
+
+def _times(columns: Dict[str, np.ndarray], count: int) -> np.ndarray:
+    """:func:`time_of` of every message of one type, s (``columns``: the float64 columns of the fields the type
+    has, its time fields among them); NaN without a time field."""
+    times = time_of(columns)
+    return np.full(count, np.nan) if times is None else times
 
 
 def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequence[str],
                   select) -> tuple:
     """The reader's rows per family and the firmware text, from the messages ``recv_match(type=kinds)`` gives.
 
-    ``select(kind, fmt, table)`` → (family or None, boolean mask of the messages kept)."""
+    ``select(kind, columns, count)`` → (family or None, boolean mask of the messages kept or None for all);
+    ``columns``: the
+    ``fields_used`` the type has (float64, the values pymavlink gives) and its time fields. The numeric fields
+    are read in C (:func:`_decode.dataflash_columns`), straight from the file's bytes; ``fields_used`` must be
+    among the index's fields."""
     index.check_clock(kinds)
-    offsets, types = index.messages(kinds)
+    wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))
+    positions = [index.field_column[field] for field in wanted]
+    type_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
+    tables = decoder_module().dataflash_columns(index.data, index.offsets, index.types, index.lengths, type_ids,
+                                                index.field_chars, index.field_offsets, positions, wanted)
     parts: Dict[str, List[tuple]] = {}
     firmware = ""
-    kind_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
-    keep = np.zeros(256, dtype=bool)
-    keep[kind_ids] = True
-    keep = keep[types]
-    tables = decoder_module().dataflash_tables(index.data, offsets[keep], types[keep], index.lengths)
-    for type_id, (mine, bodies) in sorted(tables.items()):
-        fmt = index.formats[type_id]
-        table = bodies.view(fmt.dtype).reshape(-1)
-        if fmt.name == "MSG":
-            if "Message" in fmt.colhash:
-                if fmt.char_of("Message") not in "nNZ":
-                    raise NeedsReference("MSG.Message is not text")
-                for row in table:
-                    text = _python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
-                    if text.startswith(("Ardu", "APM:")):
-                        firmware = text  # earliest in file order wins below
-                        break
-                parts.setdefault("MSG", []).append((mine, fmt, table))
+    for type_id, (mine, columns, unreadable) in sorted(tables.items()):
+        name = index.formats.name(type_id)
+        fmt = functools.partial(index.formats.__getitem__, type_id)
+        if name == "MSG":  # only its Message text is read (check_clock declined a text time field)
+            if index.formats.has_column(type_id, "Message"):
+                firmware = _firmware(index, index.formats[type_id], mine)
+                parts.setdefault("MSG", []).append((mine, fmt, columns))
             continue
-        for field in fmt.colhash.keys() & fields_used:
-            if fmt.char_of(field) in TEXT_CHARS:
-                raise NeedsReference(f"{fmt.name}.{field} holds text")
-        family, mask = select(fmt.name, fmt, table)
-        if family is not None and mask.all():
-            parts.setdefault(family, []).append((mine, fmt, table))
-        elif family is not None and mask.any():
-            parts.setdefault(family, []).append((mine[mask], fmt, table[mask]))
+        if unreadable is not None:
+            raise NeedsReference(f"{name}.{unreadable} holds text or a half float")
+        family, mask = select(name, columns, mine.size)
+        if family is None:
+            continue
+        if mask is None:
+            parts.setdefault(family, []).append((mine, fmt, columns))
+        elif mask.any():
+            parts.setdefault(family, []).append((mine[mask], fmt, {k: v[mask] for k, v in columns.items()}))
     return parts, firmware
+
+
+#: Format characters (as numbers) the column reader leaves as NaN: text and half floats.
+_NOT_NUMBERS = frozenset(b"anNZg")
+
+
+def _firmware(index: DataFlashIndex, fmt: Format, offsets: np.ndarray) -> str:
+    """The first MSG text that names the firmware ("Ardu…", "APM:…"), else ""."""
+    if fmt.char_of("Message") not in "nNZ":
+        raise NeedsReference("MSG.Message is not text")
+    bodies, _ = decoder_module().dataflash_gather(index.data, np.ascontiguousarray(offsets), fmt.length)
+    table = bodies.view(fmt.dtype).reshape(-1)
+    for row in table:
+        text = _python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
+        if text.startswith(("Ardu", "APM:")):
+            return text
+    return ""

@@ -141,4 +141,250 @@ static inline size_t DataFlashGather(const uint8_t *const data, const size_t siz
     return complete;
 }
 
+/* Bytes of one value of format character c (pymavlink's FORMAT_TO_STRUCT); 0 if pymavlink does not read c. */
+static inline size_t DataFlashCharSize(const uint8_t c) {
+    switch (c) {
+        case 'b': case 'B': case 'M':
+            return 1;
+        case 'g': case 'h': case 'H': case 'c': case 'C':
+            return 2;
+        case 'i': case 'I': case 'f': case 'n': case 'e': case 'E': case 'L':
+            return 4;
+        case 'd': case 'q': case 'Q':
+            return 8;
+        case 'N':
+            return 16;
+        case 'a': case 'Z':
+            return 64;
+        default:
+            return 0;
+    }
+}
+
+/* Whether format character c holds text (or pymavlink's int16 array), not a number. */
+static inline int DataFlashCharIsText(const uint8_t c) {
+    return (c == 'a') || (c == 'n') || (c == 'N') || (c == 'Z');
+}
+
+/*
+ * The column of each of names[0 .. nameCount) in a format: columns[0 ..
+ * columnsLength) is the FMT's column text (names joined by commas);
+ * nameLengths[j] is strlen(names[j]). index[j] is the last column named
+ * names[j] (pymavlink's column lookup keeps the last), or -1 if none is.
+ */
+static inline void DataFlashColumnIndexes(const uint8_t *const columns, const size_t columnsLength,
+                                          const char *const *const names, const size_t *const nameLengths,
+                                          const size_t nameCount, int16_t *const index) {
+    size_t start = 0;
+    int16_t column = 0;
+    size_t j;
+    for (j = 0; j < nameCount; j++) {
+        index[j] = -1;
+    }
+    if (columnsLength == 0) {
+        return; /* no columns (pymavlink: an empty list) */
+    }
+    while (start <= columnsLength) {
+        size_t end = start;
+        while ((end < columnsLength) && (columns[end] != ',')) {
+            end++;
+        }
+        for (j = 0; j < nameCount; j++) {
+            if ((nameLengths[j] == end - start) && (nameLengths[j] > 0) && ((uint8_t) names[j][0] == columns[start]) &&
+                (memcmp(columns + start, names[j], nameLengths[j]) == 0)) {
+                index[j] = column;
+            }
+        }
+        start = end + 1;
+        column++;
+    }
+}
+
+/* Bytes before field `index` of a message body with format characters chars[0 .. index). */
+static inline size_t DataFlashFieldOffset(const uint8_t *const chars, const size_t index) {
+    size_t k;
+    size_t offset = 0;
+    for (k = 0; k < index; k++) {
+        offset += DataFlashCharSize(chars[k]);
+    }
+    return offset;
+}
+
+/* How many of types[0 .. count) are of each type (counts: 256 entries, overwritten). */
+static inline void DataFlashCountTypes(const uint8_t *const types, const size_t count, size_t *const counts) {
+    size_t k;
+    for (k = 0; k < 256; k++) {
+        counts[k] = 0;
+    }
+    for (k = 0; k < count; k++) {
+        counts[types[k]]++;
+    }
+}
+
+/*
+ * Split offsets[0 .. count) by type, keeping file order: the offsets of
+ * type t go to rows[t] (sized by DataFlashCountTypes; rows[t] may be NULL
+ * for a type not wanted, whose offsets are then dropped).
+ */
+static inline void DataFlashSplit(const uint64_t *const offsets, const uint8_t *const types, const size_t count,
+                                  uint64_t *const *const rows) {
+    size_t filled[256];
+    size_t k;
+    for (k = 0; k < 256; k++) {
+        filled[k] = 0;
+    }
+    for (k = 0; k < count; k++) {
+        uint64_t *const row = rows[types[k]];
+        if (row != NULL) {
+            row[filled[types[k]]++] = offsets[k];
+        }
+    }
+}
+
+/* Little-endian unsigned integer of `bytes` bytes at p. */
+static inline uint64_t DataFlashUnsigned(const uint8_t *const p, const size_t bytes) {
+    uint64_t value = 0;
+    size_t k;
+    for (k = bytes; k > 0; k--) {
+        value = (value << 8) | p[k - 1];
+    }
+    return value;
+}
+
+/* The two's-complement value of the low `bytes` bytes of `value`. */
+static inline int64_t DataFlashSigned(const uint64_t value, const size_t bytes) {
+    const uint64_t sign = (uint64_t) 1 << (8 * bytes - 1);
+    if ((value & sign) == 0) {
+        return (int64_t) value;
+    }
+    /* value - 2^(8 bytes), without overflow: -(complement) - 1 */
+    return -(int64_t) ((~value) & ((sign - 1) | sign)) - 1;
+}
+
+typedef enum {
+    DataFlashColumnOk = 0,
+    /* A character the column reader does not read as a number (text, half float 'g', unknown). */
+    DataFlashColumnNotNumeric = 1,
+    /* A field that runs past the end of the data. */
+    DataFlashColumnOutside = 2,
+} DataFlashColumnStatus;
+
+/*
+ * One numeric field of the messages at offsets[0 .. count) as doubles, the
+ * value pymavlink's DFMessage gives converted to float: integers exactly
+ * (q/Q rounded to nearest), f widened, d as it is, c/C/e/E divided by 100
+ * (pymavlink: value / (1 / 0.01)), L divided by 1e7 (value / (1 / 1e-7)).
+ * The field is formatChar at fieldOffset bytes into the body (after the
+ * 3-byte header). out[k] for message k. Returns the status (out is then
+ * partly written).
+ */
+static inline DataFlashColumnStatus DataFlashColumn(const uint8_t *const data, const size_t size,
+                                                    const uint64_t *const offsets, const size_t count,
+                                                    const size_t fieldOffset, const uint8_t formatChar,
+                                                    double *const out) {
+    const size_t bytes = DataFlashCharSize(formatChar);
+    double divisor = 0.0; /* 0: no multiplier */
+    size_t k;
+    if ((bytes == 0) || DataFlashCharIsText(formatChar) || (formatChar == 'g')) {
+        return DataFlashColumnNotNumeric;
+    }
+    if ((formatChar == 'c') || (formatChar == 'C') || (formatChar == 'e') || (formatChar == 'E')) {
+        divisor = 100.0;
+    } else if (formatChar == 'L') {
+        divisor = 10000000.0;
+    }
+    for (k = 0; k < count; k++) {
+        const uint64_t start = offsets[k] + 3 + fieldOffset;
+        const uint8_t *p;
+        uint64_t raw;
+        double value;
+        if ((start > size) || (bytes > size - start)) {
+            return DataFlashColumnOutside;
+        }
+        p = data + start;
+        raw = DataFlashUnsigned(p, bytes);
+        switch (formatChar) {
+            case 'f': {
+                const uint32_t word = (uint32_t) raw;
+                float single;
+                memcpy(&single, &word, sizeof single);
+                value = (double) single;
+                break;
+            }
+            case 'd':
+                memcpy(&value, &raw, sizeof value);
+                break;
+            case 'B': case 'H': case 'I': case 'C': case 'E': case 'Q':
+                value = (double) raw;
+                break;
+            default: /* b M h c i e L q: signed */
+                value = (double) DataFlashSigned(raw, bytes);
+                break;
+        }
+        out[k] = (divisor != 0.0) ? (value / divisor) : value;
+    }
+    return DataFlashColumnOk;
+}
+
+/* Slots of DataFlashNameSeen's table: more than twice the 256 types. */
+#define DATAFLASH_NAME_SLOTS 1024
+
+/* The 4-byte name field of an FMT, cut at its first NUL, as a number (first byte lowest). */
+static inline uint32_t DataFlashNameKey(const uint8_t *const name) {
+    uint32_t key = 0;
+    size_t k;
+    for (k = 0; (k < 4) && (name[k] != 0); k++) {
+        key |= (uint32_t) name[k] << (8 * k);
+    }
+    return key;
+}
+
+/*
+ * Whether `key` was met before in `slots` (DATAFLASH_NAME_SLOTS entries,
+ * zeroed before the first call): 1 if so, else 0 and it is added; -1 if the
+ * table is full (more keys than slots: a log has at most 256, one per type).
+ * Open addressing.
+ */
+static inline int DataFlashNameSeen(uint64_t *const slots, const uint32_t key) {
+    size_t slot = (size_t) ((key * 2654435761u) % DATAFLASH_NAME_SLOTS);
+    size_t probe;
+    for (probe = 0; probe < DATAFLASH_NAME_SLOTS; probe++) {
+        if (slots[slot] == 0) {
+            slots[slot] = (uint64_t) key + 1;
+            return 0;
+        }
+        if (slots[slot] == (uint64_t) key + 1) {
+            return 1;
+        }
+        slot = (slot + 1) % DATAFLASH_NAME_SLOTS;
+    }
+    return -1;
+}
+
+/*
+ * The struct code pymavlink unpacks format character c with (FORMAT_TO_STRUCT):
+ * characters of one code read the same bytes the same way (c and h, e and i, ...)
+ * and differ at most in their multiplier. 0 if pymavlink does not read c.
+ */
+static inline uint8_t DataFlashCharStruct(const uint8_t c) {
+    switch (c) {
+        case 'b': case 'M':
+            return 'b';
+        case 'h': case 'c':
+            return 'h';
+        case 'H': case 'C':
+            return 'H';
+        case 'i': case 'e': case 'L':
+            return 'i';
+        case 'I': case 'E':
+            return 'I';
+        case 'a': case 'Z':
+            return 'Z';
+        case 'B': case 'g': case 'f': case 'n': case 'N': case 'd': case 'q': case 'Q':
+            return c;
+        default:
+            return 0;
+    }
+}
+
 #endif

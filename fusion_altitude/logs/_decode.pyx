@@ -6,8 +6,9 @@ checks, the samples of each subscription gathered from the data section."""
 
 import numpy as np
 
-from libc.stdint cimport uint8_t, uint64_t
-from libc.string cimport memcpy
+from libc.stdint cimport int16_t, int32_t, uint8_t, uint32_t, uint64_t
+from libc.math cimport NAN
+from libc.string cimport memcpy, memset
 from cpython.mem cimport PyMem_Calloc, PyMem_Free, PyMem_Malloc
 
 cdef extern from "_dataflash_scan.h":
@@ -25,6 +26,22 @@ cdef extern from "_dataflash_scan.h":
                                       size_t capacity, DataFlashScanResult *result) nogil
     size_t DataFlashGather(const uint8_t *data, size_t size, const uint64_t *offsets, size_t count, size_t length,
                            uint8_t *out) nogil
+    size_t DataFlashCharSize(uint8_t c) nogil
+    void DataFlashColumnIndexes(const uint8_t *columns, size_t columnsLength, const char *const *names,
+                                const size_t *nameLengths, size_t nameCount, int16_t *index) nogil
+    size_t DataFlashFieldOffset(const uint8_t *chars, size_t index) nogil
+    void DataFlashCountTypes(const uint8_t *types, size_t count, size_t *counts) nogil
+    void DataFlashSplit(const uint64_t *offsets, const uint8_t *types, size_t count, uint64_t *const *rows) nogil
+    ctypedef enum DataFlashColumnStatus:
+        DataFlashColumnOk
+        DataFlashColumnNotNumeric
+        DataFlashColumnOutside
+    DataFlashColumnStatus DataFlashColumn(const uint8_t *data, size_t size, const uint64_t *offsets, size_t count,
+                                          size_t fieldOffset, uint8_t formatChar, double *out) nogil
+    enum: DATAFLASH_NAME_SLOTS
+    uint32_t DataFlashNameKey(const uint8_t *name) nogil
+    uint8_t DataFlashCharStruct(uint8_t c) nogil
+    int DataFlashNameSeen(uint64_t *slots, uint32_t key) nogil
 
 #: Status names of :func:`dataflash_index`.
 STATUS = {0: "ok", 1: "bad FMT length", 2: "unknown type", 3: "full"}
@@ -135,14 +152,6 @@ def ulog_index(const uint8_t[::1] data, size_t start=16):
     return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)
 
 
-# Bytes of each DataFlash format character (0: not a format character pymavlink reads).
-cdef unsigned char[256] _FORMAT_SIZE
-_FORMAT_SIZE[:] = [0] * 256
-for _char, _size in {"a": 64, "b": 1, "B": 1, "g": 2, "h": 2, "H": 2, "i": 4, "I": 4, "f": 4, "n": 4, "N": 16,
-                     "Z": 64, "c": 2, "C": 2, "e": 4, "E": 4, "L": 4, "d": 8, "M": 1, "q": 8, "Q": 8}.items():
-    _FORMAT_SIZE[ord(_char)] = _size
-
-
 cdef size_t _text_length(const uint8_t *text, size_t limit) noexcept nogil:
     """Bytes of a NUL-padded text field before its first NUL."""
     cdef size_t k = 0
@@ -169,12 +178,23 @@ cdef bint _columns_are_words(const uint8_t *text, size_t length) noexcept nogil:
     return word > 0
 
 
-def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
+def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, wanted, fields,
+                      uint64_t last_walked=0xFFFFFFFFFFFFFFFF):
     """The FMT messages at ``offsets`` (in file order), checked as pymavlink's ``DFFormat`` would take them.
 
     Reading stops at an FMT cut off by the end of ``data`` (as pymavlink's indexer). Each FMT is checked in C:
     its format characters are ones pymavlink reads, their sizes add up to its length (bytes, header included),
-    it names no more columns than it has characters, and its type was not defined before.
+    it names no more columns than it has characters, its name is ASCII without a backslash (so that names equal
+    exactly when pymavlink's decoded names do) and no other type has it. A type may be defined again by a later
+    FMT of the same name, length and struct codes (see ``redefined``).
+
+    Parameters
+    ----------
+    wanted : collection of bytes, or None
+        The names (ASCII, at most 64) whose formats are returned; the others are only checked. None: every
+        type's.
+    fields : sequence of bytes
+        Column names (ASCII, at most 64) looked up in the wanted formats.
 
     Returns
     -------
@@ -182,122 +202,258 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets):
         Why pymavlink's own reading is needed (the first FMT that fails a check), else None.
     formats : dict
         type → (name, length, format characters, column text, whether the column names are words of
-        letters, digits and "_" joined by commas, as pymavlink's bookkeeping needs) of each FMT: the name cut at its first NUL and
-        decoded as pymavlink's ``null_term`` (backslash escapes), the characters and column text as bytes cut at
-        their first NUL.
+        letters, digits and "_" joined by commas) of each wanted FMT; the characters and column text as bytes
+        cut at their first NUL.
     names : dict
-        name → type.
+        name → type of the wanted names present.
     lengths : ndarray of uint64, shape (256,)
         Length of each type (bytes, header included), 0 for types no FMT defines.
+    column_counts : ndarray of uint16, shape (256,)
+        Columns of each type (0 for types no FMT defines).
+    field_chars : ndarray of uint8, shape (256, len(fields))
+        Format character of each field in each wanted type (of its last column of that name), 0 where the type
+        has no such column.
+    field_offsets : ndarray of int32, shape (256, len(fields))
+        Byte of each field in a body (after the 3-byte header), -1 where absent.
+    redefined : list of int
+        The types defined again by a later FMT (each time).
+
+    A type defined again takes the last FMT at or before byte ``last_walked`` (where pymavlink's clock set-up
+    walk stopped: it reads the FMT messages it passes), else its last FMT.
     """
     cdef size_t size = data.shape[0]
     cdef size_t count = offsets.shape[0]
-    cdef size_t k, j, nchars, ncolumns, ncommas, total
-    cdef bint words
+    cdef size_t k, j, nchars, ncolumns, ncommas, total, nfields
     cdef const uint8_t *body
     cdef int seen[256]
+    cdef bint redefined
+    cdef uint32_t seen_keys[256]
+    cdef uint64_t taken_offsets[256]
+    cdef uint8_t seen_structs[256][16]
+    redefined_types = []
+    cdef uint64_t slots[DATAFLASH_NAME_SLOTS]
+    cdef uint32_t wanted_keys[64]
+    cdef size_t nwanted = 0
+    cdef uint32_t key
+    cdef const char *field_names[64]
+    cdef size_t field_lengths[64]
+    cdef int16_t index[64]
+    cdef bytes padded
+    field_list = [bytes(name) for name in fields]
+    nfields = len(field_list)
+    if nfields > 64:
+        raise ValueError("at most 64 fields")
+    for k in range(nfields):
+        field_names[k] = <const char *> field_list[k]
+        field_lengths[k] = len(field_list[k])
+    cdef bint every_type = wanted is None
+    for name in (() if every_type else wanted):
+        if nwanted == 64:
+            raise ValueError("at most 64 wanted names")
+        if len(name) > 4:  # (an FMT name has 4 bytes)
+            continue
+        padded = bytes(name) + b"\0\0\0\0"
+        wanted_keys[nwanted] = DataFlashNameKey(<const uint8_t *> padded)
+        nwanted += 1
     formats = {}
     names = {}
     lengths = np.zeros(256, dtype=np.uint64)
+    column_counts = np.zeros(256, dtype=np.uint16)
+    field_chars = np.zeros((256, max(nfields, 1)), dtype=np.uint8)[:, :nfields]
+    field_offsets = np.full((256, max(nfields, 1)), -1, dtype=np.int32)[:, :nfields]
+    cdef uint64_t[::1] length_view = lengths
+    cdef unsigned short[::1] column_view = column_counts
+    cdef uint8_t[:, :] char_view = field_chars
+    cdef int32_t[:, :] offset_view = field_offsets
+    problem = None
+    memset(slots, 0, sizeof(slots))
     for k in range(256):
         seen[k] = 0
     for k in range(count):
         if offsets[k] + 89 > size:
             break
         body = &data[0] + offsets[k] + 3
-        if seen[body[0]]:
-            return f"type {body[0]} defined twice", formats, names, lengths
+        redefined = seen[body[0]]
+        if redefined:
+            problem = _redefinition_problem(body, &data[0] + taken_offsets[body[0]] + 3, &seen_structs[body[0]][0],
+                                            seen_keys[body[0]], length_view[body[0]])
+            if problem is not None:
+                break
+            redefined_types.append(body[0])
+            if taken_offsets[body[0]] <= last_walked and offsets[k] > last_walked:
+                continue  # pymavlink's clock set-up walk left the type at the FMT it read last
         seen[body[0]] = 1
+        seen_keys[body[0]] = DataFlashNameKey(body + 2)
+        taken_offsets[body[0]] = offsets[k]
+        for j in range(16):
+            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < _text_length(body + 6, 16) else 0
         nchars = _text_length(body + 6, 16)
         total = 3
         for j in range(nchars):
-            if _FORMAT_SIZE[body[6 + j]] == 0:
+            if DataFlashCharSize(body[6 + j]) == 0:
                 problem = f"unsupported format character {chr(body[6 + j])!r} in type {body[0]}"
-                return problem, formats, names, lengths
-            total += _FORMAT_SIZE[body[6 + j]]
+                break
+            total += DataFlashCharSize(body[6 + j])
+        if problem is not None:
+            break
         if total != body[1]:
-            return f"type {body[0]}: length {body[1]} is not that of its format", formats, names, lengths
+            problem = f"type {body[0]}: length {body[1]} is not that of its format"
+            break
         ncolumns = _text_length(body + 22, 64)
         ncommas = 0
         for j in range(ncolumns):
             if body[22 + j] == 44:  # ','
                 ncommas += 1
-        words = _columns_are_words(body + 22, ncolumns)
         if ncolumns > 0 and ncommas + 1 > nchars:
-            return f"type {body[0]}: more columns than format characters", formats, names, lengths
-        name = body[2:2 + _text_length(body + 2, 4)].decode("utf-8", "backslashreplace")
-        if names.setdefault(name, body[0]) != body[0]:
-            return f"two types named {name}", formats, names, lengths
-        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns], words)
-        lengths[body[0]] = body[1]
-    return None, formats, names, lengths
+            problem = f"type {body[0]}: more columns than format characters"
+            break
+        for j in range(_text_length(body + 2, 4)):
+            if body[2 + j] >= 0x80 or body[2 + j] == 92:  # '\\'
+                problem = f"type {body[0]}: a name that is not plain ASCII"
+                break
+        if problem is not None:
+            break
+        key = DataFlashNameKey(body + 2)
+        if not redefined and DataFlashNameSeen(slots, key) != 0:  # (-1, a full table, cannot happen: 256 types)
+            problem = f"two types named {body[2:2 + _text_length(body + 2, 4)]!r}"
+            break
+        length_view[body[0]] = body[1]
+        column_view[body[0]] = ncommas + 1 if ncolumns > 0 else 0
+        if not every_type:
+            for j in range(nwanted):
+                if wanted_keys[j] == key:
+                    break
+            else:
+                continue
+        DataFlashColumnIndexes(body + 22, ncolumns, field_names, field_lengths, nfields, index)
+        for j in range(nfields):
+            char_view[body[0], j] = 0  # (a redefinition replaces the earlier format's fields)
+            offset_view[body[0], j] = -1
+            if index[j] >= 0:
+                char_view[body[0], j] = body[6 + index[j]]
+                offset_view[body[0], j] = <int32_t> DataFlashFieldOffset(body + 6, <size_t> index[j])
+        name = body[2:2 + _text_length(body + 2, 4)].decode("ascii")
+        names[name] = body[0]
+        formats[body[0]] = (name, body[1], body[6:6 + nchars], body[22:22 + ncolumns],
+                            _columns_are_words(body + 22, ncolumns))
+    return problem, formats, names, lengths, column_counts, field_chars, field_offsets, redefined_types
 
 
-def dataflash_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
-                     const uint64_t[::1] lengths):
-    """The messages at ``offsets`` grouped by type in one pass: each type's offsets and bodies.
+cdef _redefinition_problem(const uint8_t *body, const uint8_t *before, const uint8_t *structs, uint32_t key,
+                           uint64_t length):
+    """Why a second FMT (``body``) for a type defined before (its struct codes, name key and length) needs
+    pymavlink's own reading, or None: pymavlink unpacks a type's messages with the struct of the first format it
+    used for them and takes names and multipliers from the format its clock set-up walk read last, so only a
+    format of the same name, length and struct codes is read here, and none of the types the walk reads (GPS,
+    GPS2, TIME), and with a TimeUS column if and only if ``before`` (the body of the FMT taken so far) has one (the
+    walk stops at the first message with one)."""
+    cdef size_t j
+    cdef const char *time_us = b"TimeUS"
+    cdef size_t time_us_length = 6
+    cdef int16_t now_index, before_index
+    cdef size_t nchars = _text_length(body + 6, 16)
+    if DataFlashNameKey(body + 2) != key or body[1] != length:
+        return f"type {body[0]} redefined with another name or length"
+    for j in range(16):
+        if (DataFlashCharStruct(body[6 + j]) if j < nchars else 0) != structs[j]:
+            return f"type {body[0]} redefined with other value types"
+    if body[2:2 + _text_length(body + 2, 4)] in (b"GPS", b"GPS2", b"TIME"):
+        return f"type {body[0]} ({body[2:5]!r}) redefined: pymavlink's clock set-up reads it"
+    DataFlashColumnIndexes(body + 22, _text_length(body + 22, 64), &time_us, &time_us_length, 1, &now_index)
+    DataFlashColumnIndexes(before + 22, _text_length(before + 22, 64), &time_us, &time_us_length, 1, &before_index)
+    if (now_index < 0) != (before_index < 0):
+        return f"type {body[0]} redefined with or without a TimeUS column"
+    return None
+
+
+def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                      const uint64_t[::1] lengths, type_ids, const uint8_t[:, :] field_chars,
+                      const int32_t[:, :] field_offsets, positions, names):
+    """Numeric fields of the messages of some types, grouped by type, as float64 columns (one C pass per field).
 
     Parameters
     ----------
     data : bytes-like
         The whole file.
     offsets, types : ndarray of uint64, ndarray of uint8
-        Start and type of each message, in file order (each wholly inside ``data``).
+        Start and type of every message, in file order (:func:`dataflash_index`).
     lengths : ndarray of uint64, shape (256,)
-        Length of each type, bytes with the 3-byte header (at least 3 for every type in ``types``).
+        Length of each type, bytes with the header: a message of a wanted type that runs past the end of
+        ``data`` (only the last message can) is not read, as pymavlink's ``recv_match``.
+    type_ids : sequence of int
+        The types wanted; the messages of other types are dropped.
+    field_chars, field_offsets : ndarrays of shape (256, fields)
+        Of :func:`dataflash_formats`: each field's format character (0: absent) and byte in a body.
+    positions : sequence of int
+        The fields (columns of ``field_chars``) to read.
+    names : sequence of str
+        The name of each of ``positions`` (the keys of the columns).
 
     Returns
     -------
     dict
-        type → (offsets of its messages in file order, ndarray of uint8 of shape (count, length - 3): their
-        bodies).
+        type → (offsets of its messages in file order, dict name → ndarray of float64: the values pymavlink
+        gives converted to float, multipliers applied, of each field the type has as a number, the name of the
+        first field it has as text or half float or None). Absent: the wanted types without messages.
     """
     cdef size_t count = offsets.shape[0]
-    cdef size_t size = data.shape[0]
-    cdef size_t k, body
     cdef size_t counts[256]
-    cdef size_t filled[256]
-    cdef uint64_t *offset_rows[256]
-    cdef uint8_t *body_rows[256]
+    cdef uint64_t *rows[256]
     cdef uint64_t[::1] offset_view
-    cdef uint8_t[:, ::1] body_view
-    cdef uint8_t kind
-    if offsets.shape[0] != types.shape[0] or lengths.shape[0] != 256:
+    cdef double[::1] value_view
+    cdef size_t k, position, type_id, last
+    cdef uint8_t char
+    if types.shape[0] != offsets.shape[0] or lengths.shape[0] != 256:
         raise ValueError("offsets and types must have one length, lengths 256 entries")
+    if field_chars.shape[0] != 256 or field_offsets.shape[0] != 256 or \
+            field_chars.shape[1] != field_offsets.shape[1]:
+        raise ValueError("field_chars and field_offsets must be (256, fields) tables")
+    if len(names) != len(positions):
+        raise ValueError("one name per position")
+    for position in positions:
+        if position >= <size_t> field_chars.shape[1]:
+            raise ValueError(f"position {position} out of range")
+    if count == 0:
+        return {}
+    DataFlashCountTypes(&types[0], count, counts)
     for k in range(256):
-        counts[k] = 0
-        filled[k] = 0
-    for k in range(count):
-        counts[types[k]] += 1
+        rows[k] = NULL
     out = {}
-    for k in range(256):
-        if counts[k] == 0:
+    last = types[count - 1]
+    if offsets[count - 1] + lengths[last] > <uint64_t> data.shape[0]:
+        # cut off by the end (only the last message can be): not read
+        counts[last] -= 1
+        count -= 1
+    for type_id in type_ids:
+        if type_id >= 256:
+            raise ValueError(f"type {type_id} out of range")
+        if counts[type_id] == 0 or type_id in out:
             continue
-        if lengths[k] < 3:
-            raise ValueError(f"type {k} has a length below 3 bytes")
-        mine = np.empty(counts[k], dtype=np.uint64)
-        bodies = np.empty((counts[k], lengths[k] - 3), dtype=np.uint8)
+        mine = np.empty(counts[type_id], dtype=np.uint64)
         offset_view = mine
-        offset_rows[k] = &offset_view[0]
-        if lengths[k] > 3:
-            body_view = bodies
-            body_rows[k] = &body_view[0, 0]
-        else:
-            body_rows[k] = NULL
-        out[k] = (mine, bodies)
-    for k in range(count):
-        kind = types[k]
-        body = lengths[kind] - 3
-        if offsets[k] + 3 + body > size:
-            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
-    with nogil:
-        for k in range(count):
-            kind = types[k]
-            body = lengths[kind] - 3
-            offset_rows[kind][filled[kind]] = offsets[k]
-            if body > 0:
-                memcpy(body_rows[kind] + filled[kind] * body, &data[0] + offsets[k] + 3, body)
-            filled[kind] += 1
+        rows[type_id] = &offset_view[0]
+        out[type_id] = mine
+    DataFlashSplit(&offsets[0], &types[0], count, rows)
+    for type_id, mine in out.items():
+        offset_view = mine
+        columns = {}
+        unreadable = None
+        for position, name in zip(positions, names):
+            char = field_chars[type_id, position]
+            if char == 0:
+                continue
+            values = np.empty(offset_view.shape[0], dtype=np.float64)
+            value_view = values
+            status = DataFlashColumn(&data[0], data.shape[0], &offset_view[0], offset_view.shape[0],
+                                     <size_t> field_offsets[type_id, position], char, &value_view[0])
+            if status == DataFlashColumnOutside:
+                raise ValueError(f"type {type_id}: a message runs past the end of the data")
+            if status == DataFlashColumnNotNumeric:
+                if unreadable is None:
+                    unreadable = name
+                continue
+            columns[name] = values
+        out[type_id] = (mine, columns, unreadable)
     return out
 
 

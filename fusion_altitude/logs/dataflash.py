@@ -5,12 +5,13 @@ from __future__ import annotations
 import contextlib
 import io
 import os
-from typing import Callable, Dict, List, Optional
+from typing import Callable, Dict, List, NamedTuple, Optional
 
 import numpy as np
 
 from ..sensors import vertical_acceleration
 from ._binary_args import checked_instance
+from ._dataflash_fast import time_of as _time_of
 from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
 from ._truncation import dataflash_missing_bytes, warn_if_truncated as _warn_if_truncated
 
@@ -20,18 +21,6 @@ DATAFLASH_MAGIC = b"\xa3\x95"
 _OLD_INSTANCE_NAMES = {"IMU": ["IMU", "IMU2", "IMU3"], "BARO": ["BARO", "BAR2", "BAR3"], "GPS": ["GPS", "GPS2"]}
 #: GPS ``Status`` at or above this is a 3D fix.
 GPS_3D_FIX = 3
-
-
-def _time_of(fields: dict) -> Optional[float]:
-    """Boot time of a message, s: ``TimeUS`` (µs, current logs), else GPS's ``T`` (ms boot time in old
-    logs, whose ``TimeMS`` is the GPS week time), else ``TimeMS`` (ms, ArduCopter ≤ 3.3)."""
-    if "TimeUS" in fields:
-        return fields["TimeUS"] * 1e-6
-    if "T" in fields and "Week" in fields:
-        return fields["T"] * 1e-3
-    if "TimeMS" in fields:
-        return fields["TimeMS"] * 1e-3
-    return None
 
 
 @contextlib.contextmanager
@@ -91,10 +80,11 @@ def read_dataflash(path: str, instance: Optional[int] = None,
                    progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
     """Read an ArduPilot DataFlash log (.bin) of any generation.
 
-    ``decoder="fast"`` (default) decodes in C (the extension); logs whose
-    reading depends on pymavlink's internals (damaged bytes, redefined
-    types) are then read with pymavlink, so the result never depends on the
-    decoder. ``decoder="pymavlink"`` always reads with pymavlink (the
+    ``decoder="fast"`` (default) decodes in C (the extension), damaged bytes
+    stepped over and reported as pymavlink does; logs whose reading depends
+    on pymavlink's internals further (types redefined by a second FMT, odd
+    formats) are then read with pymavlink, so the result never depends on
+    the decoder. ``decoder="pymavlink"`` always reads with pymavlink (the
     ``[logs]`` extra), the reference the fast decoder is tested against.
 
     Time stamps: ``TimeUS`` (µs) in current logs, ``TimeMS`` (ms) in
@@ -151,37 +141,39 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     if data[:2] != DATAFLASH_MAGIC:
         raise LogError(f"{path}: not an ArduPilot DataFlash log (it does not start with A3 95)")
     try:
-        index = fast.DataFlashIndex(data, path)
+        index = fast.DataFlashIndex(data, path, KINDS, FIELDS_USED)
     except ValueError as error:
         raise LogError(f"cannot read {path} as an ArduPilot DataFlash log: {error}") from None
 
-    def select(kind, fmt, table):
+    def select(kind, columns, count):
+        # (family or None, the messages kept: a mask, or None for all)
         for family, names in _OLD_INSTANCE_NAMES.items():
             if kind in names:
                 if kind != family:
-                    return family, np.full(table.size, names.index(kind) == want)
-                if "I" in fmt.colhash:
-                    return family, _integer_column(fmt, table, "I") == want
-                return family, np.full(table.size, want == 0)
-        if kind == "XKF1" and "C" in fmt.colhash:
-            return kind, _integer_column(fmt, table, "C") == 0
+                    return (family if names.index(kind) == want else None), None
+                if "I" in columns:
+                    return family, _integer_column(kind, columns, "I") == want
+                return (family if want == 0 else None), None
+        if kind == "XKF1" and "C" in columns:
+            return kind, _integer_column(kind, columns, "C") == 0
         if kind == "GPA":
-            if "I" in fmt.colhash:
-                return kind, _integer_column(fmt, table, "I") == want
-            return kind, np.full(table.size, want == 0)
-        return kind, np.ones(table.size, dtype=bool)
+            if "I" in columns:
+                return kind, _integer_column(kind, columns, "I") == want
+            return (kind if want == 0 else None), None
+        return kind, None
 
-    def _integer_column(fmt, table, name):
+    def _integer_column(kind, columns, name):
         # the reader's int(...) of the value: declined unless every value is a finite number
-        values = fast.column(fmt, table, name)
+        values = columns[name]
         if not np.all(np.isfinite(values)):
-            raise fast.NeedsReference(f"{fmt.name}.{name} is not finite")
+            raise fast.NeedsReference(f"{kind}.{name} is not finite")
         return np.trunc(values)
 
     parts, firmware = fast.read_families(index, KINDS, FIELDS_USED, select)
     rows = {family: fast.ArrayRows(parts.get(family, []), FIELDS_USED) for family in FAMILIES}
     size = len(data)
-    return _build_checked(path, rows, firmware, "", want, progress, size, lambda _: index.missing_bytes(data))
+    chatter = _Chatter(bad_headers=index.bad_headers, skipped=index.skipped_runs())
+    return _build_checked(path, rows, firmware, chatter, want, progress, size, lambda _: index.missing_bytes(data))
 
 
 def _read_pymavlink(path: str, want: int, progress) -> LogData:
@@ -240,14 +232,29 @@ def _read_pymavlink(path: str, want: int, progress) -> LogData:
         if handle is not None:
             handle.close()
     return _build_checked(path, {family: DictRows(found) for family, found in rows.items()}, firmware,
-                          chatter.getvalue(), want, progress, size)
+                          _Chatter.of(chatter.getvalue()), want, progress, size)
 
 
-def _build_checked(path, rows, firmware, chatter_text, want, progress, size,
+class _Chatter(NamedTuple):
+    """What pymavlink prints about damage while reading a log, counted: bytes that start no message ("bad header",
+    one line each), runs of them its clock set-up walk skips ("Skipped N bad bytes") and messages its bookkeeping
+    fails on ("bad msg")."""
+
+    bad_headers: int = 0
+    skipped: int = 0
+    bad_messages: int = 0
+
+    @classmethod
+    def of(cls, text: str) -> "_Chatter":
+        """The counts of pymavlink's printed text."""
+        return cls(text.count("bad header"), text.count("Skipped"), text.count("bad msg"))
+
+
+def _build_checked(path, rows, firmware, chatter, want, progress, size,
                    missing_bytes=dataflash_missing_bytes) -> LogData:
     """:func:`_build`, its errors on odd content as LogError naming the file."""
     try:
-        return _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes)
+        return _build(path, rows, firmware, chatter, want, progress, size, missing_bytes)
     except LogError:
         raise
     except (ValueError, TypeError, IndexError, KeyError, OverflowError) as error:  # a damaged FMT: odd fields
@@ -319,7 +326,7 @@ def _fields_of(rows) -> List[str]:
     return list(rows.rows[0]) if isinstance(rows, DictRows) else list(rows.first_fields)
 
 
-def _build(path, rows, firmware, chatter_text, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
+def _build(path, rows, firmware, chatter, want, progress, size, missing_bytes=dataflash_missing_bytes) -> LogData:
     """The LogData of the parsed messages (see :func:`read_dataflash`)."""
     for needed in ("IMU", "ATT", "BARO"):
         if not len(rows[needed]):
@@ -347,9 +354,9 @@ def _build(path, rows, firmware, chatter_text, want, progress, size, missing_byt
                    notes=[f"BARO.Alt, IMU.AccX/Y/Z, ATT.Roll/Pitch/Yaw (instance {want}, {stamp})"]
                    + ([firmware] if firmware else []),
                    accel=imu["accel"], gyro=imu["gyro"], imu_frame="FRD", vehicle=vehicle, repeated_timestamps=repeated)
-    skipped = chatter_text.count("bad msg") + chatter_text.count("Skipped") + damaged
-    if "bad header" in chatter_text:
-        data.warn(f"{path}: damaged bytes skipped ({chatter_text.count('bad header')} bad message headers)")
+    skipped = chatter.bad_messages + chatter.skipped + damaged
+    if chatter.bad_headers:
+        data.warn(f"{path}: damaged bytes skipped ({chatter.bad_headers} bad message headers)")
     if skipped:
         data.warn(f"{path}: {skipped} damaged message(s) skipped")
     if rows["BARO"].has("Press"):

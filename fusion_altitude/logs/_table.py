@@ -38,17 +38,29 @@ def read_text(path: str, what: str = "CSV log") -> str:
         raise LogError(f"cannot open {path}: {error.strerror}") from None
     if b"\x00" in raw[:4096]:
         raise LogError(f"{path}: binary data, not a {what} (NUL bytes in the first 4 kB)")
+    encoding = "utf-8-sig"
     try:
-        text = raw.decode("utf-8-sig")
+        text = raw.decode(encoding)
     except UnicodeDecodeError as error:
         line = raw[:error.start].count(b"\n") + 1
         try:
-            text = raw.decode("latin-1")  # accept legacy encodings for names; numbers are ASCII anyway
+            encoding = "latin-1"
+            text = raw.decode(encoding)  # accept legacy encodings for names; numbers are ASCII anyway
         except UnicodeDecodeError:  # pragma: no cover - latin-1 decodes every byte
             raise LogError(f"{path}: line {line}: not UTF-8 text") from None
     if "\r" in text:
-        text = text.replace("\r\n", "\n").replace("\r", "\n")
+        text = _unix_newlines(text, raw, encoding)
     return text
+
+
+def _unix_newlines(text: str, raw: bytes, encoding: str) -> str:
+    """``text`` (``raw`` decoded with ``encoding``) with ``\\r\\n`` and ``\\r`` made ``\\n``: in one C pass over the
+    bytes when the extension is built (``str.replace`` twice costs 50 µs on a 28 kB export)."""
+    try:
+        from ._text_decode import newlines
+    except ImportError:
+        return text.replace("\r\n", "\n").replace("\r", "\n")
+    return newlines(raw).decode(encoding)
 
 
 @dataclass

@@ -137,3 +137,20 @@ def test_the_small_shared_exports_are_read_by_the_scan_and_the_large_by_pyarrow(
         assert scanned == [True, True] and parsed == []
         logs.load_log(str(DATA / "hedy_imu.csv"))
     assert len(parsed) == 3  # the CATS files are over SCAN_MAX_CHARS: pyarrow
+
+
+@pytest.mark.parametrize("raw", [b"a\r\nb\rc\n\r\r\n", b"", b"\r", b"x\r\n", "\u00e9\r\n\r".encode(), b"abc", b"\r\r",
+                                 b"\n\r", b"1,2\r\n3,4"])
+def test_newlines_are_normalised_in_c_as_str_replace_does(raw):
+    from fusion_altitude.logs._text_decode import newlines
+
+    assert newlines(raw).decode() == raw.decode().replace("\r\n", "\n").replace("\r", "\n")
+
+
+def test_read_text_normalises_newlines_in_c(tmp_path):
+    path = tmp_path / "crlf.csv"
+    path.write_bytes(b"time,baro\r\n0,1\r\n1,2\r3,4")
+    assert _table.read_text(str(path)) == "time,baro\n0,1\n1,2\n3,4"
+    from fusion_altitude.logs import _text_decode
+
+    assert hasattr(_text_decode, "newlines")  # the fast path read_text takes (it falls back silently without it)

@@ -168,11 +168,12 @@ def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
         What the user can do, e.g. ``"set time_units to 'ms' or 'us'"`` (the CLI shows the flag: ``--time-units``).
     """
     time = np.asarray(time, dtype=float)
-    finite = time[np.isfinite(time)]
+    finite = time if np.isfinite(time).all() else time[np.isfinite(time)]
     if finite.size < 2:
         return
     steps = finite[1:] - finite[:-1]
-    steps = steps[steps > 0]
+    positive = steps > 0
+    steps = steps if positive.all() else steps[positive]
     if not steps.size:
         return
     step = median(steps)  # steps of finite times: no NaN

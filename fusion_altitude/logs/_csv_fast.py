@@ -195,6 +195,15 @@ def _scan(body: str, columns: Sequence[int], text: Sequence[int], missing: Seque
     return numbers, columns_text
 
 
+def newline_count(text: str) -> int:
+    """``text.count("\\n")``, in C when the extension is built (a 28 kB export: 3.6 against 9 µs)."""
+    try:
+        from ._text_decode import newline_count as count
+    except ImportError:
+        return text.count("\n")
+    return count(text)
+
+
 @functools.lru_cache(maxsize=8)
 def _missing_words(missing: Tuple[str, ...]) -> str:
     """The missing words for the C scan: lower case, each followed by a newline."""

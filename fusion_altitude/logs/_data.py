@@ -221,7 +221,7 @@ def find_gaps(time: np.ndarray) -> List[Tuple[float, float]]:
     time = np.asarray(time, dtype=float)
     if time.size < 3:
         return []
-    dt = np.diff(time)
+    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
     limit = max(GAP_FACTOR * (median(dt) if not np.isnan(dt).any() else float(np.median(dt))), GAP_MIN_SECONDS)
     index = np.flatnonzero(dt > limit)
     return [(float(time[i]), float(dt[i])) for i in index]
@@ -264,10 +264,10 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     time = np.asarray(time, dtype=float)
     if lines is None:
         lines = np.arange(time.size) + 2
-    dt = np.diff(time)
+    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
     _check_time_order(time, dt, source, lines, time_name, row_word)
     same = dt == 0
-    repeated = int(same.sum())
+    repeated = int(np.count_nonzero(same))
     if not repeated:
         return time, columns, 0
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
@@ -278,12 +278,12 @@ def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.n
                       row_word: str) -> None:
     """LogError naming the first row (``lines``: its file line) whose time (s; ``dt`` its steps) is not finite or
     goes backwards."""
-    bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size:
+    if not np.isfinite(time).all():
+        bad = np.flatnonzero(~np.isfinite(time))
         raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
                        f"time must be a finite number")
-    back = np.flatnonzero(dt < 0)
-    if back.size:
+    back = np.flatnonzero(dt < 0) if (dt < 0).any() else ()
+    if len(back):
         i = back[0]
         raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
                        f"({fmt(time[i + 1])} s after {fmt(time[i])} s on {row_word} {int(lines[i])})")
@@ -355,10 +355,11 @@ def _check_grid(time: np.ndarray, source: str) -> None:
     time = np.asarray(time, dtype=float)
     if time.size < 2:
         raise LogError(f"{source}: need at least 2 samples, got {time.size}")
-    if not np.all(np.isfinite(time)):
+    if not np.isfinite(time).all():
         raise LogError(f"{source}: sample {int(np.flatnonzero(~np.isfinite(time))[0])}: time is not finite")
-    bad = np.flatnonzero(~(np.diff(time) > 0))
-    if bad.size:
+    increasing = time[1:] - time[:-1] > 0
+    bad = np.flatnonzero(~increasing) if not increasing.all() else ()
+    if len(bad):
         raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
                        f"({fmt(time[bad[0] + 1])} s) follows {fmt(time[bad[0]])} s")
 

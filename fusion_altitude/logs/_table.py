@@ -273,7 +273,7 @@ def numeric_columns(table: Table, columns: Sequence[int],
 def lines_of_rows(table: Table, rows: int) -> Optional[np.ndarray]:
     """File line of each of ``rows`` rows a parser found (blank lines skipped), or None if they do not match."""
     body = table.body
-    expected = body.count("\n") + (1 if body and not body.endswith("\n") else 0)
+    expected = _csv_fast.newline_count(body) + (1 if body and not body.endswith("\n") else 0)
     if rows == expected:
         return np.arange(expected, dtype=np.int64) + table.first_line
     lines = _row_lines(table)

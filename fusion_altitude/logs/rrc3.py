@@ -189,12 +189,13 @@ def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -
     """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in
     ``column``; the warning naming their lines, if any."""
     garbage = _garbage_rows(column)
-    if not garbage.any():
+    count = int(np.count_nonzero(garbage))
+    if not count:
         return []
-    where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
+    where = ", ".join(str(n) for n in lines[garbage][:5].tolist()) + (" …" if count > 5 else "")
     first = int(np.flatnonzero(garbage)[0])
-    message = (f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
-               f"{'s' if garbage.sum() > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
+    message = (f"{path}: line{'s' if count > 1 else ''} {where}: garbage row"
+               f"{'s' if count > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
                f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
                f"m/s: not a plausible flight); dropped, their events kept")
     for name in ("altitude", "pressure", "velocity", "temperature"):

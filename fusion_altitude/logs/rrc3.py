@@ -123,9 +123,10 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
     if lines is None:
         return None
     numbers, cells = fast
-    nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
-    temperature_cells, temperature_rows = cells[0] if "temperature" in position else nothing
-    event_cells, event_rows = cells[-1] if "events" in position else nothing
+    if len(cells) < 2:  # no temperature or no events column: an empty cell on every row for it
+        nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
+        cells = [cells[0] if "temperature" in position else nothing, cells[-1] if "events" in position else nothing]
+    (temperature_cells, temperature_rows), (event_cells, event_rows) = cells
     read = [_temperature_or_event(cell) for cell in temperature_cells]
     temperature = np.array([value for value, _ in read], dtype=float)[temperature_rows]
     is_event = np.array([event for _, event in read], dtype=bool)

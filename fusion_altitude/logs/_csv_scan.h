@@ -249,13 +249,18 @@ static inline uint64_t CsvScanHash(const char *s, const size_t n) {
     return hash;
 }
 
-/* The index of the text cell s[0..n) among column k's distinct cells, adding it if new. */
+/* The index of the text cell s[0..n) among column k's distinct cells, adding it if new; *previous: the row
+   before's (-1 at first), tried first (a logger's text columns mostly repeat it). */
 static inline int64_t CsvScanDistinct(const CsvScanArguments *const a, CsvScanResult *const result, const size_t k,
-                                      const char *s, const size_t n) {
+                                      const char *s, const size_t n, int64_t *const previous) {
     int64_t *const slots = a->hashSlots + k * a->hashSize;
     int64_t *const starts = a->distinctStart + k * a->capacity;
     int64_t *const lengths = a->distinctLength + k * a->capacity;
-    size_t slot = (size_t)CsvScanHash(s, n) & (a->hashSize - 1);
+    size_t slot;
+    if (*previous >= 0 && (size_t)lengths[*previous] == n && memcmp(a->body + starts[*previous], s, n) == 0) {
+        return *previous;
+    }
+    slot = (size_t)CsvScanHash(s, n) & (a->hashSize - 1);
     for (;;) {
         const int64_t found = slots[slot];
         if (found < 0) {
@@ -263,9 +268,11 @@ static inline int64_t CsvScanDistinct(const CsvScanArguments *const a, CsvScanRe
             slots[slot] = index;
             starts[index] = (int64_t)(s - a->body);
             lengths[index] = (int64_t)n;
+            *previous = index;
             return index;
         }
         if ((size_t)lengths[found] == n && memcmp(a->body + starts[found], s, n) == 0) {
+            *previous = found;
             return found;
         }
         slot = (slot + 1) & (a->hashSize - 1);
@@ -400,6 +407,7 @@ static inline const char *CsvScanBlank(const char *s, const char *const end) {
 static inline CsvScanStatus CsvScan(const CsvScanArguments *const a, CsvScanResult *const result) {
     signed char role[CSV_SCAN_MAX_COLUMNS * 4]; /* per cell position: +1 numeric, -1 text, 0 skipped */
     int slot[CSV_SCAN_MAX_COLUMNS * 4];         /* its output column */
+    int64_t previous[CSV_SCAN_MAX_COLUMNS];     /* per text column: the row before's distinct cell */
     size_t width = 0;                           /* cells of the first non-blank line */
     size_t needed = 0;                          /* cells the wanted positions need */
     size_t i;
@@ -422,6 +430,9 @@ static inline CsvScanStatus CsvScan(const CsvScanArguments *const a, CsvScanResu
     }
     for (i = 0; i < a->textCount * a->hashSize; i++) {
         a->hashSlots[i] = -1;
+    }
+    for (i = 0; i < CSV_SCAN_MAX_COLUMNS; i++) {
+        previous[i] = -1;
     }
     while (s < end) {
         const char *const blank = CsvScanBlank(s, end);
@@ -452,7 +463,8 @@ static inline CsvScanStatus CsvScan(const CsvScanArguments *const a, CsvScanResu
                 }
                 if (kind < 0) {
                     const size_t k = (size_t)slot[position];
-                    a->textIndex[row * a->textCount + k] = CsvScanDistinct(a, result, k, first, (size_t)(last - first));
+                    a->textIndex[row * a->textCount + k] =
+                        CsvScanDistinct(a, result, k, first, (size_t)(last - first), &previous[k]);
                 }
             }
             position++;

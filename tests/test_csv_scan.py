@@ -154,3 +154,24 @@ def test_read_text_normalises_newlines_in_c(tmp_path):
     from fusion_altitude.logs import _text_decode
 
     assert hasattr(_text_decode, "newlines")  # the fast path read_text takes (it falls back silently without it)
+
+
+@pytest.mark.parametrize("newline, final", [("\r\n", True), ("\r\n", False), ("\n", False), ("\r", True)])
+def test_a_csv_with_tricky_cells_reads_the_same_with_every_engine_and_the_scan_reads_it(tmp_path, monkeypatch,
+                                                                                     newline, final):
+    from test_csv_engines import CSV, assert_same_both_ways
+
+    rows = ["time,accel,baro,reference"]
+    numbers = ["1e2", " -5.391191E-05 ", "+0.5", ".25", "7.", "1.2605042016806722", "1e-400", "-0", "2.5e+1",
+               "123456789012345678901234567890e-29", "\t9.81"]
+    cells = numbers + ["", "NA", "nan", "N/A", " null "]
+    for i in range(60):
+        rows.append(f"{i * 0.02:.2f},{numbers[i % len(numbers)]},{cells[(i * 7) % len(cells)]},"
+                    f"{cells[(i * 3) % len(cells)]}")
+    path = tmp_path / "tricky.csv"
+    path.write_bytes((newline.join(rows) + (newline if final else "")).encode())
+    scanned = []
+    scan = _csv_fast._scan
+    monkeypatch.setattr(_csv_fast, "_scan", lambda *a: scanned.append(scan(*a) is not None) or scan(*a))
+    outcome = assert_same_both_ways(path, **CSV)
+    assert outcome[0] == "LogData" and True in scanned

@@ -175,3 +175,11 @@ def test_a_csv_with_tricky_cells_reads_the_same_with_every_engine_and_the_scan_r
     monkeypatch.setattr(_csv_fast, "_scan", lambda *a: scanned.append(scan(*a) is not None) or scan(*a))
     outcome = assert_same_both_ways(path, **CSV)
     assert outcome[0] == "LogData" and True in scanned
+
+
+def test_the_scan_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
+    """csrc/fuzz/fuzz_csv.c over csrc/fuzz/corpus_csv: every number the scan reads is strtod's, every row and
+    text cell a plain split's, and it reads nothing outside the body."""
+    from decoder_harness import assert_fuzz_corpus_replays_clean
+
+    assert_fuzz_corpus_replays_clean("csv", tmp_path, minimum_files=8)

@@ -99,6 +99,71 @@ static int ReferenceCell(const char *cell, size_t n, double *value) {
     return end == copy + n; /* decimals, inf and infinity, as Python's float */
 }
 
+/* A scan that is Ok: every non-blank line a row, its numeric cells the reference's bits, its text cells the cells. */
+static void CheckRows(const CsvScanArguments *const a, const CsvScanResult *const result) {
+    size_t row = 0;
+    size_t line;
+    size_t start = 0;
+    size_t stop = 0;
+    for (line = 0; line < result->line; line++) {
+        size_t i;
+        size_t k;
+        int blank = 1;
+        CHECK(NthLine(a->body, a->size, line, &start, &stop));
+        for (i = start; i < stop; i++) {
+            CHECK(CsvScanIsPlain(a->body[i]));
+            blank = blank && (a->body[i] == ' ' || a->body[i] == '\t');
+        }
+        if (blank) {
+            continue;
+        }
+        for (k = 0; k < a->numericCount; k++) {
+            size_t first = 0;
+            size_t last = 0;
+            double expected = 0.0;
+            const double got = a->numbers[row * a->numericCount + k];
+            CHECK(Cell(a->body, start, stop, (size_t)a->numeric[k], &first, &last));
+            CHECK(ReferenceCell(a->body + first, last - first, &expected));
+            CHECK(memcmp(&expected, &got, sizeof(double)) == 0);
+        }
+        for (k = 0; k < a->textCount; k++) {
+            size_t first = 0;
+            size_t last = 0;
+            const int64_t index = a->textIndex[row * a->textCount + k];
+            CHECK(Cell(a->body, start, stop, (size_t)a->text[k], &first, &last));
+            CHECK(index >= 0 && (size_t)index < result->distinct[k]);
+            CHECK((size_t)a->distinctLength[k * a->capacity + (size_t)index] == last - first);
+            CHECK(memcmp(a->body + a->distinctStart[k * a->capacity + (size_t)index], a->body + first, last - first) == 0);
+        }
+        row++;
+    }
+    CHECK(row == result->rows);
+    CHECK(!NthLine(a->body, a->size, result->line, &start, &stop)); /* every line was read */
+}
+
+/* A scan that stopped: on a line of the body, which the reference finds not plain there. */
+static void CheckStop(const CsvScanArguments *const a, const CsvScanResult *const result, const CsvScanStatus status) {
+    size_t start = 0;
+    size_t stop = 0;
+    CHECK(NthLine(a->body, a->size, result->line, &start, &stop));
+    if (status == CsvScanNotNumber) {
+        size_t first = 0;
+        size_t last = 0;
+        double value = 0.0;
+        CHECK(Cell(a->body, start, stop, result->cell, &first, &last));
+        CHECK(!ReferenceCell(a->body + first, last - first, &value));
+    } else if (status == CsvScanNotPlainText) {
+        size_t i;
+        int plain = 1;
+        for (i = start; i < stop; i++) {
+            plain = plain && CsvScanIsPlain(a->body[i]);
+        }
+        CHECK(!plain);
+    } else {
+        CHECK(status == CsvScanRagged);
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     int numeric[4];
     int text[4];
@@ -146,75 +211,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     a.hashSize = hashSize;
     CHECK(a.numbers != NULL && a.textIndex != NULL && a.distinctStart != NULL && a.distinctLength != NULL &&
           a.hashSlots != NULL);
-
     status = CsvScan(&a, &result);
     CHECK(result.rows <= capacity);
     if (status == CsvScanOk) {
-        size_t row = 0;
-        size_t line;
-        for (line = 0; line < result.line; line++) {
-            size_t start = 0;
-            size_t stop = 0;
-            size_t i;
-            int blank = 1;
-            CHECK(NthLine(body, size, line, &start, &stop));
-            for (i = start; i < stop; i++) {
-                CHECK(CsvScanIsPlain(body[i]));
-                blank = blank && (body[i] == ' ' || body[i] == '\t');
-            }
-            if (blank) {
-                continue;
-            }
-            for (k = 0; k < numericCount; k++) {
-                size_t first = 0;
-                size_t last = 0;
-                double expected = 0.0;
-                const double got = a.numbers[row * numericCount + k];
-                CHECK(Cell(body, start, stop, (size_t)numeric[k], &first, &last));
-                CHECK(ReferenceCell(body + first, last - first, &expected));
-                CHECK(memcmp(&expected, &got, sizeof(double)) == 0);
-            }
-            for (k = 0; k < textCount; k++) {
-                size_t first = 0;
-                size_t last = 0;
-                const int64_t index = a.textIndex[row * textCount + k];
-                CHECK(Cell(body, start, stop, (size_t)text[k], &first, &last));
-                CHECK(index >= 0 && (size_t)index < result.distinct[k]);
-                CHECK((size_t)a.distinctLength[k * capacity + (size_t)index] == last - first);
-                CHECK(memcmp(body + a.distinctStart[k * capacity + (size_t)index], body + first, last - first) == 0);
-            }
-            row++;
-        }
-        CHECK(row == result.rows);
-        {
-            size_t start = 0;
-            size_t stop = 0;
-            CHECK(!NthLine(body, size, result.line, &start, &stop)); /* every line was read */
-        }
-    } else if (status == CsvScanNotNumber) {
-        size_t start = 0;
-        size_t stop = 0;
-        size_t first = 0;
-        size_t last = 0;
-        double value = 0.0;
-        CHECK(NthLine(body, size, result.line, &start, &stop));
-        CHECK(Cell(body, start, stop, result.cell, &first, &last));
-        CHECK(!ReferenceCell(body + first, last - first, &value));
-    } else if (status == CsvScanNotPlainText) {
-        size_t start = 0;
-        size_t stop = 0;
-        size_t i;
-        int plain = 1;
-        CHECK(NthLine(body, size, result.line, &start, &stop));
-        for (i = start; i < stop; i++) {
-            plain = plain && CsvScanIsPlain(body[i]);
-        }
-        CHECK(!plain);
+        CheckRows(&a, &result);
     } else {
-        size_t start = 0;
-        size_t stop = 0;
-        CHECK(status == CsvScanRagged);
-        CHECK(NthLine(body, size, result.line, &start, &stop));
+        CheckStop(&a, &result, status);
     }
     free(a.numbers);
     free(a.textIndex);

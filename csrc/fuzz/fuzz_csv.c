@@ -173,9 +173,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     size_t hashSize = 1;
     size_t k;
     const char *body;
-    CsvScanArguments a;
-    CsvScanResult result;
-    CsvScanStatus status;
+    double *numbers;
+    int64_t *work;
     if (size < 1) {
         return 0;
     }
@@ -193,35 +192,25 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     while (hashSize < 2 * capacity) {
         hashSize *= 2;
     }
-    memset(&a, 0, sizeof(a));
-    a.body = body;
-    a.size = size;
-    a.numeric = numeric;
-    a.numericCount = numericCount;
-    a.text = text;
-    a.textCount = textCount;
-    a.missing = FUZZ_CSV_MISSING;
-    a.missingSize = sizeof(FUZZ_CSV_MISSING) - 1;
-    a.capacity = capacity;
-    a.numbers = (double *)malloc(capacity * (numericCount + 1) * sizeof(double));
-    a.textIndex = (int64_t *)malloc(capacity * (textCount + 1) * sizeof(int64_t));
-    a.distinctStart = (int64_t *)malloc(capacity * (textCount + 1) * sizeof(int64_t));
-    a.distinctLength = (int64_t *)malloc(capacity * (textCount + 1) * sizeof(int64_t));
-    a.hashSlots = (int64_t *)malloc(hashSize * (textCount + 1) * sizeof(int64_t));
-    a.hashSize = hashSize;
-    CHECK(a.numbers != NULL && a.textIndex != NULL && a.distinctStart != NULL && a.distinctLength != NULL &&
-          a.hashSlots != NULL);
-    status = CsvScan(&a, &result);
-    CHECK(result.rows <= capacity);
-    if (status == CsvScanOk) {
-        CheckRows(&a, &result);
-    } else {
-        CheckStop(&a, &result, status);
+    numbers = (double *)malloc(capacity * (numericCount + 1) * sizeof(double));
+    work = (int64_t *)malloc((3 * capacity + hashSize) * (textCount + 1) * sizeof(int64_t));
+    CHECK(numbers != NULL && work != NULL);
+    {
+        /* each text column's row indices, distinct starts and lengths, hash slots: one block */
+        const size_t block = capacity * (textCount + 1);
+        const CsvScanArguments a = {body, size, numeric, numericCount, text, textCount, FUZZ_CSV_MISSING,
+                                    sizeof(FUZZ_CSV_MISSING) - 1, capacity, numbers, work, work + block,
+                                    work + 2 * block, work + 3 * block, hashSize};
+        CsvScanResult result;
+        const CsvScanStatus status = CsvScan(&a, &result);
+        CHECK(result.rows <= capacity);
+        if (status == CsvScanOk) {
+            CheckRows(&a, &result);
+        } else {
+            CheckStop(&a, &result, status);
+        }
     }
-    free(a.numbers);
-    free(a.textIndex);
-    free(a.distinctStart);
-    free(a.distinctLength);
-    free(a.hashSlots);
+    free(numbers);
+    free(work);
     return 0;
 }

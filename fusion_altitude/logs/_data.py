@@ -208,11 +208,12 @@ def fmt(value: float) -> str:
 def median(values: np.ndarray) -> float:
     """``float(numpy.median(values))`` of a non-empty 1-D float64 array without NaN, bit for bit (the same order
     statistics, the mean of the middle two as ``numpy.mean`` takes it), in one partition: a fifth of the time on a
-    small log."""
+    small log. The last element is partitioned too, as numpy's ``median`` does: without it, on a grid of few
+    distinct steps (a 1.4-million-step Raven log) the partition takes five times as long."""
     half = values.size // 2
     if values.size % 2:
-        return float(np.partition(values, half)[half])
-    part = np.partition(values, (half - 1, half))
+        return float(np.partition(values, (half, -1))[half])
+    part = np.partition(values, (half - 1, half, -1))
     return (float(part[half - 1]) + float(part[half])) / 2.0
 
 

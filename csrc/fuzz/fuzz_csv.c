@@ -200,7 +200,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         const size_t block = capacity * (textCount + 1);
         const CsvScanArguments a = {body, size, numeric, numericCount, text, textCount, FUZZ_CSV_MISSING,
                                     sizeof(FUZZ_CSV_MISSING) - 1, capacity, numbers, work, work + block,
-                                    work + 2 * block, work + 3 * block, hashSize};
+                                    work + 2 * block, work + 3 * block, hashSize, NULL}; /* NULL: strtod */
         CsvScanResult result;
         const CsvScanStatus status = CsvScan(&a, &result);
         CHECK(result.rows <= capacity);

@@ -42,8 +42,9 @@ ENGINES = ("auto", "pyarrow", "python")
 #: Characters of text per pyarrow call (progress granularity).
 CHUNK_CHARS = 64_000_000
 #: Largest body (characters) the C scan reads first. Below it pyarrow's fixed set-up (about 0.2 ms a parse) is
-#: most of a read; above it pyarrow is the faster on long numbers (17 significant digits go to strtod in the
-#: scan: the CATS IMU file, 2.9 MB, 20 ms against pyarrow's 8 ms; the 72 kB Raven export 0.12 against 0.36 ms).
+#: most of a read; above it pyarrow is the faster on long numbers (17 significant digits go to Python's own
+#: conversion in the scan: the CATS IMU file, 2.9 MB, 34 ms against pyarrow's 8 ms; the 72 kB Raven export 0.12
+#: against 0.36 ms).
 SCAN_MAX_CHARS = 262_144
 
 

@@ -22,10 +22,12 @@
  * power of ten up to 22 is one exact integer times or divided by one exact
  * power of ten, a single IEEE operation, so correctly rounded (Clinger's
  * fast path; needs double arithmetic in double, FLT_EVAL_METHOD 0, as
- * SSE2 and AArch64 have). Every other number goes to the C library's
- * strtod (correctly rounded in glibc, musl, macOS and the current MSVC),
- * whose end must be the cell's end (else, e.g. under another LC_NUMERIC,
- * the body is not plain).
+ * SSE2 and AArch64 have). Every other number goes to the caller's
+ * conversion (toDouble; the extension gives Python's own,
+ * PyOS_string_to_double, so the value is float()'s on every platform), or
+ * to the C library's strtod without one (correctly rounded in glibc, musl
+ * and macOS), whose end must be the cell's end (else, e.g. under another
+ * LC_NUMERIC, the body is not plain).
  *
  * Not part of the microcontroller core: C99 and C++, bounds-checked, no
  * allocation (the caller gives every array).
@@ -57,6 +59,9 @@ typedef enum {
     CsvScanFull = 4,
 } CsvScanStatus;
 
+/* A decimal string to double, as strtod: the value, *end after the last character converted. */
+typedef double (*CsvScanToDouble)(const char *text, char **end);
+
 typedef struct {
     const char *body;        /* the body's bytes (need not end with NUL) */
     size_t size;             /* bytes */
@@ -73,6 +78,7 @@ typedef struct {
     int64_t *distinctLength; /* out: textCount x capacity: its length */
     int64_t *hashSlots;      /* work: textCount x hashSize, any content */
     size_t hashSize;         /* a power of two, at least 2 x capacity (ignored without text columns) */
+    CsvScanToDouble toDouble; /* the conversion of the numbers off Clinger's fast path; NULL: strtod */
 } CsvScanArguments;
 
 typedef struct {
@@ -121,7 +127,7 @@ static const double csvScanPowers[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6
  * The stripped numeric cell s[0..n) as a double, by the grammar of the file
  * comment. Returns 1 and sets *value, or 0 when it is not plain.
  */
-static inline int CsvScanNumber(const char *s, const size_t n, double *const value) {
+static inline int CsvScanNumber(const char *s, const size_t n, double *const value, const CsvScanToDouble toDouble) {
     size_t i = 0;
     int negative = 0;
     uint64_t mantissa = 0;
@@ -214,7 +220,7 @@ static inline int CsvScanNumber(const char *s, const size_t n, double *const val
         }
         memcpy(copy, s, n);
         copy[n] = '\0';
-        *value = strtod(copy, &end);
+        *value = toDouble != NULL ? toDouble(copy, &end) : strtod(copy, &end);
         return end == copy + n;
     }
 }
@@ -383,7 +389,7 @@ static inline CsvScanStatus CsvScanCell(const CsvScanArguments *const a, const c
     }
     *first = s;
     *last = stop;
-    if (role > 0 && !CsvScanNumber(s, (size_t)(stop - s), number)) {
+    if (role > 0 && !CsvScanNumber(s, (size_t)(stop - s), number, a->toDouble)) {
         if (!CsvScanIsMissing(s, (size_t)(stop - s), a->missing, a->missingSize)) {
             return CsvScanNotNumber;
         }

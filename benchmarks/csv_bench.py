@@ -13,8 +13,9 @@ a long flight) and a generated generic CSV of ``--rows`` rows (``time,accel,baro
 alone (the three files' text, header and numeric columns,
 :func:`fusion_altitude.logs._table.numeric_columns`). MB/s is the bytes of the files read over the CPU
 (process) time. The shared RRC3 and Raven exports are 28 kB and 72 kB: a load of either repeats ``--inner``
-times per timing, and their figures are bound by what every load costs whatever its size (pyarrow's set-up
-of a parse, the log checks), not by parsing. Write: the observer's run on the CATS and generated logs written
+times per timing, and their figures are bound by what every load costs whatever its size (opening and
+sniffing the file, the log checks), not by parsing: bodies up to ``_csv_fast.SCAN_MAX_CHARS`` are parsed by
+the C scan of ``logs/_csv_scan.h``, without pyarrow's set-up of a parse (about 0.2 ms). Write: the observer's run on the CATS and generated logs written
 with :func:`fusion_altitude.runner.write_csv` (``run -o out.csv``); MB/s is the bytes written over the CPU
 time. Each figure is the best of ``--repeat`` runs after one warm-up, the old path (``csv_engine("python")``:
 numpy's ``loadtxt``, the Python loops, Python ``%`` formatting; the strapdown integration of the CATS reader

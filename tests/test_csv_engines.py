@@ -1,11 +1,14 @@
-"""CSV at parse speed (issue 25, item 3): the pyarrow reader and the C writer give what the Python paths give.
+"""CSV at parse speed (issue 25, item 3): the C scan, the pyarrow reader and the C writer give what the Python
+paths give.
 
 Reading: every CSV fixture of tests/logfixtures.py, every shared CSV and
 the CSV seeds of the reader fuzz (tests/fuzz_readers.py) with mutations are
-read twice — ``csv_engine("python")`` (numpy's ``loadtxt`` and the
-pure-Python pass, the old path) and the default (pyarrow first) — and the
+read three ways — ``engine("python")`` (numpy's ``loadtxt`` and the
+pure-Python pass, the old path), ``engine("pyarrow")`` (pyarrow first) and
+the default (the C scan of ``_csv_scan.h`` first for small bodies) — and the
 outcomes must be the same: every LogData field bit for bit and the same
-warnings, or the same LogError message. Writing: ``run -o`` text is the
+warnings, or the same LogError message. The C scan's numbers are compared
+with Python's ``float`` and pyarrow's on tricky cells in tests/test_csv_scan.py. Writing: ``run -o`` text is the
 old writer's byte for byte and reads back to the same bits.
 """
 
@@ -63,14 +66,17 @@ def outcome(path, engine: str, **options):
 
 
 def assert_same_both_ways(path, **options):
-    old, new = outcome(path, "python", **options), outcome(path, "auto", **options)
-    assert old[0] == new[0], (path, old[:2] if old[0] == "LogError" else old[0], new[0])
-    if old[0] == "LogData":
-        differing = [name for name in old[1] if old[1][name] != new[1][name]]
-        assert differing == [], f"{path}: fields differ: {differing}"
-    else:
-        assert old[1] == new[1]
-    assert old[2] == new[2]
+    """The outcome of reading ``path`` with every engine (the Python path, pyarrow, the C scan), all equal."""
+    old = outcome(path, "python", **options)
+    for engine in ("pyarrow", "auto"):
+        new = outcome(path, engine, **options)
+        assert old[0] == new[0], (path, engine, old[:2] if old[0] == "LogError" else old[0], new[0])
+        if old[0] == "LogData":
+            differing = [name for name in old[1] if old[1][name] != new[1][name]]
+            assert differing == [], f"{path}: fields differ with {engine}: {differing}"
+        else:
+            assert old[1] == new[1], engine
+        assert old[2] == new[2], engine
     return old
 
 
@@ -111,13 +117,13 @@ def fixture_csvs(directory: Path):
     return out
 
 
-def test_every_csv_fixture_reads_the_same_with_pyarrow_and_the_python_path(tmp_path):
+def test_every_csv_fixture_reads_the_same_with_every_engine(tmp_path):
     cases = fixture_csvs(tmp_path)
     outcomes = [assert_same_both_ways(path, **options)[0] for path, options in cases]
     assert outcomes.count("LogData") >= len(cases) // 2  # the comparison covers real reads, not only errors
 
 
-def test_every_shared_csv_reads_the_same_with_pyarrow_and_the_python_path():
+def test_every_shared_csv_reads_the_same_with_every_engine():
     assert DATA.is_dir(), f"shared data not found at {DATA}"
     shared = sorted(DATA.glob("*.csv"))
     assert len(shared) >= 5
@@ -125,7 +131,7 @@ def test_every_shared_csv_reads_the_same_with_pyarrow_and_the_python_path():
     assert outcomes.count("LogData") >= 4, list(zip(shared, outcomes))
 
 
-def test_the_reader_fuzz_corpus_reads_the_same_with_pyarrow_and_the_python_path(tmp_path):
+def test_the_reader_fuzz_corpus_reads_the_same_with_every_engine(tmp_path):
     rng = np.random.default_rng(25)
     (tmp_path / "seeds").mkdir()
     base = fuzz_readers.seeds(str(tmp_path / "seeds"), None)
@@ -139,16 +145,20 @@ def test_the_reader_fuzz_corpus_reads_the_same_with_pyarrow_and_the_python_path(
             assert_same_both_ways(fx.write_bytes(case / name, mutated), **options)
 
 
-def test_pyarrow_reads_the_plain_columns_itself():
+@pytest.mark.parametrize("engine", ["pyarrow", "auto"])
+def test_the_fast_engines_read_the_plain_columns_themselves(engine):
     body = "0.5,1e-3,,NA,x\n1.25,-2,nan,7,y\n"
-    data = _csv_fast.read_columns(body, [0, 1, 2, 3], ("", "nan", "na"))
+    with _csv_fast.engine(engine):
+        data = _csv_fast.read_columns(body, [0, 1, 2, 3], ("", "nan", "na"))
     assert data is not None and data.shape == (2, 4)
     assert data[:, :2].tolist() == [[0.5, 1e-3], [1.25, -2.0]]
     assert np.isnan(data[:, 2]).all() and np.isnan(data[0, 3]) and data[1, 3] == 7.0
 
 
-def test_pyarrow_leaves_a_row_of_another_length_to_the_python_path():
-    assert _csv_fast.read_columns("1,2\n3\n", [0, 1], ("",)) is None
+@pytest.mark.parametrize("engine", ["pyarrow", "auto"])
+def test_the_fast_engines_leave_a_row_of_another_length_to_the_python_path(engine):
+    with _csv_fast.engine(engine):
+        assert _csv_fast.read_columns("1,2\n3\n", [0, 1], ("",)) is None
 
 
 def test_the_python_engine_turns_the_fast_reader_off():
@@ -255,8 +265,9 @@ def test_without_pyarrow_the_numpy_path_reads_the_same(tmp_path, monkeypatch):
     fx.write_generic_csv(tmp_path / "log.csv", duration=6.0, rate=50.0, repeat_every=9)
     with_pyarrow = outcome(tmp_path / "log.csv", "auto", **CSV)
     monkeypatch.setattr(_csv_fast, "_pyarrow", lambda: None)
-    assert _csv_fast.read_columns("1,2\n", [0, 1], ("",)) is None
-    assert outcome(tmp_path / "log.csv", "auto", **CSV) == with_pyarrow
+    with _csv_fast.engine("pyarrow"):
+        assert _csv_fast.read_columns("1,2\n", [0, 1], ("",)) is None
+    assert outcome(tmp_path / "log.csv", "pyarrow", **CSV) == with_pyarrow
 
 
 def test_without_the_extension_run_o_falls_back_to_the_python_writer(tmp_path, monkeypatch):

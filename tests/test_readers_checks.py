@@ -213,3 +213,24 @@ def test_fixed_format_with_time_not_in_seconds_is_refused():
     data = LogData("x.ulg (PX4 ULog)", np.arange(50) * 10.0, np.sin(np.arange(50.0)), np.linspace(0, 5, 50))
     with pytest.raises(LogError, match="this format's time is in seconds"):
         finish(data)
+
+
+@pytest.mark.parametrize("size", [1, 2, 3, 4, 11, 610, 611, 1000])
+def test_the_median_of_the_checks_is_numpys_bit_for_bit(size):
+    from fusion_altitude.logs._data import median
+
+    rng = np.random.default_rng(size)
+    for values in (rng.random(size) * 10.0, rng.choice([0.01, 0.02, 0.0025, 1e-9, 3.0], size),
+                   np.full(size, 0.1) + rng.integers(0, 2, size) * 1e-17):
+        assert np.float64(median(values)).tobytes() == np.float64(np.median(values)).tobytes()
+
+
+@pytest.mark.parametrize("values, absurd", [([1.0, np.nan, 1.5], False), ([np.nan, np.nan], False), ([], False),
+                                            ([1.0, np.inf], True), ([-np.inf, 2.0], True), ([0.0, 3.0], True)])
+def test_drop_absurd_without_an_absurd_cell_returns_its_input_and_no_message(values, absurd):
+    from fusion_altitude.logs._checks import drop_absurd
+
+    values = np.array(values, dtype=float)
+    cleaned, message = drop_absurd("f.csv", "p", values, None, 0.0, 2.0, "Pa", "pressure", low_inclusive=False)
+    assert (message is not None) == absurd
+    assert (cleaned is values) == (not absurd)

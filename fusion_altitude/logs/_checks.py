@@ -33,7 +33,7 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from .._core._common import GRAVITY
-from ._data import LogError, fmt
+from ._data import LogError, fmt, median
 
 #: Plausible baro / reference altitude, m (below the Dead Sea shore … well above any balloon).
 ALTITUDE_RANGE = (-1_000.0, 100_000.0)
@@ -85,6 +85,8 @@ def drop_absurd(source: str, name: str, values: np.ndarray, lines: Optional[np.n
         2 more lines (the last line 90)"``.
     """
     values = np.asarray(values, dtype=float)
+    if not values.size or _all_plausible(values, low, high, low_inclusive):
+        return values, None
     present = ~np.isnan(values)
     with np.errstate(invalid="ignore"):
         inside = (values >= low if low_inclusive else values > low) & (values <= high)
@@ -107,6 +109,13 @@ def drop_absurd(source: str, name: str, values: np.ndarray, lines: Optional[np.n
     return values, message
 
 
+def _all_plausible(values: np.ndarray, low: float, high: float, low_inclusive: bool) -> bool:
+    """True when every non-NaN value lies in the range of :func:`drop_absurd` (and one at least): its least and
+    greatest ignoring NaN (``fmin``/``fmax``), two reductions instead of a mask per test."""
+    least, greatest = float(np.fmin.reduce(values)), float(np.fmax.reduce(values))
+    return (least >= low if low_inclusive else least > low) and greatest <= high
+
+
 def is_dead(values: np.ndarray) -> bool:
     """True if a channel is dead: at least :data:`DEAD_MIN_SAMPLES` finite samples, all equal (all zero too).
 
@@ -114,8 +123,9 @@ def is_dead(values: np.ndarray) -> bool:
     when every axis is constant.
     """
     values = np.asarray(values, dtype=float)
-    if values.ndim == 1:
-        values = values[:, None]
+    if values.ndim == 1:  # one channel: the same test without the axis reductions
+        live = values[np.isfinite(values)]
+        return live.size >= DEAD_MIN_SAMPLES and bool(live.max() == live.min())
     rows = np.all(np.isfinite(values), axis=1)
     if rows.sum() < DEAD_MIN_SAMPLES:
         return False
@@ -158,18 +168,19 @@ def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
         What the user can do, e.g. ``"set time_units to 'ms' or 'us'"`` (the CLI shows the flag: ``--time-units``).
     """
     time = np.asarray(time, dtype=float)
-    finite = time[np.isfinite(time)]
+    finite = time if np.isfinite(time).all() else time[np.isfinite(time)]
     if finite.size < 2:
         return
-    steps = np.diff(finite)
-    steps = steps[steps > 0]
+    steps = finite[1:] - finite[:-1]
+    positive = steps > 0
+    steps = steps if positive.all() else steps[positive]
     if not steps.size:
         return
-    median = float(np.median(steps))
+    step = median(steps)  # steps of finite times: no NaN
     span = float(finite[-1] - finite[0])
-    if median > MAX_MEDIAN_STEP or (median >= 1.0 and span > MAX_SPAN):
-        guess = "microseconds" if median >= 1_000.0 or span > 1e3 * MAX_SPAN else "milliseconds"
-        raise LogError(f"{source}: the time column does not look like seconds (median step {fmt(median)}, span "
+    if step > MAX_MEDIAN_STEP or (step >= 1.0 and span > MAX_SPAN):
+        guess = "microseconds" if step >= 1_000.0 or span > 1e3 * MAX_SPAN else "milliseconds"
+        raise LogError(f"{source}: the time column does not look like seconds (median step {fmt(step)}, span "
                        f"{fmt(span)}): probably {guess}; {fix}")
 
 

@@ -205,13 +205,25 @@ def fmt(value: float) -> str:
     return f"{float(value):.6g}"
 
 
+def median(values: np.ndarray) -> float:
+    """``float(numpy.median(values))`` of a non-empty 1-D float64 array without NaN, bit for bit (the same order
+    statistics, the mean of the middle two as ``numpy.mean`` takes it), in one partition: a fifth of the time on a
+    small log. The last element is partitioned too, as numpy's ``median`` does: without it, on a grid of few
+    distinct steps (a 1.4-million-step Raven log) the partition takes five times as long."""
+    half = values.size // 2
+    if values.size % 2:
+        return float(np.partition(values, (half, -1))[half])
+    part = np.partition(values, (half - 1, half, -1))
+    return (float(part[half - 1]) + float(part[half])) / 2.0
+
+
 def find_gaps(time: np.ndarray) -> List[Tuple[float, float]]:
     """Logging gaps of a grid: (start s, length s) of steps > max(10 × median step, 0.1 s)."""
     time = np.asarray(time, dtype=float)
     if time.size < 3:
         return []
-    dt = np.diff(time)
-    limit = max(GAP_FACTOR * float(np.median(dt)), GAP_MIN_SECONDS)
+    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
+    limit = max(GAP_FACTOR * (median(dt) if not np.isnan(dt).any() else float(np.median(dt))), GAP_MIN_SECONDS)
     index = np.flatnonzero(dt > limit)
     return [(float(time[i]), float(dt[i])) for i in index]
 
@@ -253,10 +265,10 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
     time = np.asarray(time, dtype=float)
     if lines is None:
         lines = np.arange(time.size) + 2
-    dt = np.diff(time)
+    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
     _check_time_order(time, dt, source, lines, time_name, row_word)
     same = dt == 0
-    repeated = int(same.sum())
+    repeated = int(np.count_nonzero(same))
     if not repeated:
         return time, columns, 0
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
@@ -267,12 +279,12 @@ def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.n
                       row_word: str) -> None:
     """LogError naming the first row (``lines``: its file line) whose time (s; ``dt`` its steps) is not finite or
     goes backwards."""
-    bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size:
+    if not np.isfinite(time).all():
+        bad = np.flatnonzero(~np.isfinite(time))
         raise LogError(f"{source}: {row_word} {int(lines[bad[0]])}, column {time_name!r}: "
                        f"time must be a finite number")
-    back = np.flatnonzero(dt < 0)
-    if back.size:
+    back = np.flatnonzero(dt < 0) if (dt < 0).any() else ()
+    if len(back):
         i = back[0]
         raise LogError(f"{source}: {row_word} {int(lines[i + 1])}, column {time_name!r}: time goes backwards "
                        f"({fmt(time[i + 1])} s after {fmt(time[i])} s on {row_word} {int(lines[i])})")
@@ -344,10 +356,11 @@ def _check_grid(time: np.ndarray, source: str) -> None:
     time = np.asarray(time, dtype=float)
     if time.size < 2:
         raise LogError(f"{source}: need at least 2 samples, got {time.size}")
-    if not np.all(np.isfinite(time)):
+    if not np.isfinite(time).all():
         raise LogError(f"{source}: sample {int(np.flatnonzero(~np.isfinite(time))[0])}: time is not finite")
-    bad = np.flatnonzero(~(np.diff(time) > 0))
-    if bad.size:
+    increasing = time[1:] - time[:-1] > 0
+    bad = np.flatnonzero(~increasing) if not increasing.all() else ()
+    if len(bad):
         raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
                        f"({fmt(time[bad[0] + 1])} s) follows {fmt(time[bad[0]])} s")
 

@@ -45,6 +45,8 @@ def _first_lines(head: str):
 
 def looks_like_altos(head: str) -> bool:
     """True if ``head`` starts with an AltOS CSV header (``#`` comment lines, e.g. AltOS 1.4's, may precede it)."""
+    if HEADER_START not in head:  # the header line starts with it: not an AltOS log, without splitting its lines
+        return False
     first, _ = _first_lines(head)
     return first.startswith(HEADER_START) and "state_name" in first and ",time," in first
 

@@ -15,7 +15,7 @@ from typing import Callable, Dict, List, Optional, Tuple
 import numpy as np
 
 from . import _csv_fast
-from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE, drop_absurd
+from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE
 from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
 from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
@@ -78,22 +78,24 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
     column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
                                                           "temperature"))}
-    bad_time = np.flatnonzero(~np.isfinite(column["time"]))
-    if bad_time.size:
+    bad_time = np.flatnonzero(~np.isfinite(column["time"])) if not np.isfinite(column["time"]).all() else ()
+    if len(bad_time):
         raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
     messages = _drop_garbage(path, column, lines)
-    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": events}, path,
+    names, event_rows = events  # the event names, and each row's among them: merged as integers (the last row's)
+    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": event_rows}, path,
                                                        lines, "time")
-    log = _log(f"{os.path.basename(path)} (RRC3 CSV)", time, merged, repeated, shifted)
+    log = _log(f"{os.path.basename(path)} (RRC3 CSV)", time, merged, names, repeated, shifted)
     for message in messages:
         log.warn(message)
     return finish(log)
 
 
-def _log(source: str, time: np.ndarray, merged: Dict[str, np.ndarray], repeated: int, shifted: int) -> LogData:
+def _log(source: str, time: np.ndarray, merged: Dict[str, np.ndarray], names: np.ndarray, repeated: int,
+         shifted: int) -> LogData:
     """The LogData of an RRC3 export's columns (``merged``: altitude m, pressure hPa, velocity m/s, temperature
-    °C, events) on its time stamps (s), with the notes."""
-    state, notes_events = _states(time, merged["events"])
+    °C, events: each step's index into the event ``names``) on its time stamps (s), with the notes."""
+    state, notes_events = _states(time, names, merged["events"])
     notes = ["time, altitude (m AGL), pressure (hPa), velocity (reference), temperature; no accelerometer: "
              "baro only"]
     if notes_events:
@@ -121,14 +123,22 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
     if lines is None:
         return None
     numbers, cells = fast
-    nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
-    temperature_cells, temperature_rows = cells[0] if "temperature" in position else nothing
-    event_cells, event_rows = cells[-1] if "events" in position else nothing
+    if len(cells) < 2:  # no temperature or no events column: an empty cell on every row for it
+        nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
+        cells = [cells[0] if "temperature" in position else nothing, cells[-1] if "events" in position else nothing]
+    (temperature_cells, temperature_rows), (event_cells, event_rows) = cells
     read = [_temperature_or_event(cell) for cell in temperature_cells]
-    temperature = np.array([value for value, _ in read], dtype=float).reshape(-1)[temperature_rows]
-    shifted = np.array([is_event for _, is_event in read], dtype=bool).reshape(-1)[temperature_rows]
-    events = np.where(shifted, _event_names(temperature_cells)[temperature_rows], _event_names(event_cells)[event_rows])
-    return np.column_stack([numbers, temperature]), lines, events, int(shifted.sum())
+    temperature = np.array([value for value, _ in read], dtype=float)[temperature_rows]
+    is_event = np.array([event for _, event in read], dtype=bool)
+    # each row's event: its temperature cell where that holds an event, else its events cell (names of both kinds
+    # of distinct cell in one table, so the rows take theirs in one gather)
+    names = np.concatenate([_event_names(temperature_cells), _event_names(event_cells)])
+    shifted = is_event[temperature_rows]
+    events = np.where(shifted, temperature_rows, event_rows + temperature_cells.size)
+    rows = np.empty((lines.size, 5))
+    rows[:, :4] = numbers
+    rows[:, 4] = temperature
+    return rows, lines, (names, events), int(np.count_nonzero(shifted))
 
 
 def _event_names(cells: np.ndarray) -> np.ndarray:
@@ -171,19 +181,22 @@ def _rows_python(table: Table, position: Dict[str, int], progress):
         if progress is not None and i % 10_000 == 0:
             progress(i, total)
     data = np.array(rows, dtype=float).reshape(len(rows), 5)
-    return data, np.array(lines, dtype=np.int64), np.array(events, dtype=object), shifted
+    names = np.empty(len(events), dtype=object)
+    names[:] = events
+    return data, np.array(lines, dtype=np.int64), (names, np.arange(len(events))), shifted
 
 
 def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -> List[str]:
     """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in
     ``column``; the warning naming their lines, if any."""
     garbage = _garbage_rows(column)
-    if not garbage.any():
+    count = int(np.count_nonzero(garbage))
+    if not count:
         return []
-    where = ", ".join(str(int(n)) for n in lines[garbage][:5]) + (" …" if garbage.sum() > 5 else "")
+    where = ", ".join(str(n) for n in lines[garbage][:5].tolist()) + (" …" if count > 5 else "")
     first = int(np.flatnonzero(garbage)[0])
-    message = (f"{path}: line{'s' if garbage.sum() > 1 else ''} {where}: garbage row"
-               f"{'s' if garbage.sum() > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
+    message = (f"{path}: line{'s' if count > 1 else ''} {where}: garbage row"
+               f"{'s' if count > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
                f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
                f"m/s: not a plausible flight); dropped, their events kept")
     for name in ("altitude", "pressure", "velocity", "temperature"):
@@ -202,22 +215,25 @@ def _cell(path: str, number: int, name: str, cells: List[str], position: int) ->
 
 
 def _garbage_rows(column: dict) -> np.ndarray:
-    """Rows whose altitude (m), pressure (hPa) or logged velocity (m/s) is not a flight's."""
-    altitude, _ = drop_absurd("", "altitude", column["altitude"], None, *ALTITUDE_RANGE, "m", "altitude")
-    pressure, _ = drop_absurd("", "pressure", column["pressure"] * HPA, None, *PRESSURE_RANGE, "Pa", "pressure",
-                              low_inclusive=False)
+    """Rows whose altitude (m), pressure (hPa) or logged velocity (m/s) is not a flight's: an altitude outside
+    :data:`ALTITUDE_RANGE`, a pressure (in Pa) outside :data:`PRESSURE_RANGE` (its low end excluded) — the cells
+    :func:`._checks.drop_absurd` drops, infinities included — or a speed above :data:`MAX_SPEED`. NaN cells are none of
+    these (a comparison with NaN is False)."""
+    altitude, pressure = column["altitude"], column["pressure"] * HPA
     with np.errstate(invalid="ignore"):
-        fast = np.abs(column["velocity"]) > MAX_SPEED
-    return (np.isnan(altitude) & ~np.isnan(column["altitude"])) | (
-        np.isnan(pressure) & ~np.isnan(column["pressure"])) | fast
+        garbage = (altitude < ALTITUDE_RANGE[0]) | (altitude > ALTITUDE_RANGE[1])
+        garbage |= (pressure <= PRESSURE_RANGE[0]) | (pressure > PRESSURE_RANGE[1])
+        garbage |= np.abs(column["velocity"]) > MAX_SPEED
+    return garbage
 
 
-def _states(time: np.ndarray, events: np.ndarray):
-    """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes."""
-    marks = np.flatnonzero(np.asarray(events != "", dtype=bool))  # events are str: "" for none
-    notes = [f"{events[i]} at {fmt(time[i])} s" for i in marks]
-    names = np.empty(marks.size + 1, dtype=object)
-    names[:] = ["pad"] + [str(events[i]).lower() for i in marks]
+def _states(time: np.ndarray, names: np.ndarray, events: np.ndarray):
+    """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes; ``events``:
+    each step's index into the event ``names`` (str: "" for none)."""
+    marks = np.flatnonzero(np.asarray(names != "", dtype=bool)[events])
+    notes = [f"{names[events[i]]} at {fmt(time[i])} s" for i in marks]
+    states = np.empty(marks.size + 1, dtype=object)
+    states[:] = ["pad"] + [str(names[events[i]]).lower() for i in marks]
     latest = np.zeros(time.size, dtype=np.int64)
     latest[marks] = np.arange(1, marks.size + 1)
-    return names[np.maximum.accumulate(latest)], notes
+    return states[np.maximum.accumulate(latest)], notes

@@ -95,44 +95,137 @@ def dataflash_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, size_
 
 
 cdef extern from "_ulog_scan.h":
-    ctypedef struct ULogScanResult:
+    ctypedef struct ULogMessages:
+        uint64_t *offsets
+        uint8_t *types
+        unsigned short *sizes
+        size_t capacity
+    ctypedef struct ULogDefinitionsResult:
         size_t count
-        size_t endOffset
+        size_t sectionStart
+        int found
+        int cut
         int full
-    void ULogScan(const uint8_t *data, size_t size, size_t start, uint64_t *offsets, uint8_t *types,
-                  unsigned short *sizes, size_t capacity, ULogScanResult *result) nogil
+    ctypedef struct ULogDataResult:
+        size_t count
+        size_t segmentEnds[4]
+        size_t segments
+        size_t skipped
+        size_t synced
+        int full
+    size_t ULogPlainEnd(const uint8_t *data, size_t size, size_t start) nogil
+    void ULogWalkDefinitions(const uint8_t *data, size_t size, size_t start, const ULogMessages *out,
+                             ULogDefinitionsResult *result) nogil
+    void ULogWalkData(const uint8_t *data, size_t size, size_t sectionStart, const uint64_t *appended,
+                      size_t appendedCount, const ULogMessages *out, ULogDataResult *result) nogil
 
 
-def ulog_index(const uint8_t[::1] data, size_t start=16):
-    """Where each whole message of a ULog starts (from byte ``start``), its type and payload size, in one pass.
-
-    Returns
-    -------
-    offsets : ndarray of uint64
-        Byte offset of each message's 3-byte header.
-    types : ndarray of uint8
-        Message type (``ord('D')`` for data, …).
-    sizes : ndarray of uint16
-        Payload size of each, bytes.
-    end : int
-        Byte after the last whole message (a cut message after it is not read, as pyulog).
-    """
-    cdef size_t size = data.shape[0]
-    cdef size_t capacity = (size - start) // 3 + 1 if size > start else 1
-    offsets = np.empty(capacity, dtype=np.uint64)
-    types = np.empty(capacity, dtype=np.uint8)
-    sizes = np.empty(capacity, dtype=np.uint16)
+cdef _ulog_arrays(size_t capacity, ULogMessages *out):
+    """Output arrays (offsets uint64, types uint8, sizes uint16) of ``capacity`` entries, pointed to by ``out``."""
+    offsets = np.empty(max(capacity, 1), dtype=np.uint64)
+    types = np.empty(max(capacity, 1), dtype=np.uint8)
+    sizes = np.empty(max(capacity, 1), dtype=np.uint16)
     cdef uint64_t[::1] offsets_view = offsets
     cdef uint8_t[::1] types_view = types
     cdef unsigned short[::1] sizes_view = sizes
-    cdef ULogScanResult result
+    out.offsets = &offsets_view[0]
+    out.types = &types_view[0]
+    out.sizes = &sizes_view[0]
+    out.capacity = capacity
+    return offsets, types, sizes
+
+
+def ulog_plain_end(const uint8_t[::1] data, size_t start=16):
+    """Byte after the last whole message when every header is taken as sound (where a cut file is cut)."""
+    if <size_t> data.shape[0] <= start:
+        return int(start)
+    return int(ULogPlainEnd(&data[0], data.shape[0], start))
+
+
+def ulog_definitions(const uint8_t[::1] data, size_t start=16):
+    """pyulog's walk of a ULog's definitions (from byte ``start``): its I, M, F, P, Q and B messages.
+
+    Returns
+    -------
+    offsets, types, sizes : ndarrays of uint64, uint8, uint16
+        Byte offset of each message's 3-byte header, its type and payload size (bytes), in file order.
+    section_start : int
+        Byte offset of the data section's first message (an A, L or C message).
+    found : bool
+        Whether a data section starts there (False: the file ends first).
+    cut : bool
+        Whether a header or payload is cut by the end of the file before the data section.
+    """
+    cdef size_t size = data.shape[0]
+    cdef ULogMessages out
+    cdef ULogDefinitionsResult result
+    cdef size_t most = (size - start) // 3 + 1 if size > start else 0
     if size <= start:
-        return offsets[:0], types[:0], sizes[:0], int(start)
-    with nogil:
-        ULogScan(&data[0], size, start, &offsets_view[0], &types_view[0], &sizes_view[0], capacity, &result)
+        offsets, types, sizes = _ulog_arrays(0, &out)
+        return offsets[:0], types[:0], sizes[:0], int(start), False, size < start
+    for capacity in (min(most, 4096), most):  # definitions are short: room for all only if needed
+        offsets, types, sizes = _ulog_arrays(capacity, &out)
+        with nogil:
+            ULogWalkDefinitions(&data[0], size, start, &out, &result)
+        if not result.full:
+            break
     if result.full:
-        raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
-    return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)
+        raise RuntimeError("ulog_definitions: output arrays full (cannot happen: capacity covers 3-byte messages)")
+    return (offsets[:result.count], types[:result.count], sizes[:result.count], int(result.sectionStart),
+            bool(result.found), bool(result.cut))
+
+
+def ulog_data_walk(const uint8_t[::1] data, size_t section_start, appended):
+    """pyulog's walk of a ULog's data section: the messages it reads, segment by segment.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    section_start : int
+        Byte offset of the data section (from :func:`ulog_definitions`).
+    appended : sequence of int
+        The appended-data offsets pyulog uses (bytes, at most 3, each below 2**63): one segment ends before
+        each and the next starts there.
+
+    Returns
+    -------
+    offsets, types, sizes : ndarrays of uint64, uint8, uint16
+        Each message of a known data-section type (I M P Q A L C D O S) read, in pyulog's order.
+    segment_ends : list of int
+        Messages read after each segment.
+    skipped : int
+        Messages of unknown type stepped over.
+    synced : int
+        Times reading resumed after a sync sequence.
+    """
+    cdef size_t size = data.shape[0]
+    cdef uint64_t appended_values[3]
+    cdef size_t count = len(appended)
+    cdef size_t k
+    cdef ULogMessages out
+    cdef ULogDataResult result
+    if count > 3:
+        raise ValueError(f"appended: at most 3 offsets, got {count}")
+    for k in range(count):
+        if not 0 <= appended[k] < 2 ** 63:
+            raise ValueError(f"appended[{k}]: {appended[k]} is not an offset below 2**63")
+        appended_values[k] = appended[k]
+    capacity = (size - section_start) // 3 + 1 if size > section_start else 1
+    while True:  # segments may overlap (appended offsets, sync): grow once, to room for every segment
+        offsets, types, sizes = _ulog_arrays(capacity, &out)
+        if size == 0:
+            return offsets[:0], types[:0], sizes[:0], [0] * (count + 1), 0, 0
+        with nogil:
+            ULogWalkData(&data[0], size, section_start, appended_values, count, &out, &result)
+        if not result.full:
+            break
+        if capacity >= (count + 1) * (size // 3 + 1):
+            raise RuntimeError("ulog_data_walk: output arrays full (cannot happen)")
+        capacity = (count + 1) * (size // 3 + 1)
+    ends = [int(result.segmentEnds[k]) for k in range(result.segments)]
+    return (offsets[:result.count], types[:result.count], sizes[:result.count], ends, int(result.skipped),
+            int(result.synced))
 
 
 # Bytes of each DataFlash format character (0: not a format character pymavlink reads).

@@ -1,12 +1,24 @@
 /*
- * _ulog_scan.h - one pass over the messages of a PX4 ULog (.ulg): where each
- * starts, its type and payload size, as pyulog walks them (3-byte header:
- * uint16 payload size, uint8 type; then the payload).
+ * _ulog_scan.h - the walks of a PX4 ULog (.ulg) that pyulog makes, in C:
+ * which messages it reads, in which order, where it steps over damaged bytes
+ * and resumes after a sync sequence, and where appended data starts.
  *
- * The walk stops where a header or a payload would run past the end of the
- * data (a cut file, as pyulog stops). Not part of the microcontroller core:
- * no float, bounds-checked on every read, no allocation (the caller gives
- * the output arrays), C99 and C++.
+ * A message is a 3-byte header (uint16 payload size, uint8 type) and its
+ * payload. pyulog reads a file in two parts:
+ *   - the definitions (ULogWalkDefinitions): I, M, F, P, Q and B messages
+ *     until the first A, L or C message; other types are skipped, or, if the
+ *     header is damaged (type 0, size 0 or size > 10000), stepped over by
+ *     one byte;
+ *   - the data section (ULogWalkData), once per segment: up to each offset
+ *     of appended data (the flag-bits message), then from that offset. A
+ *     segment ends at a header or payload cut by the end of the file, or at a
+ *     message that ends past the segment's end. A message of an unknown type
+ *     makes pyulog look for the sync sequence: after a damaged header, from
+ *     the next byte to the end of the file (if none is found, it never looks
+ *     again); after a sound one, in its payload only.
+ *
+ * Not part of the microcontroller core: no float, bounds-checked on every
+ * read, no allocation (the caller gives the output arrays), C99 and C++.
  */
 #ifndef FUSION_ALTITUDE_ULOG_SCAN_H
 #define FUSION_ALTITUDE_ULOG_SCAN_H
@@ -17,39 +29,233 @@
 /* Bytes of the ULog file header (magic, version, start time) before the first message. */
 #define ULOG_FILE_HEADER 16
 
+/* Bytes of the sync sequence (the payload of an S message): 2F 73 13 20 25 0C BB 12. */
+#define ULOG_SYNC_SIZE 8
+
+/* Most segments of a data section: one before each of the 3 appended offsets, one after. */
+#define ULOG_MAX_SEGMENTS 4
+
+/* Largest payload (bytes) pyulog takes for a sound header of an unknown type. */
+#define ULOG_MAX_SOUND_PAYLOAD 10000
+
+/* Where a walk's messages go: offset of each header, type, payload size (bytes); capacity entries each. */
 typedef struct {
-    size_t count;      /* messages found */
-    size_t endOffset;  /* byte after the last whole message (where pyulog stops) */
-    int full;          /* 1 if the output arrays filled up before the end */
-} ULogScanResult;
+    uint64_t *offsets;
+    uint8_t *types;
+    uint16_t *sizes;
+    size_t capacity;
+} ULogMessages;
+
+typedef struct {
+    size_t count;        /* definition messages (I M F P Q B) read */
+    size_t sectionStart; /* byte offset of the first A, L or C message (the data section) */
+    int found;           /* 1 if a data section starts at sectionStart */
+    int cut;             /* 1 if a header or payload is cut by the end of the file before it */
+    int full;            /* 1 if the output arrays filled up */
+} ULogDefinitionsResult;
+
+typedef struct {
+    size_t count;                           /* data-section messages read, all segments */
+    size_t segmentEnds[ULOG_MAX_SEGMENTS];  /* count after each segment */
+    size_t segments;                        /* segments read (1 + appended offsets) */
+    size_t skipped;                         /* messages of unknown type stepped over */
+    size_t synced;                          /* times reading resumed after a sync sequence */
+    int full;                               /* 1 if the output arrays filled up */
+} ULogDataResult;
+
+/* Payload size (bytes) in the header at data[position] (3 bytes must be there). */
+static inline size_t ULogPayloadSize(const uint8_t *const data, const size_t position) {
+    return (size_t) data[position] | ((size_t) data[position + 1] << 8);
+}
+
+/* Whether pyulog reads a message of this type in the definitions (I M F P Q B). */
+static inline int ULogIsDefinitionType(const uint8_t type) {
+    return (type == 'I') || (type == 'M') || (type == 'F') || (type == 'P') || (type == 'Q') || (type == 'B');
+}
+
+/* Whether a message of this type starts the data section (A L C). */
+static inline int ULogStartsDataSection(const uint8_t type) {
+    return (type == 'A') || (type == 'L') || (type == 'C');
+}
+
+/* Whether pyulog reads a message of this type in the data section (I M P Q A L C D O S). */
+static inline int ULogIsDataType(const uint8_t type) {
+    switch (type) { /* a jump table: this runs once per message */
+        case 'A': case 'C': case 'D': case 'I': case 'L': case 'M': case 'O': case 'P': case 'Q': case 'S':
+            return 1;
+        default:
+            return 0;
+    }
+}
+
+/* Whether a header of an unknown type is damaged (pyulog's _check_packet_corruption). */
+static inline int ULogHeaderDamaged(const uint8_t type, const size_t payload) {
+    return (type == 0) || (payload == 0) || (payload > ULOG_MAX_SOUND_PAYLOAD);
+}
+
+/* Start of the first sync sequence wholly inside data[from .. to), or SIZE_MAX if there is none. */
+static inline size_t ULogFindSync(const uint8_t *const data, const size_t from, const size_t to) {
+    size_t position;
+    if ((to < ULOG_SYNC_SIZE) || (from > to - ULOG_SYNC_SIZE)) {
+        return SIZE_MAX;
+    }
+    for (position = from; position <= to - ULOG_SYNC_SIZE; position++) {
+        const uint8_t *const p = data + position;
+        if ((p[0] == 0x2F) && (p[1] == 0x73) && (p[2] == 0x13) && (p[3] == 0x20) && (p[4] == 0x25) &&
+            (p[5] == 0x0C) && (p[6] == 0xBB) && (p[7] == 0x12)) {
+            return position;
+        }
+    }
+    return SIZE_MAX;
+}
+
+/* Append one message to out; 0 if out is full. */
+static inline int ULogRecord(const ULogMessages *const out, size_t *const count, const size_t position,
+                             const uint8_t type, const size_t payload) {
+    if (*count >= out->capacity) {
+        return 0;
+    }
+    out->offsets[*count] = (uint64_t) position;
+    out->types[*count] = type;
+    out->sizes[*count] = (uint16_t) payload;
+    (*count)++;
+    return 1;
+}
 
 /*
- * Walk data[start .. size): writes the start (byte offset of the header),
- * type and payload size (bytes) of each whole message to offsets[], types[]
- * and sizes[] (capacity entries each; (size - start) / 3 + 1 is enough).
+ * Byte after the last whole message of the plain walk from start (every
+ * header taken as sound): where a file cut inside a message is cut.
  */
-static inline void ULogScan(const uint8_t *const data, const size_t size, const size_t start,
-                            uint64_t *const offsets, uint8_t *const types, uint16_t *const sizes,
-                            const size_t capacity, ULogScanResult *const result) {
+static inline size_t ULogPlainEnd(const uint8_t *const data, const size_t size, const size_t start) {
+    size_t position = start;
+    while ((position <= size) && (size - position >= 3) && (size - position - 3 >= ULogPayloadSize(data, position))) {
+        position += 3 + ULogPayloadSize(data, position);
+    }
+    return position;
+}
+
+/* pyulog's definitions walk from start (ULOG_FILE_HEADER): the I M F P Q B messages to out. */
+static inline void ULogWalkDefinitions(const uint8_t *const data, const size_t size, const size_t start,
+                                       const ULogMessages *const out, ULogDefinitionsResult *const result) {
     size_t position = start;
     result->count = 0;
+    result->found = 0;
+    result->cut = 0;
     result->full = 0;
-    while ((position <= size) && (size - position >= 3)) {
-        const size_t payload = (size_t) data[position] | ((size_t) data[position + 1] << 8);
+    while (position < size) {
+        size_t payload;
+        uint8_t type;
+        if (size - position < 3) {
+            result->cut = 1;
+            break;
+        }
+        payload = ULogPayloadSize(data, position);
+        type = data[position + 2];
         if (size - position - 3 < payload) {
+            result->cut = 1;
             break;
         }
-        if (result->count >= capacity) {
-            result->full = 1;
+        if (ULogStartsDataSection(type)) {
+            result->found = 1;
             break;
         }
-        offsets[result->count] = (uint64_t) position;
-        types[result->count] = data[position + 2];
-        sizes[result->count] = (uint16_t) payload;
-        result->count++;
-        position += 3 + payload;
+        if (ULogIsDefinitionType(type)) {
+            if (!ULogRecord(out, &result->count, position, type, payload)) {
+                result->full = 1;
+                break;
+            }
+            position += 3 + payload;
+        } else if (ULogHeaderDamaged(type, payload)) {
+            position += 1;
+        } else {
+            position += 3 + payload;
+        }
     }
-    result->endOffset = position;
+    result->sectionStart = position;
+}
+
+/*
+ * One segment of pyulog's data walk (_read_file_data): from position until a
+ * message ends past until (bytes). counted is pyulog's own count of the bytes
+ * read (its curr_file_pos), which a sync search does not update; hasSync is 0
+ * once a search to the end of the file failed. Returns 0 if out filled up.
+ */
+static inline int ULogWalkSegment(const uint8_t *const data, const size_t size, size_t position, const uint64_t until,
+                                  int *const hasSync, const ULogMessages *const out, ULogDataResult *const result) {
+    uint64_t counted = (uint64_t) position;
+    while ((position < size) && (size - position >= 3)) {
+        const size_t start = position;
+        const size_t payload = ULogPayloadSize(data, position);
+        const uint8_t type = data[position + 2];
+        size_t sync;
+        if (size - position - 3 < payload) {
+            break; /* cut: pyulog stops */
+        }
+        counted += 3 + payload;
+        if (counted > until) {
+            break;
+        }
+        position += 3 + payload;
+        if (ULogIsDataType(type)) {
+            if (!ULogRecord(out, &result->count, start, type, payload)) {
+                return 0;
+            }
+            continue;
+        }
+        result->skipped++;
+        if (ULogHeaderDamaged(type, payload)) { /* step one byte, then look for sync to the end */
+            position = start + 1;
+            counted = (uint64_t) position;
+            if (*hasSync) {
+                sync = ULogFindSync(data, position, size);
+                if (sync == SIZE_MAX) {
+                    *hasSync = 0;
+                } else {
+                    position = sync + ULOG_SYNC_SIZE;
+                    result->synced++;
+                }
+            }
+        } else if (*hasSync) { /* look for sync in the payload only */
+            sync = ULogFindSync(data, start + 3, start + 3 + payload);
+            if (sync != SIZE_MAX) {
+                position = sync + ULOG_SYNC_SIZE;
+                result->synced++;
+            }
+        }
+    }
+    return 1;
+}
+
+/*
+ * pyulog's data walk from sectionStart: one segment up to each of the
+ * appendedCount (at most 3) appended offsets, each next one from that offset,
+ * the last to the end of the file. The messages of the known data types go to
+ * out, in the order pyulog reads them; segmentEnds tells where each segment's
+ * end in that list.
+ */
+static inline void ULogWalkData(const uint8_t *const data, const size_t size, const size_t sectionStart,
+                                const uint64_t *const appended, const size_t appendedCount,
+                                const ULogMessages *const out, ULogDataResult *const result) {
+    size_t segment;
+    int hasSync = 1;
+    result->count = 0;
+    result->skipped = 0;
+    result->synced = 0;
+    result->full = 0;
+    result->segments = 0;
+    for (segment = 0; (segment <= appendedCount) && (segment < ULOG_MAX_SEGMENTS); segment++) {
+        const uint64_t from = (segment == 0) ? (uint64_t) sectionStart : appended[segment - 1];
+        const uint64_t until = (segment < appendedCount) ? appended[segment] : UINT64_MAX;
+        const size_t position = (from < (uint64_t) size) ? (size_t) from : size;
+        if (!ULogWalkSegment(data, size, position, until, &hasSync, out, result)) {
+            result->full = 1;
+        }
+        result->segmentEnds[segment] = result->count;
+        result->segments = segment + 1;
+        if (result->full) {
+            break;
+        }
+    }
 }
 
 #endif

@@ -21,13 +21,24 @@
  *     with three offsets taken from the file header's time stamp bytes (so
  *     the fuzzer steers them);
  *   - ULogPlainEnd is the end of the plain walk;
- *   - each message found lies wholly inside the data.
+ *   - each message found lies wholly inside the data;
+ *   - the checks and the gather of the fast decoder on the messages found:
+ *     ULogCheckInfos (a verdict of 0, 1 or 2; "parses" only with a space in
+ *     an ASCII key), ULogFormatNameLengths (a name is ASCII and ends at the
+ *     first ':'), ULogTypeCounts (they add up), ULogSamples (counting, then
+ *     copying) with a subscription per A message of the data
+ *     section (its msg_id; the sample size that of the first D message of
+ *     that msg_id after it): each gathered sample is, in order, the payload of
+ *     a D message of that msg_id and size after the A message, as a plain
+ *     loop finds them.
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
 #include <string.h>
 
 #include "_ulog_scan.h"
 #include "fuzz_common.h" /* CHECK */
+
+static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *walk, size_t count);
 
 static const uint8_t SYNC[ULOG_SYNC_SIZE] = {0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12};
 
@@ -190,7 +201,105 @@ static size_t CheckDefinitions(const uint8_t *data, size_t size, const ULogMessa
     if (!incompatible) {
         *appendedCount = 0;
     }
+    CheckChecks(data, size, walk, result.count);
     return result.found ? result.sectionStart : size + 1;
+}
+
+/* ULogCheckInfos and ULogFormatNameLengths on the messages found, against what their verdicts promise. */
+static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *walk, size_t count) {
+    uint8_t *verdicts = (uint8_t *) malloc(count + 1);
+    size_t *lengths = (size_t *) malloc((count + 1) * sizeof(size_t));
+    uint64_t counts[256];
+    uint64_t total = 0;
+    size_t k, j, skip;
+    CHECK(verdicts != NULL && lengths != NULL);
+    for (skip = 0; skip < 2; skip++) {
+        CHECK(ULogCheckInfos(data, size, walk->offsets, walk->sizes, count, skip, verdicts) == 1);
+        for (k = 0; k < count; k++) {
+            const uint8_t *payload = data + walk->offsets[k] + 3 + skip;
+            int space = 0;
+            CHECK(verdicts[k] <= ULogInfoUndecided);
+            if (verdicts[k] == ULogInfoParses) {
+                for (j = 0; j < payload[0] && j + 1 < walk->sizes[k] - skip; j++) {
+                    CHECK(payload[1 + j] < 0x80);
+                    space |= payload[1 + j] == ' ';
+                }
+                CHECK(space);
+            }
+        }
+    }
+    CHECK(ULogFormatNameLengths(data, size, walk->offsets, walk->sizes, count, lengths) == 1);
+    for (k = 0; k < count; k++) {
+        if (lengths[k] != SIZE_MAX) {
+            const uint8_t *payload = data + walk->offsets[k] + 3;
+            CHECK(lengths[k] < walk->sizes[k] && payload[lengths[k]] == ':');
+            for (j = 0; j < lengths[k]; j++) {
+                CHECK(payload[j] < 0x80 && payload[j] != ':');
+            }
+        }
+    }
+    ULogTypeCounts(walk->types, count, counts);
+    for (k = 0; k < 256; k++) {
+        total += counts[k];
+    }
+    CHECK(total == count);
+    free(verdicts);
+    free(lengths);
+}
+
+/* The msg_id of message k (a D or A message: bytes 0-1 or 1-2 of the payload). */
+static size_t MsgId(const uint8_t *data, const ULogMessages *walk, size_t k, size_t at) {
+    return (size_t) data[walk->offsets[k] + 3 + at] | ((size_t) data[walk->offsets[k] + 4 + at] << 8);
+}
+
+/* ULogSamples (counts, then copies) against a plain loop, a subscription per A message. */
+static void CheckGather(const uint8_t *data, const ULogMessages *walk, size_t count) {
+    uint16_t *slotOf = (uint16_t *) calloc(65536, sizeof(uint16_t));
+    uint64_t starts[64], itemsizes[64], counts[64];
+    uint8_t *tables[64], *rows[64];
+    ULogSubscriptions wanted = {slotOf, starts, itemsizes};
+    size_t nsub = 0, k, j, slot;
+    CHECK(slotOf != NULL);
+    for (k = 0; k < count && nsub < 64; k++) {
+        if (walk->types[k] == 'A' && walk->sizes[k] >= 3 && slotOf[MsgId(data, walk, k, 1)] == 0) {
+            starts[nsub] = walk->offsets[k];
+            itemsizes[nsub] = 0;
+            for (j = k + 1; j < count; j++) {
+                if (walk->types[j] == 'D' && walk->sizes[j] >= 2 &&
+                    MsgId(data, walk, j, 0) == MsgId(data, walk, k, 1)) {
+                    itemsizes[nsub] = walk->sizes[j] - 2u;
+                    break;
+                }
+            }
+            counts[nsub] = 0;
+            slotOf[MsgId(data, walk, k, 1)] = (uint16_t) ++nsub;
+        }
+    }
+    ULogSamples(data, walk->offsets, walk->types, walk->sizes, count, &wanted, counts, NULL);
+    for (slot = 0; slot < nsub; slot++) {
+        tables[slot] = (uint8_t *) malloc((size_t) (counts[slot] * itemsizes[slot]) + 1);
+        CHECK(tables[slot] != NULL);
+        rows[slot] = (counts[slot] > 0 && itemsizes[slot] > 0) ? tables[slot] : NULL;
+    }
+    ULogSamples(data, walk->offsets, walk->types, walk->sizes, count, &wanted, NULL, rows);
+    for (slot = 0; slot < nsub; slot++) { /* the plain loop */
+        const uint8_t *row = tables[slot];
+        uint64_t found = 0;
+        for (k = 0; k < count; k++) {
+            if (walk->types[k] == 'D' && walk->sizes[k] >= 2 && slotOf[MsgId(data, walk, k, 0)] == slot + 1 &&
+                walk->offsets[k] > starts[slot] && walk->sizes[k] - 2u == itemsizes[slot]) {
+                CHECK(itemsizes[slot] == 0 ||
+                      memcmp(row, data + walk->offsets[k] + 5, (size_t) itemsizes[slot]) == 0);
+                row += itemsizes[slot];
+                found++;
+            }
+        }
+        CHECK(found == counts[slot]);
+        CHECK(counts[slot] == 0 || itemsizes[slot] == 0 ||
+              rows[slot] == tables[slot] + counts[slot] * itemsizes[slot]);
+        free(tables[slot]);
+    }
+    free(slotOf);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -215,6 +324,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 appended[k] &= 0x7FFFFFFFFFFFFFFFull; /* the caller declines offsets of 2**63 and more */
             }
             CheckDataWalk(data, size, sectionStart, appended, appendedCount, &walk);
+            {
+                ULogDataResult result;
+                ULogWalkData(data, size, sectionStart, appended, appendedCount, &walk, &result);
+                CheckChecks(data, size, &walk, result.count);
+                CheckGather(data, &walk, result.segmentEnds[0]);
+            }
             for (k = 0; k < 3; k++) { /* offsets the fuzzer steers: the header's time stamp bytes */
                 appended[k] = (uint64_t) (data[8 + k] | (data[11 + k] << 8)) % (size + 16);
             }

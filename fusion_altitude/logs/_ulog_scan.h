@@ -25,6 +25,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* Bytes of the ULog file header (magic, version, start time) before the first message. */
 #define ULOG_FILE_HEADER 16
@@ -254,6 +255,255 @@ static inline void ULogWalkData(const uint8_t *const data, const size_t size, co
         result->segments = segment + 1;
         if (result->full) {
             break;
+        }
+    }
+}
+
+/* ---- the checks and the gather of the fast decoder (fusion_altitude/logs/_ulog_fast.py) ---- */
+
+/* Verdicts of ULogCheckInfo. */
+typedef enum {
+    ULogInfoFails = 0,     /* pyulog surely raises on this message */
+    ULogInfoParses = 1,    /* pyulog surely parses it */
+    ULogInfoUndecided = 2, /* a non-ASCII key (pyulog drops undecodable bytes first): for the caller */
+} ULogInfoVerdict;
+
+/* Bytes of pyulog's basic type named text[0 .. length), or 0 if it is none. */
+static inline size_t ULogBasicTypeSize(const uint8_t *const text, const size_t length) {
+    static const char *const names[12] = {"int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t",
+                                           "int64_t", "uint64_t", "float", "double", "bool", "char"};
+    static const size_t sizes[12] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8, 1, 1};
+    size_t k, j;
+    for (k = 0; k < 12; k++) {
+        for (j = 0; (j < length) && (names[k][j] != '\0') && ((uint8_t) names[k][j] == text[j]); j++) {
+        }
+        if ((j == length) && (names[k][j] == '\0')) {
+            return sizes[k];
+        }
+    }
+    return 0;
+}
+
+/*
+ * Whether pyulog parses an I/M/P/Q message (payload of size bytes; skip: 1
+ * for M and Q, whose first byte pyulog skips) without an exception: a key
+ * length, a key of at least two words (type, name) and, for a basic type, a
+ * value of exactly that type's size.
+ */
+static inline ULogInfoVerdict ULogCheckInfo(const uint8_t *const message, const size_t size, const size_t skip) {
+    const uint8_t *const payload = message + skip;
+    size_t available, keyLength, space, j;
+    size_t typeSize;
+    if (size < 1 + skip) {
+        return ULogInfoFails;
+    }
+    available = size - skip; /* bytes of the payload pyulog reads */
+    keyLength = (payload[0] > available - 1) ? available - 1 : payload[0];
+    space = keyLength;
+    for (j = 0; j < keyLength; j++) {
+        if (payload[1 + j] >= 0x80) {
+            return ULogInfoUndecided;
+        }
+        if ((payload[1 + j] == ' ') && (space == keyLength)) {
+            space = j;
+        }
+    }
+    if (space == keyLength) { /* one word: pyulog's split(" ") gives no name */
+        return ULogInfoFails;
+    }
+    if ((space >= 5) && (payload[1] == 'c') && (payload[2] == 'h') && (payload[3] == 'a') && (payload[4] == 'r') &&
+        (payload[5] == '[')) {
+        return ULogInfoParses; /* a string */
+    }
+    typeSize = ULogBasicTypeSize(payload + 1, space);
+    if ((typeSize != 0) && (available - 1 != (size_t) payload[0] + typeSize)) {
+        return ULogInfoFails;
+    }
+    return ULogInfoParses;
+}
+
+/* Index of the first of the count messages at offsets (payload sizes bytes) not wholly inside the data, or count. */
+static inline size_t ULogFirstOutside(const size_t size, const uint64_t *const offsets, const uint16_t *const sizes,
+                                      const size_t count) {
+    size_t k;
+    for (k = 0; k < count; k++) {
+        if ((offsets[k] > (uint64_t) size) || ((uint64_t) size - offsets[k] < 3 + (uint64_t) sizes[k])) {
+            return k;
+        }
+    }
+    return count;
+}
+
+/*
+ * ULogCheckInfo of the count messages at offsets (payload sizes bytes) to
+ * verdicts[]; returns 0 (verdicts unset) if one runs past the end of the data.
+ */
+static inline int ULogCheckInfos(const uint8_t *const data, const size_t size, const uint64_t *const offsets,
+                                 const uint16_t *const sizes, const size_t count, const size_t skip,
+                                 uint8_t *const verdicts) {
+    size_t k;
+    if (ULogFirstOutside(size, offsets, sizes, count) != count) {
+        return 0;
+    }
+    for (k = 0; k < count; k++) {
+        verdicts[k] = (uint8_t) ULogCheckInfo(data + offsets[k] + 3, sizes[k], skip);
+    }
+    return 1;
+}
+
+/* Index of the first wanted byte of text[0 .. length), or length if there is none. */
+static inline size_t ULogFind(const uint8_t *const text, const size_t length, const uint8_t wanted) {
+    size_t k;
+    for (k = 0; k < length; k++) {
+        if (text[k] == wanted) {
+            return k;
+        }
+    }
+    return length;
+}
+
+/*
+ * Whether one "type name" item of a format parses in pyulog without an
+ * exception, surely: a space after the type, and an array size (if any) of 1
+ * to 4 digits closed by ']'.
+ */
+static inline int ULogFieldSimple(const uint8_t *const item, const size_t length) {
+    const size_t space = ULogFind(item, length, ' ');
+    size_t at, close, k;
+    if (space == length) {
+        return 0;
+    }
+    at = ULogFind(item, space, '[');
+    if (at == space) {
+        return 1;
+    }
+    close = ULogFind(item, space, ']');
+    if ((close == space) || (close <= at + 1) || (close > at + 5)) { /* no ']': pyulog's slice would end at -1 */
+        return 0;
+    }
+    for (k = at + 1; k < close; k++) {
+        if ((item[k] < '0') || (item[k] > '9')) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/*
+ * Length of the name of an F (format) message whose parsing by pyulog surely
+ * succeeds (ASCII, a ':' after the name, every non-empty ';'-separated item
+ * of the field list simple), else SIZE_MAX (for the caller to parse).
+ */
+static inline size_t ULogFormatNameLength(const uint8_t *const payload, const size_t size) {
+    size_t colon = size;
+    size_t end, item, j;
+    for (j = 0; j < size; j++) {
+        if (payload[j] >= 0x80) {
+            return SIZE_MAX;
+        }
+        if ((payload[j] == ':') && (colon == size)) {
+            colon = j;
+        }
+    }
+    if (colon == size) {
+        return SIZE_MAX;
+    }
+    end = colon + 1 + ULogFind(payload + colon + 1, size - colon - 1, ':');
+    item = colon + 1;
+    for (j = colon + 1; j <= end; j++) {
+        if ((j == end) || (payload[j] == ';')) {
+            if ((j > item) && !ULogFieldSimple(payload + item, j - item)) {
+                return SIZE_MAX;
+            }
+            item = j + 1;
+        }
+    }
+    return colon;
+}
+
+/*
+ * ULogFormatNameLength of the count F messages at offsets (payload sizes
+ * bytes) to lengths[]; returns 0 (lengths unset) if one runs past the end.
+ */
+static inline int ULogFormatNameLengths(const uint8_t *const data, const size_t size, const uint64_t *const offsets,
+                                        const uint16_t *const sizes, const size_t count, size_t *const lengths) {
+    size_t k;
+    if (ULogFirstOutside(size, offsets, sizes, count) != count) {
+        return 0;
+    }
+    for (k = 0; k < count; k++) {
+        lengths[k] = ULogFormatNameLength(data + offsets[k] + 3, sizes[k]);
+    }
+    return 1;
+}
+
+/* How many messages of each type (counts[256]). */
+static inline void ULogTypeCounts(const uint8_t *const types, const size_t count, uint64_t *const counts) {
+    size_t k;
+    for (k = 0; k < 256; k++) {
+        counts[k] = 0;
+    }
+    for (k = 0; k < count; k++) {
+        counts[types[k]]++;
+    }
+}
+
+/* The subscriptions whose samples ULogSamples counts and gathers. */
+typedef struct {
+    const uint16_t *slotOf;    /* 65536 entries: 1 + subscription of each msg_id, 0 if none */
+    const uint64_t *starts;    /* byte offset of each subscription's A message (later samples count) */
+    const uint64_t *itemsizes; /* bytes of one sample of each (a D message of another size is none of its) */
+} ULogSubscriptions;
+
+/*
+ * Subscription (0-based) of the D message at offset (payload size bytes), or
+ * SIZE_MAX if it is not one of a subscription's samples. The table pointers
+ * come as arguments (locals of the caller, which a copy into the samples
+ * cannot alias).
+ */
+static inline size_t ULogSampleSlot(const uint8_t *const data, const uint64_t offset, const uint8_t type,
+                                    const uint16_t size, const uint16_t *const slotOf, const uint64_t *const starts,
+                                    const uint64_t *const itemsizes) {
+    size_t msgId, slot;
+    if ((type != 'D') || (size < 2)) {
+        return SIZE_MAX;
+    }
+    msgId = (size_t) data[offset + 3] | ((size_t) data[offset + 4] << 8);
+    if (slotOf[msgId] == 0) {
+        return SIZE_MAX;
+    }
+    slot = (size_t) slotOf[msgId] - 1;
+    if ((offset <= starts[slot]) || ((uint64_t) size - 2 != itemsizes[slot])) {
+        return SIZE_MAX;
+    }
+    return slot;
+}
+
+/*
+ * The samples of each subscription among the count messages (each wholly
+ * inside the data): with rows NULL, counted (counts[slot] += 1 each);
+ * otherwise the payload after the 2-byte msg_id of each copied in file order
+ * to rows[slot], advancing it (room for the count; rows[slot] NULL for a
+ * subscription of no sample or of 0-byte samples).
+ */
+static inline void ULogSamples(const uint8_t *const data, const uint64_t *const offsets, const uint8_t *const types,
+                               const uint16_t *const sizes, const size_t count,
+                               const ULogSubscriptions *const subscriptions, uint64_t *const counts,
+                               uint8_t **const rows) {
+    const uint16_t *const slotOf = subscriptions->slotOf;
+    const uint64_t *const starts = subscriptions->starts;
+    const uint64_t *const itemsizes = subscriptions->itemsizes;
+    size_t k;
+    for (k = 0; k < count; k++) {
+        const size_t slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
+        if (slot == SIZE_MAX) {
+            continue;
+        }
+        if (rows == NULL) {
+            counts[slot]++;
+        } else if (rows[slot] != NULL) {
+            memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
+            rows[slot] += itemsizes[slot];
         }
     }
 }

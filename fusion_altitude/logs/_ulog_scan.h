@@ -183,6 +183,11 @@ static inline void ULogWalkDefinitions(const uint8_t *const data, const size_t s
  */
 static inline int ULogWalkSegment(const uint8_t *const data, const size_t size, size_t position, const uint64_t until,
                                   int *const hasSync, const ULogMessages *const out, ULogDataResult *const result) {
+    uint64_t *const offsets = out->offsets; /* locals: the stores below cannot alias them */
+    uint8_t *const types = out->types;
+    uint16_t *const sizes = out->sizes;
+    const size_t capacity = out->capacity;
+    size_t count = result->count;
     uint64_t counted = (uint64_t) position;
     while ((position < size) && (size - position >= 3)) {
         const size_t start = position;
@@ -198,9 +203,14 @@ static inline int ULogWalkSegment(const uint8_t *const data, const size_t size, 
         }
         position += 3 + payload;
         if (ULogIsDataType(type)) {
-            if (!ULogRecord(out, &result->count, start, type, payload)) {
+            if (count >= capacity) {
+                result->count = count;
                 return 0;
             }
+            offsets[count] = (uint64_t) start;
+            types[count] = type;
+            sizes[count] = (uint16_t) payload;
+            count++;
             continue;
         }
         result->skipped++;
@@ -224,6 +234,7 @@ static inline int ULogWalkSegment(const uint8_t *const data, const size_t size, 
             }
         }
     }
+    result->count = count;
     return 1;
 }
 

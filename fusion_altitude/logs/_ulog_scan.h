@@ -81,12 +81,12 @@ static inline int ULogStartsDataSection(const uint8_t type) {
 
 /* Whether pyulog reads a message of this type in the data section (I M P Q A L C D O S). */
 static inline int ULogIsDataType(const uint8_t type) {
-    switch (type) { /* a jump table: this runs once per message */
-        case 'A': case 'C': case 'D': case 'I': case 'L': case 'M': case 'O': case 'P': case 'Q': case 'S':
-            return 1;
-        default:
-            return 0;
-    }
+    /* one bit per letter from 'A' (this runs once per message): A C D I L M O P Q S */
+    const uint32_t letters = (1u << ('A' - 'A')) | (1u << ('C' - 'A')) | (1u << ('D' - 'A')) | (1u << ('I' - 'A')) |
+                             (1u << ('L' - 'A')) | (1u << ('M' - 'A')) | (1u << ('O' - 'A')) | (1u << ('P' - 'A')) |
+                             (1u << ('Q' - 'A')) | (1u << ('S' - 'A'));
+    const unsigned int letter = (unsigned int) type - 'A';
+    return (letter < 32u) && (((letters >> letter) & 1u) != 0u);
 }
 
 /* Whether a header of an unknown type is damaged (pyulog's _check_packet_corruption). */
@@ -504,15 +504,19 @@ static inline void ULogSamples(const uint8_t *const data, const uint64_t *const 
     const uint16_t *const slotOf = subscriptions->slotOf;
     const uint64_t *const starts = subscriptions->starts;
     const uint64_t *const itemsizes = subscriptions->itemsizes;
-    size_t k;
-    for (k = 0; k < count; k++) {
-        const size_t slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
-        if (slot == SIZE_MAX) {
-            continue;
+    size_t k, slot;
+    if (rows == NULL) { /* two loops: the test of rows stays out of them */
+        for (k = 0; k < count; k++) {
+            slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
+            if (slot != SIZE_MAX) {
+                counts[slot]++;
+            }
         }
-        if (rows == NULL) {
-            counts[slot]++;
-        } else if (rows[slot] != NULL) {
+        return;
+    }
+    for (k = 0; k < count; k++) {
+        slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
+        if ((slot != SIZE_MAX) && (rows[slot] != NULL)) {
             memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
             rows[slot] += itemsizes[slot];
         }

@@ -5,7 +5,8 @@ Run for a while and report::
     python tests/fuzz_readers.py --seconds 60 [--seed 1] [--data ../shared/data]
 
 Seeds are fixtures written by tests/logfixtures.py (DataFlash TimeMS and
-TimeUS, PX4 ULog, AltOS CSV — current, 1.4 and telemetry —, CATS set, generic
+TimeUS, PX4 ULog — plain, damaged before sync messages, with data
+appended —, AltOS CSV — current, 1.4 and telemetry —, CATS set, generic
 CSV, Featherweight Raven, Missile Works RRC3) plus, if the shared data
 directory is there, the PX4 ULog sample. Every mutation is a truncation, bit flips,
 random bytes or deleted runs (:func:`logfixtures.mutations`). A finding is
@@ -47,6 +48,8 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
     fx.write_altos_csv(d / "altos.csv", duration=2.0, pad_time=1.0, rate=10.0)
     fx.write_generic_csv(d / "generic.csv", duration=2.0, rate=20.0, baro_every=2)
     fx.write_ulog(d / "fixture.ulg", duration=2.0, imu_rate=20.0, baro_rate=10.0, gps_rate=5.0)
+    for damage in ("sync", "appended"):
+        fx.write_ulog_damaged(d / f"{damage}.ulg", damage, duration=2.0, imu_rate=20.0, baro_rate=10.0, gps_rate=5.0)
     cats = d / "cats"
     cats.mkdir()
     fx.write_cats_set(cats, duration=1.0, pad_time=1.0, rate=20.0)
@@ -55,6 +58,8 @@ def seeds(directory: str, data_dir: str | None = None) -> dict:
         "dataflash-TimeUS": ((d / "us.bin").read_bytes(), "log.bin", {}, {}),
         "altos": ((d / "altos.csv").read_bytes(), "altos.csv", {}, {}),
         "ulog-fixture": ((d / "fixture.ulg").read_bytes(), "log.ulg", {}, {}),
+        "ulog-sync": ((d / "sync.ulg").read_bytes(), "log.ulg", {}, {}),
+        "ulog-appended": ((d / "appended.ulg").read_bytes(), "log.ulg", {}, {}),
         "csv": ((d / "generic.csv").read_bytes(), "log.csv", CSV_OPTIONS, {}),
         "cats": ((cats / "flight_baro.csv").read_bytes(), "flight_baro.csv", {},
                  {"flight_imu.csv": (cats / "flight_imu.csv").read_bytes(),

@@ -459,6 +459,53 @@ def write_ulog(path, style: str = "new", duration: float = 10.0, imu_rate: float
     return {"time": imu_time[kept], "altitude": altitude, "velocity": velocity}
 
 
+#: The ULog sync sequence (the payload of PX4's S messages), which pyulog searches for after damaged bytes.
+ULOG_SYNC = bytes([0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12])
+
+
+def _ulog_messages(data: bytes) -> List[tuple]:
+    """(offset, type) of each whole message of a sound ULog, after its 16-byte file header."""
+    out, offset = [], 16
+    while offset + 3 <= len(data):
+        size = struct.unpack_from("<H", data, offset)[0]
+        out.append((offset, data[offset + 2]))
+        offset += 3 + size
+    return out
+
+
+def write_ulog_damaged(path, kind: str, **options) -> str:
+    """The ULog of :func:`write_ulog` (``options``) damaged the way real logs are, for pyulog's recovery paths.
+
+    ``kind="sync"``: two damaged stretches (a zero header and stray bytes, as a bad SD-card write leaves) in the
+    data section, a third and two thirds of the way in, each followed by a sync message (S), as PX4 writes them;
+    and a message of a type pyulog does not know (``X``) in between.
+    ``kind="appended"``: the log cut inside a data message 60 % of the way in (a crash), then data appended at that
+    offset (the flag-bits message first, with incompatible bit 0 and the offset): the subscriptions again, but for
+    ``vehicle_local_position``, and the data messages from 40 % on."""
+    write_ulog(path, **options)
+    with open(path, "rb") as handle:
+        log = handle.read()
+    messages = _ulog_messages(log)
+    data = [offset for offset, kind_ in messages if kind_ == ord("D")]
+    if kind == "sync":
+        stray = b"\x00\x00\x00" + bytes(range(1, 30))
+        sync = struct.pack("<HB", len(ULOG_SYNC), ord("S")) + ULOG_SYNC
+        unknown = struct.pack("<HB", 6, ord("X")) + b"newer!"
+        first, middle, second = data[len(data) // 3], data[len(data) // 2], data[2 * len(data) // 3]
+        damaged = (log[:first] + stray + sync + log[first:middle] + unknown + log[middle:second] + stray[:11] + sync
+                   + log[second:])
+    elif kind == "appended":
+        cut = data[6 * len(data) // 10] + 9
+        spans = [(offset, following) for (offset, kind_), (following, _) in zip(messages, messages[1:])
+                 if kind_ == ord("A")]
+        subscriptions = b"".join(log[a:b] for a, b in spans if b"vehicle_local_position" not in log[a:b])
+        flags = struct.pack("<HB", 40, ord("B")) + bytes(8) + bytes([1]) + bytes(7) + struct.pack("<3Q", cut + 43, 0, 0)
+        damaged = log[:16] + flags + log[16:cut] + subscriptions + log[data[4 * len(data) // 10]:]
+    else:
+        raise ValueError(f"kind must be 'sync' or 'appended', got {kind!r}")
+    return write_bytes(path, damaged)
+
+
 # --- rocket flight-computer exports (issue 20: "never silently wrong on a real log") -----------------------------
 #
 # Each ``*_csv(directory, …)`` function writes one file into ``directory`` (e.g. pytest's ``tmp_path``), written the

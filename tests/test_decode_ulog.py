@@ -22,7 +22,9 @@ from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log  #
 from fusion_altitude.logs import _ulog_fast, ulog  # noqa: E402
 
 SHARED = ["px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg"]
-FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "gap": dict(style="new", gap=(3.0, 4.0))}
+FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "gap": dict(style="new", gap=(3.0, 4.0)),
+            "sync": dict(style="new", damage="sync"), "sync-old": dict(style="old", damage="sync"),
+            "appended": dict(style="new", damage="appended"), "appended-old": dict(style="old", damage="appended")}
 
 
 def _assert_same_log(path, **options):
@@ -47,8 +49,27 @@ def _assert_same_topics(path):
 
 def _fixture(tmp_path, name):
     path = tmp_path / f"{name}.ulg"
-    fx.write_ulog(path, duration=6.0, **FIXTURES[name])
+    options = dict(FIXTURES[name])
+    damage = options.pop("damage", None)
+    if damage is None:
+        fx.write_ulog(path, duration=6.0, **options)
+    else:
+        fx.write_ulog_damaged(path, damage, duration=6.0, **options)
     return path
+
+
+def _data_walk(path):
+    """``_decode.ulog_data_walk`` of the ULog at ``path`` with the appended offsets its flag bits give."""
+    from fusion_altitude.logs import _decode
+
+    blob = Path(path).read_bytes()
+    array = np.frombuffer(blob, dtype=np.uint8)
+    offsets, types, sizes, start, found, cut = _decode.ulog_definitions(array)
+    assert found and not cut
+    flags = types == ord("B")
+    decoded = _ulog_fast.ULogTopics(blob, ulog._TOPICS)
+    return _decode.ulog_data_walk(array, start, decoded._appended_offsets(offsets[flags].tolist(),
+                                                                          sizes[flags].tolist()))
 
 
 @pytest.mark.parametrize("name", SHARED)
@@ -78,13 +99,41 @@ def test_fixture_reads_the_same_with_both_decoders(tmp_path, name, instance):
     _assert_same_log(_fixture(tmp_path, name), instance=instance)
 
 
-@pytest.mark.parametrize("seed", ["fixture", "px4_sample_log_small.ulg"])
+@pytest.mark.parametrize("name", sorted(FIXTURES))
+def test_fixture_is_decoded_in_c_not_left_to_pyulog(tmp_path, name):
+    assert _ulog_fast.ULogTopics(_fixture(tmp_path, name).read_bytes(), ulog._TOPICS).data
+
+
+@pytest.mark.parametrize("name", ["sync", "sync-old"])
+def test_damaged_bytes_are_stepped_over_and_reading_resumes_after_each_sync_message(tmp_path, name):
+    _, _, _, segment_ends, skipped, synced = _data_walk(_fixture(tmp_path, name))
+    assert (len(segment_ends), skipped, synced) == (1, 3, 2)
+
+
+@pytest.mark.parametrize("name", ["appended", "appended-old"])
+def test_appended_data_is_read_as_a_second_segment(tmp_path, name):
+    _, _, _, segment_ends, skipped, synced = _data_walk(_fixture(tmp_path, name))
+    assert len(segment_ends) == 2 and 0 < segment_ends[0] < segment_ends[1]
+
+
+def test_appended_data_wins_for_the_topics_it_subscribes_again(tmp_path):
+    """pyulog forgets the subscriptions at each appended offset: topics subscribed again take the appended
+    samples (from 40 % of the flight), the others keep those before the cut (to 60 %)."""
+    topics = _ulog_fast.ULogTopics(_fixture(tmp_path, "appended").read_bytes(), ulog._TOPICS).data
+    assert topics[("sensor_combined", 0)]["timestamp"][0] > 2_000_000
+    assert topics[("vehicle_local_position", 0)]["timestamp"][0] == 1_000_000
+
+
+@pytest.mark.parametrize("seed", ["fixture", "sync", "appended", "px4_sample_log_small.ulg"])
 def test_fuzz_mutations_read_the_same_with_both_decoders(tmp_path, shared_logs, seed):
     """The reader fuzz's mutations (truncations, bit flips, random bytes, deleted runs; seed 1, 40 per seed
-    file) of its two ULog seeds."""
+    file) of its ULog seeds: the plain fixture, the damaged ones and the shared sample."""
     if seed == "fixture":
         path = tmp_path / "seed.ulg"
         fx.write_ulog(path, duration=2.0, imu_rate=20.0, baro_rate=10.0, gps_rate=5.0)
+    elif seed in ("sync", "appended"):
+        path = Path(fx.write_ulog_damaged(tmp_path / "seed.ulg", seed, duration=2.0, imu_rate=20.0, baro_rate=10.0,
+                                          gps_rate=5.0))
     else:
         path = shared_logs / seed
     rng = np.random.default_rng(1)

@@ -21,5 +21,6 @@ def test_mutated_logs_of_every_format_raise_only_log_error():
     assert os.path.exists(os.path.join(DATA, "px4_sample_log_small.ulg")), f"shared data not found at {DATA}"
     runs, findings = fuzz_readers.fuzz(seconds=1e9, seed=1, data_dir=DATA, timeout=60.0, max_runs=240)
     assert set(runs) == {"altos", "altos-1.4", "altos-telemetry", "cats", "cats-imu", "csv", "dataflash-TimeMS",
-                         "dataflash-TimeUS", "raven", "rrc3", "ulog-fixture", "ulog-px4-sample"}
+                         "dataflash-TimeUS", "raven", "rrc3", "ulog-appended", "ulog-fixture", "ulog-px4-sample",
+                         "ulog-sync"}
     assert [f"{fmt}: {finding}" for fmt, finding in findings] == []

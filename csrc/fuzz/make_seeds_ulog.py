@@ -1,5 +1,5 @@
-"""Seeds of csrc/fuzz/fuzz_ulog.c: the ULog test fixtures (new and old PX4 styles), short so that the fuzzer
-mutates whole logs. Run from the repository root: ``python csrc/fuzz/make_seeds_ulog.py``."""
+"""Seeds of csrc/fuzz/fuzz_ulog.c: the ULog test fixtures (new and old PX4 styles; plain, with damaged bytes before
+sync messages, and with data appended), short so that the fuzzer mutates whole logs. Run from the repository root: ``python csrc/fuzz/make_seeds_ulog.py``."""
 
 import sys
 from pathlib import Path
@@ -10,8 +10,16 @@ from make_seeds_dataflash import ROOT, fx, write_seeds  # noqa: E402
 CORPUS = ROOT / "csrc" / "fuzz" / "corpus_ulog"
 
 
+def _write(path, damage=None, **options) -> None:
+    if damage is None:
+        fx.write_ulog(path, **options)
+    else:
+        fx.write_ulog_damaged(path, damage, **options)
+
+
 def main() -> None:
-    write_seeds(CORPUS, fx.write_ulog, [dict(style="new"), dict(style="old")], ".ulg")
+    cases = [dict(style=style, damage=damage) for damage in (None, "sync", "appended") for style in ("new", "old")]
+    write_seeds(CORPUS, _write, cases, ".ulg")
 
 
 if __name__ == "__main__":

@@ -112,44 +112,149 @@ def dataflash_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, size_
 
 
 cdef extern from "_ulog_scan.h":
-    ctypedef struct ULogScanResult:
+    ctypedef struct ULogMessages:
+        uint64_t *offsets
+        uint8_t *types
+        unsigned short *sizes
+        size_t capacity
+    ctypedef struct ULogDefinitionsResult:
         size_t count
-        size_t endOffset
+        size_t sectionStart
+        int found
+        int cut
         int full
-    void ULogScan(const uint8_t *data, size_t size, size_t start, uint64_t *offsets, uint8_t *types,
-                  unsigned short *sizes, size_t capacity, ULogScanResult *result) nogil
+    ctypedef struct ULogDataResult:
+        size_t count
+        size_t segmentEnds[4]
+        size_t segments
+        size_t skipped
+        size_t synced
+        int full
+    size_t ULogPlainEnd(const uint8_t *data, size_t size, size_t start) nogil
+    void ULogWalkDefinitions(const uint8_t *data, size_t size, size_t start, const ULogMessages *out,
+                             ULogDefinitionsResult *result) nogil
+    void ULogWalkData(const uint8_t *data, size_t size, size_t sectionStart, const uint64_t *appended,
+                      size_t appendedCount, const ULogMessages *out, ULogDataResult *result) nogil
+    ctypedef struct ULogSubscriptions:
+        const unsigned short *slotOf
+        const uint64_t *starts
+        const uint64_t *itemsizes
+    int ULogCheckInfos(const uint8_t *data, size_t size, const uint64_t *offsets, const unsigned short *sizes,
+                       size_t count, size_t skip, uint8_t *verdicts) nogil
+    int ULogFormatNameLengths(const uint8_t *data, size_t size, const uint64_t *offsets, const unsigned short *sizes,
+                              size_t count, size_t *lengths) nogil
+    void ULogTypeCounts(const uint8_t *types, size_t count, uint64_t *counts) nogil
+    size_t ULogFirstOutside(size_t size, const uint64_t *offsets, const unsigned short *sizes, size_t count) nogil
+    void ULogSamples(const uint8_t *data, const uint64_t *offsets, const uint8_t *types, const unsigned short *sizes,
+                     size_t count, const ULogSubscriptions *subscriptions, uint64_t *counts, uint8_t **rows) nogil
 
 
-def ulog_index(const uint8_t[::1] data, size_t start=16):
-    """Where each whole message of a ULog starts (from byte ``start``), its type and payload size, in one pass.
-
-    Returns
-    -------
-    offsets : ndarray of uint64
-        Byte offset of each message's 3-byte header.
-    types : ndarray of uint8
-        Message type (``ord('D')`` for data, …).
-    sizes : ndarray of uint16
-        Payload size of each, bytes.
-    end : int
-        Byte after the last whole message (a cut message after it is not read, as pyulog).
-    """
-    cdef size_t size = data.shape[0]
-    cdef size_t capacity = (size - start) // 3 + 1 if size > start else 1
-    offsets = np.empty(capacity, dtype=np.uint64)
-    types = np.empty(capacity, dtype=np.uint8)
-    sizes = np.empty(capacity, dtype=np.uint16)
+cdef _ulog_arrays(size_t capacity, ULogMessages *out):
+    """Output arrays (offsets uint64, types uint8, sizes uint16) of ``capacity`` entries, pointed to by ``out``."""
+    offsets = np.empty(max(capacity, 1), dtype=np.uint64)
+    types = np.empty(max(capacity, 1), dtype=np.uint8)
+    sizes = np.empty(max(capacity, 1), dtype=np.uint16)
     cdef uint64_t[::1] offsets_view = offsets
     cdef uint8_t[::1] types_view = types
     cdef unsigned short[::1] sizes_view = sizes
-    cdef ULogScanResult result
+    out.offsets = &offsets_view[0]
+    out.types = &types_view[0]
+    out.sizes = &sizes_view[0]
+    out.capacity = capacity
+    return offsets, types, sizes
+
+
+def ulog_plain_end(const uint8_t[::1] data, size_t start=16):
+    """Byte after the last whole message when every header is taken as sound (where a cut file is cut)."""
+    if <size_t> data.shape[0] <= start:
+        return int(start)
+    return int(ULogPlainEnd(&data[0], data.shape[0], start))
+
+
+def ulog_definitions(const uint8_t[::1] data, size_t start=16):
+    """pyulog's walk of a ULog's definitions (from byte ``start``): its I, M, F, P, Q and B messages.
+
+    Returns
+    -------
+    offsets, types, sizes : ndarrays of uint64, uint8, uint16
+        Byte offset of each message's 3-byte header, its type and payload size (bytes), in file order.
+    section_start : int
+        Byte offset of the data section's first message (an A, L or C message).
+    found : bool
+        Whether a data section starts there (False: the file ends first).
+    cut : bool
+        Whether a header or payload is cut by the end of the file before the data section.
+    """
+    cdef size_t size = data.shape[0]
+    cdef ULogMessages out
+    cdef ULogDefinitionsResult result
+    cdef size_t most = (size - start) // 3 + 1 if size > start else 0
     if size <= start:
-        return offsets[:0], types[:0], sizes[:0], int(start)
-    with nogil:
-        ULogScan(&data[0], size, start, &offsets_view[0], &types_view[0], &sizes_view[0], capacity, &result)
+        offsets, types, sizes = _ulog_arrays(0, &out)
+        return offsets[:0], types[:0], sizes[:0], int(start), False, size < start
+    for capacity in (min(most, 4096), most):  # definitions are short: room for all only if needed
+        offsets, types, sizes = _ulog_arrays(capacity, &out)
+        with nogil:
+            ULogWalkDefinitions(&data[0], size, start, &out, &result)
+        if not result.full:
+            break
     if result.full:
-        raise RuntimeError("ulog_index: output arrays full (cannot happen: capacity covers 3-byte messages)")
-    return offsets[:result.count], types[:result.count], sizes[:result.count], int(result.endOffset)
+        raise RuntimeError("ulog_definitions: output arrays full (cannot happen: capacity covers 3-byte messages)")
+    return (offsets[:result.count], types[:result.count], sizes[:result.count], int(result.sectionStart),
+            bool(result.found), bool(result.cut))
+
+
+def ulog_data_walk(const uint8_t[::1] data, size_t section_start, appended):
+    """pyulog's walk of a ULog's data section: the messages it reads, segment by segment.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole file.
+    section_start : int
+        Byte offset of the data section (from :func:`ulog_definitions`).
+    appended : sequence of int
+        The appended-data offsets pyulog uses (bytes, at most 3, each below 2**63): one segment ends before
+        each and the next starts there.
+
+    Returns
+    -------
+    offsets, types, sizes : ndarrays of uint64, uint8, uint16
+        Each message of a known data-section type (I M P Q A L C D O S) read, in pyulog's order.
+    segment_ends : list of int
+        Messages read after each segment.
+    skipped : int
+        Messages of unknown type stepped over.
+    synced : int
+        Times reading resumed after a sync sequence.
+    """
+    cdef size_t size = data.shape[0]
+    cdef uint64_t appended_values[3]
+    cdef size_t count = len(appended)
+    cdef size_t k
+    cdef ULogMessages out
+    cdef ULogDataResult result
+    if count > 3:
+        raise ValueError(f"appended: at most 3 offsets, got {count}")
+    for k in range(count):
+        if not 0 <= appended[k] < 2 ** 63:
+            raise ValueError(f"appended[{k}]: {appended[k]} is not an offset below 2**63")
+        appended_values[k] = appended[k]
+    capacity = (size - section_start) // 3 + 1 if size > section_start else 1
+    while True:  # segments may overlap (appended offsets, sync): grow once, to room for every segment
+        offsets, types, sizes = _ulog_arrays(capacity, &out)
+        if size == 0:
+            return offsets[:0], types[:0], sizes[:0], [0] * (count + 1), 0, 0
+        with nogil:
+            ULogWalkData(&data[0], size, section_start, appended_values, count, &out, &result)
+        if not result.full:
+            break
+        if capacity >= (count + 1) * (size // 3 + 1):
+            raise RuntimeError("ulog_data_walk: output arrays full (cannot happen)")
+        capacity = (count + 1) * (size // 3 + 1)
+    ends = [int(result.segmentEnds[k]) for k in range(result.segments)]
+    return (offsets[:result.count], types[:result.count], sizes[:result.count], ends, int(result.skipped),
+            int(result.synced))
 
 
 cdef size_t _text_length(const uint8_t *text, size_t limit) noexcept nogil:
@@ -457,14 +562,9 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
     return out
 
 
-# pyulog's basic type names and their sizes (bytes), for the info and parameter checks.
-_ULOG_TYPE_SIZES = {b"int8_t": 1, b"uint8_t": 1, b"int16_t": 2, b"uint16_t": 2, b"int32_t": 4, b"uint32_t": 4,
-                    b"int64_t": 8, b"uint64_t": 8, b"float": 4, b"double": 8, b"bool": 1, b"char": 1}
-
-
 def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes,
                   size_t skip):
-    """Whether pyulog parses the I/M/P/Q messages at ``offsets`` without an exception.
+    """Whether pyulog parses the I/M/P/Q messages at ``offsets`` without an exception (``ULogCheckInfos``).
 
     Each payload (``sizes`` bytes after a message's 3-byte header, from byte ``skip``: 1 for M and Q, whose
     first byte pyulog skips) must hold a key length, a key of at least two words (type, name) and, for a basic
@@ -473,140 +573,64 @@ def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const un
     Returns
     -------
     ok : bool
-        False if some message surely makes pyulog raise.
+        False if some message surely makes pyulog raise (or runs past the end of ``data``).
     undecided : list of int
         Indices of the messages whose key is not ASCII (pyulog drops undecodable bytes first): for the caller to
         check in Python.
     """
     cdef size_t count = offsets.shape[0]
-    cdef size_t k, j, available, space
-    cdef const uint8_t *payload
-    cdef size_t key_length
-    cdef bint ascii
-    undecided = []
-    for k in range(count):
-        if sizes[k] < 1 + skip or offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
-            return False, undecided
-        payload = &data[0] + offsets[k] + 3 + skip
-        available = sizes[k] - skip  # bytes of the payload pyulog reads
-        key_length = payload[0]
-        if key_length > available - 1:
-            key_length = available - 1
-        ascii = True
-        space = key_length
-        for j in range(key_length):
-            if payload[1 + j] >= 0x80:
-                ascii = False
-                break
-            if payload[1 + j] == 32 and space == key_length:
-                space = j
-        if not ascii:
-            undecided.append(k)
-            continue
-        if space == key_length:  # one word: pyulog's split(" ") gives no name
-            return False, undecided
-        kind = payload[1:1 + space]
-        if kind.startswith(b"char["):
-            continue
-        kind_size = _ULOG_TYPE_SIZES.get(kind)
-        if kind_size is not None and <long> available - 1 - <long> payload[0] != <long> kind_size:
-            return False, undecided
-    return True, undecided
-
-
-cdef size_t _find(const uint8_t *text, size_t length, uint8_t wanted) noexcept nogil:
-    """Index of the first ``wanted`` byte of ``text[0 .. length)``, or ``length`` if there is none."""
-    cdef size_t k
-    for k in range(length):
-        if text[k] == wanted:
-            return k
-    return length
-
-
-cdef bint _ulog_field_simple(const uint8_t *item, size_t length) noexcept nogil:
-    """Whether one ``type name`` item of a format parses in pyulog without an exception, surely: a space after
-    the type, and an array size (if any) of 1 to 4 digits closed by ``]``."""
-    cdef size_t space = _find(item, length, 32)
-    cdef size_t k, at, close
-    if space == length:
-        return False
-    at = _find(item, space, 91)  # '['
-    if at == space:
-        return True
-    close = _find(item, space, 93)  # ']'
-    if close == space or close <= at + 1 or close > at + 5:  # (no "]": pyulog's slice would end at -1)
-        return False
-    for k in range(at + 1, close):
-        if not (48 <= item[k] <= 57):
-            return False
-    return True
+    cdef int inside
+    if sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets and sizes must have one length")
+    if count == 0:
+        return True, []
+    verdicts = np.empty(count, dtype=np.uint8)
+    cdef uint8_t[::1] verdict_view = verdicts
+    with nogil:
+        inside = ULogCheckInfos(&data[0], data.shape[0], &offsets[0], &sizes[0], count, skip, &verdict_view[0])
+    if not inside or np.any(verdicts == 0):
+        return False, []
+    return True, np.flatnonzero(verdicts == 2).tolist()
 
 
 def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
     """The name of each F (format) message at ``offsets`` whose parsing by pyulog surely succeeds, else None.
 
-    Surely succeeds: ASCII, a ``:`` after the name, and every non-empty ``;``-separated item of the field list
-    a type and a name separated by a space, with an array size of 1 to 4 digits if the type has ``[``. The
-    others (None) are for the caller to parse in Python, where an exception means pyulog flags corruption.
+    Surely succeeds (``ULogFormatNameLength``): ASCII, a ``:`` after the name, and every non-empty
+    ``;``-separated item of the field list a type and a name separated by a space, with an array size of 1 to 4
+    digits if the type has ``[``. The others (None) are for the caller to parse in Python, where an exception
+    means pyulog flags corruption.
     """
     cdef size_t count = offsets.shape[0]
-    cdef size_t k, j, colon, end, item
-    cdef const uint8_t *payload
-    cdef size_t size
-    cdef bint simple
+    cdef int inside
+    cdef size_t k
+    if sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets and sizes must have one length")
+    if count == 0:
+        return []
+    lengths = np.empty(count, dtype=np.uintp)
+    cdef size_t[::1] length_view = lengths
+    with nogil:
+        inside = ULogFormatNameLengths(&data[0], data.shape[0], &offsets[0], &sizes[0], count, &length_view[0])
+    if not inside:
+        raise ValueError("a message runs past the end of the data")
     names = []
     for k in range(count):
-        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
-            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
-        payload = &data[0] + offsets[k] + 3
-        size = sizes[k]
-        simple = True
-        colon = size
-        for j in range(size):
-            if payload[j] >= 0x80:
-                simple = False
-                break
-            if payload[j] == 58 and colon == size:  # ':'
-                colon = j
-        if not simple or colon == size:
+        if length_view[k] > sizes[k]:
             names.append(None)
-            continue
-        end = colon + 1
-        while end < size and payload[end] != 58:
-            end += 1
-        item = colon + 1
-        for j in range(colon + 1, end + 1):
-            if j == end or payload[j] == 59:  # ';' or the end of the field list
-                if j > item and not _ulog_field_simple(payload + item, j - item):
-                    simple = False
-                    break
-                item = j + 1
-        names.append(payload[:colon].decode("ascii") if simple else None)
+        else:
+            names.append(bytes(data[offsets[k] + 3:offsets[k] + 3 + length_view[k]]).decode("ascii"))
     return names
 
 
 def ulog_type_counts(const uint8_t[::1] types):
-    """How many messages of each type (ndarray of int64, shape (256,)), in one pass."""
-    counts = np.zeros(256, dtype=np.int64)
-    cdef long long[::1] view = counts
-    cdef Py_ssize_t k
-    for k in range(types.shape[0]):
-        view[types[k]] += 1
+    """How many messages of each type (ndarray of uint64, shape (256,)), in one pass."""
+    counts = np.zeros(256, dtype=np.uint64)
+    cdef uint64_t[::1] view = counts
+    if types.shape[0] > 0:
+        with nogil:
+            ULogTypeCounts(&types[0], types.shape[0], &view[0])
     return counts
-
-
-def ulog_first_of(const uint8_t[::1] types, bytes wanted):
-    """Index of the first message whose type is one of the bytes of ``wanted``, or the count if none."""
-    cdef bint hit[256]
-    cdef Py_ssize_t k
-    for k in range(256):
-        hit[k] = False
-    for k in range(len(wanted)):
-        hit[<uint8_t> wanted[k]] = True
-    for k in range(types.shape[0]):
-        if hit[types[k]]:
-            return k
-    return types.shape[0]
 
 
 def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
@@ -630,50 +654,42 @@ def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const
     """
     if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
         raise ValueError("offsets, types and sizes must have one length")
-    # slot + 1 of each msg_id (0: not asked for); calloc'd, so only the pages of the msg_ids used are touched
-    cdef unsigned short *slot_of = <unsigned short *> PyMem_Calloc(65536, sizeof(unsigned short))
-    if slot_of == NULL:
-        raise MemoryError()
-    try:
-        return _ulog_data_tables(data, offsets, types, sizes, subscriptions, slot_of)
-    finally:
-        PyMem_Free(slot_of)
-
-
-cdef _ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
-                       const unsigned short[::1] sizes, subscriptions, unsigned short *slot_of):
-    """:func:`ulog_data_tables` with its msg_id table (``slot_of``, zeroed) allocated."""
-    cdef size_t count = offsets.shape[0]
-    cdef size_t nsub = len(subscriptions)
-    cdef size_t k, slot, msg_id
-    if nsub >= 65535:
+    if len(subscriptions) >= 65535:
         raise ValueError("too many subscriptions")
-    starts = np.zeros(nsub + 1, dtype=np.uint64)
-    itemsizes = np.zeros(nsub + 1, dtype=np.uint64)
+    cdef size_t outside = 0
+    if offsets.shape[0] > 0:
+        with nogil:
+            outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], offsets.shape[0])
+        if outside < <size_t> offsets.shape[0]:
+            raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    # slot + 1 of each msg_id (0: not asked for)
+    slots = np.zeros(65536, dtype=np.uint16)
+    starts = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
+    itemsizes = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
+    for k, (msg_id, start, itemsize) in enumerate(subscriptions):
+        if not 0 <= msg_id < 65536 or slots[msg_id] != 0:
+            raise ValueError(f"msg_id {msg_id} out of range or given twice")
+        slots[msg_id], starts[k], itemsizes[k] = k + 1, start, itemsize
+    return _ulog_gather(data, offsets, types, sizes, slots, starts, itemsizes)
+
+
+cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                  const unsigned short[::1] sizes, const unsigned short[::1] slots, const uint64_t[::1] starts,
+                  const uint64_t[::1] itemsizes):
+    """:func:`ulog_data_tables` once checked: ``ULogSamples`` counts, then copies into the tables."""
+    cdef size_t count = offsets.shape[0]
+    cdef size_t nsub = starts.shape[0] - 1
+    cdef size_t k
+    cdef ULogSubscriptions wanted
+    wanted.slotOf = &slots[0]
+    wanted.starts = &starts[0]
+    wanted.itemsizes = &itemsizes[0]
     counts = np.zeros(nsub + 1, dtype=np.uint64)
-    cdef uint64_t[::1] start_of = starts
-    cdef uint64_t[::1] itemsize_of = itemsizes
     cdef uint64_t[::1] count_of = counts
-    for k, (msg_id_value, start, itemsize) in enumerate(subscriptions):
-        if not 0 <= msg_id_value < 65536 or slot_of[msg_id_value] != 0:
-            raise ValueError(f"msg_id {msg_id_value} out of range or given twice")
-        slot_of[msg_id_value] = k + 1
-        start_of[k] = start
-        itemsize_of[k] = itemsize
-    for k in range(count):
-        if offsets[k] + 3 + sizes[k] > <uint64_t> data.shape[0]:
-            raise ValueError(f"the message at byte {offsets[k]} runs past the end of the data")
-    with nogil:
-        for k in range(count):
-            if types[k] != 68 or sizes[k] < 2:  # 'D'
-                continue
-            msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
-            if slot_of[msg_id] == 0:
-                continue
-            slot = <size_t> slot_of[msg_id] - 1
-            if offsets[k] > start_of[slot] and <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
-                count_of[slot] += 1
-    tables = [np.empty((count_of[k], itemsize_of[k]), dtype=np.uint8) for k in range(nsub)]
+    if count > 0:
+        with nogil:
+            ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, &count_of[0], NULL)
+    tables = [np.empty((count_of[k], itemsizes[k]), dtype=np.uint8) for k in range(nsub)]
     cdef uint8_t **rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
     cdef uint8_t[:, ::1] view
     if rows == NULL:
@@ -681,21 +697,12 @@ cdef _ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, con
     try:
         for k in range(nsub):
             rows[k] = NULL
-            if count_of[k] > 0 and itemsize_of[k] > 0:
+            if count_of[k] > 0 and itemsizes[k] > 0:
                 view = tables[k]
                 rows[k] = &view[0, 0]
-        with nogil:
-            for k in range(count):
-                if types[k] != 68 or sizes[k] < 2:
-                    continue
-                msg_id = data[offsets[k] + 3] | (<size_t> data[offsets[k] + 4] << 8)
-                if slot_of[msg_id] == 0:
-                    continue
-                slot = <size_t> slot_of[msg_id] - 1
-                if rows[slot] != NULL and offsets[k] > start_of[slot] and \
-                        <uint64_t> sizes[k] - 2 == itemsize_of[slot]:
-                    memcpy(rows[slot], &data[0] + offsets[k] + 5, itemsize_of[slot])
-                    rows[slot] += itemsize_of[slot]
+        if count > 0:
+            with nogil:
+                ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, NULL, rows)
     finally:
         PyMem_Free(rows)
     return tables

@@ -1,13 +1,14 @@
-"""PX4 ULog topics decoded at memory speed: one C pass finds every message
-(:func:`fusion_altitude.logs._decode.ulog_index`), the definitions (formats, nested types flattened as
-pyulog flattens them) and subscriptions are read in Python, and the data messages of each asked-for
-subscription are gathered by msg_id into one numpy structured array (the dtype pyulog builds), so each
-field is bit for bit what pyulog's ``ULog(path, names).data_list`` holds.
+"""PX4 ULog topics decoded at memory speed: C walks the messages as pyulog does
+(:func:`fusion_altitude.logs._decode.ulog_definitions` and :func:`~fusion_altitude.logs._decode.ulog_data_walk`:
+unknown or damaged messages stepped over, reading resumed after a sync sequence, appended data read segment by
+segment), the definitions (formats, nested types flattened as pyulog flattens them) and subscriptions are read in
+Python, and the data messages of each asked-for subscription are gathered by msg_id into one numpy structured
+array (the dtype pyulog builds), so each field is bit for bit what pyulog's ``ULog(path, names).data_list`` holds.
 
-Logs whose reading depends on pyulog's recovery paths (a cut or unknown message in the definitions,
-unknown message types, sync recovery, appended data, flags it refuses, a subscription re-using a msg_id,
-messages whose parsing would make pyulog stop or flag corruption) are declined with
-:class:`NeedsReference`, and the caller reads them with pyulog, so the result is the same either way.
+Logs whose reading depends on what pyulog does on an exception (a cut message in the definitions, flags it
+refuses, appended offsets it cannot seek to, a msg_id subscribed twice in one segment, messages whose parsing
+would make pyulog stop or flag corruption) are declined with :class:`NeedsReference`, and the caller reads them
+with pyulog, so the result is the same either way.
 """
 
 from __future__ import annotations
@@ -27,9 +28,6 @@ TYPES = {"int8_t": (1, np.int8), "uint8_t": (1, np.uint8), "int16_t": (2, np.int
          "float": (4, np.float32), "double": (8, np.float64), "bool": (1, np.int8), "char": (1, np.int8)}
 _STRUCT = {"int8_t": "b", "uint8_t": "B", "int16_t": "h", "uint16_t": "H", "int32_t": "i", "uint32_t": "I",
            "int64_t": "q", "uint64_t": "Q", "float": "f", "double": "d", "bool": "?", "char": "c"}
-_DEFINITION_TYPES = set(b"IMFPQB")
-_SECTION_END = set(b"ALC")
-_DATA_TYPES = set(b"IMPQALCDOS")
 
 
 def _text(raw: bytes) -> str:
@@ -178,13 +176,17 @@ class ULogTopics:
             raise NeedsReference("unknown ULog version")
         self.blob = blob
         self.array = np.frombuffer(blob, dtype=np.uint8)
-        offsets, types, sizes, self.end = _decode.ulog_index(self.array)
-        section = self._definitions(offsets, types, sizes)
-        self.data = self._data_section(offsets[section:], types[section:], sizes[section:], names)
+        offsets, types, sizes, section_start, found, cut = _decode.ulog_definitions(self.array)
+        if cut or not found:
+            raise NeedsReference("no data section, or a cut message before it")
+        appended = self._definitions(offsets, types, sizes)
+        offsets, types, sizes, segment_ends, _, _ = _decode.ulog_data_walk(self.array, section_start, appended)
+        self.data = self._data_section(offsets, types, sizes, segment_ends, names)
 
     def missing_bytes(self) -> Optional[int]:
-        """:func:`_truncation.ulog_missing_bytes` from the index: bytes missing from a cut last message."""
+        """:func:`_truncation.ulog_missing_bytes` in C: bytes missing from a cut last message."""
         size = len(self.blob)
+        self.end = decoder_module().ulog_plain_end(self.array)
         if self.end == size:
             return None
         if size - self.end >= 3:  # the payload is cut
@@ -194,17 +196,12 @@ class ULogTopics:
     def _payload(self, offset: int, size: int) -> bytes:
         return self.blob[offset + 3:offset + 3 + size]
 
-    def _definitions(self, offsets, types, sizes) -> int:
-        """Read the definitions section; return the index of its first data-section message."""
-        section = decoder_module().ulog_first_of(types, bytes(_SECTION_END))
-        if section == types.size:
-            raise NeedsReference("no data section")
-        head_types = types[:section]
-        if not set(np.flatnonzero(np.bincount(head_types, minlength=256)).tolist()) <= _DEFINITION_TYPES:
-            raise NeedsReference("a message type that does not belong in the definitions")
-        self._check_infos(offsets[:section], head_types, sizes[:section])
+    def _definitions(self, offsets, types, sizes) -> List[int]:
+        """Read the definitions (the messages pyulog reads before the data section); return the appended-data
+        offsets pyulog uses (empty unless the flag bits say data was appended)."""
+        self._check_infos(offsets, types, sizes)
         self.formats = Formats()
-        format_rows = np.flatnonzero(head_types == ord("F"))
+        format_rows = np.flatnonzero(types == ord("F"))
         names = decoder_module().ulog_format_names(self.array, np.ascontiguousarray(offsets[format_rows]),
                                                    np.ascontiguousarray(sizes[format_rows]))
         for k, name in zip(format_rows.tolist(), names):
@@ -216,13 +213,28 @@ class ULogTopics:
                 self.formats.add_parsed(*_parse_format(payload))
             except (IndexError, ValueError, KeyError, OverflowError, struct.error):
                 raise NeedsReference("a definition pyulog cannot parse") from None
-        for k in np.flatnonzero(head_types == ord("B")).tolist():
-            if k != 0 or int(sizes[k]) < 40:
-                raise NeedsReference("flag bits not first or short")
-            payload = self._payload(int(offsets[k]), int(sizes[k]))
-            if any(payload[8:16]) or any(payload[16:40]):
-                raise NeedsReference("incompatible flags or appended data")
-        return section
+        return self._appended_offsets(offsets[types == ord("B")].tolist(), sizes[types == ord("B")].tolist())
+
+    def _appended_offsets(self, offsets: List[int], sizes: List[int]) -> List[int]:
+        """The appended-data offsets of the flag-bits messages, as pyulog takes them: the last one of at least
+        40 bytes wins (a shorter one is a parse error pyulog passes over), its trailing zero offsets dropped,
+        used only if incompatible flag bit 0 (data appended) is set."""
+        incompatible, appended = bytes(8), []
+        for offset, size in zip(offsets, sizes):
+            if size < 40:
+                continue
+            payload = self._payload(offset, size)
+            incompatible = payload[8:16]
+            appended = list(struct.unpack("<3Q", payload[16:40]))
+            while appended and appended[-1] == 0:
+                appended.pop()
+            if incompatible[0] & ~1 or any(incompatible[1:]):
+                raise NeedsReference("unknown incompatible flags (pyulog refuses the log)")
+        if not incompatible[0] & 1:
+            return []
+        if any(offset >= 2 ** 63 for offset in appended):
+            raise NeedsReference("an appended offset pyulog cannot seek to")
+        return appended
 
     def _check_infos(self, offsets, types, sizes, counts=None) -> None:
         """Decline if an I/M/P/Q message would make pyulog raise (``counts``: messages per type, if known)."""
@@ -234,22 +246,30 @@ class ULogTopics:
                                               skip=1 if kind in b"MQ" else 0):
                 raise NeedsReference("an info or parameter message pyulog cannot parse")
 
-    def _data_section(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
+    def _data_section(self, offsets, types, sizes, segment_ends, names) -> Dict[tuple, Dict[str, np.ndarray]]:
+        """The topics of the data-section messages pyulog reads (``segment_ends``: messages after each segment;
+        pyulog forgets the subscriptions at the end of each, and a later segment's data of a topic wins)."""
         _decode = decoder_module()
         counts = _decode.ulog_type_counts(types)
-        present = set(np.flatnonzero(counts).tolist())
-        if not present <= _DATA_TYPES:
-            raise NeedsReference(f"message types {sorted(present - _DATA_TYPES)} in the data section")
         for kind, minimum in ((ord("L"), 9), (ord("C"), 11), (ord("A"), 3), (ord("D"), 2)):
             if counts[kind] and np.any(sizes[types == kind] < minimum):
                 raise NeedsReference(f"a {chr(kind)} message too short for pyulog")
         if counts[ord("O")] and np.any(sizes[types == ord("O")] != 2):
             raise NeedsReference("a dropout message that is not 2 bytes")
         self._check_infos(offsets, types, sizes, counts)
+        out: Dict[tuple, Dict[str, np.ndarray]] = {}
+        first = 0
+        for end in segment_ends:
+            out.update(self._segment(offsets[first:end], types[first:end], sizes[first:end], names))
+            first = end
+        return out
+
+    def _segment(self, offsets, types, sizes, names) -> Dict[tuple, Dict[str, np.ndarray]]:
+        """The topics of one segment of the data section (its subscriptions, then their samples)."""
         subscriptions = self._subscriptions(offsets[types == ord("A")].tolist(),
                                             sizes[types == ord("A")].tolist(), names)
-        tables = _decode.ulog_data_tables(self.array, offsets, types, sizes,
-                                          [(msg_id, s.offset, s.dtype.itemsize) for msg_id, s in subscriptions])
+        wanted = [(msg_id, s.offset, s.dtype.itemsize) for msg_id, s in subscriptions]
+        tables = decoder_module().ulog_data_tables(self.array, offsets, types, sizes, wanted)
         out: Dict[tuple, Dict[str, np.ndarray]] = {}
         for (_, subscription), bodies in zip(subscriptions, tables):
             if not bodies.shape[0]:

@@ -62,10 +62,13 @@ def read_ulog(path: str, instance: Optional[int] = None,
     * ``vehicle_status`` ``arming_state`` → ``flight_state``
       ("armed"/"disarmed"), ``vehicle_type`` → ``vehicle``.
 
-    ``decoder="fast"`` (default) decodes in C (the extension); logs whose
-    reading depends on pyulog's recovery paths (corrupt or unknown messages,
-    appended data) are then read with pyulog, so the result never depends
-    on the decoder. ``decoder="pyulog"`` always reads with pyulog (the
+    ``decoder="fast"`` (default) decodes in C (the extension), walking the
+    messages as pyulog does: damaged or unknown messages stepped over,
+    reading resumed after a sync sequence, appended data read after the
+    flag-bits message's offsets. Logs whose reading depends on what pyulog
+    does on an exception (messages it cannot parse, flags it refuses, a
+    cut message before the data section) are read with pyulog, so the
+    result never depends on the decoder. ``decoder="pyulog"`` always reads with pyulog (the
     ``[logs]`` extra), the reference the fast decoder is tested against.
 
     Raises

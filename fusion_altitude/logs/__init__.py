@@ -157,9 +157,11 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
     progress : callable(done, total), optional
         Called while reading.
     decoder : {"fast", "pymavlink", "pyulog"}
-        "fast" (default): DataFlash and ULog decoded in C (the extension;
-        damaged logs are left to the reference library, so results do not
-        depend on the decoder); CSV as before. "pymavlink":
+        "fast" (default): DataFlash and ULog decoded in C (the extension),
+        stray bytes, ULog sync recovery and appended data included; the few
+        logs whose reading depends on the reference library's other recovery
+        paths are left to it, so results do not depend on the decoder; small
+        CSV bodies are scanned in C, larger ones read by pyarrow. "pymavlink":
         DataFlash through pymavlink, "pyulog": ULog through pyulog — the
         references, kept for one release; each only for its own format.
     **options

@@ -126,6 +126,8 @@ def test_a_bad_number_stops_the_scan_on_the_line_the_reader_names(tmp_path):
 
 
 def test_the_small_shared_exports_are_read_by_the_scan_and_the_large_by_pyarrow(monkeypatch):
+    """Small bodies, and large ones of short numbers (the CATS baro file), go to the scan; large bodies of
+    17-digit numbers (the CATS IMU and flight-info files) to pyarrow."""
     scanned, parsed = [], []
     scan, parse = _csv_fast._scan, _csv_fast._parse
     monkeypatch.setattr(_csv_fast, "_scan", lambda *a: scanned.append(scan(*a) is not None) or scan(*a))
@@ -136,7 +138,14 @@ def test_the_small_shared_exports_are_read_by_the_scan_and_the_large_by_pyarrow(
             logs.load_log(str(DATA / name))
         assert scanned == [True, True] and parsed == []
         logs.load_log(str(DATA / "hedy_imu.csv"))
-    assert len(parsed) == 3  # the CATS files are over SCAN_MAX_CHARS: pyarrow
+    assert scanned == [True, True, True] and len(parsed) == 2
+
+
+def test_a_large_body_goes_to_the_scan_only_when_its_numbers_are_short():
+    assert _csv_fast._short_numbers("0.010,-0.13210,,100.016\n" * 1000)
+    assert _csv_fast._short_numbers("1e-05,123456789012345\n")
+    assert not _csv_fast._short_numbers("0.1,0.12088581174612045\n")
+    assert not _csv_fast._short_numbers("1,2\n" + "3.1234567890123456\n")
 
 
 @pytest.mark.parametrize("raw", [b"a\r\nb\rc\n\r\r\n", b"", b"\r", b"x\r\n", "\u00e9\r\n\r".encode(), b"abc", b"\r\r",

@@ -97,7 +97,9 @@ class Format:
     needs_columns: bool = False
 
 
+@functools.lru_cache(maxsize=4)
 def _text(head: bytes) -> str:
+    """The sniffed head as text, decoded once for the four text sniffers."""
     return head.decode("utf-8-sig", errors="replace")
 
 

@@ -42,7 +42,9 @@ extensions.append(Extension("fusion_altitude._core._common", ["fusion_altitude/_
 
 # The fast log decoder (not part of the MCU core): fusion_altitude/logs/_decode.pyx over the C scanners beside it.
 extensions.append(Extension("fusion_altitude.logs._decode", ["fusion_altitude/logs/_decode.pyx"],
-                            include_dirs=["fusion_altitude/logs"], depends=["fusion_altitude/logs/_dataflash_scan.h", "fusion_altitude/logs/_ulog_scan.h"],
+                            include_dirs=["fusion_altitude/logs"],
+                            depends=["fusion_altitude/logs/_scan_common.h", "fusion_altitude/logs/_dataflash_scan.h",
+                                     "fusion_altitude/logs/_ulog_scan.h"],
                             extra_compile_args=["-O2"] if sys.platform != "win32" else []))
 # The C scan of small numeric CSV bodies (fusion_altitude/logs/_csv_scan.h; issue 25, item 3).
 extensions.append(Extension("fusion_altitude.logs._text_decode", ["fusion_altitude/logs/_text_decode.pyx"],

@@ -26,7 +26,7 @@
  *     and DataFlashNameSeen (a linear search of the names met), and for each
  *     field found DataFlashColumn over the messages of that type (each value
  *     as memcpy into the C type gives it, divided as pymavlink's multiplier
- *     does, bit for bit); DataFlashCountTypes and DataFlashSplit (every
+ *     does, bit for bit); ScanCountTypes and DataFlashSplit (every
  *     type's offsets in file order) against a filter.
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
@@ -123,13 +123,13 @@ static double ReferenceValue(const uint8_t *p, uint8_t c) {
     }
 }
 
-/* DataFlashCountTypes and DataFlashSplit against a filter; rows[t] (NULL for every third type: dropped) is
+/* ScanCountTypes and DataFlashSplit against a filter; rows[t] (NULL for every third type: dropped) is
  * left holding type t's offsets, counts[t] their number. */
-static void CheckSplit(const uint64_t *offsets, const uint8_t *types, size_t count, size_t *counts,
+static void CheckSplit(const uint64_t *offsets, const uint8_t *types, size_t count, uint64_t *counts,
                        uint64_t **rows) {
     size_t k;
     size_t j;
-    DataFlashCountTypes(types, count, counts);
+    ScanCountTypes(types, count, counts);
     for (j = 0; j < 256; j++) {
         size_t expected = 0;
         for (k = 0; k < count; k++) {
@@ -184,7 +184,7 @@ static void CheckColumn(const uint8_t *data, size_t size, const uint64_t *rows, 
 
 /* The lookups on one whole FMT message (body: its 86 bytes after the header), and the column reader on the
  * messages of the type it defines (rows[type], counts[type]). */
-static void CheckFormatMessage(const uint8_t *data, size_t size, const uint8_t *body, const size_t *counts,
+static void CheckFormatMessage(const uint8_t *data, size_t size, const uint8_t *body, const uint64_t *counts,
                                uint64_t *const *rows) {
     size_t lengths[FIELD_COUNT];
     int16_t index[FIELD_COUNT];
@@ -232,7 +232,7 @@ static void CheckFormats(const uint8_t *data, size_t size, const uint64_t *offse
     uint32_t keys[DATAFLASH_NAME_SLOTS];
     size_t keyCount = 0;
     uint64_t slots[DATAFLASH_NAME_SLOTS];
-    size_t counts[256];
+    uint64_t counts[256];
     uint64_t *rows[256];
     size_t k;
     size_t j;

@@ -25,7 +25,7 @@
  *   - the checks and the gather of the fast decoder on the messages found:
  *     ULogCheckInfos (a verdict of 0, 1 or 2; "parses" only with a space in
  *     an ASCII key), ULogFormatNameLengths (a name is ASCII and ends at the
- *     first ':'), ULogTypeCounts (they add up), ULogSamples (counting, then
+ *     first ':'), ScanCountTypes (they add up), ULogSamples (counting, then
  *     copying) with a subscription per A message of the data
  *     section (its msg_id; the sample size that of the first D message of
  *     that msg_id after it): each gathered sample is, in order, the payload of
@@ -238,7 +238,7 @@ static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *wa
             }
         }
     }
-    ULogTypeCounts(walk->types, count, counts);
+    ScanCountTypes(walk->types, count, counts);
     for (k = 0; k < 256; k++) {
         total += counts[k];
     }

@@ -21,6 +21,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "_scan_common.h"
+
 /* First two bytes of every message. */
 #define DATAFLASH_HEAD1 0xA3
 #define DATAFLASH_HEAD2 0x95
@@ -210,20 +212,9 @@ static inline size_t DataFlashFieldOffset(const uint8_t *const chars, const size
     return offset;
 }
 
-/* How many of types[0 .. count) are of each type (counts: 256 entries, overwritten). */
-static inline void DataFlashCountTypes(const uint8_t *const types, const size_t count, size_t *const counts) {
-    size_t k;
-    for (k = 0; k < 256; k++) {
-        counts[k] = 0;
-    }
-    for (k = 0; k < count; k++) {
-        counts[types[k]]++;
-    }
-}
-
 /*
  * Split offsets[0 .. count) by type, keeping file order: the offsets of
- * type t go to rows[t] (sized by DataFlashCountTypes; rows[t] may be NULL
+ * type t go to rows[t] (sized by ScanCountTypes; rows[t] may be NULL
  * for a type not wanted, whose offsets are then dropped).
  */
 static inline void DataFlashSplit(const uint64_t *const offsets, const uint8_t *const types, const size_t count,

@@ -11,6 +11,9 @@ from libc.math cimport NAN
 from libc.string cimport memcpy, memset
 from cpython.mem cimport PyMem_Calloc, PyMem_Free, PyMem_Malloc
 
+cdef extern from "_scan_common.h":
+    void ScanCountTypes(const uint8_t *types, size_t count, uint64_t *counts) nogil
+
 cdef extern from "_dataflash_scan.h":
     ctypedef enum DataFlashScanStatus:
         DataFlashScanOk
@@ -30,7 +33,6 @@ cdef extern from "_dataflash_scan.h":
     void DataFlashColumnIndexes(const uint8_t *columns, size_t columnsLength, const char *const *names,
                                 const size_t *nameLengths, size_t nameCount, int16_t *index) nogil
     size_t DataFlashFieldOffset(const uint8_t *chars, size_t index) nogil
-    void DataFlashCountTypes(const uint8_t *types, size_t count, size_t *counts) nogil
     void DataFlashSplit(const uint64_t *offsets, const uint8_t *types, size_t count, uint64_t *const *rows) nogil
     ctypedef enum DataFlashColumnStatus:
         DataFlashColumnOk
@@ -143,7 +145,6 @@ cdef extern from "_ulog_scan.h":
                        size_t count, size_t skip, uint8_t *verdicts) nogil
     int ULogFormatNameLengths(const uint8_t *data, size_t size, const uint64_t *offsets, const unsigned short *sizes,
                               size_t count, size_t *lengths) nogil
-    void ULogTypeCounts(const uint8_t *types, size_t count, uint64_t *counts) nogil
     size_t ULogFirstOutside(size_t size, const uint64_t *offsets, const unsigned short *sizes, size_t count) nogil
     void ULogSamples(const uint8_t *data, const uint64_t *offsets, const uint8_t *types, const unsigned short *sizes,
                      size_t count, const ULogSubscriptions *subscriptions, uint64_t *counts, uint8_t **rows) nogil
@@ -502,7 +503,7 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         first field it has as text or half float or None). Absent: the wanted types without messages.
     """
     cdef size_t count = offsets.shape[0]
-    cdef size_t counts[256]
+    cdef uint64_t counts[256]
     cdef uint64_t *rows[256]
     cdef uint64_t[::1] offset_view
     cdef double[::1] value_view
@@ -520,7 +521,7 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
             raise ValueError(f"position {position} out of range")
     if count == 0:
         return {}
-    DataFlashCountTypes(&types[0], count, counts)
+    ScanCountTypes(&types[0], count, counts)
     for k in range(256):
         rows[k] = NULL
     out = {}
@@ -629,7 +630,7 @@ def ulog_type_counts(const uint8_t[::1] types):
     cdef uint64_t[::1] view = counts
     if types.shape[0] > 0:
         with nogil:
-            ULogTypeCounts(&types[0], types.shape[0], &view[0])
+            ScanCountTypes(&types[0], types.shape[0], &view[0])
     return counts
 
 

@@ -27,6 +27,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "_scan_common.h"
+
 /* Bytes of the ULog file header (magic, version, start time) before the first message. */
 #define ULOG_FILE_HEADER 16
 
@@ -446,17 +448,6 @@ static inline int ULogFormatNameLengths(const uint8_t *const data, const size_t 
         lengths[k] = ULogFormatNameLength(data + offsets[k] + 3, sizes[k]);
     }
     return 1;
-}
-
-/* How many messages of each type (counts[256]). */
-static inline void ULogTypeCounts(const uint8_t *const types, const size_t count, uint64_t *const counts) {
-    size_t k;
-    for (k = 0; k < 256; k++) {
-        counts[k] = 0;
-    }
-    for (k = 0; k < count; k++) {
-        counts[types[k]]++;
-    }
 }
 
 /* The subscriptions whose samples ULogSamples counts and gathers. */

@@ -188,14 +188,16 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
 # listed here or be public; an estimator without an entry has none.
 INTERNAL = {
     "observer": {"FusionAltitudeRestart", "FusionAltitudeTiming", "FusionAltitudeStabilityRestart",
-                 "FusionAltitudeIsDiscreteStable", "FusionAltitudeIsNonNegative", "FusionAltitudeIsPositive"},
+                 "FusionAltitudeIsDiscreteStable", "FusionAltitudeIsNonNegative", "FusionAltitudeIsPositive",
+                 "FusionAltitudeStatusText"},
     "kalman": {"FusionAltitudeKalmanPredict",
                "FusionAltitudeKalmanFuse", "FusionAltitudeKalmanSetOffset", "FusionAltitudeKalmanResetGround",
                "FusionAltitudeKalmanProcess", "FusionAltitudeKalmanNoSample", "FusionAltitudeKalmanInverseSqrt",
                "FusionAltitudeKalmanGpsSigma", "FusionAltitudeKalmanRandomWalks", "FusionAltitudeKalmanInflate",
                "FusionAltitudeKalmanGap", "FusionAltitudeKalmanFuseVector", "FusionAltitudeKalmanFuseScalar",
                "FusionAltitudeKalmanProcessBaro", "FusionAltitudeKalmanProcessRange",
-               "FusionAltitudeKalmanProcessGps", "FusionAltitudeKalmanSilent", "FusionAltitudeKalmanResume"},
+               "FusionAltitudeKalmanProcessGps", "FusionAltitudeKalmanSilent", "FusionAltitudeKalmanResume",
+               "FusionAltitudeKalmanIsUsable", "FusionAltitudeKalmanFuseOffsetSensor"},
     "complementary": {"FusionAltitudeComplementaryIsTimeConstant", "FusionAltitudeComplementaryIsCoefficient",
                       "FusionAltitudeComplementaryRestart", "FusionAltitudeComplementaryTimedOutStep"},
     "alphabeta": {"FusionAltitudeAlphaBetaSensor", "FusionAltitudeAlphaBetaInfinity", "FusionAltitudeAlphaBetaClear",

@@ -320,12 +320,9 @@ static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSenso
     return sensor;
 }
 
-/** @return +infinity, built without libm. */
+/** @return +infinity, built without libm (FusionAltitudeInfinity, under this header's prefix). */
 static inline float FusionAltitudeAlphaBetaInfinity(void) {
-    const uint32_t bits = 0x7F800000u;
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    return value;
+    return FusionAltitudeInfinity();
 }
 
 /**

@@ -467,6 +467,22 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
 }
 
 /**
+ * Internal: @return the settings of a preset: gains Kh (1/s), Kv (1/s^2) and
+ * Kb (1/s^3), gap period (s) and baro timeout (s). The presets' numbers stay in
+ * code (immediates), not in a table that a small AVR would copy into its RAM.
+ */
+static inline FusionAltitudeSettings FusionAltitudePresetSettings(const float positionGain, const float velocityGain, const float biasGain,
+                                                                  const float gapPeriod, const float baroTimeout) {
+    FusionAltitudeSettings settings;
+    settings.positionGain = positionGain;
+    settings.velocityGain = velocityGain;
+    settings.biasGain = biasGain;
+    settings.gapPeriod = gapPeriod;
+    settings.baroTimeout = baroTimeout;
+    return settings;
+}
+
+/**
  * @brief Preset gains: the bandwidth formulas with zeta = 0.7 and
  * omega_b = omega / 5, evaluated exactly and rounded to float32 (so the VTOL
  * preset equals the defaults). Kh 1/s, Kv 1/s^2, Kb 1/s^3:
@@ -484,20 +500,27 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
  * *settings is written only on success.
  */
 static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitudeSettings *const settings, const FusionAltitudePreset preset) {
-    /* One row a preset, in FusionAltitudePreset's order: Kh 1/s, Kv 1/s^2, Kb 1/s^3, gap period s, baro timeout s.
-     * The VTOL row is FusionAltitudeSettingsDefault() (tests hold the two equal). */
-    static const FusionAltitudeSettings presets[] = {
-        {0.32f, 0.0512f, 0.0016f, 5.0f, 10.0f},                                                            /* balloon */
-        {0.80f, 0.32f, 0.025f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT},  /* fixed wing */
-        {2.40f, 2.88f, 0.675f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT}, /* VTOL */
-        {8.0f, 32.0f, 25.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT},   /* racing */
-        {1.4f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT},     /* rocket */
-    };
-    const size_t index = (size_t) preset; /* a negative value wraps to a large index */
-    if (index >= (sizeof(presets) / sizeof(presets[0]))) {
-        return FusionAltitudeStatusInvalidPreset;
+    FusionAltitudeSettings result;
+    switch (preset) {
+        case FusionAltitudePresetBalloon:
+            result = FusionAltitudePresetSettings(0.32f, 0.0512f, 0.0016f, 5.0f, 10.0f);
+            break;
+        case FusionAltitudePresetFixedWing:
+            result = FusionAltitudePresetSettings(0.80f, 0.32f, 0.025f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
+            break;
+        case FusionAltitudePresetVtol:
+            result = FusionAltitudeSettingsDefault();
+            break;
+        case FusionAltitudePresetRacing:
+            result = FusionAltitudePresetSettings(8.0f, 32.0f, 25.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
+            break;
+        case FusionAltitudePresetRocket:
+            result = FusionAltitudePresetSettings(1.4f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
+            break;
+        default:
+            return FusionAltitudeStatusInvalidPreset;
     }
-    *settings = presets[index];
+    *settings = result;
     return FusionAltitudeStatusOk;
 }
 

@@ -320,7 +320,7 @@ static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSenso
     return sensor;
 }
 
-/** @return +infinity, built without libm (FusionAltitudeInfinity, under this header's prefix). */
+/** @return +infinity, built without libm. */
 static inline float FusionAltitudeAlphaBetaInfinity(void) {
     return FusionAltitudeInfinity();
 }

@@ -189,7 +189,7 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
 INTERNAL = {
     "observer": {"FusionAltitudeRestart", "FusionAltitudeTiming", "FusionAltitudeStabilityRestart",
                  "FusionAltitudeIsDiscreteStable", "FusionAltitudeIsNonNegative", "FusionAltitudeIsPositive",
-                 "FusionAltitudeStatusText"},
+                 "FusionAltitudeStatusText", "FusionAltitudePresetSettings"},
     "kalman": {"FusionAltitudeKalmanPredict",
                "FusionAltitudeKalmanFuse", "FusionAltitudeKalmanSetOffset", "FusionAltitudeKalmanResetGround",
                "FusionAltitudeKalmanProcess", "FusionAltitudeKalmanNoSample", "FusionAltitudeKalmanInverseSqrt",

@@ -238,35 +238,32 @@ static inline float FusionAltitudeNaN(void) {
 //------------------------------------------------------------------------------
 // Status messages
 
+/**
+ * Internal: @return texts[status], the text of a status in an estimator's table
+ * (one text a status value, in its enum's order), or "unknown status" for a
+ * value outside the table. Each ...StatusMessage function calls it.
+ */
+static inline const char *FusionAltitudeStatusText(const char *const *const texts, const size_t count, const size_t status) {
+    return (status < count) ? texts[status] : "unknown status";
+}
+
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeStatusMessage(const FusionAltitudeStatus status) {
-    switch (status) {
-        case FusionAltitudeStatusOk:
-            return "ok";
-        case FusionAltitudeStatusInvalidAccel:
-            return "accel must be finite";
-        case FusionAltitudeStatusInvalidBaroAltitude:
-            return "baro altitude must be finite (or NaN for no sample in update)";
-        case FusionAltitudeStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeStatusInvalidAccelBias:
-            return "accel bias must be finite";
-        case FusionAltitudeStatusInvalidGain:
-            return "gains must be finite, >= 0 and <= 1e15";
-        case FusionAltitudeStatusUnstableGains:
-            return "gains are not stable: need position_gain * velocity_gain > bias_gain (and position_gain > 0 when velocity_gain > 0)";
-        case FusionAltitudeStatusUnstableDiscrete:
-            return "gains are not stable at this dt: the discrete update diverges";
-        case FusionAltitudeStatusInvalidBandwidth:
-            return "omega and zeta must be finite and > 0, omega_b finite and >= 0";
-        case FusionAltitudeStatusInvalidPreset:
-            return "unknown preset";
-        case FusionAltitudeStatusInvalidGapPeriod:
-            return "gap period must be > 0 (+infinity: never a gap)";
-        case FusionAltitudeStatusInvalidBaroTimeout:
-            return "baro timeout must be > 0 (+infinity: never times out)";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeStatusOk */
+        "accel must be finite", /* FusionAltitudeStatusInvalidAccel */
+        "baro altitude must be finite (or NaN for no sample in update)", /* FusionAltitudeStatusInvalidBaroAltitude */
+        "dt must be finite and > 0", /* FusionAltitudeStatusInvalidDt */
+        "accel bias must be finite", /* FusionAltitudeStatusInvalidAccelBias */
+        "gains must be finite, >= 0 and <= 1e15", /* FusionAltitudeStatusInvalidGain */
+        "gains are not stable: need position_gain * velocity_gain > bias_gain (and position_gain > 0 when velocity_gain > 0)", /* FusionAltitudeStatusUnstableGains */
+        "gains are not stable at this dt: the discrete update diverges", /* FusionAltitudeStatusUnstableDiscrete */
+        "omega and zeta must be finite and > 0, omega_b finite and >= 0", /* FusionAltitudeStatusInvalidBandwidth */
+        "unknown preset", /* FusionAltitudeStatusInvalidPreset */
+        "gap period must be > 0 (+infinity: never a gap)", /* FusionAltitudeStatusInvalidGapPeriod */
+        "baro timeout must be > 0 (+infinity: never times out)", /* FusionAltitudeStatusInvalidBaroTimeout */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------
@@ -470,6 +467,22 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
 }
 
 /**
+ * Internal: @return the settings of a preset: gains Kh (1/s), Kv (1/s^2) and
+ * Kb (1/s^3), gap period (s) and baro timeout (s). The presets' numbers stay in
+ * code (immediates), not in a table that a small AVR would copy into its RAM.
+ */
+static inline FusionAltitudeSettings FusionAltitudePresetSettings(const float positionGain, const float velocityGain, const float biasGain,
+                                                                  const float gapPeriod, const float baroTimeout) {
+    FusionAltitudeSettings settings;
+    settings.positionGain = positionGain;
+    settings.velocityGain = velocityGain;
+    settings.biasGain = biasGain;
+    settings.gapPeriod = gapPeriod;
+    settings.baroTimeout = baroTimeout;
+    return settings;
+}
+
+/**
  * @brief Preset gains: the bandwidth formulas with zeta = 0.7 and
  * omega_b = omega / 5, evaluated exactly and rounded to float32 (so the VTOL
  * preset equals the defaults). Kh 1/s, Kv 1/s^2, Kb 1/s^3:
@@ -490,35 +503,19 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromPreset(FusionAltitu
     FusionAltitudeSettings result;
     switch (preset) {
         case FusionAltitudePresetBalloon:
-            result.positionGain = 0.32f;
-            result.velocityGain = 0.0512f;
-            result.biasGain = 0.0016f;
-            result.gapPeriod = 5.0f;
-            result.baroTimeout = 10.0f;
+            result = FusionAltitudePresetSettings(0.32f, 0.0512f, 0.0016f, 5.0f, 10.0f);
             break;
         case FusionAltitudePresetFixedWing:
-            result.positionGain = 0.80f;
-            result.velocityGain = 0.32f;
-            result.biasGain = 0.025f;
-            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
-            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
+            result = FusionAltitudePresetSettings(0.80f, 0.32f, 0.025f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
             break;
         case FusionAltitudePresetVtol:
             result = FusionAltitudeSettingsDefault();
             break;
         case FusionAltitudePresetRacing:
-            result.positionGain = 8.0f;
-            result.velocityGain = 32.0f;
-            result.biasGain = 25.0f;
-            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
-            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
+            result = FusionAltitudePresetSettings(8.0f, 32.0f, 25.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
             break;
         case FusionAltitudePresetRocket:
-            result.positionGain = 1.4f;
-            result.velocityGain = 1.0f;
-            result.biasGain = 0.0f;
-            result.gapPeriod = FUSION_ALTITUDE_DEFAULT_GAP_PERIOD;
-            result.baroTimeout = FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT;
+            result = FusionAltitudePresetSettings(1.4f, 1.0f, 0.0f, FUSION_ALTITUDE_DEFAULT_GAP_PERIOD, FUSION_ALTITUDE_DEFAULT_BARO_TIMEOUT);
             break;
         default:
             return FusionAltitudeStatusInvalidPreset;

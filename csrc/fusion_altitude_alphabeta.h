@@ -282,37 +282,23 @@ typedef struct {
 
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltitudeAlphaBetaStatus status) {
-    switch (status) {
-        case FusionAltitudeAlphaBetaStatusOk:
-            return "ok";
-        case FusionAltitudeAlphaBetaStatusInvalidAccel:
-            return "accel must be finite (or NaN for no sample)";
-        case FusionAltitudeAlphaBetaStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeAlphaBetaStatusInvalidBaroAltitude:
-            return "baro altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeAlphaBetaStatusInvalidLidarAltitude:
-            return "lidar altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeAlphaBetaStatusInvalidSonarAltitude:
-            return "sonar altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeAlphaBetaStatusInvalidGpsAltitude:
-            return "GPS altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeAlphaBetaStatusInvalidThreshold:
-            return "thresholds must be finite and > 0";
-        case FusionAltitudeAlphaBetaStatusInvalidQuality:
-            return "qualities must satisfy 2 <= minimum <= maximum <= 10000";
-        case FusionAltitudeAlphaBetaStatusInvalidConfidence:
-            return "confidences must be in [0, 1e6]";
-        case FusionAltitudeAlphaBetaStatusInvalidAltitudeBand:
-            return "altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)";
-        case FusionAltitudeAlphaBetaStatusInvalidGapMax:
-            return "gap maxima must be > 0 (+infinity: no limit)";
-        case FusionAltitudeAlphaBetaStatusInvalidTimeout:
-            return "timeouts must be finite and > 0";
-        case FusionAltitudeAlphaBetaStatusInvalidGapPeriod:
-            return "gap period must be > 0 (+infinity: never a gap)";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeAlphaBetaStatusOk */
+        "accel must be finite (or NaN for no sample)", /* FusionAltitudeAlphaBetaStatusInvalidAccel */
+        "dt must be finite and > 0", /* FusionAltitudeAlphaBetaStatusInvalidDt */
+        "baro altitude must be finite (or NaN for no sample)", /* FusionAltitudeAlphaBetaStatusInvalidBaroAltitude */
+        "lidar altitude must be finite (or NaN for no sample)", /* FusionAltitudeAlphaBetaStatusInvalidLidarAltitude */
+        "sonar altitude must be finite (or NaN for no sample)", /* FusionAltitudeAlphaBetaStatusInvalidSonarAltitude */
+        "GPS altitude must be finite (or NaN for no sample)", /* FusionAltitudeAlphaBetaStatusInvalidGpsAltitude */
+        "thresholds must be finite and > 0", /* FusionAltitudeAlphaBetaStatusInvalidThreshold */
+        "qualities must satisfy 2 <= minimum <= maximum <= 10000", /* FusionAltitudeAlphaBetaStatusInvalidQuality */
+        "confidences must be in [0, 1e6]", /* FusionAltitudeAlphaBetaStatusInvalidConfidence */
+        "altitude bands must satisfy minimum < maximum (infinite allowed, NaN not)", /* FusionAltitudeAlphaBetaStatusInvalidAltitudeBand */
+        "gap maxima must be > 0 (+infinity: no limit)", /* FusionAltitudeAlphaBetaStatusInvalidGapMax */
+        "timeouts must be finite and > 0", /* FusionAltitudeAlphaBetaStatusInvalidTimeout */
+        "gap period must be > 0 (+infinity: never a gap)", /* FusionAltitudeAlphaBetaStatusInvalidGapPeriod */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------
@@ -336,10 +322,7 @@ static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSenso
 
 /** @return +infinity, built without libm. */
 static inline float FusionAltitudeAlphaBetaInfinity(void) {
-    const uint32_t bits = 0x7F800000u;
-    float value;
-    memcpy(&value, &bits, sizeof(value));
-    return value;
+    return FusionAltitudeInfinity();
 }
 
 /**

@@ -163,25 +163,17 @@ typedef struct {
 
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeComplementaryStatusMessage(const FusionAltitudeComplementaryStatus status) {
-    switch (status) {
-        case FusionAltitudeComplementaryStatusOk:
-            return "ok";
-        case FusionAltitudeComplementaryStatusInvalidAccel:
-            return "accel must be finite";
-        case FusionAltitudeComplementaryStatusInvalidBaroAltitude:
-            return "baro altitude must be finite (or NaN for no sample in update)";
-        case FusionAltitudeComplementaryStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeComplementaryStatusInvalidTimeConstant:
-            return "time constants must be finite and >= 0";
-        case FusionAltitudeComplementaryStatusInvalidCoefficient:
-            return "per-sample coefficients must be finite and in [0, 1]";
-        case FusionAltitudeComplementaryStatusInvalidGapPeriod:
-            return "gap period must be > 0 (+infinity: never a gap)";
-        case FusionAltitudeComplementaryStatusInvalidBaroTimeout:
-            return "baro timeout must be > 0 (+infinity: never times out)";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeComplementaryStatusOk */
+        "accel must be finite", /* FusionAltitudeComplementaryStatusInvalidAccel */
+        "baro altitude must be finite (or NaN for no sample in update)", /* FusionAltitudeComplementaryStatusInvalidBaroAltitude */
+        "dt must be finite and > 0", /* FusionAltitudeComplementaryStatusInvalidDt */
+        "time constants must be finite and >= 0", /* FusionAltitudeComplementaryStatusInvalidTimeConstant */
+        "per-sample coefficients must be finite and in [0, 1]", /* FusionAltitudeComplementaryStatusInvalidCoefficient */
+        "gap period must be > 0 (+infinity: never a gap)", /* FusionAltitudeComplementaryStatusInvalidGapPeriod */
+        "baro timeout must be > 0 (+infinity: never times out)", /* FusionAltitudeComplementaryStatusInvalidBaroTimeout */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------

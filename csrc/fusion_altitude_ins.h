@@ -329,23 +329,16 @@ typedef struct {
 
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeInsStatusMessage(const FusionAltitudeInsStatus status) {
-    switch (status) {
-        case FusionAltitudeInsStatusOk:
-            return "ok";
-        case FusionAltitudeInsStatusInvalidGyro:
-            return "gyro components must be finite with magnitude <= 1e6 rad/s";
-        case FusionAltitudeInsStatusInvalidAccel:
-            return "accel components must be finite with magnitude <= 1e6 m/s^2";
-        case FusionAltitudeInsStatusInvalidMag:
-            return "mag components must be all NaN (no sample) or all finite with magnitude <= 1e6";
-        case FusionAltitudeInsStatusInvalidBaroAltitude:
-            return "baro altitude must be finite with magnitude <= 1e6 m (or NaN for no sample)";
-        case FusionAltitudeInsStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeInsStatusInvalidSettings:
-            return "settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeInsStatusOk */
+        "gyro components must be finite with magnitude <= 1e6 rad/s", /* FusionAltitudeInsStatusInvalidGyro */
+        "accel components must be finite with magnitude <= 1e6 m/s^2", /* FusionAltitudeInsStatusInvalidAccel */
+        "mag components must be all NaN (no sample) or all finite with magnitude <= 1e6", /* FusionAltitudeInsStatusInvalidMag */
+        "baro altitude must be finite with magnitude <= 1e6 m (or NaN for no sample)", /* FusionAltitudeInsStatusInvalidBaroAltitude */
+        "dt must be finite and > 0", /* FusionAltitudeInsStatusInvalidDt */
+        "settings must be finite, >= 0 and <= 1e6 (noises, time constants and gap period > 0)", /* FusionAltitudeInsStatusInvalidSettings */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------

@@ -323,35 +323,22 @@ typedef struct {
 
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeKalmanStatusMessage(const FusionAltitudeKalmanStatus status) {
-    switch (status) {
-        case FusionAltitudeKalmanStatusOk:
-            return "ok";
-        case FusionAltitudeKalmanStatusInvalidAccel:
-            return "accel must be finite";
-        case FusionAltitudeKalmanStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeKalmanStatusInvalidBaroAltitude:
-            return "baro altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeKalmanStatusInvalidGpsAltitude:
-            return "GPS altitude must be finite (or NaN for no sample)";
-        case FusionAltitudeKalmanStatusInvalidGpsAccuracy:
-            return "GPS vertical accuracy must be finite and > 0 (or NaN if not reported)";
-        case FusionAltitudeKalmanStatusInvalidNoise:
-            return "noises, random walks and initial sigmas must be in [0, 1e6] (baro and range noise > 0)";
-        case FusionAltitudeKalmanStatusInvalidRange:
-            return "range limits must satisfy 0 <= minimum < maximum <= 1e6";
-        case FusionAltitudeKalmanStatusInvalidGps:
-            return "GPS noise terms must be in [0, 1e6] with a positive sum, minimum satellites >= 0";
-        case FusionAltitudeKalmanStatusInvalidGate:
-            return "gate must be in (0, 1e6], rejection timeout in [0, 1e6]";
-        case FusionAltitudeKalmanStatusInvalidGroundEffect:
-            return "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]";
-        case FusionAltitudeKalmanStatusInvalidGapPeriod:
-            return "gap period must be > 0 (+infinity: never a gap)";
-        case FusionAltitudeKalmanStatusInvalidTimeout:
-            return "sensor timeouts must be in (0, 1e6] s";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeKalmanStatusOk */
+        "accel must be finite", /* FusionAltitudeKalmanStatusInvalidAccel */
+        "dt must be finite and > 0", /* FusionAltitudeKalmanStatusInvalidDt */
+        "baro altitude must be finite (or NaN for no sample)", /* FusionAltitudeKalmanStatusInvalidBaroAltitude */
+        "GPS altitude must be finite (or NaN for no sample)", /* FusionAltitudeKalmanStatusInvalidGpsAltitude */
+        "GPS vertical accuracy must be finite and > 0 (or NaN if not reported)", /* FusionAltitudeKalmanStatusInvalidGpsAccuracy */
+        "noises, random walks and initial sigmas must be in [0, 1e6] (baro and range noise > 0)", /* FusionAltitudeKalmanStatusInvalidNoise */
+        "range limits must satisfy 0 <= minimum < maximum <= 1e6", /* FusionAltitudeKalmanStatusInvalidRange */
+        "GPS noise terms must be in [0, 1e6] with a positive sum, minimum satellites >= 0", /* FusionAltitudeKalmanStatusInvalidGps */
+        "gate must be in (0, 1e6], rejection timeout in [0, 1e6]", /* FusionAltitudeKalmanStatusInvalidGate */
+        "ground-effect noise scale must be >= 1 with baro noise * scale <= 1e6, dead zone in [0, 1e6]", /* FusionAltitudeKalmanStatusInvalidGroundEffect */
+        "gap period must be > 0 (+infinity: never a gap)", /* FusionAltitudeKalmanStatusInvalidGapPeriod */
+        "sensor timeouts must be in (0, 1e6] s", /* FusionAltitudeKalmanStatusInvalidTimeout */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------
@@ -959,6 +946,49 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
 }
 
 /**
+ * @brief Internal: whether this step has a usable sample of a sensor with
+ * timeout (s): present (not NaN) and usable (within the sensor's limits).
+ * Without one the step only counts towards the timeout (FusionAltitudeKalmanSilent),
+ * with the result no sample (not present) or unusable.
+ */
+static inline bool FusionAltitudeKalmanIsUsable(FusionAltitudeKalmanSensor *const sensor, const bool present, const bool usable,
+                                                const float timeout) {
+    if (present && usable) {
+        return true;
+    }
+    FusionAltitudeKalmanSilent(sensor, present ? FusionAltitudeKalmanResultUnusable : FusionAltitudeKalmanResultNoSample, timeout);
+    return false;
+}
+
+/**
+ * @brief Internal: a usable sample z (m) of a sensor with an offset state,
+ * z = h + o, o the state at index o: it ends the sensor's silence
+ * (FusionAltitudeKalmanResume, timeout s); the first sample after
+ * initialisation sets o (*initialised becomes true), later ones are gated and
+ * fused with variance R (m^2) and innovation y = z - (h + o), which the
+ * ground-effect flag replaces, when negative, by min(y + deadZone, 0) (m; the
+ * baro's rule).
+ */
+static inline void FusionAltitudeKalmanFuseOffsetSensor(FusionAltitudeKalman *const kalman, FusionAltitudeKalmanSensor *const sensor,
+                                                        const int o, bool *const initialised, const float z, const float R,
+                                                        const float timeout, const bool groundEffect, const float deadZone) {
+    FUSION_ALTITUDE_KALMAN_NO_CONTRACT
+    FusionAltitudeKalmanResume(kalman, sensor, timeout);
+    if (!*initialised) {
+        FusionAltitudeKalmanSetOffset(kalman, o, z, R);
+        *initialised = true;
+        FusionAltitudeKalmanNoSample(sensor, FusionAltitudeKalmanResultInitialised);
+        return;
+    }
+    float y = z - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[o]);
+    if (groundEffect && (y < 0.0f)) {
+        const float shifted = y + deadZone;
+        y = (shifted < 0.0f) ? shifted : 0.0f;
+    }
+    FusionAltitudeKalmanProcess(kalman, sensor, o, z, y, R);
+}
+
+/**
  * @brief Barometer, z = h + ob (m): R = baroNoise^2 (m^2), times
  * groundEffectNoiseScale^2 with the ground-effect flag, which also replaces a
  * negative innovation y (m) by min(y + groundEffectDeadZone, 0). The first
@@ -969,24 +999,10 @@ static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const k
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const baro = &kalman->sensors[FusionAltitudeKalmanSensorBaro];
-    if (!baroPresent) {
-        FusionAltitudeKalmanSilent(baro, FusionAltitudeKalmanResultNoSample, s->baroTimeout);
-        return;
-    }
-    const float sigma = m->groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
-    const float R = sigma * sigma;
-    FusionAltitudeKalmanResume(kalman, baro, s->baroTimeout);
-    if (!kalman->baroInitialised) {
-        FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateBaroOffset, m->baroAltitude, R);
-        kalman->baroInitialised = true;
-        FusionAltitudeKalmanNoSample(baro, FusionAltitudeKalmanResultInitialised);
-    } else {
-        float y = m->baroAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateBaroOffset]);
-        if (m->groundEffect && (y < 0.0f)) {
-            const float shifted = y + s->groundEffectDeadZone;
-            y = (shifted < 0.0f) ? shifted : 0.0f;
-        }
-        FusionAltitudeKalmanProcess(kalman, baro, FusionAltitudeKalmanStateBaroOffset, m->baroAltitude, y, R);
+    if (FusionAltitudeKalmanIsUsable(baro, baroPresent, true, s->baroTimeout)) {
+        const float sigma = m->groundEffect ? (s->baroNoise * s->groundEffectNoiseScale) : s->baroNoise;
+        FusionAltitudeKalmanFuseOffsetSensor(kalman, baro, FusionAltitudeKalmanStateBaroOffset, &kalman->baroInitialised, m->baroAltitude,
+                                             sigma * sigma, s->baroTimeout, m->groundEffect, s->groundEffectDeadZone);
     }
 }
 
@@ -998,14 +1014,10 @@ static inline void FusionAltitudeKalmanProcessRange(FusionAltitudeKalman *const 
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const range = &kalman->sensors[FusionAltitudeKalmanSensorRange];
-    if (FusionAltitudeIsNaN(m->rangeDistance)) {
-        FusionAltitudeKalmanSilent(range, FusionAltitudeKalmanResultNoSample, s->rangeTimeout);
-    } else if (!(m->rangeDistance >= s->rangeMinimum) || !(m->rangeDistance <= s->rangeMaximum)) {
-        FusionAltitudeKalmanSilent(range, FusionAltitudeKalmanResultUnusable, s->rangeTimeout);
-    } else {
-        const float R = s->rangeNoise * s->rangeNoise;
+    const float z = m->rangeDistance;
+    if (FusionAltitudeKalmanIsUsable(range, !FusionAltitudeIsNaN(z), (z >= s->rangeMinimum) && (z <= s->rangeMaximum), s->rangeTimeout)) {
         FusionAltitudeKalmanResume(kalman, range, s->rangeTimeout);
-        FusionAltitudeKalmanProcess(kalman, range, -1, m->rangeDistance, m->rangeDistance - kalman->x[FusionAltitudeKalmanStateHeight], R);
+        FusionAltitudeKalmanProcess(kalman, range, -1, z, z - kalman->x[FusionAltitudeKalmanStateHeight], s->rangeNoise * s->rangeNoise);
     }
 }
 
@@ -1019,22 +1031,11 @@ static inline void FusionAltitudeKalmanProcessGps(FusionAltitudeKalman *const ka
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     const FusionAltitudeKalmanSettings *const s = &kalman->settings;
     FusionAltitudeKalmanSensor *const gps = &kalman->sensors[FusionAltitudeKalmanSensorGps];
-    if (!gpsPresent) {
-        FusionAltitudeKalmanSilent(gps, FusionAltitudeKalmanResultNoSample, s->gpsTimeout);
-    } else if ((m->gpsSatellites >= 0) && (m->gpsSatellites < s->gpsMinimumSatellites)) {
-        FusionAltitudeKalmanSilent(gps, FusionAltitudeKalmanResultUnusable, s->gpsTimeout);
-    } else {
+    const bool enoughSatellites = (m->gpsSatellites < 0) || (m->gpsSatellites >= s->gpsMinimumSatellites); /* < 0: unknown */
+    if (FusionAltitudeKalmanIsUsable(gps, gpsPresent, enoughSatellites, s->gpsTimeout)) {
         const float sigma = FusionAltitudeKalmanGpsSigma(s, m->gpsVerticalAccuracy, m->gpsSatellites);
-        const float R = sigma * sigma;
-        FusionAltitudeKalmanResume(kalman, gps, s->gpsTimeout);
-        if (!kalman->gpsInitialised) {
-            FusionAltitudeKalmanSetOffset(kalman, FusionAltitudeKalmanStateGpsOffset, m->gpsAltitude, R);
-            kalman->gpsInitialised = true;
-            FusionAltitudeKalmanNoSample(gps, FusionAltitudeKalmanResultInitialised);
-        } else {
-            const float y = m->gpsAltitude - (kalman->x[FusionAltitudeKalmanStateHeight] + kalman->x[FusionAltitudeKalmanStateGpsOffset]);
-            FusionAltitudeKalmanProcess(kalman, gps, FusionAltitudeKalmanStateGpsOffset, m->gpsAltitude, y, R);
-        }
+        FusionAltitudeKalmanFuseOffsetSensor(kalman, gps, FusionAltitudeKalmanStateGpsOffset, &kalman->gpsInitialised, m->gpsAltitude,
+                                             sigma * sigma, s->gpsTimeout, false, 0.0f);
     }
 }
 

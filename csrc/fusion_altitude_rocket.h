@@ -343,51 +343,30 @@ typedef struct {
 
 /** @return a short English description of the status, never NULL. */
 static inline const char *FusionAltitudeRocketStatusMessage(const FusionAltitudeRocketStatus status) {
-    switch (status) {
-        case FusionAltitudeRocketStatusOk:
-            return "ok";
-        case FusionAltitudeRocketStatusInvalidAccel:
-            return "accel must be finite, or NaN for no sample";
-        case FusionAltitudeRocketStatusInvalidBaroAltitude:
-            return "baro altitude must be finite, or NaN for no sample";
-        case FusionAltitudeRocketStatusInvalidDt:
-            return "dt must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidObserverSettings:
-            return "observer gains are invalid or unstable";
-        case FusionAltitudeRocketStatusInvalidStationaryAccel:
-            return "stationary accel must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidCalibrationWindow:
-            return "calibration window must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidLaunchAccel:
-            return "launch accel must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidLaunchTime:
-            return "launch time must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidBurnoutAccel:
-            return "burnout accel must be finite";
-        case FusionAltitudeRocketStatusInvalidBurnoutTime:
-            return "burnout time must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidApogeeMargin:
-            return "apogee margin must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidLockoutSpeed:
-            return "lockout speed must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidSpikeThreshold:
-            return "spike threshold must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidSpikeTime:
-            return "spike time must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidOffsetRate:
-            return "offset rate must be > 0 and <= 1";
-        case FusionAltitudeRocketStatusInvalidMainAltitude:
-            return "main altitude must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidLandedSpeed:
-            return "landed speed must be finite and > 0";
-        case FusionAltitudeRocketStatusInvalidLandedTime:
-            return "landed time must be finite and >= 0";
-        case FusionAltitudeRocketStatusInvalidGapPeriod:
-            return "gap period must be > 0 (+infinity: never a gap)";
-        case FusionAltitudeRocketStatusInvalidBaroLaunchHeight:
-            return "baro launch height must be finite and > 0";
-    }
-    return "unknown status";
+    static const char *const texts[] = { /* in the enum's order */
+        "ok", /* FusionAltitudeRocketStatusOk */
+        "accel must be finite, or NaN for no sample", /* FusionAltitudeRocketStatusInvalidAccel */
+        "baro altitude must be finite, or NaN for no sample", /* FusionAltitudeRocketStatusInvalidBaroAltitude */
+        "dt must be finite and > 0", /* FusionAltitudeRocketStatusInvalidDt */
+        "observer gains are invalid or unstable", /* FusionAltitudeRocketStatusInvalidObserverSettings */
+        "stationary accel must be finite and > 0", /* FusionAltitudeRocketStatusInvalidStationaryAccel */
+        "calibration window must be finite and > 0", /* FusionAltitudeRocketStatusInvalidCalibrationWindow */
+        "launch accel must be finite and > 0", /* FusionAltitudeRocketStatusInvalidLaunchAccel */
+        "launch time must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidLaunchTime */
+        "burnout accel must be finite", /* FusionAltitudeRocketStatusInvalidBurnoutAccel */
+        "burnout time must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidBurnoutTime */
+        "apogee margin must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidApogeeMargin */
+        "lockout speed must be finite and > 0", /* FusionAltitudeRocketStatusInvalidLockoutSpeed */
+        "spike threshold must be finite and > 0", /* FusionAltitudeRocketStatusInvalidSpikeThreshold */
+        "spike time must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidSpikeTime */
+        "offset rate must be > 0 and <= 1", /* FusionAltitudeRocketStatusInvalidOffsetRate */
+        "main altitude must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidMainAltitude */
+        "landed speed must be finite and > 0", /* FusionAltitudeRocketStatusInvalidLandedSpeed */
+        "landed time must be finite and >= 0", /* FusionAltitudeRocketStatusInvalidLandedTime */
+        "gap period must be > 0 (+infinity: never a gap)", /* FusionAltitudeRocketStatusInvalidGapPeriod */
+        "baro launch height must be finite and > 0", /* FusionAltitudeRocketStatusInvalidBaroLaunchHeight */
+    };
+    return FusionAltitudeStatusText(texts, sizeof(texts) / sizeof(texts[0]), (size_t) status);
 }
 
 //------------------------------------------------------------------------------

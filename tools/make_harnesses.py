@@ -77,12 +77,13 @@ _FUNCTION = re.compile(r"^static inline\s+(?:FUSION_ALTITUDE_\w+\s+)*((?:const\s
 
 
 def estimator_modules() -> Dict[str, tuple]:
-    """The generator's MODULES (tools/generate_bindings.py): name → (header, C prefix, settings struct, state struct)."""
-    if "generate_bindings" not in sys.modules:  # registered before it runs: its dataclasses look themselves up
-        spec = importlib.util.spec_from_file_location("generate_bindings", ROOT / "tools" / "generate_bindings.py")
-        sys.modules["generate_bindings"] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules["generate_bindings"])
-    return sys.modules["generate_bindings"].MODULES
+    """The generator's MODULES (tools/generate_bindings.py): name → (header, C prefix, settings struct, state struct);
+    read through ``csrc/firmware/size_table.py``, which sizes what this script writes."""
+    if "size_table" not in sys.modules:
+        spec = importlib.util.spec_from_file_location("size_table", FIRMWARE / "size_table.py")
+        sys.modules["size_table"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["size_table"])
+    return sys.modules["size_table"].estimator_modules()
 
 
 def header_functions(header: str, prefix: str) -> List[Tuple[str, str, str]]:

@@ -9,7 +9,7 @@ import numpy as np
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint32_t, uint64_t
 from libc.math cimport NAN
 from libc.string cimport memcpy, memset
-from cpython.mem cimport PyMem_Calloc, PyMem_Free, PyMem_Malloc
+from cpython.mem cimport PyMem_Free, PyMem_Malloc
 
 cdef extern from "_scan_common.h":
     void ScanCountTypes(const uint8_t *types, size_t count, uint64_t *counts) nogil

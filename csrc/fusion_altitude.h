@@ -200,6 +200,7 @@ typedef struct {
 //------------------------------------------------------------------------------
 // Float classification without libm (bit patterns of IEEE 754 binary32)
 
+/** @return the IEEE 754 binary32 bit pattern of value (memcpy: no pointer punning, no libm). */
 static inline uint32_t FusionAltitudeFloatBits(const float value) {
     uint32_t bits;
     memcpy(&bits, &value, sizeof(bits));
@@ -217,12 +218,12 @@ static inline bool FusionAltitudeIsNaN(const float value) {
     return ((bits & 0x7F800000u) == 0x7F800000u) && ((bits & 0x007FFFFFu) != 0u);
 }
 
-/** Internal: @return true if value is finite and 0 <= value <= maximum (a setting that may be 0). */
+/** @internal @return true if value is finite and 0 <= value <= maximum (a setting that may be 0). */
 static inline bool FusionAltitudeIsNonNegative(const float value, const float maximum) {
     return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= maximum);
 }
 
-/** Internal: @return true if value is finite and 0 < value <= maximum (a setting that must be > 0). */
+/** @internal @return true if value is finite and 0 < value <= maximum (a setting that must be > 0). */
 static inline bool FusionAltitudeIsPositive(const float value, const float maximum) {
     return FusionAltitudeIsFinite(value) && (value > 0.0f) && (value <= maximum);
 }
@@ -238,8 +239,8 @@ static inline float FusionAltitudeNaN(void) {
 //------------------------------------------------------------------------------
 // Status messages
 
-/**
- * Internal: @return texts[status], the text of a status in an estimator's table
+/** @internal
+ * @return texts[status], the text of a status in an estimator's table
  * (one text a status value, in its enum's order), or "unknown status" for a
  * value outside the table. Each ...StatusMessage function calls it.
  */
@@ -323,7 +324,7 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsCheck(const FusionAltit
     return FusionAltitudeStatusOk;
 }
 
-/**
+/** @internal
  * @brief Jury's test of the semi-implicit update with gains Kh, Kv, Kb
  * (1/s, 1/s^2, 1/s^3, already checked) at step dt (s, > 0): true if every
  * discrete eigenvalue is inside the unit circle. See
@@ -466,8 +467,8 @@ static inline FusionAltitudeStatus FusionAltitudeSettingsFromBandwidth(FusionAlt
     return FusionAltitudeStatusOk;
 }
 
-/**
- * Internal: @return the settings of a preset: gains Kh (1/s), Kv (1/s^2) and
+/** @internal
+ * @return the settings of a preset: gains Kh (1/s), Kv (1/s^2) and
  * Kb (1/s^3), gap period (s) and baro timeout (s). The presets' numbers stay in
  * code (immediates), not in a table that a small AVR would copy into its RAM.
  */
@@ -579,8 +580,8 @@ static inline FusionAltitudeStatus FusionAltitudeReset(FusionAltitude *const alt
     return FusionAltitudeStatusOk;
 }
 
-/**
- * @brief Internal: the first baro sample z (m) after initialisation or after a
+/** @internal
+ * @brief The first baro sample z (m) after initialisation or after a
  * gap sets the reference: h = z, residual 0. After initialisation v = 0 (as
  * FusionAltitudeReset); after a gap v = (z - h)/gapTime, the mean vertical
  * velocity over the gap (h is the last altitude before it, gapTime the time
@@ -637,8 +638,8 @@ static inline FusionAltitudeStatus FusionAltitudeCheckInputs(const float accel, 
     return FusionAltitudeStatusOk;
 }
 
-/**
- * @brief Internal: the restart of a gap by the stability rule, at the baro
+/** @internal
+ * @brief The restart of a gap by the stability rule, at the baro
  * sample z (m) of a step of dt s that ends a baro interval of D = interval s.
  * h (m) is the estimate before the step: it moved with v over the D - dt s of
  * the interval before this step and not over this one, so the mean velocity
@@ -664,8 +665,8 @@ static inline void FusionAltitudeStabilityRestart(float *const h, float *const v
     *r = 0.0f;
 }
 
-/**
- * @brief Internal: the timing part of FusionAltitudeUpdate (inputs checked),
+/** @internal
+ * @brief The timing part of FusionAltitudeUpdate (inputs checked),
  * before the state update. A gap (dt > gapPeriod) releases the reference; a
  * stability gap (unstable: a baro step the gains cannot integrate stably) is
  * counted and starts the bias hold (FusionAltitudeUpdate restarts h at this

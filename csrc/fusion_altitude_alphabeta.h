@@ -304,6 +304,7 @@ static inline const char *FusionAltitudeAlphaBetaStatusMessage(const FusionAltit
 //------------------------------------------------------------------------------
 // Settings
 
+/** @internal @return one sensor's settings from its fields, in struct order (for the defaults). */
 static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSensor(const float threshold, const int32_t qualityMin,
                                                                                    const int32_t qualityMax, const float confidence,
                                                                                    const float altitudeMin, const float altitudeMax,
@@ -320,7 +321,7 @@ static inline FusionAltitudeAlphaBetaSensorSettings FusionAltitudeAlphaBetaSenso
     return sensor;
 }
 
-/** @return +infinity, built without libm. */
+/** @internal @return +infinity, built without libm. */
 static inline float FusionAltitudeAlphaBetaInfinity(void) {
     return FusionAltitudeInfinity();
 }
@@ -414,6 +415,7 @@ static inline FusionAltitudeAlphaBetaMeasurements FusionAltitudeAlphaBetaMeasure
     return m;
 }
 
+/** @internal Clears every sensor's filter state (altitude m, velocity m/s, times s, weight). */
 static inline void FusionAltitudeAlphaBetaClear(FusionAltitudeAlphaBeta *const fusion) {
     for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
         FusionAltitudeAlphaBetaFilter *const f = &fusion->filters[i];
@@ -473,7 +475,7 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaSetSettings(F
     return FusionAltitudeAlphaBetaStatusOk;
 }
 
-/** Internal: @return |value| (NaN stays NaN), without libm: one instruction (andps, vabs.f32, fabs.s) with gcc and clang. */
+/** @internal @return |value| (NaN stays NaN), without libm: one instruction (andps, vabs.f32, fabs.s) with gcc and clang. */
 static inline float FusionAltitudeAlphaBetaAbs(const float value) {
 #if defined(__GNUC__) || defined(__clang__)
     return __builtin_fabsf(value);
@@ -485,6 +487,7 @@ static inline float FusionAltitudeAlphaBetaAbs(const float value) {
 #endif
 }
 
+/** @internal @return true if value is +infinity or -infinity (on its bits, without libm). */
 static inline bool FusionAltitudeAlphaBetaIsInfinite(const float value) {
     return (FusionAltitudeFloatBits(value) & 0x7FFFFFFFu) == 0x7F800000u;
 }
@@ -513,8 +516,8 @@ static inline FusionAltitudeAlphaBetaStatus FusionAltitudeAlphaBetaCheckInputs(c
     return FusionAltitudeAlphaBetaStatusOk;
 }
 
-/**
- * @brief Internal: the start (or restart) on a step with a non-IMU sample:
+/** @internal
+ * @brief The start (or restart) on a step with a non-IMU sample:
  * h = the Qmin*confidence-weighted mean of the samples z, v = 0 or, after a
  * gap, the mean velocity over it; every sampled filter starts there.
  * @return false (nothing changed) if no non-IMU sample has weight.
@@ -562,8 +565,8 @@ static inline bool FusionAltitudeAlphaBetaStart(FusionAltitudeAlphaBeta *const f
     return true;
 }
 
-/**
- * @brief Internal: one sensor's alpha-beta filter over dt with its sample z
+/** @internal
+ * @brief One sensor's alpha-beta filter over dt with its sample z
  * (NaN: none), the predicted fused altitude and the fused velocity before
  * this step (see the file comment, step 2).
  * @return the sensor's weight this step (0: not used).
@@ -621,8 +624,8 @@ static inline float FusionAltitudeAlphaBetaFilterStep(FusionAltitudeAlphaBetaFil
     return weight;
 }
 
-/**
- * @brief Internal: steps 1 to 3 of the file comment, for a started fusion:
+/** @internal
+ * @brief Steps 1 to 3 of the file comment, for a started fusion:
  * the IMU prediction, every filter, then the weighted mean or, with every
  * weight zero, dead reckoning; after gapPeriod s with no weight on a
  * non-IMU channel the fusion stops, to restart from the next samples.

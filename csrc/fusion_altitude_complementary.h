@@ -199,10 +199,12 @@ static inline FusionAltitudeComplementarySettings FusionAltitudeComplementarySet
     return settings;
 }
 
+/** @internal @return true if value is a time constant (s): finite and >= 0. */
 static inline bool FusionAltitudeComplementaryIsTimeConstant(const float value) {
     return FusionAltitudeIsFinite(value) && (value >= 0.0f);
 }
 
+/** @internal @return true if value is a coefficient: finite and in [0, 1]. */
 static inline bool FusionAltitudeComplementaryIsCoefficient(const float value) {
     return FusionAltitudeIsFinite(value) && (value >= 0.0f) && (value <= 1.0f);
 }
@@ -284,8 +286,8 @@ static inline FusionAltitudeComplementaryStatus FusionAltitudeComplementaryReset
     return FusionAltitudeComplementaryStatusOk;
 }
 
-/**
- * @brief Internal: the first baro sample z (m) after a gap restarts the
+/** @internal
+ * @brief The first baro sample z (m) after a gap restarts the
  * filter: v = vBaro = (z - h)/gapTime (the mean velocity over the gap),
  * h = zLp = z, the baro interval restarts; aLp is kept.
  */
@@ -303,8 +305,8 @@ static inline void FusionAltitudeComplementaryRestart(FusionAltitudeComplementar
     filter->baroTimedOut = false;
 }
 
-/**
- * @brief Internal: a step while the baro is timed out (no dead reckoning).
+/** @internal
+ * @brief A step while the baro is timed out (no dead reckoning).
  * Without a baro sample v decays, v *= T / (T + dt) with T = baroTimeout (s),
  * and h += v dt (m); a baro sample z (m) ends the timeout: h = zLp = z, the
  * baro velocity takes v (kept), the baro interval restarts.

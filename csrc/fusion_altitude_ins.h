@@ -426,7 +426,7 @@ static inline FusionAltitudeInsVector FusionAltitudeInsNoMag(void) {
 //------------------------------------------------------------------------------
 // Estimator
 
-/** Sets the covariance to its initial value: diag(sa^2 I, sb^2 I, 0, sv^2). */
+/** @internal Sets the covariance to its initial value: diag(sa^2 I, sb^2 I, 0, sv^2). */
 static inline void FusionAltitudeInsResetCovariance(FusionAltitudeIns *const ins) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const FusionAltitudeInsSettings *const s = &ins->settings;
@@ -440,7 +440,7 @@ static inline void FusionAltitudeInsResetCovariance(FusionAltitudeIns *const ins
     ins->P[7][7] = s->initialVelocitySigma * s->initialVelocitySigma;
 }
 
-/** Internal. Restarts stationary detection: the still timer (s) and the baro half-window test. */
+/** @internal Restarts stationary detection: the still timer (s) and the baro half-window test. */
 static inline void FusionAltitudeInsRestartStationary(FusionAltitudeIns *const ins) {
     ins->stationaryTime = 0.0f;
     ins->stationaryHalfTime = 0.0f;
@@ -486,13 +486,14 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsSetSettings(FusionAltitud
     return FusionAltitudeInsStatusOk;
 }
 
-/* |value| <= FUSION_ALTITUDE_INS_MAXIMUM and finite: on the magnitude bits, ordered as
+/** @internal |value| <= FUSION_ALTITUDE_INS_MAXIMUM and finite: on the magnitude bits, ordered as
    the magnitudes are for finite floats, with infinities and NaNs above every finite one (one integer compare;
    holds under -ffast-math too) */
 static inline bool FusionAltitudeInsIsBounded(const float value) {
     return (FusionAltitudeFloatBits(value) & 0x7FFFFFFFu) <= FUSION_ALTITUDE_INS_MAXIMUM_BITS;
 }
 
+/** @internal @return true if every component of v is bounded (FusionAltitudeInsIsBounded). */
 static inline bool FusionAltitudeInsIsBoundedVector(const FusionAltitudeInsVector v) {
     return FusionAltitudeInsIsBounded(v.x) && FusionAltitudeInsIsBounded(v.y) && FusionAltitudeInsIsBounded(v.z);
 }
@@ -523,7 +524,7 @@ static inline FusionAltitudeInsStatus FusionAltitudeInsCheckInputs(const FusionA
     return FusionAltitudeInsStatusOk;
 }
 
-/**
+/** @internal
  * Normalises q in place (q is never near zero: it is a unit quaternion times a
  * factor >= 1). With n^2 = |q|^2 = 1 + e: 1/|q| = 1 - e/2 + 3e^2/8 - ..., so
  * for |e| < FUSION_ALTITUDE_INS_NEWTON_NORM (every step of a rotation under
@@ -544,7 +545,7 @@ static inline void FusionAltitudeInsNormalise(float q[4]) {
     q[3] = q[3] * inverse;
 }
 
-/** q <- normalise(q (x) (1, h)) for a rotation vector half-angle h = theta/2 (body frame). */
+/** @internal q <- normalise(q (x) (1, h)) for a rotation vector half-angle h = theta/2 (body frame). */
 static inline void FusionAltitudeInsRotate(float q[4], const float hx, const float hy, const float hz) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const float w = q[0], x = q[1], y = q[2], z = q[3];
@@ -555,7 +556,7 @@ static inline void FusionAltitudeInsRotate(float q[4], const float hx, const flo
     FusionAltitudeInsNormalise(q);
 }
 
-/** Third row of R(q) (body -> earth): r = R^T e_z, the up direction (gravity direction) in the body frame. */
+/** @internal Third row of R(q) (body -> earth): r = R^T e_z, the up direction (gravity direction) in the body frame. */
 static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     const float w = q[0], x = q[1], y = q[2], z = q[3];
@@ -564,8 +565,8 @@ static inline void FusionAltitudeInsUpInBody(const float q[4], float r[3]) {
     r[2] = 1.0f - 2.0f * (x * x + y * y);
 }
 
-/**
- * Internal. Decorrelates state k: row and column k of P zeroed, P[k][k] =
+/** @internal
+ * Decorrelates state k: row and column k of P zeroed, P[k][k] =
  * variance (a principal submatrix and a positive diagonal remain).
  */
 static inline void FusionAltitudeInsDecorrelate(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const int k,
@@ -577,7 +578,7 @@ static inline void FusionAltitudeInsDecorrelate(float P[FUSION_ALTITUDE_INS_STAT
     P[k][k] = variance;
 }
 
-/** Internal. A variance P[k][k] above limit: state k decorrelated and its variance held at limit. */
+/** @internal A variance P[k][k] above limit: state k decorrelated and its variance held at limit. */
 static inline void FusionAltitudeInsHoldVariance(float P[FUSION_ALTITUDE_INS_STATES][FUSION_ALTITUDE_INS_STATES], const int k,
                                                  const float limit) {
     if (P[k][k] > limit) {
@@ -585,8 +586,8 @@ static inline void FusionAltitudeInsHoldVariance(float P[FUSION_ALTITUDE_INS_STA
     }
 }
 
-/**
- * Internal. Keeps P a covariance in float32 (called once per step, after the prediction
+/** @internal
+ * Keeps P a covariance in float32 (called once per step, after the prediction
  * and all the corrections: once per update rather than after each scalar
  * update keeps the M4F step under its cycle budget): an attitude variance above
  * FUSION_ALTITUDE_INS_ATTITUDE_VARIANCE_LIMIT (rad^2) is decorrelated and held
@@ -646,7 +647,7 @@ static inline void FusionAltitudeInsConditionCovariance(float P[FUSION_ALTITUDE_
     }
 }
 
-/**
+/** @internal
  * Scalar update given c = P h^T, S = h c + R and the innovation (z minus h
  * applied to the nominal state plus dx): K = c/S (c times 1/S),
  * dx += K*innovation, P <- P - (c c^T)/S, each entry P_ij - (c_i c_j)(1/S):
@@ -677,7 +678,7 @@ static inline void FusionAltitudeInsFuseGain(FusionAltitudeIns *const ins, float
     }
 }
 
-/**
+/** @internal
  * Scalar update with a measurement row h that is non-zero only at indices
  * i0 (value h0) and i1 (value h1; i1 < 0: single index). Accumulates the
  * error state dx; y is the residual against the nominal state (the function
@@ -703,7 +704,7 @@ static inline void FusionAltitudeInsFuse(FusionAltitudeIns *const ins, float dx[
     FusionAltitudeInsFuseGain(ins, dx, c, hc + R, y - hdx);
 }
 
-/** Caps the local yaw error variance r^T P r (see FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT). */
+/** @internal Caps the local yaw error variance r^T P r (see FUSION_ALTITUDE_INS_YAW_VARIANCE_LIMIT). */
 static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float dx[FUSION_ALTITUDE_INS_STATES], const float r[3]) {
     FUSION_ALTITUDE_INS_NO_CONTRACT
     float(*const P)[FUSION_ALTITUDE_INS_STATES] = ins->P;
@@ -718,7 +719,7 @@ static inline void FusionAltitudeInsLimitYaw(FusionAltitudeIns *const ins, float
     }
 }
 
-/**
+/** @internal
  * Sets q to the shortest rotation taking the body vector f to +z: yaw 0.
  * @return false (nothing changed) if |f| is 0 in float32: no direction (an
  * accelNormRejection of g or more lets a zero accel through the norm test;
@@ -748,7 +749,7 @@ static inline bool FusionAltitudeInsAlign(FusionAltitudeIns *const ins, const Fu
     return true;
 }
 
-/**
+/** @internal
  * Covariance prediction P = F P F^T (Q added by the caller) with the Jacobian
  * pieces of the file comment: A = I - [w dt]x (a = w dt, rad), row v of F on
  * dtheta v = dt (f x r) (m/s per rad), row d of F on dtheta h = dt^2/2 (f x r)
@@ -809,7 +810,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsPredictCovariance(f
     P[0][0] = G[0][0] + az * G[0][1] - ay * G[0][2] - dt * G[0][3];
 }
 
-/**
+/** @internal
  * Process noise over dt (s): gyroNoise^2 dt (rad^2) on the attitude,
  * gyroBiasRandomWalk^2 dt ((rad/s)^2) on the gyro bias, and accelNoise^2 dt
  * times [dt^2/4, dt/2; dt/2, 1] on (d, v) (m^2, m^2/s, m^2/s^2). d and v
@@ -837,7 +838,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsAddProcessNoise(Fus
     }
 }
 
-/**
+/** @internal
  * Prediction over dt (see the file comment). Internal: inputs checked.
  * w: bias-corrected rate (rad/s); f: bias-corrected specific force (m/s^2).
  * d += v dt + a dt^2/2, v += a dt with a = r . f - g (m/s^2, r: up in the body
@@ -865,8 +866,8 @@ static inline void FusionAltitudeInsPredict(FusionAltitudeIns *const ins, const 
     FusionAltitudeInsAddProcessNoise(ins, dt);
 }
 
-/**
- * Internal. The height is unknown (after a gap, or a baro rejection streak
+/** @internal
+ * The height is unknown (after a gap, or a baro rejection streak
  * longer than its timeout): the velocity variance ((m/s)^2) is raised to at
  * least initialVelocitySigma^2 and d is decorrelated with the variance
  * FUSION_ALTITUDE_INS_VARIANCE_LIMIT (m^2), so the next baro reading sets d
@@ -879,16 +880,16 @@ static inline void FusionAltitudeInsForgetHeight(FusionAltitudeIns *const ins) {
     FusionAltitudeInsDecorrelate(ins->P, 6, FUSION_ALTITUDE_INS_VARIANCE_LIMIT);
 }
 
-/**
- * Internal. True once the baro has had a reading and none for longer than
+/** @internal
+ * True once the baro has had a reading and none for longer than
  * timeout (s) since: baroElapsed > timeout.
  */
 static inline bool FusionAltitudeInsIsBaroSilentFor(const FusionAltitudeIns *const ins, const float timeout) {
     return ins->baroInitialised && (ins->baroElapsed > timeout);
 }
 
-/**
- * Internal. A step beyond the dead-reckoning horizon (see the file comment),
+/** @internal
+ * A step beyond the dead-reckoning horizon (see the file comment),
  * after the prediction from d0 (m) and v0 (m/s) over dt (s): the accelerometer
  * no longer moves d and v; v decays, v = v0 - k v0 with k = dt/(horizon + dt),
  * d = d0 + v dt; d and v are decorrelated, P_vv (m^2/s^2) held at least
@@ -911,7 +912,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsHoldHeight(FusionAl
     FusionAltitudeInsDecorrelate(ins->P, 7, pvv);
 }
 
-/**
+/** @internal
  * Gap (dt > gapPeriod, s): the step is not integrated; the attitude variances
  * (rad^2) are raised to at least initialAttitudeSigma^2 and the velocity
  * variance ((m/s)^2) to at least initialVelocitySigma^2; the height is
@@ -934,7 +935,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsGap(FusionAltitudeI
     ins->baroRejectingFor = 0.0f;
 }
 
-/**
+/** @internal
  * Stationary detection on the raw samples: still when |gyro|^2 <
  * stationaryGyroThreshold^2 ((rad/s)^2) and the accel norm error
  * ||accel| - g| < stationaryAccelThreshold (m/s^2); stationaryTime (s) grows by
@@ -984,7 +985,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsDetectStationary(Fu
     }
 }
 
-/**
+/** @internal
  * Time step of the nominal state: alignment on the first usable gravity
  * direction (normError = ||accel| - g| <= accelNormRejection, m/s^2), a gap,
  * or the prediction over dt (s) with the bias-corrected rate w = gyro - b_g
@@ -1016,7 +1017,7 @@ static inline FUSION_ALTITUDE_INS_ONCE bool FusionAltitudeInsPropagate(FusionAlt
     return true;
 }
 
-/**
+/** @internal
  * Accel update of the gravity direction: u = f / |f| with f = accel - (0, 0,
  * b_az) (m/s^2) against the predicted up direction r (body, unit); residual
  * e = u - r (chord, unitless), measurement rows those of [r]x but the one of
@@ -1062,7 +1063,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseGravity(FusionA
     ins->accelRejected = rejected;
 }
 
-/**
+/** @internal
  * Stationary updates: zero rate (residual gyro - b_g, rad/s; noise
  * zeroRateNoise^2), zero velocity (residual -v, m/s; noise
  * zeroVelocityNoise^2), and the accel z bias low-passed towards
@@ -1082,7 +1083,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseStationary(Fusi
     ins->accelZBias = ins->accelZBias + k * ((accel.z - FUSION_ALTITUDE_GRAVITY * r[2]) - ins->accelZBias);
 }
 
-/**
+/** @internal
  * Baro update (baroAltitude, m; NaN: none): the first reading sets the baro
  * bias b = baroAltitude - d (m); while stationary the bias is low-passed
  * towards baroAltitude - d with k = t / (baroBiasTimeConstant + t) (t: time
@@ -1132,7 +1133,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsFuseBaro(FusionAlti
     ins->baroElapsed = 0.0f;
 }
 
-/**
+/** @internal
  * Injects the error state dx into the nominal state: q = q (x) [1, dtheta/2]
  * (dtheta = dx[0..2], rad), gyro bias += dx[3..5] (rad/s), d += dx[6] (m),
  * v += dx[7] (m/s).
@@ -1147,7 +1148,7 @@ static inline FUSION_ALTITUDE_INS_ONCE void FusionAltitudeInsInject(FusionAltitu
     ins->velocity = ins->velocity + dx[7];
 }
 
-/**
+/** @internal
  * Magnetometer (any unit, body; FusionAltitudeInsNoMag(): none): the local ->
  * global yaw offset only. m is rotated to the local frame, its horizontal
  * direction (mx, -my) / |(mx, my)| (unit) is the target (cos, sin) of the

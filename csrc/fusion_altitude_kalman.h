@@ -505,7 +505,7 @@ static inline FusionAltitudeKalmanStatus FusionAltitudeKalmanSetSettings(FusionA
     return FusionAltitudeKalmanStatusOk;
 }
 
-/** @brief Adds the random walks over dt (s): offsets only once they exist, the bias only if estimated. */
+/** @internal @brief Adds the random walks over dt (s): offsets only once they exist, the bias only if estimated. */
 static inline void FusionAltitudeKalmanRandomWalks(FusionAltitudeKalman *const k, const float dt) {
     FUSION_ALTITUDE_KALMAN_NO_CONTRACT
     if (k->baroInitialised) {
@@ -519,7 +519,7 @@ static inline void FusionAltitudeKalmanRandomWalks(FusionAltitudeKalman *const k
     }
 }
 
-/**
+/** @internal
  * @brief Prediction over dt (s) with vertical acceleration accel (m/s^2):
  * x = F*x + B*accel, P = F*P*F^T + Q (see the file comment). Only rows and
  * columns h and v of P change through F; the 15 distinct entries are formed
@@ -571,7 +571,7 @@ static inline void FusionAltitudeKalmanPredict(FusionAltitudeKalman *const k, co
     k->sinceFused += dt;
 }
 
-/**
+/** @internal
  * @brief Inflates the height and velocity variances for a random velocity
  * change of sigma V = FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA over T s:
  * P_hh += (V*T)^2, P_vv += V^2 (adding to the diagonal keeps P symmetric
@@ -584,7 +584,7 @@ static inline void FusionAltitudeKalmanInflate(FusionAltitudeKalman *const k, co
     k->P[FusionAltitudeKalmanStateVelocity][FusionAltitudeKalmanStateVelocity] += FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA * FUSION_ALTITUDE_KALMAN_RESTART_VELOCITY_SIGMA;
 }
 
-/**
+/** @internal
  * @brief A gap of dt s (see the file comment): x kept, P inflated, the random
  * walks over dt added, rejection streaks ended, the gap counted.
  */
@@ -600,7 +600,7 @@ static inline void FusionAltitudeKalmanGap(FusionAltitudeKalman *const k, const 
 }
 
 #if FUSION_ALTITUDE_KALMAN_VECTOR
-/**
+/** @internal
  * @brief FusionAltitudeKalmanFuse on 4-float vectors (FUSION_ALTITUDE_KALMAN_VECTOR):
  * K = c / S (as c * (1/S)), x += K y (m, m/s, m/s^2, m, m), P = P - K c^T - c K^T
  * + (S K) K^T, the bits of FusionAltitudeKalmanFuseScalar.
@@ -660,7 +660,7 @@ static inline void FusionAltitudeKalmanFuseVector(FusionAltitudeKalman *const k,
     k->P[4][3] = rows[3][3];
 }
 #else
-/**
+/** @internal
  * @brief FusionAltitudeKalmanFuse element by element: K = c / S (as c * (1/S)),
  * x += K y (m, m/s, m/s^2, m, m), P = P - K c^T - c K^T + (S K) K^T.
  */
@@ -715,7 +715,7 @@ static inline void FusionAltitudeKalmanFuseScalar(FusionAltitudeKalman *const k,
 }
 #endif
 
-/**
+/** @internal
  * @brief Scalar update with H = e_h + e_offset (offset = 2 or 3) or H = e_h
  * (offset < 0), innovation y, noise variance R, in Joseph form (see the file
  * comment). c and S are passed in (already computed for the gate).
@@ -730,7 +730,7 @@ static inline void FusionAltitudeKalmanFuse(FusionAltitudeKalman *const k, const
 #endif
 }
 
-/**
+/** @internal
  * @brief Sets offset state o (2 or 3) from a sample z with noise variance R as
  * an update with an infinite prior on the offset: o = z - h,
  * P_oo = P_hh + R, P_oj = -P_hj (j != o). Used for the first sample and for a
@@ -749,7 +749,7 @@ static inline void FusionAltitudeKalmanSetOffset(FusionAltitudeKalman *const k, 
     k->P[o][o] = k->P[FusionAltitudeKalmanStateHeight][FusionAltitudeKalmanStateHeight] + R;
 }
 
-/**
+/** @internal
  * @brief Terrain reset from a rangefinder sample z (variance R): the ground
  * moved under the vehicle, not the vehicle. h = z and every existing offset
  * takes up the difference d = z - h (o -= d), so h + o (the altitudes) do not
@@ -795,7 +795,7 @@ static inline void FusionAltitudeKalmanResetGround(FusionAltitudeKalman *const k
     }
 }
 
-/**
+/** @internal
  * @brief Gate, then fuse, reject or reset for one sample: offset o (2, 3, or
  * -1 for the rangefinder), innovation y (m), noise variance R (m^2). Rejected
  * if y^2/S > gate^2; a rejection streak older than the timeout resets
@@ -867,14 +867,14 @@ static inline FUSION_ALTITUDE_KALMAN_ALWAYS_INLINE void FusionAltitudeKalmanProc
     sensor->result = (uint8_t) result;
 }
 
-/** Marks a sensor as having no tested sample this step. */
+/** @internal Marks a sensor as having no tested sample this step. */
 static inline void FusionAltitudeKalmanNoSample(FusionAltitudeKalmanSensor *const sensor, const FusionAltitudeKalmanResult result) {
     sensor->innovation = FusionAltitudeNaN();
     sensor->innovationVariance = FusionAltitudeNaN();
     sensor->result = (uint8_t) result;
 }
 
-/**
+/** @internal
  * @brief A step without a usable sample of a sensor whose timeout is timeout
  * (s): once it has had one and T = sinceSample > timeout, it is flagged timed
  * out, and counted once per silence. NoSample sets the result.
@@ -888,7 +888,7 @@ static inline void FusionAltitudeKalmanSilent(FusionAltitudeKalmanSensor *const 
     }
 }
 
-/**
+/** @internal
  * @brief A usable sample of a sensor with timeout (s) ends its silence. After
  * a timeout with no sensor fused within the last timeout s (see the file
  * comment), h and v are first inflated over the silence T (b by its initial
@@ -908,7 +908,7 @@ static inline void FusionAltitudeKalmanResume(FusionAltitudeKalman *const k, Fus
     sensor->sinceSample = 0.0f;
 }
 
-/**
+/** @internal
  * @return 1/sqrt(n) as float32 for n = 0..FUSION_ALTITUDE_KALMAN_MAX_SATELLITES
  * (n < 1 uses 1, larger n the last entry), from a table (no libm).
  */
@@ -930,7 +930,7 @@ static inline float FusionAltitudeKalmanInverseSqrt(const int32_t n) {
     return table[(n > FUSION_ALTITUDE_KALMAN_MAX_SATELLITES) ? FUSION_ALTITUDE_KALMAN_MAX_SATELLITES : n];
 }
 
-/**
+/** @internal
  * @brief GPS noise sigma (m) for a sample: the receiver's vertical accuracy
  * when reported (not NaN), else base + satellite / sqrt(n) with n the
  * satellite count (unknown, i.e. negative: the minimum usable count).
@@ -945,8 +945,8 @@ static inline float FusionAltitudeKalmanGpsSigma(const FusionAltitudeKalmanSetti
     return s->gpsNoiseBase + s->gpsNoiseSatellite * FusionAltitudeKalmanInverseSqrt(n);
 }
 
-/**
- * @brief Internal: whether this step has a usable sample of a sensor with
+/** @internal
+ * @brief Whether this step has a usable sample of a sensor with
  * timeout (s): present (not NaN) and usable (within the sensor's limits).
  * Without one the step only counts towards the timeout (FusionAltitudeKalmanSilent),
  * with the result no sample (not present) or unusable.
@@ -960,8 +960,8 @@ static inline bool FusionAltitudeKalmanIsUsable(FusionAltitudeKalmanSensor *cons
     return false;
 }
 
-/**
- * @brief Internal: a usable sample z (m) of a sensor with an offset state,
+/** @internal
+ * @brief A usable sample z (m) of a sensor with an offset state,
  * z = h + o, o the state at index o: it ends the sensor's silence
  * (FusionAltitudeKalmanResume, timeout s); the first sample after
  * initialisation sets o (*initialised becomes true), later ones are gated and
@@ -988,7 +988,7 @@ static inline void FusionAltitudeKalmanFuseOffsetSensor(FusionAltitudeKalman *co
     FusionAltitudeKalmanProcess(kalman, sensor, o, z, y, R);
 }
 
-/**
+/** @internal
  * @brief Barometer, z = h + ob (m): R = baroNoise^2 (m^2), times
  * groundEffectNoiseScale^2 with the ground-effect flag, which also replaces a
  * negative innovation y (m) by min(y + groundEffectDeadZone, 0). The first
@@ -1006,7 +1006,7 @@ static inline void FusionAltitudeKalmanProcessBaro(FusionAltitudeKalman *const k
     }
 }
 
-/**
+/** @internal
  * @brief Rangefinder, z = h (m): NaN or outside [rangeMinimum, rangeMaximum]
  * (m) is not fused; R = rangeNoise^2 (m^2).
  */
@@ -1021,7 +1021,7 @@ static inline void FusionAltitudeKalmanProcessRange(FusionAltitudeKalman *const 
     }
 }
 
-/**
+/** @internal
  * @brief GPS, z = h + og (m): fewer than gpsMinimumSatellites (when known) is
  * not fused; R = sigma^2 (m^2, FusionAltitudeKalmanGpsSigma). The first
  * sample sets og. gpsPresent: m->gpsAltitude is not NaN.

@@ -420,10 +420,12 @@ static inline FusionAltitudeRocketSettings FusionAltitudeRocketSettingsDefault(v
     return settings;
 }
 
+/** @internal @return true if value is finite and > 0. */
 static inline bool FusionAltitudeRocketPositive(const float value) {
     return FusionAltitudeIsFinite(value) && (value > 0.0f);
 }
 
+/** @internal @return true if value is finite and >= 0. */
 static inline bool FusionAltitudeRocketNonNegative(const float value) {
     return FusionAltitudeIsFinite(value) && (value >= 0.0f);
 }
@@ -487,6 +489,7 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketSettingsCheck(const
 //------------------------------------------------------------------------------
 // Estimator
 
+/** @internal Empties the calibration window (sample counts, time s, sums). */
 static inline void FusionAltitudeRocketClearWindow(FusionAltitudeRocket *const rocket) {
     rocket->windowSamples = 0u;
     rocket->windowBaroSamples = 0u;
@@ -537,6 +540,7 @@ static inline FusionAltitudeRocketStatus FusionAltitudeRocketCheckInputs(const f
     }
 }
 
+/** @internal Records an event now: sample, time (s), height (m above the pad), velocity (m/s). */
 static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const rocket, FusionAltitudeRocketEvent *const event) {
     event->occurred = true;
     event->sample = rocket->sample;
@@ -545,7 +549,7 @@ static inline void FusionAltitudeRocketRecord(const FusionAltitudeRocket *const 
     event->velocity = FusionAltitudeGetVerticalVelocity(&rocket->observer);
 }
 
-/**
+/** @internal
  * Calibration window on the pad (no gap, no launch candidate): sums of accel
  * (m/s^2; NaN: no sample) and baro altitude (m; hasBaro: a reading) relative
  * to the window's first samples; a window is stationary while accel stays
@@ -597,7 +601,7 @@ static inline void FusionAltitudeRocketCalibrationStep(FusionAltitudeRocket *con
     }
 }
 
-/**
+/** @internal
  * Launch from the baro (pad; baroAltitude m, a sample): the sample and the
  * pad sample before it are both more than baroLaunchHeight m above the pad
  * and it is higher than that one (rising). The accelerometer did not show
@@ -641,7 +645,7 @@ static inline bool FusionAltitudeRocketBaroLaunchStep(FusionAltitudeRocket *cons
     return true;
 }
 
-/** Pad step: calibration windows and the launch detectors (accel; baro). accel: m/s^2 (NaN: none); baroAltitude: m (NaN: none); dt: s. */
+/** @internal Pad step: calibration windows and the launch detectors (accel; baro). accel: m/s^2 (NaN: none); baroAltitude: m (NaN: none); dt: s. */
 static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocket, const float accel, const float baroAltitude,
                                                const float dt, const bool gap) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
@@ -689,7 +693,7 @@ static inline void FusionAltitudeRocketPadStep(FusionAltitudeRocket *const rocke
     FusionAltitudeRocketCalibrationStep(rocket, accel, baroAltitude, hasBaro, dt);
 }
 
-/**
+/** @internal
  * Baro gate after launch: returns the baro value to fuse (height above the pad
  * minus the baro offset, m) or NaN. The spike threshold grows with the age of
  * the last accepted sample (s) as spikeThreshold + g * age^2 / 2 (m): the
@@ -770,8 +774,8 @@ static inline float FusionAltitudeRocketGate(FusionAltitudeRocket *const rocket,
     return height - rocket->baroOffset;
 }
 
-/**
- * Internal: a debounced condition (burnout, landing): while condition holds, runTime
+/** @internal
+ * a debounced condition (burnout, landing): while condition holds, runTime
  * (s) grows by dt; the run's first sample is the event's candidate record.
  * Once runTime >= holdTime (s) the candidate becomes the event and the phase
  * moves on. A sample without the condition restarts the run (runTime = 0).
@@ -794,7 +798,7 @@ static inline void FusionAltitudeRocketConditionRun(FusionAltitudeRocket *const 
     }
 }
 
-/** Landing detector: |v| < landedSpeed for landedTime s (drogue and main phases). */
+/** @internal Landing detector: |v| < landedSpeed for landedTime s (drogue and main phases). */
 static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const rocket, const float velocity, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
@@ -802,7 +806,7 @@ static inline void FusionAltitudeRocketLandedStep(FusionAltitudeRocket *const ro
     FusionAltitudeRocketConditionRun(rocket, still, dt, settings->landedTime, FusionAltitudeRocketEventLanded, FusionAltitudeRocketPhaseLanded);
 }
 
-/**
+/** @internal
  * Gap in flight (dt > gapPeriod, s): extrapolation over dt in 2^n equal
  * sub-steps no longer than gapPeriod (at most
  * FUSION_ALTITUDE_ROCKET_MAX_GAP_STEPS) with the accel input `input` (m/s^2,
@@ -845,7 +849,7 @@ static inline void FusionAltitudeRocketGapStep(FusionAltitudeRocket *const rocke
     rocket->baro = FusionAltitudeRocketBaroNone;
 }
 
-/**
+/** @internal
  * offsetApplied (m) -> baroOffset (m) while climbing: up by at most
  * offsetRate * |v| * dt (v: velocity, m/s; dt, s), down by at most offsetRate
  * times the observer's rise in this step (height - heightBefore, m; none if it
@@ -883,7 +887,7 @@ static inline void FusionAltitudeRocketApplyOffset(FusionAltitudeRocket *const r
     }
 }
 
-/** Burnout detector (boost): accel - bias < burnoutAccel (m/s^2) for burnoutTime s (dt, s). */
+/** @internal Burnout detector (boost): accel - bias < burnoutAccel (m/s^2) for burnoutTime s (dt, s). */
 static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const rocket, const float accel, const float dt) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT
     const FusionAltitudeRocketSettings *const settings = &rocket->settings;
@@ -892,7 +896,7 @@ static inline void FusionAltitudeRocketBurnoutStep(FusionAltitudeRocket *const r
                                      FusionAltitudeRocketPhaseCoast);
 }
 
-/**
+/** @internal
  * Apogee: coast -> drogue, the observer's bias frozen from then on. The
  * reported apogee height is baro-corrected: the observer height plus the whole
  * baro offset found at re-admission (m), i.e. where the baro puts the rocket,
@@ -918,7 +922,7 @@ static inline void FusionAltitudeRocketApogee(FusionAltitudeRocket *const rocket
     }
 }
 
-/**
+/** @internal
  * Phase transitions after the observer step: burnout (boost), apogee at
  * v < -apogeeMargin (coast; v: velocity, m/s) or when the baro has contradicted
  * the coast for FUSION_ALTITUDE_ROCKET_CONTRADICTION_TIME s, main deployment
@@ -965,7 +969,7 @@ static inline void FusionAltitudeRocketPhaseStep(FusionAltitudeRocket *const roc
     }
 }
 
-/**
+/** @internal
  * The observer's accel input (m/s^2) this step: the accel (m/s^2) until apogee,
  * and after it only if accelVertical (an INS); never in a baro-led flight.
  * Otherwise the bias (no net acceleration), except in a baro-led coast:
@@ -985,7 +989,7 @@ static inline float FusionAltitudeRocketInput(FusionAltitudeRocket *const rocket
     return FusionAltitudeGetAccelBias(&rocket->observer);
 }
 
-/**
+/** @internal
  * Flight step (boost and later). accel: m/s^2 (NaN: no sample, the
  * accelerometer is lost: baro-led for the rest of the flight, boost -> coast
  * without a burnout event); baroAltitude: m (NaN: none); dt: s.
@@ -1028,6 +1032,7 @@ static inline void FusionAltitudeRocketFlightStep(FusionAltitudeRocket *const ro
     }
 }
 
+/** @internal One step of FusionAltitudeRocketUpdate (accelVertical false) or FusionAltitudeRocketUpdateVertical (true). */
 static inline FusionAltitudeRocketStatus FusionAltitudeRocketStep(FusionAltitudeRocket *const rocket, const float accel,
                                                                   const float baroAltitude, const float dt, const bool accelVertical) {
     FUSION_ALTITUDE_ROCKET_NO_CONTRACT

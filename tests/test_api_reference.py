@@ -73,26 +73,31 @@ _HEADER_PATHS = sorted(glob.glob(os.path.join(ROOT, "csrc", "fusion_altitude*.h"
 _DOC_THEN_DECLARATION = re.compile(r"/\*\*(?!/)((?:(?!\*/).)*)\*/[ \t]*\n((?:(?!/\*)[^;{])*)[;{]", re.S)
 
 
+def _is_internal(comment):
+    """Whether a doc comment's body opens with Doxygen's @internal tag (the headers' helpers)."""
+    return re.match(r"\s*@internal\b", comment) is not None
+
+
 _DOC_THEN_MACRO = re.compile(r"/\*\*(?!/)((?:(?!\*/).)*)\*/[ \t]*\n#define[ \t]+(\w+)", re.S)
 
 
 def public_c_macros():
-    """The #define names right after a /** */ comment that is not "Internal"."""
+    """The #define names right after a /** */ comment that does not open with Doxygen's @internal tag."""
     names = set()
     for path in _HEADER_PATHS:
         text = open(path, encoding="utf-8").read()
-        names |= {name for comment, name in _DOC_THEN_MACRO.findall(text) if not re.search(r"\bInternal[:.]", comment)}
+        names |= {name for comment, name in _DOC_THEN_MACRO.findall(text) if not _is_internal(comment)}
     return names
 
 
 def public_c_declarations():
-    """(functions, types) of the headers: declarations right after a /** */ comment that is not "Internal"."""
+    """(functions, types) of the headers: declarations right after a /** */ comment not tagged @internal."""
     functions, types = set(), set()
     for path in _HEADER_PATHS:
         text = open(path, encoding="utf-8").read()
         for match in _DOC_THEN_DECLARATION.finditer(text):
             comment, head = match.groups()
-            if re.search(r"\bInternal[:.]", comment) or head.lstrip().startswith("#"):
+            if _is_internal(comment) or head.lstrip().startswith("#"):
                 continue
             if re.match(r"\s*typedef\s+(struct|enum)\b", head):
                 types.add(re.compile(r"\}\s*(\w+)\s*;").search(text, match.end()).group(1))
@@ -169,11 +174,22 @@ def test_c_reference_documents_every_public_macro_of_the_headers(built_docs):
     assert "FUSION_ALTITUDE_GRAVITY" in documented
 
 
-def test_c_reference_leaves_out_the_functions_the_headers_call_internal(built_docs):
+def test_c_reference_leaves_out_the_functions_the_headers_tag_internal(built_docs):
     _, output = built_docs
     documented = {name for role, name in inventory(output) if role == "c:function"}
-    assert "FusionAltitudeKalmanPredict" not in documented  # "Internal: inputs are already checked."
-    assert "FusionAltitudeComplementaryRestart" not in documented  # "@brief Internal: ..."
+    assert "FusionAltitudeKalmanPredict" not in documented  # "/** @internal" over a multi-line comment
+    assert "FusionAltitudeKalmanNoSample" not in documented  # "/** @internal Marks a sensor ..." on one line
+    assert "FusionAltitudeKalmanUpdate" in documented
+
+
+def test_c_reference_and_sized_harnesses_agree_on_each_estimators_public_functions():
+    import c_api_reference  # tools/
+    import make_harnesses  # tools/
+    for name, (header, prefix, *_) in make_harnesses.estimator_modules().items():
+        text = open(os.path.join(ROOT, "csrc", header), encoding="utf-8").read()
+        documented = [f for f in c_api_reference.public_functions(text) if f.startswith(prefix)]
+        sized = [f for _, f, _ in make_harnesses.public_functions(name)]
+        assert documented == sized, (name, set(documented) ^ set(sized))
 
 
 @pytest.mark.parametrize("tool", ["c_api_reference.py", "python_api_reference.py"])

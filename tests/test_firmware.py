@@ -183,10 +183,10 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
     assert any(r[3][bias_field] == 0 for r in recorder.records)
 
 
-#: the generator of the header-derived harnesses (csrc/firmware/sized_<name>.c); its INTERNAL names each header's
-#: helpers of its public functions (sized through the public functions that inline them)
+#: the generator of the header-derived harnesses (csrc/firmware/sized_<name>.c); each header's helpers of its public
+#: functions (tagged @internal; sized through the public functions that inline them)
 HARNESSES = load(ROOT / "tools" / "make_harnesses.py", "make_harnesses")
-INTERNAL = HARNESSES.INTERNAL
+INTERNAL = {name: HARNESSES.internal_functions(name) for name in MODULES}
 #: public functions firmware_<name>.c need not call (the observer's float helpers and its stability test)
 NOT_CALLED = {"observer": {"FusionAltitudeNaN", "FusionAltitudeInfinity", "FusionAltitudeIsStepStable"}}
 

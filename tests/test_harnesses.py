@@ -42,7 +42,7 @@ def test_a_sized_harness_wraps_exactly_the_public_functions_of_its_header_and_no
         wrapped = re.findall(r"^(?:SIZED )?[^\n(;]*\bSized(\w+)\([^;{]*\{", text, re.MULTILINE)
         defined = re.findall(rf"^static inline [^(]*?\b({prefix}\w+)\(", (ROOT / "csrc" / header).read_text(),
                              re.MULTILINE)
-        internal = HARNESSES.INTERNAL.get(name, set())
+        internal = HARNESSES.internal_functions(name)
         assert internal <= set(defined), internal - set(defined)
         assert set(wrapped) == set(defined) - internal, name
         assert len(wrapped) == len(set(wrapped)), name

@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Generate the C API reference (``docs/api/c.rst``) from the public headers ``csrc/fusion_altitude*.h``.
 
-A declaration is public when a doc comment (``/** ... */``) stands right before it and does not say
-"Internal:" or "Internal." (the headers mark helpers that way, or give them a plain ``/* */`` comment). From
+A declaration is public when a doc comment (``/** ... */``) stands right before it and does not open with
+Doxygen's ``@internal`` tag (``/** @internal ...``: the headers' helpers, which ``tools/make_harnesses.py`` also
+leaves out of the sized functions). Internal helpers are left out rather than shown marked: a user cannot rely on
+them (they are not in the bindings' ``c<e>.pxd`` either, and may change in any release), and Doxygen, whose tag
+this is, hides them too unless ``INTERNAL_DOCS`` is set. From
 each header this writes its file comment, then every public ``#define`` (``.. c:macro::`` with its value),
 ``typedef enum`` (``.. c:enum::`` with its enumerators), ``typedef struct`` (``.. c:struct::`` with its
 members) and function (``.. c:function::`` with its full prototype), each with its comment. Multi-line
@@ -33,7 +36,7 @@ _DOC_COMMENT = re.compile(r"/\*\*(?!/)(.*?)\*/", re.S)
 _TYPEDEF = re.compile(r"typedef\s+(struct|enum)\s*\w*\s*\{(.*?)\}\s*(\w+)\s*;", re.S)
 _FUNCTION = re.compile(r"(?:[A-Z_]+\s+)*(?:static\s+)?(?:inline\s+)?(.+?)\b(FusionAltitude\w+)\s*\((.*?)\)\s*\{", re.S)
 _MEMBER_COMMENT = re.compile(r"/\*\*<(.*?)\*/", re.S)
-_INTERNAL = re.compile(r"\bInternal[:.]")
+_INTERNAL = re.compile(r"@internal\b")  # opening a doc comment: a helper, left out
 _MACRO_WORD = re.compile(r"\b[A-Z][A-Z0-9_]+\b\s*")  # FUSION_ALTITUDE_INS_ONCE and the like, before the return type
 _MACRO = re.compile(r"#define[ \t]+(\w+)(\([^)]*\))?[ \t]*([^\n]*)")
 _ANY_COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
@@ -95,7 +98,7 @@ def parse_header(text: str) -> Tuple[List[str], List[Declaration]]:
         comment = comment_lines(match.group(1))
         rest = text[match.end():]
         if not rest.startswith(("\n", " \n")) or not comment or comment[0].startswith("@file") or \
-                _INTERNAL.search(" ".join(comment)):
+                _INTERNAL.match(comment[0]):
             continue
         rest = rest.lstrip()
         typedef = _TYPEDEF.match(rest)

@@ -20,14 +20,25 @@ from . import _aliases
 
 _aliases.install()
 
-from ._core._c_tables import AlphaBetaStatus, ComplementaryStatus, KalmanResult, KalmanStatus, RocketStatus, Status
+from ._core._c_tables import KalmanResult
 from ._core._common import GRAVITY
 from ._version import __version__
-from ._core._observer_glue import AltitudeBatch, DiscretisationWarning
-from ._core._kalman_glue import KalmanBatch, KalmanSensors
+from ._core._observer_glue import DiscretisationWarning
+from ._core._kalman_glue import KalmanSensors
+from ._core._alphabeta_glue import AlphaBetaSensors, AlphaBetaSensorSettings
+from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
+
+#: The public names that need the compiled extension (the estimator classes are added below).
+_COMPILED = ("ins_run", "FitResult", "SweepResult", "fit", "sweep")
+
+# Each estimator's classes: its estimator, settings, batch result and status enum.
+# generated: estimator imports -- written by tools/generate_bindings.py from its MODULES; do not edit
+from ._core._c_tables import AlphaBetaStatus, ComplementaryStatus, InsStatus, KalmanStatus, RocketStatus, Status
+from ._core._observer_glue import AltitudeBatch
+from ._core._kalman_glue import KalmanBatch
 from ._core._complementary_glue import ComplementaryBatch
-from ._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings
-from ._core._ins_glue import InsBatch, InsStatus
+from ._core._alphabeta_glue import AlphaBetaBatch
+from ._core._ins_glue import InsBatch
 from ._core._rocket_glue import RocketBatch
 from .reference.observer import AltitudeSettings
 from .reference.kalman import KalmanSettings
@@ -35,20 +46,21 @@ from .reference.complementary import ComplementarySettings
 from .reference.alphabeta import AlphaBetaSettings
 from .reference.ins import InsSettings
 from .reference.rocket import RocketSettings
-from .sensors import altitude_to_pressure, pressure_to_altitude, vertical_acceleration
-
-#: The public names that need the compiled extension.
-_COMPILED = ("AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator",
-             "RocketEstimator", "ins_run", "FitResult", "SweepResult", "fit", "sweep")
+_COMPILED += (
+    "AltitudeEstimator", "KalmanEstimator", "ComplementaryFilter", "AlphaBetaFusion", "InsEstimator", "RocketEstimator",
+)
+# end generated: estimator imports
 
 
 try:
+    # generated: compiled estimators -- written by tools/generate_bindings.py from its MODULES; do not edit
     from ._core._observer import AltitudeEstimator
     from ._core._kalman import KalmanEstimator
     from ._core._complementary import ComplementaryFilter
     from ._core._alphabeta import AlphaBetaFusion
     from ._core._ins import InsEstimator
     from ._core._rocket import RocketEstimator
+    # end generated: compiled estimators
     from .ins_run import ins_run
     from .tuning import FitResult, SweepResult, fit, sweep
 except ImportError as _error:  # not built: fusion_altitude.reference and the tables still import
@@ -63,36 +75,12 @@ except ImportError as _error:  # not built: fusion_altitude.reference and the ta
 
 __all__ = [
     "GRAVITY",
-    "AltitudeBatch",
-    "AltitudeEstimator",
-    "AltitudeSettings",
-    "AlphaBetaBatch",
-    "AlphaBetaFusion",
     "AlphaBetaSensorSettings",
     "AlphaBetaSensors",
-    "AlphaBetaSettings",
-    "AlphaBetaStatus",
-    "ComplementaryBatch",
-    "ComplementaryFilter",
-    "ComplementarySettings",
-    "ComplementaryStatus",
     "DiscretisationWarning",
-    "InsBatch",
-    "InsEstimator",
-    "InsSettings",
-    "InsStatus",
     "FitResult",
-    "KalmanBatch",
-    "KalmanEstimator",
     "KalmanResult",
     "KalmanSensors",
-    "KalmanSettings",
-    "KalmanStatus",
-    "RocketBatch",
-    "RocketEstimator",
-    "RocketSettings",
-    "RocketStatus",
-    "Status",
     "SweepResult",
     "fit",
     "ins_run",
@@ -102,3 +90,13 @@ __all__ = [
     "pressure_to_altitude",
     "vertical_acceleration",
 ]
+# generated: estimator names -- written by tools/generate_bindings.py from its MODULES; do not edit
+__all__ += [
+    "AltitudeEstimator", "AltitudeSettings", "AltitudeBatch", "Status",
+    "KalmanEstimator", "KalmanSettings", "KalmanBatch", "KalmanStatus",
+    "ComplementaryFilter", "ComplementarySettings", "ComplementaryBatch", "ComplementaryStatus",
+    "AlphaBetaFusion", "AlphaBetaSettings", "AlphaBetaBatch", "AlphaBetaStatus",
+    "InsEstimator", "InsSettings", "InsBatch", "InsStatus",
+    "RocketEstimator", "RocketSettings", "RocketBatch", "RocketStatus",
+]
+# end generated: estimator names

@@ -22,7 +22,9 @@ settings or state struct (e.g. ``float gapPeriod``) reaches Python by running
 this script again; nothing else is edited by hand.
 
 It also writes ``csrc/tests/vectors/<module>_settings_words.h`` (:mod:`settings_words`): the settings structs as
-the 32-bit words of the test vectors, which the firmware replays and the fuzzers decode.
+the 32-bit words of the test vectors, which the firmware replays and the fuzzers decode; and the estimator lines
+of ``fusion_altitude/__init__.py`` and ``fusion_altitude/reference/__init__.py`` (:mod:`package_init`: each
+estimator's class, settings, batch result and status enum, imported and in ``__all__``, between marker comments).
 
 Usage::
 
@@ -45,6 +47,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import package_init  # noqa: E402  (tools/package_init.py: the estimator lines of the package's __init__ files)
 import settings_words  # noqa: E402  (tools/settings_words.py: the settings as words, for replays and fuzzers)
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -1092,6 +1095,8 @@ def generate() -> Dict[Path, str]:
                                                           files[PACKAGE / f"_{module}_fields.pxi"])
     files.update(settings_words.generate(headers, MODULES, CSRC))
     files[FIRMWARE_ESTIMATORS] = generate_estimators_mk()
+    exports = package_init.estimator_exports(MODULES, ESTIMATORS, SETTINGS_CLASSES, ENUM_NAMES)
+    files.update(package_init.generate(ROOT / "fusion_altitude", exports))
     return files
 
 

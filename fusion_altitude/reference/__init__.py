@@ -7,23 +7,37 @@ slow (a Python loop); use it to understand, test and port the algorithm.
 """
 
 from .._core._common import GRAVITY
-from .._core._kalman_glue import KalmanBatch, KalmanResult, KalmanSensors, KalmanStatus
-from .._core._observer_glue import AltitudeBatch, DiscretisationWarning, Status
-from .._core._alphabeta_glue import AlphaBetaBatch, AlphaBetaSensors, AlphaBetaSensorSettings, AlphaBetaStatus
-from .._core._complementary_glue import ComplementaryBatch, ComplementaryStatus
-from .._core._rocket_glue import RocketBatch, RocketStatus
-from .._core._ins_glue import InsBatch, InsStatus
-from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
-from .complementary import ComplementaryFilter, ComplementarySettings
-from .rocket import RocketEstimator, RocketSettings
-from .ins import InsEstimator, InsSettings
-from .kalman import KalmanEstimator, KalmanSettings
-from .observer import AltitudeEstimator, AltitudeSettings
+from .._core._kalman_glue import KalmanResult, KalmanSensors
+from .._core._observer_glue import DiscretisationWarning
+from .._core._alphabeta_glue import AlphaBetaSensors, AlphaBetaSensorSettings
 from .sweep import sweep
 
-__all__ = ["AlphaBetaBatch", "AlphaBetaFusion", "AlphaBetaSensorSettings", "AlphaBetaSensors", "AlphaBetaSettings",
-           "AlphaBetaStatus", "ComplementaryBatch", "ComplementaryFilter", "ComplementarySettings", "ComplementaryStatus",
-           "GRAVITY", "AltitudeBatch", "AltitudeEstimator", "AltitudeSettings", "DiscretisationWarning", "InsBatch",
-           "InsEstimator", "InsSettings", "InsStatus", "KalmanBatch", "KalmanEstimator", "KalmanResult", "KalmanSensors",
-           "KalmanSettings", "KalmanStatus", "RocketBatch", "RocketEstimator", "RocketSettings", "RocketStatus",
-           "Status", "sweep"]
+# Each estimator's classes: its estimator, settings, batch result and status enum.
+# generated: estimator imports -- written by tools/generate_bindings.py from its MODULES; do not edit
+from .._core._c_tables import AlphaBetaStatus, ComplementaryStatus, InsStatus, KalmanStatus, RocketStatus, Status
+from .._core._observer_glue import AltitudeBatch
+from .._core._kalman_glue import KalmanBatch
+from .._core._complementary_glue import ComplementaryBatch
+from .._core._alphabeta_glue import AlphaBetaBatch
+from .._core._ins_glue import InsBatch
+from .._core._rocket_glue import RocketBatch
+from .observer import AltitudeEstimator, AltitudeSettings
+from .kalman import KalmanEstimator, KalmanSettings
+from .complementary import ComplementaryFilter, ComplementarySettings
+from .alphabeta import AlphaBetaFusion, AlphaBetaSettings
+from .ins import InsEstimator, InsSettings
+from .rocket import RocketEstimator, RocketSettings
+# end generated: estimator imports
+
+__all__ = ["AlphaBetaSensorSettings", "AlphaBetaSensors", "DiscretisationWarning", "GRAVITY", "KalmanResult",
+           "KalmanSensors", "sweep"]
+# generated: estimator names -- written by tools/generate_bindings.py from its MODULES; do not edit
+__all__ += [
+    "AltitudeEstimator", "AltitudeSettings", "AltitudeBatch", "Status",
+    "KalmanEstimator", "KalmanSettings", "KalmanBatch", "KalmanStatus",
+    "ComplementaryFilter", "ComplementarySettings", "ComplementaryBatch", "ComplementaryStatus",
+    "AlphaBetaFusion", "AlphaBetaSettings", "AlphaBetaBatch", "AlphaBetaStatus",
+    "InsEstimator", "InsSettings", "InsBatch", "InsStatus",
+    "RocketEstimator", "RocketSettings", "RocketBatch", "RocketStatus",
+]
+# end generated: estimator names

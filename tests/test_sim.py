@@ -131,6 +131,30 @@ def test_rangefinder_has_no_reading_beyond_its_range():
     assert np.all(np.isnan(stream.value[high])) and np.isfinite(stream.value[~high & (stream.time > 2)]).any()
 
 
+def test_rangefinder_measures_the_height_above_its_terrain_with_its_steps():
+    model = sim.RangefinderModel(noise=0.0, dropout_probability=0.0,
+                                 terrain=sim.Terrain(ground_altitude=2.0, steps=((10.0, 1.0), (20.0, -1.5))))
+    stream = sim.simulate_rangefinder(sim.hover(30.0, altitude=7.0), model, np.random.default_rng(0))
+    expected = np.select([stream.time < 10.0, stream.time < 20.0], [5.0, 4.0], 5.5)
+    np.testing.assert_allclose(stream.value, expected, atol=1e-12)
+
+
+def test_rangefinder_keywords_ground_altitude_and_terrain_steps_set_its_terrain():
+    model = sim.RangefinderModel(ground_altitude=3.0, terrain_steps=((20.0, 1.0),))
+    assert model.terrain == sim.Terrain(ground_altitude=3.0, steps=((20.0, 1.0),))
+    assert (model.ground_altitude, model.terrain_steps) == (3.0, ((20.0, 1.0),))
+    assert sim.RangefinderModel().terrain == sim.Terrain() == sim.Terrain(0.0, ())
+
+
+def test_rangefinder_through_the_keywords_gives_the_same_readings_as_through_the_terrain():
+    trajectory = sim.takeoff_landing()
+    by_keywords = sim.RangefinderModel(ground_altitude=-0.5, terrain_steps=((3.0, 0.4), (6.0, -0.2)))
+    by_terrain = sim.RangefinderModel(terrain=sim.Terrain(-0.5, ((3.0, 0.4), (6.0, -0.2))))
+    first, second = (sim.simulate_rangefinder(trajectory, model, np.random.default_rng(5))
+                     for model in (by_keywords, by_terrain))
+    assert first.value.tobytes() == second.value.tobytes()
+
+
 def test_gps_noise_grows_as_satellites_drop():
     model = sim.GpsModel(satellites=(20, 5), jump_probability=0.0, rate=10.0)
     trajectory = sim.hover(600.0, altitude=0.0)

@@ -7,7 +7,7 @@ A simulation has three layers, each a plain function of numpy arrays:
    attitude, on a base time grid (the IMU rate);
 2. **sensor models** that turn the truth into what a sensor would report, each
    at its own rate with its own errors (:class:`ImuModel`, :class:`BaroModel`,
-   :class:`RangefinderModel`, :class:`GpsModel`);
+   :class:`RangefinderModel` over a :class:`Terrain`, :class:`GpsModel`);
 3. the **attitude pipeline** (:func:`ahrs_vertical_acceleration`) that runs
    the IMU stream through a real AHRS (``imufusion``, the ``[ahrs]`` extra) so
    that tilt errors reach the vertical channel as in a real pipeline.
@@ -23,7 +23,7 @@ magnetometers arbitrary units. All altitudes are m, +up.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field, replace
 from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -45,6 +45,7 @@ __all__ = [
     "BaroModel",
     "BaroStream",
     "RangefinderModel",
+    "Terrain",
     "GpsModel",
     "SensorStream",
     "simulate_imu",
@@ -566,9 +567,34 @@ def _ground_effect(trajectory: Trajectory, time: np.ndarray, amplitude: float, h
     return np.where(on, amplitude * np.exp(-np.maximum(h, 0.0) / height), 0.0)
 
 
+@dataclass(frozen=True)
+class Terrain:
+    """The ground under the vehicle: what a downward rangefinder measures its height above.
+
+    Attributes
+    ----------
+    ground_altitude : float
+        Altitude of the ground at the start, m (the trajectory's datum).
+    steps : tuple of (float, float)
+        (time s, change m): the ground under the vehicle rises by ``change``
+        from ``time`` on (a roof, a table, a ditch when negative).
+    """
+
+    ground_altitude: float = 0.0
+    steps: Tuple[Tuple[float, float], ...] = ()
+
+    def height_above(self, time: np.ndarray, altitude: np.ndarray) -> np.ndarray:
+        """Height above the ground, m, of a vehicle at ``altitude`` (m) at ``time`` (s): the altitude less the
+        ground altitude, less each step's change from its time on (in the order of :attr:`steps`)."""
+        height = altitude - self.ground_altitude
+        for step_time, change in self.steps:
+            height = height - np.where(time >= step_time, change, 0.0)
+        return height
+
+
 @dataclass
 class RangefinderModel:
-    """Downward rangefinder (lidar / sonar) measuring height above flat ground along the body z axis.
+    """Downward rangefinder (lidar / sonar) measuring height above the ground along the body z axis.
 
     Attributes
     ----------
@@ -580,11 +606,16 @@ class RangefinderModel:
         White noise standard deviation, m.
     dropout_probability : float
         Per-sample probability of no echo (NaN).
-    ground_altitude : float
-        Altitude of the ground, m.
-    terrain_steps : tuple of (float, float)
-        (time s, change m): the ground under the vehicle rises by ``change``
-        from ``time`` on (a roof, a table, a ditch when negative).
+    terrain : Terrain
+        The ground it measures from (flat, at altitude 0 m, by default).
+
+    Other Parameters
+    ----------------
+    ground_altitude : float, optional
+        Sets ``terrain.ground_altitude``, m (the keyword of the model before
+        :class:`Terrain`; read back as ``model.ground_altitude``).
+    terrain_steps : tuple of (float, float), optional
+        Sets ``terrain.steps`` (likewise; read back as ``model.terrain_steps``).
     """
 
     rate: float = 20.0
@@ -592,20 +623,35 @@ class RangefinderModel:
     max_range: float = 12.0
     noise: float = 0.02
     dropout_probability: float = 0.02
-    ground_altitude: float = 0.0
-    terrain_steps: Tuple[Tuple[float, float], ...] = ()
+    terrain: Terrain = field(default_factory=Terrain)
+    ground_altitude: InitVar[Optional[float]] = None
+    terrain_steps: InitVar[Optional[Tuple[Tuple[float, float], ...]]] = None
+
+    def __post_init__(self, ground_altitude: Optional[float],
+                      terrain_steps: Optional[Tuple[Tuple[float, float], ...]]) -> None:
+        if ground_altitude is not None:
+            self.terrain = replace(self.terrain, ground_altitude=ground_altitude)
+        if terrain_steps is not None:
+            self.terrain = replace(self.terrain, steps=tuple(terrain_steps))
+
+
+# The keywords' values, read through the terrain (set after the class: a property in its body would be taken for
+# the InitVar's default).
+RangefinderModel.ground_altitude = property(lambda model: model.terrain.ground_altitude,
+                                            doc="The terrain's ground altitude, m (``terrain.ground_altitude``).")
+RangefinderModel.terrain_steps = property(lambda model: model.terrain.steps,
+                                          doc="The terrain's steps, (time s, change m) (``terrain.steps``).")
 
 
 def simulate_rangefinder(trajectory: Trajectory, model: RangefinderModel, rng: np.random.Generator) -> SensorStream:
     """Slant range to the ground, m (NaN: out of range or no echo).
 
-    The beam points along body −z, so the slant range is height / cos(tilt).
-    Random draws, in order: noise, dropout occurrence.
+    The beam points along body −z, so the slant range is the height above
+    ``model.terrain`` / cos(tilt). Random draws, in order: noise, dropout
+    occurrence.
     """
     time = _sample_times(trajectory, model.rate)
-    height = np.interp(time, trajectory.time, trajectory.altitude) - model.ground_altitude
-    for step_time, change in model.terrain_steps:
-        height = height - np.where(time >= step_time, change, 0.0)
+    height = model.terrain.height_above(time, np.interp(time, trajectory.time, trajectory.altitude))
     rotation = quaternion_to_matrix(trajectory.attitude)
     cos_tilt = np.interp(time, trajectory.time, rotation[:, 2, 2])
     with np.errstate(divide="ignore", invalid="ignore"):

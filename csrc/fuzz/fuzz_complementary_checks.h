@@ -95,7 +95,7 @@ static bool FuzzSaneUpdate(const uint32_t calls, const FusionAltitudeComplementa
         CHECK(FusionAltitudeComplementaryIsReferenceSet(after));
     }
     return Within(accel, MAX_ACCEL) && (!baroSample || Within(baro, MAX_ALTITUDE)) && (dt >= MIN_DT) && (dt <= MAX_DT) &&
-           (FusionAltitudeIsNaN(after->baroVelocity) || Within(after->baroVelocity, MAX_BARO_RATE));
+           (!FusionAltitudeIsFinite(after->baroVelocity) || Within(after->baroVelocity, MAX_BARO_RATE)); /* NaN: no sample; inf: caught */
 }
 
 static void FuzzCheckState(const FusionAltitudeComplementary *const state, const FusionAltitudeComplementary *const before,

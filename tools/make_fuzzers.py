@@ -27,10 +27,11 @@ arguments...)`` for an accepted call (asserts that call's invariants; returns wh
 initialisation starts a sane run when it does, any other call keeps it sane only when it does; ``calls`` counts the
 accepted calls since the last initialisation, this one included) and ``FuzzCheckState(state, before, sane)`` after
 every call (``before``: the state before the call, or after it when the call initialised); and, if it likes,
-``FuzzExpected<Function>(arguments...)``, the status the call must return by a classification of its own. A hook
-the file does not
-define is "not plausible" (the run is no longer sane) and no state check: a new estimator needs none of it for the
-generic contract.
+``FuzzExpected<Function>(arguments...)``, the status the call must return by a classification of its own. A
+``FuzzSane<Function>`` the file does not define is ``FuzzSaneSettings(settings)`` for a call with settings (and for
+an initialisation without, on ``<E>GetSettings`` of the state it leaves) when the file defines that, else "not
+plausible" (the run is no longer sane); no ``FuzzCheckState``, no state check: a new estimator needs none of it for
+the generic contract.
 
 The seeds of ``csrc/fuzz/corpus_<e>/`` are the call sequences of the estimator's test vectors (the generator's
 ``build()`` recorder, one seed per section, at most :data:`SEED_RECORDS` calls and about :data:`SEED_BYTES` each) plus generic edge cases: every
@@ -226,6 +227,21 @@ def _hook_arguments(op: Operation) -> List[Tuple[str, str]]:
     return out
 
 
+def _default_sanity(name: str, op: Operation, defined: set) -> Tuple[List[str], str]:
+    """The body of a ``FuzzSane<Function>`` the checks do not define: through their ``FuzzSaneSettings`` for a call
+    with settings (or an initialisation, on the settings it leaves, read with ``<E>GetSettings``), else false.
+    Returns (statements, names used)."""
+    _, prefix, settings, _ = make_harnesses.estimator_modules()[name]
+    if "FuzzSaneSettings" in defined:
+        for p in op.parameters:
+            if p.ctype.rstrip(" *") == settings:
+                return [f"    return FuzzSaneSettings({p.name});"], p.name
+        getter = f"{prefix}GetSettings"
+        if op.suffix.startswith("Initialise") and getter in [f[1] for f in make_harnesses.public_functions(name)]:
+            return [f"    const {settings} settings = {getter}(after);", "    return FuzzSaneSettings(&settings);"], "after"
+    return ["    return false; /* not known plausible */"], ""
+
+
 def _default_hooks(name: str, ops: Sequence[Operation], state: str) -> List[str]:
     defined = _hooks(name)
     out = []
@@ -235,9 +251,10 @@ def _default_hooks(name: str, ops: Sequence[Operation], state: str) -> List[str]
             continue
         params = ", ".join([f"const uint32_t calls", f"const {state} *const before", f"const {state} *const after"]
                            + [d for d, _ in _hook_arguments(op)])
-        unused = " ".join(f"(void) {n};" for n in ["calls", "before", "after"] + [a for _, a in _hook_arguments(op)])
-        out += [f"static bool {hook}({params}) {{", f"    {unused}", "    return false; /* not known plausible */",
-                "}", ""]
+        body, used = _default_sanity(name, op, defined)
+        unused = " ".join(f"(void) {n};" for n in ["calls", "before", "after"] + [a for _, a in _hook_arguments(op)]
+                          if n != used)
+        out += [f"static bool {hook}({params}) {{", f"    {unused}", *body, "}", ""]
     if "FuzzCheckState" not in defined:
         out += [f"static void FuzzCheckState(const {state} *const state, const {state} *const before, const bool sane) {{",
                 "    (void) state;", "    (void) before;", "    (void) sane;", "}", ""]

@@ -38,6 +38,22 @@ typedef struct {
 
 #include "fuzz_alphabeta_checks.h"
 
+static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeAlphaBeta *const before, const FusionAltitudeAlphaBeta *const after) {
+    (void) calls; (void) before;
+    const FusionAltitudeAlphaBetaSettings settings = FusionAltitudeAlphaBetaGetSettings(after);
+    return FuzzSaneSettings(&settings);
+}
+
+static bool FuzzSaneInitialiseWith(const uint32_t calls, const FusionAltitudeAlphaBeta *const before, const FusionAltitudeAlphaBeta *const after, const FusionAltitudeAlphaBetaSettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
+static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeAlphaBeta *const before, const FusionAltitudeAlphaBeta *const after, const FusionAltitudeAlphaBetaSettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
 /* 2 bytes scaled into [minimum, maximum]: linearly, or by the bit pattern (about logarithmically) when
  * minimum > 0; 0xFFFF is NaN (no sample). */
 static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {

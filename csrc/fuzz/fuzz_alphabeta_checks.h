@@ -59,7 +59,7 @@ static bool SampleSane(const float value, const float limit) {
 }
 
 /* The settings a physically plausible system would have (see the file comment). */
-static bool SaneSettings(const FusionAltitudeAlphaBetaSettings *const s) {
+static bool FuzzSaneSettings(const FusionAltitudeAlphaBetaSettings *const s) {
     for (int i = 0; i < FUSION_ALTITUDE_ALPHABETA_SENSORS; i++) {
         const FusionAltitudeAlphaBetaSensorSettings *const sensor = &s->sensors[i];
         if (!InRange(sensor->threshold, 1e-3f, 1e3f) || !InRange(sensor->confidence, 0.0f, 1e3f) ||
@@ -91,29 +91,6 @@ static FusionAltitudeAlphaBetaStatus FuzzExpectedUpdate(const float accel, const
         return FusionAltitudeAlphaBetaStatusInvalidGpsAltitude;
     }
     return FusionAltitudeAlphaBetaStatusOk;
-}
-
-static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeAlphaBeta *const before,
-                               const FusionAltitudeAlphaBeta *const after) {
-    (void) calls;
-    (void) before;
-    return SaneSettings(&after->settings);
-}
-
-static bool FuzzSaneInitialiseWith(const uint32_t calls, const FusionAltitudeAlphaBeta *const before,
-                                   const FusionAltitudeAlphaBeta *const after, const FusionAltitudeAlphaBetaSettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return SaneSettings(settings);
-}
-
-static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeAlphaBeta *const before,
-                                const FusionAltitudeAlphaBeta *const after, const FusionAltitudeAlphaBetaSettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return SaneSettings(settings);
 }
 
 static bool FuzzSaneUpdate(const uint32_t calls, const FusionAltitudeAlphaBeta *const before, const FusionAltitudeAlphaBeta *const after,

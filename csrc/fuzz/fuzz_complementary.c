@@ -38,6 +38,17 @@ typedef struct {
 
 #include "fuzz_complementary_checks.h"
 
+static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeComplementary *const before, const FusionAltitudeComplementary *const after) {
+    (void) calls; (void) before;
+    const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementaryGetSettings(after);
+    return FuzzSaneSettings(&settings);
+}
+
+static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeComplementary *const before, const FusionAltitudeComplementary *const after, const FusionAltitudeComplementarySettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
 /* 2 bytes scaled into [minimum, maximum]: linearly, or by the bit pattern (about logarithmically) when
  * minimum > 0; 0xFFFF is NaN (no sample). */
 static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {

@@ -48,26 +48,10 @@ static bool SameBits(const float a, const float b) {
     return FusionAltitudeFloatBits(a) == FusionAltitudeFloatBits(b);
 }
 
-static bool PlausibleSettings(const FusionAltitudeComplementarySettings *const s) {
+static bool FuzzSaneSettings(const FusionAltitudeComplementarySettings *const s) {
     const bool blend = s->perSampleCoefficients ? ((s->velocityCoefficient <= 0.999f) && (s->altitudeCoefficient <= 0.999f))
                                                 : ((s->velocityTimeConstant <= 100.0f) && (s->altitudeTimeConstant <= 100.0f));
     return blend && (s->accelTimeConstant <= 100.0f) && (s->baroTimeConstant <= 100.0f) && (s->baroTimeout <= 10.0f);
-}
-
-static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeComplementary *const before,
-                               const FusionAltitudeComplementary *const after) {
-    (void) calls;
-    (void) before;
-    return PlausibleSettings(&after->settings); /* the defaults */
-}
-
-static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeComplementary *const before,
-                                const FusionAltitudeComplementary *const after,
-                                const FusionAltitudeComplementarySettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return PlausibleSettings(settings);
 }
 
 static bool FuzzSaneReset(const uint32_t calls, const FusionAltitudeComplementary *const before,

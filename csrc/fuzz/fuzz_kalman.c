@@ -38,6 +38,22 @@ typedef struct {
 
 #include "fuzz_kalman_checks.h"
 
+static bool FuzzSaneInitialiseWith(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after, const FusionAltitudeKalmanSettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
+static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after) {
+    (void) calls; (void) before;
+    const FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(after);
+    return FuzzSaneSettings(&settings);
+}
+
+static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after, const FusionAltitudeKalmanSettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
 /* 2 bytes scaled into [minimum, maximum]: linearly, or by the bit pattern (about logarithmically) when
  * minimum > 0; 0xFFFF is NaN (no sample). */
 static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {

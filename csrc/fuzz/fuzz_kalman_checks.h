@@ -57,7 +57,7 @@
 #define FUZZ_RANGE_gpsVerticalAccuracy 0.01f, 100.0f
 
 /* The settings a physically plausible system would have (see the file comment). */
-static bool SaneSettings(const FusionAltitudeKalmanSettings *const s) {
+static bool FuzzSaneSettings(const FusionAltitudeKalmanSettings *const s) {
     return InRange(s->accelNoise, 1e-3f, 10.0f) && InRange(s->accelBiasRandomWalk, 0.0f, 1.0f) &&
            InRange(s->accelBiasInitialSigma, 0.0f, 10.0f) && InRange(s->baroNoise, 0.01f, 100.0f) &&
            InRange(s->baroOffsetRandomWalk, 0.0f, 10.0f) && InRange(s->rangeNoise, 0.01f, 100.0f) &&
@@ -92,29 +92,6 @@ static FusionAltitudeKalmanStatus FuzzExpectedUpdate(const float accel, const fl
 /* Finite, or the no-sample NaN (0x7FC00000). */
 static bool FiniteOrNoSample(const float value) {
     return FusionAltitudeIsFinite(value) || (FusionAltitudeFloatBits(value) == 0x7FC00000u);
-}
-
-static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after) {
-    (void) calls;
-    (void) before;
-    const FusionAltitudeKalmanSettings settings = FusionAltitudeKalmanGetSettings(after);
-    return SaneSettings(&settings);
-}
-
-static bool FuzzSaneInitialiseWith(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after,
-                                   const FusionAltitudeKalmanSettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return SaneSettings(settings);
-}
-
-static bool FuzzSaneSetSettings(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after,
-                                const FusionAltitudeKalmanSettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return SaneSettings(settings);
 }
 
 static bool FuzzSaneUpdate(const uint32_t calls, const FusionAltitudeKalman *const before, const FusionAltitudeKalman *const after,

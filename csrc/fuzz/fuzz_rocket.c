@@ -37,6 +37,11 @@ typedef struct {
 
 #include "fuzz_rocket_checks.h"
 
+static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeRocket *const before, const FusionAltitudeRocket *const after, const FusionAltitudeRocketSettings *const settings) {
+    (void) calls; (void) before; (void) after;
+    return FuzzSaneSettings(settings);
+}
+
 /* 2 bytes scaled into [minimum, maximum]: linearly, or by the bit pattern (about logarithmically) when
  * minimum > 0; 0xFFFF is NaN (no sample). */
 static bool ReadScaled(Reader *const reader, const float minimum, const float maximum, float *const value) {

@@ -32,7 +32,7 @@
 #define FUZZ_RANGE_dt 1e-4f, 10.0f
 
 /* Plausible settings: gains the observer validates at the sane dt range, and bounded thresholds. */
-static bool SaneSettings(const FusionAltitudeRocketSettings *const s) {
+static bool FuzzSaneSettings(const FusionAltitudeRocketSettings *const s) {
     const bool gains = (FusionAltitudeSettingsValidate(&s->observer, 1e-3f) == FusionAltitudeStatusOk) &&
                        (FusionAltitudeSettingsValidate(&s->observer, 0.05f) == FusionAltitudeStatusOk) &&
                        InRange(s->gapPeriod, 1e-4f, 10.0f) &&
@@ -50,14 +50,6 @@ static bool SaneSettings(const FusionAltitudeRocketSettings *const s) {
 static bool SaneInputs(const uint32_t calls, const float accel, const float baro, const float dt) {
     return (FusionAltitudeIsNaN(accel) || InRange(accel, -300.0f, 300.0f)) && (FusionAltitudeIsNaN(baro) || InRange(baro, -1e4f, 1e5f)) &&
            InRange(dt, 1e-4f, 10.0f) && (calls <= MAX_STEPS);
-}
-
-static bool FuzzSaneInitialise(const uint32_t calls, const FusionAltitudeRocket *const before, const FusionAltitudeRocket *const after,
-                               const FusionAltitudeRocketSettings *const settings) {
-    (void) calls;
-    (void) before;
-    (void) after;
-    return SaneSettings(settings);
 }
 
 static bool FuzzSaneUpdate(const uint32_t calls, const FusionAltitudeRocket *const before, const FusionAltitudeRocket *const after,

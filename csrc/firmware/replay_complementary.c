@@ -37,14 +37,14 @@ static void ReplayInitialise(ReplayFilter *const filter) {
 
 static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *const vector) {
     const uint32_t *const in = vector->input;
-    FusionAltitudeComplementarySettings settings;
     switch ((FusionAltitudeComplementaryVectorOp) vector->op) {
         case FusionAltitudeComplementaryVectorOpInitialise:
             FusionAltitudeComplementaryInitialise(filter);
             return (uint32_t) FusionAltitudeComplementaryStatusOk;
-        case FusionAltitudeComplementaryVectorOpSetSettings:
-            settings = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
+        case FusionAltitudeComplementaryVectorOpSetSettings: {
+            const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeComplementarySetSettings(filter, &settings);
+        }
         case FusionAltitudeComplementaryVectorOpReset:
             return (uint32_t) FusionAltitudeComplementaryReset(filter, ReplayFloat(in[0]));
         case FusionAltitudeComplementaryVectorOpUpdate:
@@ -55,8 +55,8 @@ static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *cons
 
 static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, const uint32_t status,
                              uint32_t words[REPLAY_STATE_WORDS]) {
-    const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementaryGetSettings(filter);
-    FusionAltitudeComplementarySettingsToWords(&settings, words);
+    const FusionAltitudeComplementarySettings current = FusionAltitudeComplementaryGetSettings(filter);
+    FusionAltitudeComplementarySettingsToWords(&current, words);
     words[9] = ReplayBits(FusionAltitudeComplementaryGetAltitude(filter)); /* altitude */
     words[10] = ReplayBits(FusionAltitudeComplementaryGetVerticalVelocity(filter)); /* verticalVelocity */
     words[11] = ReplayBits(filter->accelFiltered); /* accelFiltered */
@@ -70,13 +70,12 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[19] = FusionAltitudeComplementaryIsBaroTimedOut(filter) ? 1u : 0u; /* baroTimedOut */
     const uint32_t *const in = vector->input;
     bool consistent = true;
+    if (vector->op == (uint8_t) FusionAltitudeComplementaryVectorOpSetSettings) {
+        const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
+        consistent = consistent && ((uint32_t) FusionAltitudeComplementarySettingsCheck(&settings) == status);
+    }
     if (vector->op == (uint8_t) FusionAltitudeComplementaryVectorOpUpdate) {
         consistent = consistent && ((uint32_t) FusionAltitudeComplementaryCheckInputs(ReplayFloat(in[0]), ReplayFloat(in[1]), ReplayFloat(in[2])) == status);
-    }
-    if (vector->op == (uint8_t) FusionAltitudeComplementaryVectorOpSetSettings) {
-        FusionAltitudeComplementarySettings requested;
-        requested = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
-        consistent = consistent && ((uint32_t) FusionAltitudeComplementarySettingsCheck(&requested) == status);
     }
     return consistent;
 }

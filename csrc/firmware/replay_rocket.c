@@ -38,11 +38,11 @@ static void ReplayInitialise(ReplayFilter *const filter) {
 
 static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *const vector) {
     const uint32_t *const in = vector->input;
-    FusionAltitudeRocketSettings settings;
     switch ((FusionAltitudeRocketVectorOp) vector->op) {
-        case FusionAltitudeRocketVectorOpInitialiseWith:
-            settings = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);
+        case FusionAltitudeRocketVectorOpInitialiseWith: {
+            const FusionAltitudeRocketSettings settings = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);
             return (uint32_t) FusionAltitudeRocketInitialise(filter, &settings);
+        }
         case FusionAltitudeRocketVectorOpUpdate:
             return (uint32_t) FusionAltitudeRocketUpdate(filter, ReplayFloat(in[0]), ReplayFloat(in[1]), ReplayFloat(in[2]));
         case FusionAltitudeRocketVectorOpUpdateVertical:
@@ -53,8 +53,8 @@ static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *cons
 
 static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, const uint32_t status,
                              uint32_t words[REPLAY_STATE_WORDS]) {
-    const FusionAltitudeRocketSettings settings = filter->settings;
-    FusionAltitudeRocketSettingsToWords(&settings, words);
+    const FusionAltitudeRocketSettings current = filter->settings;
+    FusionAltitudeRocketSettingsToWords(&current, words);
     words[21] = ReplayBits(FusionAltitudeGetAltitude(&filter->observer)); /* observer.altitude */
     words[22] = ReplayBits(FusionAltitudeGetVerticalVelocity(&filter->observer)); /* observer.verticalVelocity */
     words[23] = ReplayBits(FusionAltitudeGetAccelBias(&filter->observer)); /* observer.accelBias */
@@ -135,13 +135,15 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[98] = filter->baroLed ? 1u : 0u; /* baroLed */
     const uint32_t *const in = vector->input;
     bool consistent = (ReplayBits(FusionAltitudeRocketGetHeight(filter)) == ReplayBits(filter->observer.altitude + filter->offsetApplied)) && (FusionAltitudeRocketIsCalibrated(filter) == (filter->windows > 0u));
-    if ((vector->op == (uint8_t) FusionAltitudeRocketVectorOpUpdate) || (vector->op == (uint8_t) FusionAltitudeRocketVectorOpUpdateVertical)) {
+    if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpInitialiseWith) {
+        const FusionAltitudeRocketSettings settings = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);
+        consistent = consistent && ((uint32_t) FusionAltitudeRocketSettingsCheck(&settings) == status);
+    }
+    if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpUpdate) {
         consistent = consistent && ((uint32_t) FusionAltitudeRocketCheckInputs(ReplayFloat(in[0]), ReplayFloat(in[1]), ReplayFloat(in[2])) == status);
     }
-    if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpInitialiseWith) {
-        FusionAltitudeRocketSettings requested;
-        requested = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);
-        consistent = consistent && ((uint32_t) FusionAltitudeRocketSettingsCheck(&requested) == status);
+    if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpUpdateVertical) {
+        consistent = consistent && ((uint32_t) FusionAltitudeRocketCheckInputs(ReplayFloat(in[0]), ReplayFloat(in[1]), ReplayFloat(in[2])) == status);
     }
     return consistent;
 }

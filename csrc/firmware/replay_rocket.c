@@ -134,7 +134,8 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[97] = filter->padBaroPreviousSet ? 1u : 0u; /* padBaroPreviousSet */
     words[98] = filter->baroLed ? 1u : 0u; /* baroLed */
     const uint32_t *const in = vector->input;
-    bool consistent = (ReplayBits(FusionAltitudeRocketGetHeight(filter)) == ReplayBits(filter->observer.altitude + filter->offsetApplied)) && (FusionAltitudeRocketIsCalibrated(filter) == (filter->windows > 0u));
+    bool consistent = (ReplayBits(FusionAltitudeRocketGetHeight(filter)) == ReplayBits(filter->observer.altitude + filter->offsetApplied)) &&
+                      (FusionAltitudeRocketIsCalibrated(filter) == (filter->windows > 0u));
     if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpInitialiseWith) {
         const FusionAltitudeRocketSettings settings = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);
         consistent = consistent && ((uint32_t) FusionAltitudeRocketSettingsCheck(&settings) == status);

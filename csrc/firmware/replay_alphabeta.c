@@ -110,7 +110,20 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[81] = ReplayBits(filter->gapTime); /* gapTime */
     words[82] = FusionAltitudeAlphaBetaGetGapCount(filter); /* gapCount */
     const uint32_t *const in = vector->input;
-    bool consistent = true;
+    bool consistent = (ReplayBits(FusionAltitudeAlphaBetaGetWeight(filter, FusionAltitudeAlphaBetaSensorImu)) == ReplayBits(filter->filters[FusionAltitudeAlphaBetaSensorImu].weight)) &&
+                      (FusionAltitudeAlphaBetaGetQuality(filter, FusionAltitudeAlphaBetaSensorImu) == filter->filters[FusionAltitudeAlphaBetaSensorImu].quality) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetWeight(filter, FusionAltitudeAlphaBetaSensorBaro)) == ReplayBits(filter->filters[FusionAltitudeAlphaBetaSensorBaro].weight)) &&
+                      (FusionAltitudeAlphaBetaGetQuality(filter, FusionAltitudeAlphaBetaSensorBaro) == filter->filters[FusionAltitudeAlphaBetaSensorBaro].quality) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetWeight(filter, FusionAltitudeAlphaBetaSensorLidar)) == ReplayBits(filter->filters[FusionAltitudeAlphaBetaSensorLidar].weight)) &&
+                      (FusionAltitudeAlphaBetaGetQuality(filter, FusionAltitudeAlphaBetaSensorLidar) == filter->filters[FusionAltitudeAlphaBetaSensorLidar].quality) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetWeight(filter, FusionAltitudeAlphaBetaSensorSonar)) == ReplayBits(filter->filters[FusionAltitudeAlphaBetaSensorSonar].weight)) &&
+                      (FusionAltitudeAlphaBetaGetQuality(filter, FusionAltitudeAlphaBetaSensorSonar) == filter->filters[FusionAltitudeAlphaBetaSensorSonar].quality) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetWeight(filter, FusionAltitudeAlphaBetaSensorGps)) == ReplayBits(filter->filters[FusionAltitudeAlphaBetaSensorGps].weight)) &&
+                      (FusionAltitudeAlphaBetaGetQuality(filter, FusionAltitudeAlphaBetaSensorGps) == filter->filters[FusionAltitudeAlphaBetaSensorGps].quality) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetAltitude(filter)) == ReplayBits(filter->altitude)) &&
+                      (ReplayBits(FusionAltitudeAlphaBetaGetVerticalVelocity(filter)) == ReplayBits(filter->verticalVelocity)) &&
+                      (FusionAltitudeAlphaBetaIsStarted(filter) == filter->started) &&
+                      (FusionAltitudeAlphaBetaGetGapCount(filter) == filter->gapCount);
     if (vector->op == (uint8_t) FusionAltitudeAlphaBetaVectorOpInitialiseWith) {
         const FusionAltitudeAlphaBetaSettings settings = FusionAltitudeAlphaBetaSettingsFromWords(fusionAltitudeAlphaBetaVectorSettings[in[0]]);
         consistent = consistent && ((uint32_t) FusionAltitudeAlphaBetaSettingsCheck(&settings) == status);

@@ -69,7 +69,14 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[18] = FusionAltitudeComplementaryGetBaroTimeouts(filter); /* baroTimeouts */
     words[19] = FusionAltitudeComplementaryIsBaroTimedOut(filter) ? 1u : 0u; /* baroTimedOut */
     const uint32_t *const in = vector->input;
-    bool consistent = true;
+    bool consistent = (ReplayBits(FusionAltitudeComplementaryGetAltitude(filter)) == ReplayBits(filter->altitude)) &&
+                      (ReplayBits(FusionAltitudeComplementaryGetVerticalVelocity(filter)) == ReplayBits(filter->verticalVelocity)) &&
+                      (ReplayBits(FusionAltitudeComplementaryGetBaroFiltered(filter)) == ReplayBits(filter->baroFiltered)) &&
+                      (ReplayBits(FusionAltitudeComplementaryGetBaroVelocity(filter)) == ReplayBits(filter->baroVelocity)) &&
+                      (FusionAltitudeComplementaryIsReferenceSet(filter) == filter->referenceSet) &&
+                      (FusionAltitudeComplementaryGetGapCount(filter) == filter->gapCount) &&
+                      (FusionAltitudeComplementaryGetBaroTimeouts(filter) == filter->baroTimeouts) &&
+                      (FusionAltitudeComplementaryIsBaroTimedOut(filter) == filter->baroTimedOut);
     if (vector->op == (uint8_t) FusionAltitudeComplementaryVectorOpSetSettings) {
         const FusionAltitudeComplementarySettings settings = FusionAltitudeComplementarySettingsFromWords(fusionAltitudeComplementaryVectorSettings[in[0]]);
         consistent = consistent && ((uint32_t) FusionAltitudeComplementarySettingsCheck(&settings) == status);

@@ -19,7 +19,7 @@
  * (FusionAltitudeKalmanGetAltitudeVariance), baro.nis (FusionAltitudeKalmanGetNis), range.nis
  * (FusionAltitudeKalmanGetNis), gps.nis (FusionAltitudeKalmanGetNis), gapCount
  * (FusionAltitudeKalmanGetGapCount). After each call its status must equal what the header's CheckInputs (calls
- * with its inputs) and SettingsCheck (calls with settings) return, and the getters must agree with the fields.
+ * with its inputs) and SettingsCheck (calls with settings) return.
  */
 
 #include "fusion_altitude_kalman.h"
@@ -140,7 +140,28 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[83] = FusionAltitudeKalmanGetGapCount(filter); /* gapCount */
     words[84] = ReplayBits(filter->sinceFused); /* sinceFused */
     const uint32_t *const in = vector->input;
-    bool consistent = (ReplayBits(filter->P[0][1]) == ReplayBits(filter->P[1][0])) &&
+    bool consistent = (ReplayBits(FusionAltitudeKalmanGetHeightAboveGround(filter)) == ReplayBits(filter->x[0])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetVerticalVelocity(filter)) == ReplayBits(filter->x[1])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetBaroOffset(filter)) == ReplayBits(filter->x[2])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetGpsOffset(filter)) == ReplayBits(filter->x[3])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetAccelBias(filter)) == ReplayBits(filter->x[4])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateHeight, FusionAltitudeKalmanStateHeight)) == ReplayBits(filter->P[0][0])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateHeight, FusionAltitudeKalmanStateVelocity)) == ReplayBits(filter->P[0][1])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateHeight, FusionAltitudeKalmanStateBaroOffset)) == ReplayBits(filter->P[0][2])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateHeight, FusionAltitudeKalmanStateGpsOffset)) == ReplayBits(filter->P[0][3])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateHeight, FusionAltitudeKalmanStateAccelBias)) == ReplayBits(filter->P[0][4])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateVelocity)) == ReplayBits(filter->P[1][1])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateBaroOffset)) == ReplayBits(filter->P[1][2])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateGpsOffset)) == ReplayBits(filter->P[1][3])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateVelocity, FusionAltitudeKalmanStateAccelBias)) == ReplayBits(filter->P[1][4])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateBaroOffset, FusionAltitudeKalmanStateBaroOffset)) == ReplayBits(filter->P[2][2])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateBaroOffset, FusionAltitudeKalmanStateGpsOffset)) == ReplayBits(filter->P[2][3])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateBaroOffset, FusionAltitudeKalmanStateAccelBias)) == ReplayBits(filter->P[2][4])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateGpsOffset, FusionAltitudeKalmanStateGpsOffset)) == ReplayBits(filter->P[3][3])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateGpsOffset, FusionAltitudeKalmanStateAccelBias)) == ReplayBits(filter->P[3][4])) &&
+                      (ReplayBits(FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanStateAccelBias, FusionAltitudeKalmanStateAccelBias)) == ReplayBits(filter->P[4][4])) &&
+                      (FusionAltitudeKalmanGetGapCount(filter) == filter->gapCount) &&
+                      (ReplayBits(filter->P[0][1]) == ReplayBits(filter->P[1][0])) &&
                       (ReplayBits(filter->P[0][2]) == ReplayBits(filter->P[2][0])) &&
                       (ReplayBits(filter->P[0][3]) == ReplayBits(filter->P[3][0])) &&
                       (ReplayBits(filter->P[0][4]) == ReplayBits(filter->P[4][0])) &&

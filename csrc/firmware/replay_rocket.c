@@ -134,7 +134,18 @@ static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVecto
     words[97] = filter->padBaroPreviousSet ? 1u : 0u; /* padBaroPreviousSet */
     words[98] = filter->baroLed ? 1u : 0u; /* baroLed */
     const uint32_t *const in = vector->input;
-    bool consistent = (ReplayBits(FusionAltitudeRocketGetHeight(filter)) == ReplayBits(filter->observer.altitude + filter->offsetApplied)) &&
+    bool consistent = (ReplayBits(FusionAltitudeGetAltitude(&filter->observer)) == ReplayBits(filter->observer.altitude)) &&
+                      (ReplayBits(FusionAltitudeGetVerticalVelocity(&filter->observer)) == ReplayBits(filter->observer.verticalVelocity)) &&
+                      (ReplayBits(FusionAltitudeGetAccelBias(&filter->observer)) == ReplayBits(filter->observer.accelBias)) &&
+                      (ReplayBits(FusionAltitudeGetBaroResidual(&filter->observer)) == ReplayBits(filter->observer.baroResidual)) &&
+                      (FusionAltitudeIsReferenceSet(&filter->observer) == filter->observer.referenceSet) &&
+                      (FusionAltitudeRocketGetPhase(filter) == filter->phase) &&
+                      (FusionAltitudeRocketGetBaro(filter) == filter->baro) &&
+                      (FusionAltitudeRocketGetGapCount(filter) == filter->gapCount) &&
+                      (ReplayBits(FusionAltitudeRocketGetTime(filter)) == ReplayBits(filter->time)) &&
+                      (ReplayBits(FusionAltitudeRocketGetPadAltitude(filter)) == ReplayBits(filter->padAltitude)) &&
+                      (FusionAltitudeRocketIsLockedOut(filter) == filter->lockout) &&
+                      (ReplayBits(FusionAltitudeRocketGetHeight(filter)) == ReplayBits(filter->observer.altitude + filter->offsetApplied)) &&
                       (FusionAltitudeRocketIsCalibrated(filter) == (filter->windows > 0u));
     if (vector->op == (uint8_t) FusionAltitudeRocketVectorOpInitialiseWith) {
         const FusionAltitudeRocketSettings settings = FusionAltitudeRocketSettingsFromWords(fusionAltitudeRocketVectorSettings[in[0]]);

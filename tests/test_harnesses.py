@@ -116,3 +116,15 @@ def test_a_state_word_that_is_not_a_scalar_field_of_the_state_stops_the_generato
             assert "is not a scalar field of S" in str(stop)
         else:
             raise AssertionError(f"{name} was accepted")
+
+
+def test_a_replay_table_with_a_key_the_generator_does_not_know_stops_it(monkeypatch):
+    fake = type(sys)("generate_nonesuch")
+    fake.REPLAY = {"getters": {}, "getter": {}}
+    monkeypatch.setitem(sys.modules, "generate_nonesuch", fake)
+    try:
+        REPLAYS.special("nonesuch")
+    except SystemExit as stop:
+        assert "unknown keys ['getter']" in str(stop)
+    else:
+        raise AssertionError("the misspelt key was accepted")

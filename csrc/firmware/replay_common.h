@@ -1,7 +1,7 @@
 /**
  * @file replay_common.h
- * @brief The replay loop shared by replay_kalman.c, replay_complementary.c
- * and replay_alphabeta.c: each record of a hashed vector header (written by
+ * @brief The replay loop shared by every replay_<name>.c but the observer's
+ * (written by tools/make_replays.py): each record of a hashed vector header (written by
  * csrc/tests/vectors/vector_common.py, or generate_kalman.py) is applied to
  * the filter, the state after it is read as words, and the status and the
  * FNV-1a hash of the words are compared; at each checkpoint record the words

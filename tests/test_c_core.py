@@ -152,8 +152,8 @@ def _estimator_modules() -> dict:
     return sys.modules["generate_bindings"].MODULES
 
 
-#: estimator → its header, for the estimators held to no libm (all but the INS): csrc/firmware/firmware_<name>.c
-#: calls every public function of the header, so linking it without libm checks them all
+#: estimator → its header, for the estimators held to no libm (all but the INS): csrc/firmware/sized_<name>.c
+#: holds an out-of-line copy of every public function of the header, so linking it without libm checks them all
 FIRMWARE_HEADERS = {name: header for name, (header, *_) in _estimator_modules().items() if header in HEADERS}
 
 
@@ -162,10 +162,10 @@ def test_every_header_has_a_no_libm_link_program():
 
 
 @pytest.mark.parametrize("name", sorted(FIRMWARE_HEADERS))
-def test_estimator_firmware_links_without_libm(name, tmp_path):
+def test_every_public_function_of_an_estimator_links_without_libm(name, tmp_path):
     (tmp_path / "main.c").write_text("int main(void) { return 0; }\n")
     result = subprocess.run([compiler("gcc"), "-std=c99", "-O0", *STRICT, f"-I{CSRC}",
-                             str(CSRC / "firmware" / f"firmware_{name}.c"), str(tmp_path / "main.c"),
+                             str(CSRC / "firmware" / f"sized_{name}.c"), str(tmp_path / "main.c"),
                              "-o", str(tmp_path / "firmware"), "-nodefaultlibs", "-lc"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
 

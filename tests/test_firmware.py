@@ -187,8 +187,6 @@ def test_kalman_vectors_are_up_to_date_and_cover_every_path():
 #: functions (tagged @internal; sized through the public functions that inline them)
 HARNESSES = load(ROOT / "tools" / "make_harnesses.py", "make_harnesses")
 INTERNAL = {name: HARNESSES.internal_functions(name) for name in MODULES}
-#: public functions firmware_<name>.c need not call (the observer's float helpers and its stability test)
-NOT_CALLED = {"observer": {"FusionAltitudeNaN", "FusionAltitudeInfinity", "FusionAltitudeIsStepStable"}}
 
 
 @pytest.mark.parametrize("name", list(MODULES))
@@ -203,17 +201,15 @@ def test_every_public_function_is_built_and_sized(name):
     declared = set(re.findall(rf"\b({prefix}\w+)\(", (ROOT / "fusion_altitude" / "_core" / f"c{name}.pxd").read_text()))
     assert declared <= public, f"a function of c{name}.pxd is listed as internal"
     sized = set(re.findall(rf"\bSized({prefix}\w+)\(", (FIRMWARE / f"sized_{name}.c").read_text()))
-    called = set(re.findall(rf"\b({prefix}\w+)\(", (FIRMWARE / f"firmware_{name}.c").read_text()))
     table = load(FIRMWARE / "size_table.py", "size_table")
     rows = table.FUNCTIONS if name == "observer" else next(row[1] for row in table.ESTIMATORS if row[0] == name)
     assert public - sized == set(), f"run python tools/make_harnesses.py (sized_{name}.c misses these)"
-    assert public - called - NOT_CALLED.get(name, set()) == set(), f"call these from csrc/firmware/firmware_{name}.c"
     assert public - set(rows) == set(), f"size_table.py's rows of {name} miss these"
 
 
 def test_cross_builds_are_warning_free_without_double_or_libm(build):
     output = assert_ok(make(build, "check-objects"))
-    objects = [f"{job}_{name}" for name in MODULES for job in ("firmware", "sized")]
+    objects = [f"sized_{name}" for name in MODULES]
     assert re.search(rf"^{5 * 4 * len(objects)} objects checked, 0 with double or libm$", output, re.MULTILINE), output
     for target in ("cortex-m0plus", "cortex-m4f", "cortex-m7", "rv32imac", "rv32imafc"):
         for variant in ("c99-Os", "c99-O2", "c11-Os", "c11-O2"):
@@ -230,7 +226,7 @@ def test_object_check_allows_sqrtf_only_in_ins_objects(tmp_path):
     """The same object needing sqrtf passes as sized_ins and fails under any other estimator's name."""
     variant = tmp_path / "cross" / "cortex-m4f" / "c99-Os"
     variant.mkdir(parents=True)
-    for stem in ("sized_ins", "firmware_ins", "sized_observer", "firmware_rocket"):
+    for stem in ("sized_ins", "sized_observer", "sized_rocket"):
         (variant / f"{stem}.lst").write_text("")
         (variant / f"{stem}.undefined").write_text("         U memset\n         U sqrtf\n")
     (variant / "sized_kalman.lst").write_text("")
@@ -238,8 +234,8 @@ def test_object_check_allows_sqrtf_only_in_ins_objects(tmp_path):
     result = subprocess.run([sys.executable, str(FIRMWARE / "check_objects.py"), str(tmp_path / "cross")],
                             capture_output=True, text=True)
     assert result.returncode == 1, result.stdout
-    assert "cortex-m4f/c99-Os/sized_ins: ok" in result.stdout and "cortex-m4f/c99-Os/firmware_ins: ok" in result.stdout
-    for stem, symbol in (("sized_observer", "sqrtf"), ("firmware_rocket", "sqrtf"), ("sized_kalman", "sqrt")):
+    assert "cortex-m4f/c99-Os/sized_ins: ok" in result.stdout
+    for stem, symbol in (("sized_observer", "sqrtf"), ("sized_rocket", "sqrtf"), ("sized_kalman", "sqrt")):
         assert f"cortex-m4f/c99-Os/{stem}: FAIL {symbol} " in result.stdout, result.stdout
 
 
@@ -385,7 +381,7 @@ def test_cppcheck_is_clean(build):
     fuzzers = re.search(r"^FUZZERS := (.*)$", makefile, re.MULTILINE).group(1).split()
     failing = re.search(r"^FUZZERS_FAILING :=(.*)$", makefile, re.MULTILINE).group(1).split()
     assert fuzzers + failing == ["$(ESTIMATORS:%=fuzz_%)", "fuzz_sweep"], (fuzzers, failing)
-    for job in ("firmware", "sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
+    for job in ("sized", "replay", "cycles"):  # each, for every estimator of ESTIMATORS
         assert f"$(FIRMWARE)/{job}_$(name).c" in sources.group(1), job
     assert "$(foreach name,$(ESTIMATORS)," in sources.group(1)
 

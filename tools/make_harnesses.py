@@ -115,6 +115,10 @@ def sized_text(name: str) -> str:
             "// Out-of-line wrappers, one per public function\n"]
     for returns, function, parameters in public_functions(name):
         out += ["\n", wrapper(returns, function, parameters, function not in NOT_FLATTENED.get(name, set()))]
+    state = estimator_modules()[name][3]
+    out += ["\n", "//------------------------------------------------------------------------------\n",
+            "// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)\n", "\n",
+            f"extern {state} sized{state};\n", f"{state} sized{state};\n"]
     return "".join(out)
 
 

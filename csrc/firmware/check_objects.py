@@ -27,7 +27,7 @@ FORBIDDEN_SYMBOL = re.compile(
     r"sqrtf?|powf?|expf?|logf?|sinf?|cosf?|tanf?|atan2?f?|fabsf?|floorf?|ceilf?|fmodf?|roundf?|truncf?|hypotf?)$")
 
 #: Symbols an object may need although FORBIDDEN_SYMBOL matches them, by object stem.
-ALLOWED = {"firmware_ins": {"sqrtf"}, "sized_ins": {"sqrtf"}}
+ALLOWED = {"sized_ins": {"sqrtf"}}
 
 
 def check(cross: Path) -> int:

@@ -1,7 +1,7 @@
 /**
  * @file replay_common.h
- * @brief The replay loop shared by replay_kalman.c, replay_complementary.c
- * and replay_alphabeta.c: each record of a hashed vector header (written by
+ * @brief The replay loop shared by every replay_<name>.c but the observer's
+ * (written by tools/make_replays.py): each record of a hashed vector header (written by
  * csrc/tests/vectors/vector_common.py, or generate_kalman.py) is applied to
  * the filter, the state after it is read as words, and the status and the
  * FNV-1a hash of the words are compared; at each checkpoint record the words
@@ -44,10 +44,20 @@ static void ReplayInitialise(ReplayFilter *const filter);
 /* Applies one record's call to the filter and returns its status. */
 static uint32_t ReplayApply(ReplayFilter *const filter, const ReplayVector *const vector);
 
+/* Kept out of line: inlined into the loop, gcc -O2 threads ReplayApply's
+ * switch on the op through it into its own tests of the op and copies the
+ * whole state read once per op (the rocket replay no longer fitted an
+ * ATmega1284P's 128 kB at -O2). */
+#if defined(__GNUC__)
+#define REPLAY_OUT_OF_LINE __attribute__((noinline))
+#else
+#define REPLAY_OUT_OF_LINE
+#endif
+
 /* The state words after a call; false if the filter is inconsistent in a way
  * the words cannot show (e.g. an asymmetric covariance, or a check function
  * that disagrees with the call). */
-static bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, uint32_t status,
+static REPLAY_OUT_OF_LINE bool ReplayStateWords(const ReplayFilter *const filter, const ReplayVector *const vector, uint32_t status,
                              uint32_t words[REPLAY_STATE_WORDS]);
 
 /* Sets the filter to the given state words (after a mismatch at a checkpoint). */

@@ -6,13 +6,13 @@
 Code size: the nm symbol size of Sized<Function> (sized_observer.c: the public function
 with everything it calls inlined into one out-of-line copy; the size includes
 its literal pool). Stack: the -fstack-usage line of the same wrapper. RAM: the
-nm size of the static FusionAltitude in firmware_observer.c. Cycles: the instructions
+nm size of the FusionAltitude instance in sized_observer.c. Cycles: the instructions
 QEMU executed inside SizedFusionAltitudeUpdate (cycles_observer.c, -d exec with
 -singlestep), each priced with the Cortex-M4 cycle counts below.
 
 The other estimators (ESTIMATORS: every row of MODULES in tools/generate_bindings.py after the observer's) are
-measured the same way: sized_<name>.c (written by tools/make_harnesses.py), the static instance in
-firmware_<name>.c, and Sized...Update traced by cycles_<name>.c; their figures are under result[<name>] and each has
+measured the same way: sized_<name>.c (written by tools/make_harnesses.py, with the state's instance), and
+Sized...Update traced by cycles_<name>.c; their figures are under result[<name>] and each has
 its own block of docs/embedded.md (between the <!-- <name>-sizes:begin/end --> markers, which --update-doc adds for
 a new estimator). Nothing here is edited for a new estimator: its table rows are the
 Sized<Function>s of sized_<name>.c in file order and its traced paths the numbered list of cycles_<name>.c's
@@ -140,10 +140,9 @@ def sized_functions(name: str) -> Tuple[str, ...]:
     return tuple(re.findall(r"^SIZED [^(]*?\bSized(\w+)\(", text, re.MULTILINE))
 
 
-def firmware_instance(name: str, struct: str) -> str:
-    """The static instance of struct in firmware_<name>.c (its RAM is measured)."""
-    text = (FIRMWARE / f"firmware_{name}.c").read_text()
-    return re.search(rf"^static {struct} (\w+);", text, re.MULTILINE).group(1)
+def state_instance(name: str, struct: str) -> str:
+    """The instance of struct that tools/make_harnesses.py writes into sized_<name>.c (its RAM is measured)."""
+    return f"sized{struct}"
 
 
 def traced_paths(name: str) -> Tuple[str, ...]:
@@ -153,11 +152,11 @@ def traced_paths(name: str) -> Tuple[str, ...]:
 
 
 def estimator_rows() -> Tuple[tuple, ...]:
-    """Each estimator after the observer: name (sized_<name>.c, firmware_<name>.c, cycles_<name>.c, marker
-    <name>-sizes), public functions, static instance in firmware_<name>.c, struct, update function, traced paths."""
+    """Each estimator after the observer: name (sized_<name>.c, cycles_<name>.c, marker <name>-sizes), public
+    functions, the state's instance in sized_<name>.c, struct, update function, traced paths."""
     rows = []
     for name, (_, prefix, _, struct) in list(estimator_modules().items())[1:]:
-        rows.append((name, FUNCTION_ORDER.get(name) or sized_functions(name), firmware_instance(name, struct), struct,
+        rows.append((name, FUNCTION_ORDER.get(name) or sized_functions(name), state_instance(name, struct), struct,
                      f"{prefix}Update", TRACED_PATHS.get(name) or traced_paths(name)))
     return tuple(rows)
 
@@ -184,8 +183,8 @@ def read_stack(path: Path) -> Dict[str, Tuple[int, str]]:
     return stack
 
 
-def measure_sized(build: Path, stem: str, functions, firmware: str, instance: str) -> dict:
-    """Sizes and stack of the Sized<Function> wrappers in <stem>.o, RAM of <instance> in <firmware>.o."""
+def measure_sized(build: Path, stem: str, functions, instance: str) -> dict:
+    """Sizes and stack of the Sized<Function> wrappers in <stem>.o, RAM of <instance> in it."""
     result: dict = {"size": {}, "stack": {}, "ram": {}, "c11_differs": []}
     for target in TARGETS:
         for opt in OPTIMISATIONS:
@@ -195,7 +194,7 @@ def measure_sized(build: Path, stem: str, functions, firmware: str, instance: st
             for function in functions:
                 result["size"][f"{function}/{target}/{opt}"] = sizes[f"Sized{function}"][1]
                 result["stack"][f"{function}/{target}/{opt}"] = stack[f"Sized{function}"]
-            result["ram"][f"{target}/{opt}"] = read_symbols(variant / f"{firmware}.nm")[instance][1]
+            result["ram"][f"{target}/{opt}"] = sizes[instance][1]
             c11 = read_symbols(build / "cross" / target / f"c11-{opt}" / f"{stem}.nm")
             if {k: v[1] for k, v in c11.items()} != {k: v[1] for k, v in sizes.items()}:
                 result["c11_differs"].append(f"{target}/{opt}")
@@ -204,11 +203,11 @@ def measure_sized(build: Path, stem: str, functions, firmware: str, instance: st
 
 def measure(build: Path) -> dict:
     """The observer's figures at the top level (size, stack, ram, c11_differs, cycles), each other estimator's under its name."""
-    result = measure_sized(build, "sized_observer", FUNCTIONS, "firmware_observer", "firmwareEstimator")
+    result = measure_sized(build, "sized_observer", FUNCTIONS, state_instance("observer", "FusionAltitude"))
     if (build / "cycles" / "observer-trace.log").exists():
         result["cycles"] = cycles(build / "cycles", "observer", "SizedFusionAltitudeUpdate", CALLS)
     for name, functions, instance, _, update, calls in ESTIMATORS:
-        figures = measure_sized(build, f"sized_{name}", functions, f"firmware_{name}", instance)
+        figures = measure_sized(build, f"sized_{name}", functions, instance)
         if (build / "cycles" / f"{name}-trace.log").exists():
             figures["cycles"] = cycles(build / "cycles", name, f"Sized{update}", calls)
         result[name] = figures

@@ -142,3 +142,9 @@ bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const 
 SIZED bool SizedFusionAltitudeAlphaBetaIsStarted(const FusionAltitudeAlphaBeta *const fusion) {
     return FusionAltitudeAlphaBetaIsStarted(fusion);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitudeAlphaBeta sizedFusionAltitudeAlphaBeta;
+FusionAltitudeAlphaBeta sizedFusionAltitudeAlphaBeta;

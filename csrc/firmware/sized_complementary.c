@@ -124,3 +124,9 @@ bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeCompleme
 SIZED bool SizedFusionAltitudeComplementaryIsReferenceSet(const FusionAltitudeComplementary *const filter) {
     return FusionAltitudeComplementaryIsReferenceSet(filter);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitudeComplementary sizedFusionAltitudeComplementary;
+FusionAltitudeComplementary sizedFusionAltitudeComplementary;

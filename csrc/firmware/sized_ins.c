@@ -190,3 +190,9 @@ uint32_t SizedFusionAltitudeInsGetGapCount(const FusionAltitudeIns *const ins);
 SIZED uint32_t SizedFusionAltitudeInsGetGapCount(const FusionAltitudeIns *const ins) {
     return FusionAltitudeInsGetGapCount(ins);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitudeIns sizedFusionAltitudeIns;
+FusionAltitudeIns sizedFusionAltitudeIns;

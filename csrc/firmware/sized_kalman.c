@@ -160,3 +160,9 @@ FusionAltitudeKalmanSensor SizedFusionAltitudeKalmanGetSensor(const FusionAltitu
 SIZED FusionAltitudeKalmanSensor SizedFusionAltitudeKalmanGetSensor(const FusionAltitudeKalman *const kalman, const FusionAltitudeKalmanSensorIndex sensor) {
     return FusionAltitudeKalmanGetSensor(kalman, sensor);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitudeKalman sizedFusionAltitudeKalman;
+FusionAltitudeKalman sizedFusionAltitudeKalman;

@@ -184,3 +184,9 @@ bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitude);
 SIZED bool SizedFusionAltitudeIsReferenceSet(const FusionAltitude *const altitude) {
     return FusionAltitudeIsReferenceSet(altitude);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitude sizedFusionAltitude;
+FusionAltitude sizedFusionAltitude;

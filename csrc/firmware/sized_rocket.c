@@ -136,3 +136,9 @@ float SizedFusionAltitudeRocketGetTime(const FusionAltitudeRocket *const rocket)
 SIZED float SizedFusionAltitudeRocketGetTime(const FusionAltitudeRocket *const rocket) {
     return FusionAltitudeRocketGetTime(rocket);
 }
+
+//------------------------------------------------------------------------------
+// One instance of the state: its nm size is the estimator's RAM (csrc/firmware/size_table.py)
+
+extern FusionAltitudeRocket sizedFusionAltitudeRocket;
+FusionAltitudeRocket sizedFusionAltitudeRocket;

@@ -50,6 +50,16 @@ STATE_FIELDS = (SETTINGS_FIELDS + tuple(f"{sensor}.{field}" for sensor in ALPHAB
                 + ("altitude", "verticalVelocity", "totalWeight", "started", "coastingFor", "gapTime", "gapCount"))
 FLOAT_FIELDS = tuple(f"{sensor}.{field}" for sensor in ALPHABETA_SENSORS for field in FILTER_FIELDS[:5]) + (
     "altitude", "verticalVelocity", "totalWeight", "coastingFor", "gapTime")
+#: What tools/make_replays.py cannot read from the header and STATE_FIELDS to write csrc/firmware/replay_alphabeta.c
+#: (the keys: its SPECIAL_KEYS).
+REPLAY = {
+    "paths": {f"{sensor}.": f"filters[FusionAltitudeAlphaBetaSensor{sensor.capitalize()}]."
+              for sensor in ALPHABETA_SENSORS},
+    "getters": {f"{sensor}.{field}": f"FusionAltitudeAlphaBeta{getter}(filter, "
+                                     f"FusionAltitudeAlphaBetaSensor{sensor.capitalize()})"
+                for sensor in ALPHABETA_SENSORS
+                for field, getter in (("weight", "GetWeight"), ("quality", "GetQuality"))},
+}
 
 
 def settings_words(values: Dict[str, AlphaBetaSensorSettings]) -> tuple:

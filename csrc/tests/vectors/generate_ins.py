@@ -68,6 +68,20 @@ INTEGER_FIELDS = ("gapCount", "baroRejections", "baroResets", "baroTimeouts", "a
                   "stationary", "stationaryHalfDone", "stationaryHasPrevious", "stationaryBaroStill", "accelRejected",
                   "baroRejecting")
 FLOAT_FIELDS = tuple(name for name in STATE_FIELDS if name not in INTEGER_FIELDS)
+#: What tools/make_replays.py cannot read from the header and STATE_FIELDS to write csrc/firmware/replay_ins.c
+#: (the keys: its SPECIAL_KEYS).
+REPLAY = {
+    "vector": "FusionAltitudeInsReplay",  # the type prefix given to vc.render (FusionAltitudeInsVector is the 3-vector)
+    "paths": {**{f"q.{axis}": f"q[{i}]" for i, axis in enumerate("wxyz")},
+              **{f"gyroBias.{axis}": f"gyroBias[{i}]" for i, axis in enumerate("xyz")}},
+    "getters": {**{f"q.{axis}": f"FusionAltitudeInsGetQuaternion(filter).{axis}" for axis in "wxyz"},
+                **{f"gyroBias.{axis}": f"FusionAltitudeInsGetGyroBias(filter).{axis}" for axis in "xyz"},
+                "distance": "FusionAltitudeInsGetAltitude(filter)",
+                "velocity": "FusionAltitudeInsGetVerticalVelocity(filter)"},
+    "derived": {f"{name}.{axis}": ("float", f"FusionAltitudeInsGet{getter}(filter).{axis}")
+                for name, getter in (("localToGlobal", "LocalToGlobal"), ("globalQuaternion", "GlobalQuaternion"))
+                for axis in "wxyz"},
+}
 DEFAULTS = {name: f32(default) for name, _, default, _ in INS_SETTINGS}
 
 

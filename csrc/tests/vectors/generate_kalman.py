@@ -62,6 +62,25 @@ STATE_FIELDS = ([f"settings.{name}" for name, *_ in KALMAN_SETTINGS] + [f"x[{i}]
                 + ["baroInitialised", "gpsInitialised", "gapCount", "sinceFused"])
 NAN_ALLOWED = {f"{sensor}.{field}" for sensor in ("baro", "range", "gps")
                for field in ("innovation", "innovationVariance", "nis")}
+#: What tools/make_replays.py cannot read from the header and STATE_FIELDS to write csrc/firmware/replay_kalman.c
+#: (the keys: its SPECIAL_KEYS).
+_C_STATES = ("Height", "Velocity", "BaroOffset", "GpsOffset", "AccelBias")
+_C_SENSORS = ("Baro", "Range", "Gps")
+REPLAY = {
+    "functions": {"UPDATE_NO_MEASUREMENTS": "FusionAltitudeKalmanUpdate"},
+    "nulls": {"UPDATE_NO_MEASUREMENTS": ("measurements",)},
+    "null_settings": {"INITIALISE_WITH": NULL_SETTINGS},
+    "paths": {f"{sensor.lower()}.": f"sensors[FusionAltitudeKalmanSensor{sensor}]." for sensor in _C_SENSORS},
+    "getters": {**{f"x[{i}]": f"FusionAltitudeKalmanGet{getter}(filter)" for i, getter in
+                   enumerate(("HeightAboveGround", "VerticalVelocity", "BaroOffset", "GpsOffset", "AccelBias"))},
+                **{f"P[{i}][{j}]": f"FusionAltitudeKalmanGetCovariance(filter, FusionAltitudeKalmanState"
+                                   f"{_C_STATES[i]}, FusionAltitudeKalmanState{_C_STATES[j]})"
+                   for i in range(5) for j in range(i, 5)}},
+    "derived": {"altitude": ("float", "FusionAltitudeKalmanGetAltitude(filter)"),
+                "altitudeVariance": ("float", "FusionAltitudeKalmanGetAltitudeVariance(filter)"),
+                **{f"{sensor.lower()}.nis": ("float", f"FusionAltitudeKalmanGetNis(filter, "
+                                                      f"FusionAltitudeKalmanSensor{sensor})") for sensor in _C_SENSORS}},
+}
 
 
 def bits(value) -> int:

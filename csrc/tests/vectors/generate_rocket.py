@@ -62,6 +62,22 @@ FLOAT_FIELDS = tuple(name for name in STATE_FIELDS
                      and name != "settings.observer.baro_timeout"  # +infinity (never) by default: a setting, not a result
                      and name not in ("phase", "baro", "windowStationary", "padAltitudeSet", "lastBaroSet",
                                       "baroAdmitted", "lockout", "accelTrusted", "padBaroPreviousSet", "baroLed"))
+#: What tools/make_replays.py cannot read from the header and STATE_FIELDS to write csrc/firmware/replay_rocket.c
+#: (the keys: its SPECIAL_KEYS).
+REPLAY = {
+    "functions": {"INITIALISE_WITH": "FusionAltitudeRocketInitialise",
+                  "UPDATE_VERTICAL": "FusionAltitudeRocketUpdateWithVerticalAccel"},
+    "paths": {**{f"{event}.": f"events[FusionAltitudeRocketEvent{event[0].upper()}{event[1:]}]."
+                 for event in EVENTS[:-1]},  # the candidate is a field of its own
+              **{f"observer.{gain}": f"observer.settings.{gain}"
+                 for gain in ("positionGain", "velocityGain", "biasGain")}},
+    "getters": {"lockout": "FusionAltitudeRocketIsLockedOut(filter)"},
+    "fields": ("accelBias",),  # FusionAltitudeRocketGetAccelBias is the observer's bias, not the pad's
+    "restore": ["FusionAltitudeInitialise(&filter->observer);"],
+    "checks": ["ReplayBits(FusionAltitudeRocketGetHeight(filter)) == "
+               "ReplayBits(filter->observer.altitude + filter->offsetApplied)",
+               "FusionAltitudeRocketIsCalibrated(filter) == (filter->windows > 0u)"],
+}
 
 
 def settings_words(settings: RocketSettings) -> tuple:

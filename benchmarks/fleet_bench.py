@@ -26,6 +26,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Dict, NamedTuple, Tuple
 
 import numpy as np
 
@@ -108,6 +109,9 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--copies", type=int, default=10, help="copies of each kind of log (default 10)")
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2], help="cluster sizes (default 1 2)")
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="runs of each cluster size, alternating (1 2 1 2 ...); the tables show the median "
+                             "round, and every round's ratio is printed (default 1)")
     parser.add_argument("--data", default=os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
                                                          str(ROOT / ".." / "shared" / "data")))
     args = parser.parse_args(argv)
@@ -115,6 +119,8 @@ def main(argv=None) -> int:
     if not data.is_dir():
         print(f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA or --data", file=sys.stderr)
         return 2
+    if args.rounds < 1:
+        parser.error(f"--rounds must be >= 1, got {args.rounds}")
 
     from fusion_altitude import fleet
 
@@ -126,7 +132,6 @@ def main(argv=None) -> int:
         megabytes = sum(os.path.getsize(p) for p in paths) / 1e6
         print(f"{len(paths)} logs, {megabytes:.1f} MB; {os.cpu_count()} CPUs")
         print()
-        rows = []
         firsts = [group[0] for group in kinds.values()]
         warm_up(firsts)
         sequential(firsts, tmp / "warm")
@@ -134,35 +139,28 @@ def main(argv=None) -> int:
         start = time.perf_counter()
         costs = sequential(paths, tmp / "sequential")
         elapsed = time.perf_counter() - start
-        rows.append(("sequential loop (this process)", elapsed, sum(sum(c[:3]) for c in costs.values()),
-                     sum(sum(c[3:]) for c in costs.values())))
-        processes = []
-        for workers in args.workers:
-            with fleet.open_client(None, workers, dashboard_address=":0") as client:  # the cluster `fleet run` starts
-                client.run(warm_up, firsts)
-                worker_cpu = sum(client.run(time.process_time).values())
-                start, own_cpu = time.perf_counter(), time.process_time()
-                result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / f"fleet{workers}"),
-                                        csv_options=CSV_OPTIONS)
-                elapsed, own_cpu = time.perf_counter() - start, time.process_time() - own_cpu
-                worker_cpu = sum(client.run(time.process_time).values()) - worker_cpu
-            assert len(result.computed) == len(paths), result.failed
-            busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in result.costs.to_pylist())
-            cpu = sum(row["cpu_s"] for row in result.costs.to_pylist())
-            name = f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}"
-            rows.append((name, elapsed, busy, cpu))
-            processes.append((name, workers, elapsed, worker_cpu, own_cpu))
+        loop_row = ("sequential loop (this process)", elapsed, sum(sum(c[:3]) for c in costs.values()),
+                    sum(sum(c[3:]) for c in costs.values()))
+        rounds = []
+        for number in range(args.rounds):
+            rounds.append({workers: cluster_run(tmp, paths, firsts, workers, f"fleet{number}-{workers}")
+                           for workers in args.workers})
+        chosen = print_rounds(rounds, args.workers, len(paths)) if args.rounds > 1 else rounds[0]
+        runs = [chosen[workers] for workers in args.workers]
         print(f"load average (1 min) at the start: {load:.1f} on {os.cpu_count()} CPUs")
         print()
-        print_runs(rows, len(paths), megabytes)
+        print_runs([loop_row] + [run.row for run in runs], len(paths), megabytes)
         print()
-        print_processes(processes, len(paths))
+        print_processes(runs, len(paths))
+        print()
+        print_threads(runs, len(paths))
+        print()
+        print_messages(runs, len(paths))
         print()
         print("Per log, sequential loop (mean; wall ms, CPU ms in brackets; read MB/s from CPU time):")
         print()
         print("| log | size (MB) | samples | read (ms) | estimate (ms) | write (ms) | read MB/s |")
         print("|---|---:|---:|---:|---:|---:|---:|")
-        from fusion_altitude import fleet
         for kind, group in kinds.items():
             split = np.mean([costs[p] for p in group], axis=0)
             size = os.path.getsize(group[0]) / 1e6
@@ -170,7 +168,7 @@ def main(argv=None) -> int:
             print(f"| {kind} | {size:.2f} | {samples} | {split[0] * 1e3:.1f} ({split[3] * 1e3:.1f}) | "
                   f"{split[1] * 1e3:.2f} ({split[4] * 1e3:.2f}) | {split[2] * 1e3:.1f} ({split[5] * 1e3:.1f}) | "
                   f"{size / split[3]:.1f} |")
-        written = sum(p.stat().st_size for p in (tmp / f"fleet{args.workers[-1]}" / "logs").iterdir()) / 1e6
+        written = sum(p.stat().st_size for p in (tmp / runs[-1].directory / "logs").iterdir()) / 1e6
         samples_total = sum(fleet.read_log(p, CSV_OPTIONS if p.endswith(".csv") else {}).time.size for p in paths)
         print()
         print(f"outputs: {written:.1f} MB of Parquet for {samples_total} samples "
@@ -187,6 +185,91 @@ def main(argv=None) -> int:
         print(fleet_cost_table(os.path.getsize(kinds["PX4 ULog"][0]) / 1e6 / ulog[3], csv[4] / csv_samples,
                                csv[5] / csv_samples, written * 1e6 / samples_total))
     return 0
+
+
+class ClusterRun(NamedTuple):
+    """One ``fleet.run_many`` over the bench's logs on a fresh local cluster, and where its CPU went."""
+
+    name: str
+    workers: int
+    directory: str  # its output directory, under the bench's temporary directory
+    row: Tuple[str, float, float, float]  # (name, wall s, per-log wall s summed, per-log CPU s summed)
+    worker_threads: Dict[str, float]  # CPU s of the worker processes, by thread role (every worker summed)
+    client_threads: Dict[str, float]  # CPU s of this process (client, scheduler, nannies), by thread role
+    other_cpu: float  # CPU s of this process's other children (neither worker nor this process), s
+    worker_comm: Tuple[int, int]  # (messages, bytes) the workers wrote to their TCP connections
+    client_comm: Tuple[int, int]  # (messages, bytes) this process wrote (client, scheduler, nannies)
+    publish_wait: float  # s the tasks' threads waited for their files to be durable (summed over tasks)
+    tasks: int  # Dask tasks the run submitted (fleet._batches)
+
+    @property
+    def elapsed(self) -> float:
+        return self.row[1]
+
+    @property
+    def worker_cpu(self) -> float:
+        return sum(self.worker_threads.values())
+
+    @property
+    def client_cpu(self) -> float:
+        return sum(self.client_threads.values())
+
+
+def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> ClusterRun:
+    """Run the fleet on a fresh cluster of ``workers`` processes (the one ``fleet run`` starts), warmed up;
+    CPU by process and thread, and the TCP messages written, over the run only."""
+    import psutil
+
+    from fusion_altitude import fleet
+
+    with fleet.open_client(None, workers) as client:  # the cluster `fleet run` starts
+        client.run(warm_up, firsts)
+        client.run(count_comm_writes)
+        client.run(count_publish_waits)
+        worker_pids = set(client.run(os.getpid).values())
+        before = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
+                  other_children_cpu(psutil.Process(), worker_pids), sum(client.run(count_publish_waits).values()))
+        start = time.perf_counter()
+        result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / directory),
+                                csv_options=CSV_OPTIONS)
+        elapsed = time.perf_counter() - start
+        after = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
+                 other_children_cpu(psutil.Process(), worker_pids), sum(client.run(count_publish_waits).values()))
+    assert len(result.computed) == len(paths), result.failed
+    rows = result.costs.to_pylist()
+    busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in rows)
+    cpu = sum(row["cpu_s"] for row in rows)
+    name = f"fleet.run_many, {workers} worker process{'es' if workers > 1 else ''}"
+    delta = [{role: value - old.get(role, 0.0) for role, value in new.items()} for new, old in
+             zip(after[:2], before[:2])]
+    comm = [tuple(a - b for a, b in zip(new, old)) for new, old in zip(after[2], before[2])]
+    return ClusterRun(name, workers, directory, (name, elapsed, busy, cpu), delta[0], delta[1],
+                      after[3] - before[3], comm[0], comm[1], after[4] - before[4],
+                      len(fleet._batches(paths, workers)))
+
+
+def print_rounds(rounds, sizes, logs) -> Dict[int, ClusterRun]:
+    """Each round's throughput ratio of the larger clusters to the first, their medians, and the round whose
+    ratio is the median one (its tables follow)."""
+    first, *others = sizes
+    names = [f"{w} worker{'s' if w > 1 else ''} (logs/s)" for w in sizes]
+    print(f"| round | {' | '.join(names)} | {' | '.join(f'{w} / {first} workers' for w in others)} |")
+    print("|---:|" + "---:|" * (len(sizes) + len(others)))
+    ratios = []
+    for number, runs in enumerate(rounds, 1):
+        ratio = [runs[first].elapsed / runs[w].elapsed for w in others]
+        ratios.append(ratio[-1] if ratio else 1.0)
+        print(f"| {number} | {' | '.join(f'{logs / runs[w].elapsed:.1f}' for w in sizes)} | "
+              f"{' | '.join(f'{r:.2f}' for r in ratio)} |")
+    for index, w in enumerate(others):
+        values = [runs[first].elapsed / runs[w].elapsed for runs in rounds]
+        print(f"median ratio {w} / {first} workers over {len(rounds)} rounds: {float(np.median(values)):.2f}x "
+              f"(min {min(values):.2f}, max {max(values):.2f})")
+    print()
+    middle = int(np.argsort(ratios)[len(ratios) // 2])
+    print(f"The tables below are round {middle + 1}'s (its ratio is the median).")
+    print()
+    return rounds[middle]
 
 
 def print_runs(rows, logs, megabytes):
@@ -206,16 +289,141 @@ def print_runs(rows, logs, megabytes):
         print(f"ratio: {name} / {clusters[0][0]}: {clusters[0][1] / seconds:.2f}x the throughput")
 
 
-def print_processes(processes, logs):
+def print_processes(runs, logs):
     """Where the CPU of each cluster run went: its worker processes (every thread: the tasks, Dask's own
-    event loop, the publish thread) and this process (the client and the ``LocalCluster``'s scheduler)."""
+    event loop, the publish thread), this process (the client, the ``LocalCluster``'s scheduler and nannies,
+    the dashboard) and any other child process; and how long the tasks waited for their files' ``fsync``."""
     cores = os.cpu_count() or 1
     print("| run | workers' CPU (s) | workers' CPU ms per log | client and scheduler CPU (s) "
-          "| client and scheduler CPU ms per log | CPU busy, % of all cores |")
+          "| client and scheduler CPU ms per log | other processes' CPU ms per log | tasks' wait for fsync, ms per log "
+          "| CPU busy, % of all cores |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for run in runs:
+        total = run.worker_cpu + run.client_cpu + run.other_cpu
+        print(f"| {run.name} | {run.worker_cpu:.2f} | {1e3 * run.worker_cpu / logs:.2f} | {run.client_cpu:.2f} | "
+              f"{1e3 * run.client_cpu / logs:.2f} | {1e3 * run.other_cpu / logs:.2f} | "
+              f"{1e3 * run.publish_wait / logs:.2f} | {100 * total / (run.elapsed * cores):.0f} |")
+
+
+def print_threads(runs, logs):
+    """CPU ms per log of each kind of thread, in the worker processes (all workers summed) and in this
+    process; threads that ended during the run count under "ended threads"."""
+    roles = sorted({("worker", role) for run in runs for role in run.worker_threads}
+                   | {("client", role) for run in runs for role in run.client_threads})
+    print("CPU ms per log by thread (workers summed; from /proc, 10 ms ticks):")
+    print()
+    print("| process: thread | " + " | ".join(run.name for run in runs) + " |")
+    print("|---|" + "---:|" * len(runs))
+    for side, role in roles:
+        values = [(run.worker_threads if side == "worker" else run.client_threads).get(role, 0.0) for run in runs]
+        label = f"{'worker' if side == 'worker' else 'client'}: {role}"
+        print(f"| {label} | " + " | ".join(f"{1e3 * value / logs:.2f}" for value in values) + " |")
+
+
+def print_messages(runs, logs):
+    """TCP messages (Dask's comm writes; a batched write counts once) and bytes per log, by writer."""
+    print("| run | tasks | workers' messages per log | workers' bytes per log | client and scheduler messages "
+          "per log | client and scheduler bytes per log |")
     print("|---|---:|---:|---:|---:|---:|")
-    for name, _, seconds, worker_cpu, own_cpu in processes:
-        print(f"| {name} | {worker_cpu:.2f} | {1e3 * worker_cpu / logs:.2f} | {own_cpu:.2f} | "
-              f"{1e3 * own_cpu / logs:.2f} | {100 * (worker_cpu + own_cpu) / (seconds * cores):.0f} |")
+    for run in runs:
+        print(f"| {run.name} | {run.tasks} | {run.worker_comm[0] / logs:.2f} | {run.worker_comm[1] / logs:.0f} | "
+              f"{run.client_comm[0] / logs:.2f} | {run.client_comm[1] / logs:.0f} |")
+
+
+def thread_cpu() -> Dict[str, float]:
+    """CPU time (user + system, s) of this process by thread role: each thread's name without its numbers,
+    from /proc; the time of threads that have ended is "ended threads" (the process's total minus the
+    living threads')."""
+    import re
+    import threading
+
+    tick = os.sysconf("SC_CLK_TCK")
+    names = {thread.native_id: thread.name for thread in threading.enumerate()}
+
+    def cpu(stat_path):
+        with open(stat_path) as handle:
+            fields = handle.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / tick
+
+    roles: Dict[str, float] = {}
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            seconds = cpu(f"/proc/self/task/{tid}/stat")
+        except OSError:  # ended meanwhile
+            continue
+        name = names.get(int(tid), "C threads (no Python name)")
+        role = re.sub(r"--+", "-", re.sub(r"\d+", "", name)).strip("-_ ")
+        roles[role] = roles.get(role, 0.0) + seconds
+    roles["ended threads"] = max(0.0, cpu("/proc/self/stat") - sum(roles.values()))
+    return roles
+
+
+def sum_threads(per_process) -> Dict[str, float]:
+    """Thread-role CPU times of several processes, added up."""
+    total: Dict[str, float] = {}
+    for roles in per_process:
+        for role, seconds in roles.items():
+            total[role] = total.get(role, 0.0) + seconds
+    return total
+
+
+def other_children_cpu(process, worker_pids) -> float:
+    """CPU s of this process's child processes other than the workers (alive now)."""
+    total = 0.0
+    for child in process.children(recursive=True):
+        if child.pid not in worker_pids:
+            try:
+                times = child.cpu_times()
+                total += times.user + times.system
+            except Exception:  # ended meanwhile
+                pass
+    return total
+
+
+def count_comm_writes() -> Tuple[int, int]:
+    """(messages, bytes) this process has written to Dask's TCP connections since the first call, which starts
+    counting (the counts live on the patched method: this function reaches a worker by value, through
+    ``client.run``, so a global of this script would be a fresh copy at each call)."""
+    from distributed.comm.tcp import TCP
+
+    if not hasattr(TCP.write, "counts"):
+        original = TCP.write
+
+        async def write(self, *args, **kwargs):
+            written = await original(self, *args, **kwargs)
+            write.counts[0] += 1
+            write.counts[1] += written
+            return written
+
+        write.counts = [0, 0]
+        TCP.write = write
+    return tuple(TCP.write.counts)
+
+
+def comm_written(client) -> Tuple[Tuple[int, int], Tuple[int, int]]:
+    """((messages, bytes) written by all the workers, (messages, bytes) written by this process) so far."""
+    workers = list(client.run(count_comm_writes).values())
+    return (sum(w[0] for w in workers), sum(w[1] for w in workers)), count_comm_writes()
+
+
+def count_publish_waits() -> float:
+    """Time the tasks' threads of this process spent in ``fleet._Publisher.close`` (waiting for their files'
+    ``fsync`` and rename), s, since the first call (which starts counting)."""
+    from fusion_altitude import fleet
+
+    if not hasattr(fleet._Publisher.close, "waited"):
+        close = fleet._Publisher.close
+
+        def timed(self, *args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return close(self, *args, **kwargs)
+            finally:
+                timed.waited[0] += time.perf_counter() - start
+
+        timed.waited = [0.0]
+        fleet._Publisher.close = timed
+    return fleet._Publisher.close.waited[0]
 
 
 #: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),

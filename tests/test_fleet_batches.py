@@ -141,3 +141,44 @@ def test_the_local_cluster_workers_run_without_dask_malloc_trimming_and_profiler
         (environ,) = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_")).values()
         (profiling,) = client.run(lambda: dask.config.get("distributed.worker.profile.enabled")).values()
     assert environ is None and profiling is False
+
+
+def test_a_worker_starts_its_next_task_while_a_finished_task_waits_for_the_disk(one_log, tmp_path, monkeypatch):
+    """The wait for the last files' fsync happens off the worker's one slot (``distributed.secede``): with one
+    thread, a second task runs while the first one is still in ``_Publisher.close``."""
+    import threading
+
+    import distributed
+
+    next_task_ran = threading.Event()
+    close = fleet._Publisher.close
+
+    def slow_disk(publisher):
+        waited = next_task_ran.wait(timeout=20)
+        close(publisher)
+        return waited
+
+    monkeypatch.setattr(fleet._Publisher, "close", lambda publisher: seen.append(slow_disk(publisher)))
+    monkeypatch.setattr(fleet, "_test_next_task_ran", next_task_ran, raising=False)  # a task's arguments are pickled
+    seen = []
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
+        first = client.submit(fleet._process_batch, _jobs([one_log], str(tmp_path / "out")), pure=False)
+        second = client.submit(lambda: fleet._test_next_task_ran.set(), pure=False)
+        second.result(timeout=20)
+        assert first.result(timeout=30)[0]["action"] == "computed"
+    assert seen == [True]
+
+
+def test_a_batch_run_outside_a_worker_waits_for_its_files_on_its_own_thread(one_log, tmp_path, monkeypatch):
+    import threading
+
+    threads = []
+    close = fleet._Publisher.close
+
+    def record(publisher):
+        threads.append(threading.current_thread())
+        close(publisher)
+
+    monkeypatch.setattr(fleet._Publisher, "close", record)
+    fleet._process_batch(_jobs([one_log], str(tmp_path / "out")))
+    assert threads == [threading.current_thread()]

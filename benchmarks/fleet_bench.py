@@ -153,6 +153,8 @@ def main(argv=None) -> int:
         print()
         print_processes(runs, len(paths))
         print()
+        print_slots(runs, len(paths))
+        print()
         print_threads(runs, len(paths))
         print()
         print_messages(runs, len(paths))
@@ -199,7 +201,7 @@ class ClusterRun(NamedTuple):
     other_cpu: float  # CPU s of this process's other children (neither worker nor this process), s
     worker_comm: Tuple[int, int]  # (messages, bytes) the workers wrote to their TCP connections
     client_comm: Tuple[int, int]  # (messages, bytes) this process wrote (client, scheduler, nannies)
-    publish_wait: float  # s the tasks' threads waited for their files to be durable (summed over tasks)
+    slots: Dict[str, float]  # where the worker slots' time went, s (slot_use)
     tasks: int  # Dask tasks the run submitted (fleet._batches)
 
     @property
@@ -225,16 +227,17 @@ def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> Clust
     with fleet.open_client(None, workers) as client:  # the cluster `fleet run` starts
         client.run(warm_up, firsts)
         client.run(count_comm_writes)
-        client.run(count_publish_waits)
+        client.run(record_slots)
         worker_pids = set(client.run(os.getpid).values())
         before = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
-                  other_children_cpu(psutil.Process(), worker_pids), sum(client.run(count_publish_waits).values()))
-        start = time.perf_counter()
+                  other_children_cpu(psutil.Process(), worker_pids))
+        start, since = time.perf_counter(), time.time()
         result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / directory),
                                 csv_options=CSV_OPTIONS)
-        elapsed = time.perf_counter() - start
+        elapsed, until = time.perf_counter() - start, time.time()
         after = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
-                 other_children_cpu(psutil.Process(), worker_pids), sum(client.run(count_publish_waits).values()))
+                 other_children_cpu(psutil.Process(), worker_pids))
+        slots = slot_use(client, since, until, workers)
     assert len(result.computed) == len(paths), result.failed
     rows = result.costs.to_pylist()
     busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in rows)
@@ -244,7 +247,7 @@ def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> Clust
              zip(after[:2], before[:2])]
     comm = [tuple(a - b for a, b in zip(new, old)) for new, old in zip(after[2], before[2])]
     return ClusterRun(name, workers, directory, (name, elapsed, busy, cpu), delta[0], delta[1],
-                      after[3] - before[3], comm[0], comm[1], after[4] - before[4],
+                      after[3] - before[3], comm[0], comm[1], slots,
                       len(fleet._batches(paths, workers)))
 
 
@@ -292,17 +295,31 @@ def print_runs(rows, logs, megabytes):
 def print_processes(runs, logs):
     """Where the CPU of each cluster run went: its worker processes (every thread: the tasks, Dask's own
     event loop, the publish thread), this process (the client, the ``LocalCluster``'s scheduler and nannies,
-    the dashboard) and any other child process; and how long the tasks waited for their files' ``fsync``."""
+    the dashboard) and any other child process."""
     cores = os.cpu_count() or 1
     print("| run | workers' CPU (s) | workers' CPU ms per log | client and scheduler CPU (s) "
-          "| client and scheduler CPU ms per log | other processes' CPU ms per log | tasks' wait for fsync, ms per log "
-          "| CPU busy, % of all cores |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+          "| client and scheduler CPU ms per log | other processes' CPU ms per log | CPU busy, % of all cores |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for run in runs:
         total = run.worker_cpu + run.client_cpu + run.other_cpu
         print(f"| {run.name} | {run.worker_cpu:.2f} | {1e3 * run.worker_cpu / logs:.2f} | {run.client_cpu:.2f} | "
               f"{1e3 * run.client_cpu / logs:.2f} | {1e3 * run.other_cpu / logs:.2f} | "
-              f"{1e3 * run.publish_wait / logs:.2f} | {100 * total / (run.elapsed * cores):.0f} |")
+              f"{100 * total / (run.elapsed * cores):.0f} |")
+
+
+def print_slots(runs, logs):
+    """Where the worker slots' wall time went (ms per log, summed over the workers): a task's work (read,
+    estimate, write, handed to the publish thread), its wait for the disk while it still held the slot,
+    its wait after it left the slot (the next task running meanwhile), and the time a slot had no task
+    (the client's work before the first task and after the last, Dask's round trips, the run's tail)."""
+    print("| run | work (ms per log) | disk wait holding the slot (ms per log) | disk wait after leaving it "
+          "(ms per log) | slot empty (ms per log) | slot busy, % of the run |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for run in runs:
+        held = run.slots["work"] + run.slots["disk wait in the slot"]
+        print(f"| {run.name} | " + " | ".join(f"{1e3 * run.slots[k] / logs:.2f}" for k in (
+            "work", "disk wait in the slot", "disk wait after the slot", "slot empty"))
+            + f" | {100 * held / (run.workers * run.elapsed):.0f} |")
 
 
 def print_threads(runs, logs):
@@ -406,24 +423,49 @@ def comm_written(client) -> Tuple[Tuple[int, int], Tuple[int, int]]:
     return (sum(w[0] for w in workers), sum(w[1] for w in workers)), count_comm_writes()
 
 
-def count_publish_waits() -> float:
-    """Time the tasks' threads of this process spent in ``fleet._Publisher.close`` (waiting for their files'
-    ``fsync`` and rename), s, since the first call (which starts counting)."""
+def record_slots():
+    """Per task run in this process since the first call (which starts recording): (start, logs done, slot
+    free, end), wall-clock s (``time.time``): when ``fleet._process_batch`` began, when its last log was
+    handed to the publish thread, when the worker's slot was free for the next task (after
+    ``fleet._leave_worker_slot`` seceded, else at the end) and when it returned, its files durable."""
+    import threading
+
+    from distributed.threadpoolexecutor import thread_state
+
     from fusion_altitude import fleet
 
-    if not hasattr(fleet._Publisher.close, "waited"):
-        close = fleet._Publisher.close
+    if not hasattr(fleet._process_batch, "slots"):
+        run_batch, leave = fleet._process_batch, fleet._leave_worker_slot
+        local = threading.local()
 
-        def timed(self, *args, **kwargs):
-            start = time.perf_counter()
+        def timed_leave():
+            local.times.append(time.time())
+            leave()
+            if getattr(thread_state, "proceed", True) is False:  # seceded: the slot is free
+                local.times.append(time.time())
+
+        def timed_batch(jobs):
+            local.times = [time.time()]
             try:
-                return close(self, *args, **kwargs)
+                return run_batch(jobs)
             finally:
-                timed.waited[0] += time.perf_counter() - start
+                end = time.time()
+                times = local.times + [end] * (4 - len(local.times))
+                timed_batch.slots.append(tuple(times[:2]) + (times[2], end))
 
-        timed.waited = [0.0]
-        fleet._Publisher.close = timed
-    return fleet._Publisher.close.waited[0]
+        timed_batch.slots = []
+        fleet._process_batch, fleet._leave_worker_slot = timed_batch, timed_leave
+    return list(fleet._process_batch.slots)
+
+
+def slot_use(client, since: float, until: float, workers: int) -> Dict[str, float]:
+    """Where the worker slots' time went between ``since`` and ``until`` (s, summed over the workers)."""
+    tasks = [task for slots in client.run(record_slots).values() for task in slots if task[0] >= since]
+    held = sum(free - begin for begin, _, free, _ in tasks)
+    return {"work": sum(done - begin for begin, done, _, _ in tasks),
+            "disk wait in the slot": sum(free - done for _, done, free, _ in tasks),
+            "disk wait after the slot": sum(end - free for _, _, free, end in tasks),
+            "slot empty": workers * (until - since) - held}
 
 
 #: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),

@@ -1,8 +1,15 @@
 """Fleet throughput: logs/s and MB/s of ``fleet.run_many`` with 1 and 2 workers
 against a plain sequential loop over the same logs, in one run, and the per-log cost
-split into read, estimate and write.
+split into read, estimate and write; where each cluster run's CPU and time went.
 
-    python benchmarks/fleet_bench.py [--copies N] [--workers 1 2] [--data DIR]
+    python benchmarks/fleet_bench.py [--copies N] [--workers 1 2] [--rounds R] [--data DIR]
+
+The 2-to-1 worker ratio of issue 25, on an idle machine, in one command:
+
+    python benchmarks/fleet_bench.py --copies 60 --rounds 5
+
+(5 rounds of a 1-worker then a 2-worker run, each on a fresh cluster; every round's ratio and the median
+are printed, then the tables of the round whose ratio is the median.)
 
 The fleet is ``--copies`` copies of each of four kinds of log, built in a temporary
 directory from the shared real logs (FUSION_ALTITUDE_SHARED_DATA, else ../shared/data)
@@ -11,10 +18,16 @@ and the simulator: the PX4 ULog (0.9 MB, 6.5 s), the ArduPilot DataFlash log (64
 multirotor CSV (100 Hz). The sequential loop reads, runs and writes each log's Parquet
 file in this process (what a user writes without the fleet, with the fleet's Parquet writer options); the fleet runs on a
 ``LocalCluster`` of worker processes started as ``fleet run`` starts it (``fleet.open_client``) and warmed
-up (one log of each kind run) before the clock starts, into a fresh output directory each time. Besides the
-per-log times it records the CPU time of the worker processes and of this process (the client and the
-local scheduler) over each run, i.e. where the cores' time went. One run each: the machine is
-shared, so figures move by ±20 % between runs.
+up (one log of each kind run) before the clock starts, into a fresh output directory each time. Over each
+cluster run it records:
+
+- the CPU time of every process: the workers, this process (the client, the local scheduler, the nannies
+  and the dashboard) and any other child process; and of each kind of thread in them (from /proc);
+- where the worker slots' wall time went: the tasks' work, their wait for the disk while holding the slot
+  and after leaving it (``fleet._leave_worker_slot``), and the time a slot had no task;
+- the messages and bytes each side wrote to Dask's TCP connections.
+
+The machine is shared, so a single run's figures move by ±20 %; ``--rounds`` repeats the clusters.
 """
 
 from __future__ import annotations
@@ -311,30 +324,44 @@ def print_slots(runs, logs):
     """Where the worker slots' wall time went (ms per log, summed over the workers): a task's work (read,
     estimate, write, handed to the publish thread), its wait for the disk while it still held the slot,
     its wait after it left the slot (the next task running meanwhile), and the time a slot had no task
-    (the client's work before the first task and after the last, Dask's round trips, the run's tail)."""
+    (the client's work before the first task and after the last, Dask's round trips, the run's tail); and how
+    far apart the workers' last tasks ended (the tail: one worker idle meanwhile)."""
     print("| run | work (ms per log) | disk wait holding the slot (ms per log) | disk wait after leaving it "
-          "(ms per log) | slot empty (ms per log) | slot busy, % of the run |")
-    print("|---|---:|---:|---:|---:|---:|")
+          "(ms per log) | slot empty (ms per log) | slot busy, % of the run | workers' last tasks ended apart (ms) |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for run in runs:
         held = run.slots["work"] + run.slots["disk wait in the slot"]
         print(f"| {run.name} | " + " | ".join(f"{1e3 * run.slots[k] / logs:.2f}" for k in (
             "work", "disk wait in the slot", "disk wait after the slot", "slot empty"))
-            + f" | {100 * held / (run.workers * run.elapsed):.0f} |")
+            + f" | {100 * held / (run.workers * run.elapsed):.0f} | {1e3 * run.slots['ends apart']:.0f} |")
+
+
+#: The thread roles of the thread table: (process, role, the thread names in it). Dask's task threads end when
+#: their task secedes (``fleet._leave_worker_slot``), so a worker's ended threads count as task threads.
+THREAD_ROLES = (("worker", "task threads (Dask-Default-Threads)", ("Dask-Default-Threads", "ended threads")),
+                ("worker", "event loop (MainThread: Dask's messages, heartbeats)", ("MainThread",)),
+                ("worker", "publish thread (fsync, rename)", ("fleet-publish",)),
+                ("worker", "other threads", None),
+                ("client", "client (MainThread: run_many)", ("MainThread",)),
+                ("client", "IO loop (scheduler, nannies, dashboard, client's messages)", ("IO loop",)),
+                ("client", "other threads", None))
 
 
 def print_threads(runs, logs):
     """CPU ms per log of each kind of thread, in the worker processes (all workers summed) and in this
-    process; threads that ended during the run count under "ended threads"."""
-    roles = sorted({("worker", role) for run in runs for role in run.worker_threads}
-                   | {("client", role) for run in runs for role in run.client_threads})
-    print("CPU ms per log by thread (workers summed; from /proc, 10 ms ticks):")
+    process (:data:`THREAD_ROLES`)."""
+    print("CPU ms per log by thread (workers summed; from /proc, in 10 ms ticks):")
     print()
-    print("| process: thread | " + " | ".join(run.name for run in runs) + " |")
+    print("| process: threads | " + " | ".join(run.name for run in runs) + " |")
     print("|---|" + "---:|" * len(runs))
-    for side, role in roles:
-        values = [(run.worker_threads if side == "worker" else run.client_threads).get(role, 0.0) for run in runs]
-        label = f"{'worker' if side == 'worker' else 'client'}: {role}"
-        print(f"| {label} | " + " | ".join(f"{1e3 * value / logs:.2f}" for value in values) + " |")
+    for side, role, names in THREAD_ROLES:
+        named = {name for s, _, group in THREAD_ROLES if s == side and group for name in group}
+        values = []
+        for run in runs:
+            threads = run.worker_threads if side == "worker" else run.client_threads
+            values.append(max(0.0, sum(seconds for name, seconds in threads.items()
+                                       if (name in names if names else name not in named))))
+        print(f"| {side}: {role} | " + " | ".join(f"{1e3 * value / logs:.2f}" for value in values) + " |")
 
 
 def print_messages(runs, logs):
@@ -462,7 +489,11 @@ def slot_use(client, since: float, until: float, workers: int) -> Dict[str, floa
     """Where the worker slots' time went between ``since`` and ``until`` (s, summed over the workers)."""
     tasks = [task for slots in client.run(record_slots).values() for task in slots if task[0] >= since]
     held = sum(free - begin for begin, _, free, _ in tasks)
-    return {"work": sum(done - begin for begin, done, _, _ in tasks),
+    last = {}  # worker -> when its last task ended
+    for worker, slots in client.run(record_slots).items():
+        last[worker] = max([end for begin, _, _, end in slots if begin >= since], default=since)
+    return {"ends apart": max(last.values()) - min(last.values()),
+            "work": sum(done - begin for begin, done, _, _ in tasks),
             "disk wait in the slot": sum(free - done for _, done, free, _ in tasks),
             "disk wait after the slot": sum(end - free for _, _, free, end in tasks),
             "slot empty": workers * (until - since) - held}

@@ -37,7 +37,8 @@ Output directory
 
 Every file is written to a temporary name, made durable (``fsync``) and renamed
 into place (local disks; :class:`_Publisher`: on a thread of its own, overlapping
-the next log, with one directory ``fsync`` per task before the task reports), or
+the next log, with one directory ``fsync`` per task before the task reports, while
+the worker already runs its next task), or
 uploaded as one object (object stores), so a worker that dies mid-write leaves
 either the complete old file or none; Dask reruns its task.
 
@@ -378,7 +379,8 @@ class _Publisher:
     into place and removes the file it supersedes, if any, while the next log is read and run (an ``fsync``
     waits about 4 ms for the disk and costs 0.2 ms of CPU). :meth:`close` waits for every file and
     ``fsync``\ s each directory renamed into once, so when a task returns its results, every file it wrote is
-    complete and durable, name included. A worker killed before that leaves the complete old file or none
+    complete and durable, name included (a task on a Dask worker waits for that after leaving its slot to the
+    next task: :func:`_leave_worker_slot`). A worker killed before that leaves the complete old file or none
     (and temporary files, which :func:`run_many` removes at the end); Dask reruns the task, which reuses every
     output already in place. Object stores get each file as one object, at once.
     """
@@ -658,7 +660,8 @@ class _Outputs(NamedTuple):
 
 def _process_batch(jobs: Sequence[_Job]) -> List[Dict[str, Any]]:
     """Run consecutive logs (one Dask task): the :func:`_process_log` result of each, in order, returned once
-    every file they wrote is in place and durable (:class:`_Publisher`)."""
+    every file they wrote is in place and durable (:class:`_Publisher`). The wait for the last files' disk
+    happens after the task has handed its worker slot to the next task (:func:`_leave_worker_slot`)."""
     publisher = _Publisher()
     try:
         return [_process_log(job, publisher) for job in jobs]

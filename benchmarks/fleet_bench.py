@@ -128,12 +128,12 @@ def main(argv=None) -> int:
     parser.add_argument("--data", default=os.environ.get("FUSION_ALTITUDE_SHARED_DATA",
                                                          str(ROOT / ".." / "shared" / "data")))
     args = parser.parse_args(argv)
+    if args.rounds < 1:
+        parser.error(f"--rounds must be >= 1, got {args.rounds}")
     data = Path(args.data)
     if not data.is_dir():
         print(f"shared data not found at {data}: set FUSION_ALTITUDE_SHARED_DATA or --data", file=sys.stderr)
         return 2
-    if args.rounds < 1:
-        parser.error(f"--rounds must be >= 1, got {args.rounds}")
 
     from fusion_altitude import fleet
 

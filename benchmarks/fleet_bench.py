@@ -327,7 +327,8 @@ def print_slots(runs, logs):
     (the client's work before the first task and after the last, Dask's round trips, the run's tail); and how
     far apart the workers' last tasks ended (the tail: one worker idle meanwhile)."""
     print("| run | work (ms per log) | disk wait holding the slot (ms per log) | disk wait after leaving it "
-          "(ms per log) | slot empty (ms per log) | slot busy, % of the run | workers' last tasks ended apart (ms) |")
+          "(ms per log) | slot empty (ms per log) | slot busy, % of the run "
+          "| workers' last tasks ended apart (ms) |")
     print("|---|---:|---:|---:|---:|---:|---:|")
     for run in runs:
         held = run.slots["work"] + run.slots["disk wait in the slot"]

@@ -33,6 +33,7 @@ The machine is shared, so a single run's figures move by ±20 %; ``--rounds`` re
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shutil
 import sys
@@ -216,6 +217,7 @@ class ClusterRun(NamedTuple):
     client_comm: Tuple[int, int]  # (messages, bytes) this process wrote (client, scheduler, nannies)
     slots: Dict[str, float]  # where the worker slots' time went, s (slot_use)
     tasks: int  # Dask tasks the run submitted (fleet._batches)
+    load: float = math.nan  # the machine's 1-minute load average when the run started
 
     @property
     def elapsed(self) -> float:
@@ -244,7 +246,7 @@ def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> Clust
         worker_pids = set(client.run(os.getpid).values())
         before = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
                   other_children_cpu(psutil.Process(), worker_pids))
-        start, since = time.perf_counter(), time.time()
+        load, start, since = os.getloadavg()[0], time.perf_counter(), time.time()
         result = fleet.run_many(str(tmp / "logs"), client=client, output_dir=str(tmp / directory),
                                 csv_options=CSV_OPTIONS)
         elapsed, until = time.perf_counter() - start, time.time()
@@ -261,7 +263,7 @@ def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> Clust
     comm = [tuple(a - b for a, b in zip(new, old)) for new, old in zip(after[2], before[2])]
     return ClusterRun(name, workers, directory, (name, elapsed, busy, cpu), delta[0], delta[1],
                       after[3] - before[3], comm[0], comm[1], slots,
-                      len(fleet._batches(paths, workers)))
+                      len(fleet._batches(paths, workers)), load)
 
 
 def print_rounds(rounds, sizes, logs) -> Dict[int, ClusterRun]:
@@ -269,21 +271,23 @@ def print_rounds(rounds, sizes, logs) -> Dict[int, ClusterRun]:
     ratio is the median one (its tables follow)."""
     first, *others = sizes
     names = [f"{w} worker{'s' if w > 1 else ''} (logs/s)" for w in sizes]
-    print(f"| round | {' | '.join(names)} | {' | '.join(f'{w} / {first} workers' for w in others)} |")
-    print("|---:|" + "---:|" * (len(sizes) + len(others)))
+    print(f"| round | {' | '.join(names)} | {' | '.join(f'{w} / {first} workers' for w in others)} "
+          "| load average at the runs' starts |")
+    print("|---:|" + "---:|" * (len(sizes) + len(others)) + "---|")
     ratios = []
     for number, runs in enumerate(rounds, 1):
         ratio = [runs[first].elapsed / runs[w].elapsed for w in others]
         ratios.append(ratio[-1] if ratio else 1.0)
         print(f"| {number} | {' | '.join(f'{logs / runs[w].elapsed:.1f}' for w in sizes)} | "
-              f"{' | '.join(f'{r:.2f}' for r in ratio)} |")
+              f"{' | '.join(f'{r:.2f}' for r in ratio)} | {', '.join(f'{runs[w].load:.1f}' for w in sizes)} |")
     for index, w in enumerate(others):
         values = [runs[first].elapsed / runs[w].elapsed for runs in rounds]
         print(f"median ratio {w} / {first} workers over {len(rounds)} rounds: {float(np.median(values)):.2f}x "
               f"(min {min(values):.2f}, max {max(values):.2f})")
     print()
     middle = int(np.argsort(ratios)[len(ratios) // 2])
-    print(f"The tables below are round {middle + 1}'s (its ratio is the median).")
+    print(f"The tables below are round {middle + 1}'s (its ratio is the median"
+          + ("; of an even number of rounds, the higher of the middle two)." if len(ratios) % 2 == 0 else ")."))
     print()
     return rounds[middle]
 

@@ -205,7 +205,7 @@ def test_the_fleet_bench_prints_each_rounds_ratio_and_the_median_and_shows_the_m
     rounds = [{1: run(1, 2.0), 2: run(2, seconds)} for seconds in (1.0, 1.25, 1.1)]  # ratios 2.0, 1.6, 1.82
     chosen = bench.print_rounds(rounds, [1, 2], logs=240)
     printed = capsys.readouterr().out
-    assert "| 1 | 120.0 | 240.0 | 2.00 |" in printed and "| 2 | 120.0 | 192.0 | 1.60 |" in printed
+    assert "| 1 | 120.0 | 240.0 | 2.00 | nan, nan |" in printed and "| 2 | 120.0 | 192.0 | 1.60 |" in printed
     assert "median ratio 2 / 1 workers over 3 rounds: 1.82x (min 1.60, max 2.00)" in printed
     assert chosen is rounds[2]
 

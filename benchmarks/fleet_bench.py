@@ -252,7 +252,7 @@ def cluster_run(tmp: Path, paths, firsts, workers: int, directory: str) -> Clust
         elapsed, until = time.perf_counter() - start, time.time()
         after = (sum_threads(client.run(thread_cpu).values()), thread_cpu(), comm_written(client),
                  other_children_cpu(psutil.Process(), worker_pids))
-        slots = slot_use(client, since, until, workers)
+        slots = slot_use(client, since, until)
     assert len(result.computed) == len(paths), result.failed
     rows = result.costs.to_pylist()
     busy = sum(sum(row[name] for name in ("read_s", "estimate_s", "write_s")) for row in rows)
@@ -327,18 +327,20 @@ def print_processes(runs, logs):
 def print_slots(runs, logs):
     """Where the worker slots' wall time went (ms per log, summed over the workers): a task's work (read,
     estimate, write, handed to the publish thread), its wait for the disk while it still held the slot,
-    its wait after it left the slot (the next task running meanwhile), and the time a slot had no task
-    (the client's work before the first task and after the last, Dask's round trips, the run's tail); and how
-    far apart the workers' last tasks ended (the tail: one worker idle meanwhile)."""
-    print("| run | work (ms per log) | disk wait holding the slot (ms per log) | disk wait after leaving it "
-          "(ms per log) | slot empty (ms per log) | slot busy, % of the run "
+    its wait after it left the slot (the next task running meanwhile), and the time a slot had no task: before
+    its first task (the client finding the logs, the first round trip), between two tasks (Dask's round trips)
+    and after its last task (the other worker's tail, the client writing the summary); and how far apart the
+    workers' last tasks ended."""
+    columns = ("work", "disk wait in the slot", "disk wait after the slot", "empty before the first task",
+               "empty between tasks", "empty after the last task")
+    print("| run | work (ms per log) | disk wait holding the slot | disk wait after leaving it "
+          "| slot empty before the first task | between tasks | after the last task | slot busy, % of the run "
           "| workers' last tasks ended apart (ms) |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for run in runs:
         held = run.slots["work"] + run.slots["disk wait in the slot"]
-        print(f"| {run.name} | " + " | ".join(f"{1e3 * run.slots[k] / logs:.2f}" for k in (
-            "work", "disk wait in the slot", "disk wait after the slot", "slot empty"))
-            + f" | {100 * held / (run.workers * run.elapsed):.0f} | {1e3 * run.slots['ends apart']:.0f} |")
+        print(f"| {run.name} | " + " | ".join(f"{1e3 * run.slots[k] / logs:.2f}" for k in columns)
+              + f" | {100 * held / (run.workers * run.elapsed):.0f} | {1e3 * run.slots['ends apart']:.0f} |")
 
 
 #: The thread roles of the thread table: (process, role, the thread names in it). Dask's task threads end when
@@ -490,18 +492,31 @@ def record_slots():
     return list(fleet._process_batch.slots)
 
 
-def slot_use(client, since: float, until: float, workers: int) -> Dict[str, float]:
-    """Where the worker slots' time went between ``since`` and ``until`` (s, summed over the workers)."""
-    tasks = [task for slots in client.run(record_slots).values() for task in slots if task[0] >= since]
-    held = sum(free - begin for begin, _, free, _ in tasks)
-    last = {}  # worker -> when its last task ended
-    for worker, slots in client.run(record_slots).items():
-        last[worker] = max([end for begin, _, _, end in slots if begin >= since], default=since)
-    return {"ends apart": max(last.values()) - min(last.values()),
-            "work": sum(done - begin for begin, done, _, _ in tasks),
-            "disk wait in the slot": sum(free - done for _, done, free, _ in tasks),
-            "disk wait after the slot": sum(end - free for _, _, free, end in tasks),
-            "slot empty": workers * (until - since) - held}
+def slot_use(client, since: float, until: float) -> Dict[str, float]:
+    """Where the worker slots' time went between ``since`` and ``until`` (s, summed over the workers): the
+    tasks' work and disk waits (:func:`record_slots`), and the time each slot had no task: before its first
+    task, between two tasks, and after its last one left the slot; and how far apart the workers' last tasks
+    ended."""
+    use = dict.fromkeys(("work", "disk wait in the slot", "disk wait after the slot", "empty before the first task",
+                         "empty between tasks", "empty after the last task"), 0.0)
+    ends = []
+    for slots in client.run(record_slots).values():
+        tasks = sorted(task for task in slots if task[0] >= since)
+        for k in range(len(tasks) - 1):  # the slot was free when the next task started, if before secede returned
+            begin, done, free, end = tasks[k]
+            tasks[k] = (begin, done, max(done, min(free, tasks[k + 1][0])), end)
+        if not tasks:
+            use["empty before the first task"] += until - since
+            continue
+        use["work"] += sum(done - begin for begin, done, _, _ in tasks)
+        use["disk wait in the slot"] += sum(free - done for _, done, free, _ in tasks)
+        use["disk wait after the slot"] += sum(end - free for _, _, free, end in tasks)
+        use["empty before the first task"] += tasks[0][0] - since
+        use["empty between tasks"] += sum(later[0] - earlier[2] for earlier, later in zip(tasks, tasks[1:]))
+        use["empty after the last task"] += until - tasks[-1][2]
+        ends.append(tasks[-1][3])
+    use["ends apart"] = max(ends) - min(ends) if ends else 0.0
+    return use
 
 
 #: Assumed, not measured: a mean flight of 10 min logged at the sample ULog's rate (0.92 MB per 6.5 s),

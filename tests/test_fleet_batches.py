@@ -1,8 +1,9 @@
 """How the fleet hands logs to Dask and writes them (fusion_altitude.fleet): batches of consecutive logs per
 task, the Parquet writer options of the per-log estimates, the publishing of each task's files, the clean-up of
-interrupted writes, and the Dask configuration of the local cluster.
+interrupted writes, the Dask configuration of the local cluster, a finished task leaving its worker's slot
+while it waits for the disk, and the rounds of ``benchmarks/fleet_bench.py``.
 
-All but the last run without a cluster: ``fleet._batches`` is what ``run_many`` submits, and
+Most run without a cluster: ``fleet._batches`` is what ``run_many`` submits, and
 ``fleet._process_batch`` is the task body a worker runs.
 """
 
@@ -141,3 +142,75 @@ def test_the_local_cluster_workers_run_without_dask_malloc_trimming_and_profiler
         (environ,) = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_")).values()
         (profiling,) = client.run(lambda: dask.config.get("distributed.worker.profile.enabled")).values()
     assert environ is None and profiling is False
+
+
+def test_a_worker_starts_its_next_task_while_a_finished_task_waits_for_the_disk(one_log, tmp_path, monkeypatch):
+    """The wait for the last files' fsync happens off the worker's one slot (``distributed.secede``): with one
+    thread, a second task runs while the first one is still in ``_Publisher.close``."""
+    import threading
+
+    import distributed
+
+    next_task_ran = threading.Event()
+    close = fleet._Publisher.close
+
+    def slow_disk(publisher):
+        waited = next_task_ran.wait(timeout=20)
+        close(publisher)
+        return waited
+
+    monkeypatch.setattr(fleet._Publisher, "close", lambda publisher: seen.append(slow_disk(publisher)))
+    monkeypatch.setattr(fleet, "_test_next_task_ran", next_task_ran, raising=False)  # a task's arguments are pickled
+    seen = []
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
+        first = client.submit(fleet._process_batch, _jobs([one_log], str(tmp_path / "out")), pure=False)
+        second = client.submit(lambda: fleet._test_next_task_ran.set(), pure=False)
+        second.result(timeout=20)
+        assert first.result(timeout=30)[0]["action"] == "computed"
+    assert seen == [True]
+
+
+def test_a_batch_run_outside_a_worker_waits_for_its_files_on_its_own_thread(one_log, tmp_path, monkeypatch):
+    import threading
+
+    threads = []
+    close = fleet._Publisher.close
+
+    def record(publisher):
+        threads.append(threading.current_thread())
+        close(publisher)
+
+    monkeypatch.setattr(fleet._Publisher, "close", record)
+    fleet._process_batch(_jobs([one_log], str(tmp_path / "out")))
+    assert threads == [threading.current_thread()]
+
+
+def _fleet_bench():
+    import importlib.util
+
+    path = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "fleet_bench.py")
+    spec = importlib.util.spec_from_file_location("fleet_bench", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_fleet_bench_prints_each_rounds_ratio_and_the_median_and_shows_the_median_round(capsys):
+    bench = _fleet_bench()
+
+    def run(workers, seconds):
+        return bench.ClusterRun(f"{workers} workers", workers, "out", ("name", seconds, 0.0, 0.0), {}, {}, 0.0,
+                                (0, 0), (0, 0), {}, 1)
+
+    rounds = [{1: run(1, 2.0), 2: run(2, seconds)} for seconds in (1.0, 1.25, 1.1)]  # ratios 2.0, 1.6, 1.82
+    chosen = bench.print_rounds(rounds, [1, 2], logs=240)
+    printed = capsys.readouterr().out
+    assert "| 1 | 120.0 | 240.0 | 2.00 | nan, nan |" in printed and "| 2 | 120.0 | 192.0 | 1.60 |" in printed
+    assert "median ratio 2 / 1 workers over 3 rounds: 1.82x (min 1.60, max 2.00)" in printed
+    assert chosen is rounds[2]
+
+
+def test_the_fleet_bench_refuses_fewer_than_one_round():
+    with pytest.raises(SystemExit) as refused:
+        _fleet_bench().main(["--rounds", "0"])
+    assert refused.value.code == 2

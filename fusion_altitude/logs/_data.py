@@ -217,13 +217,19 @@ def median(values: np.ndarray) -> float:
     return (float(part[half - 1]) + float(part[half])) / 2.0
 
 
-def find_gaps(time: np.ndarray) -> List[Tuple[float, float]]:
-    """Logging gaps of a grid: (start s, length s) of steps > max(10 × median step, 0.1 s)."""
+def find_gaps(time: np.ndarray, steps: Optional[np.ndarray] = None,
+              median_step: Optional[float] = None) -> List[Tuple[float, float]]:
+    """Logging gaps of a grid: (start s, length s) of steps > max(10 × median step, 0.1 s).
+
+    ``steps`` (``time[1:] - time[:-1]``, s) and their ``median_step`` (s), when the caller has them (``finish``),
+    are not computed again."""
     time = np.asarray(time, dtype=float)
     if time.size < 3:
         return []
-    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
-    limit = max(GAP_FACTOR * (median(dt) if not np.isnan(dt).any() else float(np.median(dt))), GAP_MIN_SECONDS)
+    dt = time[1:] - time[:-1] if steps is None else steps  # np.diff's values, without its wrapper
+    if median_step is None:
+        median_step = median(dt) if not np.isnan(dt).any() else float(np.median(dt))
+    limit = max(GAP_FACTOR * median_step, GAP_MIN_SECONDS)
     index = np.flatnonzero(dt > limit)
     return [(float(time[i]), float(dt[i])) for i in index]
 
@@ -309,12 +315,13 @@ def finish(data: LogData) -> LogData:
     seconds, absurd samples dropped, dead channels), find gaps and warn about them and repeats."""
     from ._checks import check_log  # the checks import this module
 
-    _check_grid(data.time, data.source)
-    check_log(data)
+    steps = _check_grid(data.time, data.source)  # the grid's steps (s), each > 0, and their median: found once
+    median_step = median(steps)
+    check_log(data, median_step)
     if data.repeated_timestamps:
         data.warn(f"{data.source}: {data.repeated_timestamps} rows repeated the timestamp of the row before; "
                   f"merged (numeric columns averaged, states: last)")
-    data.gaps = find_gaps(data.time)
+    data.gaps = find_gaps(data.time, steps, median_step)
     if data.gaps:
         longest = max(length for _, length in data.gaps)
         first = data.gaps[0]
@@ -352,15 +359,18 @@ def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity)
     return altitude, velocity
 
 
-def _check_grid(time: np.ndarray, source: str) -> None:
+def _check_grid(time: np.ndarray, source: str) -> np.ndarray:
+    """LogError unless the grid ``time`` (s) has at least 2 finite, strictly increasing samples; its steps (s)."""
     time = np.asarray(time, dtype=float)
     if time.size < 2:
         raise LogError(f"{source}: need at least 2 samples, got {time.size}")
     if not np.isfinite(time).all():
         raise LogError(f"{source}: sample {int(np.flatnonzero(~np.isfinite(time))[0])}: time is not finite")
-    increasing = time[1:] - time[:-1] > 0
+    steps = time[1:] - time[:-1]
+    increasing = steps > 0
     bad = np.flatnonzero(~increasing) if not increasing.all() else ()
     if len(bad):
         raise LogError(f"{source}: time must increase strictly; sample {int(bad[0]) + 1} "
                        f"({fmt(time[bad[0] + 1])} s) follows {fmt(time[bad[0]])} s")
+    return steps
 

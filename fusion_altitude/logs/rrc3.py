@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE
-from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, all_true, fmt, finish, merge_repeated_timestamps
 from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
@@ -76,7 +76,7 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
     data, lines, events, shifted = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
-    if not np.isfinite(data[:, 0]).all():
+    if not all_true(np.isfinite(data[:, 0])):
         bad_time = np.flatnonzero(~np.isfinite(data[:, 0]))
         raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
     column = {name: data[:, i] for i, name in enumerate(("altitude", "pressure", "velocity", "temperature"), 1)}
@@ -192,7 +192,7 @@ def _drop_garbage(path: str, data: np.ndarray, column: Dict[str, np.ndarray], li
     if not count:
         return []
     where = ", ".join(str(n) for n in lines[garbage][:5].tolist()) + (" …" if count > 5 else "")
-    first = int(np.flatnonzero(garbage)[0])
+    first = int(garbage.nonzero()[0][0])
     message = (f"{path}: line{'s' if count > 1 else ''} {where}: garbage row"
                f"{'s' if count > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
                f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
@@ -227,7 +227,7 @@ def _garbage_rows(column: dict) -> np.ndarray:
 def _states(time: np.ndarray, names: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes; ``events``:
     each step's index into the event ``names`` (str: "" for none)."""
-    marks = np.flatnonzero(np.asarray(names != "", dtype=bool)[events])
+    marks = np.asarray(names != "", dtype=bool)[events].nonzero()[0]
     notes = [f"{names[events[i]]} at {fmt(time[i])} s" for i in marks]
     states = np.empty(marks.size + 1, dtype=object)
     states[:] = ["pad"] + [str(names[events[i]]).lower() for i in marks]

@@ -227,10 +227,9 @@ def _garbage_rows(column: dict) -> np.ndarray:
 def _states(time: np.ndarray, names: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes; ``events``:
     each step's index into the event ``names`` (str: "" for none)."""
-    marks = np.asarray(names != "", dtype=bool)[events].nonzero()[0]
+    named = np.asarray(names != "", dtype=bool)[events]
+    marks = named.nonzero()[0]
     notes = [f"{names[events[i]]} at {fmt(time[i])} s" for i in marks]
     states = np.empty(marks.size + 1, dtype=object)
     states[:] = ["pad"] + [str(names[events[i]]).lower() for i in marks]
-    latest = np.zeros(time.size, dtype=np.int64)
-    latest[marks] = np.arange(1, marks.size + 1)
-    return states[np.maximum.accumulate(latest)], notes
+    return states[np.cumsum(named)], notes  # each step: the count of events at or before it

@@ -32,6 +32,7 @@ import functools
 import itertools
 import re
 import signal
+import types
 from typing import Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -199,14 +200,15 @@ def _short_numbers(body: str) -> bool:
 
 @functools.lru_cache(maxsize=None)
 def text_decode():
-    """The extension's :mod:`fusion_altitude.logs._text_decode`, or None when it is not built; imported once (an
+    """The functions of the extension's :mod:`fusion_altitude.logs._text_decode` (``scan_csv``, ``newlines``,
+    ``newline_count``), or None when it is not built; imported once (an
     import statement costs about 1 µs a call, three calls a read). Not at module import: a source checkout finds
     the installed extension only once :mod:`fusion_altitude.logs` has extended its path."""
     try:
-        from . import _text_decode
+        from ._text_decode import newline_count, newlines, scan_csv
     except ImportError:
         return None
-    return _text_decode
+    return types.SimpleNamespace(newline_count=newline_count, newlines=newlines, scan_csv=scan_csv)
 
 
 def _scan(body: str, columns: Sequence[int], text: Sequence[int], missing: Sequence[str]):

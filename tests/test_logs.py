@@ -77,6 +77,28 @@ def test_format_of_an_sniffed_log_refuses_column_options(tmp_path):
         logs.load_log(str(tmp_path / "telemega.csv"), time_column="time")
 
 
+def test_a_text_log_is_opened_once_to_sniff_and_read_it(tmp_path, monkeypatch):
+    import builtins
+
+    path = fx.rrc3_csv(tmp_path)
+    expected = logs.load_log(path)
+    opened = []
+    real_open = builtins.open
+    monkeypatch.setattr(builtins, "open", lambda file, *args, **kw: opened.append(file) or real_open(file, *args, **kw))
+    data = logs.load_log(path)
+    assert opened == [path]
+    assert np.array_equal(data.baro_altitude, expected.baro_altitude, equal_nan=True)
+
+
+def test_the_bytes_read_to_sniff_a_log_are_forgotten_after_its_read(tmp_path):
+    from fusion_altitude.logs import _table
+
+    path = fx.rrc3_csv(tmp_path)
+    logs.load_log(path)
+    Path(path).write_text("time,altitude\n0,1\n")
+    assert _table.read_text(path) == "time,altitude\n0,1\n"
+
+
 def test_missing_file_is_one_log_error(tmp_path):
     with pytest.raises(LogError, match="no such file"):
         logs.load_log(str(tmp_path / "nothing.bin"))

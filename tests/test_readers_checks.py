@@ -128,6 +128,18 @@ def test_channel_with_one_changed_sample_is_alive():
     assert not is_dead(values)
 
 
+def test_constant_channel_with_infinite_and_missing_samples_is_dead():
+    values = np.full(50, 3.0)
+    values[[5, 9, 30]] = [np.inf, -np.inf, np.nan]
+    assert is_dead(values)
+
+
+def test_channel_of_two_finite_values_beside_infinities_is_alive():
+    values = np.full(50, 3.0)
+    values[[5, 9, 30]] = [np.inf, 4.0, -np.inf]
+    assert not is_dead(values)
+
+
 def test_raw_accelerometer_steady_at_one_g_is_a_vehicle_at_rest_not_a_dead_one():
     assert not is_dead_imu(np.tile([0.0, 0.0, -G], (50, 1))) and is_dead_imu(np.zeros((50, 3)))
 

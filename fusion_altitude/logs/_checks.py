@@ -28,6 +28,7 @@ Three kinds of check, each reported in one line (a :class:`LogWarning` or a
 
 from __future__ import annotations
 
+import math
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -124,6 +125,8 @@ def is_dead(values: np.ndarray) -> bool:
     """
     values = np.asarray(values, dtype=float)
     if values.ndim == 1:  # one channel: the same test without the axis reductions
+        if values.size and _two_finite_values(values):
+            return False
         live = values[np.isfinite(values)]
         return live.size >= DEAD_MIN_SAMPLES and bool(live.max() == live.min())
     rows = np.all(np.isfinite(values), axis=1)
@@ -131,6 +134,13 @@ def is_dead(values: np.ndarray) -> bool:
         return False
     live = values[rows]
     return bool(np.all(live.max(axis=0) == live.min(axis=0)))
+
+
+def _two_finite_values(values: np.ndarray) -> bool:
+    """True when the least and the greatest of ``values`` (1-D, not empty; NaN ignored) are finite and differ: two
+    different finite samples, so not a dead channel (two reductions, without the mask of the full test)."""
+    least, greatest = float(np.fmin.reduce(values)), float(np.fmax.reduce(values))
+    return least != greatest and math.isfinite(least) and math.isfinite(greatest)
 
 
 def is_dead_imu(accel: np.ndarray) -> bool:
@@ -155,7 +165,7 @@ def dead_message(source: str, name: str, values: np.ndarray, unit: str, instead:
     return f"{source}: {name} is {kind} on every sample: a dead sensor, not used; {instead}"
 
 
-def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
+def check_time_units(source: str, time: np.ndarray, fix: str, median_step: Optional[float] = None) -> None:
     """Refuse a time column that is not in seconds (LogError naming ``fix``), by the rule of the module docstring.
 
     Parameters
@@ -166,26 +176,33 @@ def check_time_units(source: str, time: np.ndarray, fix: str) -> None:
         Sample times as read, meant to be s, increasing.
     fix : str
         What the user can do, e.g. ``"set time_units to 'ms' or 'us'"`` (the CLI shows the flag: ``--time-units``).
+    median_step : float, optional
+        The median step of ``time`` (s) when the caller has it, for a grid of at least 2 finite, strictly
+        increasing times (``finish``'s): not found again.
     """
     time = np.asarray(time, dtype=float)
-    finite = time if np.isfinite(time).all() else time[np.isfinite(time)]
-    if finite.size < 2:
-        return
-    steps = finite[1:] - finite[:-1]
-    positive = steps > 0
-    steps = steps if positive.all() else steps[positive]
-    if not steps.size:
-        return
-    step = median(steps)  # steps of finite times: no NaN
-    span = float(finite[-1] - finite[0])
+    if median_step is not None:
+        step, span = median_step, float(time[-1] - time[0])
+    else:
+        finite = time if np.isfinite(time).all() else time[np.isfinite(time)]
+        if finite.size < 2:
+            return
+        steps = finite[1:] - finite[:-1]
+        positive = steps > 0
+        steps = steps if positive.all() else steps[positive]
+        if not steps.size:
+            return
+        step = median(steps)  # steps of finite times: no NaN
+        span = float(finite[-1] - finite[0])
     if step > MAX_MEDIAN_STEP or (step >= 1.0 and span > MAX_SPAN):
         guess = "microseconds" if step >= 1_000.0 or span > 1e3 * MAX_SPAN else "milliseconds"
         raise LogError(f"{source}: the time column does not look like seconds (median step {fmt(step)}, span "
                        f"{fmt(span)}): probably {guess}; {fix}")
 
 
-def check_log(data) -> None:
-    """The checks every reader's grid goes through (called by ``finish``); warnings via ``data.warn``.
+def check_log(data, median_step: Optional[float] = None) -> None:
+    """The checks every reader's grid goes through (called by ``finish``, which gives the grid's ``median_step``,
+    s); warnings via ``data.warn``.
 
     * time in seconds (:func:`check_time_units`, LogError);
     * absurd baro / reference altitude and pressure samples → NaN, one
@@ -197,7 +214,7 @@ def check_log(data) -> None:
       altitude source at this point; a reader that has one falls back first).
     """
     source = data.source
-    check_time_units(source, data.time, _time_fix(data))
+    check_time_units(source, data.time, _time_fix(data), median_step)
     for attribute, low, high, unit, what, inclusive in (
             ("baro_altitude", *ALTITUDE_RANGE, "m", "baro altitude", True),
             ("reference_altitude", *ALTITUDE_RANGE, "m", "reference altitude", True),

@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import threading
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
@@ -27,15 +28,26 @@ MISSING = ("", "nan", "na", "n/a", "null", "none", "-")
 _CHUNK_CHARS = 4_000_000
 
 
+#: The bytes of a file already read in this thread (:func:`given_bytes`), as ``(path, bytes)``, or None.
+_GIVEN = threading.local()
+
+
+def given_bytes(path: str, raw: Optional[bytes]) -> None:
+    """The next :func:`read_text` of ``path`` in this thread takes ``raw`` (the whole file, read once by
+    :func:`fusion_altitude.logs.load_log` to sniff it) instead of reading the file again; None forgets it."""
+    _GIVEN.file = None if raw is None else (path, raw)
+
+
 def read_text(path: str, what: str = "CSV log") -> str:
-    """The whole file as text: UTF-8 (a BOM is dropped), newlines normalised; LogError if unreadable."""
-    try:
-        with open(path, "rb") as handle:
-            raw = handle.read()
-    except OSError as error:
-        if os.path.isdir(path):
-            raise LogError(f"{path}: is a directory, not a {what}") from None
-        raise LogError(f"cannot open {path}: {error.strerror}") from None
+    """The whole file as text: UTF-8 (a BOM is dropped), newlines normalised; LogError if unreadable.
+
+    The file's bytes given by :func:`given_bytes` for ``path`` are taken once instead of reading it again."""
+    given = getattr(_GIVEN, "file", None)
+    if given is not None and given[0] == path:
+        _GIVEN.file = None
+        raw = given[1]
+    else:
+        raw = _read_bytes(path, what)
     if raw.find(b"\x00", 0, 4096) >= 0:
         raise LogError(f"{path}: binary data, not a {what} (NUL bytes in the first 4 kB)")
     if b"\r" in raw:  # before decoding: UTF-8 and Latin-1 spell \r and \n as those bytes and no others
@@ -50,14 +62,24 @@ def read_text(path: str, what: str = "CSV log") -> str:
             raise LogError(f"{path}: line {line}: not UTF-8 text") from None
 
 
+def _read_bytes(path: str, what: str) -> bytes:
+    """The file's bytes; LogError if unreadable."""
+    try:
+        with open(path, "rb") as handle:
+            return handle.read()
+    except OSError as error:
+        if os.path.isdir(path):
+            raise LogError(f"{path}: is a directory, not a {what}") from None
+        raise LogError(f"cannot open {path}: {error.strerror}") from None
+
+
 def _unix_newlines(raw: bytes) -> bytes:
     """``raw`` with ``\\r\\n`` and ``\\r`` made ``\\n``: in one C pass when the extension is built (``replace`` twice
     costs 50 µs on a 28 kB export)."""
-    try:
-        from ._text_decode import newlines
-    except ImportError:
+    extension = _csv_fast.text_decode()
+    if extension is None:
         return raw.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
-    return newlines(raw)
+    return extension.newlines(raw)
 
 
 @dataclass

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE
-from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
+from ._data import LogData, LogError, all_true, fmt, finish, merge_repeated_timestamps
 from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
 
 #: The header's columns (lower case).
@@ -76,15 +76,14 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
     data, lines, events, shifted = _rows_fast(table, position, progress) or _rows_python(table, position, progress)
     if data.shape[0] < 2:
         raise LogError(f"{path}: need at least 2 data rows, got {data.shape[0]}")
-    column = {name: data[:, i] for i, name in enumerate(("time", "altitude", "pressure", "velocity",
-                                                          "temperature"))}
-    bad_time = np.flatnonzero(~np.isfinite(column["time"])) if not np.isfinite(column["time"]).all() else ()
-    if len(bad_time):
+    if not all_true(np.isfinite(data[:, 0])):
+        bad_time = np.flatnonzero(~np.isfinite(data[:, 0]))
         raise LogError(f"{path}: line {int(lines[bad_time[0]])}, column 'time': needs a number on every row")
-    messages = _drop_garbage(path, column, lines)
+    column = {name: data[:, i] for i, name in enumerate(("altitude", "pressure", "velocity", "temperature"), 1)}
+    messages = _drop_garbage(path, data, column, lines)
     names, event_rows = events  # the event names, and each row's among them: merged as integers (the last row's)
-    time, merged, repeated = merge_repeated_timestamps(column.pop("time"), {**column, "events": event_rows}, path,
-                                                       lines, "time")
+    time, merged, repeated = merge_repeated_timestamps(data[:, 0], {**column, "events": event_rows}, path, lines,
+                                                       "time")
     log = _log(f"{os.path.basename(path)} (RRC3 CSV)", time, merged, names, repeated, shifted)
     for message in messages:
         log.warn(message)
@@ -128,22 +127,20 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
         cells = [cells[0] if "temperature" in position else nothing, cells[-1] if "events" in position else nothing]
     (temperature_cells, temperature_rows), (event_cells, event_rows) = cells
     read = [_temperature_or_event(cell) for cell in temperature_cells]
-    temperature = np.array([value for value, _ in read], dtype=float)[temperature_rows]
-    is_event = np.array([event for _, event in read], dtype=bool)
-    # each row's event: its temperature cell where that holds an event, else its events cell (names of both kinds
-    # of distinct cell in one table, so the rows take theirs in one gather)
-    names = np.concatenate([_event_names(temperature_cells), _event_names(event_cells)])
-    shifted = is_event[temperature_rows]
-    events = np.where(shifted, temperature_rows, event_rows + temperature_cells.size)
     rows = np.empty((lines.size, 5))
     rows[:, :4] = numbers
-    rows[:, 4] = temperature
+    rows[:, 4] = np.array([value for value, _ in read], dtype=float)[temperature_rows]
+    # each row's event: its temperature cell where that holds an event, else its events cell (names of both kinds
+    # of distinct cell in one table, so the rows take theirs in one gather)
+    names = _event_names([*temperature_cells.tolist(), *event_cells.tolist()])
+    shifted = np.array([event for _, event in read], dtype=bool)[temperature_rows]
+    events = np.where(shifted, temperature_rows, event_rows + temperature_cells.size)
     return rows, lines, (names, events), int(np.count_nonzero(shifted))
 
 
-def _event_names(cells: np.ndarray) -> np.ndarray:
+def _event_names(cells: List[str]) -> np.ndarray:
     """Each event cell, or "" for none (a cell of :data:`MISSING`, any case); object array of str."""
-    named = np.empty(cells.size, dtype=object)
+    named = np.empty(len(cells), dtype=object)
     named[:] = ["" if cell.lower() in MISSING else cell for cell in cells]
     return named
 
@@ -186,21 +183,21 @@ def _rows_python(table: Table, position: Dict[str, int], progress):
     return data, np.array(lines, dtype=np.int64), (names, np.arange(len(events))), shifted
 
 
-def _drop_garbage(path: str, column: Dict[str, np.ndarray], lines: np.ndarray) -> List[str]:
-    """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in
-    ``column``; the warning naming their lines, if any."""
+def _drop_garbage(path: str, data: np.ndarray, column: Dict[str, np.ndarray], lines: np.ndarray) -> List[str]:
+    """Set the altitude, pressure, velocity and temperature of garbage rows (:func:`_garbage_rows`) to NaN, in the
+    rows ``data`` (time and those four; ``column``: views of them by name); the warning naming their lines, if
+    any."""
     garbage = _garbage_rows(column)
     count = int(np.count_nonzero(garbage))
     if not count:
         return []
     where = ", ".join(str(n) for n in lines[garbage][:5].tolist()) + (" …" if count > 5 else "")
-    first = int(np.flatnonzero(garbage)[0])
+    first = int(garbage.nonzero()[0][0])
     message = (f"{path}: line{'s' if count > 1 else ''} {where}: garbage row"
                f"{'s' if count > 1 else ''} (altitude {fmt(column['altitude'][first])} m, "
                f"pressure {fmt(column['pressure'][first])} hPa, velocity {fmt(column['velocity'][first])} "
                f"m/s: not a plausible flight); dropped, their events kept")
-    for name in ("altitude", "pressure", "velocity", "temperature"):
-        column[name] = np.where(garbage, np.nan, column[name])
+    data[garbage, 1:] = np.nan  # the four columns of ``column``, in one assignment
     return [message]
 
 
@@ -230,10 +227,9 @@ def _garbage_rows(column: dict) -> np.ndarray:
 def _states(time: np.ndarray, names: np.ndarray, events: np.ndarray):
     """Flight state on every step (the latest event, lower case; "pad" before the first) and the notes; ``events``:
     each step's index into the event ``names`` (str: "" for none)."""
-    marks = np.flatnonzero(np.asarray(names != "", dtype=bool)[events])
+    named = np.asarray(names != "", dtype=bool)[events]
+    marks = named.nonzero()[0]
     notes = [f"{names[events[i]]} at {fmt(time[i])} s" for i in marks]
     states = np.empty(marks.size + 1, dtype=object)
     states[:] = ["pad"] + [str(names[events[i]]).lower() for i in marks]
-    latest = np.zeros(time.size, dtype=np.int64)
-    latest[marks] = np.arange(1, marks.size + 1)
-    return states[np.maximum.accumulate(latest)], notes
+    return states[np.cumsum(named)], notes  # each step: the count of events at or before it

@@ -105,13 +105,8 @@ CALLS = ("baro sample, reference set (full correction)", "no baro sample (integr
          "rejected (accel not finite)")
 KALMAN_CALLS = ("baro, rangefinder and GPS fused", "baro only, fused", "no sample (prediction only)",
                 "terrain reset (range) with baro and GPS fused", "rejected (accel not finite)")
-COMPLEMENTARY_CALLS = ("baro sample, time-constant blend (default)", "baro sample, per-sample coefficients",
-                       "no baro sample (prediction only)", "rejected (accel not finite)")
 ALPHABETA_CALLS = ("IMU and all four sensors", "IMU and baro", "IMU only (the other filters predict)",
                    "rejected (accel infinite)")
-ROCKET_CALLS = ("pad, baro sample, a calibration window completes", "coast below the lockout speed, baro fused",
-                "coast above the lockout speed, baro locked out", "descent, baro fused, accel ignored",
-                "rejected (accel infinite)")
 #: the paths of cycles_ins.c (ins_cycles.py and tests/test_ins_c.py use these names)
 INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "predict + accel + mag",
              "stationary: + zero rate, zero velocity, baro bias", "predict only (accel rejected by its norm)",
@@ -121,8 +116,7 @@ INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "pre
 FUNCTION_ORDER = {"kalman": KALMAN_FUNCTIONS, "complementary": COMPLEMENTARY_FUNCTIONS, "alphabeta": ALPHABETA_FUNCTIONS,
                   "rocket": ROCKET_FUNCTIONS, "ins": INS_FUNCTIONS}
 #: the traced paths of cycles_<name>.c, as the tables name them
-TRACED_PATHS = {"kalman": KALMAN_CALLS, "complementary": COMPLEMENTARY_CALLS, "alphabeta": ALPHABETA_CALLS,
-                "rocket": ROCKET_CALLS, "ins": INS_CALLS}
+TRACED_PATHS = {"kalman": KALMAN_CALLS, "alphabeta": ALPHABETA_CALLS, "ins": INS_CALLS}
 
 
 def estimator_modules() -> Dict[str, tuple]:
@@ -147,7 +141,7 @@ def state_instance(name: str, struct: str) -> str:
 
 def traced_paths(name: str) -> Tuple[str, ...]:
     """The numbered paths of cycles_<name>.c's opening comment (`` *   1. baro sample ...``), in order."""
-    comment = (FIRMWARE / f"cycles_{name}.c").read_text().split("*/", 1)[0]
+    comment = (FIRMWARE / f"cycles_{name}.c").read_text().split("/**", 1)[-1].split("*/", 1)[0]  # after a generated line
     return tuple(re.findall(r"^ \*\s+\d+\. (.+)$", comment, re.MULTILINE))
 
 

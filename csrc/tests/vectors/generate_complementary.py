@@ -63,6 +63,19 @@ def settings(**changes) -> Dict[str, object]:
             for name, _, kind in COMPLEMENTARY_SETTINGS}
 
 
+#: The traced-path program csrc/firmware/cycles_complementary.c (tools/make_cycles.py writes it): set-up calls
+#: (OP, arguments of the Recorder's method) and traced calls (path name, (OP, arguments)) of
+#: SizedFusionAltitudeComplementaryUpdate, one per path, on the filter initialised with the default settings.
+CYCLES = (
+    ("RESET", 100.0),
+    ("baro sample, time-constant blend (default)", ("UPDATE", 0.2, 100.5, 0.01)),
+    ("SET_SETTINGS", settings(per_sample_coefficients=True)),
+    ("baro sample, per-sample coefficients", ("UPDATE", 0.2, 100.5, 0.01)),
+    ("no baro sample (prediction only)", ("UPDATE", 0.2, NAN, 0.01)),
+    ("rejected (accel not finite)", ("UPDATE", INF, 100.5, 0.01)),
+)
+
+
 class Recorder(vc.Recorder):
     OPS = OPS
     INPUTS = 3

@@ -131,6 +131,36 @@ class Recorder(vc.Recorder):
                 self.count(f"phase {int(phase)} -> {int(self.rocket._phase)}")
 
 
+def _descent_baro(recorder: Recorder) -> float:
+    """A baro altitude 0.2 m under the height the estimate has reached (pad at 1400 m), m."""
+    return float(np.float32(np.float32(1400.0) + np.float32(recorder.rocket.height)) - np.float32(0.2))
+
+
+#: The traced-path program csrc/firmware/cycles_rocket.c (tools/make_cycles.py writes it): set-up calls, set-up
+#: runs (REPEAT; RAMP inputs follow the loop index i; WHILE/BEFORE counts come from the reference), a copy of the
+#: estimator in slot 1 for the locked-out coast, and the traced calls (path name, (OP, arguments)) of
+#: SizedFusionAltitudeRocketUpdate, on an estimator initialised with the default settings.
+CYCLES = (
+    ("REPEAT", ("BEFORE", "windows", 0), ("UPDATE", 0.1, 1400.0, 0.01)),  # one sample short of the first window
+    ("pad, baro sample, a calibration window completes", ("UPDATE", 0.1, 1400.0, 0.01)),
+    ("REPEAT", 160, ("UPDATE", 60.1, ("RAMP", 1400.0, 0.3), 0.01)),  # boost 1.6 s at 60 m/s^2 (96 m/s)
+    ("REPEAT", 20, ("UPDATE", -9.7, ("RAMP", 1480.0, 0.9), 0.01)),  # coast
+    ("COPY", 1),
+    ("coast below the lockout speed, baro fused", ("UPDATE", -9.7, 1498.0, 0.01)),
+    ("USE", 1),
+    ("REPEAT", 100, ("UPDATE", 30.1, NAN, 0.01)),  # push the copy above the lockout speed
+    ("SET", "phase", int(_rocket.Phase.COAST)),
+    ("coast above the lockout speed, baro locked out", ("UPDATE", -9.7, 1500.0, 0.01)),
+    ("USE", 0),
+    ("REPEAT", ("WHILE", "phase", int(_rocket.Phase.COAST)),
+     ("UPDATE", -9.7, ("RAMP", 1498.0, 80.0, -4.9, 0.01), 0.01)),  # to apogee: 80 m/s up at 1498 m
+    ("descent, baro fused, accel ignored", ("UPDATE", 3.0, _descent_baro, 0.01)),
+    ("rejected (accel infinite)", ("UPDATE", INF, 1400.0, 0.01)),
+)
+#: STATE_FIELDS names that CYCLES sets (SET) → the reference's attribute path in the Recorder
+CYCLES_FIELDS = {"phase": "rocket._phase"}
+
+
 def fly(recorder: Recorder, seed: int, settings: RocketSettings, rng: random.Random, vertical: bool = False,
         stride: int = 4, faults: bool = True) -> None:
     """A short flight (≈ 150 m/s, ≈ 1 km) at 100 Hz / stride."""

@@ -84,6 +84,18 @@ def check(values: Dict[str, AlphaBetaSensorSettings]) -> AlphaBetaStatus:
     return _alphabeta._gap_period_status(values["gap_period"])
 
 
+#: The traced-path program csrc/firmware/cycles_alphabeta.c (tools/make_cycles.py writes it): a warm-up with all
+#: four sensors (REPEAT, not traced), then the traced calls (path name, (OP, accel m/s^2, dt s, baro, lidar, sonar,
+#: GPS altitudes m)) of SizedFusionAltitudeAlphaBetaUpdate, on a filter initialised with the default settings.
+CYCLES = (
+    ("REPEAT", 10, ("UPDATE", 0.0, 0.01, 2.1, 2.0, 2.05, 1.5)),
+    ("IMU and all four sensors", ("UPDATE", 0.0, 0.01, 2.1, 2.0, 2.05, 1.5)),
+    ("IMU and baro", ("UPDATE", 0.0, 0.01, 2.1)),
+    ("IMU only (the other filters predict)", ("UPDATE", 0.0, 0.01)),
+    ("rejected (accel infinite)", ("UPDATE", INF, 0.01)),
+)
+
+
 class Recorder(vc.Recorder):
     OPS = OPS
     INPUTS = 6

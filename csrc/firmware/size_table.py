@@ -103,8 +103,6 @@ PIPELINE_REFILL = 2
 CONDITIONS = {"eq", "ne", "cs", "hs", "cc", "lo", "mi", "pl", "vs", "vc", "hi", "ls", "ge", "lt", "gt", "le", "al"}
 CALLS = ("baro sample, reference set (full correction)", "no baro sample (integration only)",
          "rejected (accel not finite)")
-KALMAN_CALLS = ("baro, rangefinder and GPS fused", "baro only, fused", "no sample (prediction only)",
-                "terrain reset (range) with baro and GPS fused", "rejected (accel not finite)")
 #: the paths of cycles_ins.c (ins_cycles.py and tests/test_ins_c.py use these names)
 INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "predict + accel + mag",
              "stationary: + zero rate, zero velocity, baro bias", "predict only (accel rejected by its norm)",
@@ -114,7 +112,7 @@ INS_CALLS = ("predict + accel (no baro, no mag)", "predict + accel + baro", "pre
 FUNCTION_ORDER = {"kalman": KALMAN_FUNCTIONS, "complementary": COMPLEMENTARY_FUNCTIONS, "alphabeta": ALPHABETA_FUNCTIONS,
                   "rocket": ROCKET_FUNCTIONS, "ins": INS_FUNCTIONS}
 #: the traced paths of cycles_<name>.c, as the tables name them
-TRACED_PATHS = {"kalman": KALMAN_CALLS, "ins": INS_CALLS}
+TRACED_PATHS = {"ins": INS_CALLS}
 
 
 def estimator_modules() -> Dict[str, tuple]:

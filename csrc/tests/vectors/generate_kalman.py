@@ -144,6 +144,23 @@ def settings(**changes) -> Dict[str, object]:
                 zip(KALMAN_SETTINGS, values.values())}
 
 
+#: The traced-path program csrc/firmware/cycles_kalman.c (tools/make_cycles.py writes it): the filter initialised
+#: with a terrain reset on the second rejected range sample (rejection timeout 0 s), a warm-up with every sensor
+#: (REPEAT, not traced), then the traced calls (path name, (OP, accel m/s^2, dt s, baro m, range m, GPS m, GPS
+#: accuracy m, satellites)) of SizedFusionAltitudeKalmanUpdate; the untraced update between the last two starts the
+#: rejection streak (the ground dropped by 2 m).
+CYCLES = (
+    ("INITIALISE_WITH", settings(rejection_timeout=0.0)),
+    ("REPEAT", 10, ("UPDATE", 0.0, 0.01, 120.0, 1.0, 160.0, NAN, 9)),
+    ("baro, rangefinder and GPS fused", ("UPDATE", 0.0, 0.01, 120.0, 1.0, 160.0, NAN, 9)),
+    ("baro only, fused", ("UPDATE", 0.0, 0.01, 120.0)),
+    ("no sample (prediction only)", ("UPDATE", 0.0, 0.01)),
+    ("UPDATE", 0.0, 0.01, NAN, 3.0),
+    ("terrain reset (range) with baro and GPS fused", ("UPDATE", 0.0, 0.01, 120.0, 3.0, 160.0, NAN, 9)),
+    ("rejected (accel not finite)", ("UPDATE", INF, 0.01, 120.0, 3.0, 160.0, NAN, 9)),
+)
+
+
 class Recorder:
     """Applies operations to a reference filter, mirroring the C calls, and records them."""
 

@@ -99,6 +99,22 @@ def settings_words(values: dict) -> tuple:
     return tuple(vc.bits(values[name]) for name in INS_SETTINGS_NAMES)
 
 
+#: The traced-path program csrc/firmware/cycles_ins.c (tools/make_cycles.py writes it): a warm-up in motion and a
+#: rest of 1.2 s (REPEAT, not traced) before the stationary step, and the traced calls (path name, (OP, gyro rad/s,
+#: accel m/s^2, dt s, baro m, mag)) of SizedFusionAltitudeInsUpdate, on an INS initialised with the default
+#: settings; the path names are INS_CALLS of csrc/firmware/size_table.py (ins_cycles.py, tests/test_ins_c.py).
+CYCLES = (
+    ("REPEAT", 20, ("UPDATE", (0.3, -0.2, 0.1), (0.2, -0.1, 9.9), 0.002, 100.0, (0.4, 0.0, -0.3))),
+    ("predict + accel (no baro, no mag)", ("UPDATE", (0.3, -0.2, 0.1), (0.2, -0.1, 9.9), 0.002)),
+    ("predict + accel + baro", ("UPDATE", (0.3, -0.2, 0.1), (0.2, -0.1, 9.9), 0.002, 100.1)),
+    ("predict + accel + mag", ("UPDATE", (0.3, -0.2, 0.1), (0.2, -0.1, 9.9), 0.002, NAN, (0.4, 0.0, -0.3))),
+    ("REPEAT", 600, ("UPDATE", (0.001, 0.0, 0.0), (0.0, 0.0, 9.8), 0.002, 100.0)),  # come to rest
+    ("stationary: + zero rate, zero velocity, baro bias", ("UPDATE", (0.001, 0.0, 0.0), (0.0, 0.0, 9.8), 0.002, 100.0)),
+    ("predict only (accel rejected by its norm)", ("UPDATE", (0.3, -0.2, 0.1), (0.2, -0.1, 14.0), 0.002)),
+    ("rejected input (gyro NaN)", ("UPDATE", (NAN, 0.0, 0.0), (0.2, -0.1, 9.9), 0.002, 100.0)),
+)
+
+
 class Recorder(vc.Recorder):
     OPS = OPS
     INPUTS = len(INPUT_FIELDS)

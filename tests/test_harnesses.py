@@ -178,3 +178,25 @@ def test_a_traced_path_program_fails_when_a_state_after_a_traced_call_differs_fr
     expected = re.search(r"CyclesStateHash\(filter\) != 0x([0-9A-F]{8})u", text).group(1)
     wrong = text.replace(expected, f"{int(expected, 16) ^ 1:08X}", 1)
     assert _run_on_the_host(tmp_path, "complementary", wrong) == 1
+
+
+def test_a_before_count_stops_one_call_short_of_the_call_that_changes_the_state_word():
+    """The rocket's pad set-up: ("REPEAT", ("BEFORE", "windows", 0), ...) then the traced call completes a window."""
+    generator = REPLAYS.vector_generator("rocket")
+    calls, _ = CYCLES.run("rocket")
+    pad, traced = calls[0], calls[1]
+    windows = list(generator.STATE_FIELDS).index("windows")
+    recorder = generator.Recorder()
+    for _ in range(pad.count):
+        recorder.update(0.1, 1400.0, 0.01)
+    assert pad.kind == "repeat" and pad.count > 0 and recorder.state()[windows] == 0
+    assert traced.kind == "trace" and traced.state[windows] == 1
+
+
+def test_a_ramp_rounds_every_operation_to_float32_as_the_c_loop_does():
+    import numpy as np
+    f = np.float32
+    ramp = CYCLES.Ramp(1498.0, 80.0, -4.9, 0.01)
+    t = f(0.01) * f(123)
+    assert ramp.at(123) == float((f(1498.0) + f(80.0) * t) + (f(-4.9) * t) * t)
+    assert ramp.c(CYCLES.c_float).count("(float) i") == 3

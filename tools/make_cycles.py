@@ -112,6 +112,13 @@ class Call(NamedTuple):
     state: Tuple[int, ...] = ()
 
 
+def _copy(recorder):
+    """A copy of the reference's Recorder that shares its settings table (the program has one for all filters)."""
+    twin = copy.deepcopy(recorder)
+    twin.settings_table = recorder.settings_table
+    return twin
+
+
 def _run_op(recorder, op: str, arguments: Sequence) -> Tuple[Tuple[int, ...], int]:
     """Applies ``op`` to the reference (the Recorder's method of its name); its input words and status."""
     getattr(recorder, op.lower())(*arguments)
@@ -123,8 +130,7 @@ def run(name: str) -> Tuple[List[Call], object]:
     """The CYCLES table of generate_<name>.py run through the reference, and the recorder (its settings table)."""
     generator = _replays().vector_generator(name)
     recorder, slots, current, calls = generator.Recorder(), {}, 0, []
-    table = generator.CYCLES() if callable(generator.CYCLES) else generator.CYCLES
-    for entry in table:
+    for entry in generator.CYCLES:
         head = entry[0]
         if head in generator.OPS:
             words, status = _run_op(recorder, head, entry[1:])
@@ -136,7 +142,7 @@ def run(name: str) -> Tuple[List[Call], object]:
         elif head in ("COPY", "USE"):
             slots[current] = recorder
             if head == "COPY":
-                slots[entry[1]] = copy.deepcopy(recorder)
+                slots[entry[1]] = _copy(recorder)
             else:
                 current, recorder = entry[1], slots[entry[1]]
             calls.append(Call(head.lower(), head, (), 0, value=entry[1]))
@@ -161,7 +167,7 @@ def _repeat(name: str, generator, recorder, count, call) -> Tuple[object, Call]:
     statuses, words, i = set(), (), 0
     while i < limit and not (rule and rule[0] == "WHILE" and recorder.state()[index] != rule[2]):
         values = [a.at(i) if isinstance(a, Ramp) else a for a in arguments]
-        ahead = copy.deepcopy(recorder) if rule and rule[0] == "BEFORE" else recorder
+        ahead = _copy(recorder) if rule and rule[0] == "BEFORE" else recorder
         step_words, status = _run_op(ahead, op, values)
         if ahead is not recorder and ahead.state()[index] != rule[2]:
             break

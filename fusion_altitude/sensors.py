@@ -321,24 +321,55 @@ def vertical_acceleration(accel_body, attitude, frame: str = "NED", accel_units:
         raise ValueError(f"frame must be one of {', '.join(_FRAMES)}; got {frame!r}")
     if accel_units not in _UNITS:
         raise ValueError(f"accel_units must be 'm/s^2' or 'g'; got {accel_units!r}")
-    accel = np.asarray(accel_body, dtype=float) * _UNITS[accel_units]
+    accel = np.asarray(accel_body, dtype=float)
+    if _UNITS[accel_units] != 1.0:  # m/s²: the values as they are (× 1.0 would copy them unchanged)
+        accel = accel * _UNITS[accel_units]
     if accel.shape[-1:] != (3,):
         raise ValueError(f"accel_body must have 3 components on its last axis, got shape {accel.shape}")
     att = np.asarray(attitude, dtype=float)
     if att.shape[-1:] == (4,):
-        q = att / np.linalg.norm(att, axis=-1, keepdims=True)
-        w, x, y, z = np.moveaxis(q, -1, 0)
-        third_row = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)
+        third_row = _quaternion_third_row(att)
     elif att.shape[-1:] == (3,):
         roll, pitch = att[..., 0], att[..., 1]
-        third_row = np.stack([-np.sin(pitch), np.sin(roll) * np.cos(pitch), np.cos(roll) * np.cos(pitch)], axis=-1)
+        cos_pitch = np.cos(pitch)
+        third_row = (-np.sin(pitch), np.sin(roll) * cos_pitch, np.cos(roll) * cos_pitch)
     else:
         raise ValueError(f"attitude must be a quaternion (w, x, y, z) or roll, pitch, yaw on its last axis, "
                          f"got shape {att.shape}")
-    earth_z = np.sum(third_row * accel, axis=-1)  # specific force along the frame's z axis
+    accel_x, accel_y, accel_z = _components(accel)
+    earth_z = third_row[0] * accel_x  # specific force along the frame's z axis: the row · accel, summed in order
+    earth_z += third_row[1] * accel_y
+    earth_z += third_row[2] * accel_z
     if frame == "NED":
         return -(earth_z + GRAVITY)  # z down: specific force at rest is −g; flip to +up
     return earth_z - GRAVITY
+
+
+def _components(values: np.ndarray) -> np.ndarray:
+    """``values`` (shape (..., k)) with its last axis first, a view: ``numpy.moveaxis(values, -1, 0)``, by the
+    transpose when that is the same (at most 2 axes; moveaxis is a Python wrapper, the transpose an attribute)."""
+    return values.T if values.ndim <= 2 else np.moveaxis(values, -1, 0)
+
+
+def _quaternion_third_row(quaternion: np.ndarray) -> tuple:
+    """The third row of :func:`quaternion_to_matrix` of quaternions (w, x, y, z) (shape (..., 4), normalised
+    here): ``2(xz − wy), 2(yz + wx), 1 − 2(x² + y²)``, each of shape (...), in the matrix's operation order (so
+    its bits), computed on one contiguous copy with the products in place."""
+    q = _components(quaternion).copy()
+    square = q * q
+    q /= np.sqrt(square[0] + square[1] + square[2] + square[3])  # |q| as numpy.linalg.norm sums it, in order
+    w, x, y, z = q
+    first = x * z
+    first -= w * y
+    first *= 2
+    second = y * z
+    second += w * x
+    second *= 2
+    third = x * x
+    third += y * y
+    third *= -2
+    third += 1  # 1 − 2(x² + y²): the same rounding as the subtraction
+    return first, second, third
 
 
 def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import math
 import sys
 import threading
 import warnings
@@ -275,9 +276,11 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
         Time decreases (naming the file line and both times) or is not finite.
     """
     time = np.asarray(time, dtype=float)
+    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
+    if _increasing(time, dt):  # finite, every step > 0: nothing to refuse, nothing to merge
+        return time, columns, 0
     if lines is None:
         lines = np.arange(time.size) + 2
-    dt = time[1:] - time[:-1]  # np.diff's values, without its wrapper
     _check_time_order(time, dt, source, lines, time_name, row_word)
     same = dt == 0
     repeated = int(np.count_nonzero(same))
@@ -285,6 +288,13 @@ def merge_repeated_timestamps(time: np.ndarray, columns: dict, source: str,
         return time, columns, 0
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
     return time[starts], {name: _merged(np.asarray(values), starts) for name, values in columns.items()}, repeated
+
+
+def _increasing(time: np.ndarray, steps: np.ndarray) -> bool:
+    """True when ``time`` (s; ``steps`` its steps) has at least 2 samples, all finite and strictly increasing, by
+    one reduction: a NaN or an infinity inside the array makes a NaN or a −inf step (the least step is then not
+    > 0), so only the two ends need a finite test of their own."""
+    return bool(steps.size and steps.min() > 0 and math.isfinite(time[0]) and math.isfinite(time[-1]))
 
 
 def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.ndarray, time_name: str,
@@ -322,12 +332,14 @@ def finish(data: LogData) -> LogData:
     from ._checks import check_log  # the checks import this module
 
     steps = _check_grid(data.time, data.source)  # the grid's steps (s), each > 0, and their median: found once
-    median_step = median(steps)
-    check_log(data, median_step)
+    # A gap or a time column in ms needs a step above 0.1 s: without one, the median (at most the longest step)
+    # decides nothing, and its partition is not paid.
+    median_step = median(steps) if float(steps.max()) > GAP_MIN_SECONDS else None
+    check_log(data, median_step, short_steps=median_step is None)
     if data.repeated_timestamps:
         data.warn(f"{data.source}: {data.repeated_timestamps} rows repeated the timestamp of the row before; "
                   f"merged (numeric columns averaged, states: last)")
-    data.gaps = find_gaps(data.time, steps, median_step)
+    data.gaps = find_gaps(data.time, steps, median_step) if median_step is not None else []
     if data.gaps:
         longest = max(length for _, length in data.gaps)
         first = data.gaps[0]
@@ -339,9 +351,14 @@ def finish(data: LogData) -> LogData:
 def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Each source sample on the first target step at or after it; NaN on other steps (newest wins)."""
     values = np.asarray(values, dtype=float)
-    out = np.full(target_time.shape + values.shape[1:], np.nan)
-    index = np.searchsorted(target_time, source_time, side="left")
-    finite = np.isfinite(values) if values.ndim == 1 else np.all(np.isfinite(values), axis=1)
+    out = np.empty(target_time.shape + values.shape[1:])
+    out.fill(np.nan)  # np.full's values, without its wrapper
+    index = target_time.searchsorted(source_time, side="left")
+    finite = np.isfinite(values)
+    if index.size and all_true(finite) and index.max() < target_time.size:  # every sample kept: no masks to apply
+        out[index] = values
+        return out
+    finite = finite if values.ndim == 1 else finite.all(axis=1)
     keep = (index < target_time.size) & finite
     out[index[keep]] = values[keep]
     return out
@@ -349,8 +366,10 @@ def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) 
 
 def previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The latest source sample at or before each target time (the first one before it starts)."""
-    index = np.clip(np.searchsorted(source_time, target_time, side="right") - 1, 0, source_time.size - 1)
-    return values[index]
+    index = np.asarray(source_time).searchsorted(target_time, side="right")
+    index -= 1  # in −1 … size − 1: only −1 needs clipping
+    np.maximum(index, 0, out=index)
+    return np.asarray(values).take(index, axis=0)
 
 
 def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
@@ -359,10 +378,12 @@ def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity)
     altitude = np.interp(time, ref_time, ref_altitude, left=np.nan, right=np.nan)
     velocity = np.interp(time, ref_time, ref_velocity, left=np.nan, right=np.nan)
     both = np.isfinite(altitude) & np.isfinite(baro_altitude)
-    early = both & (time <= time[both][0] + 2.0) if both.any() else both
-    if early.any():
-        altitude = altitude + float(np.median(baro_altitude[early] - altitude[early]))
-    return altitude, velocity
+    if not np.count_nonzero(both):
+        return altitude, velocity
+    early = both & (time <= time[both.argmax()] + 2.0)  # argmax: the first True
+    if not np.count_nonzero(early):
+        return altitude, velocity
+    return altitude + median(baro_altitude[early] - altitude[early]), velocity  # numpy.median's value: no NaN
 
 
 def _check_grid(time: np.ndarray, source: str) -> np.ndarray:

@@ -198,13 +198,16 @@ def check_time_units(source: str, time: np.ndarray, fix: str, median_step: Optio
     if median_step is not None:
         step, span = median_step, float(time[-1] - time[0])
     else:
+        if time.size >= 2:
+            with np.errstate(invalid="ignore"):  # inf − inf: NaN, which fails the test below
+                largest = float(np.maximum.reduce(time[1:] - time[:-1]))
+            if largest < 1.0:  # a NaN, or an infinity inside, makes the largest step NaN or inf: not here
+                return  # every step under 1 s (the finite times' too): so the median, without a partition
         finite = np.isfinite(time)
         finite = time if np.count_nonzero(finite) == time.size else time[finite]
         if finite.size < 2:
             return
         steps = finite[1:] - finite[:-1]
-        if float(steps.max()) < 1.0:
-            return  # every step under 1 s, so the median of the positive ones too: no partition needed
         positive = steps > 0
         steps = steps if positive.all() else steps[positive]
         if not steps.size:

@@ -294,7 +294,7 @@ def _increasing(time: np.ndarray, steps: np.ndarray) -> bool:
     """True when ``time`` (s; ``steps`` its steps) has at least 2 samples, all finite and strictly increasing, by
     one reduction: a NaN or an infinity inside the array makes a NaN or a −inf step (the least step is then not
     > 0), so only the two ends need a finite test of their own."""
-    return bool(steps.size and steps.min() > 0 and math.isfinite(time[0]) and math.isfinite(time[-1]))
+    return bool(steps.size and np.minimum.reduce(steps) > 0 and math.isfinite(time[0]) and math.isfinite(time[-1]))
 
 
 def _check_time_order(time: np.ndarray, dt: np.ndarray, source: str, lines: np.ndarray, time_name: str,
@@ -334,7 +334,7 @@ def finish(data: LogData) -> LogData:
     steps = _check_grid(data.time, data.source)  # the grid's steps (s), each > 0, and their median: found once
     # A gap or a time column in ms needs a step above 0.1 s: without one, the median (at most the longest step)
     # decides nothing, and its partition is not paid.
-    median_step = median(steps) if float(steps.max()) > GAP_MIN_SECONDS else None
+    median_step = median(steps) if float(np.maximum.reduce(steps)) > GAP_MIN_SECONDS else None
     check_log(data, median_step, short_steps=median_step is None)
     if data.repeated_timestamps:
         data.warn(f"{data.source}: {data.repeated_timestamps} rows repeated the timestamp of the row before; "
@@ -355,7 +355,7 @@ def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) 
     out.fill(np.nan)  # np.full's values, without its wrapper
     index = target_time.searchsorted(source_time, side="left")
     finite = np.isfinite(values)
-    if index.size and all_true(finite) and index.max() < target_time.size:  # every sample kept: no masks to apply
+    if index.size and all_true(finite) and np.maximum.reduce(index) < target_time.size:  # every sample kept: no masks to apply
         out[index] = values
         return out
     finite = finite if values.ndim == 1 else finite.all(axis=1)
@@ -366,10 +366,23 @@ def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) 
 
 def previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The latest source sample at or before each target time (the first one before it starts)."""
-    index = np.asarray(source_time).searchsorted(target_time, side="right")
+    source_time, values = np.asarray(source_time), np.asarray(values)
+    if _same_grid(source_time, target_time):  # e.g. PX4's attitude, stamped with the IMU's samples
+        return values.copy()  # each step's own sample: values[arange(size)]
+    index = source_time.searchsorted(target_time, side="right")
     index -= 1  # in −1 … size − 1: only −1 needs clipping
     np.maximum(index, 0, out=index)
-    return np.asarray(values).take(index, axis=0)
+    return values.take(index, axis=0)
+
+
+def _same_grid(source_time: np.ndarray, target_time: np.ndarray) -> bool:
+    """True when ``source_time`` is ``target_time`` sample for sample and strictly increasing (s): then the
+    latest source sample at or before each target time is the one at the same index."""
+    if source_time.shape != np.shape(target_time) or source_time.size < 2:
+        return False
+    if np.count_nonzero(source_time == target_time) != source_time.size:
+        return False
+    return np.count_nonzero(source_time[1:] > source_time[:-1]) == source_time.size - 1
 
 
 def reference_on_grid(time, baro_altitude, ref_time, ref_altitude, ref_velocity):
@@ -391,9 +404,12 @@ def _check_grid(time: np.ndarray, source: str) -> np.ndarray:
     time = np.asarray(time, dtype=float)
     if time.size < 2:
         raise LogError(f"{source}: need at least 2 samples, got {time.size}")
+    with np.errstate(invalid="ignore"):  # inf − inf: refused below, without a RuntimeWarning
+        steps = time[1:] - time[:-1]
+    if _increasing(time, steps):
+        return steps
     if not all_true(np.isfinite(time)):
         raise LogError(f"{source}: sample {int(np.flatnonzero(~np.isfinite(time))[0])}: time is not finite")
-    steps = time[1:] - time[:-1]
     increasing = steps > 0
     bad = np.flatnonzero(~increasing) if not all_true(increasing) else ()
     if len(bad):

@@ -127,7 +127,7 @@ def is_dead(values: np.ndarray) -> bool:
     when every axis is constant.
     """
     values = np.asarray(values, dtype=float)
-    if values.size and _ends_differ(values):
+    if values.size and values.ndim <= 2 and _ends_differ(values):
         return False
     if values.ndim == 1:  # one channel: the same test without the axis reductions
         if values.size and _two_finite_values(values):

@@ -355,8 +355,8 @@ def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) 
     out.fill(np.nan)  # np.full's values, without its wrapper
     index = target_time.searchsorted(source_time, side="left")
     finite = np.isfinite(values)
-    if index.size and all_true(finite) and np.maximum.reduce(index) < target_time.size:  # every sample kept: no masks to apply
-        out[index] = values
+    if index.size and all_true(finite) and np.maximum.reduce(index) < target_time.size:
+        out[index] = values  # every sample kept: no masks to apply
         return out
     finite = finite if values.ndim == 1 else finite.all(axis=1)
     keep = (index < target_time.size) & finite
@@ -367,7 +367,7 @@ def align(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) 
 def previous(target_time: np.ndarray, source_time: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The latest source sample at or before each target time (the first one before it starts)."""
     source_time, values = np.asarray(source_time), np.asarray(values)
-    if _same_grid(source_time, target_time):  # e.g. PX4's attitude, stamped with the IMU's samples
+    if values.shape[:1] == source_time.shape and _same_grid(source_time, target_time):  # e.g. PX4's attitude
         return values.copy()  # each step's own sample: values[arange(size)]
     index = source_time.searchsorted(target_time, side="right")
     index -= 1  # in −1 … size − 1: only −1 needs clipping

@@ -513,6 +513,7 @@ class ArrayRows:
         # order within each; fmt: a callable giving the type's Format (its column names are only built if asked)
         self._first_format = parts[0][1] if parts else None
         self._first_fields: Optional[List[str]] = None if parts else []
+        self._field_set: Optional[frozenset] = None
         if not parts:
             self.size = 0
             self.columns: Dict[str, np.ndarray] = {}
@@ -521,7 +522,7 @@ class ArrayRows:
         if len(parts) == 1:  # one type: already in file order
             offsets, _, columns = parts[0]
             self.size = offsets.size
-            self.columns = {field: columns[field] for field in fields_used if field in columns}
+            self.columns = {field: values for field, values in columns.items() if field in fields_used}
             self.time = _times(columns, offsets.size)
             return
         offsets = np.concatenate([p[0] for p in parts])
@@ -551,7 +552,9 @@ class ArrayRows:
         return self.size
 
     def has(self, field: str) -> bool:
-        return field in self.first_fields
+        if self._field_set is None:
+            self._field_set = frozenset(self.first_fields)
+        return field in self._field_set
 
     def values(self, field: str) -> np.ndarray:
         values = self.columns.get(field)
@@ -632,13 +635,16 @@ _NOT_NUMBERS = frozenset(b"anNZg")
 
 
 def _firmware(index: DataFlashIndex, fmt: Format, offsets: np.ndarray) -> str:
-    """The first MSG text that names the firmware ("Ardu…", "APM:…"), else ""."""
+    """The first MSG text that names the firmware ("Ardu…", "APM:…"), else "". (A text starts so exactly when its
+    first four bytes do, whichever decoding pymavlink's falls back to: the rows are picked by those bytes.)"""
     if fmt.char_of("Message") not in "nNZ":
         raise NeedsReference("MSG.Message is not text")
-    bodies, _ = decoder_module().dataflash_gather(index.data, np.ascontiguousarray(offsets), fmt.length)
-    table = bodies.view(fmt.dtype).reshape(-1)
-    for row in table:
-        text = _python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
-        if text.startswith(("Ardu", "APM:")):
-            return text
+    column = fmt.colhash["Message"]
+    start = 3 + fmt.dtype.fields[f"f{column}"][1]  # the field's first byte in a message
+    width = _SIZES[fmt.chars[column]]
+    log = index.data.data
+    for offset in offsets.tolist():
+        if log[offset + start:offset + start + 4] in (b"Ardu", b"APM:"):
+            # (trailing NULs, which numpy's bytes() would cut, change neither the decoding nor the text before a NUL)
+            return _python_value(fmt, "Message", bytes(log[offset + start:offset + start + width]))
     return ""

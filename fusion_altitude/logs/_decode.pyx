@@ -85,7 +85,9 @@ def dataflash_index(const uint8_t[::1] data):
         return offsets[:0], types[:0], 0, "ok", 0, np.zeros(256, dtype=np.uint8)
     with nogil:
         status = DataFlashScan(start, size, &offsets_view[0], &types_view[0], capacity, &result)
-    lengths = np.array([result.lengths[k] for k in range(256)], dtype=np.uint8)
+    lengths = np.empty(256, dtype=np.uint8)
+    cdef uint8_t[::1] length_view = lengths
+    memcpy(&length_view[0], &result.lengths[0], 256)
     return (offsets[:result.count], types[:result.count], int(result.badHeaders), STATUS[<int> status],
             int(result.stopOffset), lengths)
 
@@ -491,7 +493,7 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
     field_chars, field_offsets : ndarrays of shape (256, fields)
         Of :func:`dataflash_formats`: each field's format character (0: absent) and byte in a body.
     positions : sequence of int
-        The fields (columns of ``field_chars``) to read.
+        The fields (columns of ``field_chars``) to read (at most 64).
     names : sequence of str
         The name of each of ``positions`` (the keys of the columns).
 
@@ -516,9 +518,15 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         raise ValueError("field_chars and field_offsets must be (256, fields) tables")
     if len(names) != len(positions):
         raise ValueError("one name per position")
-    for position in positions:
-        if position >= <size_t> field_chars.shape[1]:
-            raise ValueError(f"position {position} out of range")
+    cdef size_t npositions = len(positions)
+    cdef size_t field_position[64]
+    cdef size_t j
+    if npositions > 64:
+        raise ValueError("at most 64 positions")
+    for j in range(npositions):
+        field_position[j] = positions[j]
+        if field_position[j] >= <size_t> field_chars.shape[1]:
+            raise ValueError(f"position {positions[j]} out of range")
     if count == 0:
         return {}
     ScanCountTypes(&types[0], count, counts)
@@ -544,10 +552,12 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         offset_view = mine
         columns = {}
         unreadable = None
-        for position, name in zip(positions, names):
+        for j in range(npositions):
+            position = field_position[j]
             char = field_chars[type_id, position]
             if char == 0:
                 continue
+            name = names[j]
             values = np.empty(offset_view.shape[0], dtype=np.float64)
             value_view = values
             status = DataFlashColumn(&data[0], data.shape[0], &offset_view[0], offset_view.shape[0],

@@ -58,6 +58,8 @@ def _time_spikes(time: np.ndarray) -> np.ndarray:
     if time.size < 3:
         return np.zeros(0, dtype=int)
     dt = np.diff(time)
+    if not (dt > 60.0).any():  # no step over the lowest limit (60 s): no spike, whatever the median
+        return np.zeros(0, dtype=int)
     limit = max(60.0, 1000.0 * float(np.median(dt)))
     jumps = np.flatnonzero(dt > limit) + 1
     return np.array([i for i in jumps if i == time.size - 1 or time[i + 1] < time[i]], dtype=int)

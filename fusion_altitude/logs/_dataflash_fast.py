@@ -171,8 +171,9 @@ class FormatTable:
 
     Nothing a log reads from it is changed afterwards: the arrays are read-only, ``name_to_id`` a read-only view;
     the formats are built once each when first asked for; ``clock_verdicts`` and ``unit_verdicts`` memoise the
-    checks of :meth:`DataFlashIndex.check_clock` and :meth:`DataFlashIndex._check_units` (each key is set once, to
-    the one value the check gives; a single dict store, atomic under the GIL, so threads may share a table)."""
+    checks of :meth:`DataFlashIndex.check_clock` and :meth:`DataFlashIndex._check_units`, ``plans`` what
+    :func:`read_families` looks up (each key is set once, to the one value it can have; a single dict store, atomic
+    under the GIL, so threads may share a table; at most :data:`_VERDICTS` keys each)."""
 
     def __init__(self, result: tuple) -> None:
         problem, raw, name_to_id, lengths, column_counts, field_chars, field_offsets, redefined = result
@@ -192,6 +193,8 @@ class FormatTable:
         self.formats = Formats(raw)
         self.clock_verdicts: Dict[tuple, Optional[str]] = {}
         self.unit_verdicts: Dict[bytes, Optional[str]] = {}
+        #: :func:`read_families`' fields, their columns and the types, per (kinds, fields) asked for.
+        self.plans: Dict[tuple, tuple] = {}
 
 
 @functools.lru_cache(maxsize=FORMAT_CACHE_SIZE)
@@ -208,6 +211,13 @@ def format_table(bodies: bytes, names: Tuple[str, ...], fields: Tuple[str, ...])
     offsets = np.arange(count, dtype=np.uint64) * np.uint64(_FMT_BODY)
     wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
     return FormatTable(decoder_module().dataflash_formats(log, offsets, wanted, [f.encode() for f in fields]))
+
+
+@functools.lru_cache(maxsize=FORMAT_CACHE_SIZE)
+def _field_layout(fields: Tuple[str, ...]) -> Tuple[Tuple[str, ...], Mapping]:
+    """The columns of the field tables (the clock fields, then ``fields``, each once) and each one's column."""
+    columns = tuple(dict.fromkeys((*CLOCK_FIELDS, *fields)))
+    return columns, MappingProxyType({name: k for k, name in enumerate(columns)})
 
 
 _UNSET = object()
@@ -232,8 +242,7 @@ class DataFlashIndex:
         self.offsets, self.types = offsets, types
         self.final_lengths = lengths
         #: The fields of the field tables, in their column order.
-        self.fields = tuple(dict.fromkeys((*CLOCK_FIELDS, *fields)))
-        self.field_column = {name: k for k, name in enumerate(self.fields)}
+        self.fields, self.field_column = _field_layout(tuple(fields))
         self._read_formats(names)
         self._check_units()
 
@@ -386,9 +395,10 @@ class DataFlashIndex:
                                                           [f.encode() for f in self.fields],
                                                           int(self.offsets[self._clock_walk_end()])))
         self._use(table)
-        present = np.flatnonzero(np.bincount(self.types, minlength=256).astype(bool) & table.undefined)
-        if present.size:
-            raise NeedsReference(f"messages of type {int(present[0])} without a readable FMT")
+        if complete < fmt_offsets.size:  # (else every FMT the scan met was read: each message's type has one)
+            present = np.flatnonzero(np.bincount(self.types, minlength=256).astype(bool) & table.undefined)
+            if present.size:
+                raise NeedsReference(f"messages of type {int(present[0])} without a readable FMT")
 
     def _use(self, table: FormatTable) -> None:
         """Read the log with the formats of ``table``."""
@@ -603,9 +613,15 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     are read in C (:func:`_decode.dataflash_columns`), straight from the file's bytes; ``fields_used`` must be
     among the index's fields."""
     index.check_clock(kinds)
-    wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))
-    positions = [index.field_column[field] for field in wanted]
-    type_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
+    key = (tuple(kinds), tuple(fields_used))
+    plan = index.table.plans.get(key)
+    if plan is None:  # (a function of the formats, the kinds and the fields: kept on the format table)
+        wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))
+        plan = (wanted, tuple(index.field_column[field] for field in wanted),
+                tuple(index.name_to_id[name] for name in kinds if name in index.name_to_id))
+        if len(index.table.plans) < _VERDICTS:
+            index.table.plans[key] = plan
+    wanted, positions, type_ids = plan
     tables = decoder_module().dataflash_columns(index.data, index.offsets, index.types, index.lengths, type_ids,
                                                 index.field_chars, index.field_offsets, positions, wanted)
     parts: Dict[str, List[tuple]] = {}

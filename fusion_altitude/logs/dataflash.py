@@ -167,7 +167,7 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     def _integer_column(kind, columns, name):
         # the reader's int(...) of the value: declined unless every value is a finite number
         values = columns[name]
-        if not np.all(np.isfinite(values)):
+        if not np.isfinite(values).all():
             raise fast.NeedsReference(f"{kind}.{name} is not finite")
         return np.trunc(values)
 
@@ -306,7 +306,7 @@ class _Messages:
             values = self.rows[kind].times()
         except (TypeError, ValueError):
             raise LogError(f"{self.path}: {kind} messages with a time stamp that is not a number") from None
-        if not np.all(np.isfinite(values)):
+        if not np.isfinite(values).all():
             raise LogError(f"{self.path}: {kind} messages without a TimeUS or TimeMS field")
         return values
 
@@ -337,13 +337,13 @@ def _build(path, rows, firmware, chatter, want, progress, size, missing_bytes=da
     stamp = "TimeUS" if rows["IMU"].has("TimeUS") else "TimeMS"
     imu_time_raw, damaged = _imu_times_without_spikes(messages)
     t0 = float(imu_time_raw[0])
-    imu = {"accel": np.column_stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"]),
-           "gyro": np.column_stack([messages.column("IMU", f"Gyr{a}") for a in "XYZ"])}
+    imu = {"accel": np.stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"], axis=1),
+           "gyro": np.stack([messages.column("IMU", f"Gyr{a}") for a in "XYZ"], axis=1)}
     order = np.arange(imu_time_raw.size) + 1
     time, imu, repeated = merge_repeated_timestamps(imu_time_raw - t0, imu, path, order, stamp,
                                                     row_word="IMU message")
     att_time = messages.times("ATT") - t0
-    euler = np.radians(np.column_stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
+    euler = np.radians(np.stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")], axis=1))
     accel = vertical_acceleration(imu["accel"], previous(time, att_time, euler), frame="NED")
     baro_time = messages.times("BARO") - t0
     baro = align(time, baro_time, messages.column("BARO", "Alt"))
@@ -428,7 +428,7 @@ def _add_ekf_reference(data: LogData, messages: _Messages, time: np.ndarray, t0:
             ref_time = messages.times(kind) - t0
             down = messages.column(kind, "PD")
             velocity = -messages.column(kind, "VD") if rows[kind].has("VD") else np.gradient(-down, ref_time)
-            if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
+            if ref_time.size >= 2 and (ref_time[1:] > ref_time[:-1]).all():
                 data.reference_altitude, data.reference_velocity = reference_on_grid(
                     time, baro, ref_time, -down, velocity)
                 data.reference_name = f"ArduPilot EKF ({kind})"

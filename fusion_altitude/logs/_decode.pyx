@@ -393,9 +393,9 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         seen[body[0]] = 1
         seen_keys[body[0]] = DataFlashNameKey(body + 2)
         taken_offsets[body[0]] = offsets[k]
-        for j in range(16):
-            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < _text_length(body + 6, 16) else 0
         nchars = _text_length(body + 6, 16)
+        for j in range(16):
+            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < nchars else 0
         total = 3
         for j in range(nchars):
             if DataFlashCharSize(body[6 + j]) == 0:

@@ -26,6 +26,8 @@ from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ._truncation import dataflash_missing_bytes
+
 #: Format characters: (numpy dtype, multiplier as pymavlink's FORMAT_TO_STRUCT has it).
 FORMAT_CHARS = {
     "a": ("V64", None), "b": ("<i1", None), "B": ("<u1", None), "g": ("<f2", None), "h": ("<i2", None),
@@ -361,7 +363,6 @@ class DataFlashIndex:
 
     def missing_bytes(self, blob: bytes):
         """:func:`_truncation.dataflash_missing_bytes` of the log, walking only from its last message on."""
-        from ._truncation import dataflash_missing_bytes
         if not self.offsets.size:
             return dataflash_missing_bytes(self.path, blob)
         last = int(self.offsets[-1])

@@ -10,6 +10,7 @@ from typing import Callable, Dict, List, NamedTuple, Optional
 import numpy as np
 
 from ..sensors import vertical_acceleration
+from . import _dataflash_fast as fast
 from ._binary_args import checked_instance
 from ._dataflash_fast import time_of as _time_of
 from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
@@ -123,17 +124,15 @@ def read_dataflash(path: str, instance: Optional[int] = None,
     """
     want = checked_instance(path, instance, decoder, DECODERS, "an ArduPilot DataFlash log")
     if decoder == "fast":
-        from ._dataflash_fast import NeedsReference
         try:
             return _read_fast(path, want, progress)
-        except NeedsReference:
+        except fast.NeedsReference:
             pass
     return _read_pymavlink(path, want, progress)
 
 
 def _read_fast(path: str, want: int, progress) -> LogData:
     """``read_dataflash`` with the C decoder; raises NeedsReference for a log it leaves to pymavlink."""
-    from . import _dataflash_fast as fast
     try:
         with open(path, "rb") as handle:
             data = handle.read()

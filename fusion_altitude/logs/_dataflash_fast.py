@@ -384,9 +384,10 @@ class DataFlashIndex:
         table of every log with the same FMT bytes is the same one (:func:`format_table`), but where a type is
         defined twice (read per log, where pymavlink's clock set-up walk stopped)."""
         _decode = decoder_module()
+        names = tuple(names)
         fmt_offsets = np.ascontiguousarray(self.offsets[self.types == 0x80])
         bodies, complete = _decode.dataflash_gather(self.data, fmt_offsets, DATAFLASH_FMT_LENGTH)
-        table = format_table(bodies[:complete].tobytes(), tuple(names), self.fields)
+        table = format_table(bodies[:complete].tobytes(), names, self.fields)
         if table.problem is not None:
             raise NeedsReference(table.problem)
         if table.redefined:  # each such type takes the FMT pymavlink's clock set-up walk read last
@@ -613,8 +614,9 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     ``fields_used`` the type has (float64, the values pymavlink gives) and its time fields. The numeric fields
     are read in C (:func:`_decode.dataflash_columns`), straight from the file's bytes; ``fields_used`` must be
     among the index's fields."""
+    kinds, fields_used = tuple(kinds), tuple(fields_used)
     index.check_clock(kinds)
-    key = (tuple(kinds), tuple(fields_used))
+    key = (kinds, fields_used)
     plan = index.table.plans.get(key)
     if plan is None:  # (a function of the formats, the kinds and the fields: kept on the format table)
         wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))

@@ -548,17 +548,24 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         rows[type_id] = &offset_view[0]
         out[type_id] = mine
     DataFlashSplit(&offsets[0], &types[0], count, rows)
+    cdef size_t present, row
     for type_id, mine in out.items():
         offset_view = mine
         columns = {}
         unreadable = None
+        present = 0
+        for j in range(npositions):
+            present += field_chars[type_id, field_position[j]] != 0
+        block = np.empty((present, offset_view.shape[0]), dtype=np.float64)  # one row per field the type has
+        row = 0
         for j in range(npositions):
             position = field_position[j]
             char = field_chars[type_id, position]
             if char == 0:
                 continue
             name = names[j]
-            values = np.empty(offset_view.shape[0], dtype=np.float64)
+            values = block[row]
+            row += 1
             value_view = values
             status = DataFlashColumn(&data[0], data.shape[0], &offset_view[0], offset_view.shape[0],
                                      <size_t> field_offsets[type_id, position], char, &value_view[0])

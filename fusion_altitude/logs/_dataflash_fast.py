@@ -97,6 +97,7 @@ class Format:
         # (the characters, the length and the column count were checked in C by _decode.dataflash_formats)
         self.colhash = dict(zip(self.columns, range(len(self.columns))))
         self._dtype = None
+        self._keys: Optional[frozenset] = None
         #: Whether every column name is a word of letters, digits and "_" (checked in C).
         self.columns_are_words = True
 
@@ -104,6 +105,13 @@ class Format:
     def columns_once(self) -> List[str]:
         """The column names, each once, in order (the keys of pymavlink's ``to_dict`` after its type name)."""
         return list(self.colhash)
+
+    @property
+    def keys(self) -> frozenset:
+        """The keys of pymavlink's ``to_dict`` of a message of this type (its type name, the columns), built once."""
+        if self._keys is None:
+            self._keys = frozenset(("mavpackettype", *self.colhash))
+        return self._keys
 
     @property
     def dtype(self) -> np.dtype:
@@ -564,8 +572,8 @@ class ArrayRows:
         return self.size
 
     def has(self, field: str) -> bool:
-        if self._field_set is None:
-            self._field_set = frozenset(self.first_fields)
+        if self._field_set is None:  # (the first message's type's keys: kept on its Format, built once)
+            self._field_set = self._first_format().keys if self._first_format is not None else frozenset()
         return field in self._field_set
 
     def values(self, field: str) -> np.ndarray:

@@ -21,9 +21,12 @@ from __future__ import annotations
 import functools
 import importlib
 from collections.abc import Mapping
-from typing import Dict, Iterable, List, Optional, Sequence
+from types import MappingProxyType
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
+
+from ._truncation import dataflash_missing_bytes
 
 #: Format characters: (numpy dtype, multiplier as pymavlink's FORMAT_TO_STRUCT has it).
 FORMAT_CHARS = {
@@ -47,6 +50,8 @@ _CLOCK_FIELD_BYTES = tuple(name.encode() for name in CLOCK_FIELDS)
 _TIME_FIELDS = ("TimeUS", "T", "Week", "TimeMS")
 #: Format characters holding text, as bytes (the field tables hold characters as numbers).
 _TEXT_BYTES = frozenset(b"anNZ")
+#: Length (bytes, header included) of an FMT message.
+DATAFLASH_FMT_LENGTH = 89
 #: Types the FMTU/UNIT/MULT checks read besides the asked-for ones.
 _UNIT_NAMES = ("FMTU", "UNIT", "MULT")
 
@@ -92,6 +97,7 @@ class Format:
         # (the characters, the length and the column count were checked in C by _decode.dataflash_formats)
         self.colhash = dict(zip(self.columns, range(len(self.columns))))
         self._dtype = None
+        self._keys: Optional[frozenset] = None
         #: Whether every column name is a word of letters, digits and "_" (checked in C).
         self.columns_are_words = True
 
@@ -99,6 +105,13 @@ class Format:
     def columns_once(self) -> List[str]:
         """The column names, each once, in order (the keys of pymavlink's ``to_dict`` after its type name)."""
         return list(self.colhash)
+
+    @property
+    def keys(self) -> frozenset:
+        """The keys of pymavlink's ``to_dict`` of a message of this type (its type name, the columns), built once."""
+        if self._keys is None:
+            self._keys = frozenset(("mavpackettype", *self.colhash))
+        return self._keys
 
     @property
     def dtype(self) -> np.dtype:
@@ -153,6 +166,73 @@ class Formats(Mapping):
         return len(self._raw)
 
 
+#: How many firmwares' format tables :func:`format_table` keeps (a fleet's logs come from a few firmwares).
+FORMAT_CACHE_SIZE = 32
+#: Bytes of an FMT message's body (after its 3-byte header): what :func:`_decode.dataflash_formats` reads of it.
+_FMT_BODY = 86
+#: Verdicts a :class:`FormatTable` keeps per kind (name sets asked for, FMTU contents met).
+_VERDICTS = 8
+
+
+class FormatTable:
+    """What a log's FMT messages say for the names and fields a reader asks for (:func:`_decode.dataflash_formats`
+    on their bodies): the same for every log whose FMT bodies are the same bytes (one firmware), so
+    :func:`format_table` keeps it between logs.
+
+    Nothing a log reads from it is changed afterwards: the arrays are read-only, ``name_to_id`` a read-only view;
+    the formats are built once each when first asked for; ``clock_verdicts`` and ``unit_verdicts`` memoise the
+    checks of :meth:`DataFlashIndex.check_clock` and :meth:`DataFlashIndex._check_units`, ``plans`` what
+    :func:`read_families` looks up (each key is set once, to the one value it can have; a single dict store, atomic
+    under the GIL, so threads may share a table; at most :data:`_VERDICTS` keys each)."""
+
+    def __init__(self, result: tuple) -> None:
+        problem, raw, name_to_id, lengths, column_counts, field_chars, field_offsets, redefined = result
+        #: Why pymavlink's own reading is needed (the first FMT failing a check), else None.
+        self.problem: Optional[str] = problem
+        self.raw: Dict[int, tuple] = raw
+        self.name_to_id: Mapping = MappingProxyType(name_to_id)
+        undefined = lengths == 0
+        undefined[0x80] = False
+        for array in (lengths, column_counts, field_chars, field_offsets, undefined):
+            array.setflags(write=False)
+        self.lengths, self.column_counts, self.field_chars, self.field_offsets = \
+            lengths, column_counts, field_chars, field_offsets
+        #: Types no FMT defines (FMT's own type aside): a log with messages of one is declined.
+        self.undefined = undefined
+        self.redefined: Tuple[int, ...] = tuple(redefined)
+        self.formats = Formats(raw)
+        self.clock_verdicts: Dict[tuple, Optional[str]] = {}
+        self.unit_verdicts: Dict[bytes, Optional[str]] = {}
+        #: :func:`read_families`' fields, their columns and the types, per (kinds, fields) asked for.
+        self.plans: Dict[tuple, tuple] = {}
+
+
+@functools.lru_cache(maxsize=FORMAT_CACHE_SIZE)
+def format_table(bodies: bytes, names: Tuple[str, ...], fields: Tuple[str, ...]) -> FormatTable:
+    """The :class:`FormatTable` of FMT messages with these ``bodies`` (86 bytes each, in file order; only the ones
+    wholly inside the file: the reader stops at a cut-off one), asked for ``names`` (and the types pymavlink always
+    walks and the unit checks read) and ``fields``. Kept for the last :data:`FORMAT_CACHE_SIZE` keys (an LRU,
+    thread-safe): the result is a function of the arguments alone, so a warm and a cold cache give the same.
+    The formats are read as the first pass of :meth:`DataFlashIndex._read_formats` (a type defined twice is read
+    again per log, where the clock set-up walk stopped)."""
+    count = len(bodies) // _FMT_BODY
+    # the bodies laid out as a log of FMT messages: message k at byte 86 k, its body 3 bytes on
+    log = np.frombuffer(b"\0\0\0" + bodies, dtype=np.uint8)
+    offsets = np.arange(count, dtype=np.uint64) * np.uint64(_FMT_BODY)
+    wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
+    return FormatTable(decoder_module().dataflash_formats(log, offsets, wanted, [f.encode() for f in fields]))
+
+
+@functools.lru_cache(maxsize=FORMAT_CACHE_SIZE)
+def _field_layout(fields: Tuple[str, ...]) -> Tuple[Tuple[str, ...], Mapping]:
+    """The columns of the field tables (the clock fields, then ``fields``, each once) and each one's column."""
+    columns = tuple(dict.fromkeys((*CLOCK_FIELDS, *fields)))
+    return columns, MappingProxyType({name: k for k, name in enumerate(columns)})
+
+
+_UNSET = object()
+
+
 class DataFlashIndex:
     """The messages of a DataFlash log: where each starts, of which type, and the formats (from FMT) of the types
     named in ``names`` (and those pymavlink always walks or the unit checks read), with the byte and format
@@ -172,8 +252,7 @@ class DataFlashIndex:
         self.offsets, self.types = offsets, types
         self.final_lengths = lengths
         #: The fields of the field tables, in their column order.
-        self.fields = tuple(dict.fromkeys((*CLOCK_FIELDS, *fields)))
-        self.field_column = {name: k for k, name in enumerate(self.fields)}
+        self.fields, self.field_column = _field_layout(tuple(fields))
         self._read_formats(names)
         self._check_units()
 
@@ -181,18 +260,31 @@ class DataFlashIndex:
         """Decline logs in which pymavlink's clock or bookkeeping would fail on a message it reads (it prints
         "bad msg", which the reader counts): odd column names (bit flips), text in a time field, GPS messages
         without the partner of their week field, without any week field (its GPS-interpolated clock multiplies
-        a missing week) or without a boot time. (Each format's clock fields were looked up in C.)"""
+        a missing week) or without a boot time. (Each format's clock fields were looked up in C; the verdict is
+        a function of the formats and ``names``, kept on the format table.)"""
+        key = tuple(names)
+        verdicts = self.table.clock_verdicts
+        problem = verdicts.get(key, _UNSET)
+        if problem is _UNSET:
+            problem = self._clock_problem(key)
+            if len(verdicts) < _VERDICTS:
+                verdicts[key] = problem
+        if problem is not None:
+            raise NeedsReference(problem)
+
+    def _clock_problem(self, names: Iterable[str]) -> Optional[str]:
+        """Why :meth:`check_clock` declines the log, else None."""
         clock = len(CLOCK_FIELDS)  # the clock fields are the first columns of the field tables
-        for name in set(names) | set(ALWAYS_WALKED):
+        for name in sorted(set(names) | set(ALWAYS_WALKED)):
             type_id = self.name_to_id.get(name)
             if type_id is None:
                 continue
             _, _, _, columns, words = self._raw_formats[type_id]
             if columns and not words:
-                raise NeedsReference(f"{name}: a column name that is not a word")
+                return f"{name}: a column name that is not a word"
             chars = self.field_chars[type_id, :clock].tobytes()
             if not _TEXT_BYTES.isdisjoint(chars):
-                raise NeedsReference(f"{name}: a time field holds text")
+                return f"{name}: a time field holds text"
             if name in ("GPS", "GPS2"):
                 have = {field for field, char in zip(CLOCK_FIELDS, chars) if char}
                 if ("Week" in have and "TimeMS" not in have) or \
@@ -200,7 +292,8 @@ class DataFlashIndex:
                         ("Week" not in have and "GWk" not in have and "Wk" in have and "TWk" not in have) or \
                         ("Week" not in have and "GWk" not in have and "Wk" not in have and "GPSTime" not in have) or \
                         ("T" not in have and "TimeUS" not in have):
-                    raise NeedsReference(f"{name}: a GPS time pymavlink's clock cannot read")
+                    return f"{name}: a GPS time pymavlink's clock cannot read"
+        return None
 
     def skipped_runs(self) -> int:
         """How many "Skipped N bad bytes" lines pymavlink prints reading this log: one per run of bad bytes
@@ -278,11 +371,14 @@ class DataFlashIndex:
 
     def missing_bytes(self, blob: bytes):
         """:func:`_truncation.dataflash_missing_bytes` of the log, walking only from its last message on."""
-        from ._truncation import dataflash_missing_bytes
         if not self.offsets.size:
             return dataflash_missing_bytes(self.path, blob)
-        lengths = {k: int(v) for k, v in enumerate(self.final_lengths.tolist()) if v}
-        return dataflash_missing_bytes(self.path, blob, int(self.offsets[-1]), lengths)
+        last = int(self.offsets[-1])
+        length = int(self.final_lengths[self.types[-1]])
+        if last + length > self.size:  # the last message is cut off (the walk's first step from it)
+            return last + length - self.size
+        lengths = {int(k): int(self.final_lengths[k]) for k in np.flatnonzero(self.final_lengths)}
+        return dataflash_missing_bytes(self.path, blob, last, lengths)
 
     def _bodies(self, type_id: int, length: int) -> np.ndarray:
         _decode = decoder_module()
@@ -292,52 +388,79 @@ class DataFlashIndex:
 
     def _read_formats(self, names: Iterable[str]) -> None:
         """The FMT messages, in file order, as pymavlink's indexer reads them (it stops at a cut-off one): checked
-        in C (:func:`_decode.dataflash_formats`), made :class:`Format` objects only when a type is asked for."""
+        in C (:func:`_decode.dataflash_formats`), made :class:`Format` objects only when a type is asked for. The
+        table of every log with the same FMT bytes is the same one (:func:`format_table`), but where a type is
+        defined twice (read per log, where pymavlink's clock set-up walk stopped)."""
+        _decode = decoder_module()
+        names = tuple(names)
         fmt_offsets = np.ascontiguousarray(self.offsets[self.types == 0x80])
-        wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
-        fields = [f.encode() for f in self.fields]
-        problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
-            redefined = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields)
-        if problem is not None:
-            raise NeedsReference(problem)
-        if redefined:  # each such type takes the FMT pymavlink's clock set-up walk read last
-            walked_to = int(self.offsets[self._clock_walk_end()])
-            problem, raw, self.name_to_id, self.lengths, self.column_counts, self.field_chars, self.field_offsets, \
-                _ = decoder_module().dataflash_formats(self.data, fmt_offsets, wanted, fields, walked_to)
-        self._raw_formats = raw
-        self.formats = Formats(raw)
-        present = np.bincount(self.types, minlength=256).astype(bool)
-        present[0x80] = False
-        present[self.lengths != 0] = False
-        if present.any():
-            raise NeedsReference(f"messages of type {int(np.flatnonzero(present)[0])} without a readable FMT")
+        bodies, complete = _decode.dataflash_gather(self.data, fmt_offsets, DATAFLASH_FMT_LENGTH)
+        table = format_table(bodies[:complete].tobytes(), names, self.fields)
+        if table.problem is not None:
+            raise NeedsReference(table.problem)
+        if table.redefined:  # each such type takes the FMT pymavlink's clock set-up walk read last
+            self._use(table)  # (the walk reads the first pass's formats)
+            wanted = {name.encode() for name in (*names, *ALWAYS_WALKED, *_UNIT_NAMES)}
+            table = FormatTable(_decode.dataflash_formats(self.data, fmt_offsets, wanted,
+                                                          [f.encode() for f in self.fields],
+                                                          int(self.offsets[self._clock_walk_end()])))
+        self._use(table)
+        if complete < fmt_offsets.size:  # (else every FMT the scan met was read: each message's type has one)
+            present = np.flatnonzero(np.bincount(self.types, minlength=256).astype(bool) & table.undefined)
+            if present.size:
+                raise NeedsReference(f"messages of type {int(present[0])} without a readable FMT")
+
+    def _use(self, table: FormatTable) -> None:
+        """Read the log with the formats of ``table``."""
+        self.table = table
+        self.name_to_id, self.lengths, self.column_counts = table.name_to_id, table.lengths, table.column_counts
+        self.field_chars, self.field_offsets = table.field_chars, table.field_offsets
+        self._raw_formats, self.formats = table.raw, table.formats
 
     def _check_units(self) -> None:
-        """FMTU/UNIT/MULT only name units (no value changes), but odd ones make pymavlink raise: decline those."""
+        """FMTU/UNIT/MULT only name units (no value changes), but odd ones make pymavlink raise: decline those.
+        The verdict is a function of the formats and the FMTU messages' bytes, kept on the format table."""
+        key = b""
+        if "FMTU" in self.name_to_id:
+            type_id = self.name_to_id["FMTU"]
+            offsets, bodies = self._bodies(type_id, int(self.lengths[type_id]))
+            key = bodies[offsets + self.lengths[type_id] <= self.size].tobytes()
+        verdicts = self.table.unit_verdicts
+        problem = verdicts.get(key, _UNSET)
+        if problem is _UNSET:
+            problem = self._units_problem()
+            if len(verdicts) < _VERDICTS:
+                verdicts[key] = problem
+        if problem is not None:
+            raise NeedsReference(problem)
+
+    def _units_problem(self) -> Optional[str]:
+        """Why :meth:`_check_units` declines the log, else None."""
         if "FMTU" in self.name_to_id:
             fmtu = self.formats[self.name_to_id["FMTU"]]
             for char in ("UnitIds", "MultIds"):
                 if char in fmtu.colhash and fmtu.char_of(char) not in "nNZ":
-                    raise NeedsReference(f"FMTU.{char} is not text")
+                    return f"FMTU.{char} is not text"
             if "MultIds" in fmtu.colhash and "UnitIds" not in fmtu.colhash:
-                raise NeedsReference("FMTU with multipliers but no units")
+                return "FMTU with multipliers but no units"
             if "UnitIds" in fmtu.colhash:
                 if len(fmtu.columns) < 2 or fmtu.chars[1] in TEXT_CHARS:
-                    raise NeedsReference("FMTU without a numeric second field")
+                    return "FMTU without a numeric second field"
                 fields = [fmtu.columns[1]] + [c for c in ("UnitIds", "MultIds") if c in fmtu.colhash]
                 for record in self.records("FMTU", fields):
                     target = int(record[fmtu.columns[1]])  # pymavlink: int(elements[1])
                     if not 0 <= target < 256 or not self.lengths[target]:
                         continue
                     if "#" in record["UnitIds"]:
-                        raise NeedsReference("FMTU with an instance field")
+                        return "FMTU with an instance field"
                     if "MultIds" in record and len(record["MultIds"]) < int(self.column_counts[target]):
-                        raise NeedsReference("FMTU with fewer multipliers than columns")
+                        return "FMTU with fewer multipliers than columns"
         for name in ("UNIT", "MULT"):
             if name in self.name_to_id:
                 chars = self.formats[self.name_to_id[name]].chars
                 if len(chars) < 3 or chars[1] in TEXT_CHARS or chars[2] in TEXT_CHARS:
-                    raise NeedsReference(f"{name} without numeric second and third fields")
+                    return f"{name} without numeric second and third fields"
+        return None
 
     def messages(self, names: Iterable[str]):
         """Offsets and types of the messages pymavlink's ``recv_match(type=names)`` returns, in file order."""
@@ -410,6 +533,7 @@ class ArrayRows:
         # order within each; fmt: a callable giving the type's Format (its column names are only built if asked)
         self._first_format = parts[0][1] if parts else None
         self._first_fields: Optional[List[str]] = None if parts else []
+        self._field_set: Optional[frozenset] = None
         if not parts:
             self.size = 0
             self.columns: Dict[str, np.ndarray] = {}
@@ -418,7 +542,7 @@ class ArrayRows:
         if len(parts) == 1:  # one type: already in file order
             offsets, _, columns = parts[0]
             self.size = offsets.size
-            self.columns = {field: columns[field] for field in fields_used if field in columns}
+            self.columns = {field: values for field, values in columns.items() if field in fields_used}
             self.time = _times(columns, offsets.size)
             return
         offsets = np.concatenate([p[0] for p in parts])
@@ -448,7 +572,9 @@ class ArrayRows:
         return self.size
 
     def has(self, field: str) -> bool:
-        return field in self.first_fields
+        if self._field_set is None:  # (the first message's type's keys: kept on its Format, built once)
+            self._field_set = self._first_format().keys if self._first_format is not None else frozenset()
+        return field in self._field_set
 
     def values(self, field: str) -> np.ndarray:
         values = self.columns.get(field)
@@ -496,10 +622,17 @@ def read_families(index: DataFlashIndex, kinds: Sequence[str], fields_used: Sequ
     ``fields_used`` the type has (float64, the values pymavlink gives) and its time fields. The numeric fields
     are read in C (:func:`_decode.dataflash_columns`), straight from the file's bytes; ``fields_used`` must be
     among the index's fields."""
+    kinds, fields_used = tuple(kinds), tuple(fields_used)
     index.check_clock(kinds)
-    wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))
-    positions = [index.field_column[field] for field in wanted]
-    type_ids = [index.name_to_id[name] for name in kinds if name in index.name_to_id]
+    key = (kinds, fields_used)
+    plan = index.table.plans.get(key)
+    if plan is None:  # (a function of the formats, the kinds and the fields: kept on the format table)
+        wanted = tuple(dict.fromkeys((*fields_used, *_TIME_FIELDS)))
+        plan = (wanted, tuple(index.field_column[field] for field in wanted),
+                tuple(index.name_to_id[name] for name in kinds if name in index.name_to_id))
+        if len(index.table.plans) < _VERDICTS:
+            index.table.plans[key] = plan
+    wanted, positions, type_ids = plan
     tables = decoder_module().dataflash_columns(index.data, index.offsets, index.types, index.lengths, type_ids,
                                                 index.field_chars, index.field_offsets, positions, wanted)
     parts: Dict[str, List[tuple]] = {}
@@ -529,13 +662,16 @@ _NOT_NUMBERS = frozenset(b"anNZg")
 
 
 def _firmware(index: DataFlashIndex, fmt: Format, offsets: np.ndarray) -> str:
-    """The first MSG text that names the firmware ("Ardu…", "APM:…"), else ""."""
+    """The first MSG text that names the firmware ("Ardu…", "APM:…"), else "". (A text starts so exactly when its
+    first four bytes do, whichever decoding pymavlink's falls back to: the rows are picked by those bytes.)"""
     if fmt.char_of("Message") not in "nNZ":
         raise NeedsReference("MSG.Message is not text")
-    bodies, _ = decoder_module().dataflash_gather(index.data, np.ascontiguousarray(offsets), fmt.length)
-    table = bodies.view(fmt.dtype).reshape(-1)
-    for row in table:
-        text = _python_value(fmt, "Message", row[f"f{fmt.colhash['Message']}"])
-        if text.startswith(("Ardu", "APM:")):
-            return text
+    column = fmt.colhash["Message"]
+    start = 3 + fmt.dtype.fields[f"f{column}"][1]  # the field's first byte in a message
+    width = _SIZES[fmt.chars[column]]
+    log = index.data.data
+    for offset in offsets.tolist():
+        if log[offset + start:offset + start + 4] in (b"Ardu", b"APM:"):
+            # (trailing NULs, which numpy's bytes() would cut, change neither the decoding nor the text before a NUL)
+            return _python_value(fmt, "Message", bytes(log[offset + start:offset + start + width]))
     return ""

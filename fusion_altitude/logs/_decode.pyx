@@ -85,7 +85,9 @@ def dataflash_index(const uint8_t[::1] data):
         return offsets[:0], types[:0], 0, "ok", 0, np.zeros(256, dtype=np.uint8)
     with nogil:
         status = DataFlashScan(start, size, &offsets_view[0], &types_view[0], capacity, &result)
-    lengths = np.array([result.lengths[k] for k in range(256)], dtype=np.uint8)
+    lengths = np.empty(256, dtype=np.uint8)
+    cdef uint8_t[::1] length_view = lengths
+    memcpy(&length_view[0], &result.lengths[0], 256)
     return (offsets[:result.count], types[:result.count], int(result.badHeaders), STATUS[<int> status],
             int(result.stopOffset), lengths)
 
@@ -391,9 +393,9 @@ def dataflash_formats(const uint8_t[::1] data, const uint64_t[::1] offsets, want
         seen[body[0]] = 1
         seen_keys[body[0]] = DataFlashNameKey(body + 2)
         taken_offsets[body[0]] = offsets[k]
-        for j in range(16):
-            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < _text_length(body + 6, 16) else 0
         nchars = _text_length(body + 6, 16)
+        for j in range(16):
+            seen_structs[body[0]][j] = DataFlashCharStruct(body[6 + j]) if j < nchars else 0
         total = 3
         for j in range(nchars):
             if DataFlashCharSize(body[6 + j]) == 0:
@@ -491,7 +493,7 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
     field_chars, field_offsets : ndarrays of shape (256, fields)
         Of :func:`dataflash_formats`: each field's format character (0: absent) and byte in a body.
     positions : sequence of int
-        The fields (columns of ``field_chars``) to read.
+        The fields (columns of ``field_chars``) to read (at most 64).
     names : sequence of str
         The name of each of ``positions`` (the keys of the columns).
 
@@ -516,9 +518,15 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         raise ValueError("field_chars and field_offsets must be (256, fields) tables")
     if len(names) != len(positions):
         raise ValueError("one name per position")
-    for position in positions:
-        if position >= <size_t> field_chars.shape[1]:
-            raise ValueError(f"position {position} out of range")
+    cdef size_t npositions = len(positions)
+    cdef size_t field_position[64]
+    cdef size_t j
+    if npositions > 64:
+        raise ValueError("at most 64 positions")
+    for j in range(npositions):
+        field_position[j] = positions[j]
+        if field_position[j] >= <size_t> field_chars.shape[1]:
+            raise ValueError(f"position {positions[j]} out of range")
     if count == 0:
         return {}
     ScanCountTypes(&types[0], count, counts)
@@ -540,15 +548,24 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
         rows[type_id] = &offset_view[0]
         out[type_id] = mine
     DataFlashSplit(&offsets[0], &types[0], count, rows)
+    cdef size_t present, row
     for type_id, mine in out.items():
         offset_view = mine
         columns = {}
         unreadable = None
-        for position, name in zip(positions, names):
+        present = 0
+        for j in range(npositions):
+            present += field_chars[type_id, field_position[j]] != 0
+        block = np.empty((present, offset_view.shape[0]), dtype=np.float64)  # one row per field the type has
+        row = 0
+        for j in range(npositions):
+            position = field_position[j]
             char = field_chars[type_id, position]
             if char == 0:
                 continue
-            values = np.empty(offset_view.shape[0], dtype=np.float64)
+            name = names[j]
+            values = block[row]
+            row += 1
             value_view = values
             status = DataFlashColumn(&data[0], data.shape[0], &offset_view[0], offset_view.shape[0],
                                      <size_t> field_offsets[type_id, position], char, &value_view[0])

@@ -10,6 +10,7 @@ from typing import Callable, Dict, List, NamedTuple, Optional
 import numpy as np
 
 from ..sensors import vertical_acceleration
+from . import _dataflash_fast as fast
 from ._binary_args import checked_instance
 from ._dataflash_fast import time_of as _time_of
 from ._data import LogData, LogError, align, finish, merge_repeated_timestamps, previous, reference_on_grid
@@ -58,6 +59,8 @@ def _time_spikes(time: np.ndarray) -> np.ndarray:
     if time.size < 3:
         return np.zeros(0, dtype=int)
     dt = np.diff(time)
+    if not (dt > 60.0).any():  # no step over the lowest limit (60 s): no spike, whatever the median
+        return np.zeros(0, dtype=int)
     limit = max(60.0, 1000.0 * float(np.median(dt)))
     jumps = np.flatnonzero(dt > limit) + 1
     return np.array([i for i in jumps if i == time.size - 1 or time[i + 1] < time[i]], dtype=int)
@@ -121,17 +124,15 @@ def read_dataflash(path: str, instance: Optional[int] = None,
     """
     want = checked_instance(path, instance, decoder, DECODERS, "an ArduPilot DataFlash log")
     if decoder == "fast":
-        from ._dataflash_fast import NeedsReference
         try:
             return _read_fast(path, want, progress)
-        except NeedsReference:
+        except fast.NeedsReference:
             pass
     return _read_pymavlink(path, want, progress)
 
 
 def _read_fast(path: str, want: int, progress) -> LogData:
     """``read_dataflash`` with the C decoder; raises NeedsReference for a log it leaves to pymavlink."""
-    from . import _dataflash_fast as fast
     try:
         with open(path, "rb") as handle:
             data = handle.read()
@@ -165,7 +166,7 @@ def _read_fast(path: str, want: int, progress) -> LogData:
     def _integer_column(kind, columns, name):
         # the reader's int(...) of the value: declined unless every value is a finite number
         values = columns[name]
-        if not np.all(np.isfinite(values)):
+        if not np.isfinite(values).all():
             raise fast.NeedsReference(f"{kind}.{name} is not finite")
         return np.trunc(values)
 
@@ -304,7 +305,7 @@ class _Messages:
             values = self.rows[kind].times()
         except (TypeError, ValueError):
             raise LogError(f"{self.path}: {kind} messages with a time stamp that is not a number") from None
-        if not np.all(np.isfinite(values)):
+        if not np.isfinite(values).all():
             raise LogError(f"{self.path}: {kind} messages without a TimeUS or TimeMS field")
         return values
 
@@ -335,13 +336,13 @@ def _build(path, rows, firmware, chatter, want, progress, size, missing_bytes=da
     stamp = "TimeUS" if rows["IMU"].has("TimeUS") else "TimeMS"
     imu_time_raw, damaged = _imu_times_without_spikes(messages)
     t0 = float(imu_time_raw[0])
-    imu = {"accel": np.column_stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"]),
-           "gyro": np.column_stack([messages.column("IMU", f"Gyr{a}") for a in "XYZ"])}
+    imu = {"accel": np.stack([messages.column("IMU", f"Acc{a}") for a in "XYZ"], axis=1),
+           "gyro": np.stack([messages.column("IMU", f"Gyr{a}") for a in "XYZ"], axis=1)}
     order = np.arange(imu_time_raw.size) + 1
     time, imu, repeated = merge_repeated_timestamps(imu_time_raw - t0, imu, path, order, stamp,
                                                     row_word="IMU message")
     att_time = messages.times("ATT") - t0
-    euler = np.radians(np.column_stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")]))
+    euler = np.radians(np.stack([messages.column("ATT", name) for name in ("Roll", "Pitch", "Yaw")], axis=1))
     accel = vertical_acceleration(imu["accel"], previous(time, att_time, euler), frame="NED")
     baro_time = messages.times("BARO") - t0
     baro = align(time, baro_time, messages.column("BARO", "Alt"))
@@ -426,7 +427,7 @@ def _add_ekf_reference(data: LogData, messages: _Messages, time: np.ndarray, t0:
             ref_time = messages.times(kind) - t0
             down = messages.column(kind, "PD")
             velocity = -messages.column(kind, "VD") if rows[kind].has("VD") else np.gradient(-down, ref_time)
-            if ref_time.size >= 2 and np.all(np.diff(ref_time) > 0):
+            if ref_time.size >= 2 and (ref_time[1:] > ref_time[:-1]).all():
                 data.reference_altitude, data.reference_velocity = reference_on_grid(
                     time, baro, ref_time, -down, velocity)
                 data.reference_name = f"ArduPilot EKF ({kind})"

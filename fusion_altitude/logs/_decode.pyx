@@ -707,3 +707,84 @@ cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const ui
     finally:
         PyMem_Free(rows)
     return tables
+
+
+# ---- ULog: the bytes the definitions cache keys on, and the message checks in one pass (_ulog_fast.py) ----
+
+cdef extern from "_ulog_scan.h":
+    int ULogCheckInfo(const uint8_t *message, size_t size, size_t skip) nogil
+
+from cpython.bytes cimport PyBytes_AS_STRING, PyBytes_FromStringAndSize
+
+
+def ulog_message_bytes(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
+    """The whole messages (3-byte header and payload) at ``offsets`` joined in order: the bytes of what they
+    define (the F messages of one firmware, the A messages of a segment), which a cache keys on. Each header
+    holds its payload size, so two lists of messages give equal bytes only if they are equal message by message.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t total = 0
+    cdef size_t k, outside, length
+    cdef char *out
+    if sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets and sizes must have one length")
+    if count == 0:
+        return b""
+    with nogil:
+        outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+    if outside < count:
+        raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    for k in range(count):
+        total += 3 + sizes[k]
+    joined = PyBytes_FromStringAndSize(NULL, total)
+    out = PyBytes_AS_STRING(joined)
+    with nogil:
+        for k in range(count):
+            length = 3 + sizes[k]
+            memcpy(out, &data[offsets[k]], length)
+            out += length
+    return joined
+
+
+def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes):
+    """The messages pyulog would fail to parse, in one pass (each message wholly inside ``data``).
+
+    An L, C, A or D message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2 bytes, and an
+    I/M/P/Q message that ``ULogCheckInfo`` fails (from byte 1 for M and Q) make pyulog raise.
+
+    Returns
+    -------
+    failing : bytes
+        The types (letters, each once, in ``b"LCADOIMPQ"`` order) of which some message fails.
+    undecided : list of int
+        Indices of the I/M/P/Q messages whose key is not ASCII (pyulog drops undecodable bytes first): for
+        the caller to check in Python.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t k, outside
+    cdef uint8_t kind
+    cdef int verdict
+    cdef uint8_t failed[256]
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    memset(failed, 0, sizeof(failed))
+    undecided = []
+    if count == 0:
+        return b"", undecided
+    with nogil:
+        outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+    if outside < count:
+        raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    for k in range(count):
+        kind = types[k]
+        if kind == 73 or kind == 80 or kind == 77 or kind == 81:  # I P M Q
+            verdict = ULogCheckInfo(&data[offsets[k] + 3], sizes[k], 1 if kind == 77 or kind == 81 else 0)
+            if verdict == 0:
+                failed[kind] = 1
+            elif verdict == 2:
+                undecided.append(k)
+        elif ((kind == 76 and sizes[k] < 9) or (kind == 67 and sizes[k] < 11) or (kind == 65 and sizes[k] < 3)
+              or (kind == 68 and sizes[k] < 2) or (kind == 79 and sizes[k] != 2)):  # L C A D O
+            failed[kind] = 1
+    return bytes([letter for letter in b"LCADOIMPQ" if failed[letter]]), undecided

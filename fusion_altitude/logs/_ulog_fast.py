@@ -310,13 +310,21 @@ class ULogTopics:
         if cut or not found:
             raise NeedsReference("no data section, or a cut message before it")
         appended = self._definitions(offsets, types, sizes)
-        offsets, types, sizes, segment_ends, _, _ = _decode.ulog_data_walk(self.array, section_start, appended)
+        plain = 3 * sizes.size + int(sizes.sum(dtype=np.uint64)) == section_start - 16  # no byte stepped over
+        offsets, types, sizes, segment_ends, skipped, _ = _decode.ulog_data_walk(self.array, section_start, appended)
+        #: Byte after the last whole message of the plain walk, when the walks were plain (else None: see
+        #: :meth:`missing_bytes`).
+        self.plain_end = None
+        if plain and not skipped and len(segment_ends) == 1 and offsets.size:
+            self.plain_end = int(offsets[-1]) + 3 + int(sizes[-1])
         self.data = self._data_section(offsets, types, sizes, segment_ends, None if names is None else tuple(names))
 
     def missing_bytes(self) -> Optional[int]:
-        """:func:`_truncation.ulog_missing_bytes` in C: bytes missing from a cut last message."""
+        """:func:`_truncation.ulog_missing_bytes` in C: bytes missing from a cut last message. The end of the
+        plain walk (every header taken as sound) is where the walks ended when they stepped over no byte, read
+        one segment and skipped no message (:attr:`plain_end`); else it is walked again in C."""
         size = len(self.blob)
-        self.end = decoder_module().ulog_plain_end(self.array)
+        self.end = self.plain_end if self.plain_end is not None else decoder_module().ulog_plain_end(self.array)
         if self.end == size:
             return None
         if size - self.end >= 3:  # the payload is cut

@@ -281,16 +281,26 @@ typedef enum {
     ULogInfoUndecided = 2, /* a non-ASCII key (pyulog drops undecodable bytes first): for the caller */
 } ULogInfoVerdict;
 
+/* Index of the first wanted byte of text[0 .. length), or length if there is none. */
+static inline size_t ULogFind(const uint8_t *const text, const size_t length, const uint8_t wanted) {
+    size_t k;
+    for (k = 0; k < length; k++) {
+        if (text[k] == wanted) {
+            return k;
+        }
+    }
+    return length;
+}
+
 /* Bytes of pyulog's basic type named text[0 .. length), or 0 if it is none. */
 static inline size_t ULogBasicTypeSize(const uint8_t *const text, const size_t length) {
     static const char *const names[12] = {"int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t",
                                            "int64_t", "uint64_t", "float", "double", "bool", "char"};
     static const size_t sizes[12] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8, 1, 1};
-    size_t k, j;
-    for (k = 0; k < 12; k++) {
-        for (j = 0; (j < length) && (names[k][j] != '\0') && ((uint8_t) names[k][j] == text[j]); j++) {
-        }
-        if ((j == length) && (names[k][j] == '\0')) {
+    static const size_t lengths[12] = {6, 7, 7, 8, 7, 8, 7, 8, 5, 6, 4, 4}; /* strlen of each name */
+    size_t k;
+    for (k = 0; k < 12; k++) { /* a name of another length or first letter is passed over at once */
+        if ((lengths[k] == length) && ((uint8_t) names[k][0] == text[0]) && (memcmp(text, names[k], length) == 0)) {
             return sizes[k];
         }
     }
@@ -307,20 +317,20 @@ static inline ULogInfoVerdict ULogCheckInfo(const uint8_t *const message, const 
     const uint8_t *const payload = message + skip;
     size_t available, keyLength, space, j;
     size_t typeSize;
+    uint8_t high;
     if (size < 1 + skip) {
         return ULogInfoFails;
     }
     available = size - skip; /* bytes of the payload pyulog reads */
     keyLength = (payload[0] > available - 1) ? available - 1 : payload[0];
-    space = keyLength;
-    for (j = 0; j < keyLength; j++) {
-        if (payload[1 + j] >= 0x80) {
-            return ULogInfoUndecided;
-        }
-        if ((payload[1 + j] == ' ') && (space == keyLength)) {
-            space = j;
-        }
+    high = 0;
+    for (j = 0; j < keyLength; j++) { /* any byte >= 0x80 (no early exit: the loop stays simple) */
+        high |= payload[1 + j];
     }
+    if ((high & 0x80) != 0) {
+        return ULogInfoUndecided;
+    }
+    space = ULogFind(payload + 1, keyLength, ' ');
     if (space == keyLength) { /* one word: pyulog's split(" ") gives no name */
         return ULogInfoFails;
     }
@@ -362,17 +372,6 @@ static inline int ULogCheckInfos(const uint8_t *const data, const size_t size, c
         verdicts[k] = (uint8_t) ULogCheckInfo(data + offsets[k] + 3, sizes[k], skip);
     }
     return 1;
-}
-
-/* Index of the first wanted byte of text[0 .. length), or length if there is none. */
-static inline size_t ULogFind(const uint8_t *const text, const size_t length, const uint8_t wanted) {
-    size_t k;
-    for (k = 0; k < length; k++) {
-        if (text[k] == wanted) {
-            return k;
-        }
-    }
-    return length;
 }
 
 /*

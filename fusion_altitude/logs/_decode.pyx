@@ -712,7 +712,9 @@ cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const ui
 # ---- ULog: the bytes the definitions cache keys on, and the message checks in one pass (_ulog_fast.py) ----
 
 cdef extern from "_ulog_scan.h":
-    int ULogCheckInfo(const uint8_t *message, size_t size, size_t skip) nogil
+    size_t ULogCheckMessages(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,
+                             const unsigned short *sizes, size_t count, uint8_t *failed, size_t *undecided,
+                             size_t capacity) nogil
 
 from cpython.bytes cimport PyBytes_AS_STRING, PyBytes_FromStringAndSize
 
@@ -748,7 +750,8 @@ def ulog_message_bytes(const uint8_t[::1] data, const uint64_t[::1] offsets, con
 
 def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
                         const unsigned short[::1] sizes):
-    """The messages pyulog would fail to parse, in one pass (each message wholly inside ``data``).
+    """The messages pyulog would fail to parse, in one pass of ``ULogCheckMessages`` (each message wholly inside
+    ``data``).
 
     An L, C, A or D message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2 bytes, and an
     I/M/P/Q message that ``ULogCheckInfo`` fails (from byte 1 for M and Q) make pyulog raise.
@@ -762,29 +765,27 @@ def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, co
         the caller to check in Python.
     """
     cdef size_t count = offsets.shape[0]
-    cdef size_t k, outside
-    cdef uint8_t kind
-    cdef int verdict
+    cdef size_t outside
+    cdef size_t found = 0
     cdef uint8_t failed[256]
+    cdef size_t first[64]
     if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
         raise ValueError("offsets, types and sizes must have one length")
-    memset(failed, 0, sizeof(failed))
-    undecided = []
     if count == 0:
-        return b"", undecided
+        return b"", []
+    memset(failed, 0, sizeof(failed))
     with nogil:
         outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+        if outside == count:
+            found = ULogCheckMessages(&data[0], &offsets[0], &types[0], &sizes[0], count, failed, first, 64)
     if outside < count:
         raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
-    for k in range(count):
-        kind = types[k]
-        if kind == 73 or kind == 80 or kind == 77 or kind == 81:  # I P M Q
-            verdict = ULogCheckInfo(&data[offsets[k] + 3], sizes[k], 1 if kind == 77 or kind == 81 else 0)
-            if verdict == 0:
-                failed[kind] = 1
-            elif verdict == 2:
-                undecided.append(k)
-        elif ((kind == 76 and sizes[k] < 9) or (kind == 67 and sizes[k] < 11) or (kind == 65 and sizes[k] < 3)
-              or (kind == 68 and sizes[k] < 2) or (kind == 79 and sizes[k] != 2)):  # L C A D O
-            failed[kind] = 1
-    return bytes([letter for letter in b"LCADOIMPQ" if failed[letter]]), undecided
+    failing = bytes([letter for letter in b"LCADOIMPQ" if failed[letter]])
+    if found <= 64:
+        return failing, [int(first[k]) for k in range(found)]
+    every = np.empty(found, dtype=np.uintp)  # more than 64: walk again with room for each
+    cdef size_t[::1] every_view = every
+    memset(failed, 0, sizeof(failed))
+    with nogil:
+        ULogCheckMessages(&data[0], &offsets[0], &types[0], &sizes[0], count, failed, &every_view[0], found)
+    return failing, every.tolist()

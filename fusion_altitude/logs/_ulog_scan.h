@@ -449,6 +449,70 @@ static inline int ULogFormatNameLengths(const uint8_t *const data, const size_t 
     return 1;
 }
 
+/*
+ * Which of the count messages at offsets (types, payload sizes bytes; each
+ * wholly inside the data) make pyulog raise, in one pass: an L, C, A or D
+ * message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2
+ * bytes, an I/M/P/Q message ULogCheckInfo fails (from byte 1 for M and Q) set
+ * failed[type] to 1 (256 entries, the caller's zeros). The index of each
+ * I/M/P/Q message of a non-ASCII key goes to undecided (the first capacity of
+ * them); returns how many there are.
+ */
+static inline size_t ULogCheckMessages(const uint8_t *const data, const uint64_t *const offsets,
+                                       const uint8_t *const types, const uint16_t *const sizes, const size_t count,
+                                       uint8_t *const failed, size_t *const undecided, const size_t capacity) {
+    size_t k, found = 0;
+    for (k = 0; k < count; k++) {
+        const uint8_t type = types[k];
+        const uint16_t size = sizes[k];
+        ULogInfoVerdict verdict;
+        switch (type) {
+        case 'D':
+            if (size < 2) {
+                failed[type] = 1;
+            }
+            break;
+        case 'I':
+        case 'P':
+        case 'M':
+        case 'Q':
+            verdict = ULogCheckInfo(data + offsets[k] + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
+            if (verdict == ULogInfoFails) {
+                failed[type] = 1;
+            } else if (verdict == ULogInfoUndecided) {
+                if (found < capacity) {
+                    undecided[found] = k;
+                }
+                found++;
+            }
+            break;
+        case 'L':
+            if (size < 9) {
+                failed[type] = 1;
+            }
+            break;
+        case 'C':
+            if (size < 11) {
+                failed[type] = 1;
+            }
+            break;
+        case 'A':
+            if (size < 3) {
+                failed[type] = 1;
+            }
+            break;
+        case 'O':
+            if (size != 2) {
+                failed[type] = 1;
+            }
+            break;
+        default:
+            break;
+        }
+    }
+    return found;
+}
+
 /* The subscriptions whose samples ULogSamples counts and gathers. */
 typedef struct {
     const uint16_t *slotOf;    /* 65536 entries: 1 + subscription of each msg_id, 0 if none */

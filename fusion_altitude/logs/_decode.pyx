@@ -719,33 +719,39 @@ cdef extern from "_ulog_scan.h":
 from cpython.bytes cimport PyBytes_AS_STRING, PyBytes_FromStringAndSize
 
 
-def ulog_message_bytes(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
-    """The whole messages (3-byte header and payload) at ``offsets`` joined in order: the bytes of what they
-    define (the F messages of one firmware, the A messages of a segment), which a cache keys on. Each header
-    holds its payload size, so two lists of messages give equal bytes only if they are equal message by message.
+def ulog_typed_messages(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes, uint8_t wanted):
+    """The messages of type ``wanted`` among those at ``offsets`` (types, payload sizes): their whole bytes
+    (3-byte header and payload) joined in order, the bytes of what they define (the F messages of one firmware,
+    the A messages of a segment) that a cache keys on, and the byte offset of each. Each header holds its
+    payload size, so two lists of messages give equal bytes only if they are equal message by message.
     """
     cdef size_t count = offsets.shape[0]
     cdef size_t total = 0
     cdef size_t k, outside, length
     cdef char *out
-    if sizes.shape[0] != offsets.shape[0]:
-        raise ValueError("offsets and sizes must have one length")
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
     if count == 0:
-        return b""
+        return b"", []
     with nogil:
         outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
     if outside < count:
         raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    starts = []
     for k in range(count):
-        total += 3 + sizes[k]
+        if types[k] == wanted:
+            total += 3 + sizes[k]
+            starts.append(offsets[k])
     joined = PyBytes_FromStringAndSize(NULL, total)
     out = PyBytes_AS_STRING(joined)
     with nogil:
         for k in range(count):
-            length = 3 + sizes[k]
-            memcpy(out, &data[offsets[k]], length)
-            out += length
-    return joined
+            if types[k] == wanted:
+                length = 3 + sizes[k]
+                memcpy(out, &data[offsets[k]], length)
+                out += length
+    return joined, starts
 
 
 def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,

@@ -336,13 +336,13 @@ class ULogTopics:
         :class:`Firmware` of the F messages; return the appended-data offsets pyulog uses (empty unless the flag
         bits say data was appended)."""
         self._check_messages(offsets, types, sizes)
-        formats = types == ord("F")
-        self.firmware = firmware_definitions(decoder_module().ulog_message_bytes(self.array, offsets[formats],
-                                                                                 sizes[formats]))
+        _decode = decoder_module()
+        self.firmware = firmware_definitions(_decode.ulog_typed_messages(self.array, offsets, types, sizes,
+                                                                         ord("F"))[0])
         if self.firmware.problem is not None:
             raise NeedsReference(self.firmware.problem)
-        flags = types == ord("B")
-        return self._appended_offsets(offsets[flags].tolist(), sizes[flags].tolist())
+        flags = _decode.ulog_typed_messages(self.array, offsets, types, sizes, ord("B"))[1]
+        return self._appended_offsets(flags, [self.blob[offset] | (self.blob[offset + 1] << 8) for offset in flags])
 
     def _appended_offsets(self, offsets: List[int], sizes: List[int]) -> List[int]:
         """The appended-data offsets of the flag-bits messages, as pyulog takes them: the last one of at least
@@ -392,12 +392,10 @@ class ULogTopics:
     def _segment(self, offsets, types, sizes, names) -> Dict[tuple, Topic]:
         """The topics of one segment of the data section (its subscriptions, then their samples)."""
         _decode = decoder_module()
-        subscribe = types == ord("A")
-        starts = offsets[subscribe]
-        plan = self.firmware.plan(_decode.ulog_message_bytes(self.array, starts, sizes[subscribe]), names)
+        subscribe_messages, starts = _decode.ulog_typed_messages(self.array, offsets, types, sizes, ord("A"))
+        plan = self.firmware.plan(subscribe_messages, names)
         if plan.problem is not None:
             raise NeedsReference(plan.problem)
-        starts = starts.tolist()
         tables = _decode.ulog_data_tables(self.array, offsets, types, sizes, [
             (s.msg_id, starts[s.index], s.layout.dtype.itemsize) for s in plan.subscriptions])
         out: Dict[tuple, Topic] = {}

@@ -795,3 +795,84 @@ def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, co
     with nogil:
         ULogCheckMessages(&data[0], &offsets[0], &types[0], &sizes[0], count, failed, &every_view[0], found)
     return failing, every.tolist()
+
+
+def ulog_format_fields(bytes payload, size_t name_length):
+    """The fields of an F (format) message that :func:`ulog_format_names` vouched for (its name
+    ``name_length`` bytes): [(type, array size, field name), …], what pyulog's parse gives (the field list is
+    the text between the first and the next ``:``, its items split at ``;``, each item's type and name its first
+    two words split at a space, the array size the digits in the type's brackets, 0 without)."""
+    cdef const char *text = payload
+    cdef size_t size = len(payload)
+    cdef size_t end, item, stop, space, word_end, at, close, k, count
+    if name_length >= size or text[name_length] != b':':
+        raise ValueError("payload: no ':' after the name")
+    end = name_length + 1
+    while end < size and text[end] != b':':
+        end += 1
+    fields = []
+    item = name_length + 1
+    while item <= end:
+        stop = item
+        while stop < end and text[stop] != b';':
+            stop += 1
+        if stop > item:
+            space = item
+            while space < stop and text[space] != b' ':
+                space += 1
+            if space == stop:
+                raise ValueError("payload: an item without a space (not vouched for)")
+            word_end = space + 1
+            while word_end < stop and text[word_end] != b' ':
+                word_end += 1
+            at = item
+            while at < space and text[at] != b'[':
+                at += 1
+            count = 0
+            if at < space:
+                close = at + 1
+                while close < space and text[close] != b']':
+                    count = count * 10 + <size_t> (text[close] - 48)
+                    close += 1
+            fields.append((text[item:at].decode("ascii"), count, text[space + 1:word_end].decode("ascii")))
+        item = stop + 1
+    return fields
+
+
+def ulog_split_messages(bytes joined):
+    """The whole messages of ``joined`` (from :func:`ulog_typed_messages`): the byte offset of each 3-byte header
+    and its payload size (bytes), as lists; ValueError if the last one is cut."""
+    cdef const unsigned char *text = joined
+    cdef size_t size = len(joined)
+    cdef size_t at = 0, length
+    offsets, sizes = [], []
+    while at < size:
+        if size - at < 3:
+            raise ValueError("joined: a header is cut")
+        length = <size_t> text[at] | (<size_t> text[at + 1] << 8)
+        if size - at - 3 < length:
+            raise ValueError("joined: a payload is cut")
+        offsets.append(at)
+        sizes.append(length)
+        at += 3 + length
+    return offsets, sizes
+
+
+def ulog_subscriptions(bytes joined):
+    """The A (subscription) messages of ``joined`` (from :func:`ulog_typed_messages`, each of at least 3 bytes):
+    (msg_id, multi_id, topic name) of each, the name decoded as pyulog decodes it (UTF-8, undecodable bytes
+    dropped)."""
+    cdef const unsigned char *text = joined
+    cdef size_t size = len(joined)
+    cdef size_t at = 0, length
+    out = []
+    while at < size:
+        if size - at < 3:
+            raise ValueError("joined: a header is cut")
+        length = <size_t> text[at] | (<size_t> text[at + 1] << 8)
+        if size - at - 3 < length or length < 3:
+            raise ValueError("joined: a payload is cut or shorter than 3 bytes")
+        out.append((<size_t> text[at + 4] | (<size_t> text[at + 5] << 8), text[at + 3],
+                    joined[at + 6:at + 3 + length].decode("utf-8", "ignore")))
+        at += 3 + length
+    return out

@@ -97,16 +97,6 @@ _BAD_INFO = "an info or parameter message pyulog cannot parse"
 _BAD_FORMAT = "a definition pyulog cannot parse"
 
 
-def _split_messages(joined: bytes) -> Tuple[List[int], List[int]]:
-    """(offset of each 3-byte header, payload size in bytes) of the whole messages of ``joined``, in order."""
-    offsets, sizes, at = [], [], 0
-    while at < len(joined):
-        offsets.append(at)
-        sizes.append(joined[at] | (joined[at + 1] << 8))
-        at += 3 + sizes[-1]
-    return offsets, sizes
-
-
 class Layout(NamedTuple):
     """How the samples of one topic are laid out, from the formats alone: pyulog's dtype (nested types
     flattened, trailing padding dropped) and the byte offset of the uint64 ``timestamp`` in a sample; or, when
@@ -152,10 +142,14 @@ class Firmware:
         self._parsed: Dict[str, Tuple[tuple, ...]] = {}
         self._layouts: Dict[str, Layout] = {}
         self._plans: Dict[tuple, Plan] = {}
-        offsets, sizes = _split_messages(format_messages)
-        names = decoder_module().ulog_format_names(np.frombuffer(format_messages, dtype=np.uint8),
-                                                   np.array(offsets, dtype=np.uint64),
-                                                   np.array(sizes, dtype=np.uint16))
+        _decode = decoder_module()
+        offsets, sizes = _decode.ulog_split_messages(format_messages)
+        names = _decode.ulog_format_names(np.frombuffer(format_messages, dtype=np.uint8),
+                                          np.array(offsets, dtype=np.uint64), np.array(sizes, dtype=np.uint16))
+        if None not in names:  # each vouched for in C (as a PX4 log's are): the last of a name wins
+            self._payloads = {name: format_messages[offset + 3:offset + 3 + size]
+                              for offset, size, name in zip(offsets, sizes, names)}
+            return
         for offset, size, name in zip(offsets, sizes, names):
             payload = format_messages[offset + 3:offset + 3 + size]
             if name is not None:
@@ -177,7 +171,7 @@ class Firmware:
             payload = self._payloads.get(name)
             if payload is None:
                 return None
-            fields = self._parsed[name] = tuple(_parse_format(payload)[1])
+            fields = self._parsed[name] = tuple(decoder_module().ulog_format_fields(payload, len(name)))
         return fields
 
     def layout(self, name: str) -> Layout:
@@ -253,19 +247,17 @@ def _plan(firmware: Firmware, subscribe_messages: bytes, names: Optional[Tuple[s
     """The :class:`Plan` of a segment's A messages (their bytes, whole, joined) for the topic ``names``."""
     subscriptions = []
     seen_ids = set()
-    for index, (offset, size) in enumerate(zip(*_split_messages(subscribe_messages))):
-        payload = subscribe_messages[offset + 3:offset + 3 + size]
-        msg_id = payload[1] | (payload[2] << 8)
+    wanted = None if names is None else frozenset(names)
+    for index, (msg_id, multi_id, name) in enumerate(decoder_module().ulog_subscriptions(subscribe_messages)):
         if msg_id in seen_ids:
             return Plan((), f"msg_id {msg_id} subscribed twice")
         seen_ids.add(msg_id)
-        name = _text(payload[3:])
-        if names is not None and name not in names:
+        if wanted is not None and name not in wanted:
             continue
         layout = firmware.layout(name)
         if layout.problem is not None:
             return Plan((), layout.problem)
-        subscriptions.append(Subscription(index, msg_id, payload[0], name, layout))
+        subscriptions.append(Subscription(index, msg_id, multi_id, name, layout))
     return Plan(tuple(subscriptions), None)
 
 

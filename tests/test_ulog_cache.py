@@ -183,3 +183,63 @@ def test_the_plain_end_from_the_walks_is_the_end_of_the_walk_of_every_header(tmp
             assert decoded.missing_bytes() == _truncation.ulog_missing_bytes(cut_path), (path.name, cut)
     for name in SHARED:
         assert _ulog_fast.ULogTopics((shared_logs / name).read_bytes(), ulog._TOPICS).plain_end is not None
+
+
+def _messages(blob):
+    """(array, offsets, types, sizes) of every message pyulog reads in a ULog: the definitions, then the data
+    section."""
+    from fusion_altitude.logs import _decode
+
+    array = np.frombuffer(blob, dtype=np.uint8)
+    offsets, types, sizes, start, found, cut = _decode.ulog_definitions(array)
+    if not found or cut:
+        return array, offsets, types, sizes
+    walk = _decode.ulog_data_walk(array, start, [])
+    return (array, np.concatenate([offsets, walk[0]]), np.concatenate([types, walk[1]]),
+            np.concatenate([sizes, walk[2]]))
+
+
+def _mutated_logs(tmp_path, shared_logs):
+    rng = np.random.default_rng(3)
+    originals = [path.read_bytes() for path in _log_paths(tmp_path, shared_logs)]
+    return originals + [data for original in originals[:3] for data in fx.mutations(original, rng, 20)]
+
+
+def test_each_vouched_for_format_is_parsed_in_c_as_pyulog_parses_it(tmp_path, shared_logs):
+    from fusion_altitude.logs import _decode
+
+    parsed = 0
+    for blob in _mutated_logs(tmp_path, shared_logs):
+        array, offsets, types, sizes = _messages(blob)
+        formats = types == ord("F")
+        starts, lengths = offsets[formats].tolist(), sizes[formats].tolist()
+        names = _decode.ulog_format_names(array, np.ascontiguousarray(offsets[formats]),
+                                          np.ascontiguousarray(sizes[formats]))
+        for start, length, name in zip(starts, lengths, names):
+            if name is not None:
+                payload = blob[start + 3:start + 3 + length]
+                assert _decode.ulog_format_fields(payload, len(name)) == _ulog_fast._parse_format(payload)[1]
+                parsed += 1
+    assert parsed > 1000
+
+
+def test_the_message_checks_in_c_are_pyulogs_parse_errors(tmp_path, shared_logs):
+    """``ulog_message_checks`` against a transcription: each failing type and each non-ASCII key."""
+    from fusion_altitude.logs import _decode
+
+    minimum = {ord("L"): 9, ord("C"): 11, ord("A"): 3, ord("D"): 2}
+    for blob in _mutated_logs(tmp_path, shared_logs):
+        array, offsets, types, sizes = _messages(blob)
+        failing, undecided = set(), []
+        for k, (offset, kind, size) in enumerate(zip(offsets.tolist(), types.tolist(), sizes.tolist())):
+            payload = blob[offset + 3:offset + 3 + size]
+            if kind in minimum and size < minimum[kind] or kind == ord("O") and size != 2:
+                failing.add(kind)
+            elif kind in b"IMPQ":
+                key = payload[1:] if kind in b"MQ" else payload
+                if key and any(byte >= 0x80 for byte in key[1:1 + key[0]]):
+                    undecided.append(k)
+                elif not _ulog_fast._info_ok(payload, multiple=kind in b"MQ"):
+                    failing.add(kind)
+        found = _decode.ulog_message_checks(array, offsets, types, sizes)
+        assert found == (bytes(kind for kind in b"LCADOIMPQ" if kind in failing), undecided)

@@ -450,6 +450,26 @@ static inline int ULogFormatNameLengths(const uint8_t *const data, const size_t 
 }
 
 /*
+ * Smallest payload (bytes) pyulog parses of a message of this type in the
+ * data section (L C A D O; an O message must be of exactly 2), 0 for others.
+ */
+static inline size_t ULogMinimumPayload(const uint8_t type) {
+    switch (type) {
+    case 'L':
+        return 9;
+    case 'C':
+        return 11;
+    case 'A':
+        return 3;
+    case 'D':
+    case 'O':
+        return 2;
+    default:
+        return 0;
+    }
+}
+
+/*
  * Which of the count messages at offsets (types, payload sizes bytes; each
  * wholly inside the data) make pyulog raise, in one pass: an L, C, A or D
  * message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2
@@ -465,18 +485,9 @@ static inline size_t ULogCheckMessages(const uint8_t *const data, const uint64_t
     for (k = 0; k < count; k++) {
         const uint8_t type = types[k];
         const uint16_t size = sizes[k];
-        ULogInfoVerdict verdict;
-        switch (type) {
-        case 'D':
-            if (size < 2) {
-                failed[type] = 1;
-            }
-            break;
-        case 'I':
-        case 'P':
-        case 'M':
-        case 'Q':
-            verdict = ULogCheckInfo(data + offsets[k] + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
+        if ((type == 'I') || (type == 'P') || (type == 'M') || (type == 'Q')) {
+            const ULogInfoVerdict verdict =
+                ULogCheckInfo(data + offsets[k] + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
             if (verdict == ULogInfoFails) {
                 failed[type] = 1;
             } else if (verdict == ULogInfoUndecided) {
@@ -485,29 +496,8 @@ static inline size_t ULogCheckMessages(const uint8_t *const data, const uint64_t
                 }
                 found++;
             }
-            break;
-        case 'L':
-            if (size < 9) {
-                failed[type] = 1;
-            }
-            break;
-        case 'C':
-            if (size < 11) {
-                failed[type] = 1;
-            }
-            break;
-        case 'A':
-            if (size < 3) {
-                failed[type] = 1;
-            }
-            break;
-        case 'O':
-            if (size != 2) {
-                failed[type] = 1;
-            }
-            break;
-        default:
-            break;
+        } else if ((size < ULogMinimumPayload(type)) || ((type == 'O') && (size != 2))) {
+            failed[type] = 1;
         }
     }
     return found;

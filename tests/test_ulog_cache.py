@@ -224,7 +224,8 @@ def test_each_vouched_for_format_is_parsed_in_c_as_pyulog_parses_it(tmp_path, sh
 
 
 def test_the_message_checks_in_c_are_pyulogs_parse_errors(tmp_path, shared_logs):
-    """``ulog_message_checks`` against a transcription: each failing type and each non-ASCII key."""
+    """``ulog_message_checks`` and the checks of ``ulog_checked_tables`` against a transcription: each failing
+    type and each non-ASCII key."""
     from fusion_altitude.logs import _decode
 
     minimum = {ord("L"): 9, ord("C"): 11, ord("A"): 3, ord("D"): 2}
@@ -241,5 +242,6 @@ def test_the_message_checks_in_c_are_pyulogs_parse_errors(tmp_path, shared_logs)
                     undecided.append(k)
                 elif not _ulog_fast._info_ok(payload, multiple=kind in b"MQ"):
                     failing.add(kind)
-        found = _decode.ulog_message_checks(array, offsets, types, sizes)
-        assert found == (bytes(kind for kind in b"LCADOIMPQ" if kind in failing), undecided)
+        expected = (bytes(kind for kind in b"LCADOIMPQ" if kind in failing), undecided)
+        assert _decode.ulog_message_checks(array, offsets, types, sizes) == expected
+        assert _decode.ulog_checked_tables(array, offsets, types, sizes, [])[1:] == expected  # counting as it checks

@@ -653,60 +653,7 @@ def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const
     list of ndarray of uint8, shape (count, itemsize)
         Per subscription, the payloads after the 2-byte msg_id of its data messages, in file order.
     """
-    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
-        raise ValueError("offsets, types and sizes must have one length")
-    if len(subscriptions) >= 65535:
-        raise ValueError("too many subscriptions")
-    cdef size_t outside = 0
-    if offsets.shape[0] > 0:
-        with nogil:
-            outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], offsets.shape[0])
-        if outside < <size_t> offsets.shape[0]:
-            raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
-    # slot + 1 of each msg_id (0: not asked for)
-    slots = np.zeros(65536, dtype=np.uint16)
-    starts = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
-    itemsizes = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
-    for k, (msg_id, start, itemsize) in enumerate(subscriptions):
-        if not 0 <= msg_id < 65536 or slots[msg_id] != 0:
-            raise ValueError(f"msg_id {msg_id} out of range or given twice")
-        slots[msg_id], starts[k], itemsizes[k] = k + 1, start, itemsize
-    return _ulog_gather(data, offsets, types, sizes, slots, starts, itemsizes)
-
-
-cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
-                  const unsigned short[::1] sizes, const unsigned short[::1] slots, const uint64_t[::1] starts,
-                  const uint64_t[::1] itemsizes):
-    """:func:`ulog_data_tables` once checked: ``ULogSamples`` counts, then copies into the tables."""
-    cdef size_t count = offsets.shape[0]
-    cdef size_t nsub = starts.shape[0] - 1
-    cdef size_t k
-    cdef ULogSubscriptions wanted
-    wanted.slotOf = &slots[0]
-    wanted.starts = &starts[0]
-    wanted.itemsizes = &itemsizes[0]
-    counts = np.zeros(nsub + 1, dtype=np.uint64)
-    cdef uint64_t[::1] count_of = counts
-    if count > 0:
-        with nogil:
-            ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, &count_of[0], NULL)
-    tables = [np.empty((count_of[k], itemsizes[k]), dtype=np.uint8) for k in range(nsub)]
-    cdef uint8_t **rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
-    cdef uint8_t[:, ::1] view
-    if rows == NULL:
-        raise MemoryError()
-    try:
-        for k in range(nsub):
-            rows[k] = NULL
-            if count_of[k] > 0 and itemsizes[k] > 0:
-                view = tables[k]
-                rows[k] = &view[0, 0]
-        if count > 0:
-            with nogil:
-                ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, NULL, rows)
-    finally:
-        PyMem_Free(rows)
-    return tables
+    return ulog_checked_tables(data, offsets, types, sizes, subscriptions)[0]
 
 
 # ---- ULog: the bytes the definitions cache keys on, and the message checks in one pass (_ulog_fast.py) ----
@@ -715,6 +662,12 @@ cdef extern from "_ulog_scan.h":
     size_t ULogCheckMessages(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,
                              const unsigned short *sizes, size_t count, uint8_t *failed, size_t *undecided,
                              size_t capacity) nogil
+    size_t ULogCheckAndCount(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,
+                             const unsigned short *sizes, size_t count, const ULogSubscriptions *subscriptions,
+                             uint64_t *counts, unsigned short *sampleSlots, uint8_t *failed, size_t *undecided,
+                             size_t capacity) nogil
+    void ULogCopySamples(const uint8_t *data, const uint64_t *offsets, const unsigned short *sampleSlots,
+                         size_t count, const uint64_t *itemsizes, uint8_t **rows) nogil
 
 from cpython.bytes cimport PyBytes_AS_STRING, PyBytes_FromStringAndSize
 
@@ -876,3 +829,78 @@ def ulog_subscriptions(bytes joined):
                     joined[at + 6:at + 3 + length].decode("utf-8", "ignore")))
         at += 3 + length
     return out
+
+
+def ulog_checked_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes, subscriptions):
+    """:func:`ulog_message_checks` and :func:`ulog_data_tables` of one segment's messages in one pass over them
+    (``ULogCheckAndCount``), then the samples copied (``ULogCopySamples``: only the samples' bytes are read
+    again).
+
+    Returns
+    -------
+    tables : list of ndarray of uint8, shape (count, itemsize)
+        As :func:`ulog_data_tables`.
+    failing, undecided
+        As :func:`ulog_message_checks`.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t nsub = len(subscriptions)
+    cdef size_t k, outside, found = 0
+    cdef uint8_t failed[256]
+    cdef size_t first[64]
+    cdef ULogSubscriptions wanted
+    cdef uint8_t **rows
+    cdef uint8_t[:, ::1] view
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    if nsub >= 65535:
+        raise ValueError("too many subscriptions")
+    if count > 0:
+        with nogil:
+            outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+        if outside < count:
+            raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    slots = np.zeros(65536, dtype=np.uint16)  # slot + 1 of each msg_id (0: not asked for)
+    starts = np.zeros(nsub + 1, dtype=np.uint64)
+    itemsizes = np.zeros(nsub + 1, dtype=np.uint64)
+    for k, (msg_id, start, itemsize) in enumerate(subscriptions):
+        if not 0 <= msg_id < 65536 or slots[msg_id] != 0:
+            raise ValueError(f"msg_id {msg_id} out of range or given twice")
+        slots[msg_id], starts[k], itemsizes[k] = k + 1, start, itemsize
+    cdef const unsigned short[::1] slot_view = slots
+    cdef const uint64_t[::1] start_view = starts
+    cdef const uint64_t[::1] itemsize_view = itemsizes
+    wanted.slotOf = &slot_view[0]
+    wanted.starts = &start_view[0]
+    wanted.itemsizes = &itemsize_view[0]
+    counts = np.zeros(nsub + 1, dtype=np.uint64)
+    sample_slots = np.empty(count + 1, dtype=np.uint16)
+    cdef uint64_t[::1] count_of = counts
+    cdef unsigned short[::1] sample_view = sample_slots
+    memset(failed, 0, sizeof(failed))
+    if count > 0:
+        with nogil:
+            found = ULogCheckAndCount(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, &count_of[0],
+                                      &sample_view[0], failed, first, 64)
+    failing = bytes([letter for letter in b"LCADOIMPQ" if failed[letter]])
+    if found <= 64:
+        undecided = [int(first[k]) for k in range(found)]
+    else:  # more than 64: checked again with room for each
+        undecided = ulog_message_checks(data, offsets, types, sizes)[1]
+    tables = [np.empty((count_of[k], itemsizes[k]), dtype=np.uint8) for k in range(nsub)]
+    rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
+    if rows == NULL:
+        raise MemoryError()
+    try:
+        for k in range(nsub):
+            rows[k] = NULL
+            if count_of[k] > 0 and itemsizes[k] > 0:
+                view = tables[k]
+                rows[k] = &view[0, 0]
+        if count > 0:
+            with nogil:
+                ULogCopySamples(&data[0], &offsets[0], &sample_view[0], count, &itemsize_view[0], rows)
+    finally:
+        PyMem_Free(rows)
+    return tables, failing, undecided

@@ -358,9 +358,13 @@ class ULogTopics:
         return appended
 
     def _check_messages(self, offsets, types, sizes) -> None:
-        """Decline if a message would make pyulog raise (:func:`_decode.ulog_message_checks`; the I/M/P/Q
-        messages with a non-ASCII key checked here, as pyulog decodes them)."""
+        """Decline if a message would make pyulog raise (:func:`_decode.ulog_message_checks`)."""
         failing, undecided = decoder_module().ulog_message_checks(self.array, offsets, types, sizes)
+        self._decline_if_failing(failing, undecided, offsets, types, sizes)
+
+    def _decline_if_failing(self, failing: bytes, undecided: List[int], offsets, types, sizes) -> None:
+        """Decline if some message failed the C checks (``failing``: the types of those, in ``b"LCADOIMPQ"``
+        order) or an I/M/P/Q message with a non-ASCII key (``undecided``: indices) fails as pyulog decodes it."""
         for kind in failing:
             if kind == ord("O"):
                 raise NeedsReference("a dropout message that is not 2 bytes")
@@ -372,23 +376,33 @@ class ULogTopics:
 
     def _data_section(self, offsets, types, sizes, segment_ends, names) -> Dict[tuple, Topic]:
         """The topics of the data-section messages pyulog reads (``segment_ends``: messages after each segment;
-        pyulog forgets the subscriptions at the end of each, and a later segment's data of a topic wins)."""
-        self._check_messages(offsets, types, sizes)
+        pyulog forgets the subscriptions at the end of each, and a later segment's data of a topic wins). The
+        messages are checked as their samples are counted; a failed check declines the log before a segment's
+        own reason does, as pyulog's parse errors come first."""
         out: Dict[tuple, Topic] = {}
+        failing, undecided, problem = set(), [], None
         first = 0
         for end in segment_ends:
-            out.update(self._segment(offsets[first:end], types[first:end], sizes[first:end], names))
+            topics, segment_failing, segment_undecided, segment_problem = self._segment(
+                offsets[first:end], types[first:end], sizes[first:end], names)
+            failing.update(segment_failing)
+            undecided += [first + k for k in segment_undecided]
+            problem = problem or segment_problem
+            out.update(topics)
             first = end
+        self._decline_if_failing(bytes(kind for kind in b"LCADOIMPQ" if kind in failing), undecided, offsets,
+                                 types, sizes)
+        if problem is not None:
+            raise NeedsReference(problem)
         return out
 
-    def _segment(self, offsets, types, sizes, names) -> Dict[tuple, Topic]:
-        """The topics of one segment of the data section (its subscriptions, then their samples)."""
+    def _segment(self, offsets, types, sizes, names) -> Tuple[Dict[tuple, Topic], bytes, List[int], Optional[str]]:
+        """The topics of one segment of the data section (its subscriptions, then their samples), the checks of
+        its messages (failing types, undecided indices) and the reason to decline, if any."""
         _decode = decoder_module()
         subscribe_messages, starts = _decode.ulog_typed_messages(self.array, offsets, types, sizes, ord("A"))
         plan = self.firmware.plan(subscribe_messages, names)
-        if plan.problem is not None:
-            raise NeedsReference(plan.problem)
-        tables = _decode.ulog_data_tables(self.array, offsets, types, sizes, [
+        tables, failing, undecided = _decode.ulog_checked_tables(self.array, offsets, types, sizes, [
             (s.msg_id, starts[s.index], s.layout.dtype.itemsize) for s in plan.subscriptions])
         out: Dict[tuple, Topic] = {}
         for subscription, bodies in zip(plan.subscriptions, tables):
@@ -396,6 +410,6 @@ class ULogTopics:
                 continue
             key = (subscription.name, subscription.multi_id)
             if key in out:
-                raise NeedsReference(f"{key} subscribed twice")
+                return out, failing, undecided, f"{key} subscribed twice"
             out[key] = Topic(np.frombuffer(bodies.data, dtype=subscription.layout.dtype))
-        return out
+        return out, failing, undecided, plan.problem

@@ -470,34 +470,45 @@ static inline size_t ULogMinimumPayload(const uint8_t type) {
 }
 
 /*
- * Which of the count messages at offsets (types, payload sizes bytes; each
- * wholly inside the data) make pyulog raise, in one pass: an L, C, A or D
- * message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2
- * bytes, an I/M/P/Q message ULogCheckInfo fails (from byte 1 for M and Q) set
- * failed[type] to 1 (256 entries, the caller's zeros). The index of each
- * I/M/P/Q message of a non-ASCII key goes to undecided (the first capacity of
- * them); returns how many there are.
+ * Whether pyulog raises on the message at offset (type, payload size bytes;
+ * wholly inside the data): an L, C, A or D message shorter than 9, 11, 3 or 2
+ * bytes, an O (dropout) message not of 2 bytes, an I/M/P/Q message
+ * ULogCheckInfo fails (from byte 1 for M and Q) set failed[type] to 1 (256
+ * entries). Returns 1 for an I/M/P/Q message of a non-ASCII key (undecided:
+ * for the caller), else 0.
+ */
+static inline int ULogCheckMessage(const uint8_t *const data, const uint64_t offset, const uint8_t type,
+                                   const uint16_t size, uint8_t *const failed) {
+    if ((type == 'I') || (type == 'P') || (type == 'M') || (type == 'Q')) {
+        const ULogInfoVerdict verdict =
+            ULogCheckInfo(data + offset + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
+        if (verdict == ULogInfoFails) {
+            failed[type] = 1;
+        }
+        return verdict == ULogInfoUndecided;
+    }
+    if ((size < ULogMinimumPayload(type)) || ((type == 'O') && (size != 2))) {
+        failed[type] = 1;
+    }
+    return 0;
+}
+
+/*
+ * ULogCheckMessage of the count messages at offsets (each wholly inside the
+ * data), in one pass; failed: the caller's zeros. The index of each undecided
+ * message goes to undecided (the first capacity of them); returns how many
+ * there are.
  */
 static inline size_t ULogCheckMessages(const uint8_t *const data, const uint64_t *const offsets,
                                        const uint8_t *const types, const uint16_t *const sizes, const size_t count,
                                        uint8_t *const failed, size_t *const undecided, const size_t capacity) {
     size_t k, found = 0;
     for (k = 0; k < count; k++) {
-        const uint8_t type = types[k];
-        const uint16_t size = sizes[k];
-        if ((type == 'I') || (type == 'P') || (type == 'M') || (type == 'Q')) {
-            const ULogInfoVerdict verdict =
-                ULogCheckInfo(data + offsets[k] + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
-            if (verdict == ULogInfoFails) {
-                failed[type] = 1;
-            } else if (verdict == ULogInfoUndecided) {
-                if (found < capacity) {
-                    undecided[found] = k;
-                }
-                found++;
+        if (ULogCheckMessage(data, offsets[k], types[k], sizes[k], failed)) {
+            if (found < capacity) {
+                undecided[found] = k;
             }
-        } else if ((size < ULogMinimumPayload(type)) || ((type == 'O') && (size != 2))) {
-            failed[type] = 1;
+            found++;
         }
     }
     return found;
@@ -563,6 +574,61 @@ static inline void ULogSamples(const uint8_t *const data, const uint64_t *const 
         if ((slot != SIZE_MAX) && (rows[slot] != NULL)) {
             memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
             rows[slot] += itemsizes[slot];
+        }
+    }
+}
+
+/*
+ * ULogCheckMessages and the counting pass of ULogSamples in one pass over the
+ * count messages (each wholly inside the data): failed and undecided as
+ * ULogCheckMessages (returns how many undecided there are), counts[slot] += 1
+ * for each sample of a subscription, and sampleSlots[k] = 1 + the
+ * subscription of message k's sample, or 0, for ULogCopySamples.
+ */
+static inline size_t ULogCheckAndCount(const uint8_t *const data, const uint64_t *const offsets,
+                                       const uint8_t *const types, const uint16_t *const sizes, const size_t count,
+                                       const ULogSubscriptions *const subscriptions, uint64_t *const counts,
+                                       uint16_t *const sampleSlots, uint8_t *const failed, size_t *const undecided,
+                                       const size_t capacity) {
+    const uint16_t *const slotOf = subscriptions->slotOf;
+    const uint64_t *const starts = subscriptions->starts;
+    const uint64_t *const itemsizes = subscriptions->itemsizes;
+    size_t k, slot, found = 0;
+    for (k = 0; k < count; k++) {
+        sampleSlots[k] = 0;
+        if (types[k] == 'D') {
+            slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
+            if (slot != SIZE_MAX) {
+                counts[slot]++;
+                sampleSlots[k] = (uint16_t) (slot + 1);
+            }
+        }
+        if (ULogCheckMessage(data, offsets[k], types[k], sizes[k], failed)) {
+            if (found < capacity) {
+                undecided[found] = k;
+            }
+            found++;
+        }
+    }
+    return found;
+}
+
+/*
+ * The payload after the 2-byte msg_id of each message whose sampleSlots entry
+ * (from ULogCheckAndCount) is not 0 copied in file order to rows[slot],
+ * advancing it (room for the count; rows[slot] NULL: none copied).
+ */
+static inline void ULogCopySamples(const uint8_t *const data, const uint64_t *const offsets,
+                                   const uint16_t *const sampleSlots, const size_t count,
+                                   const uint64_t *const itemsizes, uint8_t **const rows) {
+    size_t k;
+    for (k = 0; k < count; k++) {
+        if (sampleSlots[k] != 0) {
+            const size_t slot = (size_t) sampleSlots[k] - 1;
+            if (rows[slot] != NULL) {
+                memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
+                rows[slot] += itemsizes[slot];
+            }
         }
     }
 }

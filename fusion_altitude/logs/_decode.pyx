@@ -670,46 +670,243 @@ def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const
     list of ndarray of uint8, shape (count, itemsize)
         Per subscription, the payloads after the 2-byte msg_id of its data messages, in file order.
     """
+    return ulog_checked_tables(data, offsets, types, sizes, subscriptions)[0]
+
+
+# ---- ULog: the bytes the definitions cache keys on, and the message checks in one pass (_ulog_fast.py) ----
+
+cdef extern from "_ulog_scan.h":
+    size_t ULogCheckMessages(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,
+                             const unsigned short *sizes, size_t count, uint8_t *failed, size_t *undecided,
+                             size_t capacity) nogil
+    size_t ULogCheckAndCount(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,
+                             const unsigned short *sizes, size_t count, const ULogSubscriptions *subscriptions,
+                             uint64_t *counts, unsigned short *sampleSlots, uint8_t *failed, size_t *undecided,
+                             size_t capacity) nogil
+    void ULogCopySamples(const uint8_t *data, const uint64_t *offsets, const unsigned short *sampleSlots,
+                         size_t count, const uint64_t *itemsizes, uint8_t **rows) nogil
+
+from cpython.bytes cimport PyBytes_AS_STRING, PyBytes_FromStringAndSize
+
+
+def ulog_typed_messages(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes, uint8_t wanted):
+    """The messages of type ``wanted`` among those at ``offsets`` (types, payload sizes): their whole bytes
+    (3-byte header and payload) joined in order, the bytes of what they define (the F messages of one firmware,
+    the A messages of a segment) that a cache keys on, and the byte offset of each. Each header holds its
+    payload size, so two lists of messages give equal bytes only if they are equal message by message.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t total = 0
+    cdef size_t k, outside, length
+    cdef char *out
     if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
         raise ValueError("offsets, types and sizes must have one length")
-    if len(subscriptions) >= 65535:
+    if count == 0:
+        return b"", []
+    with nogil:
+        outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+    if outside < count:
+        raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    starts = []
+    for k in range(count):
+        if types[k] == wanted:
+            total += 3 + sizes[k]
+            starts.append(offsets[k])
+    joined = PyBytes_FromStringAndSize(NULL, total)
+    out = PyBytes_AS_STRING(joined)
+    with nogil:
+        for k in range(count):
+            if types[k] == wanted:
+                length = 3 + sizes[k]
+                memcpy(out, &data[offsets[k]], length)
+                out += length
+    return joined, starts
+
+
+def ulog_message_checks(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes):
+    """The messages pyulog would fail to parse, in one pass of ``ULogCheckMessages`` (each message wholly inside
+    ``data``).
+
+    An L, C, A or D message shorter than 9, 11, 3 or 2 bytes, an O (dropout) message not of 2 bytes, and an
+    I/M/P/Q message that ``ULogCheckInfo`` fails (from byte 1 for M and Q) make pyulog raise.
+
+    Returns
+    -------
+    failing : bytes
+        The types (letters, each once, in ``b"LCADOIMPQ"`` order) of which some message fails.
+    undecided : list of int
+        Indices of the I/M/P/Q messages whose key is not ASCII (pyulog drops undecodable bytes first): for
+        the caller to check in Python.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t outside
+    cdef size_t found = 0
+    cdef uint8_t failed[256]
+    cdef size_t first[64]
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    if count == 0:
+        return b"", []
+    memset(failed, 0, sizeof(failed))
+    with nogil:
+        outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+        if outside == count:
+            found = ULogCheckMessages(&data[0], &offsets[0], &types[0], &sizes[0], count, failed, first, 64)
+    if outside < count:
+        raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
+    failing = bytes([letter for letter in b"LCADOIMPQ" if failed[letter]])
+    if found <= 64:
+        return failing, [int(first[k]) for k in range(found)]
+    every = np.empty(found, dtype=np.uintp)  # more than 64: walk again with room for each
+    cdef size_t[::1] every_view = every
+    memset(failed, 0, sizeof(failed))
+    with nogil:
+        ULogCheckMessages(&data[0], &offsets[0], &types[0], &sizes[0], count, failed, &every_view[0], found)
+    return failing, every.tolist()
+
+
+def ulog_format_fields(bytes payload, size_t name_length):
+    """The fields of an F (format) message that :func:`ulog_format_names` vouched for (its name
+    ``name_length`` bytes): [(type, array size, field name), …], what pyulog's parse gives (the field list is
+    the text between the first and the next ``:``, its items split at ``;``, each item's type and name its first
+    two words split at a space, the array size the digits in the type's brackets, 0 without)."""
+    cdef const char *text = payload
+    cdef size_t size = len(payload)
+    cdef size_t end, item, stop, space, word_end, at, close, k, count
+    if name_length >= size or text[name_length] != b':':
+        raise ValueError("payload: no ':' after the name")
+    end = name_length + 1
+    while end < size and text[end] != b':':
+        end += 1
+    fields = []
+    item = name_length + 1
+    while item <= end:
+        stop = item
+        while stop < end and text[stop] != b';':
+            stop += 1
+        if stop > item:
+            space = item
+            while space < stop and text[space] != b' ':
+                space += 1
+            if space == stop:
+                raise ValueError("payload: an item without a space (not vouched for)")
+            word_end = space + 1
+            while word_end < stop and text[word_end] != b' ':
+                word_end += 1
+            at = item
+            while at < space and text[at] != b'[':
+                at += 1
+            count = 0
+            if at < space:
+                close = at + 1
+                while close < space and text[close] != b']':
+                    count = count * 10 + <size_t> (text[close] - 48)
+                    close += 1
+            fields.append((text[item:at].decode("ascii"), count, text[space + 1:word_end].decode("ascii")))
+        item = stop + 1
+    return fields
+
+
+def ulog_split_messages(bytes joined):
+    """The whole messages of ``joined`` (from :func:`ulog_typed_messages`): the byte offset of each 3-byte header
+    and its payload size (bytes), as lists; ValueError if the last one is cut."""
+    cdef const unsigned char *text = joined
+    cdef size_t size = len(joined)
+    cdef size_t at = 0, length
+    offsets, sizes = [], []
+    while at < size:
+        if size - at < 3:
+            raise ValueError("joined: a header is cut")
+        length = <size_t> text[at] | (<size_t> text[at + 1] << 8)
+        if size - at - 3 < length:
+            raise ValueError("joined: a payload is cut")
+        offsets.append(at)
+        sizes.append(length)
+        at += 3 + length
+    return offsets, sizes
+
+
+def ulog_subscriptions(bytes joined):
+    """The A (subscription) messages of ``joined`` (from :func:`ulog_typed_messages`, each of at least 3 bytes):
+    (msg_id, multi_id, topic name) of each, the name decoded as pyulog decodes it (UTF-8, undecodable bytes
+    dropped)."""
+    cdef const unsigned char *text = joined
+    cdef size_t size = len(joined)
+    cdef size_t at = 0, length
+    out = []
+    while at < size:
+        if size - at < 3:
+            raise ValueError("joined: a header is cut")
+        length = <size_t> text[at] | (<size_t> text[at + 1] << 8)
+        if size - at - 3 < length or length < 3:
+            raise ValueError("joined: a payload is cut or shorter than 3 bytes")
+        out.append((<size_t> text[at + 4] | (<size_t> text[at + 5] << 8), text[at + 3],
+                    joined[at + 6:at + 3 + length].decode("utf-8", "ignore")))
+        at += 3 + length
+    return out
+
+
+def ulog_checked_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
+                        const unsigned short[::1] sizes, subscriptions):
+    """:func:`ulog_message_checks` and :func:`ulog_data_tables` of one segment's messages in one pass over them
+    (``ULogCheckAndCount``), then the samples copied (``ULogCopySamples``: only the samples' bytes are read
+    again).
+
+    Returns
+    -------
+    tables : list of ndarray of uint8, shape (count, itemsize)
+        As :func:`ulog_data_tables`.
+    failing, undecided
+        As :func:`ulog_message_checks`.
+    """
+    cdef size_t count = offsets.shape[0]
+    cdef size_t nsub = len(subscriptions)
+    cdef size_t k, outside, found = 0
+    cdef uint8_t failed[256]
+    cdef size_t first[64]
+    cdef ULogSubscriptions wanted
+    cdef uint8_t **rows
+    cdef uint8_t[:, ::1] view
+    if types.shape[0] != offsets.shape[0] or sizes.shape[0] != offsets.shape[0]:
+        raise ValueError("offsets, types and sizes must have one length")
+    if nsub >= 65535:
         raise ValueError("too many subscriptions")
-    cdef size_t outside = 0
-    if offsets.shape[0] > 0:
+    if count > 0:
         with nogil:
-            outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], offsets.shape[0])
-        if outside < <size_t> offsets.shape[0]:
+            outside = ULogFirstOutside(data.shape[0], &offsets[0], &sizes[0], count)
+        if outside < count:
             raise ValueError(f"the message at byte {offsets[outside]} runs past the end of the data")
-    # slot + 1 of each msg_id (0: not asked for)
-    slots = np.zeros(65536, dtype=np.uint16)
-    starts = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
-    itemsizes = np.zeros(len(subscriptions) + 1, dtype=np.uint64)
+    slots = np.zeros(65536, dtype=np.uint16)  # slot + 1 of each msg_id (0: not asked for)
+    starts = np.zeros(nsub + 1, dtype=np.uint64)
+    itemsizes = np.zeros(nsub + 1, dtype=np.uint64)
     for k, (msg_id, start, itemsize) in enumerate(subscriptions):
         if not 0 <= msg_id < 65536 or slots[msg_id] != 0:
             raise ValueError(f"msg_id {msg_id} out of range or given twice")
         slots[msg_id], starts[k], itemsizes[k] = k + 1, start, itemsize
-    return _ulog_gather(data, offsets, types, sizes, slots, starts, itemsizes)
-
-
-cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
-                  const unsigned short[::1] sizes, const unsigned short[::1] slots, const uint64_t[::1] starts,
-                  const uint64_t[::1] itemsizes):
-    """:func:`ulog_data_tables` once checked: ``ULogSamples`` counts, then copies into the tables."""
-    cdef size_t count = offsets.shape[0]
-    cdef size_t nsub = starts.shape[0] - 1
-    cdef size_t k
-    cdef ULogSubscriptions wanted
-    wanted.slotOf = &slots[0]
-    wanted.starts = &starts[0]
-    wanted.itemsizes = &itemsizes[0]
+    cdef const unsigned short[::1] slot_view = slots
+    cdef const uint64_t[::1] start_view = starts
+    cdef const uint64_t[::1] itemsize_view = itemsizes
+    wanted.slotOf = &slot_view[0]
+    wanted.starts = &start_view[0]
+    wanted.itemsizes = &itemsize_view[0]
     counts = np.zeros(nsub + 1, dtype=np.uint64)
+    sample_slots = np.empty(count + 1, dtype=np.uint16)
     cdef uint64_t[::1] count_of = counts
+    cdef unsigned short[::1] sample_view = sample_slots
+    memset(failed, 0, sizeof(failed))
     if count > 0:
         with nogil:
-            ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, &count_of[0], NULL)
+            found = ULogCheckAndCount(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, &count_of[0],
+                                      &sample_view[0], failed, first, 64)
+    failing = bytes([letter for letter in b"LCADOIMPQ" if failed[letter]])
+    if found <= 64:
+        undecided = [int(first[k]) for k in range(found)]
+    else:  # more than 64: checked again with room for each
+        undecided = ulog_message_checks(data, offsets, types, sizes)[1]
     tables = [np.empty((count_of[k], itemsizes[k]), dtype=np.uint8) for k in range(nsub)]
-    cdef uint8_t **rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
-    cdef uint8_t[:, ::1] view
+    rows = <uint8_t **> PyMem_Malloc((nsub + 1) * sizeof(uint8_t *))
     if rows == NULL:
         raise MemoryError()
     try:
@@ -720,7 +917,7 @@ cdef _ulog_gather(const uint8_t[::1] data, const uint64_t[::1] offsets, const ui
                 rows[k] = &view[0, 0]
         if count > 0:
             with nogil:
-                ULogSamples(&data[0], &offsets[0], &types[0], &sizes[0], count, &wanted, NULL, rows)
+                ULogCopySamples(&data[0], &offsets[0], &sample_view[0], count, &itemsize_view[0], rows)
     finally:
         PyMem_Free(rows)
-    return tables
+    return tables, failing, undecided

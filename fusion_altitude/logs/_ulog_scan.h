@@ -281,16 +281,26 @@ typedef enum {
     ULogInfoUndecided = 2, /* a non-ASCII key (pyulog drops undecodable bytes first): for the caller */
 } ULogInfoVerdict;
 
+/* Index of the first wanted byte of text[0 .. length), or length if there is none. */
+static inline size_t ULogFind(const uint8_t *const text, const size_t length, const uint8_t wanted) {
+    size_t k;
+    for (k = 0; k < length; k++) {
+        if (text[k] == wanted) {
+            return k;
+        }
+    }
+    return length;
+}
+
 /* Bytes of pyulog's basic type named text[0 .. length), or 0 if it is none. */
 static inline size_t ULogBasicTypeSize(const uint8_t *const text, const size_t length) {
     static const char *const names[12] = {"int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t",
                                            "int64_t", "uint64_t", "float", "double", "bool", "char"};
     static const size_t sizes[12] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8, 1, 1};
-    size_t k, j;
-    for (k = 0; k < 12; k++) {
-        for (j = 0; (j < length) && (names[k][j] != '\0') && ((uint8_t) names[k][j] == text[j]); j++) {
-        }
-        if ((j == length) && (names[k][j] == '\0')) {
+    static const size_t lengths[12] = {6, 7, 7, 8, 7, 8, 7, 8, 5, 6, 4, 4}; /* strlen of each name */
+    size_t k;
+    for (k = 0; k < 12; k++) { /* a name of another length or first letter is passed over at once */
+        if ((lengths[k] == length) && ((uint8_t) names[k][0] == text[0]) && (memcmp(text, names[k], length) == 0)) {
             return sizes[k];
         }
     }
@@ -307,20 +317,20 @@ static inline ULogInfoVerdict ULogCheckInfo(const uint8_t *const message, const 
     const uint8_t *const payload = message + skip;
     size_t available, keyLength, space, j;
     size_t typeSize;
+    uint8_t high;
     if (size < 1 + skip) {
         return ULogInfoFails;
     }
     available = size - skip; /* bytes of the payload pyulog reads */
     keyLength = (payload[0] > available - 1) ? available - 1 : payload[0];
-    space = keyLength;
-    for (j = 0; j < keyLength; j++) {
-        if (payload[1 + j] >= 0x80) {
-            return ULogInfoUndecided;
-        }
-        if ((payload[1 + j] == ' ') && (space == keyLength)) {
-            space = j;
-        }
+    high = 0;
+    for (j = 0; j < keyLength; j++) { /* any byte >= 0x80 (no early exit: the loop stays simple) */
+        high |= payload[1 + j];
     }
+    if ((high & 0x80) != 0) {
+        return ULogInfoUndecided;
+    }
+    space = ULogFind(payload + 1, keyLength, ' ');
     if (space == keyLength) { /* one word: pyulog's split(" ") gives no name */
         return ULogInfoFails;
     }
@@ -362,17 +372,6 @@ static inline int ULogCheckInfos(const uint8_t *const data, const size_t size, c
         verdicts[k] = (uint8_t) ULogCheckInfo(data + offsets[k] + 3, sizes[k], skip);
     }
     return 1;
-}
-
-/* Index of the first wanted byte of text[0 .. length), or length if there is none. */
-static inline size_t ULogFind(const uint8_t *const text, const size_t length, const uint8_t wanted) {
-    size_t k;
-    for (k = 0; k < length; k++) {
-        if (text[k] == wanted) {
-            return k;
-        }
-    }
-    return length;
 }
 
 /*
@@ -450,6 +449,71 @@ static inline int ULogFormatNameLengths(const uint8_t *const data, const size_t 
     return 1;
 }
 
+/*
+ * Smallest payload (bytes) pyulog parses of a message of this type in the
+ * data section (L C A D O; an O message must be of exactly 2), 0 for others.
+ */
+static inline size_t ULogMinimumPayload(const uint8_t type) {
+    switch (type) {
+    case 'L':
+        return 9;
+    case 'C':
+        return 11;
+    case 'A':
+        return 3;
+    case 'D':
+    case 'O':
+        return 2;
+    default:
+        return 0;
+    }
+}
+
+/*
+ * Whether pyulog raises on the message at offset (type, payload size bytes;
+ * wholly inside the data): an L, C, A or D message shorter than 9, 11, 3 or 2
+ * bytes, an O (dropout) message not of 2 bytes, an I/M/P/Q message
+ * ULogCheckInfo fails (from byte 1 for M and Q) set failed[type] to 1 (256
+ * entries). Returns 1 for an I/M/P/Q message of a non-ASCII key (undecided:
+ * for the caller), else 0.
+ */
+static inline int ULogCheckMessage(const uint8_t *const data, const uint64_t offset, const uint8_t type,
+                                   const uint16_t size, uint8_t *const failed) {
+    if ((type == 'I') || (type == 'P') || (type == 'M') || (type == 'Q')) {
+        const ULogInfoVerdict verdict =
+            ULogCheckInfo(data + offset + 3, size, ((type == 'M') || (type == 'Q')) ? 1u : 0u);
+        if (verdict == ULogInfoFails) {
+            failed[type] = 1;
+        }
+        return verdict == ULogInfoUndecided;
+    }
+    if ((size < ULogMinimumPayload(type)) || ((type == 'O') && (size != 2))) {
+        failed[type] = 1;
+    }
+    return 0;
+}
+
+/*
+ * ULogCheckMessage of the count messages at offsets (each wholly inside the
+ * data), in one pass; failed: the caller's zeros. The index of each undecided
+ * message goes to undecided (the first capacity of them); returns how many
+ * there are.
+ */
+static inline size_t ULogCheckMessages(const uint8_t *const data, const uint64_t *const offsets,
+                                       const uint8_t *const types, const uint16_t *const sizes, const size_t count,
+                                       uint8_t *const failed, size_t *const undecided, const size_t capacity) {
+    size_t k, found = 0;
+    for (k = 0; k < count; k++) {
+        if (ULogCheckMessage(data, offsets[k], types[k], sizes[k], failed)) {
+            if (found < capacity) {
+                undecided[found] = k;
+            }
+            found++;
+        }
+    }
+    return found;
+}
+
 /* The subscriptions whose samples ULogSamples counts and gathers. */
 typedef struct {
     const uint16_t *slotOf;    /* 65536 entries: 1 + subscription of each msg_id, 0 if none */
@@ -510,6 +574,61 @@ static inline void ULogSamples(const uint8_t *const data, const uint64_t *const 
         if ((slot != SIZE_MAX) && (rows[slot] != NULL)) {
             memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
             rows[slot] += itemsizes[slot];
+        }
+    }
+}
+
+/*
+ * ULogCheckMessages and the counting pass of ULogSamples in one pass over the
+ * count messages (each wholly inside the data): failed and undecided as
+ * ULogCheckMessages (returns how many undecided there are), counts[slot] += 1
+ * for each sample of a subscription, and sampleSlots[k] = 1 + the
+ * subscription of message k's sample, or 0, for ULogCopySamples.
+ */
+static inline size_t ULogCheckAndCount(const uint8_t *const data, const uint64_t *const offsets,
+                                       const uint8_t *const types, const uint16_t *const sizes, const size_t count,
+                                       const ULogSubscriptions *const subscriptions, uint64_t *const counts,
+                                       uint16_t *const sampleSlots, uint8_t *const failed, size_t *const undecided,
+                                       const size_t capacity) {
+    const uint16_t *const slotOf = subscriptions->slotOf;
+    const uint64_t *const starts = subscriptions->starts;
+    const uint64_t *const itemsizes = subscriptions->itemsizes;
+    size_t k, slot, found = 0;
+    for (k = 0; k < count; k++) {
+        sampleSlots[k] = 0;
+        if (types[k] == 'D') {
+            slot = ULogSampleSlot(data, offsets[k], types[k], sizes[k], slotOf, starts, itemsizes);
+            if (slot != SIZE_MAX) {
+                counts[slot]++;
+                sampleSlots[k] = (uint16_t) (slot + 1);
+            }
+        }
+        if (ULogCheckMessage(data, offsets[k], types[k], sizes[k], failed)) {
+            if (found < capacity) {
+                undecided[found] = k;
+            }
+            found++;
+        }
+    }
+    return found;
+}
+
+/*
+ * The payload after the 2-byte msg_id of each message whose sampleSlots entry
+ * (from ULogCheckAndCount) is not 0 copied in file order to rows[slot],
+ * advancing it (room for the count; rows[slot] NULL: none copied).
+ */
+static inline void ULogCopySamples(const uint8_t *const data, const uint64_t *const offsets,
+                                   const uint16_t *const sampleSlots, const size_t count,
+                                   const uint64_t *const itemsizes, uint8_t **const rows) {
+    size_t k;
+    for (k = 0; k < count; k++) {
+        if (sampleSlots[k] != 0) {
+            const size_t slot = (size_t) sampleSlots[k] - 1;
+            if (rows[slot] != NULL) {
+                memcpy(rows[slot], data + offsets[k] + 5, (size_t) itemsizes[slot]);
+                rows[slot] += itemsizes[slot];
+            }
         }
     }
 }

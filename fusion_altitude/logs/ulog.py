@@ -34,6 +34,34 @@ def _first(topic, *names):
     return None
 
 
+def _block(topic, names):
+    """The fields ``names`` of a topic side by side as float64 (n × len(names)) when the topic is the C decoder's
+    table (:class:`~fusion_altitude.logs._ulog_fast.Topic`) and they are consecutive fields of one type (an array
+    field as ``q[0..3]``, or ``x, y, z``): one strided view of the samples converted at once; else None."""
+    table = getattr(topic, "table", None)
+    if table is None:
+        return None
+    fields = table.dtype.fields
+    kind, offset = fields.get(names[0], (None, 0))[:2]
+    if kind is None or any(fields.get(name, ())[:2] != (kind, offset + k * kind.itemsize)
+                           for k, name in enumerate(names)):
+        return None
+    view = np.ndarray((table.shape[0], len(names)), dtype=kind, buffer=table, offset=offset,
+                      strides=(table.dtype.itemsize, kind.itemsize))
+    return view.astype(np.float64)
+
+
+def _vector(topic, *stems):
+    """The 3-vector ``stem[0..2]`` of the first of ``stems`` the topic has, as float64 (n × 3; each component
+    the first of the stems present); None if the topic has no ``stem[0]``."""
+    block = _block(topic, [f"{stems[0]}[{i}]" for i in range(3)])
+    if block is not None:
+        return block
+    if _first(topic, *(f"{stem}[0]" for stem in stems)) is None:
+        return None
+    return np.column_stack([_first(topic, *(f"{stem}[{i}]" for stem in stems)) for i in range(3)])
+
+
 def read_ulog(path: str, instance: Optional[int] = None,
               progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast") -> LogData:
     """Read a PX4 ULog (.ulg).
@@ -166,7 +194,9 @@ def _build(path, want, topic, progress, missing_bytes=ulog_missing_bytes) -> Log
     time, columns, repeated = merge_repeated_timestamps((stamp - t0) * 1e-6, columns, path,
                                                         np.arange(stamp.size) + 1, "timestamp", row_word="IMU sample")
     att = topic("vehicle_attitude")
-    q = np.column_stack([att[f"q[{i}]"] for i in range(4)]).astype(float)
+    q = _block(att, [f"q[{i}]" for i in range(4)])
+    if q is None:
+        q = np.column_stack([att[f"q[{i}]"] for i in range(4)]).astype(float)
     q_grid = previous(time, (att["timestamp"].astype(float) - t0) * 1e-6, q)
     accel = vertical_acceleration(columns["accel"], q_grid, frame="NED")
     if not baro_instance:
@@ -197,12 +227,10 @@ def _imu_combined(path, want, topic, notes):
     None) and clipping flags (or None); appends a note."""
     imu = topic("sensor_combined")
     stamp = imu["timestamp"].astype(float)
-    accel_body = np.column_stack([_first(imu, f"accelerometer_m_s2[{i}]", f"acc[{i}]") for i in range(3)]) \
-        if _first(imu, "accelerometer_m_s2[0]", "acc[0]") is not None else None
+    accel_body = _vector(imu, "accelerometer_m_s2", "acc")
     if accel_body is None:
         raise LogError(f"{path}: topic 'sensor_combined' has no accelerometer_m_s2 field")
-    gyro = np.column_stack([_first(imu, f"gyro_rad[{i}]", f"gyro_rad_s[{i}]") for i in range(3)]) \
-        if _first(imu, "gyro_rad[0]", "gyro_rad_s[0]") is not None else None
+    gyro = _vector(imu, "gyro_rad", "gyro_rad_s")
     clipped = np.asarray(imu["accelerometer_clipping"]) != 0 if "accelerometer_clipping" in imu else None
     notes.append("sensor_combined.accelerometer_m_s2, vehicle_attitude.q"
                  + (f" (no sensor_accel instance {want}: the primary IMU)" if want else ""))
@@ -214,7 +242,9 @@ def _imu_instance(want, topic, notes):
     gyro (rad/s, n×3, on the accelerometer's stamps, or None) and None for clipping; appends a note."""
     accel_topic = topic("sensor_accel", want)
     stamp = _first(accel_topic, "timestamp_sample", "timestamp")
-    accel_body = np.column_stack([accel_topic[a].astype(float) for a in "xyz"])
+    accel_body = _block(accel_topic, list("xyz"))
+    if accel_body is None:
+        accel_body = np.column_stack([accel_topic[a].astype(float) for a in "xyz"])
     gyro_topic = topic("sensor_gyro", want, needed=False)
     gyro = None
     if gyro_topic is not None:

@@ -580,37 +580,6 @@ def dataflash_columns(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
     return out
 
 
-def ulog_infos_ok(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes,
-                  size_t skip):
-    """Whether pyulog parses the I/M/P/Q messages at ``offsets`` without an exception (``ULogCheckInfos``).
-
-    Each payload (``sizes`` bytes after a message's 3-byte header, from byte ``skip``: 1 for M and Q, whose
-    first byte pyulog skips) must hold a key length, a key of at least two words (type, name) and, for a basic
-    type, a value of exactly that type's size.
-
-    Returns
-    -------
-    ok : bool
-        False if some message surely makes pyulog raise (or runs past the end of ``data``).
-    undecided : list of int
-        Indices of the messages whose key is not ASCII (pyulog drops undecodable bytes first): for the caller to
-        check in Python.
-    """
-    cdef size_t count = offsets.shape[0]
-    cdef int inside
-    if sizes.shape[0] != offsets.shape[0]:
-        raise ValueError("offsets and sizes must have one length")
-    if count == 0:
-        return True, []
-    verdicts = np.empty(count, dtype=np.uint8)
-    cdef uint8_t[::1] verdict_view = verdicts
-    with nogil:
-        inside = ULogCheckInfos(&data[0], data.shape[0], &offsets[0], &sizes[0], count, skip, &verdict_view[0])
-    if not inside or np.any(verdicts == 0):
-        return False, []
-    return True, np.flatnonzero(verdicts == 2).tolist()
-
-
 def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, const unsigned short[::1] sizes):
     """The name of each F (format) message at ``offsets`` whose parsing by pyulog surely succeeds, else None.
 
@@ -640,40 +609,6 @@ def ulog_format_names(const uint8_t[::1] data, const uint64_t[::1] offsets, cons
             names.append(bytes(data[offsets[k] + 3:offsets[k] + 3 + length_view[k]]).decode("ascii"))
     return names
 
-
-def ulog_type_counts(const uint8_t[::1] types):
-    """How many messages of each type (ndarray of uint64, shape (256,)), in one pass."""
-    counts = np.zeros(256, dtype=np.uint64)
-    cdef uint64_t[::1] view = counts
-    if types.shape[0] > 0:
-        with nogil:
-            ScanCountTypes(&types[0], types.shape[0], &view[0])
-    return counts
-
-
-def ulog_data_tables(const uint8_t[::1] data, const uint64_t[::1] offsets, const uint8_t[::1] types,
-                     const unsigned short[::1] sizes, subscriptions):
-    """The data messages of each subscription, gathered in one pass, as pyulog reads them.
-
-    Parameters
-    ----------
-    data : bytes-like
-        The whole file.
-    offsets, types, sizes : ndarrays
-        Start, type and payload size (bytes) of each message of the data section (each wholly inside ``data``).
-    subscriptions : sequence of (msg_id, offset, itemsize)
-        Per subscription, its msg_id (each at most once), the offset of its A message (only later data
-        messages count) and the bytes of one sample (a data message of another size is not one of its samples).
-
-    Returns
-    -------
-    list of ndarray of uint8, shape (count, itemsize)
-        Per subscription, the payloads after the 2-byte msg_id of its data messages, in file order.
-    """
-    return ulog_checked_tables(data, offsets, types, sizes, subscriptions)[0]
-
-
-# ---- ULog: the bytes the definitions cache keys on, and the message checks in one pass (_ulog_fast.py) ----
 
 cdef extern from "_ulog_scan.h":
     size_t ULogCheckMessages(const uint8_t *data, const uint64_t *offsets, const uint8_t *types,

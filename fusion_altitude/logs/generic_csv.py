@@ -11,7 +11,7 @@ from .._core._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
 from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header
+from ._table import check_finite, numeric_columns, read_table
 
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
 GYRO_UNITS = {"rad/s": 1.0, "deg/s": float(np.pi / 180.0)}
@@ -358,7 +358,7 @@ def _read_columns(path: str, roles: dict, progress, time_scale: float = 1.0, che
     (role, name, low, high, unit, what, low_inclusive) drop absurd cells
     before repeated time stamps are merged, so the warnings name file lines.
     """
-    table = split_header(path, read_text(path))
+    table = read_table(path)
     positions = {role: table.index(name) for role, name in roles.items()}
     unique = sorted(set(positions.values()))
     data, lines, dropped = numeric_columns(table, unique, progress)

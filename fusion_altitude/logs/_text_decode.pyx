@@ -84,7 +84,8 @@ def scan_csv(body, numeric, text, str missing, Py_ssize_t start=0):
     status : str
         "ok", or why the body is not plain: "not plain text", "ragged", "not a number", "full".
     numbers : numpy.ndarray or None
-        float64, shape (rows, len(numeric)) (None unless "ok").
+        float64, shape (rows, len(numeric)), each column contiguous (Fortran order: a reader's column is a view,
+        not a copy) (None unless "ok").
     text_columns : list of (numpy.ndarray, numpy.ndarray) or None
         Per text column: its distinct cells, stripped of spaces and tabs (object array of str, in order of first
         appearance), and the index of each row's cell among them (int64).
@@ -145,7 +146,7 @@ cdef tuple _scan(body, Py_ssize_t start, const char *data, size_t size, numeric,
         positions[k] = numeric[k]
     for k in range(text_count):
         positions[numeric_count + k] = text[k]
-    numbers = np.empty((capacity, max(numeric_count, 1)), dtype=np.float64)
+    numbers = np.empty((max(numeric_count, 1), capacity), dtype=np.float64)  # column-major: each column contiguous
     cdef double[:, ::1] numbers_view = numbers
     # one int64 workspace: each row's text index, each column's distinct starts and lengths, the hash slots
     cdef size_t words = text_count * (3 * capacity + hash_size)
@@ -188,7 +189,7 @@ cdef tuple _scan(body, Py_ssize_t start, const char *data, size_t size, numeric,
         else:
             cells[:] = [body[start + first:start + first + length] for first, length in zip(starts, lengths)]
         columns.append((cells, work[k:rows * text_count:text_count].copy()))
-    return "ok", numbers[:rows, :numeric_count], columns, int(result.line), -1
+    return "ok", numbers[:numeric_count, :rows].T, columns, int(result.line), -1
 
 
 

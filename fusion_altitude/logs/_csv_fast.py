@@ -7,7 +7,9 @@ extension first (:func:`fusion_altitude.logs._text_decode.scan_csv` over
 ``_csv_scan.h``): one pass, no set-up, the numbers correctly rounded as
 Python's ``float`` reads them, the text cells as distinct cells and an index
 per row; it takes only a plain body (ASCII, no quote, rows of one length, cells
-that are numbers or missing words) and hands anything else on. Then
+that are numbers or missing words) and hands anything else on. The generic CSV
+reader gives it the file's bytes, read in place and never decoded
+(:func:`scan_bytes`). Then
 pyarrow's C++ CSV reader (``pyarrow.csv.read_csv``; pyarrow is in the
 ``[fleet]`` extra) parses the body of the table once, only the columns asked
 for: the numeric ones as float64 — correctly rounded, the same bits as

@@ -35,6 +35,7 @@ HEADS = {
     "utf-8 name": "time,accel,baro,reference,höhe\n".encode(),
     "latin-1 name": "time,accel,baro,reference,höhe\n".encode("latin-1"),
     "no-break space line": "\u00a0\ntime,accel,baro,reference\n".encode("latin-1"),
+    "no newline": b"time,accel,baro,reference",
 }
 
 
@@ -65,6 +66,14 @@ def test_read_table_refuses_what_read_text_and_split_header_refuse(tmp_path, con
     expected = _either(lambda: _table.split_header(str(path), _table.read_text(str(path))))
     assert expected[0] == "LogError"
     assert _either(lambda: _table.read_table(str(path))) == expected
+
+
+@pytest.mark.parametrize("content", [b"time,accel,baro,reference", b"time,accel,baro,reference\n",
+                                     b"\ntime,accel,baro,reference", b"time,accel,baro,reference\n0,0,1,1"])
+def test_a_header_without_rows_reads_as_the_text_path_reads_it(tmp_path, content):
+    path = tmp_path / "log.csv"
+    path.write_bytes(content)
+    assert assert_same_both_ways(path, **CSV)[0] == "LogError"
 
 
 def test_an_ascii_generic_csv_is_read_without_decoding_its_body(tmp_path, monkeypatch):

@@ -95,7 +95,7 @@ def read_table(path: str, what: str = "CSV log") -> "Table":
     if not head.isascii():
         return split_header(path, _decoded(path, raw))
     table = split_header(path, head.decode("ascii"))
-    return Table(path, table.header, None, table.first_line, table.preamble, raw, end + 1)
+    return Table(path, table.header, None, table.first_line, table.preamble, raw, min(end + 1, len(raw)))
 
 
 def _read_bytes(path: str, what: str) -> bytes:

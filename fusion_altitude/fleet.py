@@ -200,13 +200,10 @@ def read_log(path: str, csv_options: Optional[Dict[str, Any]] = None):
     """
     from . import logs
 
-    options = dict(csv_options or {})
-    if options:  # the readers reject column options for formats that know their columns: sniff once, here
-        name = logs.sniff_format(path)
-        options = {"format": name, **options} if logs.FORMATS[name].needs_columns else {"format": name}
     try:
         with logs.quiet_warnings():  # the warnings are in LogData.warnings: the summary and the CLI report them
-            return logs.load_log(path, **options)
+            # the column options go to the formats that need them only: load_log sniffs and reads the file once
+            return logs.load_log(path, column_options=dict(csv_options) if csv_options else None)
     except TypeError as error:
         raise ValueError(f"{path}: this log needs csv_options ({error})") from None
 

@@ -121,7 +121,7 @@ static void CheckRows(const CsvScanArguments *const a, const CsvScanResult *cons
             size_t first = 0;
             size_t last = 0;
             double expected = 0.0;
-            const double got = a->numbers[row * a->numericCount + k];
+            const double got = a->numbers[k * a->capacity + row];
             CHECK(Cell(a->body, start, stop, (size_t)a->numeric[k], &first, &last));
             CHECK(ReferenceCell(a->body + first, last - first, &expected));
             CHECK(memcmp(&expected, &got, sizeof(double)) == 0);

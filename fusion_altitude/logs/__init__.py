@@ -168,7 +168,10 @@ def _sniff_and_read(path: str) -> Optional[Tuple[str, Optional[bytes]]]:
             name = _format_of(path, raw[:4096] if whole else raw)
             if name in ("ulog", "dataflash") or status.st_size > READ_ONCE_MAX:
                 return name, None
-            return name, raw if whole or len(raw) < 4096 else raw + handle.read()
+            if whole or len(raw) < 4096:
+                return name, raw
+            handle.seek(0)  # the whole file in one read: no join of its head and the rest (a copy of it)
+            return name, handle.read()
     except OSError:
         return None
 
@@ -178,7 +181,8 @@ DECODERS = {"fast": None, "pymavlink": "dataflash", "pyulog": "ulog"}
 
 
 def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = None,
-             progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast", **options) -> LogData:
+             progress: Optional[Callable[[int, int], None]] = None, decoder: str = "fast",
+             column_options: Optional[Dict[str, object]] = None, **options) -> LogData:
     """Read a log of any known format.
 
     Parameters
@@ -200,6 +204,12 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         CSV bodies are scanned in C, larger ones read by pyarrow. "pymavlink":
         DataFlash through pymavlink, "pyulog": ULog through pyulog — the
         references, kept for one release; each only for its own format.
+    column_options : dict, optional
+        Options for a log whose columns must be named (generic CSV), left
+        out for the formats that know their columns: for a caller that reads
+        logs of any format with one set of column options (the fleet), with
+        the file sniffed and read once. A missing file is then the sniffer's
+        LogError (``cannot open …``).
     **options
         Passed to the reader: the column options of :func:`read_csv_log` for
         generic CSV; ``ground_temperature_k`` for AltOS / CATS / CSV.
@@ -217,12 +227,14 @@ def load_log(path: str, format: Optional[str] = None, instance: Optional[int] = 
         raise ValueError(f"decoder must be one of {', '.join(DECODERS)}, got {decoder!r}")
     sniffed = None if format else _sniff_and_read(path)
     if sniffed is None:
-        if not os.path.exists(path):
+        if not column_options and not os.path.exists(path):
             raise LogError(f"{path}: no such file")
         sniffed = format or sniff_format(path), None
     name, raw = sniffed
     if name not in FORMATS:
         raise LogError(f"unknown log format {name!r}; known: {', '.join(FORMATS)}")
+    if column_options and FORMATS[name].needs_columns:
+        options = {**column_options, **options}
     options = {key: value for key, value in options.items() if value is not None}
     _check_options(path, name, options, instance, decoder)
     if name in ("dataflash", "ulog"):

@@ -72,7 +72,7 @@ typedef struct {
     const char *missing;     /* the missing words, lower case, each followed by '\n' (e.g. "\nnan\nna\n-\n") */
     size_t missingSize;
     size_t capacity;         /* rows the output arrays hold */
-    double *numbers;         /* out: capacity x numericCount, row-major */
+    double *numbers;         /* out: numericCount x capacity, column-major (row r of column k at k x capacity + r) */
     int64_t *textIndex;      /* out: capacity x textCount, row-major: each cell's index among its column's distinct ones */
     int64_t *distinctStart;  /* out: textCount x capacity: byte offset of each distinct (stripped) text cell */
     int64_t *distinctLength; /* out: textCount x capacity: its length */
@@ -243,6 +243,23 @@ static inline size_t CsvScanNewlines(const char *const s, const size_t n) {
         count += s[i] == '\n';
     }
     return count;
+}
+
+/* The longest run of digits in s[0..n), the decimal points left out ("12.345" is one run of 5): a sample of a body
+   with no run longer than 15 holds only numbers of Clinger's fast path. */
+static inline size_t CsvScanLongestDigitRun(const char *const s, const size_t n) {
+    size_t longest = 0;
+    size_t run = 0;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        if (CsvScanIsDigit(s[i])) {
+            run++;
+            longest = run > longest ? run : longest;
+        } else if (s[i] != '.') {
+            run = 0;
+        }
+    }
+    return longest;
 }
 
 /* FNV-1a of s[0..n). */
@@ -470,12 +487,12 @@ static inline CsvScanStatus CsvScan(const CsvScanArguments *const a, CsvScanResu
             const signed char kind = position < CSV_SCAN_MAX_COLUMNS * 4 ? role[position] : 0;
             const char *next = NULL;
             if (kind > 0) {
-                next = CsvScanSimpleNumber(s, end, a->numbers + row * a->numericCount + slot[position]);
+                next = CsvScanSimpleNumber(s, end, a->numbers + (size_t)slot[position] * a->capacity + row);
             }
             if (next == NULL) {
                 const char *first = NULL;
                 const char *last = NULL;
-                double *const number = kind > 0 ? a->numbers + row * a->numericCount + slot[position] : NULL;
+                double *const number = kind > 0 ? a->numbers + (size_t)slot[position] * a->capacity + row : NULL;
                 const CsvScanStatus status = CsvScanCell(a, s, end, kind, number, &first, &last, &next);
                 if (status != CsvScanOk) {
                     result->cell = position;

@@ -14,7 +14,7 @@ import csv
 import io
 import os
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -42,6 +42,12 @@ def read_text(path: str, what: str = "CSV log") -> str:
     """The whole file as text: UTF-8 (a BOM is dropped), newlines normalised; LogError if unreadable.
 
     The file's bytes given by :func:`given_bytes` for ``path`` are taken once instead of reading it again."""
+    return _decoded(path, read_bytes(path, what))
+
+
+def read_bytes(path: str, what: str = "CSV log") -> bytes:
+    """The whole file's bytes, newlines normalised (``\\r\\n`` and ``\\r`` made ``\\n``); LogError if unreadable
+    or binary (a NUL byte in the first 4 kB). Those given by :func:`given_bytes` for ``path`` are taken once."""
     given = getattr(_GIVEN, "file", None)
     if given is not None and given[0] == path:
         _GIVEN.file = None
@@ -52,6 +58,11 @@ def read_text(path: str, what: str = "CSV log") -> str:
         raise LogError(f"{path}: binary data, not a {what} (NUL bytes in the first 4 kB)")
     if b"\r" in raw:  # before decoding: UTF-8 and Latin-1 spell \r and \n as those bytes and no others
         raw = _unix_newlines(raw)
+    return raw
+
+
+def _decoded(path: str, raw: bytes) -> str:
+    """:func:`read_bytes`'s ``raw`` as text: UTF-8 (a BOM dropped), else Latin-1 (legacy names; numbers are ASCII)."""
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as error:
@@ -60,6 +71,31 @@ def read_text(path: str, what: str = "CSV log") -> str:
             return raw.decode("latin-1")  # accept legacy encodings for names; numbers are ASCII anyway
         except UnicodeDecodeError:  # pragma: no cover - latin-1 decodes every byte
             raise LogError(f"{path}: line {line}: not UTF-8 text") from None
+
+
+#: The ASCII characters ``str.strip`` removes (``str.isspace``): a line of only these is blank.
+_ASCII_SPACE = bytes(c for c in range(128) if chr(c).isspace())
+
+
+def read_table(path: str, what: str = "CSV log") -> "Table":
+    """``split_header(path, read_text(path, what))`` without decoding the body: the lines up to the header (the
+    first non-blank one) are decoded, and the body stays the file's bytes (``Table.raw`` from ``Table.body_start``
+    on, which the C scan reads in place), decoded only when a reader asks for ``Table.body``. Where the header part is not ASCII (a BOM, a
+    legacy encoding: its decoding depends on the whole file) the whole file is decoded as :func:`read_text` does.
+    Header, line numbers, body text and errors are :func:`split_header`'s."""
+    raw = read_bytes(path, what)
+    position = 0
+    while True:
+        end = raw.find(b"\n", position)
+        end = len(raw) if end < 0 else end
+        if raw[position:end].translate(None, _ASCII_SPACE) or end >= len(raw):
+            break
+        position = end + 1
+    head = raw[:end]
+    if not head.isascii():
+        return split_header(path, _decoded(path, raw))
+    table = split_header(path, head.decode("ascii"))
+    return Table(path, table.header, None, table.first_line, table.preamble, raw, min(end + 1, len(raw)))
 
 
 def _read_bytes(path: str, what: str) -> bytes:
@@ -93,19 +129,33 @@ class Table:
     header : list of str
         Column names (stripped; a leading ``#`` of the header line removed).
     body : str
-        The data lines, ``\\n``-separated.
+        The data lines, ``\\n``-separated (a property: a table of :func:`read_table` decodes its body on first
+        use).
     first_line : int
         File line number (1-based) of the body's first line.
     preamble : tuple of str
         Comment lines before the header (``split_header(…, header_start=…)``),
         stripped.
+    raw : bytes or None
+        The whole file's bytes (newlines normalised) of a table of :func:`read_table` (its header part ASCII),
+        the body from ``body_start`` on, for the C scan; None for a table split from text.
+    body_start : int
+        Where the body starts in ``raw`` (bytes, and characters of the decoded file alike).
     """
 
     path: str
     header: List[str]
-    body: str
+    text: Optional[str]
     first_line: int
     preamble: Tuple[str, ...] = ()
+    raw: Optional[bytes] = field(default=None, repr=False)
+    body_start: int = 0
+
+    @property
+    def body(self) -> str:
+        if self.text is None:  # an ASCII header part: the body is the decoded file's characters from body_start on
+            self.text = _decoded(self.path, self.raw)[self.body_start:]
+        return self.text
 
     def index(self, name: str, occurrence: int = 0) -> int:
         """Position of column ``name`` (its ``occurrence``-th copy); LogError listing the columns if absent."""
@@ -260,6 +310,13 @@ def read_columns(table: Table, numeric: Sequence[int], text: Sequence[int] = (),
     LogError
         The first line with a bad cell, naming file line and column.
     """
+    if table.raw is not None:
+        scanned = _csv_fast.scan_bytes(table.raw, table.body_start, numeric, text, MISSING, progress)  # undecoded
+        if scanned is not None:
+            numbers, cells, line_count = scanned
+            rows = numbers.shape[0]
+            lines = np.arange(rows, dtype=np.int64) + table.first_line if rows == line_count else _row_lines(table)
+            return Columns(numbers, lines, None, [distinct[indices] for distinct, indices in cells])
     fast = _csv_fast.read_numbers_and_text(table.body, numeric, text, MISSING, progress)  # pyarrow (issue 25)
     data = fast[0] if fast is not None else _numpy_columns(table, numeric, progress)
     lines = None if data is None else lines_of_rows(table, data.shape[0])

@@ -11,7 +11,7 @@ from .._core._common import GRAVITY
 from ..sensors import height_above_ground, pressure_to_altitude, vertical_acceleration
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE as PLAUSIBLE_PRESSURE, absurd_columns, check_time_units, column_dead
 from ._data import LogData, LogError, fmt, finish, merge_repeated_timestamps
-from ._table import check_finite, numeric_columns, read_text, split_header
+from ._table import check_finite, numeric_columns, read_table
 
 ACCEL_UNITS = {"m/s^2": 1.0, "m/s²": 1.0, "g": GRAVITY}
 GYRO_UNITS = {"rad/s": 1.0, "deg/s": float(np.pi / 180.0)}
@@ -187,8 +187,8 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                                                                             baro_column, altitude_units))
     notes = [f"time {time_column!r}"]
     if accel_column is not None:
-        accel, accel_body, dead = _vertical_column(path, source, accel_column, column["accel"] * ACCEL_UNITS[
-            accel_units], time, remove_gravity, notes, accel_units)
+        accel, accel_body, dead = _vertical_column(path, source, accel_column, _scaled(
+            column["accel"], ACCEL_UNITS[accel_units]), time, remove_gravity, notes, accel_units)
         implausible += [dead] if dead is not None else []
     else:
         accel, accel_body = _body_to_vertical(path, source, column, time, ACCEL_UNITS[accel_units],
@@ -204,11 +204,11 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
             path, pressure_column, column["baro"], time, sea_level_pa, ground_temperature_k, temperature_column,
             temperature, notes)
     else:
-        baro, warning, altitude_reference, ground_altitude = column["baro"] * altitude_scale, None, "", None
+        baro, warning, altitude_reference, ground_altitude = _scaled(column["baro"], altitude_scale), None, "", None
         notes.append(f"baro {baro_column!r} ({altitude_units})")
     if not np.isfinite(baro).any():
         raise LogError(f"{path}: column {baro_column or pressure_column!r}: no usable value on any row")
-    scaled = {role: column[role] * altitude_scale if role in column else None
+    scaled = {role: _scaled(column[role], altitude_scale) if role in column else None
               for role in ("reference", "gps", "rangefinder")}
     log = LogData(source, time, accel, baro, reference_altitude=scaled["reference"], baro_only=dead is not None,
                   reference_name=f"column {reference_column!r}" if reference_column is not None else "",
@@ -218,6 +218,12 @@ def read_csv_log(path: str, time_column: str, accel_column: Optional[str] = None
                   altitude_reference=altitude_reference, ground_altitude=ground_altitude, repeated_timestamps=repeated)
     _warn_read(log, path, dropped, warning, implausible)
     return finish(log)
+
+
+def _scaled(values: np.ndarray, scale: float) -> np.ndarray:
+    """``values * scale``; ``values`` itself for a scale of 1 (the same bits: a column of the scan is a contiguous
+    view, and a copy of it one more array to allocate and fault in, a tenth of a large log's read)."""
+    return values if scale == 1.0 else values * scale
 
 
 def _gyro_and_temperature(column: dict, gyro_body_columns, gyro_units: str, frame: str, temperature_column,
@@ -358,7 +364,7 @@ def _read_columns(path: str, roles: dict, progress, time_scale: float = 1.0, che
     (role, name, low, high, unit, what, low_inclusive) drop absurd cells
     before repeated time stamps are merged, so the warnings name file lines.
     """
-    table = split_header(path, read_text(path))
+    table = read_table(path)
     positions = {role: table.index(name) for role, name in roles.items()}
     unique = sorted(set(positions.values()))
     data, lines, dropped = numeric_columns(table, unique, progress)
@@ -371,7 +377,7 @@ def _read_columns(path: str, roles: dict, progress, time_scale: float = 1.0, che
         required += [role for role in roles if role.startswith("att") or role.startswith("gyro")]
     for role in required:
         check_finite(path, roles[role], column[role], lines)
-    column["time"] = column["time"] * time_scale
+    column["time"] = _scaled(column["time"], time_scale)
     check_time_units(f"{os.path.basename(path)} (CSV)", column["time"],
                      f"column {roles['time']!r}: set time_units to 'ms' or 'us'")
     implausible = absurd_columns(path, column, lines, [c for c in checks if c[1] is not None])

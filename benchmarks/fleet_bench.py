@@ -6,7 +6,7 @@ split into read, estimate and write; where each cluster run's CPU and time went.
 
 The 2-to-1 worker ratio of issue 25, on an idle machine, in one command:
 
-    python benchmarks/fleet_bench.py --copies 60 --rounds 5
+    python benchmarks/fleet_bench.py --copies 200 --rounds 5
 
 (5 rounds of a 1-worker then a 2-worker run, each on a fresh cluster; every round's ratio and the median
 are printed, then the tables of the round whose ratio is the median.)
@@ -16,7 +16,9 @@ directory from the shared real logs (FUSION_ALTITUDE_SHARED_DATA, else ../shared
 and the simulator: the PX4 ULog (0.9 MB, 6.5 s), the ArduPilot DataFlash log (64 KB,
 1 s), the Hedy rocket flight as one CSV (245 s at 100 Hz) and a simulated 60 s
 multirotor CSV (100 Hz). The sequential loop reads, runs and writes each log's Parquet
-file in this process (what a user writes without the fleet, with the fleet's Parquet writer options); the fleet runs on a
+file in this process (what a user writes without the fleet, with the fleet's Parquet writer options), then once more
+with the ULog and DataFlash decoders' firmware caches cleared before each read (every log as if from a firmware not
+seen before: the benchmark's copies share their firmware's definitions); the fleet runs on a
 ``LocalCluster`` of worker processes started as ``fleet run`` starts it (``fleet.open_client``) and warmed
 up (one log of each kind run) before the clock starts, into a fresh output directory each time. Over each
 cluster run it records:
@@ -78,8 +80,18 @@ def build_fleet(directory: Path, data: Path, copies: int) -> dict:
     return kinds
 
 
-def sequential(paths, output: Path) -> dict:
-    """A plain loop: read, run, write Parquet; per-log seconds of each phase."""
+def clear_firmware_caches() -> None:
+    """Forget what the ULog and DataFlash decoders keep per firmware (the definitions and FMT caches), so that
+    the next read of each log costs what a log of a firmware not seen before costs."""
+    from fusion_altitude.logs import _dataflash_fast, _ulog_fast
+
+    _ulog_fast.firmware_definitions.cache_clear()
+    _dataflash_fast.format_table.cache_clear()
+
+
+def sequential(paths, output: Path, cold: bool = False) -> dict:
+    """A plain loop: read, run, write Parquet; per-log seconds of each phase (``cold``: the decoders' firmware
+    caches cleared before each read, outside the clock)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -89,6 +101,8 @@ def sequential(paths, output: Path) -> dict:
     settings = fleet.resolve_settings("observer", None)
     costs = {}
     for path in paths:
+        if cold:
+            clear_firmware_caches()
         cpu = [time.thread_time()]
         wall = [time.perf_counter()]
         data = fleet.read_log(path, CSV_OPTIONS if path.endswith(".csv") else {})
@@ -195,6 +209,11 @@ def main(argv=None) -> int:
             print(f"all {len(paths)} logs, {label}: read {part[0]:.2f} s, estimate {part[1]:.3f} s, write {part[2]:.2f} s "
                   f"({100 * part[0] / part.sum():.0f} / {100 * part[1] / part.sum():.1f} / "
                   f"{100 * part[2] / part.sum():.0f} %)")
+        cold = sequential(paths, tmp / "sequential-cold", cold=True)
+        part = np.sum([cold[p] for p in paths], axis=0)[3:]
+        print(f"all {len(paths)} logs, CPU, the decoders' firmware caches cleared before each read: read "
+              f"{part[0]:.2f} s, estimate {part[1]:.3f} s, write {part[2]:.2f} s ({100 * part[0] / part.sum():.0f} / "
+              f"{100 * part[1] / part.sum():.1f} / {100 * part[2] / part.sum():.0f} %)")
         ulog, csv = (np.mean([costs[p] for p in kinds[kind]], axis=0) for kind in ("PX4 ULog", "Hedy CSV (245 s)"))
         csv_samples = fleet.read_log(kinds["Hedy CSV (245 s)"][0], CSV_OPTIONS).time.size
         print()

@@ -214,3 +214,15 @@ def test_the_fleet_bench_refuses_fewer_than_one_round():
     with pytest.raises(SystemExit) as refused:
         _fleet_bench().main(["--rounds", "0"])
     assert refused.value.code == 2
+
+
+def test_the_fleet_bench_cold_pass_empties_the_decoders_firmware_caches(shared_logs):
+    from fusion_altitude.logs import _dataflash_fast, _ulog_fast, load_log
+
+    load_log(str(shared_logs / "px4_sample_log_small.ulg"))
+    load_log(str(shared_logs / "ardupilot_test.BIN"))
+    assert _ulog_fast.firmware_definitions.cache_info().currsize > 0
+    assert _dataflash_fast.format_table.cache_info().currsize > 0
+    _fleet_bench().clear_firmware_caches()
+    assert _ulog_fast.firmware_definitions.cache_info().currsize == 0
+    assert _dataflash_fast.format_table.cache_info().currsize == 0

@@ -9,6 +9,32 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 
+#: The DataFlash fixtures the decoder tests write (``logfixtures.write_dataflash`` options by name).
+DATAFLASH_FIXTURES = {
+    "TimeMS": dict(style="TimeMS"),
+    "TimeUS": dict(style="TimeUS"),
+    "TimeUS-gap-repeats": dict(style="TimeUS", gap=(5.0, 6.0), repeat_every=7),
+    "TimeMS-corrupt-tail": dict(style="TimeMS", corrupt_tail=True),
+    "TimeUS-corrupt-tail": dict(style="TimeUS", corrupt_tail=True),
+}
+#: The ULog fixtures (``logfixtures.write_ulog`` options by name; ``damage``: ``write_ulog_damaged``'s kind).
+ULOG_FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "gap": dict(style="new", gap=(3.0, 4.0)),
+                 "sync": dict(style="new", damage="sync"), "sync-old": dict(style="old", damage="sync"),
+                 "appended": dict(style="new", damage="appended"), "appended-old": dict(style="old", damage="appended")}
+
+
+def write_ulog_fixture(path, name, duration):
+    """Write the ULog fixture ``name`` of :data:`ULOG_FIXTURES`, ``duration`` s long, to ``path``."""
+    import logfixtures as fx
+
+    options = dict(ULOG_FIXTURES[name])
+    damage = options.pop("damage", None)
+    if damage is None:
+        fx.write_ulog(path, duration=duration, **options)
+    else:
+        fx.write_ulog_damaged(path, damage, duration=duration, **options)
+    return path
+
 
 def read_with(reader, path, decoder, **options):
     """(LogData or the error as (type name, message), warning texts) of ``reader(path, decoder=decoder)``.

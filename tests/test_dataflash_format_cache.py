@@ -19,18 +19,12 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import logfixtures as fx  # noqa: E402
-from decoder_harness import assert_same_log  # noqa: E402
+from decoder_harness import DATAFLASH_FIXTURES, assert_same_log  # noqa: E402
 from fusion_altitude.logs import _dataflash_fast as fast  # noqa: E402
 from fusion_altitude.logs import _decode, dataflash  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-FIXTURES = {
-    "TimeMS": dict(style="TimeMS"),
-    "TimeUS": dict(style="TimeUS"),
-    "TimeUS-gap-repeats": dict(style="TimeUS", gap=(5.0, 6.0), repeat_every=7),
-    "TimeMS-corrupt-tail": dict(style="TimeMS", corrupt_tail=True),
-    "TimeUS-corrupt-tail": dict(style="TimeUS", corrupt_tail=True),
-}
+FIXTURES = DATAFLASH_FIXTURES
 
 
 #: Whether each warm read found its format table in the cache.

@@ -18,13 +18,11 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import logfixtures as fx  # noqa: E402
-from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log  # noqa: E402
+from decoder_harness import ULOG_FIXTURES as FIXTURES  # noqa: E402
+from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log, write_ulog_fixture  # noqa: E402
 from fusion_altitude.logs import _ulog_fast, ulog  # noqa: E402
 
 SHARED = ["px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg"]
-FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "gap": dict(style="new", gap=(3.0, 4.0)),
-            "sync": dict(style="new", damage="sync"), "sync-old": dict(style="old", damage="sync"),
-            "appended": dict(style="new", damage="appended"), "appended-old": dict(style="old", damage="appended")}
 
 
 def _assert_same_log(path, **options):
@@ -48,14 +46,7 @@ def _assert_same_topics(path):
 
 
 def _fixture(tmp_path, name):
-    path = tmp_path / f"{name}.ulg"
-    options = dict(FIXTURES[name])
-    damage = options.pop("damage", None)
-    if damage is None:
-        fx.write_ulog(path, duration=6.0, **options)
-    else:
-        fx.write_ulog_damaged(path, damage, duration=6.0, **options)
-    return path
+    return write_ulog_fixture(tmp_path / f"{name}.ulg", name, duration=6.0)
 
 
 def _data_walk(path):

@@ -19,22 +19,15 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --import-mode=importlib
 import logfixtures as fx  # noqa: E402
+from decoder_harness import write_ulog_fixture  # noqa: E402
 from fusion_altitude.logs import _truncation, _ulog_fast, ulog  # noqa: E402
 
 SHARED = ["px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg"]
-FIXTURES = {"new": dict(style="new"), "old": dict(style="old"), "sync": dict(style="new", damage="sync"),
-            "appended": dict(style="new", damage="appended"), "appended-old": dict(style="old", damage="appended")}
+FIXTURES = ["new", "old", "sync", "appended", "appended-old"]
 
 
 def _fixture(tmp_path, name):
-    path = tmp_path / f"{name}.ulg"
-    options = dict(FIXTURES[name])
-    damage = options.pop("damage", None)
-    if damage is None:
-        fx.write_ulog(path, duration=3.0, **options)
-    else:
-        fx.write_ulog_damaged(path, damage, duration=3.0, **options)
-    return path
+    return write_ulog_fixture(tmp_path / f"{name}.ulg", name, duration=3.0)
 
 
 def _log_paths(tmp_path, shared_logs):

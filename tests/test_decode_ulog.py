@@ -10,6 +10,7 @@ nested types flattened) equal pyulog's ``data_list``.
 
 import contextlib
 import io
+import struct
 import sys
 from pathlib import Path
 
@@ -20,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # pytest runs with --i
 import logfixtures as fx  # noqa: E402
 from decoder_harness import ULOG_FIXTURES as FIXTURES  # noqa: E402
 from decoder_harness import assert_fuzz_corpus_replays_clean, assert_same_log, write_ulog_fixture  # noqa: E402
-from fusion_altitude.logs import _ulog_fast, ulog  # noqa: E402
+from fusion_altitude.logs import _decode, _ulog_fast, ulog  # noqa: E402
 
 SHARED = ["px4_sample_log_small.ulg", "px4_octorotor_2hz_baro.ulg"]
 
@@ -51,8 +52,6 @@ def _fixture(tmp_path, name):
 
 def _data_walk(path):
     """``_decode.ulog_data_walk`` of the ULog at ``path`` with the appended offsets its flag bits give."""
-    from fusion_altitude.logs import _decode
-
     blob = Path(path).read_bytes()
     array = np.frombuffer(blob, dtype=np.uint8)
     offsets, types, sizes, start, found, cut = _decode.ulog_definitions(array)
@@ -141,3 +140,15 @@ def test_scanner_fuzz_corpus_replays_clean_under_asan_and_ubsan(tmp_path):
     """csrc/fuzz/fuzz_ulog.c over csrc/fuzz/corpus_ulog: the C scanner walks the messages as pyulog does and
     reads nothing outside the log."""
     assert_fuzz_corpus_replays_clean("ulog", tmp_path, minimum_files=2)
+
+
+def test_a_subscription_of_under_three_bytes_is_left_to_pyulog_and_reads_the_same(tmp_path):
+    # the reader fuzzer's finding (seed 13): the segment's plan read the A message before its check declined it
+    path = _fixture(tmp_path, "new")
+    blob = path.read_bytes()
+    section_start = _decode.ulog_definitions(np.frombuffer(blob, dtype=np.uint8))[3]
+    short = struct.pack("<HB", 2, ord("A")) + b"\x01\x00"
+    cut = fx.write_bytes(tmp_path / "short_subscription.ulg", blob[:section_start] + short + blob[section_start:])
+    with pytest.raises(_ulog_fast.NeedsReference, match="A message too short"):
+        _ulog_fast.ULogTopics(Path(cut).read_bytes(), ulog._TOPICS)
+    _assert_same_log(cut)

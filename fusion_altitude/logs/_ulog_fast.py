@@ -248,7 +248,11 @@ def _plan(firmware: Firmware, subscribe_messages: bytes, names: Optional[Tuple[s
     subscriptions = []
     seen_ids = set()
     wanted = None if names is None else frozenset(names)
-    for index, (msg_id, multi_id, name) in enumerate(decoder_module().ulog_subscriptions(subscribe_messages)):
+    try:
+        subscribed = decoder_module().ulog_subscriptions(subscribe_messages)
+    except ValueError:  # an A message of under 3 bytes: the segment's message checks decline the log first
+        return Plan((), "an A message too short for pyulog")
+    for index, (msg_id, multi_id, name) in enumerate(subscribed):
         if msg_id in seen_ids:
             return Plan((), f"msg_id {msg_id} subscribed twice")
         seen_ids.add(msg_id)

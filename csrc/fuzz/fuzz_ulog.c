@@ -6,7 +6,7 @@
  *
  *   clang -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
  *       -Ifusion_altitude/logs -Icsrc csrc/fuzz/fuzz_ulog.c -o fuzz_ulog
- *   ./fuzz_ulog -max_total_time=600 csrc/fuzz/corpus_ulog
+ *   ./fuzz_ulog -max_total_time=600 -max_len=8192 -seed=1 corpus   (a copy of csrc/fuzz/corpus_ulog)
  *
  * The input is a whole ULog file (seeds: csrc/fuzz/make_seeds_ulog.py, the
  * test fixtures, plain, with stray bytes before a sync message and with data
@@ -30,7 +30,17 @@
  *     section (its msg_id; the sample size that of the first D message of
  *     that msg_id after it): each gathered sample is, in order, the payload of
  *     a D message of that msg_id and size after the A message, as a plain
- *     loop finds them.
+ *     loop finds them;
+ *   - the fast decoder's per-message checks on the same messages (both walks):
+ *     ULogCheckInfos' verdicts equal a byte-at-a-time transcription of pyulog's
+ *     key reading (ReferenceCheckInfo); ULogCheckMessages and ULogCheckAndCount
+ *     give the failed table, the undecided list (capacity 0-3 from byte 15 of
+ *     the header) and its count of a plain loop (ReferenceCheckMessage: L C A D
+ *     shorter than 9 11 3 2 bytes, O not of 2); ULogCheckAndCount's counts and
+ *     sample slots are a plain loop's over the subscriptions (ReferenceSampleSlot);
+ *     ULogCopySamples fills each table with exactly the samples' bytes in file
+ *     order and writes nothing past them, nothing where rows is NULL (chosen by
+ *     the bits of byte 16). Extra seeds: csrc/fuzz/make_seeds_ulog_checks.py.
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
 #include <string.h>

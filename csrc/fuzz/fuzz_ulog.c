@@ -6,7 +6,7 @@
  *
  *   clang -std=c99 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
  *       -Ifusion_altitude/logs -Icsrc csrc/fuzz/fuzz_ulog.c -o fuzz_ulog
- *   ./fuzz_ulog -max_total_time=600 csrc/fuzz/corpus_ulog
+ *   ./fuzz_ulog -max_total_time=600 -max_len=8192 -seed=1 corpus   (a copy of csrc/fuzz/corpus_ulog)
  *
  * The input is a whole ULog file (seeds: csrc/fuzz/make_seeds_ulog.py, the
  * test fixtures, plain, with stray bytes before a sync message and with data
@@ -30,7 +30,17 @@
  *     section (its msg_id; the sample size that of the first D message of
  *     that msg_id after it): each gathered sample is, in order, the payload of
  *     a D message of that msg_id and size after the A message, as a plain
- *     loop finds them.
+ *     loop finds them;
+ *   - the fast decoder's per-message checks on the same messages (both walks):
+ *     ULogCheckInfos' verdicts equal a byte-at-a-time transcription of pyulog's
+ *     key reading (ReferenceCheckInfo); ULogCheckMessages and ULogCheckAndCount
+ *     give the failed table, the undecided list (capacity 0-3 from byte 15 of
+ *     the header) and its count of a plain loop (ReferenceCheckMessage: L C A D
+ *     shorter than 9 11 3 2 bytes, O not of 2); ULogCheckAndCount's counts and
+ *     sample slots are a plain loop's over the subscriptions (ReferenceSampleSlot);
+ *     ULogCopySamples fills each table with exactly the samples' bytes in file
+ *     order and writes nothing past them, nothing where rows is NULL (chosen by
+ *     the bits of byte 16). Extra seeds: csrc/fuzz/make_seeds_ulog_checks.py.
  * No read or write outside the input (ASan), no undefined behaviour (UBSan).
  */
 #include <string.h>
@@ -39,6 +49,8 @@
 #include "fuzz_common.h" /* CHECK */
 
 static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *walk, size_t count);
+static void CheckMessageChecks(const uint8_t *data, const ULogMessages *walk, size_t count, size_t capacity);
+static uint8_t ReferenceCheckInfo(const uint8_t *payload, size_t size, size_t skip);
 
 static const uint8_t SYNC[ULOG_SYNC_SIZE] = {0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12};
 
@@ -219,6 +231,7 @@ static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *wa
             const uint8_t *payload = data + walk->offsets[k] + 3 + skip;
             int space = 0;
             CHECK(verdicts[k] <= ULogInfoUndecided);
+            CHECK(verdicts[k] == ReferenceCheckInfo(data + walk->offsets[k] + 3, walk->sizes[k], skip));
             if (verdicts[k] == ULogInfoParses) {
                 for (j = 0; j < payload[0] && j + 1 < walk->sizes[k] - skip; j++) {
                     CHECK(payload[1 + j] < 0x80);
@@ -243,6 +256,7 @@ static void CheckChecks(const uint8_t *data, size_t size, const ULogMessages *wa
         total += counts[k];
     }
     CHECK(total == count);
+    CheckMessageChecks(data, walk, count, data[15] % 4);
     free(verdicts);
     free(lengths);
 }
@@ -252,14 +266,15 @@ static size_t MsgId(const uint8_t *data, const ULogMessages *walk, size_t k, siz
     return (size_t) data[walk->offsets[k] + 3 + at] | ((size_t) data[walk->offsets[k] + 4 + at] << 8);
 }
 
-/* ULogSamples (counts, then copies) against a plain loop, a subscription per A message. */
-static void CheckGather(const uint8_t *data, const ULogMessages *walk, size_t count) {
-    uint16_t *slotOf = (uint16_t *) calloc(65536, sizeof(uint16_t));
-    uint64_t starts[64], itemsizes[64], counts[64];
-    uint8_t *tables[64], *rows[64];
-    ULogSubscriptions wanted = {slotOf, starts, itemsizes};
-    size_t nsub = 0, k, j, slot;
-    CHECK(slotOf != NULL);
+/*
+ * A subscription per A message of the count messages (the first of each msg_id,
+ * at most 64): slotOf[msg_id] = 1 + its index, its A message's offset, the
+ * sample size of the first D message of that msg_id after it (0 if none) and,
+ * if msgIds is not NULL, its msg_id. Returns how many there are.
+ */
+static size_t Subscribe(const uint8_t *data, const ULogMessages *walk, size_t count, uint16_t *slotOf,
+                        uint64_t *starts, uint64_t *itemsizes, size_t *msgIds) {
+    size_t nsub = 0, k, j;
     for (k = 0; k < count && nsub < 64; k++) {
         if (walk->types[k] == 'A' && walk->sizes[k] >= 3 && slotOf[MsgId(data, walk, k, 1)] == 0) {
             starts[nsub] = walk->offsets[k];
@@ -271,9 +286,26 @@ static void CheckGather(const uint8_t *data, const ULogMessages *walk, size_t co
                     break;
                 }
             }
-            counts[nsub] = 0;
+            if (msgIds != NULL) {
+                msgIds[nsub] = MsgId(data, walk, k, 1);
+            }
             slotOf[MsgId(data, walk, k, 1)] = (uint16_t) ++nsub;
         }
+    }
+    return nsub;
+}
+
+/* ULogSamples (counts, then copies) against a plain loop, a subscription per A message. */
+static void CheckGather(const uint8_t *data, const ULogMessages *walk, size_t count) {
+    uint16_t *slotOf = (uint16_t *) calloc(65536, sizeof(uint16_t));
+    uint64_t starts[64], itemsizes[64], counts[64];
+    uint8_t *tables[64], *rows[64];
+    ULogSubscriptions wanted = {slotOf, starts, itemsizes};
+    size_t nsub, k, slot;
+    CHECK(slotOf != NULL);
+    nsub = Subscribe(data, walk, count, slotOf, starts, itemsizes, NULL);
+    for (slot = 0; slot < nsub; slot++) {
+        counts[slot] = 0;
     }
     ULogSamples(data, walk->offsets, walk->types, walk->sizes, count, &wanted, counts, NULL);
     for (slot = 0; slot < nsub; slot++) {
@@ -300,6 +332,170 @@ static void CheckGather(const uint8_t *data, const ULogMessages *walk, size_t co
         free(tables[slot]);
     }
     free(slotOf);
+}
+
+/* ---- the per-message checks (ULogCheckMessages, ULogCheckAndCount, ULogCopySamples) against plain loops ---- */
+
+/*
+ * pyulog's reading of an I/M/P/Q message's key, byte at a time (payload of
+ * size bytes, skip leading bytes not read): the key length byte (cut to what
+ * is there), undecided at any key byte >= 0x80, fails without a space, a
+ * "char[" type parses, a basic type's value must be exactly its size.
+ */
+static uint8_t ReferenceCheckInfo(const uint8_t *payload, size_t size, size_t skip) {
+    static const char *const names[12] = {"int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t",
+                                           "int64_t", "uint64_t", "float", "double", "bool", "char"};
+    static const size_t bytes[12] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8, 1, 1};
+    size_t keyLength, space, k, j;
+    if (size < skip + 1) {
+        return ULogInfoFails;
+    }
+    keyLength = payload[skip];
+    if (keyLength > size - skip - 1) {
+        keyLength = size - skip - 1;
+    }
+    for (k = 0; k < keyLength; k++) {
+        if (payload[skip + 1 + k] >= 0x80) {
+            return ULogInfoUndecided;
+        }
+    }
+    for (space = 0; space < keyLength && payload[skip + 1 + space] != ' '; space++) {
+    }
+    if (space == keyLength) {
+        return ULogInfoFails;
+    }
+    if (space >= 5 && memcmp(payload + skip + 1, "char[", 5) == 0) {
+        return ULogInfoParses;
+    }
+    for (k = 0; k < 12; k++) {
+        int same = strlen(names[k]) == space;
+        for (j = 0; same && j < space; j++) {
+            same = payload[skip + 1 + j] == (uint8_t) names[k][j];
+        }
+        if (same) {
+            return (size - skip - 1 == payload[skip] + bytes[k]) ? ULogInfoParses : ULogInfoFails;
+        }
+    }
+    return ULogInfoParses;
+}
+
+/* 2 if pyulog leaves the message to the caller (undecided), 1 if it raises on it, else 0. */
+static int ReferenceCheckMessage(const uint8_t *data, const ULogMessages *walk, size_t k) {
+    const uint8_t type = walk->types[k];
+    const size_t size = walk->sizes[k];
+    uint8_t verdict;
+    if (type == 'I' || type == 'P' || type == 'M' || type == 'Q') {
+        verdict = ReferenceCheckInfo(data + walk->offsets[k] + 3, size, (type == 'M' || type == 'Q') ? 1 : 0);
+        return (verdict == ULogInfoUndecided) ? 2 : (verdict == ULogInfoFails);
+    }
+    return (type == 'L' && size < 9) || (type == 'C' && size < 11) || (type == 'A' && size < 3) ||
+           (type == 'D' && size < 2) || (type == 'O' && size != 2);
+}
+
+/* The failed table and undecided list of the count messages, as ULogCheckMessages gives them, against the plain loop. */
+static void CheckVerdicts(const uint8_t *data, const ULogMessages *walk, size_t count, const uint8_t *failed,
+                          const size_t *undecided, size_t found, size_t capacity) {
+    uint8_t expected[256];
+    size_t k, seen = 0;
+    memset(expected, 0, sizeof expected);
+    for (k = 0; k < count; k++) {
+        const int verdict = ReferenceCheckMessage(data, walk, k);
+        if (verdict == 1) {
+            expected[walk->types[k]] = 1;
+        } else if (verdict == 2) {
+            CHECK(seen >= capacity || undecided[seen] == k);
+            seen++;
+        }
+    }
+    CHECK(found == seen && memcmp(failed, expected, sizeof expected) == 0);
+}
+
+/* Subscription (1-based) of message k's sample as a plain loop over the subscriptions finds it, or 0. */
+static size_t ReferenceSampleSlot(const uint8_t *data, const ULogMessages *walk, size_t k, const size_t *msgIds,
+                                  const uint64_t *starts, const uint64_t *itemsizes, size_t nsub) {
+    size_t slot;
+    if (walk->types[k] != 'D' || walk->sizes[k] < 2) {
+        return 0;
+    }
+    for (slot = 0; slot < nsub; slot++) {
+        if (msgIds[slot] == MsgId(data, walk, k, 0)) {
+            return (walk->offsets[k] > starts[slot] && walk->sizes[k] - 2u == itemsizes[slot]) ? slot + 1 : 0;
+        }
+    }
+    return 0;
+}
+
+/*
+ * ULogCopySamples from ULogCheckAndCount's sample slots against the bytes a
+ * plain loop gathers (a subscription's rows NULL when the fuzzer's byte says
+ * so: none copied), each table exactly filled.
+ */
+static void CheckCopy(const uint8_t *data, const ULogMessages *walk, size_t count, const uint16_t *sampleSlots,
+                      const uint64_t *counts, const uint64_t *itemsizes, size_t nsub) {
+    uint8_t *tables[64], *rows[64];
+    size_t slot, k;
+    for (slot = 0; slot < nsub; slot++) {
+        const size_t bytes = (size_t) (counts[slot] * itemsizes[slot]);
+        tables[slot] = (uint8_t *) malloc(bytes + 1);
+        CHECK(tables[slot] != NULL);
+        rows[slot] = ((data[16] >> (slot % 8)) & 1) ? NULL : tables[slot];
+        memset(tables[slot], 0xA5, bytes + 1);
+    }
+    ULogCopySamples(data, walk->offsets, sampleSlots, count, itemsizes, rows);
+    for (slot = 0; slot < nsub; slot++) {
+        const uint8_t *row = tables[slot];
+        const size_t bytes = (size_t) (counts[slot] * itemsizes[slot]);
+        CHECK(rows[slot] == NULL || rows[slot] == tables[slot] + bytes);
+        for (k = 0; rows[slot] != NULL && k < count; k++) {
+            if (sampleSlots[k] == slot + 1) {
+                CHECK(memcmp(row, data + walk->offsets[k] + 5, (size_t) itemsizes[slot]) == 0);
+                row += itemsizes[slot];
+            }
+        }
+        for (k = (rows[slot] != NULL) ? bytes : 0; k <= bytes; k++) { /* nothing past the samples, nothing if NULL */
+            CHECK(tables[slot][k] == 0xA5);
+        }
+        free(tables[slot]);
+    }
+}
+
+/*
+ * ULogCheckMessages and ULogCheckAndCount (a subscription per A message) on
+ * the count messages against the plain loops (undecided list of capacity
+ * entries), then ULogCopySamples.
+ */
+static void CheckMessageChecks(const uint8_t *data, const ULogMessages *walk, size_t count, size_t capacity) {
+    uint16_t *slotOf = (uint16_t *) calloc(65536, sizeof(uint16_t));
+    uint16_t *sampleSlots = (uint16_t *) malloc((count + 1) * sizeof(uint16_t));
+    uint64_t starts[64], itemsizes[64], counts[64], counted[64];
+    size_t msgIds[64], undecided[4];
+    uint8_t failed[256];
+    ULogSubscriptions wanted = {slotOf, starts, itemsizes};
+    size_t nsub, k, found, expected;
+    CHECK(slotOf != NULL && sampleSlots != NULL);
+    memset(failed, 0, sizeof failed);
+    found = ULogCheckMessages(data, walk->offsets, walk->types, walk->sizes, count, failed, undecided, capacity);
+    CheckVerdicts(data, walk, count, failed, undecided, found, capacity);
+    nsub = Subscribe(data, walk, count, slotOf, starts, itemsizes, msgIds);
+    for (k = 0; k < nsub; k++) {
+        counts[k] = 0;
+        counted[k] = 0;
+    }
+    memset(failed, 0, sizeof failed);
+    found = ULogCheckAndCount(data, walk->offsets, walk->types, walk->sizes, count, &wanted, counts, sampleSlots,
+                              failed, undecided, capacity);
+    CheckVerdicts(data, walk, count, failed, undecided, found, capacity);
+    for (k = 0; k < count; k++) {
+        expected = ReferenceSampleSlot(data, walk, k, msgIds, starts, itemsizes, nsub);
+        CHECK(sampleSlots[k] == expected);
+        if (expected != 0) {
+            counted[expected - 1]++;
+        }
+    }
+    CHECK(memcmp(counts, counted, nsub * sizeof(uint64_t)) == 0);
+    CheckCopy(data, walk, count, sampleSlots, counts, itemsizes, nsub);
+    free(slotOf);
+    free(sampleSlots);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {

@@ -212,3 +212,18 @@ def test_blank_lines_in_an_rrc3_export_keep_the_line_numbers_of_the_warnings(tmp
                     "\n\n  \n" + "\n".join(rows[20:]) + "\n")
     outcome = assert_same_both_ways(path)
     assert outcome[0] == "LogData" and any("line 45" in warning for warning in outcome[2])
+
+
+def test_an_ascii_raven_export_is_read_without_decoding_its_body(tmp_path, monkeypatch):
+    import logfixtures as fx
+
+    path = fx.raven_csv(str(tmp_path))
+    expected = logs.load_log(path)
+
+    def refuse(*_):
+        raise AssertionError("the body was decoded")
+
+    monkeypatch.setattr(_table, "_decoded", refuse)
+    got = logs.load_log(path)
+    assert got.baro_altitude.tobytes() == expected.baro_altitude.tobytes()
+    assert got.vertical_acceleration.tobytes() == expected.vertical_acceleration.tobytes()

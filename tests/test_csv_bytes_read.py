@@ -184,3 +184,46 @@ def test_fleet_read_log_opens_a_csv_once(tmp_path, monkeypatch):
     path.write_bytes(HEADS["plain"] + ROWS.encode())
     assert fleet.read_log(str(path), CSV).time.size == 200
     assert len(opened) == 1
+
+
+RRC3_ROWS = "".join(f"{i * 0.05:.2f},{i * 0.5:.1f},{1000 - i * 0.05:.2f},10.0,25.0,{'Drogue' if i == 30 else '-'},9.1\n"
+                    for i in range(60))
+
+
+def test_an_ascii_rrc3_export_is_read_without_decoding_its_body(tmp_path, monkeypatch):
+    path = tmp_path / "flight.csv"
+    path.write_text("time,altitude,pressure,velocity,temperature,events,voltages\n" + RRC3_ROWS)
+    expected = logs.load_log(str(path))
+
+    def refuse(*_):
+        raise AssertionError("the body was decoded")
+
+    monkeypatch.setattr(_table, "_decoded", refuse)
+    got = logs.load_log(str(path))
+    assert got.baro_altitude.tobytes() == expected.baro_altitude.tobytes()
+    assert list(got.flight_state) == list(expected.flight_state)
+
+
+def test_blank_lines_in_an_rrc3_export_keep_the_line_numbers_of_the_warnings(tmp_path):
+    rows = RRC3_ROWS.splitlines()
+    rows[40] = rows[40].replace(",10.0,", ",5000.0,")  # a garbage row (speed): its line named in the warning
+    path = tmp_path / "flight.csv"
+    path.write_text("time,altitude,pressure,velocity,temperature,events,voltages\n\n" + "\n".join(rows[:20]) +
+                    "\n\n  \n" + "\n".join(rows[20:]) + "\n")
+    outcome = assert_same_both_ways(path)
+    assert outcome[0] == "LogData" and any("line 45" in warning for warning in outcome[2])
+
+
+def test_an_ascii_raven_export_is_read_without_decoding_its_body(tmp_path, monkeypatch):
+    import logfixtures as fx
+
+    path = fx.raven_csv(str(tmp_path))
+    expected = logs.load_log(path)
+
+    def refuse(*_):
+        raise AssertionError("the body was decoded")
+
+    monkeypatch.setattr(_table, "_decoded", refuse)
+    got = logs.load_log(path)
+    assert got.baro_altitude.tobytes() == expected.baro_altitude.tobytes()
+    assert got.vertical_acceleration.tobytes() == expected.vertical_acceleration.tobytes()

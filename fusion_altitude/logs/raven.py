@@ -19,7 +19,7 @@ import numpy as np
 from .._core._common import GRAVITY
 from ._checks import ALTITUDE_RANGE, drop_absurd
 from ._data import LogData, LogError, fmt, finish
-from ._table import Table, numeric_columns, read_text, split_header
+from ._table import Table, numeric_columns, read_table
 
 #: Header names of the two channels the reader uses.
 ACCEL_NAME = "Axial Accel (Gs)"
@@ -70,8 +70,7 @@ def read_raven(path: str, progress: Optional[Callable[[int, int], None]] = None)
         Not a Raven header, no altitude column, a bad cell (file line and column).
     """
     source = f"{os.path.basename(path)} (Featherweight Raven CSV)"
-    text = read_text(path, "Raven CSV")
-    table = split_header(path, text)
+    table = read_table(path, "Raven CSV")  # the body left as the file's bytes for the C scan, decoded on demand
     if not looks_like_raven(",".join(table.header)):
         raise LogError(f"{path}: not a Featherweight Raven export (no 'Time…' column with {ACCEL_NAME!r} or "
                        f"'Altitude (Ft-AGL)')")

@@ -17,7 +17,7 @@ import numpy as np
 from . import _csv_fast
 from ._checks import ALTITUDE_RANGE, PRESSURE_RANGE
 from ._data import LogData, LogError, all_true, fmt, finish, merge_repeated_timestamps
-from ._table import MISSING, Table, data_lines, lines_of_rows, read_text, split_header
+from ._table import MISSING, Table, data_lines, lines_of_rows, read_table
 
 #: The header's columns (lower case).
 COLUMNS = ("time", "altitude", "pressure", "velocity", "temperature", "events", "voltages")
@@ -29,9 +29,14 @@ HPA = 100.0
 
 def looks_like_rrc3(head: str) -> bool:
     """True if the first line of ``head`` is an RRC3 export header."""
-    first = head.lstrip("\ufeff").lstrip().split("\n", 1)[0]
-    names = tuple(name.strip().lower() for name in first.split(","))
-    return names[:4] == COLUMNS[:4] and "events" in names
+    return _names_rrc3(head.lstrip("\ufeff").lstrip().split("\n", 1)[0].split(","))
+
+
+def _names_rrc3(cells: List[str]) -> bool:
+    """True if the header cells (any case, spaces around) start with :data:`COLUMNS`' first four and name
+    ``events``."""
+    names = [name.strip().lower() for name in cells]
+    return names[:4] == list(COLUMNS[:4]) and "events" in names
 
 
 def _number(cell: str) -> float:
@@ -68,8 +73,8 @@ def read_rrc3(path: str, progress: Optional[Callable[[int, int], None]] = None) 
         Not an RRC3 header, a bad number (file line and column), time going
         backwards.
     """
-    table = split_header(path, read_text(path, "RRC3 CSV"))
-    if not looks_like_rrc3(",".join(table.header)):
+    table = read_table(path, "RRC3 CSV")  # the body left as the file's bytes for the C scan, decoded on demand
+    if not _names_rrc3(table.header) and not looks_like_rrc3(",".join(table.header)):
         raise LogError(f"{path}: not an RRC3 export (its header does not start with "
                        f"{','.join(COLUMNS[:4])} and name 'events')")
     position = {name.lower(): i for i, name in enumerate(table.header)}
@@ -116,12 +121,10 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
     :func:`_rows_python` reads it); None where pyarrow refuses the text (a row of another length, a quote, a
     cell it does not read as a number), and :func:`_rows_python` reads it."""
     text = [position[name] for name in ("temperature", "events") if name in position]
-    fast = _csv_fast.read_numbers_and_text(table.body, [position[name] for name in COLUMNS[:4]], text, MISSING,
-                                           progress, encoded=True)
-    lines = None if fast is None else lines_of_rows(table, fast[0].shape[0])
-    if lines is None:
+    fast = _numbers_and_text(table, [position[name] for name in COLUMNS[:4]], text, progress)
+    if fast is None:
         return None
-    numbers, cells = fast
+    numbers, cells, lines = fast
     if len(cells) < 2:  # no temperature or no events column: an empty cell on every row for it
         nothing = (np.array([""], dtype=object), np.zeros(lines.size, dtype=np.int64))
         cells = [cells[0] if "temperature" in position else nothing, cells[-1] if "events" in position else nothing]
@@ -136,6 +139,24 @@ def _rows_fast(table: Table, position: Dict[str, int], progress):
     shifted = np.array([event for _, event in read], dtype=bool)[temperature_rows]
     events = np.where(shifted, temperature_rows, event_rows + temperature_cells.size)
     return rows, lines, (names, events), int(np.count_nonzero(shifted))
+
+
+def _numbers_and_text(table: Table, numeric: List[int], text: List[int], progress):
+    """The ``numeric`` columns (float64, rows × columns), the ``text`` columns as (distinct stripped cells, each
+    row's index) and each row's file line; None where the fast parsers refuse the body. The C scan reads the
+    file's bytes in place (:func:`._csv_fast.scan_bytes`, its line count giving the rows' lines) when the table
+    has them; else the decoded body goes to :func:`._csv_fast.read_numbers_and_text`."""
+    if table.raw is not None:
+        scanned = _csv_fast.scan_bytes(table.raw, table.body_start, numeric, text, MISSING, progress)
+        if scanned is not None:
+            numbers, cells, line_count = scanned
+            rows = numbers.shape[0]
+            lines = np.arange(rows, dtype=np.int64) + table.first_line if rows == line_count else lines_of_rows(
+                table, rows)
+            return None if lines is None else (numbers, cells, lines)
+    fast = _csv_fast.read_numbers_and_text(table.body, numeric, text, MISSING, progress, encoded=True)
+    lines = None if fast is None else lines_of_rows(table, fast[0].shape[0])
+    return None if lines is None else (fast[0], fast[1], lines)
 
 
 def _event_names(cells: List[str]) -> np.ndarray:
